@@ -1,0 +1,67 @@
+// Byte-at-a-time frame decoder: feed it every byte read from the serial port.
+#ifndef ROVERLINK_CODEC_FRAME_DECODER_H
+#define ROVERLINK_CODEC_FRAME_DECODER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../generated/roverlink_protocol.h"
+
+namespace roverlink {
+
+struct DecoderStats {
+    uint32_t frames_ok;
+    uint32_t crc_errors;
+    uint32_t cobs_errors;    // includes chunks dropped for being over-long
+    uint32_t length_errors;
+    uint32_t unknown_ids;
+    uint32_t bytes_discarded;  // encoded bytes of rejected chunks (delimiters not counted)
+};
+
+class FrameDecoder {
+public:
+    enum Result : uint8_t {
+        NONE = 0,        // need more bytes (also: empty chunk, or still skipping an over-long one)
+        FRAME,           // a good frame: msg_id(), seq(), payload(), payload_len() are valid
+        ERR_COBS,        // chunk is not valid COBS
+        ERR_OVERLONG,    // no delimiter within MAX_FRAME bytes: dropped up to the next 0x00
+        ERR_LENGTH,      // body shorter than 4 bytes, or payload length wrong for its msg_id
+        ERR_UNKNOWN_ID,  // msg_id not in the protocol
+        ERR_CRC          // checksum mismatch (with that msg_id's CRC_EXTRA)
+    };
+
+    FrameDecoder();
+
+    Result push(uint8_t byte);
+
+    // Drops a partially received chunk (e.g. after the port was reopened); keeps the stats.
+    void reset();
+
+    // Valid after push() returned FRAME, until the next push().
+    uint8_t msg_id() const { return body_[0]; }
+    uint8_t seq() const { return body_[1]; }
+    const uint8_t* payload() const { return body_ + 2; }
+    uint8_t payload_len() const { return payload_len_; }
+
+    const DecoderStats& stats() const { return stats_; }
+    void reset_stats();
+
+private:
+    Result finish_chunk();
+    Result drop_byte();
+    void append(uint8_t b);
+
+    // Small state first: on AVR it stays within reach of the 6-bit load/store displacement.
+    uint8_t chunk_len_;   // encoded bytes of the current chunk so far, or SKIPPING
+    uint8_t remaining_;   // data bytes still due in the current COBS block
+    uint8_t body_len_;
+    uint8_t payload_len_;
+    uint16_t crc_;        // runs two bytes behind body_len_, so it excludes the received CRC
+    // COBS is decoded as bytes arrive, so only the decoded body is buffered.
+    uint8_t body_[proto::MAX_BODY];
+    DecoderStats stats_;
+};
+
+}  // namespace roverlink
+
+#endif  // ROVERLINK_CODEC_FRAME_DECODER_H

@@ -1,0 +1,685 @@
+// DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
+// spec hash: 0x5EC879AD
+// RoverLink protocol: constants, enums, message structs, pack/unpack, dispatch, state table.
+#ifndef ROVERLINK_GENERATED_PROTOCOL_H
+#define ROVERLINK_GENERATED_PROTOCOL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(__AVR__)
+#include <avr/pgmspace.h>
+#define ROVERLINK_PROGMEM PROGMEM
+#define ROVERLINK_READ_BYTE(p) pgm_read_byte(p)
+#else
+#define ROVERLINK_PROGMEM
+#define ROVERLINK_READ_BYTE(p) (*(p))
+#endif
+
+// The runtime in src/codec/ refuses to compile against another API version (see codec.h).
+#define ROVERLINK_GENERATED_API_VERSION 1
+
+namespace roverlink {
+namespace proto {
+
+static const uint8_t PROTOCOL_VERSION = 1;
+static const uint32_t SPEC_HASH = 0x5EC879ADUL;
+static const uint8_t MAX_PAYLOAD = 64;
+static const uint8_t MAX_BODY = 68;  // msg_id + seq + payload + crc
+static const uint8_t MAX_FRAME = 70;  // COBS-encoded body + delimiter
+
+// Watchdog period used when HELLO asks for 0 and the stored config has none.
+static const uint16_t WATCHDOG_DEFAULT_MS = 250;
+// Shortest watchdog period the firmware grants (five control ticks).
+static const uint16_t WATCHDOG_MIN_MS = 50;
+// Longest watchdog period the firmware grants.
+static const uint16_t WATCHDOG_MAX_MS = 2000;
+// Control loop rate: PID, limits, watchdog check and stream feedback scheduling run once per tick.
+static const uint16_t CONTROL_RATE_HZ = 100;
+// Stream feedback rate when HELLO asks for 0.
+static const uint8_t FEEDBACK_HZ_DEFAULT = 50;
+// Highest stream feedback rate (one FEEDBACK per control tick).
+static const uint8_t FEEDBACK_HZ_MAX = 100;
+// How often the host repeats HELLO until IDENTITY arrives.
+static const uint16_t HELLO_INTERVAL_MS = 100;
+// Wheel channels carried in setpoints and feedback; a single-motor robot uses channel 0.
+static const uint8_t WHEEL_COUNT = 2;
+// SET_PID wheel index that addresses every wheel at once.
+static const uint8_t PID_ALL_WHEELS = 255;
+
+// Which board (or model of one) runs the firmware.
+enum class Board : uint8_t {
+    UNKNOWN = 0,  // Not reported.
+    NATIVE = 1,  // The firmware core built for the host (tests).
+    EMULATOR = 2,  // The Python reference emulator.
+    UNO = 3,  // Arduino Uno (ATmega328P).
+    MEGA2560 = 4,  // Arduino Mega 2560 (ATmega2560).
+};
+bool is_valid_Board(uint8_t value);
+
+// What this firmware build can do.
+struct Capability {
+    enum : uint16_t {
+        DIFF_DRIVE = 0x1,  // Two independently driven wheels (SET_WHEEL_SPEEDS).
+        ACKERMANN = 0x2,  // One drive motor plus a steering servo (SET_ACKERMANN).
+        ENCODERS = 0x4,  // Quadrature encoders, closed-loop speed control.
+        STEERING_SERVO = 0x8,  // A steering servo.
+        ESC = 0x10,  // Drive motor behind an RC electronic speed controller.
+        EEPROM = 0x20,  // SAVE_CONFIG persists the configuration.
+        TURN_SIGNALS = 0x40,  // Turn-signal LEDs driven by motion state.
+        LOCKSTEP = 0x80,  // Lockstep feedback mode.
+    };
+    static const uint16_t MASK = 0xFF;
+};
+
+// How FEEDBACK is scheduled.
+enum class FeedbackMode : uint8_t {
+    STREAM = 0,  // FEEDBACK at a fixed rate; setpoints whenever the host likes.
+    LOCKSTEP = 1,  // Exactly one FEEDBACK answers each applied setpoint.
+};
+bool is_valid_FeedbackMode(uint8_t value);
+
+// What the motors do in FAILSAFE and when disarmed.
+enum class SafeState : uint8_t {
+    COAST = 0,  // Drivers off, wheels free.
+    BRAKE = 1,  // Short-circuit brake (ESC: neutral).
+    RAMP_DOWN = 2,  // Ramp wheel speed setpoints to zero at decel_limit_mm_s2, then coast.
+};
+bool is_valid_SafeState(uint8_t value);
+
+// Why the firmware entered FAILSAFE (latched until the next ARM).
+enum class FailsafeReason : uint8_t {
+    NONE = 0,  // Not in failsafe.
+    COMM_TIMEOUT = 1,  // No valid host frame for the watchdog period.
+    ENCODER_FAULT = 2,  // Effort applied but the encoder did not move.
+    BAD_CONFIG = 3,  // The configuration is inconsistent.
+    LOW_VOLTAGE = 4,  // Supply voltage below the safe limit.
+};
+bool is_valid_FailsafeReason(uint8_t value);
+
+// Why a request was refused.
+enum class NackReason : uint8_t {
+    NOT_ARMED = 1,  // Setpoint while disarmed.
+    FAILSAFE = 2,  // Setpoint while in FAILSAFE; `detail` holds the FailsafeReason.
+    NO_SESSION = 3,  // Request needs a session: send HELLO first.
+    BOOT_ID_MISMATCH = 4,  // ARM named another boot_id: the board was reset.
+    OUT_OF_RANGE = 5,  // A field is out of range; `detail` is the field's index in the message.
+    UNSUPPORTED = 6,  // This build cannot do that (e.g. SET_ACKERMANN on a diff-drive).
+    EEPROM_ERROR = 7,  // Writing or verifying the EEPROM failed.
+    INVALID_CONFIG = 8,  // Fields are in range but inconsistent; `detail` is the first bad field's index.
+};
+bool is_valid_NackReason(uint8_t value);
+
+// Status bits carried in every FEEDBACK.
+struct Status {
+    enum : uint8_t {
+        SESSION = 0x1,  // A HELLO was accepted: the session is open.
+        ARMED = 0x2,  // Motors enabled, setpoints applied.
+        FAILSAFE = 0x4,  // FAILSAFE latched; see failsafe_reason.
+        SATURATED = 0x8,  // A motor effort hit its limit this tick.
+        ENCODER_FAULT = 0x10,  // An encoder looks disconnected.
+        CONFIG_DEFAULTS = 0x20,  // EEPROM config was missing or corrupt; defaults in use.
+        LOCKSTEP = 0x40,  // The session runs in lockstep mode.
+    };
+    static const uint8_t MASK = 0x7F;
+};
+
+// Why an IDENTITY was sent.
+enum class IdentityReason : uint8_t {
+    BOOT = 0,  // Unsolicited boot announcement.
+    HELLO_ACCEPTED = 1,  // Answer to a compatible HELLO: the session is open.
+    HELLO_REJECTED = 2,  // Answer to a HELLO with another protocol version or spec hash: no session.
+};
+bool is_valid_IdentityReason(uint8_t value);
+
+// Severity of a LOG frame.
+enum class LogLevel : uint8_t {
+    DEBUG = 0,  // Developer detail.
+    INFO = 1,  // Normal event.
+    WARN = 2,  // Something the user should look at.
+    ERROR = 3,  // Something failed.
+};
+bool is_valid_LogLevel(uint8_t value);
+
+// Length rule of a msg_id: payload of min_payload..max_payload bytes.
+struct MessageBounds {
+    uint8_t crc_extra;
+    uint8_t min_payload;
+    uint8_t max_payload;
+};
+// False for an msg_id the spec does not define.
+bool message_bounds(uint8_t msg_id, MessageBounds& out);
+
+// Returned by check_ranges() when every field is inside its spec range.
+static const uint8_t ALL_FIELDS_VALID = 0xFF;
+
+// HELLO (0x01, host to mcu, session): Opens (or restarts) a session. Repeated every HELLO_INTERVAL_MS until IDENTITY arrives. Motors are disabled while the session restarts.
+struct Hello {
+    enum : uint8_t { ID = 0x01, CRC_EXTRA = 0x77, PAYLOAD_SIZE = 9, PAYLOAD_MAX = 9 };
+    uint8_t protocol_version;  // Protocol version the host was built for.
+    uint32_t spec_hash;  // Spec hash the host was built from.
+    uint16_t watchdog_ms;  // Requested watchdog period; 0 = stored default. The firmware clamps it to WATCHDOG_MIN_MS..WATCHDOG_MAX_MS. [ms]
+    FeedbackMode feedback_mode;  // Stream or lockstep feedback.
+    uint8_t feedback_hz;  // Requested stream rate; 0 = stored default. Clamped to 1..FEEDBACK_HZ_MAX. [Hz]
+};
+uint8_t pack(const Hello& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, Hello& m);  // false: wrong length or value
+uint8_t check_ranges(const Hello& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// PING (0x02, host to mcu, session): Time-sync probe; answered by PONG.
+struct Ping {
+    enum : uint8_t { ID = 0x02, CRC_EXTRA = 0x8B, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
+    uint32_t host_time_us;  // Host clock at send time (low 32 bits), echoed in PONG. [us]
+};
+uint8_t pack(const Ping& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, Ping& m);  // false: wrong length or value
+uint8_t check_ranges(const Ping& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// ARM (0x10, host to mcu, reliable): Enables the motors and clears a latched FAILSAFE. Refused unless boot_id names the running boot, so an ARM from a previous session is never applied.
+struct Arm {
+    enum : uint8_t { ID = 0x10, CRC_EXTRA = 0x2A, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
+    uint32_t boot_id;  // boot_id from this session's IDENTITY.
+};
+uint8_t pack(const Arm& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, Arm& m);  // false: wrong length or value
+uint8_t check_ranges(const Arm& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// DISARM (0x11, host to mcu, reliable): Disables the motors (safe state) and clears a latched FAILSAFE.
+struct Disarm {
+    enum : uint8_t { ID = 0x11, CRC_EXTRA = 0x95, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
+};
+uint8_t pack(const Disarm& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, Disarm& m);  // false: wrong length or value
+uint8_t check_ranges(const Disarm& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// SET_PID (0x12, host to mcu, reliable): Sets the velocity PID gains of one wheel (or all). Takes effect at the next control tick; the integrator is reset.
+struct SetPid {
+    enum : uint8_t { ID = 0x12, CRC_EXTRA = 0xCA, PAYLOAD_SIZE = 17, PAYLOAD_MAX = 17 };
+    uint8_t wheel;  // Wheel index (0..WHEEL_COUNT-1) or PID_ALL_WHEELS.
+    float kp;  // Proportional gain. [permille/(mm/s)]
+    float ki;  // Integral gain (per second of error). [permille/mm]
+    float kd;  // Derivative gain, on the measurement. [permille/(mm/s^2)]
+    float kf;  // Feed-forward gain on the setpoint. [permille/(mm/s)]
+};
+uint8_t pack(const SetPid& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, SetPid& m);  // false: wrong length or value
+uint8_t check_ranges(const SetPid& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// GET_PID (0x13, host to mcu, reliable): Asks for one wheel's PID gains; answered by PID.
+struct GetPid {
+    enum : uint8_t { ID = 0x13, CRC_EXTRA = 0x6F, PAYLOAD_SIZE = 1, PAYLOAD_MAX = 1 };
+    uint8_t wheel;  // Wheel index (0..WHEEL_COUNT-1).
+};
+uint8_t pack(const GetPid& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, GetPid& m);  // false: wrong length or value
+uint8_t check_ranges(const GetPid& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// SET_CONFIG (0x14, host to mcu, reliable): Replaces the whole configuration (read it with GET_CONFIG, change, send back). Validated as a whole: NACK(OUT_OF_RANGE or INVALID_CONFIG, detail = field index) leaves the old one in place.
+struct SetConfig {
+    enum : uint8_t { ID = 0x14, CRC_EXTRA = 0x05, PAYLOAD_SIZE = 38, PAYLOAD_MAX = 38 };
+    uint16_t watchdog_ms;  // Default watchdog period (a HELLO may ask for another). [ms]
+    SafeState safe_state;  // Motor behaviour in FAILSAFE and when disarmed.
+    uint16_t accel_limit_mm_s2;  // Largest setpoint increase per second. [mm/s^2]
+    uint16_t decel_limit_mm_s2;  // Largest setpoint decrease per second (also the RAMP_DOWN rate). [mm/s^2]
+    uint16_t max_wheel_speed_mm_s;  // Setpoints beyond this are refused with NACK(OUT_OF_RANGE). [mm/s]
+    uint16_t max_effort_permille;  // Motor effort limit (PID output clamp). [0.1 %]
+    uint16_t encoder_cpr;  // Encoder counts per wheel revolution after decoding and gearing. [counts/rev]
+    uint8_t encoder_invert;  // Bit i set: wheel i's encoder counts the other way.
+    uint8_t motor_invert;  // Bit i set: wheel i's motor is wired the other way.
+    uint32_t wheel_diameter_um;  // Wheel diameter, converts mm/s to counts/s. [um]
+    uint16_t steering_center_cdeg;  // Servo angle that steers straight. [0.01 deg]
+    uint16_t steering_min_cdeg;  // Smallest servo angle (full right). [0.01 deg]
+    uint16_t steering_max_cdeg;  // Largest servo angle (full left). [0.01 deg]
+    uint16_t steering_step_cdeg;  // Servo angles are quantised to centre + k * step (0: continuous). [0.01 deg]
+    uint16_t servo_min_us;  // Servo pulse width at 0 degrees. [us]
+    uint16_t servo_max_us;  // Servo pulse width at 180 degrees. [us]
+    uint16_t esc_min_us;  // ESC pulse for full reverse. [us]
+    uint16_t esc_neutral_us;  // ESC pulse for stop (sent during the boot calibration). [us]
+    uint16_t esc_max_us;  // ESC pulse for full forward. [us]
+    uint8_t feedback_hz;  // Default stream feedback rate. [Hz]
+};
+uint8_t pack(const SetConfig& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, SetConfig& m);  // false: wrong length or value
+uint8_t check_ranges(const SetConfig& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// GET_CONFIG (0x15, host to mcu, reliable): Asks for the configuration; answered by CONFIG.
+struct GetConfig {
+    enum : uint8_t { ID = 0x15, CRC_EXTRA = 0x59, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
+};
+uint8_t pack(const GetConfig& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, GetConfig& m);  // false: wrong length or value
+uint8_t check_ranges(const GetConfig& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// SAVE_CONFIG (0x16, host to mcu, reliable): Writes configuration and PID gains to EEPROM with a version and CRC; ACK after read-back verification.
+struct SaveConfig {
+    enum : uint8_t { ID = 0x16, CRC_EXTRA = 0x34, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
+};
+uint8_t pack(const SaveConfig& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, SaveConfig& m);  // false: wrong length or value
+uint8_t check_ranges(const SaveConfig& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// RESET_ODOMETRY (0x17, host to mcu, reliable): Sets the cumulative encoder counts to zero.
+struct ResetOdometry {
+    enum : uint8_t { ID = 0x17, CRC_EXTRA = 0x85, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
+};
+uint8_t pack(const ResetOdometry& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, ResetOdometry& m);  // false: wrong length or value
+uint8_t check_ranges(const ResetOdometry& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// GET_LINK_STATS (0x18, host to mcu, reliable): Asks for the firmware's link counters; answered by LINK_STATS.
+struct GetLinkStats {
+    enum : uint8_t { ID = 0x18, CRC_EXTRA = 0x6C, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
+};
+uint8_t pack(const GetLinkStats& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, GetLinkStats& m);  // false: wrong length or value
+uint8_t check_ranges(const GetLinkStats& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// SET_WHEEL_SPEEDS (0x20, host to mcu, setpoint): Differential-drive setpoint: target speed of each wheel's rim. Latest wins; applied at the next control tick.
+struct SetWheelSpeeds {
+    enum : uint8_t { ID = 0x20, CRC_EXTRA = 0xC9, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
+    int16_t left_mm_s;  // Left wheel target speed, positive forward. [mm/s]
+    int16_t right_mm_s;  // Right wheel target speed, positive forward. [mm/s]
+};
+uint8_t pack(const SetWheelSpeeds& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, SetWheelSpeeds& m);  // false: wrong length or value
+uint8_t check_ranges(const SetWheelSpeeds& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// SET_ACKERMANN (0x21, host to mcu, setpoint): Ackermann setpoint: drive speed and front-wheel steering angle. Latest wins; applied at the next control tick.
+struct SetAckermann {
+    enum : uint8_t { ID = 0x21, CRC_EXTRA = 0x5D, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
+    int16_t speed_mm_s;  // Target speed at the rear axle, positive forward. [mm/s]
+    int16_t steering_mrad;  // Front-wheel angle, positive turns left. [mrad]
+};
+uint8_t pack(const SetAckermann& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, SetAckermann& m);  // false: wrong length or value
+uint8_t check_ranges(const SetAckermann& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// IDENTITY (0x81, mcu to host, session): Boot announcement (sent once, unsolicited, after reset) and the answer to every HELLO.
+struct Identity {
+    enum : uint8_t { ID = 0x81, CRC_EXTRA = 0x2B, PAYLOAD_SIZE = 25, PAYLOAD_MAX = 49 };
+    uint8_t protocol_version;  // Protocol version the firmware was built for.
+    uint32_t spec_hash;  // Spec hash the firmware was built from.
+    uint8_t firmware_version[3];  // Firmware major, minor, patch.
+    Board board;  // Board the firmware runs on.
+    uint16_t capabilities;  // What this build can do.
+    uint32_t boot_id;  // Random per boot; changes on every reset.
+    uint32_t uptime_ms;  // Time since boot. [ms]
+    IdentityReason reason;  // Boot announcement, or the answer to a HELLO.
+    uint8_t hello_seq;  // seq of the HELLO answered (0 for the boot announcement).
+    uint16_t watchdog_ms;  // Watchdog period granted for this session. [ms]
+    FeedbackMode feedback_mode;  // Feedback mode granted for this session.
+    uint8_t feedback_hz;  // Stream rate granted for this session. [Hz]
+    char robot_name[24];  // Name of the firmware example (ASCII).
+    uint8_t robot_name_len;  // bytes used in robot_name
+};
+uint8_t pack(const Identity& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, Identity& m);  // false: wrong length or value
+uint8_t check_ranges(const Identity& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// PONG (0x82, mcu to host, session): Answer to PING.
+struct Pong {
+    enum : uint8_t { ID = 0x82, CRC_EXTRA = 0xE6, PAYLOAD_SIZE = 8, PAYLOAD_MAX = 8 };
+    uint32_t host_time_us;  // host_time_us of the PING. [us]
+    uint32_t mcu_time_us;  // MCU clock when the PING was processed. [us]
+};
+uint8_t pack(const Pong& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, Pong& m);  // false: wrong length or value
+uint8_t check_ranges(const Pong& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// ACK (0x83, mcu to host, reliable): A reliable request was applied (or was a duplicate of one already applied).
+struct Ack {
+    enum : uint8_t { ID = 0x83, CRC_EXTRA = 0x34, PAYLOAD_SIZE = 2, PAYLOAD_MAX = 2 };
+    uint8_t req_id;  // msg_id of the request.
+    uint8_t req_seq;  // seq of the request.
+};
+uint8_t pack(const Ack& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, Ack& m);  // false: wrong length or value
+uint8_t check_ranges(const Ack& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// NACK (0x84, mcu to host, reliable): A request was refused. Also answers setpoints that cannot be applied.
+struct Nack {
+    enum : uint8_t { ID = 0x84, CRC_EXTRA = 0xC6, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
+    uint8_t req_id;  // msg_id of the request.
+    uint8_t req_seq;  // seq of the request.
+    NackReason reason;  // Why.
+    uint8_t detail;  // Reason-specific: field index, FailsafeReason, ...
+};
+uint8_t pack(const Nack& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, Nack& m);  // false: wrong length or value
+uint8_t check_ranges(const Nack& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// PID (0x85, mcu to host, reliable): Answer to GET_PID.
+struct Pid {
+    enum : uint8_t { ID = 0x85, CRC_EXTRA = 0x31, PAYLOAD_SIZE = 18, PAYLOAD_MAX = 18 };
+    uint8_t req_seq;  // seq of the GET_PID.
+    uint8_t wheel;  // Wheel index.
+    float kp;  // Proportional gain. [permille/(mm/s)]
+    float ki;  // Integral gain (per second of error). [permille/mm]
+    float kd;  // Derivative gain, on the measurement. [permille/(mm/s^2)]
+    float kf;  // Feed-forward gain on the setpoint. [permille/(mm/s)]
+};
+uint8_t pack(const Pid& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, Pid& m);  // false: wrong length or value
+uint8_t check_ranges(const Pid& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// CONFIG (0x86, mcu to host, reliable): Answer to GET_CONFIG.
+struct Config {
+    enum : uint8_t { ID = 0x86, CRC_EXTRA = 0xD6, PAYLOAD_SIZE = 39, PAYLOAD_MAX = 39 };
+    uint8_t req_seq;  // seq of the GET_CONFIG.
+    uint16_t watchdog_ms;  // Default watchdog period (a HELLO may ask for another). [ms]
+    SafeState safe_state;  // Motor behaviour in FAILSAFE and when disarmed.
+    uint16_t accel_limit_mm_s2;  // Largest setpoint increase per second. [mm/s^2]
+    uint16_t decel_limit_mm_s2;  // Largest setpoint decrease per second (also the RAMP_DOWN rate). [mm/s^2]
+    uint16_t max_wheel_speed_mm_s;  // Setpoints beyond this are refused with NACK(OUT_OF_RANGE). [mm/s]
+    uint16_t max_effort_permille;  // Motor effort limit (PID output clamp). [0.1 %]
+    uint16_t encoder_cpr;  // Encoder counts per wheel revolution after decoding and gearing. [counts/rev]
+    uint8_t encoder_invert;  // Bit i set: wheel i's encoder counts the other way.
+    uint8_t motor_invert;  // Bit i set: wheel i's motor is wired the other way.
+    uint32_t wheel_diameter_um;  // Wheel diameter, converts mm/s to counts/s. [um]
+    uint16_t steering_center_cdeg;  // Servo angle that steers straight. [0.01 deg]
+    uint16_t steering_min_cdeg;  // Smallest servo angle (full right). [0.01 deg]
+    uint16_t steering_max_cdeg;  // Largest servo angle (full left). [0.01 deg]
+    uint16_t steering_step_cdeg;  // Servo angles are quantised to centre + k * step (0: continuous). [0.01 deg]
+    uint16_t servo_min_us;  // Servo pulse width at 0 degrees. [us]
+    uint16_t servo_max_us;  // Servo pulse width at 180 degrees. [us]
+    uint16_t esc_min_us;  // ESC pulse for full reverse. [us]
+    uint16_t esc_neutral_us;  // ESC pulse for stop (sent during the boot calibration). [us]
+    uint16_t esc_max_us;  // ESC pulse for full forward. [us]
+    uint8_t feedback_hz;  // Default stream feedback rate. [Hz]
+};
+uint8_t pack(const Config& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, Config& m);  // false: wrong length or value
+uint8_t check_ranges(const Config& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// LINK_STATS (0x87, mcu to host, reliable): Answer to GET_LINK_STATS: the firmware's receive and transmit counters since boot.
+struct LinkStats {
+    enum : uint8_t { ID = 0x87, CRC_EXTRA = 0x62, PAYLOAD_SIZE = 41, PAYLOAD_MAX = 41 };
+    uint8_t req_seq;  // seq of the GET_LINK_STATS.
+    uint32_t frames_ok;  // Valid frames received.
+    uint32_t crc_errors;  // Frames with a bad CRC.
+    uint32_t cobs_errors;  // Chunks that were not valid COBS or were over-long.
+    uint32_t length_errors;  // Frames whose length does not fit their msg_id.
+    uint32_t unknown_ids;  // Frames with an unknown msg_id.
+    uint32_t seq_gaps;  // Host frames missing according to seq.
+    uint32_t bytes_discarded;  // Received bytes that were not part of a valid frame.
+    uint32_t rx_overruns;  // Bytes lost because the receive buffer was full.
+    uint32_t duplicates;  // Reliable requests received again (answered, not re-applied).
+    uint32_t frames_sent;  // Frames sent.
+};
+uint8_t pack(const LinkStats& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, LinkStats& m);  // false: wrong length or value
+uint8_t check_ranges(const LinkStats& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// FEEDBACK (0x90, mcu to host, telemetry): Robot state at one control tick: in stream mode at the session rate, in lockstep mode once per applied setpoint.
+struct Feedback {
+    enum : uint8_t { ID = 0x90, CRC_EXTRA = 0x3F, PAYLOAD_SIZE = 33, PAYLOAD_MAX = 33 };
+    uint32_t boot_id;  // boot_id of the running boot: a change means the board was reset.
+    uint32_t mcu_time_us;  // MCU clock at the tick (wraps every 71.6 min; the host unwraps it). [us]
+    uint16_t tick;  // Control tick counter (wraps; the host unwraps it).
+    uint8_t ack_seq;  // seq of the last setpoint applied.
+    uint16_t ack_tick;  // tick at which that setpoint was applied.
+    uint8_t status;  // Status bits.
+    FailsafeReason failsafe_reason;  // Latched failsafe reason (NONE when not in failsafe).
+    int32_t encoder_counts[2];  // Cumulative encoder counts per wheel, captured atomically (wraps at 2^32).
+    int16_t wheel_speed_mm_s[2];  // Measured wheel speeds. [mm/s]
+    int16_t effort_permille[2];  // Motor efforts applied (negative: reverse). [0.1 %]
+    int16_t steering_mrad;  // Front-wheel angle commanded to the servo (0 without steering). [mrad]
+};
+uint8_t pack(const Feedback& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, Feedback& m);  // false: wrong length or value
+uint8_t check_ranges(const Feedback& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+// LOG (0x91, mcu to host, telemetry): A short text from the firmware. The firmware never prints text on the port; this is its only text channel.
+struct Log {
+    enum : uint8_t { ID = 0x91, CRC_EXTRA = 0x13, PAYLOAD_SIZE = 1, PAYLOAD_MAX = 61 };
+    LogLevel level;  // Severity.
+    char text[60];  // ASCII text.
+    uint8_t text_len;  // bytes used in text
+};
+uint8_t pack(const Log& m, uint8_t* payload);  // returns the payload length
+bool unpack(const uint8_t* payload, uint8_t len, Log& m);  // false: wrong length or value
+uint8_t check_ranges(const Log& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+
+enum DispatchResult : uint8_t {
+    DISPATCH_OK = 0,
+    DISPATCH_UNKNOWN_ID,
+    DISPATCH_BAD_PAYLOAD,     // wrong length or a value the spec does not allow
+    DISPATCH_WRONG_DIRECTION  // a known message that this side never receives
+};
+
+// Decodes a payload and calls h.handle(const Msg&, seq) for host_to_mcu messages (firmware).
+template <class Handler>
+DispatchResult dispatch_host_to_mcu(uint8_t msg_id, uint8_t seq, const uint8_t* payload, uint8_t len, Handler& h) {
+    switch (msg_id) {
+    case Hello::ID: {
+        Hello m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case Ping::ID: {
+        Ping m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case Arm::ID: {
+        Arm m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case Disarm::ID: {
+        Disarm m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case SetPid::ID: {
+        SetPid m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case GetPid::ID: {
+        GetPid m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case SetConfig::ID: {
+        SetConfig m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case GetConfig::ID: {
+        GetConfig m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case SaveConfig::ID: {
+        SaveConfig m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case ResetOdometry::ID: {
+        ResetOdometry m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case GetLinkStats::ID: {
+        GetLinkStats m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case SetWheelSpeeds::ID: {
+        SetWheelSpeeds m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case SetAckermann::ID: {
+        SetAckermann m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    default: {
+        MessageBounds b;
+        return message_bounds(msg_id, b) ? DISPATCH_WRONG_DIRECTION : DISPATCH_UNKNOWN_ID;
+    }
+    }
+}
+
+// Decodes a payload and calls h.handle(const Msg&, seq) for mcu_to_host messages (host-side tools).
+template <class Handler>
+DispatchResult dispatch_mcu_to_host(uint8_t msg_id, uint8_t seq, const uint8_t* payload, uint8_t len, Handler& h) {
+    switch (msg_id) {
+    case Identity::ID: {
+        Identity m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case Pong::ID: {
+        Pong m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case Ack::ID: {
+        Ack m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case Nack::ID: {
+        Nack m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case Pid::ID: {
+        Pid m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case Config::ID: {
+        Config m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case LinkStats::ID: {
+        LinkStats m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case Feedback::ID: {
+        Feedback m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    case Log::ID: {
+        Log m;
+        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
+        h.handle(m, seq);
+        return DISPATCH_OK;
+    }
+    default: {
+        MessageBounds b;
+        return message_bounds(msg_id, b) ? DISPATCH_WRONG_DIRECTION : DISPATCH_UNKNOWN_ID;
+    }
+    }
+}
+
+// Session state machine (Firmware session: one per boot; the host drives it with HELLO, ARM and DISARM and the watchdog ends it.)
+enum class SessionState : uint8_t {
+    BOOT = 0,  // Hardware and config initialising; motors disabled.
+    IDLE = 1,  // Booted and announced; no session. Waits for a compatible HELLO.
+    DISARMED = 2,  // Session open; motors in safe state; reliable requests accepted.
+    ARMED = 3,  // Motors enabled; setpoints applied; the watchdog runs.
+    FAILSAFE = 4,  // Latched after a watchdog expiry or fault; motors in safe state until re-ARM or DISARM.
+};
+enum class SessionEvent : uint8_t {
+    INIT_DONE = 0,  // Hardware and config are ready.
+    HELLO = 1,  // A HELLO frame arrived.
+    ARM = 2,  // An ARM frame arrived.
+    DISARM = 3,  // A DISARM frame arrived.
+    SETPOINT = 4,  // A setpoint frame arrived.
+    VALID_FRAME = 5,  // Any valid host frame arrived (before its own event).
+    WATCHDOG_EXPIRED = 6,  // No valid host frame for the watchdog period (checked every control tick).
+    FAULT = 7,  // The control loop found a fault (encoder, config, supply).
+    RESET = 8,  // Reset request, brown-out or watchdog reset of the MCU.
+};
+enum class Guard : uint8_t {
+    COMPATIBLE = 1,  // HELLO's protocol_version and spec_hash equal the firmware's.
+    BOOT_ID_MATCHES = 2,  // ARM's boot_id equals this boot's boot_id.
+};
+static const uint8_t SESSION_STATE_COUNT = 5;
+static const SessionState INITIAL_STATE = SessionState::BOOT;
+struct Action {
+    enum : uint16_t {
+        ANNOUNCE = 1u << 0,  // Send the boot IDENTITY (reason BOOT).
+        ACCEPT_HELLO = 1u << 1,  // Apply the requested watchdog and feedback mode (clamped); answer IDENTITY(HELLO_ACCEPTED).
+        REJECT_HELLO = 1u << 2,  // Answer IDENTITY(HELLO_REJECTED) so the host can report both hashes.
+        MOTORS_SAFE = 1u << 3,  // Put the motors in the configured safe state and the steering at centre; clear setpoints and integrators.
+        MOTORS_ENABLE = 1u << 4,  // Let the control loop drive the motors from setpoints.
+        FEED_WATCHDOG = 1u << 5,  // Restart the watchdog period.
+        LATCH_REASON = 1u << 6,  // Record the failsafe reason and report it in FEEDBACK.
+        CLEAR_REASON = 1u << 7,  // Clear the latched failsafe reason.
+        ACK = 1u << 8,  // Answer ACK with the request's id and seq.
+        NACK = 1u << 9,  // Answer NACK with the request's id and seq and the reason for this state.
+        APPLY_SETPOINT = 1u << 10,  // Store the setpoint; the next control tick applies it (latest wins).
+    };
+};
+
+// One row per byte sextet: source, event, guard (0xFF: none; bit 7: negated), target,
+// actions low byte, actions high byte. Kept in flash on AVR.
+static const uint8_t TRANSITION_COUNT = 35;
+static const uint8_t GUARD_NONE = 0xFF;
+static const uint8_t GUARD_NEGATED = 0x80;
+extern const uint8_t TRANSITIONS[TRANSITION_COUNT][6] ROVERLINK_PROGMEM;
+
+struct StepResult {
+    bool matched;        // false: no row, stay and do nothing
+    SessionState target;
+    uint16_t actions;    // Action bits
+};
+
+// First row for (state, event) whose guard holds; guards.check(Guard) evaluates guards.
+template <class Guards>
+StepResult step(SessionState state, SessionEvent event, Guards& guards) {
+    StepResult r = {false, state, 0};
+    for (uint8_t i = 0; i < TRANSITION_COUNT; ++i) {
+        const uint8_t* row = TRANSITIONS[i];
+        if (ROVERLINK_READ_BYTE(row) != static_cast<uint8_t>(state) ||
+            ROVERLINK_READ_BYTE(row + 1) != static_cast<uint8_t>(event)) {
+            continue;
+        }
+        const uint8_t g = ROVERLINK_READ_BYTE(row + 2);
+        if (g != GUARD_NONE) {
+            const bool holds = guards.check(static_cast<Guard>(g & 0x7F));
+            if (holds == ((g & GUARD_NEGATED) != 0)) continue;
+        }
+        r.matched = true;
+        r.target = static_cast<SessionState>(ROVERLINK_READ_BYTE(row + 3));
+        r.actions = static_cast<uint16_t>(ROVERLINK_READ_BYTE(row + 4) |
+                                          (ROVERLINK_READ_BYTE(row + 5) << 8));
+        return r;
+    }
+    return r;
+}
+
+}  // namespace proto
+}  // namespace roverlink
+
+#endif  // ROVERLINK_GENERATED_PROTOCOL_H

@@ -1,0 +1,1 @@
+"""RoverLink firmware emulator: a Python reference model of the firmware and a vehicle plant."""

@@ -1,0 +1,472 @@
+"""Emit the Arduino library's generated C++11 (structs, pack/unpack, dispatch, state table).
+
+Also emits tests/native/generated/roverlink_reflect.h: a test-only text interface (print fields,
+set fields by name) that lets the Python tests drive the C++ codec field by field.
+"""
+
+from __future__ import annotations
+
+from protocol.emit.common import banner
+from protocol.model import PRIMITIVES, Field, Message, Spec
+
+LIB = "arduino/RoverLink/src/generated"
+API_VERSION = 1
+
+_CTYPE = {
+    "u8": "uint8_t",
+    "i8": "int8_t",
+    "u16": "uint16_t",
+    "i16": "int16_t",
+    "u32": "uint32_t",
+    "i32": "int32_t",
+    "f32": "float",
+    "char": "char",
+}
+
+
+def emit(spec: Spec) -> dict[str, str]:
+    return {
+        f"{LIB}/roverlink_protocol.h": _header(spec),
+        f"{LIB}/roverlink_protocol.cpp": _source(spec),
+        "tests/native/generated/roverlink_reflect.h": _reflect(spec),
+    }
+
+
+def _comment(text: str, indent: str = "") -> str:
+    return f"{indent}// {text}\n"
+
+
+def _ctype(f: Field) -> str:
+    if f.enum is not None and not f.enum.flags:
+        return f.enum.name
+    return _CTYPE[f.prim]
+
+
+def _int_lit(value: int, prim: str) -> str:
+    if prim == "u32":
+        return f"{value}UL"
+    if prim == "i32":
+        # INT32_MIN cannot be written as a literal without overflow warnings.
+        return "(-2147483647L - 1)" if value == -(2**31) else f"{value}L"
+    return str(value)
+
+
+def _float_lit(value: float) -> str:
+    text = repr(float(value))
+    if "e" not in text and "." not in text:
+        text += ".0"
+    return text + "f"
+
+
+# -- header ------------------------------------------------------------------------------------
+def _header(spec: Spec) -> str:
+    out = [banner(spec, "//")]
+    out.append("// RoverLink protocol: constants, enums, message structs, pack/unpack, dispatch, state table.\n")
+    out.append("#ifndef ROVERLINK_GENERATED_PROTOCOL_H\n#define ROVERLINK_GENERATED_PROTOCOL_H\n\n")
+    out.append("#include <stddef.h>\n#include <stdint.h>\n\n")
+    out.append("#if defined(__AVR__)\n#include <avr/pgmspace.h>\n#define ROVERLINK_PROGMEM PROGMEM\n")
+    out.append("#define ROVERLINK_READ_BYTE(p) pgm_read_byte(p)\n#else\n#define ROVERLINK_PROGMEM\n")
+    out.append("#define ROVERLINK_READ_BYTE(p) (*(p))\n#endif\n\n")
+    out.append("// The runtime in src/codec/ refuses to compile against another API version (see codec.h).\n")
+    out.append(f"#define ROVERLINK_GENERATED_API_VERSION {API_VERSION}\n\n")
+    out.append("namespace roverlink {\nnamespace proto {\n\n")
+    out.append(f"static const uint8_t PROTOCOL_VERSION = {spec.version};\n")
+    out.append(f"static const uint32_t SPEC_HASH = 0x{spec.spec_hash:08X}UL;\n")
+    out.append(f"static const uint8_t MAX_PAYLOAD = {spec.max_payload};\n")
+    out.append(f"static const uint8_t MAX_BODY = {spec.max_body};  // msg_id + seq + payload + crc\n")
+    out.append(f"static const uint8_t MAX_FRAME = {spec.max_frame};  // COBS-encoded body + delimiter\n\n")
+    for c in spec.constants:
+        out.append(_comment(c.doc))
+        out.append(f"static const {_CTYPE[c.type]} {c.name} = {_int_lit(c.value, c.type)};\n")
+    out.append("\n")
+    for e in spec.enums:
+        out.append(_comment(e.doc))
+        ctype = _CTYPE[e.base]
+        if e.flags:
+            out.append(f"struct {e.name} {{\n    enum : {ctype} {{\n")
+            for v in e.values:
+                out.append(f"        {v.name} = 0x{v.value:X},  // {v.doc}\n")
+            out.append(f"    }};\n    static const {ctype} MASK = 0x{e.mask:X};\n}};\n\n")
+        else:
+            out.append(f"enum class {e.name} : {ctype} {{\n")
+            for v in e.values:
+                out.append(f"    {v.name} = {v.value},  // {v.doc}\n")
+            out.append("};\n")
+            out.append(f"bool is_valid_{e.name}({ctype} value);\n\n")
+
+    out.append("// Length rule of a msg_id: payload of min_payload..max_payload bytes.\n")
+    out.append(
+        "struct MessageBounds {\n    uint8_t crc_extra;\n    uint8_t min_payload;\n    uint8_t max_payload;\n};\n"
+    )
+    out.append("// False for an msg_id the spec does not define.\n")
+    out.append("bool message_bounds(uint8_t msg_id, MessageBounds& out);\n\n")
+    out.append("// Returned by check_ranges() when every field is inside its spec range.\n")
+    out.append("static const uint8_t ALL_FIELDS_VALID = 0xFF;\n\n")
+
+    for m in spec.messages:
+        out.append(_struct(m))
+    out.append(_dispatch(spec))
+    out.append(_sm_header(spec))
+    out.append("}  // namespace proto\n}  // namespace roverlink\n\n#endif  // ROVERLINK_GENERATED_PROTOCOL_H\n")
+    return "".join(out)
+
+
+def _struct(m: Message) -> str:
+    out = [f"// {m.name} (0x{m.id:02X}, {m.direction.replace('_', ' ')}, {m.delivery}): {m.doc}\n"]
+    out.append(f"struct {m.class_name} {{\n")
+    out.append(
+        f"    enum : uint8_t {{ ID = 0x{m.id:02X}, CRC_EXTRA = 0x{m.crc_extra:02X}, "
+        f"PAYLOAD_SIZE = {m.payload_size}, PAYLOAD_MAX = {m.payload_max} }};\n"
+    )
+    for f in m.fields:
+        unit = f" [{f.unit}]" if f.unit else ""
+        if f.max_len is not None:
+            out.append(f"    {_CTYPE[f.prim]} {f.name}[{f.max_len}];  // {f.doc}{unit}\n")
+            out.append(f"    uint8_t {f.name}_len;  // bytes used in {f.name}\n")
+        elif f.count is not None:
+            out.append(f"    {_ctype(f)} {f.name}[{f.count}];  // {f.doc}{unit}\n")
+        else:
+            out.append(f"    {_ctype(f)} {f.name};  // {f.doc}{unit}\n")
+    out.append("};\n")
+    n = m.class_name
+    out.append(f"uint8_t pack(const {n}& m, uint8_t* payload);  // returns the payload length\n")
+    out.append(f"bool unpack(const uint8_t* payload, uint8_t len, {n}& m);  // false: wrong length or value\n")
+    out.append(
+        f"uint8_t check_ranges(const {n}& m);  // index of the first field out of range, or ALL_FIELDS_VALID\n\n"
+    )
+    return "".join(out)
+
+
+def _dispatch(spec: Spec) -> str:
+    out = [
+        "enum DispatchResult : uint8_t {\n    DISPATCH_OK = 0,\n    DISPATCH_UNKNOWN_ID,\n"
+        "    DISPATCH_BAD_PAYLOAD,     // wrong length or a value the spec does not allow\n"
+        "    DISPATCH_WRONG_DIRECTION  // a known message that this side never receives\n};\n\n"
+    ]
+    for direction, fn in (("host_to_mcu", "dispatch_host_to_mcu"), ("mcu_to_host", "dispatch_mcu_to_host")):
+        who = "firmware" if direction == "host_to_mcu" else "host-side tools"
+        out.append(f"// Decodes a payload and calls h.handle(const Msg&, seq) for {direction} messages ({who}).\n")
+        out.append("template <class Handler>\n")
+        out.append(
+            f"DispatchResult {fn}(uint8_t msg_id, uint8_t seq, const uint8_t* payload, uint8_t len, Handler& h) {{\n"
+        )
+        out.append("    switch (msg_id) {\n")
+        for m in spec.messages:
+            if m.direction != direction:
+                continue
+            out.append(f"    case {m.class_name}::ID: {{\n        {m.class_name} m;\n")
+            out.append("        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;\n")
+            out.append("        h.handle(m, seq);\n        return DISPATCH_OK;\n    }\n")
+        out.append("    default: {\n        MessageBounds b;\n")
+        out.append("        return message_bounds(msg_id, b) ? DISPATCH_WRONG_DIRECTION : DISPATCH_UNKNOWN_ID;\n")
+        out.append("    }\n    }\n}\n\n")
+    return "".join(out)
+
+
+def _sm_header(spec: Spec) -> str:
+    sm = spec.state_machine
+    out = [f"// Session state machine ({sm.doc})\n"]
+    for cls, items, first in (("SessionState", sm.states, 0), ("SessionEvent", sm.events, 0), ("Guard", sm.guards, 1)):
+        out.append(f"enum class {cls} : uint8_t {{\n")
+        for i, n in enumerate(items, first):
+            out.append(f"    {n.name.upper()} = {i},  // {n.doc}\n")
+        out.append("};\n")
+    out.append(f"static const uint8_t SESSION_STATE_COUNT = {len(sm.states)};\n")
+    out.append(f"static const SessionState INITIAL_STATE = SessionState::{sm.initial};\n")
+    out.append("struct Action {\n    enum : uint16_t {\n")
+    for i, a in enumerate(sm.actions):
+        out.append(f"        {a.name.upper()} = 1u << {i},  // {a.doc}\n")
+    out.append("    };\n};\n\n")
+    rows = sm.rows()
+    out.append("// One row per byte sextet: source, event, guard (0xFF: none; bit 7: negated), target,\n")
+    out.append("// actions low byte, actions high byte. Kept in flash on AVR.\n")
+    out.append(f"static const uint8_t TRANSITION_COUNT = {len(rows)};\n")
+    out.append("static const uint8_t GUARD_NONE = 0xFF;\nstatic const uint8_t GUARD_NEGATED = 0x80;\n")
+    out.append("extern const uint8_t TRANSITIONS[TRANSITION_COUNT][6] ROVERLINK_PROGMEM;\n\n")
+    out.append("struct StepResult {\n    bool matched;        // false: no row, stay and do nothing\n")
+    out.append("    SessionState target;\n    uint16_t actions;    // Action bits\n};\n\n")
+    out.append("// First row for (state, event) whose guard holds; guards.check(Guard) evaluates guards.\n")
+    out.append("template <class Guards>\nStepResult step(SessionState state, SessionEvent event, Guards& guards) {\n")
+    out.append("    StepResult r = {false, state, 0};\n")
+    out.append("    for (uint8_t i = 0; i < TRANSITION_COUNT; ++i) {\n")
+    out.append("        const uint8_t* row = TRANSITIONS[i];\n")
+    out.append("        if (ROVERLINK_READ_BYTE(row) != static_cast<uint8_t>(state) ||\n")
+    out.append(
+        "            ROVERLINK_READ_BYTE(row + 1) != static_cast<uint8_t>(event)) {\n            continue;\n        }\n"
+    )
+    out.append("        const uint8_t g = ROVERLINK_READ_BYTE(row + 2);\n")
+    out.append("        if (g != GUARD_NONE) {\n")
+    out.append("            const bool holds = guards.check(static_cast<Guard>(g & 0x7F));\n")
+    out.append("            if (holds == ((g & GUARD_NEGATED) != 0)) continue;\n        }\n")
+    out.append(
+        "        r.matched = true;\n        r.target = static_cast<SessionState>(ROVERLINK_READ_BYTE(row + 3));\n"
+    )
+    out.append("        r.actions = static_cast<uint16_t>(ROVERLINK_READ_BYTE(row + 4) |\n")
+    out.append("                                          (ROVERLINK_READ_BYTE(row + 5) << 8));\n")
+    out.append("        return r;\n    }\n    return r;\n}\n\n")
+    return "".join(out)
+
+
+# -- source ------------------------------------------------------------------------------------
+def _source(spec: Spec) -> str:
+    out = [banner(spec, "//")]
+    out.append('#include "roverlink_protocol.h"\n\n#include "../codec/wire.h"\n\n')
+    out.append("namespace roverlink {\nnamespace proto {\n\n")
+    for m in spec.messages:
+        out.append(
+            f'static_assert({m.class_name}::PAYLOAD_MAX <= MAX_PAYLOAD, "{m.name} payload exceeds MAX_PAYLOAD");\n'
+        )
+    out.append("\n")
+    for e in spec.enums:
+        if e.flags:
+            continue
+        ctype = _CTYPE[e.base]
+        out.append(f"bool is_valid_{e.name}({ctype} value) {{\n    switch (value) {{\n")
+        for v in e.values:
+            out.append(f"    case {v.value}:\n")
+        out.append("        return true;\n    default:\n        return false;\n    }\n}\n\n")
+    out.append("bool message_bounds(uint8_t msg_id, MessageBounds& out) {\n    switch (msg_id) {\n")
+    for m in spec.messages:
+        n = m.class_name
+        out.append(f"    case {n}::ID:\n        out.crc_extra = {n}::CRC_EXTRA;\n")
+        out.append(f"        out.min_payload = {n}::PAYLOAD_SIZE;\n        out.max_payload = {n}::PAYLOAD_MAX;\n")
+        out.append("        return true;\n")
+    out.append("    default:\n        return false;\n    }\n}\n\n")
+    for m in spec.messages:
+        out.append(_pack(m))
+        out.append(_unpack(m))
+        out.append(_check_ranges(m))
+    rows = spec.state_machine.rows()
+    states = [s.name for s in spec.state_machine.states]
+    events = [e.name for e in spec.state_machine.events]
+    guards = [g.name for g in spec.state_machine.guards]
+    actions = [a.name for a in spec.state_machine.actions]
+    out.append("const uint8_t TRANSITIONS[TRANSITION_COUNT][6] ROVERLINK_PROGMEM = {\n")
+    for src, event, guard, negated, to, acts in rows:
+        g = "GUARD_NONE" if guard is None else f"{guards.index(guard) + 1}{' | GUARD_NEGATED' if negated else ''}"
+        bits = sum(1 << actions.index(a) for a in acts)
+        out.append(
+            f"    {{{states.index(src)}, {events.index(event)}, {g}, {states.index(to)}, "
+            f"0x{bits & 0xFF:02X}, 0x{bits >> 8:02X}}},"
+            f"  // {src} {event}{' [' + ('!' if negated else '') + guard + ']' if guard else ''} -> {to}\n"
+        )
+    out.append("};\n\n}  // namespace proto\n}  // namespace roverlink\n")
+    return "".join(out)
+
+
+def _offsets(m: Message) -> list[int]:
+    offs, pos = [], 0
+    for f in m.fields:
+        offs.append(pos)
+        pos += f.size
+    return offs
+
+
+def _put(f: Field, dst: str, src: str) -> str:
+    prim = f.prim
+    if f.enum is not None and not f.enum.flags:
+        src = f"static_cast<{_CTYPE[prim]}>({src})"
+    if prim in ("u8", "char"):
+        return f"payload[{dst}] = {src};"
+    if prim == "i8":
+        return f"payload[{dst}] = static_cast<uint8_t>({src});"
+    return f"wire::put_{prim}(payload + {dst}, {src});"
+
+
+def _pack(m: Message) -> str:
+    n = m.class_name
+    arg = "m" if m.fields else "/*m*/"
+    out = [f"uint8_t pack(const {n}& {arg}, uint8_t* payload) {{\n"]
+    if not m.fields:
+        out.append("    (void)payload;\n")
+    for f, off in zip(m.fields, _offsets(m), strict=True):
+        if f.max_len is not None:
+            out.append(f"    const uint8_t n = m.{f.name}_len < {f.max_len} ? m.{f.name}_len : {f.max_len};\n")
+            out.append(
+                f"    for (uint8_t i = 0; i < n; ++i) payload[{off} + i] = static_cast<uint8_t>(m.{f.name}[i]);\n"
+            )
+            out.append(f"    return static_cast<uint8_t>({off} + n);\n}}\n\n")
+            return "".join(out)
+        if f.count is not None:
+            step = PRIMITIVES[f.prim][0]
+            out.append(f"    for (uint8_t i = 0; i < {f.count}; ++i) {{\n")
+            out.append(f"        {_put(f, f'{off} + i * {step}', f'm.{f.name}[i]')}\n    }}\n")
+        else:
+            out.append(f"    {_put(f, str(off), f'm.{f.name}')}\n")
+    out.append(f"    return {m.payload_size};\n}}\n\n")
+    return "".join(out)
+
+
+def _get(f: Field, off: str) -> str:
+    if f.prim in ("u8", "char"):
+        return f"payload[{off}]"
+    if f.prim == "i8":
+        return f"static_cast<int8_t>(payload[{off}])"
+    return f"wire::get_{f.prim}(payload + {off})"
+
+
+def _unpack(m: Message) -> str:
+    n = m.class_name
+    arg = "m" if m.fields else "/*m*/"
+    pname = "payload" if m.fields else "/*payload*/"
+    out = [f"bool unpack(const uint8_t* {pname}, uint8_t len, {n}& {arg}) {{\n"]
+    tail = m.trailing
+    if tail is None:
+        out.append(f"    if (len != {m.payload_size}) return false;\n")
+    else:
+        out.append(f"    if (len < {m.payload_size} || len > {m.payload_max}) return false;\n")
+    for f, off in zip(m.fields, _offsets(m), strict=True):
+        if f.max_len is not None:
+            out.append(f"    m.{f.name}_len = static_cast<uint8_t>(len - {off});\n")
+            out.append(f"    for (uint8_t i = 0; i < m.{f.name}_len; ++i) {{\n")
+            if f.prim == "char":
+                out.append(f"        if (payload[{off} + i] > 0x7F) return false;  // ASCII only\n")
+                out.append(f"        m.{f.name}[i] = static_cast<char>(payload[{off} + i]);\n    }}\n")
+            else:
+                out.append(f"        m.{f.name}[i] = payload[{off} + i];\n    }}\n")
+        elif f.count is not None:
+            step = PRIMITIVES[f.prim][0]
+            out.append(f"    for (uint8_t i = 0; i < {f.count}; ++i) {{\n")
+            out.append(f"        m.{f.name}[i] = {_get(f, f'{off} + i * {step}')};\n    }}\n")
+        elif f.enum is not None and f.enum.flags:
+            out.append(f"    m.{f.name} = {_get(f, str(off))};\n")
+            out.append(f"    if (m.{f.name} & static_cast<{_CTYPE[f.prim]}>(~{f.enum.name}::MASK)) return false;\n")
+        elif f.enum is not None:
+            out.append(f"    if (!is_valid_{f.enum.name}({_get(f, str(off))})) return false;\n")
+            out.append(f"    m.{f.name} = static_cast<{f.enum.name}>({_get(f, str(off))});\n")
+        else:
+            out.append(f"    m.{f.name} = {_get(f, str(off))};\n")
+    out.append("    return true;\n}\n\n")
+    return "".join(out)
+
+
+def _range_conditions(f: Field, expr: str) -> list[str]:
+    """Conditions that are true when `expr` is OUT of range; empty when the type already bounds it."""
+    if f.enum is not None or f.max_len is not None:
+        return []
+    if f.is_float:
+        return [f"!({expr} >= {_float_lit(f.lo)} && {expr} <= {_float_lit(f.hi)})"]  # NaN fails both
+    conds = []
+    _, _, _, tlo, thi = PRIMITIVES[f.prim]
+    if f.min is not None and f.min != tlo:
+        conds.append(f"{expr} < {_int_lit(int(f.min), f.prim)}")
+    if f.max is not None and f.max != thi:
+        conds.append(f"{expr} > {_int_lit(int(f.max), f.prim)}")
+    return conds
+
+
+def _check_ranges(m: Message) -> str:
+    n = m.class_name
+    body = []
+    for i, f in enumerate(m.fields):
+        if f.count is not None:
+            conds = _range_conditions(f, f"m.{f.name}[k]")
+            if conds:
+                body.append(f"    for (uint8_t k = 0; k < {f.count}; ++k) {{\n")
+                body.append(f"        if ({' || '.join(conds)}) return {i};\n    }}\n")
+        else:
+            conds = _range_conditions(f, f"m.{f.name}")
+            if conds:
+                body.append(f"    if ({' || '.join(conds)}) return {i};\n")
+    arg = "m" if body else "/*m*/"
+    return f"uint8_t check_ranges(const {n}& {arg}) {{\n" + "".join(body) + "    return ALL_FIELDS_VALID;\n}\n\n"
+
+
+# -- test-only reflection ------------------------------------------------------------------------
+def _reflect(spec: Spec) -> str:
+    """print_fields()/set_field() per message, for the native cross-check tool.
+
+    Text form of a field value: integers in decimal (enums and flags as their number), f32 as the
+    hex of its IEEE-754 bits (exact), arrays comma-separated, byte/char arrays as hex.
+    """
+    out = [banner(spec, "//")]
+    out.append("// Test-only: text view of every message for tests/native/rl_codec.cpp. Not part of the library.\n")
+    out.append("#ifndef ROVERLINK_REFLECT_H\n#define ROVERLINK_REFLECT_H\n\n")
+    out.append(
+        '#include <stdio.h>\n#include <stdlib.h>\n#include <string.h>\n\n#include "generated/roverlink_protocol.h"\n\n'
+    )
+    out.append("namespace roverlink {\nnamespace reflect {\n\n")
+    out.append(
+        "inline void print_f32(FILE* f, float v) {\n    uint32_t bits;\n    memcpy(&bits, &v, 4);\n"
+        '    fprintf(f, "0x%08lX", static_cast<unsigned long>(bits));\n}\n'
+        "inline float parse_f32(const char* s) {\n    uint32_t bits = static_cast<uint32_t>(strtoul(s, NULL, 16));\n"
+        "    float v;\n    memcpy(&v, &bits, 4);\n    return v;\n}\n"
+        "inline void print_hex(FILE* f, const uint8_t* p, uint8_t n) {\n"
+        '    for (uint8_t i = 0; i < n; ++i) fprintf(f, "%02x", p[i]);\n}\n'
+        "inline uint8_t parse_hex(const char* s, uint8_t* out, uint8_t cap) {\n    uint8_t n = 0;\n"
+        "    while (s[0] && s[1] && n < cap) {\n        char b[3] = {s[0], s[1], 0};\n"
+        "        out[n++] = static_cast<uint8_t>(strtoul(b, NULL, 16));\n        s += 2;\n    }\n    return n;\n}\n\n"
+    )
+    for m in spec.messages:
+        n = m.class_name
+        arg = "m" if m.fields else "/*m*/"
+        out.append(f"inline void print_fields(FILE* f, const proto::{n}& {arg}) {{\n")
+        out.append(f'    fputs("{m.name}", f);\n')
+        for fld in m.fields:
+            out.append(f'    fputs(" {fld.name}=", f);\n')
+            if fld.max_len is not None:
+                out.append(f"    print_hex(f, reinterpret_cast<const uint8_t*>(m.{fld.name}), m.{fld.name}_len);\n")
+                continue
+            idx = "[k]" if fld.count else ""
+            value = f"m.{fld.name}{idx}"
+            if fld.is_float:
+                line = f"print_f32(f, {value});"
+            elif fld.prim in ("u32",):
+                line = f'fprintf(f, "%lu", static_cast<unsigned long>({value}));'
+            elif fld.prim in ("i32",):
+                line = f'fprintf(f, "%ld", static_cast<long>({value}));'
+            else:
+                line = f'fprintf(f, "%ld", static_cast<long>({value}));'
+            if fld.count:
+                out.append(f"    for (uint8_t k = 0; k < {fld.count}; ++k) {{\n")
+                out.append(f"        if (k) fputc(',', f);\n        {line}\n    }}\n")
+            else:
+                out.append(f"    {line}\n")
+        out.append("}\n\n")
+        out.append(f"inline bool set_field(proto::{n}& {arg}, const char* name, const char* value) {{\n")
+        if not m.fields:
+            out.append("    (void)name;\n    (void)value;\n    return false;\n}\n\n")
+            continue
+        for fld in m.fields:
+            out.append(f'    if (strcmp(name, "{fld.name}") == 0) {{\n')
+            if fld.max_len is not None:
+                out.append(
+                    f"        m.{fld.name}_len = parse_hex(value, reinterpret_cast<uint8_t*>(m.{fld.name}), "
+                    f"{fld.max_len});\n"
+                )
+            else:
+                ctype = _ctype(fld)
+                if fld.enum is not None and not fld.enum.flags:
+                    ctype = f"proto::{ctype}"
+                if fld.is_float:
+                    conv = "parse_f32(v)"
+                elif fld.prim == "u32":
+                    conv = f"static_cast<{ctype}>(strtoul(v, NULL, 10))"
+                else:
+                    conv = f"static_cast<{ctype}>(strtol(v, NULL, 10))"
+                if fld.count:
+                    out.append(
+                        f"        const char* v = value;\n        for (uint8_t k = 0; k < {fld.count}; ++k) {{\n"
+                    )
+                    out.append(f"            m.{fld.name}[k] = {conv};\n")
+                    out.append(
+                        "            v = strchr(v, ',');\n            if (!v) return k == " + str(fld.count - 1) + ";\n"
+                    )
+                    out.append("            ++v;\n        }\n")
+                else:
+                    out.append(f"        const char* v = value;\n        m.{fld.name} = {conv};\n")
+            out.append("        return true;\n    }\n")
+        out.append("    return false;\n}\n\n")
+    out.append("// Calls fn(msg) with a zeroed message of type `msg_id`; false for an unknown id.\n")
+    out.append("template <class Fn>\nbool with_message(uint8_t msg_id, Fn& fn) {\n    switch (msg_id) {\n")
+    for m in spec.messages:
+        out.append(f"    case proto::{m.class_name}::ID: {{\n        proto::{m.class_name} m;\n")
+        out.append("        memset(&m, 0, sizeof m);\n        fn(m);\n        return true;\n    }\n")
+    out.append("    default:\n        return false;\n    }\n}\n\n")
+    out.append("// msg_id of a message NAME, or -1.\ninline int id_of(const char* name) {\n")
+    for m in spec.messages:
+        out.append(f'    if (strcmp(name, "{m.name}") == 0) return proto::{m.class_name}::ID;\n')
+    out.append(
+        "    return -1;\n}\n\n}  // namespace reflect\n}  // namespace roverlink\n\n#endif  // ROVERLINK_REFLECT_H\n"
+    )
+    return "".join(out)

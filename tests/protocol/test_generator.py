@@ -1,0 +1,132 @@
+"""Generated files are deterministic, marked DO NOT EDIT, committed, and checked for drift."""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+from protocol import generate, hashing, loader
+from protocol.__main__ import main
+from protocol.model import Spec
+
+ROOT = generate.ROOT
+GOOD = generate.SPEC.read_text(encoding="utf-8")
+
+
+def spec(text: str = GOOD) -> Spec:
+    return loader.parse(text, "protocol/spec/roverlink.toml")
+
+
+def test_rendering_is_deterministic_and_free_of_paths_and_dates(tmp_path: Path) -> None:
+    first = generate.render(spec())
+    # The same spec in another checkout renders to the same bytes.
+    other = tmp_path / "elsewhere"
+    (other / "protocol" / "spec").mkdir(parents=True)
+    shutil.copy(generate.SPEC, other / "protocol" / "spec" / "roverlink.toml")
+    second = generate.render(loader.load(other / "protocol" / "spec" / "roverlink.toml", other))
+    assert first == second
+    for rel, text in first.items():
+        assert str(ROOT) not in text, rel
+        assert str(tmp_path) not in text, rel
+        assert not re.search(r"\b20[0-9]{2}-[01][0-9]-[0-3][0-9]\b", text), f"{rel} holds a date"
+
+
+def test_every_output_starts_with_do_not_edit_naming_the_spec_and_hash() -> None:
+    s = spec()
+    for rel, text in generate.render(s).items():
+        first, second = [*text.splitlines(), ""][:2]
+        assert "DO NOT EDIT" in first and "protocol/spec/roverlink.toml" in first, rel
+        assert f"0x{s.spec_hash:08X}" in first + second, rel
+
+
+def test_committed_outputs_match_the_spec() -> None:
+    assert main(["check"]) == 0
+
+
+def test_check_names_each_stale_file_and_says_how_to_fix(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "protocol" / "spec").mkdir(parents=True)
+    shutil.copy(generate.SPEC, tmp_path / "protocol" / "spec" / "roverlink.toml")
+    spec_file = tmp_path / "protocol" / "spec" / "roverlink.toml"
+    assert main(["generate", "--spec", str(spec_file), "--root", str(tmp_path)]) == 0
+    assert main(["check", "--spec", str(spec_file), "--root", str(tmp_path)]) == 0
+    edited = tmp_path / "host_sdk" / "_generated" / "constants.py"
+    edited.write_text(edited.read_text() + "# hand edit\n")
+    (tmp_path / "docs" / "protocol.md").unlink()
+    capsys.readouterr()
+    assert main(["check", "--spec", str(spec_file), "--root", str(tmp_path)]) == 1
+    err = capsys.readouterr().err
+    assert "stale: host_sdk/_generated/constants.py" in err
+    assert "stale: docs/protocol.md" in err
+    assert "python -m protocol generate" in err
+    # A spec change makes every file that embeds the hash stale.
+    spec_file.write_text(GOOD.replace('value = 250\ndoc = "Watchdog period', 'value = 300\ndoc = "Watchdog period'))
+    assert main(["check", "--spec", str(spec_file), "--root", str(tmp_path)]) == 1
+
+
+def test_crc_extra_follows_the_definition_not_the_prose() -> None:
+    base = spec().message("SET_WHEEL_SPEEDS")
+    renamed = spec(GOOD.replace('name = "left_mm_s"', 'name = "left_speed_mm_s"')).message("SET_WHEEL_SPEEDS")
+    retyped = spec(GOOD.replace('{ name = "left_mm_s", type = "i16"', '{ name = "left_mm_s", type = "i32"')).message(
+        "SET_WHEEL_SPEEDS"
+    )
+    reworded = spec(GOOD.replace("Left wheel target speed", "Target speed of the left wheel")).message(
+        "SET_WHEEL_SPEEDS"
+    )
+    assert renamed.crc_extra != base.crc_extra
+    assert retyped.crc_extra != base.crc_extra
+    assert reworded.crc_extra == base.crc_extra
+
+
+def test_crc_extra_derivation_is_the_documented_one() -> None:
+    m = spec().message("SET_WHEEL_SPEEDS")
+    crc = hashing.crc16(b"SET_WHEEL_SPEEDS i16 left_mm_s i16 right_mm_s")
+    assert m.crc_extra == (crc & 0xFF) ^ (crc >> 8)
+    assert hashing.crc16(b"123456789") == 0x29B1
+
+
+def test_spec_hash_covers_behaviour_but_not_docs() -> None:
+    base = spec().spec_hash
+    assert spec(GOOD.replace("Left wheel target speed", "Left wheel speed")).spec_hash == base
+    assert spec(GOOD.replace('max = 1571, unit = "mrad", doc = "Front-wheel angle, positive', 'max = 1500, unit = "mrad", doc = "Front-wheel angle, positive')).spec_hash != base  # fmt: skip
+    assert spec(GOOD.replace('{ from = ["IDLE"], event = "DISARM", to = "IDLE", actions = ["ack"] }', '{ from = ["IDLE"], event = "DISARM", to = "IDLE", actions = ["nack"] }')).spec_hash != base  # fmt: skip
+
+
+def test_generated_python_state_table_is_the_spec_table() -> None:
+    from host_sdk.statemachine import INITIAL_STATE, TRANSITIONS
+
+    s = spec()
+    rows = [
+        (t.source.name, t.event.name, t.guard.name.lower() if t.guard is not None else None, t.negated, t.target.name,
+         tuple(a.name.lower() for a in type(t.actions) if a in t.actions))
+        for t in TRANSITIONS
+    ]  # fmt: skip
+    expected = [(src, ev, g, neg, to, tuple(sorted(acts, key=[a.name for a in s.state_machine.actions].index)))
+                for src, ev, g, neg, to, acts in s.state_machine.rows()]  # fmt: skip
+    assert rows == expected
+    assert INITIAL_STATE.name == s.state_machine.initial
+
+
+def test_vectors_cover_every_message_and_the_required_cases() -> None:
+    s = spec()
+    for m in s.messages:
+        data = json.loads((ROOT / "protocol" / "vectors" / f"{m.name.lower()}.json").read_text())
+        cases = [v["case"] for v in data["vectors"]]
+        assert {"zero", "min", "max", "typical"} <= set(cases), m.name
+        lengths = {len(bytes.fromhex(v["payload"])) for v in data["vectors"]}
+        if m.trailing is not None:
+            assert {m.payload_size, m.payload_max} <= lengths, f"{m.name}: trailing array at 0 and max length"
+        zero = next(v for v in data["vectors"] if v["case"] == "zero")
+        if m.payload_size and all(f.lo <= 0 for f in m.fields if f.enum is None):
+            assert bytes.fromhex(zero["payload"]).count(0) > 0, f"{m.name}: zero case exercises COBS"
+    negatives = [
+        v
+        for m in s.messages
+        for v in json.loads((ROOT / "protocol" / "vectors" / f"{m.name.lower()}.json").read_text())["vectors"]
+        if v["case"] == "min"
+        and any(isinstance(x, int) and x < 0 for x in json.dumps(v["fields"]) and v["fields"].values())
+    ]
+    assert negatives, "min vectors hold negative values"
