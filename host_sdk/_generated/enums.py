@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x5EC879AD
+# spec hash: 0x977CBCC6
 """Enumerations and bit flags."""
 
 import enum

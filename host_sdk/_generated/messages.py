@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x5EC879AD
+# spec hash: 0x977CBCC6
 """Message classes: frozen, slotted dataclasses with pack() and unpack()."""
 
 from __future__ import annotations
@@ -15,11 +15,7 @@ from host_sdk.codec.message import (
     FieldInfo,
     Message,
     decode_error,
-    field_error,
-    is_ascii,
-    is_f32,
-    is_int,
-    is_int_array,
+    first_invalid,
     slot_setter,
 )
 
@@ -39,7 +35,7 @@ _S_PING = struct.Struct("<I")
 _S_ARM = struct.Struct("<I")
 _S_SET_PID = struct.Struct("<Bffff")
 _S_GET_PID = struct.Struct("<B")
-_S_SET_CONFIG = struct.Struct("<HBHHHHHBBIHHHHHHHHHB")
+_S_SET_CONFIG = struct.Struct("<HBHHHHHBBIHHHHHHHHHHB")
 _S_SET_WHEEL_SPEEDS = struct.Struct("<hh")
 _S_SET_ACKERMANN = struct.Struct("<hh")
 _S_IDENTITY = struct.Struct("<BI3BBHIIBBHBB")
@@ -47,7 +43,7 @@ _S_PONG = struct.Struct("<II")
 _S_ACK = struct.Struct("<BB")
 _S_NACK = struct.Struct("<BBBB")
 _S_PID = struct.Struct("<BBffff")
-_S_CONFIG = struct.Struct("<BHBHHHHHBBIHHHHHHHHHB")
+_S_CONFIG = struct.Struct("<BHBHHHHHBBIHHHHHHHHHHB")
 _S_LINK_STATS = struct.Struct("<BIIIIIIIIII")
 _S_FEEDBACK = struct.Struct("<IIHBHBB2i2h2hh")
 _S_LOG = struct.Struct("<B")
@@ -84,17 +80,12 @@ class Hello(Message):
     """Requested stream rate; 0 = stored default. Clamped to 1..FEEDBACK_HZ_MAX. [Hz]"""
 
     def pack(self) -> bytes:
-        if not (is_int(self.protocol_version, 0, 255)):
-            raise field_error(self, 0, self.protocol_version)
-        if not (is_int(self.spec_hash, 0, 4294967295)):
-            raise field_error(self, 1, self.spec_hash)
-        if not (is_int(self.watchdog_ms, 0, 60000)):
-            raise field_error(self, 2, self.watchdog_ms)
-        if not (is_int(self.feedback_mode, 0, 255) and self.feedback_mode in _FEEDBACKMODE):
-            raise field_error(self, 3, self.feedback_mode)
-        if not (is_int(self.feedback_hz, 0, 255)):
-            raise field_error(self, 4, self.feedback_hz)
-        return _S_HELLO.pack(self.protocol_version, self.spec_hash, self.watchdog_ms, self.feedback_mode, self.feedback_hz)
+        try:
+            if 0 <= self.watchdog_ms <= 60000 and self.feedback_mode in _FEEDBACKMODE:
+                return _S_HELLO.pack(self.protocol_version, self.spec_hash, self.watchdog_ms, self.feedback_mode, self.feedback_hz)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> Hello:
@@ -139,9 +130,11 @@ class Ping(Message):
     """Host clock at send time (low 32 bits), echoed in PONG. [us]"""
 
     def pack(self) -> bytes:
-        if not (is_int(self.host_time_us, 0, 4294967295)):
-            raise field_error(self, 0, self.host_time_us)
-        return _S_PING.pack(self.host_time_us)
+        try:
+            return _S_PING.pack(self.host_time_us)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> Ping:
@@ -175,9 +168,11 @@ class Arm(Message):
     """boot_id from this session's IDENTITY."""
 
     def pack(self) -> bytes:
-        if not (is_int(self.boot_id, 0, 4294967295)):
-            raise field_error(self, 0, self.boot_id)
-        return _S_ARM.pack(self.boot_id)
+        try:
+            return _S_ARM.pack(self.boot_id)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> Arm:
@@ -246,17 +241,12 @@ class SetPid(Message):
     """Feed-forward gain on the setpoint. [permille/(mm/s)]"""
 
     def pack(self) -> bytes:
-        if not (is_int(self.wheel, 0, 255)):
-            raise field_error(self, 0, self.wheel)
-        if not (is_f32(self.kp, 0.0, 1000.0)):
-            raise field_error(self, 1, self.kp)
-        if not (is_f32(self.ki, 0.0, 1000.0)):
-            raise field_error(self, 2, self.ki)
-        if not (is_f32(self.kd, 0.0, 1000.0)):
-            raise field_error(self, 3, self.kd)
-        if not (is_f32(self.kf, 0.0, 1000.0)):
-            raise field_error(self, 4, self.kf)
-        return _S_SET_PID.pack(self.wheel, self.kp, self.ki, self.kd, self.kf)
+        try:
+            if 0.0 <= self.kp <= 1000.0 and 0.0 <= self.ki <= 1000.0 and 0.0 <= self.kd <= 1000.0 and 0.0 <= self.kf <= 1000.0:
+                return _S_SET_PID.pack(self.wheel, self.kp, self.ki, self.kd, self.kf)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> SetPid:
@@ -298,9 +288,11 @@ class GetPid(Message):
     """Wheel index (0..WHEEL_COUNT-1)."""
 
     def pack(self) -> bytes:
-        if not (is_int(self.wheel, 0, 255)):
-            raise field_error(self, 0, self.wheel)
-        return _S_GET_PID.pack(self.wheel)
+        try:
+            return _S_GET_PID.pack(self.wheel)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> GetPid:
@@ -321,9 +313,9 @@ class SetConfig(Message):
 
     MSG_ID: ClassVar[int] = 0x14
     NAME: ClassVar[str] = "SET_CONFIG"
-    CRC_EXTRA: ClassVar[int] = 0x05
-    PAYLOAD_SIZE: ClassVar[int] = 38
-    PAYLOAD_MAX: ClassVar[int] = 38
+    CRC_EXTRA: ClassVar[int] = 0xF8
+    PAYLOAD_SIZE: ClassVar[int] = 40
+    PAYLOAD_MAX: ClassVar[int] = 40
     DIRECTION: ClassVar[Direction] = Direction.HOST_TO_MCU
     DELIVERY: ClassVar[Delivery] = Delivery.RELIABLE
     FIELDS: ClassVar[tuple[FieldInfo, ...]] = (
@@ -346,6 +338,7 @@ class SetConfig(Message):
         FieldInfo('esc_min_us', 'u16', 'int', 800, 2200, unit='us'),
         FieldInfo('esc_neutral_us', 'u16', 'int', 800, 2200, unit='us'),
         FieldInfo('esc_max_us', 'u16', 'int', 800, 2200, unit='us'),
+        FieldInfo('esc_arm_ms', 'u16', 'int', 0, 10000, unit='ms'),
         FieldInfo('feedback_hz', 'u8', 'int', 1, 100, unit='Hz'),
     )
 
@@ -387,56 +380,23 @@ class SetConfig(Message):
     """ESC pulse for stop (sent during the boot calibration). [us]"""
     esc_max_us: int
     """ESC pulse for full forward. [us]"""
+    esc_arm_ms: int
+    """Arming sequence: neutral pulses held at boot before the ESC is driven. [ms]"""
     feedback_hz: int
     """Default stream feedback rate. [Hz]"""
 
     def pack(self) -> bytes:
-        if not (is_int(self.watchdog_ms, 50, 2000)):
-            raise field_error(self, 0, self.watchdog_ms)
-        if not (is_int(self.safe_state, 0, 255) and self.safe_state in _SAFESTATE):
-            raise field_error(self, 1, self.safe_state)
-        if not (is_int(self.accel_limit_mm_s2, 1, 65535)):
-            raise field_error(self, 2, self.accel_limit_mm_s2)
-        if not (is_int(self.decel_limit_mm_s2, 1, 65535)):
-            raise field_error(self, 3, self.decel_limit_mm_s2)
-        if not (is_int(self.max_wheel_speed_mm_s, 1, 20000)):
-            raise field_error(self, 4, self.max_wheel_speed_mm_s)
-        if not (is_int(self.max_effort_permille, 0, 1000)):
-            raise field_error(self, 5, self.max_effort_permille)
-        if not (is_int(self.encoder_cpr, 1, 65535)):
-            raise field_error(self, 6, self.encoder_cpr)
-        if not (is_int(self.encoder_invert, 0, 3)):
-            raise field_error(self, 7, self.encoder_invert)
-        if not (is_int(self.motor_invert, 0, 3)):
-            raise field_error(self, 8, self.motor_invert)
-        if not (is_int(self.wheel_diameter_um, 1000, 1000000)):
-            raise field_error(self, 9, self.wheel_diameter_um)
-        if not (is_int(self.steering_center_cdeg, 0, 18000)):
-            raise field_error(self, 10, self.steering_center_cdeg)
-        if not (is_int(self.steering_min_cdeg, 0, 18000)):
-            raise field_error(self, 11, self.steering_min_cdeg)
-        if not (is_int(self.steering_max_cdeg, 0, 18000)):
-            raise field_error(self, 12, self.steering_max_cdeg)
-        if not (is_int(self.steering_step_cdeg, 0, 9000)):
-            raise field_error(self, 13, self.steering_step_cdeg)
-        if not (is_int(self.servo_min_us, 400, 2600)):
-            raise field_error(self, 14, self.servo_min_us)
-        if not (is_int(self.servo_max_us, 400, 2600)):
-            raise field_error(self, 15, self.servo_max_us)
-        if not (is_int(self.esc_min_us, 800, 2200)):
-            raise field_error(self, 16, self.esc_min_us)
-        if not (is_int(self.esc_neutral_us, 800, 2200)):
-            raise field_error(self, 17, self.esc_neutral_us)
-        if not (is_int(self.esc_max_us, 800, 2200)):
-            raise field_error(self, 18, self.esc_max_us)
-        if not (is_int(self.feedback_hz, 1, 100)):
-            raise field_error(self, 19, self.feedback_hz)
-        return _S_SET_CONFIG.pack(self.watchdog_ms, self.safe_state, self.accel_limit_mm_s2, self.decel_limit_mm_s2, self.max_wheel_speed_mm_s, self.max_effort_permille, self.encoder_cpr, self.encoder_invert, self.motor_invert, self.wheel_diameter_um, self.steering_center_cdeg, self.steering_min_cdeg, self.steering_max_cdeg, self.steering_step_cdeg, self.servo_min_us, self.servo_max_us, self.esc_min_us, self.esc_neutral_us, self.esc_max_us, self.feedback_hz)
+        try:
+            if 50 <= self.watchdog_ms <= 2000 and self.safe_state in _SAFESTATE and 1 <= self.accel_limit_mm_s2 <= 65535 and 1 <= self.decel_limit_mm_s2 <= 65535 and 1 <= self.max_wheel_speed_mm_s <= 20000 and 0 <= self.max_effort_permille <= 1000 and 1 <= self.encoder_cpr <= 65535 and 0 <= self.encoder_invert <= 3 and 0 <= self.motor_invert <= 3 and 1000 <= self.wheel_diameter_um <= 1000000 and 0 <= self.steering_center_cdeg <= 18000 and 0 <= self.steering_min_cdeg <= 18000 and 0 <= self.steering_max_cdeg <= 18000 and 0 <= self.steering_step_cdeg <= 9000 and 400 <= self.servo_min_us <= 2600 and 400 <= self.servo_max_us <= 2600 and 800 <= self.esc_min_us <= 2200 and 800 <= self.esc_neutral_us <= 2200 and 800 <= self.esc_max_us <= 2200 and 0 <= self.esc_arm_ms <= 10000 and 1 <= self.feedback_hz <= 100:
+                return _S_SET_CONFIG.pack(self.watchdog_ms, self.safe_state, self.accel_limit_mm_s2, self.decel_limit_mm_s2, self.max_wheel_speed_mm_s, self.max_effort_permille, self.encoder_cpr, self.encoder_invert, self.motor_invert, self.wheel_diameter_um, self.steering_center_cdeg, self.steering_min_cdeg, self.steering_max_cdeg, self.steering_step_cdeg, self.servo_min_us, self.servo_max_us, self.esc_min_us, self.esc_neutral_us, self.esc_max_us, self.esc_arm_ms, self.feedback_hz)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> SetConfig:
-        if len(payload) != 38:
-            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 38")
+        if len(payload) != 40:
+            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 40")
         v = _S_SET_CONFIG.unpack(payload)
         safe_state = _SAFESTATE.get(v[1])
         if safe_state is None:
@@ -461,7 +421,8 @@ class SetConfig(Message):
         _SET_CONFIG_ESC_MIN_US(self, v[16])
         _SET_CONFIG_ESC_NEUTRAL_US(self, v[17])
         _SET_CONFIG_ESC_MAX_US(self, v[18])
-        _SET_CONFIG_FEEDBACK_HZ(self, v[19])
+        _SET_CONFIG_ESC_ARM_MS(self, v[19])
+        _SET_CONFIG_FEEDBACK_HZ(self, v[20])
         return self
 
 
@@ -484,6 +445,7 @@ _SET_CONFIG_SERVO_MAX_US = slot_setter(SetConfig, "servo_max_us")
 _SET_CONFIG_ESC_MIN_US = slot_setter(SetConfig, "esc_min_us")
 _SET_CONFIG_ESC_NEUTRAL_US = slot_setter(SetConfig, "esc_neutral_us")
 _SET_CONFIG_ESC_MAX_US = slot_setter(SetConfig, "esc_max_us")
+_SET_CONFIG_ESC_ARM_MS = slot_setter(SetConfig, "esc_arm_ms")
 _SET_CONFIG_FEEDBACK_HZ = slot_setter(SetConfig, "feedback_hz")
 
 
@@ -601,11 +563,11 @@ class SetWheelSpeeds(Message):
     """Right wheel target speed, positive forward. [mm/s]"""
 
     def pack(self) -> bytes:
-        if not (is_int(self.left_mm_s, -32768, 32767)):
-            raise field_error(self, 0, self.left_mm_s)
-        if not (is_int(self.right_mm_s, -32768, 32767)):
-            raise field_error(self, 1, self.right_mm_s)
-        return _S_SET_WHEEL_SPEEDS.pack(self.left_mm_s, self.right_mm_s)
+        try:
+            return _S_SET_WHEEL_SPEEDS.pack(self.left_mm_s, self.right_mm_s)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> SetWheelSpeeds:
@@ -644,11 +606,12 @@ class SetAckermann(Message):
     """Front-wheel angle, positive turns left. [mrad]"""
 
     def pack(self) -> bytes:
-        if not (is_int(self.speed_mm_s, -32768, 32767)):
-            raise field_error(self, 0, self.speed_mm_s)
-        if not (is_int(self.steering_mrad, -1571, 1571)):
-            raise field_error(self, 1, self.steering_mrad)
-        return _S_SET_ACKERMANN.pack(self.speed_mm_s, self.steering_mrad)
+        try:
+            if -1571 <= self.steering_mrad <= 1571:
+                return _S_SET_ACKERMANN.pack(self.speed_mm_s, self.steering_mrad)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> SetAckermann:
@@ -720,33 +683,12 @@ class Identity(Message):
     """Name of the firmware example (ASCII)."""
 
     def pack(self) -> bytes:
-        if not (is_int(self.protocol_version, 0, 255)):
-            raise field_error(self, 0, self.protocol_version)
-        if not (is_int(self.spec_hash, 0, 4294967295)):
-            raise field_error(self, 1, self.spec_hash)
-        if not (is_int_array(self.firmware_version, 3, 0, 255)):
-            raise field_error(self, 2, self.firmware_version)
-        if not (is_int(self.board, 0, 255) and self.board in _BOARD):
-            raise field_error(self, 3, self.board)
-        if not (is_int(self.capabilities, 0, 65535) and self.capabilities in _CAPABILITY):
-            raise field_error(self, 4, self.capabilities)
-        if not (is_int(self.boot_id, 0, 4294967295)):
-            raise field_error(self, 5, self.boot_id)
-        if not (is_int(self.uptime_ms, 0, 4294967295)):
-            raise field_error(self, 6, self.uptime_ms)
-        if not (is_int(self.reason, 0, 255) and self.reason in _IDENTITYREASON):
-            raise field_error(self, 7, self.reason)
-        if not (is_int(self.hello_seq, 0, 255)):
-            raise field_error(self, 8, self.hello_seq)
-        if not (is_int(self.watchdog_ms, 0, 65535)):
-            raise field_error(self, 9, self.watchdog_ms)
-        if not (is_int(self.feedback_mode, 0, 255) and self.feedback_mode in _FEEDBACKMODE):
-            raise field_error(self, 10, self.feedback_mode)
-        if not (is_int(self.feedback_hz, 0, 255)):
-            raise field_error(self, 11, self.feedback_hz)
-        if not (is_ascii(self.robot_name, 24)):
-            raise field_error(self, 12, self.robot_name)
-        return _S_IDENTITY.pack(self.protocol_version, self.spec_hash, *self.firmware_version, self.board, self.capabilities, self.boot_id, self.uptime_ms, self.reason, self.hello_seq, self.watchdog_ms, self.feedback_mode, self.feedback_hz) + self.robot_name.encode("ascii")
+        try:
+            if len(self.firmware_version) == 3 and self.board in _BOARD and self.capabilities in _CAPABILITY and self.reason in _IDENTITYREASON and self.feedback_mode in _FEEDBACKMODE and len(self.robot_name) <= 24:
+                return _S_IDENTITY.pack(self.protocol_version, self.spec_hash, *self.firmware_version, self.board, self.capabilities, self.boot_id, self.uptime_ms, self.reason, self.hello_seq, self.watchdog_ms, self.feedback_mode, self.feedback_hz) + self.robot_name.encode("ascii")
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> Identity:
@@ -822,11 +764,11 @@ class Pong(Message):
     """MCU clock when the PING was processed. [us]"""
 
     def pack(self) -> bytes:
-        if not (is_int(self.host_time_us, 0, 4294967295)):
-            raise field_error(self, 0, self.host_time_us)
-        if not (is_int(self.mcu_time_us, 0, 4294967295)):
-            raise field_error(self, 1, self.mcu_time_us)
-        return _S_PONG.pack(self.host_time_us, self.mcu_time_us)
+        try:
+            return _S_PONG.pack(self.host_time_us, self.mcu_time_us)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> Pong:
@@ -865,11 +807,11 @@ class Ack(Message):
     """seq of the request."""
 
     def pack(self) -> bytes:
-        if not (is_int(self.req_id, 0, 255)):
-            raise field_error(self, 0, self.req_id)
-        if not (is_int(self.req_seq, 0, 255)):
-            raise field_error(self, 1, self.req_seq)
-        return _S_ACK.pack(self.req_id, self.req_seq)
+        try:
+            return _S_ACK.pack(self.req_id, self.req_seq)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> Ack:
@@ -914,15 +856,12 @@ class Nack(Message):
     """Reason-specific: field index, FailsafeReason, ..."""
 
     def pack(self) -> bytes:
-        if not (is_int(self.req_id, 0, 255)):
-            raise field_error(self, 0, self.req_id)
-        if not (is_int(self.req_seq, 0, 255)):
-            raise field_error(self, 1, self.req_seq)
-        if not (is_int(self.reason, 0, 255) and self.reason in _NACKREASON):
-            raise field_error(self, 2, self.reason)
-        if not (is_int(self.detail, 0, 255)):
-            raise field_error(self, 3, self.detail)
-        return _S_NACK.pack(self.req_id, self.req_seq, self.reason, self.detail)
+        try:
+            if self.reason in _NACKREASON:
+                return _S_NACK.pack(self.req_id, self.req_seq, self.reason, self.detail)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> Nack:
@@ -980,19 +919,12 @@ class Pid(Message):
     """Feed-forward gain on the setpoint. [permille/(mm/s)]"""
 
     def pack(self) -> bytes:
-        if not (is_int(self.req_seq, 0, 255)):
-            raise field_error(self, 0, self.req_seq)
-        if not (is_int(self.wheel, 0, 255)):
-            raise field_error(self, 1, self.wheel)
-        if not (is_f32(self.kp, 0.0, 1000.0)):
-            raise field_error(self, 2, self.kp)
-        if not (is_f32(self.ki, 0.0, 1000.0)):
-            raise field_error(self, 3, self.ki)
-        if not (is_f32(self.kd, 0.0, 1000.0)):
-            raise field_error(self, 4, self.kd)
-        if not (is_f32(self.kf, 0.0, 1000.0)):
-            raise field_error(self, 5, self.kf)
-        return _S_PID.pack(self.req_seq, self.wheel, self.kp, self.ki, self.kd, self.kf)
+        try:
+            if 0.0 <= self.kp <= 1000.0 and 0.0 <= self.ki <= 1000.0 and 0.0 <= self.kd <= 1000.0 and 0.0 <= self.kf <= 1000.0:
+                return _S_PID.pack(self.req_seq, self.wheel, self.kp, self.ki, self.kd, self.kf)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> Pid:
@@ -1023,9 +955,9 @@ class Config(Message):
 
     MSG_ID: ClassVar[int] = 0x86
     NAME: ClassVar[str] = "CONFIG"
-    CRC_EXTRA: ClassVar[int] = 0xD6
-    PAYLOAD_SIZE: ClassVar[int] = 39
-    PAYLOAD_MAX: ClassVar[int] = 39
+    CRC_EXTRA: ClassVar[int] = 0x18
+    PAYLOAD_SIZE: ClassVar[int] = 41
+    PAYLOAD_MAX: ClassVar[int] = 41
     DIRECTION: ClassVar[Direction] = Direction.MCU_TO_HOST
     DELIVERY: ClassVar[Delivery] = Delivery.RELIABLE
     FIELDS: ClassVar[tuple[FieldInfo, ...]] = (
@@ -1049,6 +981,7 @@ class Config(Message):
         FieldInfo('esc_min_us', 'u16', 'int', 800, 2200, unit='us'),
         FieldInfo('esc_neutral_us', 'u16', 'int', 800, 2200, unit='us'),
         FieldInfo('esc_max_us', 'u16', 'int', 800, 2200, unit='us'),
+        FieldInfo('esc_arm_ms', 'u16', 'int', 0, 10000, unit='ms'),
         FieldInfo('feedback_hz', 'u8', 'int', 1, 100, unit='Hz'),
     )
 
@@ -1092,58 +1025,23 @@ class Config(Message):
     """ESC pulse for stop (sent during the boot calibration). [us]"""
     esc_max_us: int
     """ESC pulse for full forward. [us]"""
+    esc_arm_ms: int
+    """Arming sequence: neutral pulses held at boot before the ESC is driven. [ms]"""
     feedback_hz: int
     """Default stream feedback rate. [Hz]"""
 
     def pack(self) -> bytes:
-        if not (is_int(self.req_seq, 0, 255)):
-            raise field_error(self, 0, self.req_seq)
-        if not (is_int(self.watchdog_ms, 50, 2000)):
-            raise field_error(self, 1, self.watchdog_ms)
-        if not (is_int(self.safe_state, 0, 255) and self.safe_state in _SAFESTATE):
-            raise field_error(self, 2, self.safe_state)
-        if not (is_int(self.accel_limit_mm_s2, 1, 65535)):
-            raise field_error(self, 3, self.accel_limit_mm_s2)
-        if not (is_int(self.decel_limit_mm_s2, 1, 65535)):
-            raise field_error(self, 4, self.decel_limit_mm_s2)
-        if not (is_int(self.max_wheel_speed_mm_s, 1, 20000)):
-            raise field_error(self, 5, self.max_wheel_speed_mm_s)
-        if not (is_int(self.max_effort_permille, 0, 1000)):
-            raise field_error(self, 6, self.max_effort_permille)
-        if not (is_int(self.encoder_cpr, 1, 65535)):
-            raise field_error(self, 7, self.encoder_cpr)
-        if not (is_int(self.encoder_invert, 0, 3)):
-            raise field_error(self, 8, self.encoder_invert)
-        if not (is_int(self.motor_invert, 0, 3)):
-            raise field_error(self, 9, self.motor_invert)
-        if not (is_int(self.wheel_diameter_um, 1000, 1000000)):
-            raise field_error(self, 10, self.wheel_diameter_um)
-        if not (is_int(self.steering_center_cdeg, 0, 18000)):
-            raise field_error(self, 11, self.steering_center_cdeg)
-        if not (is_int(self.steering_min_cdeg, 0, 18000)):
-            raise field_error(self, 12, self.steering_min_cdeg)
-        if not (is_int(self.steering_max_cdeg, 0, 18000)):
-            raise field_error(self, 13, self.steering_max_cdeg)
-        if not (is_int(self.steering_step_cdeg, 0, 9000)):
-            raise field_error(self, 14, self.steering_step_cdeg)
-        if not (is_int(self.servo_min_us, 400, 2600)):
-            raise field_error(self, 15, self.servo_min_us)
-        if not (is_int(self.servo_max_us, 400, 2600)):
-            raise field_error(self, 16, self.servo_max_us)
-        if not (is_int(self.esc_min_us, 800, 2200)):
-            raise field_error(self, 17, self.esc_min_us)
-        if not (is_int(self.esc_neutral_us, 800, 2200)):
-            raise field_error(self, 18, self.esc_neutral_us)
-        if not (is_int(self.esc_max_us, 800, 2200)):
-            raise field_error(self, 19, self.esc_max_us)
-        if not (is_int(self.feedback_hz, 1, 100)):
-            raise field_error(self, 20, self.feedback_hz)
-        return _S_CONFIG.pack(self.req_seq, self.watchdog_ms, self.safe_state, self.accel_limit_mm_s2, self.decel_limit_mm_s2, self.max_wheel_speed_mm_s, self.max_effort_permille, self.encoder_cpr, self.encoder_invert, self.motor_invert, self.wheel_diameter_um, self.steering_center_cdeg, self.steering_min_cdeg, self.steering_max_cdeg, self.steering_step_cdeg, self.servo_min_us, self.servo_max_us, self.esc_min_us, self.esc_neutral_us, self.esc_max_us, self.feedback_hz)
+        try:
+            if 50 <= self.watchdog_ms <= 2000 and self.safe_state in _SAFESTATE and 1 <= self.accel_limit_mm_s2 <= 65535 and 1 <= self.decel_limit_mm_s2 <= 65535 and 1 <= self.max_wheel_speed_mm_s <= 20000 and 0 <= self.max_effort_permille <= 1000 and 1 <= self.encoder_cpr <= 65535 and 0 <= self.encoder_invert <= 3 and 0 <= self.motor_invert <= 3 and 1000 <= self.wheel_diameter_um <= 1000000 and 0 <= self.steering_center_cdeg <= 18000 and 0 <= self.steering_min_cdeg <= 18000 and 0 <= self.steering_max_cdeg <= 18000 and 0 <= self.steering_step_cdeg <= 9000 and 400 <= self.servo_min_us <= 2600 and 400 <= self.servo_max_us <= 2600 and 800 <= self.esc_min_us <= 2200 and 800 <= self.esc_neutral_us <= 2200 and 800 <= self.esc_max_us <= 2200 and 0 <= self.esc_arm_ms <= 10000 and 1 <= self.feedback_hz <= 100:
+                return _S_CONFIG.pack(self.req_seq, self.watchdog_ms, self.safe_state, self.accel_limit_mm_s2, self.decel_limit_mm_s2, self.max_wheel_speed_mm_s, self.max_effort_permille, self.encoder_cpr, self.encoder_invert, self.motor_invert, self.wheel_diameter_um, self.steering_center_cdeg, self.steering_min_cdeg, self.steering_max_cdeg, self.steering_step_cdeg, self.servo_min_us, self.servo_max_us, self.esc_min_us, self.esc_neutral_us, self.esc_max_us, self.esc_arm_ms, self.feedback_hz)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> Config:
-        if len(payload) != 39:
-            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 39")
+        if len(payload) != 41:
+            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 41")
         v = _S_CONFIG.unpack(payload)
         safe_state = _SAFESTATE.get(v[2])
         if safe_state is None:
@@ -1169,7 +1067,8 @@ class Config(Message):
         _CONFIG_ESC_MIN_US(self, v[17])
         _CONFIG_ESC_NEUTRAL_US(self, v[18])
         _CONFIG_ESC_MAX_US(self, v[19])
-        _CONFIG_FEEDBACK_HZ(self, v[20])
+        _CONFIG_ESC_ARM_MS(self, v[20])
+        _CONFIG_FEEDBACK_HZ(self, v[21])
         return self
 
 
@@ -1193,6 +1092,7 @@ _CONFIG_SERVO_MAX_US = slot_setter(Config, "servo_max_us")
 _CONFIG_ESC_MIN_US = slot_setter(Config, "esc_min_us")
 _CONFIG_ESC_NEUTRAL_US = slot_setter(Config, "esc_neutral_us")
 _CONFIG_ESC_MAX_US = slot_setter(Config, "esc_max_us")
+_CONFIG_ESC_ARM_MS = slot_setter(Config, "esc_arm_ms")
 _CONFIG_FEEDBACK_HZ = slot_setter(Config, "feedback_hz")
 
 
@@ -1245,29 +1145,11 @@ class LinkStats(Message):
     """Frames sent."""
 
     def pack(self) -> bytes:
-        if not (is_int(self.req_seq, 0, 255)):
-            raise field_error(self, 0, self.req_seq)
-        if not (is_int(self.frames_ok, 0, 4294967295)):
-            raise field_error(self, 1, self.frames_ok)
-        if not (is_int(self.crc_errors, 0, 4294967295)):
-            raise field_error(self, 2, self.crc_errors)
-        if not (is_int(self.cobs_errors, 0, 4294967295)):
-            raise field_error(self, 3, self.cobs_errors)
-        if not (is_int(self.length_errors, 0, 4294967295)):
-            raise field_error(self, 4, self.length_errors)
-        if not (is_int(self.unknown_ids, 0, 4294967295)):
-            raise field_error(self, 5, self.unknown_ids)
-        if not (is_int(self.seq_gaps, 0, 4294967295)):
-            raise field_error(self, 6, self.seq_gaps)
-        if not (is_int(self.bytes_discarded, 0, 4294967295)):
-            raise field_error(self, 7, self.bytes_discarded)
-        if not (is_int(self.rx_overruns, 0, 4294967295)):
-            raise field_error(self, 8, self.rx_overruns)
-        if not (is_int(self.duplicates, 0, 4294967295)):
-            raise field_error(self, 9, self.duplicates)
-        if not (is_int(self.frames_sent, 0, 4294967295)):
-            raise field_error(self, 10, self.frames_sent)
-        return _S_LINK_STATS.pack(self.req_seq, self.frames_ok, self.crc_errors, self.cobs_errors, self.length_errors, self.unknown_ids, self.seq_gaps, self.bytes_discarded, self.rx_overruns, self.duplicates, self.frames_sent)
+        try:
+            return _S_LINK_STATS.pack(self.req_seq, self.frames_ok, self.crc_errors, self.cobs_errors, self.length_errors, self.unknown_ids, self.seq_gaps, self.bytes_discarded, self.rx_overruns, self.duplicates, self.frames_sent)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> LinkStats:
@@ -1351,29 +1233,12 @@ class Feedback(Message):
     """Front-wheel angle commanded to the servo (0 without steering). [mrad]"""
 
     def pack(self) -> bytes:
-        if not (is_int(self.boot_id, 0, 4294967295)):
-            raise field_error(self, 0, self.boot_id)
-        if not (is_int(self.mcu_time_us, 0, 4294967295)):
-            raise field_error(self, 1, self.mcu_time_us)
-        if not (is_int(self.tick, 0, 65535)):
-            raise field_error(self, 2, self.tick)
-        if not (is_int(self.ack_seq, 0, 255)):
-            raise field_error(self, 3, self.ack_seq)
-        if not (is_int(self.ack_tick, 0, 65535)):
-            raise field_error(self, 4, self.ack_tick)
-        if not (is_int(self.status, 0, 255) and self.status in _STATUS):
-            raise field_error(self, 5, self.status)
-        if not (is_int(self.failsafe_reason, 0, 255) and self.failsafe_reason in _FAILSAFEREASON):
-            raise field_error(self, 6, self.failsafe_reason)
-        if not (is_int_array(self.encoder_counts, 2, -2147483648, 2147483647)):
-            raise field_error(self, 7, self.encoder_counts)
-        if not (is_int_array(self.wheel_speed_mm_s, 2, -32768, 32767)):
-            raise field_error(self, 8, self.wheel_speed_mm_s)
-        if not (is_int_array(self.effort_permille, 2, -1000, 1000)):
-            raise field_error(self, 9, self.effort_permille)
-        if not (is_int(self.steering_mrad, -1571, 1571)):
-            raise field_error(self, 10, self.steering_mrad)
-        return _S_FEEDBACK.pack(self.boot_id, self.mcu_time_us, self.tick, self.ack_seq, self.ack_tick, self.status, self.failsafe_reason, *self.encoder_counts, *self.wheel_speed_mm_s, *self.effort_permille, self.steering_mrad)
+        try:
+            if self.status in _STATUS and self.failsafe_reason in _FAILSAFEREASON and len(self.encoder_counts) == 2 and len(self.wheel_speed_mm_s) == 2 and len(self.effort_permille) == 2 and -1000 <= self.effort_permille[0] <= 1000 and -1000 <= self.effort_permille[1] <= 1000 and -1571 <= self.steering_mrad <= 1571:
+                return _S_FEEDBACK.pack(self.boot_id, self.mcu_time_us, self.tick, self.ack_seq, self.ack_tick, self.status, self.failsafe_reason, *self.encoder_counts, *self.wheel_speed_mm_s, *self.effort_permille, self.steering_mrad)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> Feedback:
@@ -1436,11 +1301,12 @@ class Log(Message):
     """ASCII text."""
 
     def pack(self) -> bytes:
-        if not (is_int(self.level, 0, 255) and self.level in _LOGLEVEL):
-            raise field_error(self, 0, self.level)
-        if not (is_ascii(self.text, 60)):
-            raise field_error(self, 1, self.text)
-        return _S_LOG.pack(self.level) + self.text.encode("ascii")
+        try:
+            if self.level in _LOGLEVEL and len(self.text) <= 60:
+                return _S_LOG.pack(self.level) + self.text.encode("ascii")
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> Log:

@@ -99,36 +99,42 @@ class Message:
         return {f.name: getattr(self, f.name) for f in self.FIELDS}
 
 
-# -- validation helpers called by generated pack() code (the slow path: only on bad input) ----------
-def field_error(msg: Message, index: int, value: object) -> EncodeError:
-    info = msg.FIELDS[index]
-    return EncodeError(msg.NAME, info.name, value, info.allowed())
+# -- validation: the slow path, run only when the fast checks in a generated pack() fail -----------
+def first_invalid(msg: Message) -> EncodeError:
+    """The EncodeError for the first field of `msg` that breaks its spec (type, range, length)."""
+    for info in msg.FIELDS:
+        value = getattr(msg, info.name)
+        if not _field_ok(info, value):
+            return EncodeError(msg.NAME, info.name, value, info.allowed())
+    return EncodeError(msg.NAME, "(payload)", msg, "values that pack into the payload")
 
 
-def is_int(value: object, lo: int, hi: int) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool) and lo <= value <= hi
+def _field_ok(info: FieldInfo, value: object) -> bool:
+    if info.kind == "str":
+        return isinstance(value, str) and len(value) <= (info.max_len or 0) and value.isascii()
+    if info.kind == "bytes":
+        return isinstance(value, (bytes, bytearray)) and len(value) <= (info.max_len or 0)
+    if info.count is not None:
+        return (
+            isinstance(value, (tuple, list))
+            and len(value) == info.count
+            and all(_scalar_ok(info, v) for v in value)
+        )
+    return _scalar_ok(info, value)
 
 
-def is_f32(value: object, lo: float, hi: float) -> bool:
-    return (
-        isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and lo <= value <= hi
-    )
-
-
-def is_int_array(value: object, count: int, lo: int, hi: int) -> bool:
-    return isinstance(value, tuple) and len(value) == count and all(is_int(v, lo, hi) for v in value)
-
-
-def is_f32_array(value: object, count: int, lo: float, hi: float) -> bool:
-    return isinstance(value, tuple) and len(value) == count and all(is_f32(v, lo, hi) for v in value)
-
-
-def is_ascii(value: object, max_len: int) -> bool:
-    return isinstance(value, str) and len(value) <= max_len and value.isascii()
-
-
-def is_bytes(value: object, max_len: int) -> bool:
-    return isinstance(value, (bytes, bytearray)) and len(value) <= max_len
+def _scalar_ok(info: FieldInfo, value: object) -> bool:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    if info.kind == "float":
+        return math.isfinite(value) and info.lo <= value <= info.hi
+    if not isinstance(value, int):
+        return False
+    if info.kind == "flags":
+        return value >= 0 and not value & ~int(info.hi)
+    if info.kind == "enum" and info.enum is not None:
+        return value in {int(m) for m in info.enum}
+    return info.lo <= value <= info.hi
 
 
 def decode_error(cls: type[Message], problem: str) -> DecodeError:

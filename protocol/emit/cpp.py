@@ -212,10 +212,13 @@ def _source(spec: Spec) -> str:
     out = [banner(spec, "//")]
     out.append('#include "roverlink_protocol.h"\n\n#include "../codec/wire.h"\n\n')
     out.append("namespace roverlink {\nnamespace proto {\n\n")
+    out.append("// Every struct member has the width of its wire field (no int, no double; AVR and ARM agree).\n")
     for m in spec.messages:
-        out.append(
-            f'static_assert({m.class_name}::PAYLOAD_MAX <= MAX_PAYLOAD, "{m.name} payload exceeds MAX_PAYLOAD");\n'
-        )
+        n = m.class_name
+        out.append(f'static_assert({n}::PAYLOAD_MAX <= MAX_PAYLOAD, "{m.name} payload exceeds MAX_PAYLOAD");\n')
+        if m.fields:
+            sizes = " + ".join(f"sizeof({n}::{f.name})" for f in m.fields)
+            out.append(f'static_assert({sizes} == {n}::PAYLOAD_MAX, "{m.name} member widths differ from the wire");\n')
     out.append("\n")
     for e in spec.enums:
         if e.flags:

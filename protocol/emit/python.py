@@ -103,20 +103,23 @@ def _field_info(f: Field) -> str:
     return "FieldInfo(" + ", ".join(args) + ")"
 
 
-def _check(f: Field, index: int) -> str:
-    """The pack()-time validation line for one field."""
+def _fast_conditions(f: Field) -> list[str]:
+    """What struct.pack does not check for us: spec ranges narrower than the type, f32 finiteness
+    (NaN fails every comparison), enum membership, trailing-array length. An expression that meets
+    a wrong type raises TypeError, which pack() turns into the slow, precise diagnosis."""
     attr = f"self.{f.name}"
     if f.max_len is not None:
-        cond = f"is_ascii({attr}, {f.max_len})" if f.prim == "char" else f"is_bytes({attr}, {f.max_len})"
-    elif f.enum is not None:
-        cond = f"is_int({attr}, 0, {PRIMITIVES[f.prim][4]}) and {attr} in _{f.enum.name.upper()}"
-    elif f.count is not None:
-        fn = "is_f32_array" if f.is_float else "is_int_array"
-        cond = f"{fn}({attr}, {f.count}, {num(f.lo)}, {num(f.hi)})"
-    else:
-        fn = "is_f32" if f.is_float else "is_int"
-        cond = f"{fn}({attr}, {num(f.lo)}, {num(f.hi)})"
-    return f"        if not ({cond}):\n            raise field_error(self, {index}, {attr})\n"
+        return [f"len({attr}) <= {f.max_len}"]
+    if f.enum is not None:
+        return [f"{attr} in _{f.enum.name.upper()}"]
+    _, _, _, tlo, thi = PRIMITIVES[f.prim]
+    if not f.is_float and f.lo == tlo and f.hi == thi:
+        return [f"len({attr}) == {f.count}"] if f.count else []
+    elems = [f"{attr}[{k}]" for k in range(f.count)] if f.count else [attr]
+    conds = [f"len({attr}) == {f.count}"] if f.count else []
+    for e in elems:
+        conds.append(f"{num(f.lo)} <= {e} <= {num(f.hi)}")
+    return conds
 
 
 def _unpack_expr(f: Field, idx: int) -> tuple[str, int]:
@@ -152,10 +155,9 @@ def _message(m: Message) -> str:
         unit = f" [{f.unit}]" if f.unit else ""
         out.append(_doc(f.doc + unit, "    "))
 
-    # pack(): validate every field, then one struct call (plus the trailing array).
+    # pack(): a fast path of inline checks plus struct's own; any failure is diagnosed slowly and
+    # precisely by first_invalid(), which walks FIELDS.
     out.append("\n    def pack(self) -> bytes:\n")
-    for i, f in enumerate(m.fields):
-        out.append(_check(f, i))
     fixed = [f for f in m.fields if f.max_len is None]
     args = ", ".join(f"*self.{f.name}" if f.count else f"self.{f.name}" for f in fixed)
     packed = f"_S_{m.name}.pack({args})" if fixed else 'b""'
@@ -163,7 +165,19 @@ def _message(m: Message) -> str:
     if tail is not None:
         conv = f'self.{tail.name}.encode("ascii")' if tail.prim == "char" else f"bytes(self.{tail.name})"
         packed = f"{packed} + {conv}"
-    out.append(f"        return {packed}\n")
+    conds = [c for f in m.fields for c in _fast_conditions(f)]
+    if not m.fields:
+        out.append(f"        return {packed}\n")
+    else:
+        out.append("        try:\n")
+        if conds:
+            joined = " and ".join(conds)
+            out.append(f"            if {joined}:\n                return {packed}\n")
+        else:
+            out.append(f"            return {packed}\n")
+        out.append("        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):\n")
+        out.append("            pass\n")
+        out.append("        raise first_invalid(self)\n")
 
     # unpack(): exact length rule, enum and flag values checked, nothing else trusted.
     out.append("\n    @classmethod\n")
@@ -227,10 +241,7 @@ def _messages(spec: Spec) -> str:
     out.append("from __future__ import annotations\n\n")
     out.append("import struct\nfrom dataclasses import dataclass\nfrom typing import ClassVar\n\n")
     out.append(f"from host_sdk._generated.enums import {', '.join(enums_used)}\n")
-    checks = "".join(_check(f, i) for m in spec.messages for i, f in enumerate(m.fields))
-    helpers = ["is_ascii", "is_bytes", "is_f32", "is_f32_array", "is_int", "is_int_array"]
-    names = ["Delivery", "Direction", "FieldInfo", "Message", "decode_error", "field_error"]
-    names += [h for h in helpers if f"{h}(" in checks] + ["slot_setter"]
+    names = ["Delivery", "Direction", "FieldInfo", "Message", "decode_error", "first_invalid", "slot_setter"]
     out.append("from host_sdk.codec.message import (\n" + "".join(f"    {n},\n" for n in names) + ")\n\n")
     out.append("_new = object.__new__\n")
     for name in enums_used:

@@ -163,10 +163,11 @@ static void discover_messages() {
     }
 }
 
-// A payload length the message does not allow (if any fits in MAX_PAYLOAD).
-static int bad_length(const proto::MessageBounds& b) {
-    if (b.max_payload < proto::MAX_PAYLOAD) return b.max_payload + 1;
-    if (b.min_payload > 0) return b.min_payload - 1;
+// A payload length the message does not allow, just above its max (or just below its min when
+// `below`); -1 when there is none within 0..MAX_PAYLOAD.
+static int bad_length(const proto::MessageBounds& b, bool below) {
+    if (!below && b.max_payload < proto::MAX_PAYLOAD) return b.max_payload + 1;
+    if (below && b.min_payload > 0) return b.min_payload - 1;
     return -1;
 }
 
@@ -457,7 +458,7 @@ static Item garbage_item() {
                                 make_frame(msg.id, rnd(), static_cast<uint8_t>(msg.b.crc_extra ^ 0x5C), payload));
             }
             case 5: {  // length outside the id's bounds, CRC right
-                const int bad = bad_length(msg.b);
+                const int bad = bad_length(msg.b, rnd() & 1);
                 if (bad < 0) continue;
                 const Bytes body = ref_body(msg.id, rnd(), random_payload(static_cast<size_t>(bad), true),
                                             msg.b.crc_extra);
@@ -698,14 +699,19 @@ static void test_error_order() {
         Case c2 = {"unknown before crc", wire_from_body(junk), FrameDecoder::ERR_UNKNOWN_ID};
         cases.push_back(c2);
     }
-    const int bad = bad_length(msg.b);
-    if (bad >= 0) {
-        Bytes body = ref_body(msg.id, 1, Bytes(static_cast<size_t>(bad), 0x11), msg.b.crc_extra);
-        Case c = {"length ok-crc", wire_from_body(body), FrameDecoder::ERR_LENGTH};
-        cases.push_back(c);
-        body[2] ^= 0x10;
-        Case c2 = {"crc before length", wire_from_body(body), FrameDecoder::ERR_CRC};
-        cases.push_back(c2);
+    for (size_t mi = 0; mi < g_msgs.size(); ++mi) {  // both length limits of every message
+        for (int below = 0; below < 2; ++below) {
+            const int bad = bad_length(g_msgs[mi].b, below != 0);
+            if (bad < 0) continue;
+            Bytes body = ref_body(g_msgs[mi].id, 1, Bytes(static_cast<size_t>(bad), 0x11),
+                                  g_msgs[mi].b.crc_extra);
+            Case c = {below ? "payload too short" : "payload too long", wire_from_body(body),
+                      FrameDecoder::ERR_LENGTH};
+            cases.push_back(c);
+            body[body.size() - 1] ^= 0x10;
+            Case c2 = {"crc before length", wire_from_body(body), FrameDecoder::ERR_CRC};
+            cases.push_back(c2);
+        }
     }
     {  // exactly 4 bytes: a frame with an empty payload is not a length error per se
         Bytes body = ref_body(msg.id, 9, Bytes(), msg.b.crc_extra);

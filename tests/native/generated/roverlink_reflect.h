@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x5EC879AD
+// spec hash: 0x977CBCC6
 // Test-only: text view of every message for tests/native/rl_codec.cpp. Not part of the library.
 #ifndef ROVERLINK_REFLECT_H
 #define ROVERLINK_REFLECT_H
@@ -218,6 +218,8 @@ inline void print_fields(FILE* f, const proto::SetConfig& m) {
     fprintf(f, "%ld", static_cast<long>(m.esc_neutral_us));
     fputs(" esc_max_us=", f);
     fprintf(f, "%ld", static_cast<long>(m.esc_max_us));
+    fputs(" esc_arm_ms=", f);
+    fprintf(f, "%ld", static_cast<long>(m.esc_arm_ms));
     fputs(" feedback_hz=", f);
     fprintf(f, "%ld", static_cast<long>(m.feedback_hz));
 }
@@ -316,6 +318,11 @@ inline bool set_field(proto::SetConfig& m, const char* name, const char* value) 
     if (strcmp(name, "esc_max_us") == 0) {
         const char* v = value;
         m.esc_max_us = static_cast<uint16_t>(strtol(v, NULL, 10));
+        return true;
+    }
+    if (strcmp(name, "esc_arm_ms") == 0) {
+        const char* v = value;
+        m.esc_arm_ms = static_cast<uint16_t>(strtol(v, NULL, 10));
         return true;
     }
     if (strcmp(name, "feedback_hz") == 0) {
@@ -688,6 +695,8 @@ inline void print_fields(FILE* f, const proto::Config& m) {
     fprintf(f, "%ld", static_cast<long>(m.esc_neutral_us));
     fputs(" esc_max_us=", f);
     fprintf(f, "%ld", static_cast<long>(m.esc_max_us));
+    fputs(" esc_arm_ms=", f);
+    fprintf(f, "%ld", static_cast<long>(m.esc_arm_ms));
     fputs(" feedback_hz=", f);
     fprintf(f, "%ld", static_cast<long>(m.feedback_hz));
 }
@@ -791,6 +800,11 @@ inline bool set_field(proto::Config& m, const char* name, const char* value) {
     if (strcmp(name, "esc_max_us") == 0) {
         const char* v = value;
         m.esc_max_us = static_cast<uint16_t>(strtol(v, NULL, 10));
+        return true;
+    }
+    if (strcmp(name, "esc_arm_ms") == 0) {
+        const char* v = value;
+        m.esc_arm_ms = static_cast<uint16_t>(strtol(v, NULL, 10));
         return true;
     }
     if (strcmp(name, "feedback_hz") == 0) {

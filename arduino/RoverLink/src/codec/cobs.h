@@ -1,5 +1,5 @@
 // Consistent Overhead Byte Stuffing over whole buffers (no delimiter is written or expected).
-// The frame decoder does its own incremental decode; these serve the encoder side, tools and tests.
+// For tools and tests: the frame encoder and decoder each do their own single-pass COBS.
 #ifndef ROVERLINK_CODEC_COBS_H
 #define ROVERLINK_CODEC_COBS_H
 

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x5EC879AD
+// spec hash: 0x977CBCC6
 #include "roverlink_protocol.h"
 
 #include "../codec/wire.h"
@@ -7,28 +7,46 @@
 namespace roverlink {
 namespace proto {
 
+// Every struct member has the width of its wire field (no int, no double; AVR and ARM agree).
 static_assert(Hello::PAYLOAD_MAX <= MAX_PAYLOAD, "HELLO payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(Hello::protocol_version) + sizeof(Hello::spec_hash) + sizeof(Hello::watchdog_ms) + sizeof(Hello::feedback_mode) + sizeof(Hello::feedback_hz) == Hello::PAYLOAD_MAX, "HELLO member widths differ from the wire");
 static_assert(Ping::PAYLOAD_MAX <= MAX_PAYLOAD, "PING payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(Ping::host_time_us) == Ping::PAYLOAD_MAX, "PING member widths differ from the wire");
 static_assert(Arm::PAYLOAD_MAX <= MAX_PAYLOAD, "ARM payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(Arm::boot_id) == Arm::PAYLOAD_MAX, "ARM member widths differ from the wire");
 static_assert(Disarm::PAYLOAD_MAX <= MAX_PAYLOAD, "DISARM payload exceeds MAX_PAYLOAD");
 static_assert(SetPid::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_PID payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(SetPid::wheel) + sizeof(SetPid::kp) + sizeof(SetPid::ki) + sizeof(SetPid::kd) + sizeof(SetPid::kf) == SetPid::PAYLOAD_MAX, "SET_PID member widths differ from the wire");
 static_assert(GetPid::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_PID payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(GetPid::wheel) == GetPid::PAYLOAD_MAX, "GET_PID member widths differ from the wire");
 static_assert(SetConfig::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_CONFIG payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(SetConfig::watchdog_ms) + sizeof(SetConfig::safe_state) + sizeof(SetConfig::accel_limit_mm_s2) + sizeof(SetConfig::decel_limit_mm_s2) + sizeof(SetConfig::max_wheel_speed_mm_s) + sizeof(SetConfig::max_effort_permille) + sizeof(SetConfig::encoder_cpr) + sizeof(SetConfig::encoder_invert) + sizeof(SetConfig::motor_invert) + sizeof(SetConfig::wheel_diameter_um) + sizeof(SetConfig::steering_center_cdeg) + sizeof(SetConfig::steering_min_cdeg) + sizeof(SetConfig::steering_max_cdeg) + sizeof(SetConfig::steering_step_cdeg) + sizeof(SetConfig::servo_min_us) + sizeof(SetConfig::servo_max_us) + sizeof(SetConfig::esc_min_us) + sizeof(SetConfig::esc_neutral_us) + sizeof(SetConfig::esc_max_us) + sizeof(SetConfig::esc_arm_ms) + sizeof(SetConfig::feedback_hz) == SetConfig::PAYLOAD_MAX, "SET_CONFIG member widths differ from the wire");
 static_assert(GetConfig::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_CONFIG payload exceeds MAX_PAYLOAD");
 static_assert(SaveConfig::PAYLOAD_MAX <= MAX_PAYLOAD, "SAVE_CONFIG payload exceeds MAX_PAYLOAD");
 static_assert(ResetOdometry::PAYLOAD_MAX <= MAX_PAYLOAD, "RESET_ODOMETRY payload exceeds MAX_PAYLOAD");
 static_assert(GetLinkStats::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_LINK_STATS payload exceeds MAX_PAYLOAD");
 static_assert(SetWheelSpeeds::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_WHEEL_SPEEDS payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(SetWheelSpeeds::left_mm_s) + sizeof(SetWheelSpeeds::right_mm_s) == SetWheelSpeeds::PAYLOAD_MAX, "SET_WHEEL_SPEEDS member widths differ from the wire");
 static_assert(SetAckermann::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_ACKERMANN payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(SetAckermann::speed_mm_s) + sizeof(SetAckermann::steering_mrad) == SetAckermann::PAYLOAD_MAX, "SET_ACKERMANN member widths differ from the wire");
 static_assert(Identity::PAYLOAD_MAX <= MAX_PAYLOAD, "IDENTITY payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(Identity::protocol_version) + sizeof(Identity::spec_hash) + sizeof(Identity::firmware_version) + sizeof(Identity::board) + sizeof(Identity::capabilities) + sizeof(Identity::boot_id) + sizeof(Identity::uptime_ms) + sizeof(Identity::reason) + sizeof(Identity::hello_seq) + sizeof(Identity::watchdog_ms) + sizeof(Identity::feedback_mode) + sizeof(Identity::feedback_hz) + sizeof(Identity::robot_name) == Identity::PAYLOAD_MAX, "IDENTITY member widths differ from the wire");
 static_assert(Pong::PAYLOAD_MAX <= MAX_PAYLOAD, "PONG payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(Pong::host_time_us) + sizeof(Pong::mcu_time_us) == Pong::PAYLOAD_MAX, "PONG member widths differ from the wire");
 static_assert(Ack::PAYLOAD_MAX <= MAX_PAYLOAD, "ACK payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(Ack::req_id) + sizeof(Ack::req_seq) == Ack::PAYLOAD_MAX, "ACK member widths differ from the wire");
 static_assert(Nack::PAYLOAD_MAX <= MAX_PAYLOAD, "NACK payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(Nack::req_id) + sizeof(Nack::req_seq) + sizeof(Nack::reason) + sizeof(Nack::detail) == Nack::PAYLOAD_MAX, "NACK member widths differ from the wire");
 static_assert(Pid::PAYLOAD_MAX <= MAX_PAYLOAD, "PID payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(Pid::req_seq) + sizeof(Pid::wheel) + sizeof(Pid::kp) + sizeof(Pid::ki) + sizeof(Pid::kd) + sizeof(Pid::kf) == Pid::PAYLOAD_MAX, "PID member widths differ from the wire");
 static_assert(Config::PAYLOAD_MAX <= MAX_PAYLOAD, "CONFIG payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(Config::req_seq) + sizeof(Config::watchdog_ms) + sizeof(Config::safe_state) + sizeof(Config::accel_limit_mm_s2) + sizeof(Config::decel_limit_mm_s2) + sizeof(Config::max_wheel_speed_mm_s) + sizeof(Config::max_effort_permille) + sizeof(Config::encoder_cpr) + sizeof(Config::encoder_invert) + sizeof(Config::motor_invert) + sizeof(Config::wheel_diameter_um) + sizeof(Config::steering_center_cdeg) + sizeof(Config::steering_min_cdeg) + sizeof(Config::steering_max_cdeg) + sizeof(Config::steering_step_cdeg) + sizeof(Config::servo_min_us) + sizeof(Config::servo_max_us) + sizeof(Config::esc_min_us) + sizeof(Config::esc_neutral_us) + sizeof(Config::esc_max_us) + sizeof(Config::esc_arm_ms) + sizeof(Config::feedback_hz) == Config::PAYLOAD_MAX, "CONFIG member widths differ from the wire");
 static_assert(LinkStats::PAYLOAD_MAX <= MAX_PAYLOAD, "LINK_STATS payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(LinkStats::req_seq) + sizeof(LinkStats::frames_ok) + sizeof(LinkStats::crc_errors) + sizeof(LinkStats::cobs_errors) + sizeof(LinkStats::length_errors) + sizeof(LinkStats::unknown_ids) + sizeof(LinkStats::seq_gaps) + sizeof(LinkStats::bytes_discarded) + sizeof(LinkStats::rx_overruns) + sizeof(LinkStats::duplicates) + sizeof(LinkStats::frames_sent) == LinkStats::PAYLOAD_MAX, "LINK_STATS member widths differ from the wire");
 static_assert(Feedback::PAYLOAD_MAX <= MAX_PAYLOAD, "FEEDBACK payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(Feedback::boot_id) + sizeof(Feedback::mcu_time_us) + sizeof(Feedback::tick) + sizeof(Feedback::ack_seq) + sizeof(Feedback::ack_tick) + sizeof(Feedback::status) + sizeof(Feedback::failsafe_reason) + sizeof(Feedback::encoder_counts) + sizeof(Feedback::wheel_speed_mm_s) + sizeof(Feedback::effort_permille) + sizeof(Feedback::steering_mrad) == Feedback::PAYLOAD_MAX, "FEEDBACK member widths differ from the wire");
 static_assert(Log::PAYLOAD_MAX <= MAX_PAYLOAD, "LOG payload exceeds MAX_PAYLOAD");
+static_assert(sizeof(Log::level) + sizeof(Log::text) == Log::PAYLOAD_MAX, "LOG member widths differ from the wire");
 
 bool is_valid_Board(uint8_t value) {
     switch (value) {
@@ -364,12 +382,13 @@ uint8_t pack(const SetConfig& m, uint8_t* payload) {
     wire::put_u16(payload + 31, m.esc_min_us);
     wire::put_u16(payload + 33, m.esc_neutral_us);
     wire::put_u16(payload + 35, m.esc_max_us);
-    payload[37] = m.feedback_hz;
-    return 38;
+    wire::put_u16(payload + 37, m.esc_arm_ms);
+    payload[39] = m.feedback_hz;
+    return 40;
 }
 
 bool unpack(const uint8_t* payload, uint8_t len, SetConfig& m) {
-    if (len != 38) return false;
+    if (len != 40) return false;
     m.watchdog_ms = wire::get_u16(payload + 0);
     if (!is_valid_SafeState(payload[2])) return false;
     m.safe_state = static_cast<SafeState>(payload[2]);
@@ -390,7 +409,8 @@ bool unpack(const uint8_t* payload, uint8_t len, SetConfig& m) {
     m.esc_min_us = wire::get_u16(payload + 31);
     m.esc_neutral_us = wire::get_u16(payload + 33);
     m.esc_max_us = wire::get_u16(payload + 35);
-    m.feedback_hz = payload[37];
+    m.esc_arm_ms = wire::get_u16(payload + 37);
+    m.feedback_hz = payload[39];
     return true;
 }
 
@@ -413,7 +433,8 @@ uint8_t check_ranges(const SetConfig& m) {
     if (m.esc_min_us < 800 || m.esc_min_us > 2200) return 16;
     if (m.esc_neutral_us < 800 || m.esc_neutral_us > 2200) return 17;
     if (m.esc_max_us < 800 || m.esc_max_us > 2200) return 18;
-    if (m.feedback_hz < 1 || m.feedback_hz > 100) return 19;
+    if (m.esc_arm_ms > 10000) return 19;
+    if (m.feedback_hz < 1 || m.feedback_hz > 100) return 20;
     return ALL_FIELDS_VALID;
 }
 
@@ -666,12 +687,13 @@ uint8_t pack(const Config& m, uint8_t* payload) {
     wire::put_u16(payload + 32, m.esc_min_us);
     wire::put_u16(payload + 34, m.esc_neutral_us);
     wire::put_u16(payload + 36, m.esc_max_us);
-    payload[38] = m.feedback_hz;
-    return 39;
+    wire::put_u16(payload + 38, m.esc_arm_ms);
+    payload[40] = m.feedback_hz;
+    return 41;
 }
 
 bool unpack(const uint8_t* payload, uint8_t len, Config& m) {
-    if (len != 39) return false;
+    if (len != 41) return false;
     m.req_seq = payload[0];
     m.watchdog_ms = wire::get_u16(payload + 1);
     if (!is_valid_SafeState(payload[3])) return false;
@@ -693,7 +715,8 @@ bool unpack(const uint8_t* payload, uint8_t len, Config& m) {
     m.esc_min_us = wire::get_u16(payload + 32);
     m.esc_neutral_us = wire::get_u16(payload + 34);
     m.esc_max_us = wire::get_u16(payload + 36);
-    m.feedback_hz = payload[38];
+    m.esc_arm_ms = wire::get_u16(payload + 38);
+    m.feedback_hz = payload[40];
     return true;
 }
 
@@ -716,7 +739,8 @@ uint8_t check_ranges(const Config& m) {
     if (m.esc_min_us < 800 || m.esc_min_us > 2200) return 17;
     if (m.esc_neutral_us < 800 || m.esc_neutral_us > 2200) return 18;
     if (m.esc_max_us < 800 || m.esc_max_us > 2200) return 19;
-    if (m.feedback_hz < 1 || m.feedback_hz > 100) return 20;
+    if (m.esc_arm_ms > 10000) return 20;
+    if (m.feedback_hz < 1 || m.feedback_hz > 100) return 21;
     return ALL_FIELDS_VALID;
 }
 

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x5EC879AD
+// spec hash: 0x977CBCC6
 // RoverLink protocol: constants, enums, message structs, pack/unpack, dispatch, state table.
 #ifndef ROVERLINK_GENERATED_PROTOCOL_H
 #define ROVERLINK_GENERATED_PROTOCOL_H
@@ -23,7 +23,7 @@ namespace roverlink {
 namespace proto {
 
 static const uint8_t PROTOCOL_VERSION = 1;
-static const uint32_t SPEC_HASH = 0x5EC879ADUL;
+static const uint32_t SPEC_HASH = 0x977CBCC6UL;
 static const uint8_t MAX_PAYLOAD = 64;
 static const uint8_t MAX_BODY = 68;  // msg_id + seq + payload + crc
 static const uint8_t MAX_FRAME = 70;  // COBS-encoded body + delimiter
@@ -216,7 +216,7 @@ uint8_t check_ranges(const GetPid& m);  // index of the first field out of range
 
 // SET_CONFIG (0x14, host to mcu, reliable): Replaces the whole configuration (read it with GET_CONFIG, change, send back). Validated as a whole: NACK(OUT_OF_RANGE or INVALID_CONFIG, detail = field index) leaves the old one in place.
 struct SetConfig {
-    enum : uint8_t { ID = 0x14, CRC_EXTRA = 0x05, PAYLOAD_SIZE = 38, PAYLOAD_MAX = 38 };
+    enum : uint8_t { ID = 0x14, CRC_EXTRA = 0xF8, PAYLOAD_SIZE = 40, PAYLOAD_MAX = 40 };
     uint16_t watchdog_ms;  // Default watchdog period (a HELLO may ask for another). [ms]
     SafeState safe_state;  // Motor behaviour in FAILSAFE and when disarmed.
     uint16_t accel_limit_mm_s2;  // Largest setpoint increase per second. [mm/s^2]
@@ -236,6 +236,7 @@ struct SetConfig {
     uint16_t esc_min_us;  // ESC pulse for full reverse. [us]
     uint16_t esc_neutral_us;  // ESC pulse for stop (sent during the boot calibration). [us]
     uint16_t esc_max_us;  // ESC pulse for full forward. [us]
+    uint16_t esc_arm_ms;  // Arming sequence: neutral pulses held at boot before the ESC is driven. [ms]
     uint8_t feedback_hz;  // Default stream feedback rate. [Hz]
 };
 uint8_t pack(const SetConfig& m, uint8_t* payload);  // returns the payload length
@@ -364,7 +365,7 @@ uint8_t check_ranges(const Pid& m);  // index of the first field out of range, o
 
 // CONFIG (0x86, mcu to host, reliable): Answer to GET_CONFIG.
 struct Config {
-    enum : uint8_t { ID = 0x86, CRC_EXTRA = 0xD6, PAYLOAD_SIZE = 39, PAYLOAD_MAX = 39 };
+    enum : uint8_t { ID = 0x86, CRC_EXTRA = 0x18, PAYLOAD_SIZE = 41, PAYLOAD_MAX = 41 };
     uint8_t req_seq;  // seq of the GET_CONFIG.
     uint16_t watchdog_ms;  // Default watchdog period (a HELLO may ask for another). [ms]
     SafeState safe_state;  // Motor behaviour in FAILSAFE and when disarmed.
@@ -385,6 +386,7 @@ struct Config {
     uint16_t esc_min_us;  // ESC pulse for full reverse. [us]
     uint16_t esc_neutral_us;  // ESC pulse for stop (sent during the boot calibration). [us]
     uint16_t esc_max_us;  // ESC pulse for full forward. [us]
+    uint16_t esc_arm_ms;  // Arming sequence: neutral pulses held at boot before the ESC is driven. [ms]
     uint8_t feedback_hz;  // Default stream feedback rate. [Hz]
 };
 uint8_t pack(const Config& m, uint8_t* payload);  // returns the payload length
