@@ -6,18 +6,29 @@ import difflib
 import tempfile
 from pathlib import Path
 
+from protocol import loader, robots
 from protocol.emit import cpp, docs, python, vectors
+from protocol.emit import robots as robot_outputs
 from protocol.model import Spec
+from protocol.robots import Robot
 
 ROOT = Path(__file__).resolve().parent.parent
 SPEC = ROOT / "protocol" / "spec" / "roverlink.toml"
+ROBOTS_FILE = "robots.toml"  # beside the spec
 
 
-def render(spec: Spec) -> dict[str, str]:
+def load(spec_path: Path, root: Path) -> tuple[Spec, tuple[Robot, ...]]:
+    """The spec and the reference robots in the same folder; SpecError if either is invalid."""
+    spec = loader.load(spec_path, root)
+    return spec, robots.load(spec_path.parent / ROBOTS_FILE, root, spec)
+
+
+def render(spec: Spec, robot_list: tuple[Robot, ...]) -> dict[str, str]:
     """Every output: repository-relative path -> exact text."""
     out: dict[str, str] = {}
     for emitter in (python, cpp, docs, vectors):
         out.update(emitter.emit(spec))
+    out.update(robot_outputs.emit(spec, robot_list))
     return dict(sorted(out.items()))
 
 

@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x977CBCC6
+# spec hash: 0x1168D091
 """Enumerations and bit flags."""
 
 import enum
@@ -95,6 +95,8 @@ class NackReason(enum.IntEnum):
     """Writing or verifying the EEPROM failed."""
     INVALID_CONFIG = 8
     """Fields are in range but inconsistent; `detail` is the first bad field's index."""
+    ARMED = 9
+    """Not allowed while armed (SAVE_CONFIG: EEPROM writes would stall the control loop)."""
 
 
 class Status(enum.IntFlag):

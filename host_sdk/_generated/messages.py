@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x977CBCC6
+# spec hash: 0x1168D091
 """Message classes: frozen, slotted dataclasses with pack() and unpack()."""
 
 from __future__ import annotations
@@ -842,7 +842,7 @@ class Nack(Message):
     FIELDS: ClassVar[tuple[FieldInfo, ...]] = (
         FieldInfo('req_id', 'u8', 'int', 0, 255),
         FieldInfo('req_seq', 'u8', 'int', 0, 255),
-        FieldInfo('reason', 'NackReason', 'enum', 1, 8, enum=NackReason),
+        FieldInfo('reason', 'NackReason', 'enum', 1, 9, enum=NackReason),
         FieldInfo('detail', 'u8', 'int', 0, 255),
     )
 

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x977CBCC6
+// spec hash: 0x1168D091
 // Test-only: text view of every message for tests/native/rl_codec.cpp. Not part of the library.
 #ifndef ROVERLINK_REFLECT_H
 #define ROVERLINK_REFLECT_H

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x977CBCC6
+// spec hash: 0x1168D091
 #include "roverlink_protocol.h"
 
 #include "../codec/wire.h"
@@ -105,6 +105,7 @@ bool is_valid_NackReason(uint8_t value) {
     case 6:
     case 7:
     case 8:
+    case 9:
         return true;
     default:
         return false;

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x977CBCC6
+// spec hash: 0x1168D091
 // RoverLink protocol: constants, enums, message structs, pack/unpack, dispatch, state table.
 #ifndef ROVERLINK_GENERATED_PROTOCOL_H
 #define ROVERLINK_GENERATED_PROTOCOL_H
@@ -23,7 +23,7 @@ namespace roverlink {
 namespace proto {
 
 static const uint8_t PROTOCOL_VERSION = 1;
-static const uint32_t SPEC_HASH = 0x977CBCC6UL;
+static const uint32_t SPEC_HASH = 0x1168D091UL;
 static const uint8_t MAX_PAYLOAD = 64;
 static const uint8_t MAX_BODY = 68;  // msg_id + seq + payload + crc
 static const uint8_t MAX_FRAME = 70;  // COBS-encoded body + delimiter
@@ -107,6 +107,7 @@ enum class NackReason : uint8_t {
     UNSUPPORTED = 6,  // This build cannot do that (e.g. SET_ACKERMANN on a diff-drive).
     EEPROM_ERROR = 7,  // Writing or verifying the EEPROM failed.
     INVALID_CONFIG = 8,  // Fields are in range but inconsistent; `detail` is the first bad field's index.
+    ARMED = 9,  // Not allowed while armed (SAVE_CONFIG: EEPROM writes would stall the control loop).
 };
 bool is_valid_NackReason(uint8_t value);
 

@@ -1,0 +1,56 @@
+// DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
+// spec hash: 0x1168D091
+// Defaults of the DiffDriveTB6612 example (diffdrive-tb6612): ros_arduino_bridge-style differential-drive car: Mega 2560, TB6612 (or L298N), two quadrature encoders, four turn-signal LEDs, stream feedback.
+// Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.
+#ifndef ROVERLINK_EXAMPLE_DIFFDRIVETB6612_PROFILE_H
+#define ROVERLINK_EXAMPLE_DIFFDRIVETB6612_PROFILE_H
+
+#include <RoverLink.h>
+
+namespace robot_profile {
+
+static const char NAME[] = "DiffDriveTB6612";
+static const roverlink::proto::Board BOARD = roverlink::proto::Board::MEGA2560;
+static const uint16_t CAPABILITIES = roverlink::proto::Capability::DIFF_DRIVE | roverlink::proto::Capability::ENCODERS | roverlink::proto::Capability::EEPROM | roverlink::proto::Capability::TURN_SIGNALS | roverlink::proto::Capability::LOCKSTEP;
+static const roverlink::proto::FeedbackMode FEEDBACK_MODE = roverlink::proto::FeedbackMode::STREAM;
+
+// Built in code, not kept as a static struct: on AVR that would cost SRAM for the whole run.
+inline roverlink::proto::SetConfig default_config() {
+    roverlink::proto::SetConfig c;
+    c.watchdog_ms = 250;
+    c.safe_state = roverlink::proto::SafeState::BRAKE;
+    c.accel_limit_mm_s2 = 1000;
+    c.decel_limit_mm_s2 = 2000;
+    c.max_wheel_speed_mm_s = 600;
+    c.max_effort_permille = 1000;
+    c.encoder_cpr = 1560;
+    c.encoder_invert = 2;
+    c.motor_invert = 2;
+    c.wheel_diameter_um = 64000;
+    c.steering_center_cdeg = 9000;
+    c.steering_min_cdeg = 9000;
+    c.steering_max_cdeg = 9000;
+    c.steering_step_cdeg = 0;
+    c.servo_min_us = 500;
+    c.servo_max_us = 2500;
+    c.esc_min_us = 1000;
+    c.esc_neutral_us = 1500;
+    c.esc_max_us = 2000;
+    c.esc_arm_ms = 0;
+    c.feedback_hz = 50;
+    return c;
+}
+
+inline roverlink::proto::SetPid default_pid() {
+    roverlink::proto::SetPid p;
+    p.wheel = roverlink::proto::PID_ALL_WHEELS;
+    p.kp = 1.0f;
+    p.ki = 6.0f;
+    p.kd = 0.0f;
+    p.kf = 1.5f;
+    return p;
+}
+
+}  // namespace robot_profile
+
+#endif  // ROVERLINK_EXAMPLE_DIFFDRIVETB6612_PROFILE_H
