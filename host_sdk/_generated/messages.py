@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x1168D091
+# spec hash: 0x163FE6FE
 """Message classes: frozen, slotted dataclasses with pack() and unpack()."""
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ _S_ACK = struct.Struct("<BB")
 _S_NACK = struct.Struct("<BBBB")
 _S_PID = struct.Struct("<BBffff")
 _S_CONFIG = struct.Struct("<BHBHHHHHBBIHHHHHHHHHHB")
-_S_LINK_STATS = struct.Struct("<BIIIIIIIIII")
+_S_LINK_STATS = struct.Struct("<BIIIIIIIIIII")
 _S_FEEDBACK = struct.Struct("<IIHBHBB2i2h2hh")
 _S_LOG = struct.Struct("<B")
 
@@ -1103,8 +1103,8 @@ class LinkStats(Message):
     MSG_ID: ClassVar[int] = 0x87
     NAME: ClassVar[str] = "LINK_STATS"
     CRC_EXTRA: ClassVar[int] = 0x62
-    PAYLOAD_SIZE: ClassVar[int] = 41
-    PAYLOAD_MAX: ClassVar[int] = 41
+    PAYLOAD_SIZE: ClassVar[int] = 45
+    PAYLOAD_MAX: ClassVar[int] = 45
     DIRECTION: ClassVar[Direction] = Direction.MCU_TO_HOST
     DELIVERY: ClassVar[Delivery] = Delivery.RELIABLE
     FIELDS: ClassVar[tuple[FieldInfo, ...]] = (
@@ -1114,6 +1114,7 @@ class LinkStats(Message):
         FieldInfo('cobs_errors', 'u32', 'int', 0, 4294967295),
         FieldInfo('length_errors', 'u32', 'int', 0, 4294967295),
         FieldInfo('unknown_ids', 'u32', 'int', 0, 4294967295),
+        FieldInfo('value_errors', 'u32', 'int', 0, 4294967295),
         FieldInfo('seq_gaps', 'u32', 'int', 0, 4294967295),
         FieldInfo('bytes_discarded', 'u32', 'int', 0, 4294967295),
         FieldInfo('rx_overruns', 'u32', 'int', 0, 4294967295),
@@ -1133,6 +1134,8 @@ class LinkStats(Message):
     """Frames whose length does not fit their msg_id."""
     unknown_ids: int
     """Frames with an unknown msg_id."""
+    value_errors: int
+    """Frames with a good CRC but a value the spec does not allow (e.g. an unknown enum value)."""
     seq_gaps: int
     """Host frames missing according to seq."""
     bytes_discarded: int
@@ -1146,15 +1149,15 @@ class LinkStats(Message):
 
     def pack(self) -> bytes:
         try:
-            return _S_LINK_STATS.pack(self.req_seq, self.frames_ok, self.crc_errors, self.cobs_errors, self.length_errors, self.unknown_ids, self.seq_gaps, self.bytes_discarded, self.rx_overruns, self.duplicates, self.frames_sent)
+            return _S_LINK_STATS.pack(self.req_seq, self.frames_ok, self.crc_errors, self.cobs_errors, self.length_errors, self.unknown_ids, self.value_errors, self.seq_gaps, self.bytes_discarded, self.rx_overruns, self.duplicates, self.frames_sent)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
         raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> LinkStats:
-        if len(payload) != 41:
-            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 41")
+        if len(payload) != 45:
+            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 45")
         v = _S_LINK_STATS.unpack(payload)
         self = _new(cls)
         _LINK_STATS_REQ_SEQ(self, v[0])
@@ -1163,11 +1166,12 @@ class LinkStats(Message):
         _LINK_STATS_COBS_ERRORS(self, v[3])
         _LINK_STATS_LENGTH_ERRORS(self, v[4])
         _LINK_STATS_UNKNOWN_IDS(self, v[5])
-        _LINK_STATS_SEQ_GAPS(self, v[6])
-        _LINK_STATS_BYTES_DISCARDED(self, v[7])
-        _LINK_STATS_RX_OVERRUNS(self, v[8])
-        _LINK_STATS_DUPLICATES(self, v[9])
-        _LINK_STATS_FRAMES_SENT(self, v[10])
+        _LINK_STATS_VALUE_ERRORS(self, v[6])
+        _LINK_STATS_SEQ_GAPS(self, v[7])
+        _LINK_STATS_BYTES_DISCARDED(self, v[8])
+        _LINK_STATS_RX_OVERRUNS(self, v[9])
+        _LINK_STATS_DUPLICATES(self, v[10])
+        _LINK_STATS_FRAMES_SENT(self, v[11])
         return self
 
 
@@ -1177,6 +1181,7 @@ _LINK_STATS_CRC_ERRORS = slot_setter(LinkStats, "crc_errors")
 _LINK_STATS_COBS_ERRORS = slot_setter(LinkStats, "cobs_errors")
 _LINK_STATS_LENGTH_ERRORS = slot_setter(LinkStats, "length_errors")
 _LINK_STATS_UNKNOWN_IDS = slot_setter(LinkStats, "unknown_ids")
+_LINK_STATS_VALUE_ERRORS = slot_setter(LinkStats, "value_errors")
 _LINK_STATS_SEQ_GAPS = slot_setter(LinkStats, "seq_gaps")
 _LINK_STATS_BYTES_DISCARDED = slot_setter(LinkStats, "bytes_discarded")
 _LINK_STATS_RX_OVERRUNS = slot_setter(LinkStats, "rx_overruns")

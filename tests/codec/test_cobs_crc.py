@@ -102,9 +102,9 @@ def _zero_free(min_size: int, max_size: int) -> st.SearchStrategy[bytes]:
 
 
 # Runs around the 254-byte block limit, separated by zeros, are where COBS encoders go wrong.
-_blocky = st.lists(
-    st.one_of(_zero_free(250, 260), _zero_free(0, 10), st.just(b"")), min_size=1, max_size=4
-).map(b"\x00".join)
+_blocky = st.lists(st.one_of(_zero_free(250, 260), _zero_free(0, 10), st.just(b"")), min_size=1, max_size=4).map(
+    b"\x00".join
+)
 
 cobs_inputs = st.one_of(
     st.binary(max_size=600),

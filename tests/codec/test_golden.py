@@ -124,8 +124,8 @@ def test_vector_file_names_an_existing_message(stem: str) -> None:
     assert doc["message"] in BY_NAME, f"{stem}.json: no message class named {doc['message']}"
     cls = BY_NAME[doc["message"]]
     assert stem == cls.NAME.lower()
-    assert cls.MSG_ID == doc["msg_id"]
-    assert cls.CRC_EXTRA == doc["crc_extra"]
+    assert doc["msg_id"] == cls.MSG_ID
+    assert doc["crc_extra"] == cls.CRC_EXTRA
     assert oracle.NAMES[cls.MSG_ID] == cls.NAME
     assert oracle.CRC_EXTRA[cls.MSG_ID] == cls.CRC_EXTRA
     assert doc["vectors"], f"{stem}.json has no vectors"

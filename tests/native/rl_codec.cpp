@@ -20,8 +20,8 @@
 //                                        (the decoder returned FRAME but unpack() rejected the
 //                                        payload). Names, values and seq contain no ':', ';' or
 //                                        space, so every item splits unambiguously.
-//      STATS are the decoder's own counters (a value error is a FRAME to the decoder, so it is
-//      counted in frames_ok and its bytes are not in bytes_discarded).
+//      STATS are the decoder's own counters; after a value error the tool calls reject_payload(),
+//      as the firmware does, so they match the Python decoder's.
 //   E <NAME> <seq> <field>=<value> ...
 //              Builds the message (fields not given are zero) with reflect::set_field and encodes
 //              it with roverlink::encode_message.                                 -> FRAME <hex>
@@ -141,11 +141,13 @@ struct FrameItem {
     uint8_t len;
     uint8_t seq;
     std::string item;
+    bool rejected;
 
     template <class M>
     void operator()(M& m) {
         if (!proto::unpack(payload, len, m)) {
             item = "E:value";
+            rejected = true;
             return;
         }
         const std::string text = print_to_string(m);
@@ -191,9 +193,12 @@ void decode(FrameDecoder& decoder, const std::string& hex) {
             out += error_kind(r);
             continue;
         }
-        FrameItem fi = {decoder.payload(), decoder.payload_len(), decoder.seq(), std::string()};
+        FrameItem fi = {decoder.payload(), decoder.payload_len(), decoder.seq(), std::string(), false};
         if (!reflect::with_message(decoder.msg_id(), fi)) {
             fi.item = "E:internal";  // the decoder passed an id with_message does not know
+        }
+        if (fi.rejected) {
+            decoder.reject_payload();
         }
         out += fi.item;
     }
@@ -201,10 +206,11 @@ void decode(FrameDecoder& decoder, const std::string& hex) {
     char stats[200];
     snprintf(stats, sizeof stats,
              " STATS frames_ok=%lu crc_errors=%lu cobs_errors=%lu length_errors=%lu unknown_ids=%lu"
-             " bytes_discarded=%lu",
+             " value_errors=%lu bytes_discarded=%lu",
              static_cast<unsigned long>(s.frames_ok), static_cast<unsigned long>(s.crc_errors),
              static_cast<unsigned long>(s.cobs_errors), static_cast<unsigned long>(s.length_errors),
-             static_cast<unsigned long>(s.unknown_ids), static_cast<unsigned long>(s.bytes_discarded));
+             static_cast<unsigned long>(s.unknown_ids), static_cast<unsigned long>(s.value_errors),
+             static_cast<unsigned long>(s.bytes_discarded));
     out += stats;
     answer(out);
 }

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x1168D091
+// spec hash: 0x163FE6FE
 // Test-only: text view of every message for tests/native/rl_codec.cpp. Not part of the library.
 #ifndef ROVERLINK_REFLECT_H
 #define ROVERLINK_REFLECT_H
@@ -829,6 +829,8 @@ inline void print_fields(FILE* f, const proto::LinkStats& m) {
     fprintf(f, "%lu", static_cast<unsigned long>(m.length_errors));
     fputs(" unknown_ids=", f);
     fprintf(f, "%lu", static_cast<unsigned long>(m.unknown_ids));
+    fputs(" value_errors=", f);
+    fprintf(f, "%lu", static_cast<unsigned long>(m.value_errors));
     fputs(" seq_gaps=", f);
     fprintf(f, "%lu", static_cast<unsigned long>(m.seq_gaps));
     fputs(" bytes_discarded=", f);
@@ -870,6 +872,11 @@ inline bool set_field(proto::LinkStats& m, const char* name, const char* value) 
     if (strcmp(name, "unknown_ids") == 0) {
         const char* v = value;
         m.unknown_ids = static_cast<uint32_t>(strtoul(v, NULL, 10));
+        return true;
+    }
+    if (strcmp(name, "value_errors") == 0) {
+        const char* v = value;
+        m.value_errors = static_cast<uint32_t>(strtoul(v, NULL, 10));
         return true;
     }
     if (strcmp(name, "seq_gaps") == 0) {

@@ -15,7 +15,7 @@ static_assert(MAX_CHUNK < 255, "a 0xFF COBS block (code + 254 bytes) must not fi
 ROVERLINK_NOINLINE void bump(uint32_t& counter) { ++counter; }
 }  // namespace
 
-FrameDecoder::FrameDecoder() : payload_len_(0) {
+FrameDecoder::FrameDecoder() : payload_len_(0), frame_chunk_len_(0) {
     for (uint8_t i = 0; i < proto::MAX_BODY; ++i) {
         body_[i] = 0;
     }
@@ -36,6 +36,7 @@ void FrameDecoder::reset_stats() {
     stats_.cobs_errors = 0;
     stats_.length_errors = 0;
     stats_.unknown_ids = 0;
+    stats_.value_errors = 0;
     stats_.bytes_discarded = 0;
 }
 
@@ -86,6 +87,16 @@ FrameDecoder::Result FrameDecoder::drop_byte() {
     return ERR_OVERLONG;
 }
 
+void FrameDecoder::reject_payload() {
+    if (frame_chunk_len_ == 0) {
+        return;  // no FRAME to take back (called twice, or before any frame)
+    }
+    --stats_.frames_ok;
+    bump(stats_.value_errors);
+    stats_.bytes_discarded += frame_chunk_len_;
+    frame_chunk_len_ = 0;
+}
+
 FrameDecoder::Result FrameDecoder::finish_chunk() {
     const uint8_t chunk_len = chunk_len_;
     if (chunk_len == 0 || chunk_len == SKIPPING) {  // empty, or an over-long one already counted
@@ -113,6 +124,7 @@ FrameDecoder::Result FrameDecoder::finish_chunk() {
         r = ERR_LENGTH;
     } else {
         payload_len_ = static_cast<uint8_t>(n - 4u);
+        frame_chunk_len_ = chunk_len;
         bump(stats_.frames_ok);
         reset();
         return FRAME;

@@ -15,6 +15,7 @@ struct DecoderStats {
     uint32_t cobs_errors;    // includes chunks dropped for being over-long
     uint32_t length_errors;
     uint32_t unknown_ids;
+    uint32_t value_errors;     // frames whose payload the generated unpack() refused (see reject_payload)
     uint32_t bytes_discarded;  // encoded bytes of rejected chunks (delimiters not counted)
 };
 
@@ -43,6 +44,11 @@ public:
     const uint8_t* payload() const { return body_ + 2; }
     uint8_t payload_len() const { return payload_len_; }
 
+    // Call right after push() returned FRAME when unpack()/dispatch refused the payload (a value
+    // the spec does not allow): the frame is recounted as a value error and its bytes as
+    // discarded, so these counters match the Python decoder's.
+    void reject_payload();
+
     const DecoderStats& stats() const { return stats_; }
     void reset_stats();
 
@@ -56,6 +62,7 @@ private:
     uint8_t remaining_;   // data bytes still due in the current COBS block
     uint8_t body_len_;
     uint8_t payload_len_;
+    uint8_t frame_chunk_len_;  // encoded length of the last FRAME, for reject_payload()
     uint16_t crc_;        // runs two bytes behind body_len_, so it excludes the received CRC
     // COBS is decoded as bytes arrive, so only the decoded body is buffered.
     uint8_t body_[proto::MAX_BODY];

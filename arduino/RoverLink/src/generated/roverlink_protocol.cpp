@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x1168D091
+// spec hash: 0x163FE6FE
 #include "roverlink_protocol.h"
 
 #include "../codec/wire.h"
@@ -42,7 +42,7 @@ static_assert(sizeof(Pid::req_seq) + sizeof(Pid::wheel) + sizeof(Pid::kp) + size
 static_assert(Config::PAYLOAD_MAX <= MAX_PAYLOAD, "CONFIG payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Config::req_seq) + sizeof(Config::watchdog_ms) + sizeof(Config::safe_state) + sizeof(Config::accel_limit_mm_s2) + sizeof(Config::decel_limit_mm_s2) + sizeof(Config::max_wheel_speed_mm_s) + sizeof(Config::max_effort_permille) + sizeof(Config::encoder_cpr) + sizeof(Config::encoder_invert) + sizeof(Config::motor_invert) + sizeof(Config::wheel_diameter_um) + sizeof(Config::steering_center_cdeg) + sizeof(Config::steering_min_cdeg) + sizeof(Config::steering_max_cdeg) + sizeof(Config::steering_step_cdeg) + sizeof(Config::servo_min_us) + sizeof(Config::servo_max_us) + sizeof(Config::esc_min_us) + sizeof(Config::esc_neutral_us) + sizeof(Config::esc_max_us) + sizeof(Config::esc_arm_ms) + sizeof(Config::feedback_hz) == Config::PAYLOAD_MAX, "CONFIG member widths differ from the wire");
 static_assert(LinkStats::PAYLOAD_MAX <= MAX_PAYLOAD, "LINK_STATS payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(LinkStats::req_seq) + sizeof(LinkStats::frames_ok) + sizeof(LinkStats::crc_errors) + sizeof(LinkStats::cobs_errors) + sizeof(LinkStats::length_errors) + sizeof(LinkStats::unknown_ids) + sizeof(LinkStats::seq_gaps) + sizeof(LinkStats::bytes_discarded) + sizeof(LinkStats::rx_overruns) + sizeof(LinkStats::duplicates) + sizeof(LinkStats::frames_sent) == LinkStats::PAYLOAD_MAX, "LINK_STATS member widths differ from the wire");
+static_assert(sizeof(LinkStats::req_seq) + sizeof(LinkStats::frames_ok) + sizeof(LinkStats::crc_errors) + sizeof(LinkStats::cobs_errors) + sizeof(LinkStats::length_errors) + sizeof(LinkStats::unknown_ids) + sizeof(LinkStats::value_errors) + sizeof(LinkStats::seq_gaps) + sizeof(LinkStats::bytes_discarded) + sizeof(LinkStats::rx_overruns) + sizeof(LinkStats::duplicates) + sizeof(LinkStats::frames_sent) == LinkStats::PAYLOAD_MAX, "LINK_STATS member widths differ from the wire");
 static_assert(Feedback::PAYLOAD_MAX <= MAX_PAYLOAD, "FEEDBACK payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Feedback::boot_id) + sizeof(Feedback::mcu_time_us) + sizeof(Feedback::tick) + sizeof(Feedback::ack_seq) + sizeof(Feedback::ack_tick) + sizeof(Feedback::status) + sizeof(Feedback::failsafe_reason) + sizeof(Feedback::encoder_counts) + sizeof(Feedback::wheel_speed_mm_s) + sizeof(Feedback::effort_permille) + sizeof(Feedback::steering_mrad) == Feedback::PAYLOAD_MAX, "FEEDBACK member widths differ from the wire");
 static_assert(Log::PAYLOAD_MAX <= MAX_PAYLOAD, "LOG payload exceeds MAX_PAYLOAD");
@@ -752,27 +752,29 @@ uint8_t pack(const LinkStats& m, uint8_t* payload) {
     wire::put_u32(payload + 9, m.cobs_errors);
     wire::put_u32(payload + 13, m.length_errors);
     wire::put_u32(payload + 17, m.unknown_ids);
-    wire::put_u32(payload + 21, m.seq_gaps);
-    wire::put_u32(payload + 25, m.bytes_discarded);
-    wire::put_u32(payload + 29, m.rx_overruns);
-    wire::put_u32(payload + 33, m.duplicates);
-    wire::put_u32(payload + 37, m.frames_sent);
-    return 41;
+    wire::put_u32(payload + 21, m.value_errors);
+    wire::put_u32(payload + 25, m.seq_gaps);
+    wire::put_u32(payload + 29, m.bytes_discarded);
+    wire::put_u32(payload + 33, m.rx_overruns);
+    wire::put_u32(payload + 37, m.duplicates);
+    wire::put_u32(payload + 41, m.frames_sent);
+    return 45;
 }
 
 bool unpack(const uint8_t* payload, uint8_t len, LinkStats& m) {
-    if (len != 41) return false;
+    if (len != 45) return false;
     m.req_seq = payload[0];
     m.frames_ok = wire::get_u32(payload + 1);
     m.crc_errors = wire::get_u32(payload + 5);
     m.cobs_errors = wire::get_u32(payload + 9);
     m.length_errors = wire::get_u32(payload + 13);
     m.unknown_ids = wire::get_u32(payload + 17);
-    m.seq_gaps = wire::get_u32(payload + 21);
-    m.bytes_discarded = wire::get_u32(payload + 25);
-    m.rx_overruns = wire::get_u32(payload + 29);
-    m.duplicates = wire::get_u32(payload + 33);
-    m.frames_sent = wire::get_u32(payload + 37);
+    m.value_errors = wire::get_u32(payload + 21);
+    m.seq_gaps = wire::get_u32(payload + 25);
+    m.bytes_discarded = wire::get_u32(payload + 29);
+    m.rx_overruns = wire::get_u32(payload + 33);
+    m.duplicates = wire::get_u32(payload + 37);
+    m.frames_sent = wire::get_u32(payload + 41);
     return true;
 }
 
