@@ -115,11 +115,7 @@ def _field_ok(info: FieldInfo, value: object) -> bool:
     if info.kind == "bytes":
         return isinstance(value, (bytes, bytearray)) and len(value) <= (info.max_len or 0)
     if info.count is not None:
-        return (
-            isinstance(value, (tuple, list))
-            and len(value) == info.count
-            and all(_scalar_ok(info, v) for v in value)
-        )
+        return isinstance(value, (tuple, list)) and len(value) == info.count and all(_scalar_ok(info, v) for v in value)
     return _scalar_ok(info, value)
 
 

@@ -179,7 +179,7 @@ def _messages(classes: tuple[type[Message], ...]) -> st.SearchStrategy[Message]:
 def messages(classes: Iterable[type[Message]] | None = None) -> st.SearchStrategy[Message]:
     """A valid message of any class (or of one of `classes`), e.g. only what the board sends::
 
-        messages(c for c in ALL_MESSAGES if c.DIRECTION is Direction.MCU_TO_HOST)
+    messages(c for c in ALL_MESSAGES if c.DIRECTION is Direction.MCU_TO_HOST)
     """
     return _messages(tuple(ALL_MESSAGES if classes is None else classes))
 
