@@ -1,17 +1,72 @@
-"""RoverLink host SDK: talk to a RoverLink robot (board, simulator or emulator) from Python."""
+"""RoverLink host SDK: talk to a RoverLink robot (board, simulator or emulator) from Python.
+
+    from host_sdk import Robot
+
+    with Robot.connect("emu://") as robot:       # or "/dev/ttyACM0", "socket://host:port", ...
+        robot.arm()
+        robot.drive(0.2, 0.0)
+        print(robot.wait_feedback().pose)
+
+See docs/sdk.md.
+"""
 
 from host_sdk import enums, messages
 from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
-from host_sdk.errors import CodecError, DecodeError, EncodeError, RoverLinkError
+from host_sdk.errors import (
+    CodecError,
+    CommandRangeError,
+    ConnectTimeoutError,
+    DecodeError,
+    EncodeError,
+    FailsafeError,
+    FeedbackTimeoutError,
+    IncompatibleFirmwareError,
+    NackError,
+    NotArmedError,
+    RequestTimeoutError,
+    RobotClosedError,
+    RoverLinkError,
+    SessionResetError,
+    TransportError,
+    UnsupportedError,
+)
+from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.odometry import Pose
+from host_sdk.profiles import PROFILES, kinematics_for
+from host_sdk.robot import Robot
+from host_sdk.session import FeedbackSample, LinkStatistics, PidGains, RobotConfig, RobotIdentity
 
 __all__ = [
+    "PROFILES",
     "PROTOCOL_VERSION",
     "SPEC_HASH",
+    "Ackermann",
     "CodecError",
+    "CommandRangeError",
+    "ConnectTimeoutError",
     "DecodeError",
+    "DiffDrive",
     "EncodeError",
+    "FailsafeError",
+    "FeedbackSample",
+    "FeedbackTimeoutError",
+    "IncompatibleFirmwareError",
+    "LinkStatistics",
+    "NackError",
+    "NotArmedError",
+    "PidGains",
+    "Pose",
+    "RequestTimeoutError",
+    "Robot",
+    "RobotClosedError",
+    "RobotConfig",
+    "RobotIdentity",
     "RoverLinkError",
+    "SessionResetError",
+    "TransportError",
+    "UnsupportedError",
     "enums",
+    "kinematics_for",
     "messages",
 ]
 __version__ = "0.1.0"

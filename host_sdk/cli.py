@@ -6,7 +6,8 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from host_sdk import enums, messages
+from emulator import cli as emulator_cli
+from host_sdk import cli_robot, enums, firmware, messages
 from host_sdk._generated import oracle
 from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
 from host_sdk.codec.cobs import cobs_decode
@@ -101,6 +102,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("hex", nargs="*", help="frame bytes in hex (default: read stdin)")
     p.set_defaults(func=cmd_decode)
     sub.add_parser("spec", help="print the protocol version, spec hash and messages").set_defaults(func=cmd_spec)
+    emulator_cli.add_subparser(sub)
+    firmware.add_subparser(sub)
+    cli_robot.add_subparsers(sub)
     args = parser.parse_args(argv)
     result: int = args.func(args)
     return result

@@ -1,4 +1,4 @@
-"""The README's example runs and prints what its comments claim."""
+"""The README's examples run and print what their comments claim."""
 
 from __future__ import annotations
 
@@ -10,15 +10,29 @@ from pathlib import Path
 README = Path(__file__).resolve().parent.parent / "README.md"
 
 
-def test_readme_example_runs_as_documented() -> None:
-    text = README.read_text(encoding="utf-8")
-    block = re.search(r"```python\n(.*?)```", text, re.S)
-    assert block, "README has a python example"
-    code = block.group(1)
+def _blocks() -> list[str]:
+    return re.findall(r"```python\n(.*?)```", README.read_text(encoding="utf-8"), re.S)
+
+
+def _run(code: str) -> str:
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
         exec(compile(code, str(README), "exec"), {})
-    printed = out.getvalue()
+    return out.getvalue()
+
+
+def test_readme_robot_example_runs_as_documented() -> None:
+    code = next(b for b in _blocks() if "Robot.connect" in b)
+    printed = _run(code)
+    assert "DiffDriveTB6612 0.1.0" in printed
+    assert "odometry x = 0.5 m" in printed
+    claimed = re.search(r"print\(err\)\s+# (.*)", code)
+    assert claimed and claimed.group(1).strip() in printed
+
+
+def test_readme_codec_example_runs_as_documented() -> None:
+    code = next(b for b in _blocks() if "FrameDecoder" in b)
+    printed = _run(code)
     assert "1 SetWheelSpeeds(left_mm_s=300, right_mm_s=280)" in printed
     assert "2 Log(level=<LogLevel.INFO: 1>, text='hello')" in printed
     assert "frames_ok=2" in printed
@@ -28,6 +42,7 @@ def test_readme_example_runs_as_documented() -> None:
 
 def test_readme_commands_exist() -> None:
     text = README.read_text(encoding="utf-8")
+    assert "roverlink demo" in text
     assert "roverlink roundtrip" in text
     assert "bash scripts/test.sh" in text
     ci = (README.parent / ".ci" / "run").read_text(encoding="utf-8")

@@ -33,7 +33,7 @@ def encode_frame(msg: Message, seq: int) -> bytes:
 
     Raises EncodeError (a ValueError) naming the field if a value is outside the spec.
     """
-    if not (isinstance(seq, int) and 0 <= seq <= 0xFF):
+    if not (isinstance(seq, int) and not isinstance(seq, bool) and 0 <= seq <= 0xFF):
         raise EncodeError(msg.NAME, "seq", seq, "an integer in 0..255")
     body = bytes((msg.MSG_ID, seq)) + msg.pack()
     crc = crc_hqx(bytes((msg.CRC_EXTRA,)), crc_hqx(body, 0xFFFF))

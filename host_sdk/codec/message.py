@@ -123,7 +123,11 @@ def _scalar_ok(info: FieldInfo, value: object) -> bool:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         return False
     if info.kind == "float":
-        return math.isfinite(value) and info.lo <= value <= info.hi
+        try:
+            finite = math.isfinite(value)
+        except OverflowError:  # an int too large for any float (e.g. 10**400): outside every range
+            return False
+        return finite and info.lo <= value <= info.hi
     if not isinstance(value, int):
         return False
     if info.kind == "flags":

@@ -77,17 +77,18 @@ def frames_only(events: Iterable[Frame | BadFrame]) -> list[Frame]:
     return [e for e in events if isinstance(e, Frame)]
 
 
-def assert_bytes_accounted(decoder: FrameDecoder, fed: bytes, good: list[Frame]) -> None:
-    """Every byte fed is a delimiter, part of a good frame, discarded, or still pending."""
+def assert_accounted(decoder: FrameDecoder, fed: bytes, events: list[Frame | BadFrame]) -> None:
+    """Every byte fed is a delimiter, part of a good frame, discarded, or still pending; every
+    event is counted once: a Frame in frames_ok, a BadFrame in exactly one error counter."""
     stats = decoder.stats
+    good = frames_only(events)
     assert stats.bytes_received == len(fed)
     in_good_frames = sum(len(encode_frame(msg, seq)) - 1 for msg, seq in good)
-    assert stats.bytes_received == (fed.count(0) + in_good_frames + stats.bytes_discarded + len(decoder._pending)), (
-        stats
-    )
-    errors = stats.crc_errors + stats.cobs_errors + stats.length_errors + stats.unknown_ids + stats.value_errors
+    pending = len(decoder._pending)
+    assert stats.bytes_received == fed.count(0) + in_good_frames + stats.bytes_discarded + pending, stats
     assert stats.frames_ok == len(good)
-    assert errors >= 0
+    errors = stats.crc_errors + stats.cobs_errors + stats.length_errors + stats.unknown_ids + stats.value_errors
+    assert errors == len(events) - len(good), stats
 
 
 def _exact(info: FieldInfo, value: Any) -> Any:
@@ -143,7 +144,7 @@ def test_frame_round_trip(cls: type[Message], data: st.DataObject) -> None:
     assert type(event.message) is cls
     assert codec_values(event.message) == codec_values(msg)  # floats bit for bit
     assert decoder.stats.frames_ok == 1
-    assert_bytes_accounted(decoder, wire, [Frame(msg, seq)])
+    assert_accounted(decoder, wire, events)
 
 
 @pytest.mark.parametrize("cls", ALL, ids=_name)
@@ -197,9 +198,10 @@ def test_stream_in_any_chunks_decodes_like_whole(stream: rls.Stream, sizes: list
     assert chunked.stats == whole.stats
 
     bytewise = FrameDecoder()
-    assert feed_pieces(bytewise, (stream.wire[i : i + 1] for i in range(len(stream.wire)))) == expected
+    events = feed_pieces(bytewise, (stream.wire[i : i + 1] for i in range(len(stream.wire))))
+    assert events == expected
     assert bytewise.stats == whole.stats
-    assert_bytes_accounted(bytewise, stream.wire, stream.frames)
+    assert_accounted(bytewise, stream.wire, events)
 
 
 @given(stream=rls.streams(max_frames=6), sizes=piece_sizes())
@@ -207,9 +209,10 @@ def test_empty_pieces_and_extra_delimiters_are_harmless(stream: rls.Stream, size
     wire = b"\x00" + stream.wire.replace(b"\x00", b"\x00\x00")  # 0x00 0x00 is a resync, not an error
     decoder = FrameDecoder()
     pieces = [p for piece in split(wire, sizes) for p in (b"", piece)]
-    assert feed_pieces(decoder, pieces) == stream.frames
+    events = feed_pieces(decoder, pieces)
+    assert events == stream.frames
     assert decoder.stats.bytes_discarded == 0
-    assert_bytes_accounted(decoder, wire, stream.frames)
+    assert_accounted(decoder, wire, events)
 
 
 # -- bit flips ---------------------------------------------------------------------------------------------
@@ -328,11 +331,12 @@ def test_damage_loses_at_most_the_hit_frame_and_the_next(
     stream, damaged, hit, kind = damage
     note(f"{kind} in frame {hit} of {len(stream.frames)}")
     decoder = FrameDecoder()
-    got = frames_only(feed_pieces(decoder, split(damaged, sizes)))
+    events = feed_pieces(decoder, split(damaged, sizes))
+    got = frames_only(events)
     sent = stream.frames
     allowed = [[f for i, f in enumerate(sent) if i not in lost] for lost in (set(), {hit}, {hit, hit + 1})]
     assert got in allowed, f"sent {sent}\ngot {got}"
-    assert_bytes_accounted(decoder, damaged, got)
+    assert_accounted(decoder, damaged, events)
 
 
 @given(stream=rls.streams(min_frames=2, max_frames=6), run=st.binary(min_size=MAX_FRAME, max_size=400))
@@ -350,7 +354,7 @@ def test_over_long_run_is_dropped_and_decoder_resynchronises(stream: rls.Stream,
         assert events[2:] == rest
         assert decoder.stats.cobs_errors == 1
         assert decoder.stats.bytes_discarded == len(run)
-        assert_bytes_accounted(decoder, wire, stream.frames)
+        assert_accounted(decoder, wire, events)
 
 
 # -- garbage ------------------------------------------------------------------------------------------------
@@ -359,8 +363,7 @@ def _check_garbage(garbage: bytes, sizes: list[int]) -> None:
     events = feed_pieces(decoder, split(garbage, sizes))  # never raises, buffer stays bounded
     assert frames_only(events) == [], "garbage decoded to a frame"
     assert all(isinstance(e, BadFrame) and len(e.data) <= MAX_FRAME for e in events)
-    assert decoder.stats.frames_ok == 0
-    assert_bytes_accounted(decoder, garbage, [])
+    assert_accounted(decoder, garbage, events)
 
 
 @given(garbage=st.binary(max_size=2000), sizes=piece_sizes())
@@ -410,7 +413,8 @@ def well_formed_bodies(draw: st.DrawFn) -> bytes:
 @given(bodies=st.lists(well_formed_bodies(), min_size=1, max_size=8))
 def test_well_formed_bodies_are_classified(bodies: list[bytes]) -> None:
     """Valid COBS and CRC: each chunk is a Frame exactly when its payload decodes, else it is
-    reported as the right kind of error; a Frame always re-encodes to the chunk it came from."""
+    reported as the right kind of error; a Frame carries exactly the payload's values and, when
+    they are within the spec, re-encodes to the very chunk it came from."""
     chunks = [cobs_encode(body) for body in bodies]
     decoder = FrameDecoder()
     events = decoder.feed(b"".join(chunk + b"\x00" for chunk in chunks))
@@ -427,8 +431,18 @@ def test_well_formed_bodies_are_classified(bodies: list[bytes]) -> None:
             except ValueError:
                 assert isinstance(event, BadFrame) and event.kind is FrameErrorKind.VALUE
                 continue
-            assert event == Frame(expected, body[1])
-            assert encode_frame(expected, body[1]) == chunk + b"\x00"
+            # Compared by value, bit for bit: a payload may decode to a NaN, which != itself.
+            assert isinstance(event, Frame) and type(event.message) is cls and event.seq == body[1]
+            assert codec_values(event.message) == codec_values(expected) == oracle_values(cls, payload)
+            try:
+                again = encode_frame(expected, body[1])
+            except EncodeError:
+                # The decoder checks enums, flags and ASCII but not numeric ranges: a payload with,
+                # say, PID.kf = 2048.0 decodes but will not encode. The oracle check above shows
+                # nothing was lost; whether decode should refuse it is a design question.
+                note(f"decoded out-of-spec {expected}")
+            else:
+                assert again == chunk + b"\x00"
             continue
         assert event.data == chunk and event.msg_id == body[0]
 
@@ -517,7 +531,7 @@ def wrong_values(info: FieldInfo) -> list[Any]:
         return ["é", "x" * ((info.max_len or 0) + 1), b"abc", None, 3]
     if info.kind == "bytes":
         return ["abc", b"x" * ((info.max_len or 0) + 1), None, 3]
-    common: list[Any] = ["1", None, b"\x01", True, False, [1]]
+    common: list[Any] = ["1", None, b"\x01", [1]]
     if info.kind == "int":
         return [*common, 1.0, 0.5]
     if info.kind == "float":
@@ -538,6 +552,62 @@ def test_wrong_type_is_refused(cls: type[Message], index: int, data: st.DataObje
     bad = data.draw(st.sampled_from(wrong_values(info)), label="bad value")
     broken, shown = _replace(msg, info, bad, data)
     _assert_refused(broken, info, shown)
+
+
+def simplest(cls: type[Message]) -> Message:
+    """A valid message from the metadata alone: each value as near 0 as its range allows."""
+    values: dict[str, Any] = {}
+    for info in cls.FIELDS:
+        if info.kind in ("str", "bytes"):
+            values[info.name] = "" if info.kind == "str" else b""
+            continue
+        if info.kind == "enum":
+            assert info.enum is not None
+            element: Any = next(iter(info.enum))
+        elif info.kind == "flags":
+            assert info.enum is not None
+            element = info.enum(0)
+        else:
+            element = min(max(0, info.lo), info.hi)
+            element = float(element) if info.kind == "float" else int(element)
+        values[info.name] = element if info.count is None else (element,) * info.count
+    msg = cls(**values)
+    msg.pack()
+    return msg
+
+
+def bools_in_range(info: FieldInfo) -> list[bool]:
+    """True and False where their int values would be valid (elsewhere any check refuses them)."""
+    if info.kind == "flags":
+        return [True, False]
+    if info.kind == "enum":
+        assert info.enum is not None
+        return [b for b in (True, False) if int(b) in {int(m) for m in info.enum}]  # type: ignore[attr-defined]
+    return [b for b in (True, False) if info.lo <= b <= info.hi]
+
+
+# Bug: the generated pack() fast path hands values straight to struct, which packs a bool as 0/1,
+# although first_invalid() (like is_int() before it) treats bools as the wrong type. E.g.
+# Hello(protocol_version=True, spec_hash=2, watchdog_ms=3, feedback_mode=0, feedback_hz=5).pack()
+# returns b"\x01\x02\x00\x00\x00\x03\x00\x00\x05" instead of raising EncodeError.
+# Not a Hypothesis test: an expected failure under @given would leave patch files behind.
+@pytest.mark.xfail(strict=True, reason="pack() fast path accepts bools (see comment)")
+def test_bools_are_refused() -> None:
+    accepted = []
+    for cls in ALL:
+        base = simplest(cls)
+        for info in cls.FIELDS:
+            if info.kind in ("str", "bytes"):
+                continue
+            for flag in bools_in_range(info):
+                value: Any = flag if info.count is None else (flag, *getattr(base, info.name)[1:])
+                try:
+                    dataclasses.replace(base, **{info.name: value}).pack()  # type: ignore[type-var]
+                except EncodeError as err:
+                    assert err.field == info.name
+                else:
+                    accepted.append(f"{cls.NAME}.{info.name}={flag}")
+    assert not accepted, f"pack() accepted bools: {accepted}"
 
 
 @pytest.mark.parametrize(("cls", "index"), [p for p in ALL_FIELDS if p.values[0].FIELDS[p.values[1]].count])  # type: ignore[union-attr,index]

@@ -3,5 +3,7 @@
 #define ROVERLINK_H
 
 #include "codec/codec.h"
+#include "core/firmware.h"  // roverlink::Firmware, Robot, Board, Stream: the portable core
+#include "hal/avr/avr.h"  // the AVR hardware layer; empty on other targets
 
 #endif  // ROVERLINK_H

@@ -66,7 +66,7 @@ static const int8_t TABLE_X1[16] ROVERLINK_QUADRATURE_TABLE = {ROVERLINK_Q_ROWS(
 
 #undef ROVERLINK_Q_ROWS
 
-inline const int8_t* table_for(Resolution resolution) {
+constexpr const int8_t* table_for(Resolution resolution) {
     return resolution == Resolution::X4 ? TABLE_X4 : resolution == Resolution::X2 ? TABLE_X2 : TABLE_X1;
 }
 
@@ -104,7 +104,8 @@ struct Decoder {
             }
         } else {
             // Unsigned arithmetic: wrapping past INT32_MAX is defined, not an overflow.
-            count = static_cast<int32_t>(static_cast<uint32_t>(count) + static_cast<uint32_t>(static_cast<int32_t>(delta)));
+            const uint32_t sum = static_cast<uint32_t>(count) + static_cast<uint32_t>(static_cast<int32_t>(delta));
+            count = static_cast<int32_t>(sum);
         }
         ab = current_ab;
     }

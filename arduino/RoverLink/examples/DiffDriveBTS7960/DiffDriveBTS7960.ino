@@ -1,0 +1,61 @@
+// DiffDriveBTS7960: the 3D-printed SLAM robot on an Arduino Mega 2560.
+//
+// Two 19.2:1 gearmotors, each on a BTS7960 (IBT-2) board, two quadrature encoders (x4, on
+// pin-change interrupts), lockstep feedback: the host sends a setpoint and waits for the
+// FEEDBACK that answers it. Defaults are in robot_profile.h, generated from
+// protocol/spec/robots.toml. Wiring, timers and flashing: docs/firmware.md, "Boards, wiring and
+// flashing".
+#include <RoverLink.h>
+
+#include "robot_profile.h"
+
+namespace rl = roverlink::avr;
+
+// BTS7960 boards. PWM stays at the Arduino default (490 Hz on Timer3 and Timer4): the BTS7960 is
+// specified up to 25 kHz only, so the 31.4 kHz of pwm_ultrasonic() would be out of spec.
+const uint8_t LEFT_RPWM = 2;    // forward, Timer3 OC3B
+const uint8_t LEFT_LPWM = 3;    // reverse, Timer3 OC3C
+const uint8_t LEFT_R_EN = 22;
+const uint8_t LEFT_L_EN = 23;
+const uint8_t RIGHT_RPWM = 6;   // forward, Timer4 OC4A
+const uint8_t RIGHT_LPWM = 7;   // reverse, Timer4 OC4B
+const uint8_t RIGHT_R_EN = 24;
+const uint8_t RIGHT_L_EN = 25;
+
+// Encoders on port K's pin-change interrupt (PCINT16..19, one vector: PCINT2_vect).
+const uint8_t LEFT_ENC_A = A8;
+const uint8_t LEFT_ENC_B = A9;
+const uint8_t RIGHT_ENC_A = A10;
+const uint8_t RIGHT_ENC_B = A11;
+
+const uint8_t UNCONNECTED_ANALOG = A0;  // noise for the per-boot random boot_id: leave it open
+
+rl::Bts7960Motor left_motor(LEFT_RPWM, LEFT_LPWM, LEFT_R_EN, LEFT_L_EN);
+rl::Bts7960Motor right_motor(RIGHT_RPWM, RIGHT_LPWM, RIGHT_R_EN, RIGHT_L_EN);
+rl::QuadratureEncoder left_encoder(LEFT_ENC_A, LEFT_ENC_B);
+rl::QuadratureEncoder right_encoder(RIGHT_ENC_A, RIGHT_ENC_B);
+rl::NoLights no_lights;
+rl::DiffDriveBoard<rl::Bts7960Motor> board(left_motor, right_motor, left_encoder, right_encoder, no_lights,
+                                           UNCONNECTED_ANALOG);
+
+static const roverlink::Robot ROBOT = {robot_profile::NAME,          robot_profile::BOARD,
+                                       robot_profile::CAPABILITIES,  robot_profile::FEEDBACK_MODE,
+                                       robot_profile::default_config, robot_profile::default_pid};
+roverlink::Firmware firmware(Serial, board, ROBOT);
+
+// One vector for the whole port: each encoder looks at its own pins; one that did not move sees
+// its old level again, which counts nothing.
+ISR(PCINT2_vect) {
+    left_encoder.on_edge();
+    right_encoder.on_edge();
+}
+
+void setup() {
+    board.begin();  // both BTS7960 disabled (coasting) before anything else runs
+    left_encoder.enable_pin_change();
+    right_encoder.enable_pin_change();
+    Serial.begin(115200);
+    firmware.begin();
+}
+
+void loop() { firmware.poll(); }

@@ -1,0 +1,61 @@
+// The link layer of the firmware: the frame decoder, the single TX frame buffer, the per-direction
+// seq counter, and the link counters the session reports in LINK_STATS.
+#ifndef ROVERLINK_CORE_LINK_H
+#define ROVERLINK_CORE_LINK_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../codec/codec.h"
+#include "../hal/stream.h"
+
+namespace roverlink {
+
+class Link {
+public:
+    explicit Link(Stream& port);
+
+    FrameDecoder& decoder() { return decoder_; }
+    const FrameDecoder& decoder() const { return decoder_; }
+    Stream& port() { return port_; }
+
+    // Packs, frames and writes one message with the next seq. Replies go out in the same loop
+    // pass that handled the request (docs/control.md section 7).
+    template <class M>
+    void send(const M& m) {
+        static_assert(M::PAYLOAD_MAX <= proto::MAX_PAYLOAD, "message payload exceeds MAX_PAYLOAD");
+        send_payload(M::ID, M::CRC_EXTRA, proto::pack(m, payload_slot()));  // packed in place
+    }
+
+    // For messages built straight into the frame buffer (no message struct on the stack): write
+    // up to proto::MAX_PAYLOAD bytes at payload_slot(), then send_payload().
+    uint8_t* payload_slot() { return tx_ + 3; }
+    void send_payload(uint8_t msg_id, uint8_t crc_extra, uint8_t len);
+
+    // The TX buffer doubles as scratch memory between frames (EEPROM images).
+    uint8_t* scratch() { return tx_; }
+    static const uint8_t SCRATCH_SIZE = proto::MAX_FRAME;
+
+    // Receive-side seq accounting (docs/control.md 1.2.1).
+    void account_seq(uint8_t seq);
+    void restart_seq() { have_last_seq_ = false; }
+
+    uint32_t seq_gaps() const { return seq_gaps_; }
+    uint32_t frames_sent() const { return frames_sent_; }
+    uint8_t next_tx_seq() const { return tx_seq_; }
+
+private:
+
+    Stream& port_;
+    uint32_t frames_sent_;
+    uint32_t seq_gaps_;
+    uint8_t tx_seq_;
+    uint8_t last_seq_;
+    bool have_last_seq_;
+    FrameDecoder decoder_;
+    uint8_t tx_[proto::MAX_FRAME];
+};
+
+}  // namespace roverlink
+
+#endif  // ROVERLINK_CORE_LINK_H

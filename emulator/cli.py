@@ -1,0 +1,98 @@
+"""`roverlink emulate`: serve an emulated robot on a pseudo-terminal (or a TCP socket) in real time.
+
+The first line on stdout is the port to open (e.g. /dev/pts/7, or socket://127.0.0.1:PORT); the
+emulator then serves until SIGINT or SIGTERM and exits 0. Progress goes to stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+from collections.abc import Sequence
+from typing import Any
+
+from emulator.device import Emulator
+from emulator.errors import EmulatorError
+from emulator.profiles import PROFILE_NAMES
+from emulator.transport.pty import PtyEndpoint
+from emulator.transport.realtime import Endpoint, serve
+from emulator.transport.socket import SocketEndpoint
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--profile", default="diffdrive-tb6612", choices=PROFILE_NAMES, help="reference robot to emulate")
+    p.add_argument("--seed", type=int, default=0, help="random seed: boot ids, line faults, noise (default 0)")
+    p.add_argument(
+        "--faults",
+        default="",
+        metavar="SPEC",
+        help='faults to inject, e.g. "bitflip=1e-4,drop=1e-4,cut@2.0-3.5,reset@5.0,stall=0@4.0" (docs/emulator.md)',
+    )
+    p.add_argument("--baud", type=int, default=115200, help="line speed in bit/s (default 115200)")
+    p.add_argument("--latency-ms", type=float, default=1.0, help="one-way adapter latency in ms (default 1)")
+    p.add_argument("--drift-ppm", type=float, default=0.0, help="MCU crystal error in ppm (default 0)")
+    p.add_argument("--eeprom", choices=("blank", "saved"), default="blank", help="EEPROM at start (default blank)")
+    p.add_argument("--bootloader-ms", type=int, default=None, help="bootloader time after a DTR reset")
+    p.add_argument("--socket", type=int, default=None, metavar="PORT", help="serve TCP on 127.0.0.1:PORT (0: any)")
+    p.add_argument("--no-dtr-reset", action="store_true", help="opening the port does not reset the board")
+    p.add_argument("--speed", type=float, default=1.0, help="virtual seconds per wall second (default 1)")
+    p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+
+
+def add_subparser(subparsers: Any) -> argparse.ArgumentParser:
+    """Register `emulate` on the `roverlink` command's subparsers."""
+    p: argparse.ArgumentParser = subparsers.add_parser(
+        "emulate", help="serve an emulated robot on a pseudo-terminal", description=__doc__
+    )
+    add_arguments(p)
+    p.set_defaults(func=cmd_emulate)
+    return p
+
+
+def cmd_emulate(args: argparse.Namespace) -> int:
+    try:
+        emu = Emulator(
+            args.profile,
+            args.seed,
+            faults=args.faults,
+            baud=args.baud,
+            latency_us=round(args.latency_ms * 1000),
+            drift_ppm=args.drift_ppm,
+            eeprom=args.eeprom,
+            bootloader_ms=args.bootloader_ms,
+        )
+    except EmulatorError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    if not args.speed > 0:
+        print(f"error: --speed = {args.speed} is not allowed: a number > 0", file=sys.stderr)
+        return 2
+    endpoint: Endpoint = SocketEndpoint(args.socket) if args.socket is not None else PtyEndpoint()
+    stopping = False
+
+    def stop(_signum: int, _frame: object) -> None:
+        nonlocal stopping
+        stopping = True
+
+    signal.signal(signal.SIGINT, stop)
+    signal.signal(signal.SIGTERM, stop)
+    print(endpoint.name, flush=True)
+    log = None if args.quiet else sys.stderr
+    if log is not None:
+        print(
+            f"[emulator] {args.profile}, seed {args.seed}, {args.baud} baud on {endpoint.name}; Ctrl-C to stop",
+            file=log,
+            flush=True,
+        )
+    try:
+        serve(emu, endpoint, lambda: stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log)
+    finally:
+        endpoint.close()
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m emulator", description=__doc__)
+    add_arguments(parser)
+    return cmd_emulate(parser.parse_args(argv))

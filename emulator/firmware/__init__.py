@@ -1,0 +1,1 @@
+"""Python reference model of the RoverLink firmware core (docs/control.md), over a Board interface."""

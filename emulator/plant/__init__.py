@@ -1,0 +1,1 @@
+"""Vehicle plant: motors, ESC, steering servo, encoders, turn-signal LEDs and the vehicle body."""

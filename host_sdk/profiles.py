@@ -1,0 +1,61 @@
+"""The reference robots by name, and their kinematics.
+
+    >>> from host_sdk.profiles import PROFILES, kinematics_for
+    >>> kinematics_for("diffdrive-tb6612")
+    DiffDrive(wheel_radius_m=0.032, track_m=0.2, counts_per_rev=1560)
+
+`PROFILES` is generated from protocol/spec/robots.toml (the same file the firmware examples'
+defaults come from). Geometry the firmware does not know (track width, wheelbase) comes from the
+profile; wheel diameter and encoder counts per revolution come from the board's live configuration
+when one is given, because those are the numbers the firmware itself uses.
+"""
+
+from __future__ import annotations
+
+import math
+
+from host_sdk._generated.messages import SetConfig
+from host_sdk._generated.profiles import PROFILES, RobotProfile
+from host_sdk.errors import CommandRangeError
+from host_sdk.kinematics import Ackermann, DiffDrive
+
+__all__ = ["PROFILES", "RobotProfile", "get_profile", "kinematics_for", "profile_for_example", "steering_limits"]
+
+
+def get_profile(name: str) -> RobotProfile:
+    """The reference robot called `name`; CommandRangeError lists the names."""
+    profile = PROFILES.get(name)
+    if profile is None:
+        raise CommandRangeError("profile", name, f"one of {', '.join(PROFILES)}")
+    return profile
+
+
+def profile_for_example(example: str) -> RobotProfile | None:
+    """The profile whose firmware example is `example` (what IDENTITY.robot_name carries)."""
+    for profile in PROFILES.values():
+        if profile.example == example:
+            return profile
+    return None
+
+
+def steering_limits(config: SetConfig) -> tuple[float, float]:
+    """(right, left) steering limits in radians, as positive numbers, from the servo config."""
+    left = math.radians((config.steering_max_cdeg - config.steering_center_cdeg) / 100)
+    right = math.radians((config.steering_center_cdeg - config.steering_min_cdeg) / 100)
+    return max(0.0, right), max(0.0, left)
+
+
+def kinematics_for(profile: str | RobotProfile, config: SetConfig | None = None) -> DiffDrive | Ackermann:
+    """DiffDrive or Ackermann for a reference robot, with the board's `config` if given."""
+    prof = get_profile(profile) if isinstance(profile, str) else profile
+    cfg = config or prof.config
+    radius = cfg.wheel_diameter_um / 2e6
+    if prof.kinematics == "diff":
+        return DiffDrive(wheel_radius_m=radius, track_m=prof.track_m, counts_per_rev=cfg.encoder_cpr)
+    right, left = steering_limits(cfg)
+    return Ackermann(
+        wheelbase_m=prof.wheelbase_m,
+        wheel_radius_m=radius,
+        counts_per_rev=cfg.encoder_cpr,
+        max_steering_rad=max(left, right) or math.radians(25),
+    )

@@ -1,0 +1,172 @@
+"""Snapshots the session hands out: identity, feedback samples, PID gains, link statistics.
+
+All are frozen dataclasses: a snapshot never changes under the reader, whichever thread made it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+from host_sdk._generated.enums import Board, Capability, FailsafeReason, FeedbackMode, Status
+from host_sdk._generated.messages import Identity, SetConfig
+from host_sdk.odometry import Pose
+
+RobotConfig = SetConfig
+"""The firmware's configuration: the fields of CONFIG / SET_CONFIG, typed and range-checked.
+Change it with `Robot.set_config(**changes)`; `dataclasses.replace` makes a modified copy."""
+
+
+@dataclass(frozen=True, slots=True)
+class RobotIdentity:
+    """What the firmware said about itself in the IDENTITY that opened the session."""
+
+    protocol_version: int
+    spec_hash: int
+    firmware_version: tuple[int, int, int]
+    board: Board
+    capabilities: Capability
+    boot_id: int
+    """Random per boot: a new value means the board was reset."""
+    uptime_ms: int
+    """Board uptime when it answered the HELLO."""
+    robot_name: str
+    """The firmware example (sketch) name, e.g. DiffDriveTB6612."""
+    watchdog_ms: int
+    """Watchdog period granted for this session."""
+    feedback_mode: FeedbackMode
+    feedback_hz: int
+    received_s: float
+    """Host clock when the IDENTITY arrived."""
+
+    @classmethod
+    def of(cls, msg: Identity, received_s: float) -> RobotIdentity:
+        return cls(
+            protocol_version=msg.protocol_version,
+            spec_hash=msg.spec_hash,
+            firmware_version=msg.firmware_version,
+            board=msg.board,
+            capabilities=msg.capabilities,
+            boot_id=msg.boot_id,
+            uptime_ms=msg.uptime_ms,
+            robot_name=msg.robot_name,
+            watchdog_ms=msg.watchdog_ms,
+            feedback_mode=msg.feedback_mode,
+            feedback_hz=msg.feedback_hz,
+            received_s=received_s,
+        )
+
+    @property
+    def version(self) -> str:
+        """Firmware version as "major.minor.patch"."""
+        return ".".join(str(v) for v in self.firmware_version)
+
+    def can(self, capability: Capability) -> bool:
+        return bool(self.capabilities & capability)
+
+
+@dataclass(frozen=True, slots=True)
+class FeedbackSample:
+    """One FEEDBACK frame, decoded, unwrapped and mapped to host time.
+
+    Counts are cumulative since the board booted (unwrapped past the i32 wire range, so they
+    never jump); a lost FEEDBACK frame loses no counts, the next one carries them.
+    """
+
+    index: int
+    """How many FEEDBACK frames this robot object has received, this one included."""
+    boot_id: int
+    received_s: float
+    """Host clock when the frame arrived."""
+    host_time_s: float
+    """Host clock at the MCU tick that produced it (time-synced; `received_s` until the first PONG)."""
+    mcu_time_us: int
+    """MCU clock at that tick, unwrapped."""
+    tick: int
+    """Control tick counter, unwrapped."""
+    status: Status
+    failsafe_reason: FailsafeReason
+    encoder_counts: tuple[int, ...]
+    """Cumulative counts per wheel since boot (forward positive)."""
+    wheel_speeds_m_s: tuple[float, ...]
+    """Measured wheel rim speeds."""
+    efforts: tuple[float, ...]
+    """Motor efforts applied, -1..1."""
+    steering_rad: float
+    """Front-wheel angle commanded (0 without steering)."""
+    ack_seq: int
+    """seq of the last setpoint the firmware applied."""
+    pose: Pose | None
+    """Odometry after this sample (None when the robot's kinematics are unknown)."""
+
+    @property
+    def armed(self) -> bool:
+        return bool(self.status & Status.ARMED)
+
+    @property
+    def failsafe(self) -> bool:
+        return bool(self.status & Status.FAILSAFE)
+
+
+@dataclass(frozen=True, slots=True)
+class PidGains:
+    """Velocity PID gains of one wheel, in the spec's units (permille of full effort per mm/s...)."""
+
+    kp: float
+    ki: float
+    kd: float
+    kf: float
+
+
+@dataclass(frozen=True, slots=True)
+class RttStats:
+    last_s: float
+    min_s: float
+    mean_s: float
+    max_s: float
+    samples: int
+
+
+@dataclass(frozen=True, slots=True)
+class LinkStatistics:
+    """The host side of the link, counted since the robot object was created."""
+
+    frames_sent: int = 0
+    bytes_sent: int = 0
+    frames_received: int = 0
+    """Valid frames received."""
+    bytes_received: int = 0
+    crc_errors: int = 0
+    cobs_errors: int = 0
+    length_errors: int = 0
+    unknown_ids: int = 0
+    value_errors: int = 0
+    bytes_discarded: int = 0
+    seq_gaps: int = 0
+    """Board frames missing according to their seq (lost or corrupted on the way)."""
+    feedback_received: int = 0
+    setpoints_sent: int = 0
+    """Setpoint frames, keep-alive repeats included."""
+    keepalives_sent: int = 0
+    hellos_sent: int = 0
+    requests_sent: int = 0
+    """Reliable requests (first tries)."""
+    retries: int = 0
+    request_timeouts: int = 0
+    nacks: dict[str, int] = field(default_factory=dict)
+    """NACKs received, by reason name."""
+    pings_sent: int = 0
+    pongs_received: int = 0
+    rtt: RttStats | None = None
+    """PING/PONG round trips (None before the first)."""
+    clock_offset_us: float | None = None
+    """MCU clock minus host clock now, in microseconds (None before time sync)."""
+    clock_drift_ppm: float | None = None
+    resets_detected: int = 0
+    """Board resets (new boot_id) and lost sessions noticed."""
+    reconnects: int = 0
+    """Sessions re-opened after a reset."""
+    connect_time_s: float | None = None
+    """From the first HELLO to the session being ready (identity and config)."""
+
+    def as_dict(self) -> dict[str, object]:
+        return asdict(self)

@@ -1,0 +1,135 @@
+"""The firmware's PID with the profiles' default gains on the profiles' plants: does it drive?"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hostlink import Host
+
+from emulator import Emulator
+from host_sdk import enums, messages
+from host_sdk.enums import Status
+
+
+def _drive(host: Host, msg: messages.SetWheelSpeeds | messages.SetAckermann, seconds: float, lockstep: bool) -> None:
+    for _ in range(round(seconds / 0.02)):
+        host.send(msg)
+        if lockstep:
+            host.wait_for(messages.Feedback, 0.05)
+        host.run(0.02)
+
+
+def _wait_out_esc_window(host: Host) -> None:
+    """Keep the session alive (PING feeds the watchdog) until the ESC's arming window is over."""
+    fw = host.emu.firmware
+    assert fw is not None
+    while fw.snapshot().esc_hold:
+        host.send(messages.Ping(0))
+        host.run(0.1)
+
+
+def _mean_rim_speeds(emu: Emulator, host: Host, msg: messages.Message, seconds: float, lockstep: bool) -> list[float]:
+    sums = [0.0] * len(emu.plant.units)
+    n = 0
+    for _ in range(round(seconds / 0.02)):
+        host.send(msg)
+        if lockstep:
+            host.wait_for(messages.Feedback, 0.05)
+        for _ in range(4):
+            host.run(0.005)
+            for i, w in enumerate(emu.truth.plant.wheels):
+                sums[i] += w.rim_speed_mm_s
+            n += 1
+    return [s / n for s in sums]
+
+
+@pytest.mark.parametrize(
+    ("name", "left", "right"),
+    [
+        ("diffdrive-tb6612", 300, 300),
+        ("diffdrive-tb6612", 150, 450),
+        ("diffdrive-bts7960", 600, 600),
+        ("diffdrive-bts7960", -300, 200),
+    ],
+)
+def test_diff_drive_steady_state_within_2_percent(name: str, left: int, right: int) -> None:
+    emu = Emulator(name, seed=11)
+    host = Host(emu)
+    lockstep = emu.profile.robot.feedback_mode is enums.FeedbackMode.LOCKSTEP
+    host.session(mode=emu.profile.robot.feedback_mode)
+    msg = messages.SetWheelSpeeds(left, right)
+    _drive(host, msg, 2.0, lockstep)
+    speeds = _mean_rim_speeds(emu, host, msg, 1.0, lockstep)
+    assert speeds[0] == pytest.approx(left, rel=0.02)
+    assert speeds[1] == pytest.approx(right, rel=0.02)
+    # The firmware sees it too (feedback = encoder-measured speeds), without saturating.
+    fb = host.of(messages.Feedback)[-1]
+    assert not fb.status & Status.SATURATED
+    assert abs(fb.wheel_speed_mm_s[0] - left) < 40 and abs(fb.wheel_speed_mm_s[1] - right) < 40
+
+
+def test_ackermann_speed_within_2_percent_and_turning_radius_from_the_wire() -> None:
+    emu = Emulator("picar", seed=12)
+    host = Host(emu)
+    host.session()
+    _wait_out_esc_window(host)
+    steer_mrad = round(math.radians(15) * 1000)
+    msg = messages.SetAckermann(1000, steer_mrad)
+    _drive(host, msg, 2.0, lockstep=False)
+    theta0, dist0 = emu.truth.plant.theta_rad, emu.truth.plant.distance_m
+    speeds = _mean_rim_speeds(emu, host, msg, 2.0, lockstep=False)
+    assert speeds[0] == pytest.approx(1000, rel=0.02)
+    truth = emu.truth.plant
+    radius = (truth.distance_m - dist0) / (truth.theta_rad - theta0)
+    fb = host.of(messages.Feedback)[-1]
+    assert fb.steering_mrad == steer_mrad  # 15 degrees is on the 15-degree grid: reported back as sent
+    assert radius == pytest.approx(emu.profile.robot.wheelbase_m / math.tan(fb.steering_mrad / 1000), rel=0.03)
+
+
+def test_steering_is_quantised_and_reported_back() -> None:
+    emu = Emulator("picar", seed=13)
+    host = Host(emu)
+    host.session()
+    reported = {}
+    for deg in (-40, -20, -7, 8, 20, 40):
+        host.send(messages.SetAckermann(0, round(math.radians(deg) * 1000)))
+        host.run(0.05)
+        reported[deg] = round(math.degrees(host.of(messages.Feedback)[-1].steering_mrad / 1000))
+    # servo 65..125 deg, centre 90, 15-degree steps: -25 (clamped), -15, 0, +15, +30 (120 deg)
+    assert reported == {-40: -25, -20: -15, -7: 0, 8: 15, 20: 15, 40: 30}
+    _drive(host, messages.SetAckermann(0, 1571), 0.3, lockstep=False)
+    assert emu.truth.plant.servo_deg == pytest.approx(120.0)  # the horn followed, within its slew rate
+    emu.cut_link()
+    host.run(0.5)  # watchdog (250 ms): FAILSAFE puts the steering back to its centre
+    assert emu.truth.plant.servo_deg == pytest.approx(90.0)
+
+
+def test_effort_limit_saturates_and_is_reported() -> None:
+    emu = Emulator("picar", seed=14)
+    host = Host(emu)
+    host.session()
+    _wait_out_esc_window(host)
+    _drive(host, messages.SetAckermann(2000, 0), 2.0, lockstep=False)  # more than 600 permille can give
+    fb = host.of(messages.Feedback)[-1]
+    assert fb.status & Status.SATURATED and fb.effort_permille[0] == 600
+    assert 1000 < emu.truth.plant.speed_m_s * 1000 < 1900
+
+
+def test_turn_signals_follow_motion_state() -> None:
+    emu = Emulator("diffdrive-tb6612", seed=15)
+    host = Host(emu)
+    host.session()
+    _drive(host, messages.SetWheelSpeeds(100, 300), 1.0, lockstep=False)
+    toggles = emu.truth.plant.led_toggles
+    _drive(host, messages.SetWheelSpeeds(100, 300), 1.0, lockstep=False)
+    after = emu.truth.plant.led_toggles
+    assert after[0] > toggles[0] and after[2] > toggles[2]  # left side blinking
+    assert after[1] == toggles[1] and after[3] == toggles[3]  # right side dark
+    _drive(host, messages.SetWheelSpeeds(-200, -200), 1.0, lockstep=False)
+    assert emu.truth.plant.leds == {"front_left": False, "front_right": False, "rear_left": True, "rear_right": True}
+    emu.cut_link()
+    host.run(0.5)
+    before = emu.truth.plant.led_toggles
+    host.run(1.0)
+    assert all(b > a for a, b in zip(before, emu.truth.plant.led_toggles, strict=True))  # hazard lights

@@ -1,0 +1,93 @@
+"""The SDK over a real pseudo-terminal: `roverlink emulate` in a subprocess serves the emulator in
+real time; the SDK opens the pty with pyserial, as it would open /dev/ttyACM0."""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import subprocess
+import sys
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+import pytest
+
+from host_sdk import Robot
+
+pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="needs Linux ptys")
+
+
+@contextmanager
+def emulate(*args: str) -> Iterator[str]:
+    """Run `roverlink emulate ARGS`; yields the pty path it prints first."""
+    cmd = [shutil.which("roverlink") or "roverlink", "emulate", "--quiet", *args]
+    if shutil.which("roverlink") is None:
+        cmd = [
+            sys.executable,
+            "-c",
+            "import sys; from host_sdk.cli import main; sys.exit(main())",
+            "emulate",
+            "--quiet",
+            *args,
+        ]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout is not None
+        line = proc.stdout.readline().strip()
+        if not line:
+            pytest.fail(f"roverlink emulate printed no port: {proc.stderr.read() if proc.stderr else ''}")
+        yield line
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=5)
+        except subprocess.TimeoutExpired:  # pragma: no cover
+            proc.kill()
+            proc.wait()
+        for stream in (proc.stdout, proc.stderr):
+            if stream is not None:
+                stream.close()
+
+
+def drive_and_check(robot: Robot, seconds: float = 1.0) -> None:
+    robot.arm()
+    robot.odometry.reset()
+    deadline = robot.now() + seconds
+    while robot.now() < deadline:
+        robot.drive(0.3, 0.5)
+        sample = robot.wait_feedback(1.0)
+        assert sample.armed
+    pose = robot.odometry.pose
+    assert 0.15 < math.hypot(pose.x_m, pose.y_m) < 0.4
+    assert 0.15 < pose.theta_rad < 0.7
+    robot.stop()
+
+
+def test_pty_with_dtr_reset_on_open_stream_mode() -> None:
+    """Opening the pty resets the board (DTR); the SDK rides through the bootloader with no sleeps."""
+    threads, fds = set(threading.enumerate()), len(os.listdir("/proc/self/fd"))
+    with emulate("--profile", "diffdrive-tb6612") as port, Robot.connect(port, profile="diffdrive-tb6612") as robot:
+        ready = robot.stats.connect_time_s
+        assert ready is not None and ready < 3.0
+        drive_and_check(robot)
+        assert robot.stats.rtt is not None and robot.stats.rtt.min_s < 0.05
+    assert set(threading.enumerate()) == threads
+    assert len(os.listdir("/proc/self/fd")) == fds
+
+
+def test_pty_lockstep_and_roverlink_info() -> None:
+    with emulate("--profile", "diffdrive-bts7960", "--no-dtr-reset") as port:
+        info = subprocess.run(
+            [sys.executable, "-c", "import sys; from host_sdk.cli import main; sys.exit(main())", "info", port],
+            capture_output=True,
+            text=True,
+            timeout=30,
+            check=False,
+        )
+        assert info.returncode == 0, info.stderr
+        assert "DiffDriveBTS7960" in info.stdout and "max_wheel_speed_mm_s" in info.stdout
+        with Robot.connect(port, mode="lockstep") as robot:
+            assert robot.mode == "lockstep"
+            drive_and_check(robot)

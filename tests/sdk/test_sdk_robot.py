@@ -1,0 +1,338 @@
+"""The Robot API against the emulator on a virtual clock: validation, config, failsafe, resets, closing.
+
+Uses the `robot` and `emulator` fixtures of the roverlink pytest plugin (host_sdk.pytest_plugin).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import threading
+import time
+from typing import Any
+
+import pytest
+
+from host_sdk import Robot, enums, messages
+from host_sdk._generated.constants import PROTOCOL_VERSION
+from host_sdk.errors import (
+    CommandRangeError,
+    ConnectTimeoutError,
+    FailsafeError,
+    IncompatibleFirmwareError,
+    NackError,
+    NotArmedError,
+    RobotClosedError,
+    SessionResetError,
+    UnsupportedError,
+)
+from host_sdk.framing import Frame, FrameDecoder, encode_frame
+from host_sdk.statemachine import SessionState
+from host_sdk.transport import Transport
+
+TICK_S = 0.01
+
+
+def drive_for(robot: Robot, seconds: float, linear: float, angular: float = 0.0) -> None:
+    end = robot.now() + seconds
+    while robot.now() < end:
+        robot.drive(linear, angular)
+        robot.sleep(0.02)
+
+
+# -- bad input ----------------------------------------------------------------------------------------
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf])
+def test_non_finite_speeds_are_refused_naming_the_argument(robot: Robot, value: float) -> None:
+    robot.arm()
+    with pytest.raises(CommandRangeError) as err:
+        robot.drive(0.1, value)
+    assert err.value.argument == "angular_rad_s" and "finite" in str(err.value)
+    with pytest.raises(CommandRangeError, match="left_m_s"):
+        robot.set_wheel_speeds(value, 0.0)
+
+
+def test_speed_over_the_configured_limit_raises_or_clamps_when_asked(robot: Robot, emulator: Any) -> None:
+    robot.arm()
+    with pytest.raises(CommandRangeError) as err:
+        robot.drive(0.8, 0.0)
+    assert err.value.argument == "linear_m_s" and "0.6" in err.value.allowed and "clamp=True" in str(err.value)
+    with pytest.raises(CommandRangeError, match=r"angular_rad_s = 4.0 .* -2.000..2.000 rad/s"):
+        robot.drive(0.4, 4.0)
+    robot.drive(0.8, 2.0, clamp=True)  # both wheels scaled by one factor: curvature kept
+    robot.sleep(0.05)
+    targets = emulator.truth.firmware.targets_mm_s
+    assert max(abs(t) for t in targets) == 600
+    assert (targets[1] - targets[0]) / ((targets[0] + targets[1]) / 2) == pytest.approx(2.0 * 0.2 / 0.8, rel=0.01)
+
+
+@pytest.mark.roverlink(profile="picar")
+def test_ackermann_steering_limits_and_unsupported_calls(robot: Robot) -> None:
+    robot.arm(wait_esc=False)
+    with pytest.raises(CommandRangeError) as err:
+        robot.drive_ackermann(0.5, 0.9)
+    assert err.value.argument == "steering_rad" and "-0.436..0.611" in err.value.allowed
+    with pytest.raises(CommandRangeError, match="cannot turn in place"):
+        robot.drive(0.0, 1.0)
+    with pytest.raises(UnsupportedError, match="set_wheel_speeds"):
+        robot.set_wheel_speeds(0.1, 0.1)
+    robot.drive_ackermann(0.5, 0.9, clamp=True)
+
+
+def test_calls_on_a_closed_robot_raise(robot: Robot) -> None:
+    robot.close()
+    robot.close()  # idempotent
+    for call in (lambda: robot.drive(0, 0), robot.arm, lambda: robot.identity, robot.wait_feedback, robot.read_config):
+        with pytest.raises(RobotClosedError):
+            call()
+
+
+def test_drive_before_arm_says_to_arm(robot: Robot) -> None:
+    with pytest.raises(NotArmedError, match=r"robot.arm\(\)"):
+        robot.drive(0.1, 0.0)
+
+
+# -- identity, config, PID ------------------------------------------------------------------------------
+def test_identity_config_and_pid(robot: Robot) -> None:
+    ident = robot.identity
+    assert ident.robot_name == "DiffDriveTB6612" and ident.can(enums.Capability.DIFF_DRIVE)
+    assert ident.watchdog_ms == 250 and ident.version == "0.1.0"
+    assert robot.config.max_wheel_speed_mm_s == 600
+    new = robot.set_config(max_wheel_speed_mm_s=400, safe_state=enums.SafeState.RAMP_DOWN)
+    assert new.max_wheel_speed_mm_s == 400 and robot.config == new
+    robot.arm()
+    with pytest.raises(CommandRangeError, match=r"0\.4"):
+        robot.drive(0.5, 0.0)
+    gains = robot.set_pid(kp=2.0)
+    assert gains.kp == 2.0 and gains.kf == 1.5
+    assert robot.pid(1).kp == 2.0  # wheel=None set every wheel
+
+
+def test_config_errors_name_the_field(robot: Robot) -> None:
+    with pytest.raises(CommandRangeError) as err:
+        robot.set_config(watchdog_ms=10)
+    assert err.value.argument == "watchdog_ms" and "50..2000" in err.value.allowed
+    with pytest.raises(CommandRangeError, match="one of watchdog_ms"):
+        robot.set_config(no_such_field=1)
+    with pytest.raises(NackError) as nack:  # in range, inconsistent: the board refuses
+        robot.set_config(steering_min_cdeg=9500)
+    assert nack.value.reason is enums.NackReason.INVALID_CONFIG
+    assert nack.value.field in ("steering_min_cdeg", "steering_center_cdeg")  # the firmware's detail, by name
+    assert nack.value.field in str(nack.value)
+
+
+def test_save_config_is_refused_while_armed(robot: Robot) -> None:
+    robot.arm()
+    with pytest.raises(NackError, match="disarm first") as err:
+        robot.save_config()
+    assert err.value.reason is enums.NackReason.ARMED
+    robot.disarm()
+    robot.save_config()
+
+
+# -- failsafe and watchdog --------------------------------------------------------------------------------
+def test_a_program_that_stops_commanding_stops_the_robot(robot: Robot, emulator: Any) -> None:
+    failsafes: list[enums.FailsafeReason] = []
+    robot.on_failsafe(failsafes.append)
+    robot.arm()
+    drive_for(robot, 0.5, 0.3)
+    last_call = robot.now()
+    while emulator.truth.firmware.state is SessionState.ARMED:
+        robot.sleep(0.001)
+    fw = emulator.truth.firmware
+    # failsafe within watchdog + one tick of the last valid host frame, and within
+    # command_timeout + watchdog + one tick of the user's last command
+    assert (fw.micros - fw.last_valid_frame_us) / 1e6 <= robot.watchdog_s + TICK_S + 0.001
+    assert robot.now() - last_call <= robot.command_timeout_s + robot.watchdog_s + TICK_S + 0.002
+    assert fw.failsafe_reason is enums.FailsafeReason.COMM_TIMEOUT
+    robot.sleep(0.1)
+    assert robot.failsafe is enums.FailsafeReason.COMM_TIMEOUT and failsafes
+    with pytest.raises(FailsafeError, match="renew them in a loop"):
+        robot.drive(0.3, 0.0)
+    robot.arm()
+    robot.drive(0.3, 0.0)
+    assert robot.state == "armed"
+
+
+def test_slow_but_steady_commands_keep_the_robot_driving(robot: Robot, emulator: Any) -> None:
+    robot.arm()
+    for _ in range(10):  # 5 Hz: each command expires, but the next comes before the watchdog
+        robot.drive(0.2, 0.0)
+        robot.sleep(0.2)
+    assert emulator.truth.firmware.state is SessionState.ARMED
+
+
+# -- resets --------------------------------------------------------------------------------------------------
+def test_board_reset_is_detected_reported_and_the_session_reopened(robot: Robot, emulator: Any) -> None:
+    resets: list[SessionResetError] = []
+    noticed: list[float] = []
+    robot.on_reset(lambda err: (resets.append(err), noticed.append(robot.now())))
+    robot.arm()
+    drive_for(robot, 0.3, 0.2)
+    old = robot.identity.boot_id
+    emulator.reset_mcu()
+    while emulator.truth.mcu.phase != "running":
+        robot.sleep(0.001)
+    booted = robot.now()
+    robot.sleep(0.1)
+    assert resets and resets[0].old_boot_id == old
+    # within one feedback period of the new boot talking (its setup writes the EEPROM boot counter first)
+    setup_s = 4 * 0.0034
+    assert noticed[0] - booted <= setup_s + 1 / robot.identity.feedback_hz
+    with pytest.raises(SessionResetError) as err:
+        robot.drive(0.2, 0.0)
+    assert err.value.old_boot_id == old
+    with pytest.raises(NotArmedError):
+        robot.drive(0.2, 0.0)
+    assert robot.identity.boot_id != old and robot.stats.reconnects == 1
+    # nothing of the old session was applied in the new one
+    fw = emulator.truth.firmware
+    assert fw.state is SessionState.DISARMED and fw.targets_mm_s == (0.0, 0.0)
+    robot.arm()
+    drive_for(robot, 0.2, 0.2)
+    assert emulator.truth.firmware.state is SessionState.ARMED
+
+
+@pytest.mark.roverlink(auto_rearm=True)
+def test_auto_rearm_re_arms_after_a_reset_but_never_replays_the_old_command(robot: Robot, emulator: Any) -> None:
+    robot.arm()
+    drive_for(robot, 0.3, 0.2)
+    robot.drive(0.2, 0.0, hold_s=5.0)  # still live when the reset is noticed
+    emulator.brown_out(20.0)  # back in ~0.1 s
+    robot.sleep(2.0)  # no command from the user meanwhile
+    fw = emulator.truth.firmware
+    assert fw.boot_id == robot.identity.boot_id
+    assert fw.targets_mm_s == (0.0, 0.0) and fw.ack_tick == 0  # no setpoint applied in the new boot
+    drive_for(robot, 0.2, 0.2)
+    assert emulator.truth.firmware.state is SessionState.ARMED
+
+
+def test_connect_to_ready_after_a_dtr_reset_is_boot_time_plus_one_round_trip() -> None:
+    """Measured on the virtual clock: no sleeps in the SDK, so ready follows the boot announcement
+    by one round trip (HELLO + GET_CONFIG out, IDENTITY + CONFIG back: ~107 bytes at 115200 baud)."""
+    robot = Robot.connect("emu://diffdrive-tb6612?clock=virtual&dtr=1")
+    try:
+        emu = robot.emulator
+        boot_announced = next(f.time_us for f in emu.truth.faults if f.kind == "dtr_reset") / 1e6
+        ready = robot.stats.connect_time_s
+        assert ready is not None
+        bootloader = emu.bootloader_ms / 1000
+        bytes_round_trip = (15 + 6) + (49 + 47)  # HELLO + GET_CONFIG, IDENTITY + CONFIG (frame bytes, at most)
+        one_round_trip = bytes_round_trip * 10 / 115200 + 2 * 0.001 + 0.002  # + adapter latency + host polling
+        setup = 4 * 0.0034 + 40 * 10 / 115200  # the boot counter's EEPROM write, then the announcement itself
+        assert boot_announced == 0.0
+        assert bootloader < ready <= bootloader + setup + one_round_trip
+    finally:
+        robot.close()
+
+
+# -- connecting to what is not a good board -------------------------------------------------------------
+class ScriptedTransport(Transport):
+    """A fake port: answers each write with `reply(data)` on a virtual clock."""
+
+    virtual = True
+
+    def __init__(self, reply: Any) -> None:
+        self.url = "/dev/ttyFAKE"
+        self.now = 0.0
+        self.inbox = b""
+        self.reply = reply
+
+    def clock(self) -> float:
+        return self.now
+
+    def read(self, timeout_s: float) -> bytes:
+        self.now += max(timeout_s, 0.0005)
+        data, self.inbox = self.inbox, b""
+        return data
+
+    def write(self, data: bytes) -> None:
+        self.inbox += self.reply(data)
+
+    def close(self) -> None:
+        pass
+
+
+@pytest.mark.parametrize(
+    ("reply", "expected"),
+    [
+        (lambda data: b"", "nothing at all was received: check the cable"),
+        (lambda data: b"\x7f\x13garbage at the wrong baud\xff", "not one valid RoverLink frame: check the baud"),
+    ],
+)
+def test_connect_timeout_says_what_was_heard(reply: Any, expected: str) -> None:
+    with pytest.raises(ConnectTimeoutError) as err:
+        Robot.connect(transport=ScriptedTransport(reply), timeout_s=0.5)
+    assert isinstance(err.value, TimeoutError)
+    assert "/dev/ttyFAKE" in str(err.value) and "115200 baud" in str(err.value) and expected in str(err.value)
+
+
+def test_incompatible_firmware_is_refused_with_both_hashes_and_the_fix() -> None:
+    decoder = FrameDecoder()
+
+    def board(data: bytes) -> bytes:
+        out = b""
+        for ev in decoder.feed(data):
+            if isinstance(ev, Frame) and isinstance(ev.message, messages.Hello):
+                out += encode_frame(
+                    messages.Identity(
+                        PROTOCOL_VERSION,
+                        0xCAFEF00D,
+                        (0, 0, 9),
+                        enums.Board.UNO,
+                        enums.Capability.ACKERMANN,
+                        7,
+                        10,
+                        enums.IdentityReason.HELLO_REJECTED,
+                        ev.seq,
+                        250,
+                        enums.FeedbackMode.STREAM,
+                        50,
+                        "AckermannPiCar",
+                    ),
+                    0,
+                )
+        return out
+
+    with pytest.raises(IncompatibleFirmwareError) as err:
+        Robot.connect(transport=ScriptedTransport(board), timeout_s=1.0)
+    text = str(err.value)
+    assert "0xCAFEF00D" in text and "roverlink firmware flash --example AckermannPiCar --port /dev/ttyFAKE" in text
+
+
+@pytest.mark.roverlink(profile="picar", mode="lockstep")
+def test_lockstep_on_firmware_without_it_is_unsupported(roverlink_options: dict[str, Any]) -> None:
+    with pytest.raises(UnsupportedError, match="LOCKSTEP"):
+        Robot.connect("emu://picar?clock=virtual", mode="lockstep")
+
+
+# -- threads and descriptors -----------------------------------------------------------------------------
+def _fds() -> int:
+    return len(os.listdir("/proc/self/fd"))
+
+
+def test_close_leaves_no_threads_or_descriptors_and_calls_are_thread_safe() -> None:
+    threads, fds = set(threading.enumerate()), _fds()
+    for _ in range(2):
+        with Robot.connect("emu://diffdrive-tb6612?speed=4") as robot:
+            robot.arm()
+            errors: list[BaseException] = []
+
+            def user(k: int, robot: Robot = robot, errors: list[BaseException] = errors) -> None:
+                try:
+                    end = time.monotonic() + 0.3
+                    while time.monotonic() < end:
+                        robot.drive(0.1 * k, 0.0)
+                        robot.stats  # noqa: B018
+                        robot.wait_feedback(1.0)
+                except BaseException as exc:  # pragma: no cover - the assertion shows it
+                    errors.append(exc)
+
+            workers = [threading.Thread(target=user, args=(k,)) for k in (1, 2, 3)]
+            for w in workers:
+                w.start()
+            for w in workers:
+                w.join()
+            assert not errors
+            assert robot.feedback is not None and robot.feedback.armed
+    assert set(threading.enumerate()) == threads
+    assert _fds() == fds
