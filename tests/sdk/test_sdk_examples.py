@@ -49,3 +49,12 @@ def test_demo_command_reports_odometry_against_truth(capsys: pytest.CaptureFixtu
     assert main(["demo", "--fast", "--side", "0.5"]) == 0
     out = capsys.readouterr().out
     assert "position error" in out and "round trip (PING/PONG)" in out and "CRC / COBS / length errors" in out
+
+
+def test_demo_plot(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    pytest.importorskip("matplotlib")
+    from host_sdk.cli import main
+
+    target = tmp_path / "square.png"
+    assert main(["demo", "--fast", "--side", "0.5", "--plot", str(target)]) == 0
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
