@@ -95,11 +95,12 @@ def _cpp(spec: Spec, r: Robot) -> str:
         f"roverlink::proto::FeedbackMode::{r.feedback_mode};\n\n"
     )
     o.append("// Built in code, not kept as a static struct: on AVR that would cost SRAM for the whole run.\n")
-    o.append("inline roverlink::proto::SetConfig default_config() {\n    roverlink::proto::SetConfig c;\n")
+    o.append("// static: two profiles linked into one test program must not merge.\n")
+    o.append("static inline roverlink::proto::SetConfig default_config() {\n    roverlink::proto::SetConfig c;\n")
     for f, v in r.config:
         o.append(f"    c.{f.name} = {_cpp_value(f.enum.name if f.enum else None, v, f.is_float)};\n")
     o.append("    return c;\n}\n\n")
-    o.append("inline roverlink::proto::SetPid default_pid() {\n    roverlink::proto::SetPid p;\n")
+    o.append("static inline roverlink::proto::SetPid default_pid() {\n    roverlink::proto::SetPid p;\n")
     o.append("    p.wheel = roverlink::proto::PID_ALL_WHEELS;\n")
     for f, v in r.pid:
         o.append(f"    p.{f.name} = {_cpp_value(None, v, True)};\n")

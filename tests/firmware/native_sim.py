@@ -238,13 +238,14 @@ class NativeSim:
 
     EEPROM_SIZE = 1024
 
-    def __init__(self, profile: str = "diffdrive-tb6612", seed: int = 1, *, poll_interval_us: int = 1000) -> None:
+    def __init__(self, profile: str | int = "diffdrive-tb6612", seed: int = 1, *, poll_interval_us: int = 1000) -> None:
+        """`profile`: a profile name ("picar"), an example name ("AckermannPiCar") or an index."""
         self._lib = library()
-        handle = self._lib.rl_sim_create(profile.encode(), seed & 0xFFFFFFFF)
+        handle = self._lib.rl_sim_create(str(profile).encode(), seed & 0xFFFFFFFF)
         if not handle:
             raise SimError(f"unknown profile {profile!r}: choose one of {', '.join(profiles())}")
         self._h: int | None = handle
-        self.profile = profile
+        self.profile = str(profile)
         self.poll_interval_us = poll_interval_us
 
     # -- lifetime ---------------------------------------------------------------------------------

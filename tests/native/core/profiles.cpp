@@ -21,6 +21,9 @@ const Profile* find(const char* name) {
     if (name == 0) {
         return 0;
     }
+    if (name[0] >= '0' && name[0] <= '9' && name[1] == '\0') {
+        return at(name[0] - '0');  // a robot index, "0".."9"
+    }
     for (int i = 0; i < COUNT; ++i) {
         if (strcmp(name, PROFILES[i].name) == 0 || strcmp(name, PROFILES[i].example) == 0) {
             return &PROFILES[i];

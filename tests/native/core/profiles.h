@@ -19,7 +19,7 @@ extern const roverlink::Robot PICAR;
 
 int count();
 const Profile* at(int index);                // 0 <= index < count(), else null
-const Profile* find(const char* name);       // by profile name or example name, else null
+const Profile* find(const char* name);       // by profile name, example name or index ("0"), else null
 
 }  // namespace sim_profiles
 

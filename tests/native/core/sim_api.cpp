@@ -20,7 +20,7 @@
 //   0      diffdrive-tb6612     DiffDriveTB6612
 //   1      diffdrive-bts7960    DiffDriveBTS7960
 //   2      picar                AckermannPiCar
-// rl_sim_create() accepts either name.
+// rl_sim_create() accepts either name, or the index as a string ("0", "1", "2").
 //
 // Functions (all take the handle from rl_sim_create unless noted; none of them can fail on a valid
 // handle except where a return value says so; a NULL handle is ignored / returns 0):

@@ -1799,6 +1799,10 @@ static void test_c_api() {
     CHECK(std::string(rl_sim_profile_name(2)) == "picar");
     CHECK(rl_sim_profile_name(3) == 0);
     CHECK(rl_sim_create("no-such-robot", 1) == 0);
+    CHECK(rl_sim_create("3", 1) == 0);
+    rl_sim* by_index = rl_sim_create("2", 1);
+    CHECK(by_index != 0);
+    rl_sim_destroy(by_index);
     rl_sim* a = rl_sim_create("DiffDriveBTS7960", 5);
     rl_sim* b = rl_sim_create("diffdrive-bts7960", 5);
     CHECK(a != 0 && b != 0);

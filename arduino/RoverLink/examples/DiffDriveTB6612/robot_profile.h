@@ -15,7 +15,8 @@ static const uint16_t CAPABILITIES = roverlink::proto::Capability::DIFF_DRIVE | 
 static const roverlink::proto::FeedbackMode FEEDBACK_MODE = roverlink::proto::FeedbackMode::STREAM;
 
 // Built in code, not kept as a static struct: on AVR that would cost SRAM for the whole run.
-inline roverlink::proto::SetConfig default_config() {
+// static: two profiles linked into one test program must not merge.
+static inline roverlink::proto::SetConfig default_config() {
     roverlink::proto::SetConfig c;
     c.watchdog_ms = 250;
     c.safe_state = roverlink::proto::SafeState::BRAKE;
@@ -41,7 +42,7 @@ inline roverlink::proto::SetConfig default_config() {
     return c;
 }
 
-inline roverlink::proto::SetPid default_pid() {
+static inline roverlink::proto::SetPid default_pid() {
     roverlink::proto::SetPid p;
     p.wheel = roverlink::proto::PID_ALL_WHEELS;
     p.kp = 1.0f;

@@ -151,7 +151,7 @@ void Firmware::poll() {
     if (late >= 0x80000000UL) {
         return;  // the next tick is still ahead
     }
-    // poll() came more than a whole period late: run one tick now, skip the ones missed, and stay
+    // If poll() came more than a whole period late: run one tick now, skip the ones missed, and stay
     // on the original grid (no drift). The speed measurement spans all the periods.
     uint16_t skipped = 0;
     for (uint32_t behind = late; behind >= control::TICK_US; behind -= control::TICK_US) {
