@@ -12,9 +12,9 @@ Scheduling (all on the VirtualClock, so one seed and one input give one output):
 * the firmware's control tick every 10 ms of *MCU* time (its crystal may drift: `drift_ppm`);
 * host bytes reach the firmware when they arrive at the MCU (after baud pacing and latency); the
   firmware handles a frame when its delimiter arrives, as its loop() would within microseconds;
-* an EEPROM write stalls the firmware's loop for 3.4 ms per changed byte: ticks run late (back to
-  back, as micros() arithmetic catches up) and host bytes wait in the 63-byte receive buffer,
-  which overruns (LINK_STATS.rx_overruns) if the host keeps sending.
+* an EEPROM write stalls the firmware's loop for 3.4 ms per changed byte: the next tick runs late,
+  once, and the missed ones are skipped (the C++ core's rule); host bytes wait in the 63-byte
+  receive buffer and are lost beyond it (silently, as the Arduino core does; the truth counts them).
 
 Resets: power-on and brown-out start the sketch after `power_on_ms`; an external or DTR reset
 runs the bootloader first (`bootloader_ms`, a few garbage bytes on the line). Every boot is a new
@@ -31,7 +31,7 @@ from collections.abc import Callable
 from emulator.clock import PRIORITY_FAULT, PRIORITY_PHYSICS, PRIORITY_RX, PRIORITY_TICK, Timer, VirtualClock
 from emulator.errors import EmulatorValueError, FaultSpecError
 from emulator.faults import FaultItem, FaultSpec, parse_faults
-from emulator.firmware.config import Gains, encode_record
+from emulator.firmware.config import IMAGE_ADDR, Gains, encode_image
 from emulator.firmware.core import TICK_US, Firmware
 from emulator.line import Line
 from emulator.plant.motor import DriveMode
@@ -166,8 +166,8 @@ class Emulator:
         self.eeprom = bytearray(b"\xff" * timing.eeprom_bytes)
         if eeprom == "saved":
             robot = self.profile.robot
-            record = encode_record(robot.config, [Gains.of(robot.pid)] * WHEEL_CHANNELS)
-            self.eeprom[: len(record)] = record
+            image = encode_image(robot.config, [Gains.of(robot.pid)] * WHEEL_CHANNELS)
+            self.eeprom[IMAGE_ADDR : IMAGE_ADDR + len(image)] = image
         self.eeprom_failing = False
         self.pending_eeprom: list[tuple[int, int, int]] = []
         self.firmware: Firmware | None = None
@@ -178,6 +178,11 @@ class Emulator:
         self._board: _McuBoard | None = None
         self._app_start_us = 0
         self._tick_index = 0
+        self._last_tick_index = 0
+        self.ticks_skipped = 0
+        """Control ticks the firmware skipped because its loop was stalled (EEPROM writes)."""
+        self.rx_overrun_bytes = 0
+        """Host bytes lost because the MCU's receive buffer was full (the firmware cannot know)."""
         self._tick_timer: Timer | None = None
         self._boot_timer: Timer | None = None
         self._busy_until = 0
@@ -293,6 +298,7 @@ class Emulator:
         self.boot_ids.append(fw.boot_id)
         self._after_call()
         self._tick_index = 1
+        self._last_tick_index = 0
         self._schedule_tick()
 
     def _schedule_tick(self) -> None:
@@ -311,9 +317,15 @@ class Emulator:
         self._process_rx()  # bytes that waited in the buffer are read before the tick
         if self.firmware is not fw:
             return
-        fw.tick()
+        # A late tick (the loop was stalled) runs once and skips the grid points it missed, as
+        # the C++ core does; its speed measurement spans them all.
+        reached = self.mcu_elapsed_us(self.clock.now_us) // TICK_US
+        periods = max(1, reached - self._last_tick_index)
+        self.ticks_skipped += periods - 1
+        self._last_tick_index = max(reached, self._tick_index)
+        fw.tick(periods)
         self._after_call()
-        self._tick_index += 1
+        self._tick_index = self._last_tick_index + 1
         self._schedule_tick()
 
     def _after_call(self) -> None:
@@ -359,7 +371,8 @@ class Emulator:
                     continue
             data.append(byte)
         if overruns:
-            fw.link.rx_overruns += overruns
+            # The Arduino core drops them silently: LINK_STATS.rx_overruns stays 0, as on a board.
+            self.rx_overrun_bytes += overruns
             self._log(self.clock.now_us, "rx_overrun", f"{overruns} bytes lost: receive buffer full during a stall")
         fw.on_bytes(bytes(data))
         self._after_call()
@@ -535,6 +548,8 @@ class Emulator:
                 resets=self.resets,
                 boot_ids=tuple(self.boot_ids),
                 bytes_lost_not_running=self.bytes_lost_not_running,
+                rx_overrun_bytes=self.rx_overrun_bytes,
+                ticks_skipped=self.ticks_skipped,
                 eeprom_failing=self.eeprom_failing,
             ),
             firmware=self.firmware.snapshot() if self.firmware is not None else None,

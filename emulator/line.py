@@ -159,6 +159,7 @@ class Line:
             self.stats.bytes_lost_cut += lost
             self._queue = deque(item for item in self._queue if item[0] <= now_us)
             self._noise = [item for item in self._noise if item[0] <= now_us]
+            self._last_arrival = min(self._last_arrival, now_us)  # lost bytes hold nothing back
         self.cut = cut
 
     def abort_unsent(self, now_us: int) -> int:
@@ -169,6 +170,7 @@ class Line:
         # The transmitter is free once the byte it is sending now (if any) has left.
         busy_until_us = keep[-1][0] - self.latency_us if keep else now_us
         self._tx_free = min(self._tx_free, max(now_us, busy_until_us) * self.baud)
+        self._last_arrival = keep[-1][0] if keep else min(self._last_arrival, now_us)
         return lost
 
     def noise_burst(self, start_us: int, end_us: int, ber: float) -> int:

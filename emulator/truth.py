@@ -24,8 +24,10 @@ class FaultRecord:
     time_us: int
     """Virtual time the fault took effect."""
     kind: str
-    """bitflip, drop, insert, noise, cut, restore, reset, dtr_reset, brownout, stall, unstall,
-    encoder_disconnect, encoder_reconnect, eeprom_fail, eeprom_ok, traction, rx_overrun."""
+    """bitflip, drop, insert, noise, cut, restore, reset, dtr_reset, bootloader_garbage, brownout,
+    stall, unstall, encoder_disconnect, encoder_reconnect, eeprom_fail, eeprom_ok, traction,
+    bitflip_rate, drop_rate, insert_rate (a rate was set), rx_overrun (an effect: host bytes lost
+    in the MCU's full receive buffer)."""
     detail: str
 
 
@@ -130,6 +132,11 @@ class McuTruth:
     """boot_id of every boot so far, oldest first."""
     bytes_lost_not_running: int
     """Host bytes that reached the MCU while it was in reset or in the bootloader."""
+    rx_overrun_bytes: int
+    """Host bytes lost in a full receive buffer while the loop was stalled (the firmware cannot
+    see these: LINK_STATS.rx_overruns stays 0, as on an Arduino)."""
+    ticks_skipped: int
+    """Control ticks skipped because the loop was stalled (EEPROM writes)."""
     eeprom_failing: bool
 
 

@@ -1,15 +1,17 @@
-"""Configuration and PID gains: validation, and their EEPROM record (version byte + CRC-16).
+"""Configuration and PID gains: validation, and their EEPROM image (the same layout as the C++ core).
 
-Record layout at address 0 (75 bytes):
-    0       version (CONFIG_RECORD_VERSION)
-    1..40   SET_CONFIG payload (the wire layout, little-endian)
-    41..72  PID gains of wheel 0 then wheel 1: kp, ki, kd, kf as f32 little-endian
-    73..74  CRC-16/CCITT-FALSE of bytes 0..72, little-endian
-The boot counter (u32, little-endian) lives in the last 4 bytes of the EEPROM.
+EEPROM layout (docs/firmware.md):
+    0x000   boot counter, u32 little-endian (incremented at every boot)
+    0x010   image, 81 bytes:
+            'R' 'L', image version, SET_CONFIG's CRC_EXTRA, SET_PID's CRC_EXTRA (a firmware built from
+            a spec that changed either layout reads the image as another version),
+            the SET_CONFIG payload (40 bytes), one SET_PID payload per wheel (17 bytes each),
+            CRC-16/CCITT-FALSE of all of the above, little-endian.
 """
 
 from __future__ import annotations
 
+import enum
 import math
 import struct
 from dataclasses import dataclass
@@ -19,11 +21,21 @@ from host_sdk.codec.crc import crc16
 from host_sdk.codec.message import FieldInfo, Message
 from host_sdk.messages import SetConfig, SetPid
 
-CONFIG_RECORD_VERSION = 1
-_GAINS = struct.Struct("<ffff")
+BOOT_COUNTER_ADDR = 0x000
+IMAGE_ADDR = 0x010
+IMAGE_VERSION = 1
+_HEADER = bytes((ord("R"), ord("L"), IMAGE_VERSION, SetConfig.CRC_EXTRA, SetPid.CRC_EXTRA))
 CONFIG_SIZE = SetConfig.PAYLOAD_SIZE
-RECORD_SIZE = 1 + CONFIG_SIZE + WHEEL_COUNT * _GAINS.size + 2
+IMAGE_SIZE = len(_HEADER) + CONFIG_SIZE + WHEEL_COUNT * SetPid.PAYLOAD_SIZE + 2
 _F32 = struct.Struct("<f")
+
+
+class LoadResult(enum.Enum):
+    OK = "ok"
+    NO_IMAGE = "config: no EEPROM image for this version, using defaults"
+    BAD_CRC = "config: EEPROM CRC error, using defaults"
+    INVALID = "config: EEPROM values invalid, using defaults"
+    """Each failure's value is the LOG(WARN) text the firmware sends after the boot IDENTITY."""
 
 
 def f32(x: float) -> float:
@@ -89,32 +101,32 @@ def pid_wheel_ok(wheel: int) -> bool:
     return 0 <= wheel < WHEEL_COUNT or wheel == PID_ALL_WHEELS
 
 
-def encode_record(config: SetConfig, gains: list[Gains]) -> bytes:
-    body = bytes((CONFIG_RECORD_VERSION,)) + config.pack()
-    for g in gains:
-        body += _GAINS.pack(g.kp, g.ki, g.kd, g.kf)
+def encode_image(config: SetConfig, gains: list[Gains]) -> bytes:
+    body = _HEADER + config.pack()
+    for wheel, g in enumerate(gains):
+        body += SetPid(wheel, g.kp, g.ki, g.kd, g.kf).pack()
     return body + crc16(body).to_bytes(2, "little")
 
 
-def decode_record(raw: bytes) -> tuple[SetConfig, list[Gains]] | None:
-    """Config and gains from an EEPROM record, or None when the version, CRC or values are bad."""
-    if len(raw) != RECORD_SIZE or raw[0] != CONFIG_RECORD_VERSION:
-        return None
+def decode_image(raw: bytes) -> tuple[LoadResult, SetConfig | None, list[Gains] | None]:
+    """What a boot makes of the EEPROM image: (OK, config, gains) or (the failure, None, None)."""
+    if len(raw) != IMAGE_SIZE or raw[: len(_HEADER)] != _HEADER:
+        return LoadResult.NO_IMAGE, None, None
     if crc16(raw[:-2]) != int.from_bytes(raw[-2:], "little"):
-        return None
+        return LoadResult.BAD_CRC, None, None
+    offset = len(_HEADER)
     try:
-        config = SetConfig.unpack(raw[1 : 1 + CONFIG_SIZE])
+        config = SetConfig.unpack(raw[offset : offset + CONFIG_SIZE])
     except ValueError:
-        return None
+        return LoadResult.INVALID, None, None
     if first_out_of_range(config) is not None or first_inconsistent(config) is not None:
-        return None
+        return LoadResult.INVALID, None, None
+    offset += CONFIG_SIZE
     gains: list[Gains] = []
-    offset = 1 + CONFIG_SIZE
-    for _ in range(WHEEL_COUNT):
-        kp, ki, kd, kf = _GAINS.unpack_from(raw, offset)
-        offset += _GAINS.size
-        g = Gains(kp, ki, kd, kf)
-        if first_out_of_range(SetPid(0, g.kp, g.ki, g.kd, g.kf)) is not None:
-            return None
-        gains.append(g)
-    return config, gains
+    for wheel in range(WHEEL_COUNT):
+        pid = SetPid.unpack(raw[offset : offset + SetPid.PAYLOAD_SIZE])
+        offset += SetPid.PAYLOAD_SIZE
+        if pid.wheel != wheel or first_out_of_range(pid) is not None:
+            return LoadResult.INVALID, None, None
+        gains.append(Gains(pid.kp, pid.ki, pid.kd, pid.kf))
+    return LoadResult.OK, config, gains

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import math
+from typing import TypeVar
 
 from emulator.firmware.config import Gains
+
+N = TypeVar("N", int, float)
 
 
 def round_half_away(x: float) -> int:
@@ -12,9 +15,10 @@ def round_half_away(x: float) -> int:
     return int(math.copysign(math.floor(abs(x) + 0.5), x))
 
 
-def ramp_step(ramped: float, target: float, accel_step: float, decel_step: float) -> float:
+def ramp_step(ramped: N, target: N, accel_step: N, decel_step: N) -> N:
     """One tick of the ramp: toward `target` by at most `accel_step` when speeding up in the same
-    direction (or from rest), else by at most `decel_step` (slowing, or reversing through zero)."""
+    direction (or from rest), else by at most `decel_step` (slowing, or reversing through zero).
+    The firmware runs it on integers of 0.01 mm/s, so it is exact."""
     speeding_up = (ramped == 0 or (ramped > 0) == (target > 0)) and abs(target) > abs(ramped)
     limit = accel_step if speeding_up else decel_step
     diff = target - ramped

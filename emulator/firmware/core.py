@@ -13,16 +13,19 @@ from dataclasses import asdict, dataclass
 
 from emulator.firmware.board import Board
 from emulator.firmware.config import (
-    RECORD_SIZE,
+    BOOT_COUNTER_ADDR,
+    IMAGE_ADDR,
+    IMAGE_SIZE,
     Gains,
-    decode_record,
-    encode_record,
+    LoadResult,
+    decode_image,
+    encode_image,
     first_inconsistent,
     first_out_of_range,
     pid_wheel_ok,
 )
 from emulator.firmware.control import WheelPid, ramp_step, round_half_away
-from emulator.firmware.lights import light_mask
+from emulator.firmware.lights import BLINK_PERIOD_TICKS, light_mask
 from emulator.firmware.link import FirmwareLink
 from emulator.firmware.session import ACTION_ORDER, Session
 from emulator.plant.motor import DriveMode
@@ -84,6 +87,8 @@ TICK_US = 1_000_000 // CONTROL_RATE_HZ
 ENCODER_FAULT_EFFORT = 300
 ENCODER_FAULT_TICKS = 50
 BOOT_COUNTER_BYTES = 4
+RAMP_UNITS = 100
+"""Ramp resolution: units per mm/s."""
 _U32 = 1 << 32
 
 
@@ -100,7 +105,7 @@ class _Pending:
     """A setpoint accepted in ARMED and waiting for the next tick (latest wins)."""
 
     seq: int
-    targets: tuple[float, float]
+    targets: tuple[int, int]
     servo_cdeg: int | None
 
 
@@ -145,12 +150,12 @@ class Firmware:
         self.counts = [0] * WHEEL_COUNT
         self.deltas = [0] * WHEEL_COUNT
         self.measured = [0] * WHEEL_COUNT
-        self.targets = [0.0] * WHEEL_COUNT
-        self.ramped = [0.0] * WHEEL_COUNT
+        self.targets = [0] * WHEEL_COUNT
+        self.ramped_units = [0] * WHEEL_COUNT
+        """Ramped setpoints in 0.01 mm/s."""
         self.efforts = [0] * WHEEL_COUNT
         self.pids = [WheelPid() for _ in range(WHEEL_COUNT)]
         self.saturated = False
-        self.enabled = False
         self.pending: _Pending | None = None
         self.ack_seq = 0
         self.ack_tick = 0
@@ -159,6 +164,7 @@ class Firmware:
         self.encoder_fault = [False] * WHEEL_COUNT
         self._reset_integrator = [False] * WHEEL_COUNT
         self._fb_countdown = 1
+        self._blink = 0
         self.sent_feedback = 0
         self._handlers: dict[type[Message], Callable[[Message, int], None]] = {
             Hello: self._on_hello,
@@ -180,30 +186,26 @@ class Firmware:
     def setup(self) -> None:
         board = self.board
         self.boot_micros = board.micros()
-        record = decode_record(board.eeprom_read(0, RECORD_SIZE))
-        if record is None:
+        loaded, config, gains = decode_image(board.eeprom_read(IMAGE_ADDR, IMAGE_SIZE))
+        if config is None or gains is None:
             self.config = self.robot.config
             self.gains = [Gains.of(self.robot.pid)] * WHEEL_COUNT
             self.config_defaults = True
         else:
-            self.config, self.gains = record
+            self.config, self.gains = config, gains
         self.watchdog_ms = self.config.watchdog_ms
         self.feedback_hz = self.config.feedback_hz
         self.servo_cdeg = self.config.steering_center_cdeg
-        self._fb_countdown = self._stream_period()
-        counter_at = self._boot_counter_address()
-        stored = int.from_bytes(board.eeprom_read(counter_at, BOOT_COUNTER_BYTES), "little")
+        self._fb_countdown = 1  # the first tick after boot streams a FEEDBACK (IDLE)
+        stored = int.from_bytes(board.eeprom_read(BOOT_COUNTER_ADDR, BOOT_COUNTER_BYTES), "little")
         self.boot_count = (0 if stored == 0xFFFFFFFF else stored) + 1
-        board.eeprom_write(counter_at, (self.boot_count & 0xFFFFFFFF).to_bytes(BOOT_COUNTER_BYTES, "little"))
+        board.eeprom_write(BOOT_COUNTER_ADDR, (self.boot_count & 0xFFFFFFFF).to_bytes(BOOT_COUNTER_BYTES, "little"))
         self.boot_id = _mix_boot_id(self.boot_count, board.entropy())
         # The ESC sees neutral from boot and the servo its centre (its arming window starts now).
         self._write_outputs(driving=False)
         self._fire(SessionEvent.INIT_DONE)
-        if self.config_defaults:
-            self._send(Log(LogLevel.WARN, "EEPROM config missing or corrupt: example defaults in use"))
-
-    def _boot_counter_address(self) -> int:
-        return self.board.eeprom_size - BOOT_COUNTER_BYTES
+        if loaded is not LoadResult.OK:
+            self._send(Log(LogLevel.WARN, loaded.value))
 
     # == frames (1) ================================================================================
     def on_bytes(self, data: bytes) -> None:
@@ -346,12 +348,15 @@ class Firmware:
             refused = self._needs_session(msg, seq)
             if refused is not None:
                 return refused
+            if not self.caps & Capability.EEPROM:
+                return self._nack(msg, seq, NackReason.UNSUPPORTED)
             if self.session.state is SessionState.ARMED:
                 return self._nack(msg, seq, NackReason.ARMED)
-            record = encode_record(self.config, self.gains)
-            written = self.board.eeprom_write(0, record)
-            if not written or self.board.eeprom_read(0, RECORD_SIZE) != record:
+            image = encode_image(self.config, self.gains)
+            written = self.board.eeprom_write(IMAGE_ADDR, image)
+            if not written or self.board.eeprom_read(IMAGE_ADDR, IMAGE_SIZE) != image:
                 return self._nack(msg, seq, NackReason.EEPROM_ERROR)
+            self.config_defaults = False
             return self._ack(msg, seq)
 
         self._reliable(msg, seq, apply)
@@ -361,11 +366,8 @@ class Firmware:
             refused = self._needs_session(msg, seq)
             if refused is not None:
                 return refused
-            now = self._read_counts()
             self.board.zero_encoders()
-            # The next tick's delta must still see the motion since the last sample.
-            for w in range(WHEEL_COUNT):
-                self.counts[w] = wrap_i32(self.counts[w] - now[w])
+            self.counts = [0] * WHEEL_COUNT  # the measurement baseline too: no speed spike
             return self._ack(msg, seq)
 
         self._reliable(msg, seq, apply)
@@ -403,21 +405,21 @@ class Firmware:
         limit = self.config.max_wheel_speed_mm_s
         if isinstance(msg, SetWheelSpeeds):
             speeds = (msg.left_mm_s, msg.right_mm_s)
-            servo: int | None = None
         elif isinstance(msg, SetAckermann):
             speeds = (msg.speed_mm_s, 0)
-            steering_info = msg.FIELDS[1]
-            if not steering_info.lo <= msg.steering_mrad <= steering_info.hi:
-                self._nack(msg, seq, NackReason.OUT_OF_RANGE, 1)
-                return
-            servo = self._servo_cdeg_for(msg.steering_mrad)
         else:  # pragma: no cover - only setpoints fire SETPOINT
             return
-        for index, v in enumerate(speeds):
-            if abs(v) > limit:
-                self._nack(msg, seq, NackReason.OUT_OF_RANGE, index)
-                return
-        self.pending = _Pending(seq, (float(speeds[0]), float(speeds[1])), servo)
+        # The first speed over the limit or the first field outside its spec range, whichever
+        # comes first in the message.
+        bad = [i for i, v in enumerate(speeds) if abs(v) > limit]
+        spec = first_out_of_range(msg)
+        if spec is not None:
+            bad.append(spec)
+        if bad:
+            self._nack(msg, seq, NackReason.OUT_OF_RANGE, min(bad))
+            return
+        servo = self._servo_cdeg_for(msg.steering_mrad) if isinstance(msg, SetAckermann) else None
+        self.pending = _Pending(seq, (speeds[0], speeds[1]), servo)
 
     def _servo_cdeg_for(self, steering_mrad: int) -> int:
         c = self.config
@@ -437,14 +439,16 @@ class Firmware:
         return _clamp(mrad, -1571, 1571)
 
     # == the control tick (4) ======================================================================
-    def tick(self) -> None:
+    def tick(self, periods: int = 1) -> None:
+        """One control tick. `periods` > 1 when the loop was stalled past whole periods: the
+        missed ticks are skipped (the grid is kept) and the speed is measured over the span."""
         self.tick_count = (self.tick_count + 1) & 0xFFFF
         board = self.board
         config = self.config
         # 1. Sample (the board copies the counters atomically), 2. measure.
         now = board.micros()
         counts = self._read_counts()
-        per_count = math.pi * config.wheel_diameter_um / 1000 / config.encoder_cpr / DT_S
+        per_count = math.pi * config.wheel_diameter_um / 1000 / config.encoder_cpr / DT_S / periods
         for w in range(WHEEL_COUNT):
             delta = wrap_i32(counts[w] - self.counts[w])
             self.deltas[w] = delta
@@ -454,38 +458,42 @@ class Firmware:
         if self.session.state is SessionState.ARMED and (now - self.last_valid_us) % _U32 >= self.watchdog_ms * 1000:
             self._fire(SessionEvent.WATCHDOG_EXPIRED, None, _Ctx(reason=FailsafeReason.COMM_TIMEOUT))
         # 4. Apply the latest setpoint.
+        armed = self.session.state is SessionState.ARMED
         applied = False
         pending = self.pending
-        if pending is not None and self.session.state is SessionState.ARMED:
-            self.pending = None
+        self.pending = None
+        if pending is not None and armed:
             self.targets[0], self.targets[1] = pending.targets
             if pending.servo_cdeg is not None:
                 self.servo_cdeg = pending.servo_cdeg
             self.ack_seq = pending.seq
             self.ack_tick = self.tick_count
             applied = True
-        # 5. Ramp and 6. PID.
+        # 5. Ramp, in exact integers of 0.01 mm/s (a limit in mm/s^2 times 10 ms is the limit
+        # itself in those units), and 6. PID. Held at rest during the ESC's arming window, and out
+        # of ARMED unless the safe state ramps down.
         esc_hold = self._esc_hold(now)
-        ramping_down = config.safe_state is SafeState.RAMP_DOWN and any(r != 0 for r in self.ramped)
-        running = self.enabled or ramping_down
-        accel = config.accel_limit_mm_s2 * DT_S
-        decel = config.decel_limit_mm_s2 * DT_S
+        hold = esc_hold or (not armed and config.safe_state is not SafeState.RAMP_DOWN)
         saturated = False
+        moving = False
         for w in range(WHEEL_COUNT):
             pid = self.pids[w]
             if self._reset_integrator[w]:
                 self._reset_integrator[w] = False
                 pid.reset()
-            if w >= self.wheels or not running or esc_hold:
-                self.ramped[w] = 0.0 if (w >= self.wheels or esc_hold or not ramping_down) else self.ramped[w]
-                pid.reset()
-                pid.m_prev = self.measured[w]
-                self.efforts[w] = 0
-                continue
-            self.ramped[w] = ramp_step(self.ramped[w], self.targets[w], accel, decel)
+            if hold or w >= self.wheels:
+                self.ramped_units[w] = 0
+            else:
+                self.ramped_units[w] = ramp_step(
+                    self.ramped_units[w],
+                    self.targets[w] * RAMP_UNITS,
+                    config.accel_limit_mm_s2,
+                    config.decel_limit_mm_s2,
+                )
+            target = 0 if esc_hold or w >= self.wheels else self.targets[w]
             u, sat = pid.update(
-                self.targets[w],
-                self.ramped[w],
+                target,
+                self.ramped_units[w] / RAMP_UNITS,
                 self.measured[w],
                 gains=self.gains[w],
                 max_effort=config.max_effort_permille,
@@ -493,9 +501,11 @@ class Firmware:
             )
             self.efforts[w] = u
             saturated = saturated or sat
+            moving = moving or not (target == 0 and self.ramped_units[w] == 0)
         self.saturated = saturated
-        # 7. Output.
-        self._write_outputs(driving=running and not esc_hold)
+        # 7. Output. Out of ARMED, RAMP_DOWN drives until every ramp is at 0, then coasts (in the
+        # tick the last one gets there).
+        self._write_outputs(driving=(armed or moving) and not esc_hold)
         # 8. Faults: effort applied but the encoder did not move.
         if self.caps & Capability.ENCODERS:
             for w in range(self.wheels):
@@ -506,6 +516,21 @@ class Firmware:
                 if self.stall_ticks[w] >= ENCODER_FAULT_TICKS and not self.encoder_fault[w]:
                     self.encoder_fault[w] = True
                     self._fire(SessionEvent.FAULT, None, _Ctx(reason=FailsafeReason.ENCODER_FAULT))
+        # Lights, from the motion state; blinking phased on the ticks since boot.
+        if self.caps & Capability.TURN_SIGNALS:
+            steer = self.servo_cdeg - config.steering_center_cdeg
+            ackermann = bool(self.caps & Capability.ACKERMANN)
+            board.lights(
+                light_mask(
+                    self.session.state,
+                    self.targets[0],
+                    self.targets[1],
+                    steer_cdeg=steer,
+                    ackermann=ackermann,
+                    blink=self._blink,
+                )
+            )
+        self._blink = (self._blink + 1) % BLINK_PERIOD_TICKS
         # 9. Feedback.
         if self.session.open and self.feedback_mode is FeedbackMode.LOCKSTEP:
             if applied:
@@ -515,8 +540,6 @@ class Firmware:
             if self._fb_countdown <= 0:
                 self._fb_countdown = self._stream_period()
                 self._send_feedback(now)
-        if self.caps & Capability.TURN_SIGNALS:
-            board.lights(light_mask(self.session.state, self.ramped[0], self.ramped[1], self.tick_count))
 
     def _read_counts(self) -> list[int]:
         raw = self.board.read_encoders()
@@ -617,7 +640,7 @@ class Firmware:
         elif action is Action.FEED_WATCHDOG:
             self.last_valid_us = self.board.micros()
         elif action is Action.MOTORS_ENABLE:
-            self.enabled = True
+            self.stall_ticks = [0] * WHEEL_COUNT  # the tick drives from setpoints while ARMED
         elif action is Action.APPLY_SETPOINT:
             self._apply_setpoint(ctx)
         elif action is Action.ACCEPT_HELLO:
@@ -635,29 +658,29 @@ class Firmware:
 
     def _motors_safe(self) -> None:
         """Safe state (5): zero targets, setpoints and integrators; outputs to the configured state
-        now (RAMP_DOWN keeps `ramped` and lets the ticks bring it to zero first)."""
-        self.enabled = False
+        now (RAMP_DOWN keeps the ramps and lets the ticks bring them to zero first)."""
         self.pending = None
-        self.targets = [0.0] * WHEEL_COUNT
+        self.targets = [0] * WHEEL_COUNT
         for pid in self.pids:
             pid.reset()
         self.stall_ticks = [0] * WHEEL_COUNT
         self.servo_cdeg = self.config.steering_center_cdeg
-        if self.config.safe_state is not SafeState.RAMP_DOWN:
-            self.ramped = [0.0] * WHEEL_COUNT
+        if self.config.safe_state is not SafeState.RAMP_DOWN or not any(self.ramped_units):
+            self.ramped_units = [0] * WHEEL_COUNT
             self.efforts = [0] * WHEEL_COUNT
             self._write_outputs(driving=False)
-        elif not any(r != 0 for r in self.ramped):
-            self.efforts = [0] * WHEEL_COUNT
-            self._write_outputs(driving=False)
+        elif self.caps & Capability.STEERING_SERVO:
+            self._write_outputs(driving=True)  # still ramping down: the servo is centred at once
 
     def _accept_hello(self, ctx: _Ctx) -> None:
         msg = ctx.msg
         assert isinstance(msg, Hello)
         c = self.config
         self.watchdog_ms = _clamp(msg.watchdog_ms or c.watchdog_ms, WATCHDOG_MIN_MS, WATCHDOG_MAX_MS)
-        lockstep_ok = bool(self.caps & Capability.LOCKSTEP)
+        # LOCKSTEP only where the build has the capability (the SDK reads the granted mode from
+        # IDENTITY and refuses the session otherwise). NB: the C++ core grants it on every robot.
         wants_lockstep = msg.feedback_mode is FeedbackMode.LOCKSTEP
+        lockstep_ok = bool(self.caps & Capability.LOCKSTEP)
         self.feedback_mode = FeedbackMode.LOCKSTEP if wants_lockstep and lockstep_ok else FeedbackMode.STREAM
         self.feedback_hz = _clamp(msg.feedback_hz or c.feedback_hz, 1, FEEDBACK_HZ_MAX)
         self._dup = None
@@ -669,6 +692,7 @@ class Firmware:
         self.watchdog_ms = self.config.watchdog_ms
         self.feedback_mode = FeedbackMode.STREAM
         self.feedback_hz = self.config.feedback_hz
+        self._fb_countdown = 1
         self._send(self._identity(IdentityReason.HELLO_REJECTED, ctx.seq))
 
     def _identity(self, reason: IdentityReason, hello_seq: int) -> Identity:
@@ -718,8 +742,8 @@ class Firmware:
             config=self.config,
             gains=tuple(self.gains),
             config_defaults=self.config_defaults,
-            targets_mm_s=tuple(self.targets),
-            ramped_mm_s=tuple(self.ramped),
+            targets_mm_s=tuple(float(t) for t in self.targets),
+            ramped_mm_s=tuple(r / RAMP_UNITS for r in self.ramped_units),
             measured_mm_s=tuple(self.measured),
             efforts_permille=tuple(self.efforts),
             integrals=tuple(p.integral for p in self.pids),

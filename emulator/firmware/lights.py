@@ -1,18 +1,17 @@
 """Turn signals driven by motion state (robots with the TURN_SIGNALS capability).
 
-The firmware derives the pattern from its own state each control tick:
+The same patterns as the C++ core (docs/firmware.md, "Lights"), from the wheel targets in effect
+and a blink counter that runs over BLINK_PERIOD_TICKS (66 ticks: 1.5 Hz, half on) from boot:
 
-| state | front left | front right | rear left | rear right |
-|---|---|---|---|---|
-| IDLE, DISARMED (BOOT) | off | off | off | off |
-| FAILSAFE | blink | blink | blink | blink (hazard lights) |
-| ARMED, turning left | blink | off | blink | reversing |
-| ARMED, turning right | off | blink | reversing | blink |
-| ARMED, straight | off | off | reversing | reversing |
-
-"Turning" means the ramped wheel speeds differ by more than TURN_THRESHOLD_MM_S (right faster:
-left turn); "reversing" means their mean is below -TURN_THRESHOLD_MM_S (rear lights on steadily).
-Blinking is 1.5 Hz with a 50 % duty, phased on the tick counter.
+| state / motion | pattern |
+|---|---|
+| BOOT, IDLE, DISARMED | front pair and rear pair alternate at 1.5 Hz |
+| ARMED, turning left: right - left > max(abs(left), abs(right)) / 8 | left pair blinks at 1.5 Hz |
+| ARMED, turning right | right pair blinks at 1.5 Hz |
+| ARMED, rotating in place (targets of opposite signs) | all four blink at 1.5 Hz |
+| ARMED, straight or stopped | off |
+| ARMED, Ackermann | left or right pair from the sign of the steering angle |
+| FAILSAFE | all four blink fast, 3 Hz |
 """
 
 from __future__ import annotations
@@ -20,26 +19,30 @@ from __future__ import annotations
 from emulator.firmware.board import LIGHT_FRONT_LEFT, LIGHT_FRONT_RIGHT, LIGHT_REAR_LEFT, LIGHT_REAR_RIGHT
 from host_sdk.statemachine import SessionState
 
-TURN_THRESHOLD_MM_S = 30.0
 BLINK_PERIOD_TICKS = 66
+LEFT = LIGHT_FRONT_LEFT | LIGHT_REAR_LEFT
+RIGHT = LIGHT_FRONT_RIGHT | LIGHT_REAR_RIGHT
+FRONT = LIGHT_FRONT_LEFT | LIGHT_FRONT_RIGHT
+REAR = LIGHT_REAR_LEFT | LIGHT_REAR_RIGHT
+ALL = LEFT | RIGHT
 
 
-def light_mask(state: SessionState, left_mm_s: float, right_mm_s: float, tick: int) -> int:
-    blink_on = tick % BLINK_PERIOD_TICKS < BLINK_PERIOD_TICKS // 2
+def light_mask(state: SessionState, left: int, right: int, *, steer_cdeg: int, ackermann: bool, blink: int) -> int:
+    on = blink < BLINK_PERIOD_TICKS // 2
     if state is SessionState.FAILSAFE:
-        return 0x0F if blink_on else 0
+        return ALL if blink % (BLINK_PERIOD_TICKS // 2) < BLINK_PERIOD_TICKS // 4 else 0
     if state is not SessionState.ARMED:
+        return FRONT if on else REAR
+    if not on:
         return 0
-    left_turn = right_mm_s - left_mm_s > TURN_THRESHOLD_MM_S
-    right_turn = left_mm_s - right_mm_s > TURN_THRESHOLD_MM_S
-    reversing = (left_mm_s + right_mm_s) / 2 < -TURN_THRESHOLD_MM_S
-    mask = 0
-    if left_turn:
-        mask |= (LIGHT_FRONT_LEFT | LIGHT_REAR_LEFT) if blink_on else 0
-    elif reversing:
-        mask |= LIGHT_REAR_LEFT
-    if right_turn:
-        mask |= (LIGHT_FRONT_RIGHT | LIGHT_REAR_RIGHT) if blink_on else 0
-    elif reversing:
-        mask |= LIGHT_REAR_RIGHT
-    return mask
+    if ackermann:
+        return LEFT if steer_cdeg > 0 else RIGHT if steer_cdeg < 0 else 0
+    if (left > 0 > right) or (left < 0 < right):
+        return ALL  # rotating in place
+    magnitude = max(abs(left), abs(right))
+    turn = right - left  # > 0: the heading turns counter-clockwise (left)
+    if turn * 8 > magnitude:
+        return LEFT
+    if -turn * 8 > magnitude:
+        return RIGHT
+    return 0

@@ -81,7 +81,7 @@ class Hello(Message):
 
     def pack(self) -> bytes:
         try:
-            if 0 <= self.watchdog_ms <= 60000 and self.feedback_mode in _FEEDBACKMODE and bool not in {type(self.protocol_version), type(self.spec_hash), type(self.watchdog_ms), type(self.feedback_mode), type(self.feedback_hz)}:
+            if 0 <= self.watchdog_ms <= 60000 and self.feedback_mode in _FEEDBACKMODE and bool not in set(map(type, (self.protocol_version, self.spec_hash, self.watchdog_ms, self.feedback_mode, self.feedback_hz,))):
                 return _S_HELLO.pack(self.protocol_version, self.spec_hash, self.watchdog_ms, self.feedback_mode, self.feedback_hz)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -131,7 +131,7 @@ class Ping(Message):
 
     def pack(self) -> bytes:
         try:
-            if bool not in {type(self.host_time_us)}:
+            if bool not in set(map(type, (self.host_time_us,))):
                 return _S_PING.pack(self.host_time_us)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -170,7 +170,7 @@ class Arm(Message):
 
     def pack(self) -> bytes:
         try:
-            if bool not in {type(self.boot_id)}:
+            if bool not in set(map(type, (self.boot_id,))):
                 return _S_ARM.pack(self.boot_id)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -244,7 +244,7 @@ class SetPid(Message):
 
     def pack(self) -> bytes:
         try:
-            if 0.0 <= self.kp <= 1000.0 and 0.0 <= self.ki <= 1000.0 and 0.0 <= self.kd <= 1000.0 and 0.0 <= self.kf <= 1000.0 and bool not in {type(self.wheel), type(self.kp), type(self.ki), type(self.kd), type(self.kf)}:
+            if 0.0 <= self.kp <= 1000.0 and 0.0 <= self.ki <= 1000.0 and 0.0 <= self.kd <= 1000.0 and 0.0 <= self.kf <= 1000.0 and bool not in set(map(type, (self.wheel, self.kp, self.ki, self.kd, self.kf,))):
                 return _S_SET_PID.pack(self.wheel, self.kp, self.ki, self.kd, self.kf)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -291,7 +291,7 @@ class GetPid(Message):
 
     def pack(self) -> bytes:
         try:
-            if bool not in {type(self.wheel)}:
+            if bool not in set(map(type, (self.wheel,))):
                 return _S_GET_PID.pack(self.wheel)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -390,7 +390,7 @@ class SetConfig(Message):
 
     def pack(self) -> bytes:
         try:
-            if 50 <= self.watchdog_ms <= 2000 and self.safe_state in _SAFESTATE and 1 <= self.accel_limit_mm_s2 <= 65535 and 1 <= self.decel_limit_mm_s2 <= 65535 and 1 <= self.max_wheel_speed_mm_s <= 20000 and 0 <= self.max_effort_permille <= 1000 and 1 <= self.encoder_cpr <= 65535 and 0 <= self.encoder_invert <= 3 and 0 <= self.motor_invert <= 3 and 1000 <= self.wheel_diameter_um <= 1000000 and 0 <= self.steering_center_cdeg <= 18000 and 0 <= self.steering_min_cdeg <= 18000 and 0 <= self.steering_max_cdeg <= 18000 and 0 <= self.steering_step_cdeg <= 9000 and 400 <= self.servo_min_us <= 2600 and 400 <= self.servo_max_us <= 2600 and 800 <= self.esc_min_us <= 2200 and 800 <= self.esc_neutral_us <= 2200 and 800 <= self.esc_max_us <= 2200 and 0 <= self.esc_arm_ms <= 10000 and 1 <= self.feedback_hz <= 100 and bool not in {type(self.watchdog_ms), type(self.safe_state), type(self.accel_limit_mm_s2), type(self.decel_limit_mm_s2), type(self.max_wheel_speed_mm_s), type(self.max_effort_permille), type(self.encoder_cpr), type(self.encoder_invert), type(self.motor_invert), type(self.wheel_diameter_um), type(self.steering_center_cdeg), type(self.steering_min_cdeg), type(self.steering_max_cdeg), type(self.steering_step_cdeg), type(self.servo_min_us), type(self.servo_max_us), type(self.esc_min_us), type(self.esc_neutral_us), type(self.esc_max_us), type(self.esc_arm_ms), type(self.feedback_hz)}:
+            if 50 <= self.watchdog_ms <= 2000 and self.safe_state in _SAFESTATE and 1 <= self.accel_limit_mm_s2 <= 65535 and 1 <= self.decel_limit_mm_s2 <= 65535 and 1 <= self.max_wheel_speed_mm_s <= 20000 and 0 <= self.max_effort_permille <= 1000 and 1 <= self.encoder_cpr <= 65535 and 0 <= self.encoder_invert <= 3 and 0 <= self.motor_invert <= 3 and 1000 <= self.wheel_diameter_um <= 1000000 and 0 <= self.steering_center_cdeg <= 18000 and 0 <= self.steering_min_cdeg <= 18000 and 0 <= self.steering_max_cdeg <= 18000 and 0 <= self.steering_step_cdeg <= 9000 and 400 <= self.servo_min_us <= 2600 and 400 <= self.servo_max_us <= 2600 and 800 <= self.esc_min_us <= 2200 and 800 <= self.esc_neutral_us <= 2200 and 800 <= self.esc_max_us <= 2200 and 0 <= self.esc_arm_ms <= 10000 and 1 <= self.feedback_hz <= 100 and bool not in set(map(type, (self.watchdog_ms, self.safe_state, self.accel_limit_mm_s2, self.decel_limit_mm_s2, self.max_wheel_speed_mm_s, self.max_effort_permille, self.encoder_cpr, self.encoder_invert, self.motor_invert, self.wheel_diameter_um, self.steering_center_cdeg, self.steering_min_cdeg, self.steering_max_cdeg, self.steering_step_cdeg, self.servo_min_us, self.servo_max_us, self.esc_min_us, self.esc_neutral_us, self.esc_max_us, self.esc_arm_ms, self.feedback_hz,))):
                 return _S_SET_CONFIG.pack(self.watchdog_ms, self.safe_state, self.accel_limit_mm_s2, self.decel_limit_mm_s2, self.max_wheel_speed_mm_s, self.max_effort_permille, self.encoder_cpr, self.encoder_invert, self.motor_invert, self.wheel_diameter_um, self.steering_center_cdeg, self.steering_min_cdeg, self.steering_max_cdeg, self.steering_step_cdeg, self.servo_min_us, self.servo_max_us, self.esc_min_us, self.esc_neutral_us, self.esc_max_us, self.esc_arm_ms, self.feedback_hz)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -567,7 +567,7 @@ class SetWheelSpeeds(Message):
 
     def pack(self) -> bytes:
         try:
-            if bool not in {type(self.left_mm_s), type(self.right_mm_s)}:
+            if bool not in set(map(type, (self.left_mm_s, self.right_mm_s,))):
                 return _S_SET_WHEEL_SPEEDS.pack(self.left_mm_s, self.right_mm_s)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -611,7 +611,7 @@ class SetAckermann(Message):
 
     def pack(self) -> bytes:
         try:
-            if -1571 <= self.steering_mrad <= 1571 and bool not in {type(self.speed_mm_s), type(self.steering_mrad)}:
+            if -1571 <= self.steering_mrad <= 1571 and bool not in set(map(type, (self.speed_mm_s, self.steering_mrad,))):
                 return _S_SET_ACKERMANN.pack(self.speed_mm_s, self.steering_mrad)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -688,7 +688,7 @@ class Identity(Message):
 
     def pack(self) -> bytes:
         try:
-            if len(self.firmware_version) == 3 and self.board in _BOARD and self.capabilities in _CAPABILITY and self.reason in _IDENTITYREASON and self.feedback_mode in _FEEDBACKMODE and len(self.robot_name) <= 24 and bool not in {type(self.protocol_version), type(self.spec_hash), type(self.firmware_version[0]), type(self.firmware_version[1]), type(self.firmware_version[2]), type(self.board), type(self.capabilities), type(self.boot_id), type(self.uptime_ms), type(self.reason), type(self.hello_seq), type(self.watchdog_ms), type(self.feedback_mode), type(self.feedback_hz)}:
+            if len(self.firmware_version) == 3 and self.board in _BOARD and self.capabilities in _CAPABILITY and self.reason in _IDENTITYREASON and self.feedback_mode in _FEEDBACKMODE and len(self.robot_name) <= 24 and bool not in set(map(type, (self.protocol_version, self.spec_hash, self.firmware_version[0], self.firmware_version[1], self.firmware_version[2], self.board, self.capabilities, self.boot_id, self.uptime_ms, self.reason, self.hello_seq, self.watchdog_ms, self.feedback_mode, self.feedback_hz,))):
                 return _S_IDENTITY.pack(self.protocol_version, self.spec_hash, *self.firmware_version, self.board, self.capabilities, self.boot_id, self.uptime_ms, self.reason, self.hello_seq, self.watchdog_ms, self.feedback_mode, self.feedback_hz) + self.robot_name.encode("ascii")
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -769,7 +769,7 @@ class Pong(Message):
 
     def pack(self) -> bytes:
         try:
-            if bool not in {type(self.host_time_us), type(self.mcu_time_us)}:
+            if bool not in set(map(type, (self.host_time_us, self.mcu_time_us,))):
                 return _S_PONG.pack(self.host_time_us, self.mcu_time_us)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -813,7 +813,7 @@ class Ack(Message):
 
     def pack(self) -> bytes:
         try:
-            if bool not in {type(self.req_id), type(self.req_seq)}:
+            if bool not in set(map(type, (self.req_id, self.req_seq,))):
                 return _S_ACK.pack(self.req_id, self.req_seq)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -863,7 +863,7 @@ class Nack(Message):
 
     def pack(self) -> bytes:
         try:
-            if self.reason in _NACKREASON and bool not in {type(self.req_id), type(self.req_seq), type(self.reason), type(self.detail)}:
+            if self.reason in _NACKREASON and bool not in set(map(type, (self.req_id, self.req_seq, self.reason, self.detail,))):
                 return _S_NACK.pack(self.req_id, self.req_seq, self.reason, self.detail)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -926,7 +926,7 @@ class Pid(Message):
 
     def pack(self) -> bytes:
         try:
-            if 0.0 <= self.kp <= 1000.0 and 0.0 <= self.ki <= 1000.0 and 0.0 <= self.kd <= 1000.0 and 0.0 <= self.kf <= 1000.0 and bool not in {type(self.req_seq), type(self.wheel), type(self.kp), type(self.ki), type(self.kd), type(self.kf)}:
+            if 0.0 <= self.kp <= 1000.0 and 0.0 <= self.ki <= 1000.0 and 0.0 <= self.kd <= 1000.0 and 0.0 <= self.kf <= 1000.0 and bool not in set(map(type, (self.req_seq, self.wheel, self.kp, self.ki, self.kd, self.kf,))):
                 return _S_PID.pack(self.req_seq, self.wheel, self.kp, self.ki, self.kd, self.kf)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -1038,7 +1038,7 @@ class Config(Message):
 
     def pack(self) -> bytes:
         try:
-            if 50 <= self.watchdog_ms <= 2000 and self.safe_state in _SAFESTATE and 1 <= self.accel_limit_mm_s2 <= 65535 and 1 <= self.decel_limit_mm_s2 <= 65535 and 1 <= self.max_wheel_speed_mm_s <= 20000 and 0 <= self.max_effort_permille <= 1000 and 1 <= self.encoder_cpr <= 65535 and 0 <= self.encoder_invert <= 3 and 0 <= self.motor_invert <= 3 and 1000 <= self.wheel_diameter_um <= 1000000 and 0 <= self.steering_center_cdeg <= 18000 and 0 <= self.steering_min_cdeg <= 18000 and 0 <= self.steering_max_cdeg <= 18000 and 0 <= self.steering_step_cdeg <= 9000 and 400 <= self.servo_min_us <= 2600 and 400 <= self.servo_max_us <= 2600 and 800 <= self.esc_min_us <= 2200 and 800 <= self.esc_neutral_us <= 2200 and 800 <= self.esc_max_us <= 2200 and 0 <= self.esc_arm_ms <= 10000 and 1 <= self.feedback_hz <= 100 and bool not in {type(self.req_seq), type(self.watchdog_ms), type(self.safe_state), type(self.accel_limit_mm_s2), type(self.decel_limit_mm_s2), type(self.max_wheel_speed_mm_s), type(self.max_effort_permille), type(self.encoder_cpr), type(self.encoder_invert), type(self.motor_invert), type(self.wheel_diameter_um), type(self.steering_center_cdeg), type(self.steering_min_cdeg), type(self.steering_max_cdeg), type(self.steering_step_cdeg), type(self.servo_min_us), type(self.servo_max_us), type(self.esc_min_us), type(self.esc_neutral_us), type(self.esc_max_us), type(self.esc_arm_ms), type(self.feedback_hz)}:
+            if 50 <= self.watchdog_ms <= 2000 and self.safe_state in _SAFESTATE and 1 <= self.accel_limit_mm_s2 <= 65535 and 1 <= self.decel_limit_mm_s2 <= 65535 and 1 <= self.max_wheel_speed_mm_s <= 20000 and 0 <= self.max_effort_permille <= 1000 and 1 <= self.encoder_cpr <= 65535 and 0 <= self.encoder_invert <= 3 and 0 <= self.motor_invert <= 3 and 1000 <= self.wheel_diameter_um <= 1000000 and 0 <= self.steering_center_cdeg <= 18000 and 0 <= self.steering_min_cdeg <= 18000 and 0 <= self.steering_max_cdeg <= 18000 and 0 <= self.steering_step_cdeg <= 9000 and 400 <= self.servo_min_us <= 2600 and 400 <= self.servo_max_us <= 2600 and 800 <= self.esc_min_us <= 2200 and 800 <= self.esc_neutral_us <= 2200 and 800 <= self.esc_max_us <= 2200 and 0 <= self.esc_arm_ms <= 10000 and 1 <= self.feedback_hz <= 100 and bool not in set(map(type, (self.req_seq, self.watchdog_ms, self.safe_state, self.accel_limit_mm_s2, self.decel_limit_mm_s2, self.max_wheel_speed_mm_s, self.max_effort_permille, self.encoder_cpr, self.encoder_invert, self.motor_invert, self.wheel_diameter_um, self.steering_center_cdeg, self.steering_min_cdeg, self.steering_max_cdeg, self.steering_step_cdeg, self.servo_min_us, self.servo_max_us, self.esc_min_us, self.esc_neutral_us, self.esc_max_us, self.esc_arm_ms, self.feedback_hz,))):
                 return _S_CONFIG.pack(self.req_seq, self.watchdog_ms, self.safe_state, self.accel_limit_mm_s2, self.decel_limit_mm_s2, self.max_wheel_speed_mm_s, self.max_effort_permille, self.encoder_cpr, self.encoder_invert, self.motor_invert, self.wheel_diameter_um, self.steering_center_cdeg, self.steering_min_cdeg, self.steering_max_cdeg, self.steering_step_cdeg, self.servo_min_us, self.servo_max_us, self.esc_min_us, self.esc_neutral_us, self.esc_max_us, self.esc_arm_ms, self.feedback_hz)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -1155,7 +1155,7 @@ class LinkStats(Message):
 
     def pack(self) -> bytes:
         try:
-            if bool not in {type(self.req_seq), type(self.frames_ok), type(self.crc_errors), type(self.cobs_errors), type(self.length_errors), type(self.unknown_ids), type(self.value_errors), type(self.seq_gaps), type(self.bytes_discarded), type(self.rx_overruns), type(self.duplicates), type(self.frames_sent)}:
+            if bool not in set(map(type, (self.req_seq, self.frames_ok, self.crc_errors, self.cobs_errors, self.length_errors, self.unknown_ids, self.value_errors, self.seq_gaps, self.bytes_discarded, self.rx_overruns, self.duplicates, self.frames_sent,))):
                 return _S_LINK_STATS.pack(self.req_seq, self.frames_ok, self.crc_errors, self.cobs_errors, self.length_errors, self.unknown_ids, self.value_errors, self.seq_gaps, self.bytes_discarded, self.rx_overruns, self.duplicates, self.frames_sent)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -1246,7 +1246,7 @@ class Feedback(Message):
 
     def pack(self) -> bytes:
         try:
-            if self.status in _STATUS and self.failsafe_reason in _FAILSAFEREASON and len(self.encoder_counts) == 2 and len(self.wheel_speed_mm_s) == 2 and len(self.effort_permille) == 2 and -1000 <= self.effort_permille[0] <= 1000 and -1000 <= self.effort_permille[1] <= 1000 and -1571 <= self.steering_mrad <= 1571 and bool not in {type(self.boot_id), type(self.mcu_time_us), type(self.tick), type(self.ack_seq), type(self.ack_tick), type(self.status), type(self.failsafe_reason), type(self.encoder_counts[0]), type(self.encoder_counts[1]), type(self.wheel_speed_mm_s[0]), type(self.wheel_speed_mm_s[1]), type(self.effort_permille[0]), type(self.effort_permille[1]), type(self.steering_mrad)}:
+            if self.status in _STATUS and self.failsafe_reason in _FAILSAFEREASON and len(self.encoder_counts) == 2 and len(self.wheel_speed_mm_s) == 2 and len(self.effort_permille) == 2 and -1000 <= self.effort_permille[0] <= 1000 and -1000 <= self.effort_permille[1] <= 1000 and -1571 <= self.steering_mrad <= 1571 and bool not in set(map(type, (self.boot_id, self.mcu_time_us, self.tick, self.ack_seq, self.ack_tick, self.status, self.failsafe_reason, self.encoder_counts[0], self.encoder_counts[1], self.wheel_speed_mm_s[0], self.wheel_speed_mm_s[1], self.effort_permille[0], self.effort_permille[1], self.steering_mrad,))):
                 return _S_FEEDBACK.pack(self.boot_id, self.mcu_time_us, self.tick, self.ack_seq, self.ack_tick, self.status, self.failsafe_reason, *self.encoder_counts, *self.wheel_speed_mm_s, *self.effort_permille, self.steering_mrad)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
@@ -1314,7 +1314,7 @@ class Log(Message):
 
     def pack(self) -> bytes:
         try:
-            if self.level in _LOGLEVEL and len(self.text) <= 60 and bool not in {type(self.level)}:
+            if self.level in _LOGLEVEL and len(self.text) <= 60 and bool not in set(map(type, (self.level,))):
                 return _S_LOG.pack(self.level) + self.text.encode("ascii")
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass

@@ -1,4 +1,7 @@
-"""Emit the Arduino library's generated C++11 (structs, pack/unpack, dispatch, state table).
+"""Emit the Arduino library's generated C++11 (structs, layouts, pack/unpack, dispatch, state table).
+
+Pack, unpack and check_ranges are one generic walker in the runtime (src/codec/layout.cpp) over a
+byte table per message (its layout), so the generated code has no per-message function bodies.
 
 Also emits tests/native/generated/roverlink_reflect.h: a test-only text interface (print fields,
 set fields by name) that lets the Python tests drive the C++ codec field by field.
@@ -6,11 +9,13 @@ set fields by name) that lets the Python tests drive the C++ codec field by fiel
 
 from __future__ import annotations
 
+import struct
+
 from protocol.emit.common import banner
-from protocol.model import PRIMITIVES, Field, Message, Spec
+from protocol.model import PRIMITIVES, Enum, Field, Message, Spec
 
 LIB = "arduino/RoverLink/src/generated"
-API_VERSION = 1
+API_VERSION = 2
 
 _CTYPE = {
     "u8": "uint8_t",
@@ -61,12 +66,12 @@ def _float_lit(value: float) -> str:
 # -- header ------------------------------------------------------------------------------------
 def _header(spec: Spec) -> str:
     out = [banner(spec, "//")]
-    out.append("// RoverLink protocol: constants, enums, message structs, pack/unpack, dispatch, state table.\n")
+    out.append("// RoverLink protocol: constants, enums, message structs and layouts, pack/unpack, dispatch,\n")
+    out.append("// state table.\n")
     out.append("#ifndef ROVERLINK_GENERATED_PROTOCOL_H\n#define ROVERLINK_GENERATED_PROTOCOL_H\n\n")
     out.append("#include <stddef.h>\n#include <stdint.h>\n\n")
-    out.append("#if defined(__AVR__)\n#include <avr/pgmspace.h>\n#define ROVERLINK_PROGMEM PROGMEM\n")
-    out.append("#define ROVERLINK_READ_BYTE(p) pgm_read_byte(p)\n#else\n#define ROVERLINK_PROGMEM\n")
-    out.append("#define ROVERLINK_READ_BYTE(p) (*(p))\n#endif\n\n")
+    out.append("// The runtime's layout walker (pack/unpack/check_ranges) and ROVERLINK_PROGMEM.\n")
+    out.append('#include "../codec/layout.h"\n\n')
     out.append("// The runtime in src/codec/ refuses to compile against another API version (see codec.h).\n")
     out.append(f"#define ROVERLINK_GENERATED_API_VERSION {API_VERSION}\n\n")
     out.append("namespace roverlink {\nnamespace proto {\n\n")
@@ -92,13 +97,13 @@ def _header(spec: Spec) -> str:
             for v in e.values:
                 out.append(f"    {v.name} = {v.value},  // {v.doc}\n")
             out.append("};\n")
-            out.append(f"bool is_valid_{e.name}({ctype} value);\n\n")
+            out.append(f"inline bool is_valid_{e.name}({ctype} value) {{\n    {_enum_test(e)}\n}}\n\n")
 
     out.append("// Length rule of a msg_id: payload of min_payload..max_payload bytes.\n")
     out.append(
         "struct MessageBounds {\n    uint8_t crc_extra;\n    uint8_t min_payload;\n    uint8_t max_payload;\n};\n"
     )
-    out.append("// False for an msg_id the spec does not define.\n")
+    out.append("// False for an msg_id the spec does not define (a table lookup).\n")
     out.append("bool message_bounds(uint8_t msg_id, MessageBounds& out);\n\n")
     out.append("// Returned by check_ranges() when every field is inside its spec range.\n")
     out.append("static const uint8_t ALL_FIELDS_VALID = 0xFF;\n\n")
@@ -129,11 +134,23 @@ def _struct(m: Message) -> str:
             out.append(f"    {_ctype(f)} {f.name};  // {f.doc}{unit}\n")
     out.append("};\n")
     n = m.class_name
-    out.append(f"uint8_t pack(const {n}& m, uint8_t* payload);  // returns the payload length\n")
-    out.append(f"bool unpack(const uint8_t* payload, uint8_t len, {n}& m);  // false: wrong length or value\n")
-    out.append(
-        f"uint8_t check_ranges(const {n}& m);  // index of the first field out of range, or ALL_FIELDS_VALID\n\n"
-    )
+    if not m.fields:
+        out.append(f"inline uint8_t pack(const {n}&, uint8_t*) {{ return 0; }}\n")
+        out.append(f"inline bool unpack(const uint8_t*, uint8_t len, {n}&) {{ return len == 0; }}\n")
+        out.append(f"inline uint8_t check_ranges(const {n}&) {{ return ALL_FIELDS_VALID; }}\n\n")
+        return "".join(out)
+    lay = _layout_name(m)
+    out.append(f"extern const uint8_t {lay}[] ROVERLINK_PROGMEM;\n")
+    out.append("// Returns the payload length.\n")
+    out.append(f"inline uint8_t pack(const {n}& m, uint8_t* payload) {{ return layout::pack({lay}, &m, payload); }}\n")
+    out.append("// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).\n")
+    out.append(f"inline bool unpack(const uint8_t* payload, uint8_t len, {n}& m) {{\n")
+    out.append(f"    return layout::unpack({lay}, payload, len, &m);\n}}\n")
+    out.append("// Index of the first field outside its spec range, or ALL_FIELDS_VALID.\n")
+    if any(_check(f)[0] == "CHECK_RANGE" for f in m.fields):
+        out.append(f"inline uint8_t check_ranges(const {n}& m) {{ return layout::check_ranges({lay}, &m); }}\n\n")
+    else:
+        out.append(f"inline uint8_t check_ranges(const {n}&) {{ return ALL_FIELDS_VALID; }}  // no ranged field\n\n")
     return "".join(out)
 
 
@@ -210,35 +227,39 @@ def _sm_header(spec: Spec) -> str:
 # -- source ------------------------------------------------------------------------------------
 def _source(spec: Spec) -> str:
     out = [banner(spec, "//")]
-    out.append('#include "roverlink_protocol.h"\n\n#include "../codec/wire.h"\n\n')
+    out.append('#include "roverlink_protocol.h"\n\n')
     out.append("namespace roverlink {\nnamespace proto {\n\n")
-    out.append("// Every struct member has the width of its wire field (no int, no double; AVR and ARM agree).\n")
+    out.append("// Every struct member has the width of its wire field (no int, no double; AVR and ARM agree),\n")
+    out.append("// and every member offset fits the byte a layout keeps it in.\n")
+    out.append('static_assert(ALL_FIELDS_VALID == layout::ALL_VALID, "check_ranges() answers the layout walker\'s");\n')
     for m in spec.messages:
         n = m.class_name
         out.append(f'static_assert({n}::PAYLOAD_MAX <= MAX_PAYLOAD, "{m.name} payload exceeds MAX_PAYLOAD");\n')
         if m.fields:
             sizes = " + ".join(f"sizeof({n}::{f.name})" for f in m.fields)
             out.append(f'static_assert({sizes} == {n}::PAYLOAD_MAX, "{m.name} member widths differ from the wire");\n')
+            out.append(f'static_assert(sizeof({n}) < 256, "{m.name} member offsets must fit in a byte");\n')
     out.append("\n")
-    for e in spec.enums:
-        if e.flags:
-            continue
-        ctype = _CTYPE[e.base]
-        out.append(f"bool is_valid_{e.name}({ctype} value) {{\n    switch (value) {{\n")
-        for v in e.values:
-            out.append(f"    case {v.value}:\n")
-        out.append("        return true;\n    default:\n        return false;\n    }\n}\n\n")
-    out.append("bool message_bounds(uint8_t msg_id, MessageBounds& out) {\n    switch (msg_id) {\n")
+    out.append("// msg_id, CRC_EXTRA, PAYLOAD_SIZE, PAYLOAD_MAX of every message.\n")
+    out.append(f"static const uint8_t MESSAGE_COUNT = {len(spec.messages)};\n")
+    out.append("static const uint8_t MESSAGES[MESSAGE_COUNT][4] ROVERLINK_PROGMEM = {\n")
     for m in spec.messages:
         n = m.class_name
-        out.append(f"    case {n}::ID:\n        out.crc_extra = {n}::CRC_EXTRA;\n")
-        out.append(f"        out.min_payload = {n}::PAYLOAD_SIZE;\n        out.max_payload = {n}::PAYLOAD_MAX;\n")
-        out.append("        return true;\n")
-    out.append("    default:\n        return false;\n    }\n}\n\n")
+        out.append(f"    {{{n}::ID, {n}::CRC_EXTRA, {n}::PAYLOAD_SIZE, {n}::PAYLOAD_MAX}},\n")
+    out.append("};\n\n")
+    out.append("bool message_bounds(uint8_t msg_id, MessageBounds& out) {\n")
+    out.append("    for (uint8_t i = 0; i < MESSAGE_COUNT; ++i) {\n")
+    out.append("        const uint8_t* row = MESSAGES[i];\n")
+    out.append("        if (ROVERLINK_READ_BYTE(row) == msg_id) {\n")
+    out.append("            out.crc_extra = ROVERLINK_READ_BYTE(row + 1);\n")
+    out.append("            out.min_payload = ROVERLINK_READ_BYTE(row + 2);\n")
+    out.append("            out.max_payload = ROVERLINK_READ_BYTE(row + 3);\n")
+    out.append("            return true;\n        }\n    }\n    return false;\n}\n\n")
+    out.append("// Layouts (codec/layout.h): PAYLOAD_SIZE, PAYLOAD_MAX, field count, then per field its code,\n")
+    out.append("// its offset in the struct, [count | 0, max_len, offset of <name>_len], [check data, LE].\n")
     for m in spec.messages:
-        out.append(_pack(m))
-        out.append(_unpack(m))
-        out.append(_check_ranges(m))
+        if m.fields:
+            out.append(_layout(m))
     rows = spec.state_machine.rows()
     states = [s.name for s in spec.state_machine.states]
     events = [e.name for e in spec.state_machine.events]
@@ -257,122 +278,97 @@ def _source(spec: Spec) -> str:
     return "".join(out)
 
 
-def _offsets(m: Message) -> list[int]:
-    offs, pos = [], 0
-    for f in m.fields:
-        offs.append(pos)
-        pos += f.size
-    return offs
+_WIRE = {
+    "u8": "WIRE_U8",
+    "u16": "WIRE_U16",
+    "u32": "WIRE_U32",
+    "i8": "WIRE_I8",
+    "i16": "WIRE_I16",
+    "i32": "WIRE_I32",
+    "f32": "WIRE_F32",
+    "char": "WIRE_U8",  # checked as the values 0..0x7F (ASCII)
+}
 
 
-def _put(f: Field, dst: str, src: str) -> str:
-    prim = f.prim
-    if f.enum is not None and not f.enum.flags:
-        src = f"static_cast<{_CTYPE[prim]}>({src})"
-    if prim in ("u8", "char"):
-        return f"payload[{dst}] = {src};"
-    if prim == "i8":
-        return f"payload[{dst}] = static_cast<uint8_t>({src});"
-    return f"wire::put_{prim}(payload + {dst}, {src});"
+def _layout_name(m: Message) -> str:
+    return f"{m.name}_LAYOUT"
 
 
-def _pack(m: Message) -> str:
-    n = m.class_name
-    arg = "m" if m.fields else "/*m*/"
-    out = [f"uint8_t pack(const {n}& {arg}, uint8_t* payload) {{\n"]
-    if not m.fields:
-        out.append("    (void)payload;\n")
-    for f, off in zip(m.fields, _offsets(m), strict=True):
-        if f.max_len is not None:
-            out.append(f"    const uint8_t n = m.{f.name}_len < {f.max_len} ? m.{f.name}_len : {f.max_len};\n")
-            out.append(
-                f"    for (uint8_t i = 0; i < n; ++i) payload[{off} + i] = static_cast<uint8_t>(m.{f.name}[i]);\n"
-            )
-            out.append(f"    return static_cast<uint8_t>({off} + n);\n}}\n\n")
-            return "".join(out)
-        if f.count is not None:
-            step = PRIMITIVES[f.prim][0]
-            out.append(f"    for (uint8_t i = 0; i < {f.count}; ++i) {{\n")
-            out.append(f"        {_put(f, f'{off} + i * {step}', f'm.{f.name}[i]')}\n    }}\n")
-        else:
-            out.append(f"    {_put(f, str(off), f'm.{f.name}')}\n")
-    out.append(f"    return {m.payload_size};\n}}\n\n")
-    return "".join(out)
+def _enum_test(e: Enum) -> str:
+    """The body of is_valid_<Enum>(value): a range when the values are contiguous, else a switch."""
+    values = sorted(v.value for v in e.values)
+    lo, hi = values[0], values[-1]
+    if values == list(range(lo, hi + 1)):
+        return f"return value <= {hi};" if lo == 0 else f"return value >= {lo} && value <= {hi};"
+    cases = " ".join(f"case {v}:" for v in values)
+    return f"switch (value) {{ {cases} return true; default: return false; }}"
 
 
-def _get(f: Field, off: str) -> str:
-    if f.prim in ("u8", "char"):
-        return f"payload[{off}]"
-    if f.prim == "i8":
-        return f"static_cast<int8_t>(payload[{off}])"
-    return f"wire::get_{f.prim}(payload + {off})"
+def _le(value: int, width: int) -> list[int]:
+    """`value` (two's complement when negative) as `width` little-endian bytes."""
+    return list((value & ((1 << (8 * width)) - 1)).to_bytes(width, "little"))
 
 
-def _unpack(m: Message) -> str:
-    n = m.class_name
-    arg = "m" if m.fields else "/*m*/"
-    pname = "payload" if m.fields else "/*payload*/"
-    out = [f"bool unpack(const uint8_t* {pname}, uint8_t len, {n}& {arg}) {{\n"]
-    tail = m.trailing
-    if tail is None:
-        out.append(f"    if (len != {m.payload_size}) return false;\n")
-    else:
-        out.append(f"    if (len < {m.payload_size} || len > {m.payload_max}) return false;\n")
-    for f, off in zip(m.fields, _offsets(m), strict=True):
-        if f.max_len is not None:
-            out.append(f"    m.{f.name}_len = static_cast<uint8_t>(len - {off});\n")
-            out.append(f"    for (uint8_t i = 0; i < m.{f.name}_len; ++i) {{\n")
-            if f.prim == "char":
-                out.append(f"        if (payload[{off} + i] > 0x7F) return false;  // ASCII only\n")
-                out.append(f"        m.{f.name}[i] = static_cast<char>(payload[{off} + i]);\n    }}\n")
-            else:
-                out.append(f"        m.{f.name}[i] = payload[{off} + i];\n    }}\n")
-        elif f.count is not None:
-            step = PRIMITIVES[f.prim][0]
-            out.append(f"    for (uint8_t i = 0; i < {f.count}; ++i) {{\n")
-            out.append(f"        m.{f.name}[i] = {_get(f, f'{off} + i * {step}')};\n    }}\n")
-        elif f.enum is not None and f.enum.flags:
-            out.append(f"    m.{f.name} = {_get(f, str(off))};\n")
-            out.append(f"    if (m.{f.name} & static_cast<{_CTYPE[f.prim]}>(~{f.enum.name}::MASK)) return false;\n")
-        elif f.enum is not None:
-            out.append(f"    if (!is_valid_{f.enum.name}({_get(f, str(off))})) return false;\n")
-            out.append(f"    m.{f.name} = static_cast<{f.enum.name}>({_get(f, str(off))});\n")
-        else:
-            out.append(f"    m.{f.name} = {_get(f, str(off))};\n")
-    out.append("    return true;\n}\n\n")
-    return "".join(out)
+def _f32_bits(value: float) -> int:
+    """IEEE-754 single-precision bits of `value`, rounded to nearest as a C float literal is."""
+    try:
+        return int.from_bytes(struct.pack("<f", value), "little")
+    except OverflowError:
+        return 0xFF800000 if value < 0 else 0x7F800000
 
 
-def _range_conditions(f: Field, expr: str) -> list[str]:
-    """Conditions that are true when `expr` is OUT of range; empty when the type already bounds it."""
-    if f.enum is not None or f.max_len is not None:
-        return []
-    if f.is_float:
-        return [f"!({expr} >= {_float_lit(f.lo)} && {expr} <= {_float_lit(f.hi)})"]  # NaN fails both
-    conds = []
+def _check(f: Field) -> tuple[str, list[int], str]:
+    """A field's check: (CHECK_* name, its data bytes, a comment)."""
+    width = PRIMITIVES[f.prim][0]
+    if f.enum is not None and f.enum.flags:
+        return "CHECK_FLAGS", _le(f.enum.mask, width), f"{f.enum.name} bits 0x{f.enum.mask:X}"
+    if f.enum is not None:
+        values = sorted(v.value for v in f.enum.values)
+        lo, hi = values[0], values[-1]
+        if values == list(range(lo, hi + 1)):
+            return "CHECK_VALUES", _le(lo, width) + _le(hi, width), f"{f.enum.name} {lo}..{hi}"
+        bitmap = [0] * ((hi - lo) // 8 + 1)
+        for v in values:
+            bitmap[(v - lo) // 8] |= 1 << ((v - lo) % 8)
+        text = f"{f.enum.name} {', '.join(str(v) for v in values)}"
+        return "CHECK_VALUE_SET", [*_le(lo, width), len(bitmap), *bitmap], text
+    if f.prim == "char":
+        return "CHECK_VALUES", [0x00, 0x7F], "ASCII"
+    if f.max_len is not None:
+        return "CHECK_NONE", [], ""
+    if f.is_float:  # always: a float field without a spec range still refuses NaN and infinity
+        lo_bits, hi_bits = _f32_bits(f.lo), _f32_bits(f.hi)
+        return "CHECK_RANGE", _le(lo_bits, 4) + _le(hi_bits, 4), f"{_float_lit(f.lo)}..{_float_lit(f.hi)}"
     _, _, _, tlo, thi = PRIMITIVES[f.prim]
-    if f.min is not None and f.min != tlo:
-        conds.append(f"{expr} < {_int_lit(int(f.min), f.prim)}")
-    if f.max is not None and f.max != thi:
-        conds.append(f"{expr} > {_int_lit(int(f.max), f.prim)}")
-    return conds
+    lo_i = int(f.min) if f.min is not None else int(tlo or 0)
+    hi_i = int(f.max) if f.max is not None else int(thi or 0)
+    if lo_i == tlo and hi_i == thi:
+        return "CHECK_NONE", [], ""
+    return "CHECK_RANGE", _le(lo_i, width) + _le(hi_i, width), f"{lo_i}..{hi_i}"
 
 
-def _check_ranges(m: Message) -> str:
+def _layout(m: Message) -> str:
     n = m.class_name
-    body = []
+    out = [f"// {m.name}: payload {m.payload_size}..{m.payload_max} bytes, {len(m.fields)} fields.\n"]
+    out.append(f"const uint8_t {_layout_name(m)}[] ROVERLINK_PROGMEM = {{\n")
+    out.append(f"    {m.payload_size}, {m.payload_max}, {len(m.fields)},\n")
     for i, f in enumerate(m.fields):
-        if f.count is not None:
-            conds = _range_conditions(f, f"m.{f.name}[k]")
-            if conds:
-                body.append(f"    for (uint8_t k = 0; k < {f.count}; ++k) {{\n")
-                body.append(f"        if ({' || '.join(conds)}) return {i};\n    }}\n")
-        else:
-            conds = _range_conditions(f, f"m.{f.name}")
-            if conds:
-                body.append(f"    if ({' || '.join(conds)}) return {i};\n")
-    arg = "m" if body else "/*m*/"
-    return f"uint8_t check_ranges(const {n}& {arg}) {{\n" + "".join(body) + "    return ALL_FIELDS_VALID;\n}\n\n"
+        check, data, note = _check(f)
+        code = f"layout::{_WIRE[f.prim]}"
+        if check != "CHECK_NONE":
+            code += f" | layout::{check}"
+        items = [f"offsetof({n}, {f.name})"]
+        if f.count is not None or f.max_len is not None:
+            code += " | layout::ARRAY"
+            if f.count is not None:
+                items.append(str(f.count))
+            else:
+                items += ["0", str(f.max_len), f"offsetof({n}, {f.name}_len)"]
+        items += [f"0x{b:02X}" for b in data]
+        comment = f"{i} {f.name}" + (f": {note}" if note else "")
+        out.append(f"    {code}, {', '.join(items)},  // {comment}\n")
+    out.append("};\n\n")
+    return "".join(out)
 
 
 # -- test-only reflection ------------------------------------------------------------------------

@@ -167,14 +167,14 @@ def _message(m: Message) -> str:
         packed = f"{packed} + {conv}"
     conds = [c for f in m.fields for c in _fast_conditions(f)]
     # struct packs True/False as 1/0; a bool where a number belongs is a caller's bug, refuse it.
-    typed = [
-        f"type(self.{f.name}[{k}])" if f.count else f"type(self.{f.name})"
+    values = [
+        f"self.{f.name}[{k}]" if f.count else f"self.{f.name}"
         for f in m.fields
         if f.max_len is None
         for k in range(f.count or 1)
     ]
-    if typed:
-        conds.append(f"bool not in {{{', '.join(typed)}}}")
+    if values:
+        conds.append(f"bool not in set(map(type, ({', '.join(values)},)))")
     if not m.fields:
         out.append(f"        return {packed}\n")
     else:

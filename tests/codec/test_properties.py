@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from hypothesis import example, given, note
+from hypothesis import example, given, note, settings
 from hypothesis import strategies as st
 
 from host_sdk import messages
@@ -482,6 +482,11 @@ FLOAT_FIELDS = [p for p in NUMERIC_FIELDS if p.values[0].FIELDS[p.values[1]].kin
 ALL_FIELDS = [pytest.param(cls, i, id=f"{cls.NAME}.{info.name}") for cls in ALL for i, info in enumerate(cls.FIELDS)]
 
 
+# The per-field error tests below run once per field (hundreds of tests) and draw their bad value
+# from a short list, so a twentieth of the profile's examples (at least 10) covers them.
+per_field = settings(max_examples=max(10, settings().max_examples // 20))
+
+
 def _replace(msg: Message, info: FieldInfo, value: Any, data: st.DataObject) -> tuple[Message, Any]:
     """`msg` with `value` put in field `info` (in one drawn element for a fixed array)."""
     if info.count is not None:
@@ -506,6 +511,7 @@ def _assert_refused(broken: Message, info: FieldInfo, shown: Any) -> None:
 
 
 @pytest.mark.parametrize(("cls", "index"), NUMERIC_FIELDS)
+@per_field
 @given(data=st.data())
 def test_value_just_outside_range_is_refused(cls: type[Message], index: int, data: st.DataObject) -> None:
     info = cls.FIELDS[index]
@@ -516,6 +522,7 @@ def test_value_just_outside_range_is_refused(cls: type[Message], index: int, dat
 
 
 @pytest.mark.parametrize(("cls", "index"), FLOAT_FIELDS)
+@per_field
 @given(data=st.data())
 def test_nan_and_infinity_are_refused(cls: type[Message], index: int, data: st.DataObject) -> None:
     info = cls.FIELDS[index]
@@ -545,6 +552,7 @@ def wrong_values(info: FieldInfo) -> list[Any]:
 
 
 @pytest.mark.parametrize(("cls", "index"), ALL_FIELDS)
+@per_field
 @given(data=st.data())
 def test_wrong_type_is_refused(cls: type[Message], index: int, data: st.DataObject) -> None:
     info = cls.FIELDS[index]
@@ -606,6 +614,7 @@ def test_bools_are_refused() -> None:
 
 
 @pytest.mark.parametrize(("cls", "index"), [p for p in ALL_FIELDS if p.values[0].FIELDS[p.values[1]].count])  # type: ignore[union-attr,index]
+@per_field
 @given(data=st.data())
 def test_fixed_array_of_wrong_length_is_refused(cls: type[Message], index: int, data: st.DataObject) -> None:
     info = cls.FIELDS[index]

@@ -116,20 +116,33 @@ def test_effort_limit_saturates_and_is_reported() -> None:
     assert 1000 < emu.truth.plant.speed_m_s * 1000 < 1900
 
 
+def _toggles_over(emu: Emulator, host: Host, msg: messages.SetWheelSpeeds | None, seconds: float) -> list[int]:
+    before = emu.truth.plant.led_toggles
+    for _ in range(round(seconds / 0.02)):
+        if msg is not None:
+            host.send(msg)
+        host.run(0.02)
+    return [b - a for a, b in zip(before, emu.truth.plant.led_toggles, strict=True)]
+
+
 def test_turn_signals_follow_motion_state() -> None:
     emu = Emulator("diffdrive-tb6612", seed=15)
     host = Host(emu)
-    host.session()
-    _drive(host, messages.SetWheelSpeeds(100, 300), 1.0, lockstep=False)
-    toggles = emu.truth.plant.led_toggles
-    _drive(host, messages.SetWheelSpeeds(100, 300), 1.0, lockstep=False)
-    after = emu.truth.plant.led_toggles
-    assert after[0] > toggles[0] and after[2] > toggles[2]  # left side blinking
-    assert after[1] == toggles[1] and after[3] == toggles[3]  # right side dark
-    _drive(host, messages.SetWheelSpeeds(-200, -200), 1.0, lockstep=False)
-    assert emu.truth.plant.leds == {"front_left": False, "front_right": False, "rear_left": True, "rear_right": True}
+    host.session(arm=False)
+    host.send(messages.Ping(0))
+    # DISARMED: the front pair and the rear pair alternate at 1.5 Hz: each LED changes 6 times in 2 s.
+    assert all(5 <= n <= 7 for n in _toggles_over(emu, host, None, 2.0))
+    assert isinstance(host.arm(), messages.Ack)
+    patterns = {
+        "left turn": (messages.SetWheelSpeeds(100, 300), lambda t: t[0] >= 5 and t[2] >= 5 and t[1] == t[3] == 0),
+        "right turn": (messages.SetWheelSpeeds(300, 100), lambda t: t[1] >= 5 and t[3] >= 5 and t[0] == t[2] == 0),
+        "spin in place": (messages.SetWheelSpeeds(-200, 200), lambda t: all(n >= 5 for n in t)),
+        "straight back": (messages.SetWheelSpeeds(-200, -200), lambda t: t == [0, 0, 0, 0]),
+    }
+    for name, (msg, expected) in patterns.items():
+        _toggles_over(emu, host, msg, 0.7)  # one blink period to settle into the pattern
+        toggles = _toggles_over(emu, host, msg, 2.0)
+        assert expected(toggles), (name, toggles)
     emu.cut_link()
-    host.run(0.5)
-    before = emu.truth.plant.led_toggles
-    host.run(1.0)
-    assert all(b > a for a, b in zip(before, emu.truth.plant.led_toggles, strict=True))  # hazard lights
+    host.run(0.5)  # watchdog: FAILSAFE
+    assert all(10 <= n <= 14 for n in _toggles_over(emu, host, None, 2.0))  # all four at 3 Hz

@@ -9,10 +9,11 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from emulator.firmware.config import (
-    RECORD_SIZE,
+    IMAGE_SIZE,
     Gains,
-    decode_record,
-    encode_record,
+    LoadResult,
+    decode_image,
+    encode_image,
     first_inconsistent,
     first_out_of_range,
 )
@@ -105,14 +106,23 @@ def test_config_range_and_consistency_rules() -> None:
     assert first_out_of_range(SetPid(0, 1.0, 0.0, math.inf, 0.0)) == 3
 
 
-def test_eeprom_record_round_trip_and_corruption() -> None:
+def test_eeprom_image_round_trip_and_corruption() -> None:
     robot = get_profile("diffdrive-bts7960").robot
     gains = [Gains.of(robot.pid), Gains(1.0, 2.0, 0.5, 0.25)]
-    record = encode_record(robot.config, gains)
-    assert len(record) == RECORD_SIZE
-    assert decode_record(record) == (robot.config, gains)
-    for i in range(RECORD_SIZE):
-        broken = bytearray(record)
+    image = encode_image(robot.config, gains)
+    assert len(image) == IMAGE_SIZE == 81  # the C++ core's layout (docs/firmware.md)
+    assert image[:3] == b"RL\x01"
+    assert decode_image(image) == (LoadResult.OK, robot.config, gains)
+    for i in range(IMAGE_SIZE):
+        broken = bytearray(image)
         broken[i] ^= 0x04
-        assert decode_record(bytes(broken)) is None  # version or CRC catches every single-bit error
-    assert decode_record(b"\xff" * RECORD_SIZE) is None  # a blank EEPROM
+        result, config, _ = decode_image(bytes(broken))
+        # The header catches a flip in its 5 bytes, the CRC-16 every other single-bit error.
+        assert result is (LoadResult.NO_IMAGE if i < 5 else LoadResult.BAD_CRC) and config is None
+    assert decode_image(b"\xff" * IMAGE_SIZE)[0] is LoadResult.NO_IMAGE  # a blank EEPROM
+    from host_sdk.codec.crc import crc16
+    from host_sdk.messages import SetConfig as Sc
+
+    bad = Sc(**{**robot.config.fields(), "esc_neutral_us": 2100})  # in range, inconsistent
+    body = encode_image(bad, gains)[:-2]
+    assert decode_image(body + crc16(body).to_bytes(2, "little"))[0] is LoadResult.INVALID

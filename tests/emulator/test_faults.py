@@ -150,6 +150,22 @@ def test_mcu_reset_gives_a_new_boot_and_refuses_the_old_session() -> None:
     assert "reset" in emu.truth.fault_kinds() and "bootloader_garbage" in emu.truth.fault_kinds()
 
 
+def test_a_reset_discards_the_uarts_backlog() -> None:
+    # At 9600 baud a 100 Hz FEEDBACK stream (3900 B/s) cannot fit (960 B/s): the backlog grows.
+    emu = Emulator("diffdrive-tb6612", seed=27, baud=9600, latency_us=0)
+    host = Host(emu)
+    host.boot()
+    host.hello(hz=100)
+    host.run(2.0)
+    assert emu.truth.mcu_to_host.in_flight > 3000
+    emu.reset_mcu()
+    assert emu.truth.mcu_to_host.in_flight < 50  # only what the UART was already sending
+    start = emu.now_us
+    host.boot()
+    # bootloader (1.5 s) + boot-counter write + the IDENTITY's 45 bytes at 9600 baud (47 ms)
+    assert emu.now_us - start < 1_500_000 + 150_000
+
+
 def test_brown_out_resets_the_esc_and_the_mcu() -> None:
     emu = Emulator("picar", seed=22)
     host = Host(emu)

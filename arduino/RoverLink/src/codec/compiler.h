@@ -1,5 +1,6 @@
-// Inlining hints: the hot per-byte path wants inlining forced, rare paths want it prevented,
-// because avr-gcc -Os decides the other way round in both cases.
+// Inlining hints and flash access: the hot per-byte path wants inlining forced, rare paths want it
+// prevented, because avr-gcc -Os decides the other way round in both cases; constant tables live
+// in flash (PROGMEM) on AVR, where reading them takes pgm_read_byte().
 #ifndef ROVERLINK_CODEC_COMPILER_H
 #define ROVERLINK_CODEC_COMPILER_H
 
@@ -9,6 +10,15 @@
 #else
 #define ROVERLINK_ALWAYS_INLINE inline
 #define ROVERLINK_NOINLINE
+#endif
+
+#if defined(__AVR__)
+#include <avr/pgmspace.h>
+#define ROVERLINK_PROGMEM PROGMEM
+#define ROVERLINK_READ_BYTE(p) pgm_read_byte(p)
+#else
+#define ROVERLINK_PROGMEM
+#define ROVERLINK_READ_BYTE(p) (*(p))
 #endif
 
 #endif  // ROVERLINK_CODEC_COMPILER_H

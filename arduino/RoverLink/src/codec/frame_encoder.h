@@ -36,7 +36,7 @@ size_t encode_message(const M& m, uint8_t seq, uint8_t* out, size_t cap) {
     // Pack straight into the payload slot; saves a MAX_PAYLOAD stack buffer on AVR.
     uint8_t* const slot = out + 3;
     const uint8_t len = proto::pack(m, slot);
-    return encode_frame(M::ID, seq, M::CRC_EXTRA, slot, len, out, cap);
+    return encode_frame(M::ID, seq, M::CRC_EXTRA, len != 0 ? slot : 0, len, out, cap);  // 0: nothing to read
 }
 
 }  // namespace roverlink

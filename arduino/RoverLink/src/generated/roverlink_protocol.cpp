@@ -2,861 +2,307 @@
 // spec hash: 0x163FE6FE
 #include "roverlink_protocol.h"
 
-#include "../codec/wire.h"
-
 namespace roverlink {
 namespace proto {
 
-// Every struct member has the width of its wire field (no int, no double; AVR and ARM agree).
+// Every struct member has the width of its wire field (no int, no double; AVR and ARM agree),
+// and every member offset fits the byte a layout keeps it in.
+static_assert(ALL_FIELDS_VALID == layout::ALL_VALID, "check_ranges() answers the layout walker's");
 static_assert(Hello::PAYLOAD_MAX <= MAX_PAYLOAD, "HELLO payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Hello::protocol_version) + sizeof(Hello::spec_hash) + sizeof(Hello::watchdog_ms) + sizeof(Hello::feedback_mode) + sizeof(Hello::feedback_hz) == Hello::PAYLOAD_MAX, "HELLO member widths differ from the wire");
+static_assert(sizeof(Hello) < 256, "HELLO member offsets must fit in a byte");
 static_assert(Ping::PAYLOAD_MAX <= MAX_PAYLOAD, "PING payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Ping::host_time_us) == Ping::PAYLOAD_MAX, "PING member widths differ from the wire");
+static_assert(sizeof(Ping) < 256, "PING member offsets must fit in a byte");
 static_assert(Arm::PAYLOAD_MAX <= MAX_PAYLOAD, "ARM payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Arm::boot_id) == Arm::PAYLOAD_MAX, "ARM member widths differ from the wire");
+static_assert(sizeof(Arm) < 256, "ARM member offsets must fit in a byte");
 static_assert(Disarm::PAYLOAD_MAX <= MAX_PAYLOAD, "DISARM payload exceeds MAX_PAYLOAD");
 static_assert(SetPid::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_PID payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(SetPid::wheel) + sizeof(SetPid::kp) + sizeof(SetPid::ki) + sizeof(SetPid::kd) + sizeof(SetPid::kf) == SetPid::PAYLOAD_MAX, "SET_PID member widths differ from the wire");
+static_assert(sizeof(SetPid) < 256, "SET_PID member offsets must fit in a byte");
 static_assert(GetPid::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_PID payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(GetPid::wheel) == GetPid::PAYLOAD_MAX, "GET_PID member widths differ from the wire");
+static_assert(sizeof(GetPid) < 256, "GET_PID member offsets must fit in a byte");
 static_assert(SetConfig::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_CONFIG payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(SetConfig::watchdog_ms) + sizeof(SetConfig::safe_state) + sizeof(SetConfig::accel_limit_mm_s2) + sizeof(SetConfig::decel_limit_mm_s2) + sizeof(SetConfig::max_wheel_speed_mm_s) + sizeof(SetConfig::max_effort_permille) + sizeof(SetConfig::encoder_cpr) + sizeof(SetConfig::encoder_invert) + sizeof(SetConfig::motor_invert) + sizeof(SetConfig::wheel_diameter_um) + sizeof(SetConfig::steering_center_cdeg) + sizeof(SetConfig::steering_min_cdeg) + sizeof(SetConfig::steering_max_cdeg) + sizeof(SetConfig::steering_step_cdeg) + sizeof(SetConfig::servo_min_us) + sizeof(SetConfig::servo_max_us) + sizeof(SetConfig::esc_min_us) + sizeof(SetConfig::esc_neutral_us) + sizeof(SetConfig::esc_max_us) + sizeof(SetConfig::esc_arm_ms) + sizeof(SetConfig::feedback_hz) == SetConfig::PAYLOAD_MAX, "SET_CONFIG member widths differ from the wire");
+static_assert(sizeof(SetConfig) < 256, "SET_CONFIG member offsets must fit in a byte");
 static_assert(GetConfig::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_CONFIG payload exceeds MAX_PAYLOAD");
 static_assert(SaveConfig::PAYLOAD_MAX <= MAX_PAYLOAD, "SAVE_CONFIG payload exceeds MAX_PAYLOAD");
 static_assert(ResetOdometry::PAYLOAD_MAX <= MAX_PAYLOAD, "RESET_ODOMETRY payload exceeds MAX_PAYLOAD");
 static_assert(GetLinkStats::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_LINK_STATS payload exceeds MAX_PAYLOAD");
 static_assert(SetWheelSpeeds::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_WHEEL_SPEEDS payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(SetWheelSpeeds::left_mm_s) + sizeof(SetWheelSpeeds::right_mm_s) == SetWheelSpeeds::PAYLOAD_MAX, "SET_WHEEL_SPEEDS member widths differ from the wire");
+static_assert(sizeof(SetWheelSpeeds) < 256, "SET_WHEEL_SPEEDS member offsets must fit in a byte");
 static_assert(SetAckermann::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_ACKERMANN payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(SetAckermann::speed_mm_s) + sizeof(SetAckermann::steering_mrad) == SetAckermann::PAYLOAD_MAX, "SET_ACKERMANN member widths differ from the wire");
+static_assert(sizeof(SetAckermann) < 256, "SET_ACKERMANN member offsets must fit in a byte");
 static_assert(Identity::PAYLOAD_MAX <= MAX_PAYLOAD, "IDENTITY payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Identity::protocol_version) + sizeof(Identity::spec_hash) + sizeof(Identity::firmware_version) + sizeof(Identity::board) + sizeof(Identity::capabilities) + sizeof(Identity::boot_id) + sizeof(Identity::uptime_ms) + sizeof(Identity::reason) + sizeof(Identity::hello_seq) + sizeof(Identity::watchdog_ms) + sizeof(Identity::feedback_mode) + sizeof(Identity::feedback_hz) + sizeof(Identity::robot_name) == Identity::PAYLOAD_MAX, "IDENTITY member widths differ from the wire");
+static_assert(sizeof(Identity) < 256, "IDENTITY member offsets must fit in a byte");
 static_assert(Pong::PAYLOAD_MAX <= MAX_PAYLOAD, "PONG payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Pong::host_time_us) + sizeof(Pong::mcu_time_us) == Pong::PAYLOAD_MAX, "PONG member widths differ from the wire");
+static_assert(sizeof(Pong) < 256, "PONG member offsets must fit in a byte");
 static_assert(Ack::PAYLOAD_MAX <= MAX_PAYLOAD, "ACK payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Ack::req_id) + sizeof(Ack::req_seq) == Ack::PAYLOAD_MAX, "ACK member widths differ from the wire");
+static_assert(sizeof(Ack) < 256, "ACK member offsets must fit in a byte");
 static_assert(Nack::PAYLOAD_MAX <= MAX_PAYLOAD, "NACK payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Nack::req_id) + sizeof(Nack::req_seq) + sizeof(Nack::reason) + sizeof(Nack::detail) == Nack::PAYLOAD_MAX, "NACK member widths differ from the wire");
+static_assert(sizeof(Nack) < 256, "NACK member offsets must fit in a byte");
 static_assert(Pid::PAYLOAD_MAX <= MAX_PAYLOAD, "PID payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Pid::req_seq) + sizeof(Pid::wheel) + sizeof(Pid::kp) + sizeof(Pid::ki) + sizeof(Pid::kd) + sizeof(Pid::kf) == Pid::PAYLOAD_MAX, "PID member widths differ from the wire");
+static_assert(sizeof(Pid) < 256, "PID member offsets must fit in a byte");
 static_assert(Config::PAYLOAD_MAX <= MAX_PAYLOAD, "CONFIG payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Config::req_seq) + sizeof(Config::watchdog_ms) + sizeof(Config::safe_state) + sizeof(Config::accel_limit_mm_s2) + sizeof(Config::decel_limit_mm_s2) + sizeof(Config::max_wheel_speed_mm_s) + sizeof(Config::max_effort_permille) + sizeof(Config::encoder_cpr) + sizeof(Config::encoder_invert) + sizeof(Config::motor_invert) + sizeof(Config::wheel_diameter_um) + sizeof(Config::steering_center_cdeg) + sizeof(Config::steering_min_cdeg) + sizeof(Config::steering_max_cdeg) + sizeof(Config::steering_step_cdeg) + sizeof(Config::servo_min_us) + sizeof(Config::servo_max_us) + sizeof(Config::esc_min_us) + sizeof(Config::esc_neutral_us) + sizeof(Config::esc_max_us) + sizeof(Config::esc_arm_ms) + sizeof(Config::feedback_hz) == Config::PAYLOAD_MAX, "CONFIG member widths differ from the wire");
+static_assert(sizeof(Config) < 256, "CONFIG member offsets must fit in a byte");
 static_assert(LinkStats::PAYLOAD_MAX <= MAX_PAYLOAD, "LINK_STATS payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(LinkStats::req_seq) + sizeof(LinkStats::frames_ok) + sizeof(LinkStats::crc_errors) + sizeof(LinkStats::cobs_errors) + sizeof(LinkStats::length_errors) + sizeof(LinkStats::unknown_ids) + sizeof(LinkStats::value_errors) + sizeof(LinkStats::seq_gaps) + sizeof(LinkStats::bytes_discarded) + sizeof(LinkStats::rx_overruns) + sizeof(LinkStats::duplicates) + sizeof(LinkStats::frames_sent) == LinkStats::PAYLOAD_MAX, "LINK_STATS member widths differ from the wire");
+static_assert(sizeof(LinkStats) < 256, "LINK_STATS member offsets must fit in a byte");
 static_assert(Feedback::PAYLOAD_MAX <= MAX_PAYLOAD, "FEEDBACK payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Feedback::boot_id) + sizeof(Feedback::mcu_time_us) + sizeof(Feedback::tick) + sizeof(Feedback::ack_seq) + sizeof(Feedback::ack_tick) + sizeof(Feedback::status) + sizeof(Feedback::failsafe_reason) + sizeof(Feedback::encoder_counts) + sizeof(Feedback::wheel_speed_mm_s) + sizeof(Feedback::effort_permille) + sizeof(Feedback::steering_mrad) == Feedback::PAYLOAD_MAX, "FEEDBACK member widths differ from the wire");
+static_assert(sizeof(Feedback) < 256, "FEEDBACK member offsets must fit in a byte");
 static_assert(Log::PAYLOAD_MAX <= MAX_PAYLOAD, "LOG payload exceeds MAX_PAYLOAD");
 static_assert(sizeof(Log::level) + sizeof(Log::text) == Log::PAYLOAD_MAX, "LOG member widths differ from the wire");
+static_assert(sizeof(Log) < 256, "LOG member offsets must fit in a byte");
 
-bool is_valid_Board(uint8_t value) {
-    switch (value) {
-    case 0:
-    case 1:
-    case 2:
-    case 3:
-    case 4:
-        return true;
-    default:
-        return false;
-    }
-}
-
-bool is_valid_FeedbackMode(uint8_t value) {
-    switch (value) {
-    case 0:
-    case 1:
-        return true;
-    default:
-        return false;
-    }
-}
-
-bool is_valid_SafeState(uint8_t value) {
-    switch (value) {
-    case 0:
-    case 1:
-    case 2:
-        return true;
-    default:
-        return false;
-    }
-}
-
-bool is_valid_FailsafeReason(uint8_t value) {
-    switch (value) {
-    case 0:
-    case 1:
-    case 2:
-    case 3:
-    case 4:
-        return true;
-    default:
-        return false;
-    }
-}
-
-bool is_valid_NackReason(uint8_t value) {
-    switch (value) {
-    case 1:
-    case 2:
-    case 3:
-    case 4:
-    case 5:
-    case 6:
-    case 7:
-    case 8:
-    case 9:
-        return true;
-    default:
-        return false;
-    }
-}
-
-bool is_valid_IdentityReason(uint8_t value) {
-    switch (value) {
-    case 0:
-    case 1:
-    case 2:
-        return true;
-    default:
-        return false;
-    }
-}
-
-bool is_valid_LogLevel(uint8_t value) {
-    switch (value) {
-    case 0:
-    case 1:
-    case 2:
-    case 3:
-        return true;
-    default:
-        return false;
-    }
-}
+// msg_id, CRC_EXTRA, PAYLOAD_SIZE, PAYLOAD_MAX of every message.
+static const uint8_t MESSAGE_COUNT = 22;
+static const uint8_t MESSAGES[MESSAGE_COUNT][4] ROVERLINK_PROGMEM = {
+    {Hello::ID, Hello::CRC_EXTRA, Hello::PAYLOAD_SIZE, Hello::PAYLOAD_MAX},
+    {Ping::ID, Ping::CRC_EXTRA, Ping::PAYLOAD_SIZE, Ping::PAYLOAD_MAX},
+    {Arm::ID, Arm::CRC_EXTRA, Arm::PAYLOAD_SIZE, Arm::PAYLOAD_MAX},
+    {Disarm::ID, Disarm::CRC_EXTRA, Disarm::PAYLOAD_SIZE, Disarm::PAYLOAD_MAX},
+    {SetPid::ID, SetPid::CRC_EXTRA, SetPid::PAYLOAD_SIZE, SetPid::PAYLOAD_MAX},
+    {GetPid::ID, GetPid::CRC_EXTRA, GetPid::PAYLOAD_SIZE, GetPid::PAYLOAD_MAX},
+    {SetConfig::ID, SetConfig::CRC_EXTRA, SetConfig::PAYLOAD_SIZE, SetConfig::PAYLOAD_MAX},
+    {GetConfig::ID, GetConfig::CRC_EXTRA, GetConfig::PAYLOAD_SIZE, GetConfig::PAYLOAD_MAX},
+    {SaveConfig::ID, SaveConfig::CRC_EXTRA, SaveConfig::PAYLOAD_SIZE, SaveConfig::PAYLOAD_MAX},
+    {ResetOdometry::ID, ResetOdometry::CRC_EXTRA, ResetOdometry::PAYLOAD_SIZE, ResetOdometry::PAYLOAD_MAX},
+    {GetLinkStats::ID, GetLinkStats::CRC_EXTRA, GetLinkStats::PAYLOAD_SIZE, GetLinkStats::PAYLOAD_MAX},
+    {SetWheelSpeeds::ID, SetWheelSpeeds::CRC_EXTRA, SetWheelSpeeds::PAYLOAD_SIZE, SetWheelSpeeds::PAYLOAD_MAX},
+    {SetAckermann::ID, SetAckermann::CRC_EXTRA, SetAckermann::PAYLOAD_SIZE, SetAckermann::PAYLOAD_MAX},
+    {Identity::ID, Identity::CRC_EXTRA, Identity::PAYLOAD_SIZE, Identity::PAYLOAD_MAX},
+    {Pong::ID, Pong::CRC_EXTRA, Pong::PAYLOAD_SIZE, Pong::PAYLOAD_MAX},
+    {Ack::ID, Ack::CRC_EXTRA, Ack::PAYLOAD_SIZE, Ack::PAYLOAD_MAX},
+    {Nack::ID, Nack::CRC_EXTRA, Nack::PAYLOAD_SIZE, Nack::PAYLOAD_MAX},
+    {Pid::ID, Pid::CRC_EXTRA, Pid::PAYLOAD_SIZE, Pid::PAYLOAD_MAX},
+    {Config::ID, Config::CRC_EXTRA, Config::PAYLOAD_SIZE, Config::PAYLOAD_MAX},
+    {LinkStats::ID, LinkStats::CRC_EXTRA, LinkStats::PAYLOAD_SIZE, LinkStats::PAYLOAD_MAX},
+    {Feedback::ID, Feedback::CRC_EXTRA, Feedback::PAYLOAD_SIZE, Feedback::PAYLOAD_MAX},
+    {Log::ID, Log::CRC_EXTRA, Log::PAYLOAD_SIZE, Log::PAYLOAD_MAX},
+};
 
 bool message_bounds(uint8_t msg_id, MessageBounds& out) {
-    switch (msg_id) {
-    case Hello::ID:
-        out.crc_extra = Hello::CRC_EXTRA;
-        out.min_payload = Hello::PAYLOAD_SIZE;
-        out.max_payload = Hello::PAYLOAD_MAX;
-        return true;
-    case Ping::ID:
-        out.crc_extra = Ping::CRC_EXTRA;
-        out.min_payload = Ping::PAYLOAD_SIZE;
-        out.max_payload = Ping::PAYLOAD_MAX;
-        return true;
-    case Arm::ID:
-        out.crc_extra = Arm::CRC_EXTRA;
-        out.min_payload = Arm::PAYLOAD_SIZE;
-        out.max_payload = Arm::PAYLOAD_MAX;
-        return true;
-    case Disarm::ID:
-        out.crc_extra = Disarm::CRC_EXTRA;
-        out.min_payload = Disarm::PAYLOAD_SIZE;
-        out.max_payload = Disarm::PAYLOAD_MAX;
-        return true;
-    case SetPid::ID:
-        out.crc_extra = SetPid::CRC_EXTRA;
-        out.min_payload = SetPid::PAYLOAD_SIZE;
-        out.max_payload = SetPid::PAYLOAD_MAX;
-        return true;
-    case GetPid::ID:
-        out.crc_extra = GetPid::CRC_EXTRA;
-        out.min_payload = GetPid::PAYLOAD_SIZE;
-        out.max_payload = GetPid::PAYLOAD_MAX;
-        return true;
-    case SetConfig::ID:
-        out.crc_extra = SetConfig::CRC_EXTRA;
-        out.min_payload = SetConfig::PAYLOAD_SIZE;
-        out.max_payload = SetConfig::PAYLOAD_MAX;
-        return true;
-    case GetConfig::ID:
-        out.crc_extra = GetConfig::CRC_EXTRA;
-        out.min_payload = GetConfig::PAYLOAD_SIZE;
-        out.max_payload = GetConfig::PAYLOAD_MAX;
-        return true;
-    case SaveConfig::ID:
-        out.crc_extra = SaveConfig::CRC_EXTRA;
-        out.min_payload = SaveConfig::PAYLOAD_SIZE;
-        out.max_payload = SaveConfig::PAYLOAD_MAX;
-        return true;
-    case ResetOdometry::ID:
-        out.crc_extra = ResetOdometry::CRC_EXTRA;
-        out.min_payload = ResetOdometry::PAYLOAD_SIZE;
-        out.max_payload = ResetOdometry::PAYLOAD_MAX;
-        return true;
-    case GetLinkStats::ID:
-        out.crc_extra = GetLinkStats::CRC_EXTRA;
-        out.min_payload = GetLinkStats::PAYLOAD_SIZE;
-        out.max_payload = GetLinkStats::PAYLOAD_MAX;
-        return true;
-    case SetWheelSpeeds::ID:
-        out.crc_extra = SetWheelSpeeds::CRC_EXTRA;
-        out.min_payload = SetWheelSpeeds::PAYLOAD_SIZE;
-        out.max_payload = SetWheelSpeeds::PAYLOAD_MAX;
-        return true;
-    case SetAckermann::ID:
-        out.crc_extra = SetAckermann::CRC_EXTRA;
-        out.min_payload = SetAckermann::PAYLOAD_SIZE;
-        out.max_payload = SetAckermann::PAYLOAD_MAX;
-        return true;
-    case Identity::ID:
-        out.crc_extra = Identity::CRC_EXTRA;
-        out.min_payload = Identity::PAYLOAD_SIZE;
-        out.max_payload = Identity::PAYLOAD_MAX;
-        return true;
-    case Pong::ID:
-        out.crc_extra = Pong::CRC_EXTRA;
-        out.min_payload = Pong::PAYLOAD_SIZE;
-        out.max_payload = Pong::PAYLOAD_MAX;
-        return true;
-    case Ack::ID:
-        out.crc_extra = Ack::CRC_EXTRA;
-        out.min_payload = Ack::PAYLOAD_SIZE;
-        out.max_payload = Ack::PAYLOAD_MAX;
-        return true;
-    case Nack::ID:
-        out.crc_extra = Nack::CRC_EXTRA;
-        out.min_payload = Nack::PAYLOAD_SIZE;
-        out.max_payload = Nack::PAYLOAD_MAX;
-        return true;
-    case Pid::ID:
-        out.crc_extra = Pid::CRC_EXTRA;
-        out.min_payload = Pid::PAYLOAD_SIZE;
-        out.max_payload = Pid::PAYLOAD_MAX;
-        return true;
-    case Config::ID:
-        out.crc_extra = Config::CRC_EXTRA;
-        out.min_payload = Config::PAYLOAD_SIZE;
-        out.max_payload = Config::PAYLOAD_MAX;
-        return true;
-    case LinkStats::ID:
-        out.crc_extra = LinkStats::CRC_EXTRA;
-        out.min_payload = LinkStats::PAYLOAD_SIZE;
-        out.max_payload = LinkStats::PAYLOAD_MAX;
-        return true;
-    case Feedback::ID:
-        out.crc_extra = Feedback::CRC_EXTRA;
-        out.min_payload = Feedback::PAYLOAD_SIZE;
-        out.max_payload = Feedback::PAYLOAD_MAX;
-        return true;
-    case Log::ID:
-        out.crc_extra = Log::CRC_EXTRA;
-        out.min_payload = Log::PAYLOAD_SIZE;
-        out.max_payload = Log::PAYLOAD_MAX;
-        return true;
-    default:
-        return false;
+    for (uint8_t i = 0; i < MESSAGE_COUNT; ++i) {
+        const uint8_t* row = MESSAGES[i];
+        if (ROVERLINK_READ_BYTE(row) == msg_id) {
+            out.crc_extra = ROVERLINK_READ_BYTE(row + 1);
+            out.min_payload = ROVERLINK_READ_BYTE(row + 2);
+            out.max_payload = ROVERLINK_READ_BYTE(row + 3);
+            return true;
+        }
     }
-}
-
-uint8_t pack(const Hello& m, uint8_t* payload) {
-    payload[0] = m.protocol_version;
-    wire::put_u32(payload + 1, m.spec_hash);
-    wire::put_u16(payload + 5, m.watchdog_ms);
-    payload[7] = static_cast<uint8_t>(m.feedback_mode);
-    payload[8] = m.feedback_hz;
-    return 9;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, Hello& m) {
-    if (len != 9) return false;
-    m.protocol_version = payload[0];
-    m.spec_hash = wire::get_u32(payload + 1);
-    m.watchdog_ms = wire::get_u16(payload + 5);
-    if (!is_valid_FeedbackMode(payload[7])) return false;
-    m.feedback_mode = static_cast<FeedbackMode>(payload[7]);
-    m.feedback_hz = payload[8];
-    return true;
-}
-
-uint8_t check_ranges(const Hello& m) {
-    if (m.watchdog_ms > 60000) return 2;
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const Ping& m, uint8_t* payload) {
-    wire::put_u32(payload + 0, m.host_time_us);
-    return 4;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, Ping& m) {
-    if (len != 4) return false;
-    m.host_time_us = wire::get_u32(payload + 0);
-    return true;
-}
-
-uint8_t check_ranges(const Ping& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const Arm& m, uint8_t* payload) {
-    wire::put_u32(payload + 0, m.boot_id);
-    return 4;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, Arm& m) {
-    if (len != 4) return false;
-    m.boot_id = wire::get_u32(payload + 0);
-    return true;
-}
-
-uint8_t check_ranges(const Arm& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const Disarm& /*m*/, uint8_t* payload) {
-    (void)payload;
-    return 0;
-}
-
-bool unpack(const uint8_t* /*payload*/, uint8_t len, Disarm& /*m*/) {
-    if (len != 0) return false;
-    return true;
-}
-
-uint8_t check_ranges(const Disarm& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const SetPid& m, uint8_t* payload) {
-    payload[0] = m.wheel;
-    wire::put_f32(payload + 1, m.kp);
-    wire::put_f32(payload + 5, m.ki);
-    wire::put_f32(payload + 9, m.kd);
-    wire::put_f32(payload + 13, m.kf);
-    return 17;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, SetPid& m) {
-    if (len != 17) return false;
-    m.wheel = payload[0];
-    m.kp = wire::get_f32(payload + 1);
-    m.ki = wire::get_f32(payload + 5);
-    m.kd = wire::get_f32(payload + 9);
-    m.kf = wire::get_f32(payload + 13);
-    return true;
-}
-
-uint8_t check_ranges(const SetPid& m) {
-    if (!(m.kp >= 0.0f && m.kp <= 1000.0f)) return 1;
-    if (!(m.ki >= 0.0f && m.ki <= 1000.0f)) return 2;
-    if (!(m.kd >= 0.0f && m.kd <= 1000.0f)) return 3;
-    if (!(m.kf >= 0.0f && m.kf <= 1000.0f)) return 4;
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const GetPid& m, uint8_t* payload) {
-    payload[0] = m.wheel;
-    return 1;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, GetPid& m) {
-    if (len != 1) return false;
-    m.wheel = payload[0];
-    return true;
-}
-
-uint8_t check_ranges(const GetPid& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const SetConfig& m, uint8_t* payload) {
-    wire::put_u16(payload + 0, m.watchdog_ms);
-    payload[2] = static_cast<uint8_t>(m.safe_state);
-    wire::put_u16(payload + 3, m.accel_limit_mm_s2);
-    wire::put_u16(payload + 5, m.decel_limit_mm_s2);
-    wire::put_u16(payload + 7, m.max_wheel_speed_mm_s);
-    wire::put_u16(payload + 9, m.max_effort_permille);
-    wire::put_u16(payload + 11, m.encoder_cpr);
-    payload[13] = m.encoder_invert;
-    payload[14] = m.motor_invert;
-    wire::put_u32(payload + 15, m.wheel_diameter_um);
-    wire::put_u16(payload + 19, m.steering_center_cdeg);
-    wire::put_u16(payload + 21, m.steering_min_cdeg);
-    wire::put_u16(payload + 23, m.steering_max_cdeg);
-    wire::put_u16(payload + 25, m.steering_step_cdeg);
-    wire::put_u16(payload + 27, m.servo_min_us);
-    wire::put_u16(payload + 29, m.servo_max_us);
-    wire::put_u16(payload + 31, m.esc_min_us);
-    wire::put_u16(payload + 33, m.esc_neutral_us);
-    wire::put_u16(payload + 35, m.esc_max_us);
-    wire::put_u16(payload + 37, m.esc_arm_ms);
-    payload[39] = m.feedback_hz;
-    return 40;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, SetConfig& m) {
-    if (len != 40) return false;
-    m.watchdog_ms = wire::get_u16(payload + 0);
-    if (!is_valid_SafeState(payload[2])) return false;
-    m.safe_state = static_cast<SafeState>(payload[2]);
-    m.accel_limit_mm_s2 = wire::get_u16(payload + 3);
-    m.decel_limit_mm_s2 = wire::get_u16(payload + 5);
-    m.max_wheel_speed_mm_s = wire::get_u16(payload + 7);
-    m.max_effort_permille = wire::get_u16(payload + 9);
-    m.encoder_cpr = wire::get_u16(payload + 11);
-    m.encoder_invert = payload[13];
-    m.motor_invert = payload[14];
-    m.wheel_diameter_um = wire::get_u32(payload + 15);
-    m.steering_center_cdeg = wire::get_u16(payload + 19);
-    m.steering_min_cdeg = wire::get_u16(payload + 21);
-    m.steering_max_cdeg = wire::get_u16(payload + 23);
-    m.steering_step_cdeg = wire::get_u16(payload + 25);
-    m.servo_min_us = wire::get_u16(payload + 27);
-    m.servo_max_us = wire::get_u16(payload + 29);
-    m.esc_min_us = wire::get_u16(payload + 31);
-    m.esc_neutral_us = wire::get_u16(payload + 33);
-    m.esc_max_us = wire::get_u16(payload + 35);
-    m.esc_arm_ms = wire::get_u16(payload + 37);
-    m.feedback_hz = payload[39];
-    return true;
-}
-
-uint8_t check_ranges(const SetConfig& m) {
-    if (m.watchdog_ms < 50 || m.watchdog_ms > 2000) return 0;
-    if (m.accel_limit_mm_s2 < 1) return 2;
-    if (m.decel_limit_mm_s2 < 1) return 3;
-    if (m.max_wheel_speed_mm_s < 1 || m.max_wheel_speed_mm_s > 20000) return 4;
-    if (m.max_effort_permille > 1000) return 5;
-    if (m.encoder_cpr < 1) return 6;
-    if (m.encoder_invert > 3) return 7;
-    if (m.motor_invert > 3) return 8;
-    if (m.wheel_diameter_um < 1000UL || m.wheel_diameter_um > 1000000UL) return 9;
-    if (m.steering_center_cdeg > 18000) return 10;
-    if (m.steering_min_cdeg > 18000) return 11;
-    if (m.steering_max_cdeg > 18000) return 12;
-    if (m.steering_step_cdeg > 9000) return 13;
-    if (m.servo_min_us < 400 || m.servo_min_us > 2600) return 14;
-    if (m.servo_max_us < 400 || m.servo_max_us > 2600) return 15;
-    if (m.esc_min_us < 800 || m.esc_min_us > 2200) return 16;
-    if (m.esc_neutral_us < 800 || m.esc_neutral_us > 2200) return 17;
-    if (m.esc_max_us < 800 || m.esc_max_us > 2200) return 18;
-    if (m.esc_arm_ms > 10000) return 19;
-    if (m.feedback_hz < 1 || m.feedback_hz > 100) return 20;
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const GetConfig& /*m*/, uint8_t* payload) {
-    (void)payload;
-    return 0;
-}
-
-bool unpack(const uint8_t* /*payload*/, uint8_t len, GetConfig& /*m*/) {
-    if (len != 0) return false;
-    return true;
-}
-
-uint8_t check_ranges(const GetConfig& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const SaveConfig& /*m*/, uint8_t* payload) {
-    (void)payload;
-    return 0;
-}
-
-bool unpack(const uint8_t* /*payload*/, uint8_t len, SaveConfig& /*m*/) {
-    if (len != 0) return false;
-    return true;
-}
-
-uint8_t check_ranges(const SaveConfig& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const ResetOdometry& /*m*/, uint8_t* payload) {
-    (void)payload;
-    return 0;
-}
-
-bool unpack(const uint8_t* /*payload*/, uint8_t len, ResetOdometry& /*m*/) {
-    if (len != 0) return false;
-    return true;
-}
-
-uint8_t check_ranges(const ResetOdometry& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const GetLinkStats& /*m*/, uint8_t* payload) {
-    (void)payload;
-    return 0;
-}
-
-bool unpack(const uint8_t* /*payload*/, uint8_t len, GetLinkStats& /*m*/) {
-    if (len != 0) return false;
-    return true;
-}
-
-uint8_t check_ranges(const GetLinkStats& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const SetWheelSpeeds& m, uint8_t* payload) {
-    wire::put_i16(payload + 0, m.left_mm_s);
-    wire::put_i16(payload + 2, m.right_mm_s);
-    return 4;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, SetWheelSpeeds& m) {
-    if (len != 4) return false;
-    m.left_mm_s = wire::get_i16(payload + 0);
-    m.right_mm_s = wire::get_i16(payload + 2);
-    return true;
-}
-
-uint8_t check_ranges(const SetWheelSpeeds& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const SetAckermann& m, uint8_t* payload) {
-    wire::put_i16(payload + 0, m.speed_mm_s);
-    wire::put_i16(payload + 2, m.steering_mrad);
-    return 4;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, SetAckermann& m) {
-    if (len != 4) return false;
-    m.speed_mm_s = wire::get_i16(payload + 0);
-    m.steering_mrad = wire::get_i16(payload + 2);
-    return true;
-}
-
-uint8_t check_ranges(const SetAckermann& m) {
-    if (m.steering_mrad < -1571 || m.steering_mrad > 1571) return 1;
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const Identity& m, uint8_t* payload) {
-    payload[0] = m.protocol_version;
-    wire::put_u32(payload + 1, m.spec_hash);
-    for (uint8_t i = 0; i < 3; ++i) {
-        payload[5 + i * 1] = m.firmware_version[i];
-    }
-    payload[8] = static_cast<uint8_t>(m.board);
-    wire::put_u16(payload + 9, m.capabilities);
-    wire::put_u32(payload + 11, m.boot_id);
-    wire::put_u32(payload + 15, m.uptime_ms);
-    payload[19] = static_cast<uint8_t>(m.reason);
-    payload[20] = m.hello_seq;
-    wire::put_u16(payload + 21, m.watchdog_ms);
-    payload[23] = static_cast<uint8_t>(m.feedback_mode);
-    payload[24] = m.feedback_hz;
-    const uint8_t n = m.robot_name_len < 24 ? m.robot_name_len : 24;
-    for (uint8_t i = 0; i < n; ++i) payload[25 + i] = static_cast<uint8_t>(m.robot_name[i]);
-    return static_cast<uint8_t>(25 + n);
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, Identity& m) {
-    if (len < 25 || len > 49) return false;
-    m.protocol_version = payload[0];
-    m.spec_hash = wire::get_u32(payload + 1);
-    for (uint8_t i = 0; i < 3; ++i) {
-        m.firmware_version[i] = payload[5 + i * 1];
-    }
-    if (!is_valid_Board(payload[8])) return false;
-    m.board = static_cast<Board>(payload[8]);
-    m.capabilities = wire::get_u16(payload + 9);
-    if (m.capabilities & static_cast<uint16_t>(~Capability::MASK)) return false;
-    m.boot_id = wire::get_u32(payload + 11);
-    m.uptime_ms = wire::get_u32(payload + 15);
-    if (!is_valid_IdentityReason(payload[19])) return false;
-    m.reason = static_cast<IdentityReason>(payload[19]);
-    m.hello_seq = payload[20];
-    m.watchdog_ms = wire::get_u16(payload + 21);
-    if (!is_valid_FeedbackMode(payload[23])) return false;
-    m.feedback_mode = static_cast<FeedbackMode>(payload[23]);
-    m.feedback_hz = payload[24];
-    m.robot_name_len = static_cast<uint8_t>(len - 25);
-    for (uint8_t i = 0; i < m.robot_name_len; ++i) {
-        if (payload[25 + i] > 0x7F) return false;  // ASCII only
-        m.robot_name[i] = static_cast<char>(payload[25 + i]);
-    }
-    return true;
-}
-
-uint8_t check_ranges(const Identity& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const Pong& m, uint8_t* payload) {
-    wire::put_u32(payload + 0, m.host_time_us);
-    wire::put_u32(payload + 4, m.mcu_time_us);
-    return 8;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, Pong& m) {
-    if (len != 8) return false;
-    m.host_time_us = wire::get_u32(payload + 0);
-    m.mcu_time_us = wire::get_u32(payload + 4);
-    return true;
-}
-
-uint8_t check_ranges(const Pong& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const Ack& m, uint8_t* payload) {
-    payload[0] = m.req_id;
-    payload[1] = m.req_seq;
-    return 2;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, Ack& m) {
-    if (len != 2) return false;
-    m.req_id = payload[0];
-    m.req_seq = payload[1];
-    return true;
-}
-
-uint8_t check_ranges(const Ack& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const Nack& m, uint8_t* payload) {
-    payload[0] = m.req_id;
-    payload[1] = m.req_seq;
-    payload[2] = static_cast<uint8_t>(m.reason);
-    payload[3] = m.detail;
-    return 4;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, Nack& m) {
-    if (len != 4) return false;
-    m.req_id = payload[0];
-    m.req_seq = payload[1];
-    if (!is_valid_NackReason(payload[2])) return false;
-    m.reason = static_cast<NackReason>(payload[2]);
-    m.detail = payload[3];
-    return true;
-}
-
-uint8_t check_ranges(const Nack& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const Pid& m, uint8_t* payload) {
-    payload[0] = m.req_seq;
-    payload[1] = m.wheel;
-    wire::put_f32(payload + 2, m.kp);
-    wire::put_f32(payload + 6, m.ki);
-    wire::put_f32(payload + 10, m.kd);
-    wire::put_f32(payload + 14, m.kf);
-    return 18;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, Pid& m) {
-    if (len != 18) return false;
-    m.req_seq = payload[0];
-    m.wheel = payload[1];
-    m.kp = wire::get_f32(payload + 2);
-    m.ki = wire::get_f32(payload + 6);
-    m.kd = wire::get_f32(payload + 10);
-    m.kf = wire::get_f32(payload + 14);
-    return true;
-}
-
-uint8_t check_ranges(const Pid& m) {
-    if (!(m.kp >= 0.0f && m.kp <= 1000.0f)) return 2;
-    if (!(m.ki >= 0.0f && m.ki <= 1000.0f)) return 3;
-    if (!(m.kd >= 0.0f && m.kd <= 1000.0f)) return 4;
-    if (!(m.kf >= 0.0f && m.kf <= 1000.0f)) return 5;
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const Config& m, uint8_t* payload) {
-    payload[0] = m.req_seq;
-    wire::put_u16(payload + 1, m.watchdog_ms);
-    payload[3] = static_cast<uint8_t>(m.safe_state);
-    wire::put_u16(payload + 4, m.accel_limit_mm_s2);
-    wire::put_u16(payload + 6, m.decel_limit_mm_s2);
-    wire::put_u16(payload + 8, m.max_wheel_speed_mm_s);
-    wire::put_u16(payload + 10, m.max_effort_permille);
-    wire::put_u16(payload + 12, m.encoder_cpr);
-    payload[14] = m.encoder_invert;
-    payload[15] = m.motor_invert;
-    wire::put_u32(payload + 16, m.wheel_diameter_um);
-    wire::put_u16(payload + 20, m.steering_center_cdeg);
-    wire::put_u16(payload + 22, m.steering_min_cdeg);
-    wire::put_u16(payload + 24, m.steering_max_cdeg);
-    wire::put_u16(payload + 26, m.steering_step_cdeg);
-    wire::put_u16(payload + 28, m.servo_min_us);
-    wire::put_u16(payload + 30, m.servo_max_us);
-    wire::put_u16(payload + 32, m.esc_min_us);
-    wire::put_u16(payload + 34, m.esc_neutral_us);
-    wire::put_u16(payload + 36, m.esc_max_us);
-    wire::put_u16(payload + 38, m.esc_arm_ms);
-    payload[40] = m.feedback_hz;
-    return 41;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, Config& m) {
-    if (len != 41) return false;
-    m.req_seq = payload[0];
-    m.watchdog_ms = wire::get_u16(payload + 1);
-    if (!is_valid_SafeState(payload[3])) return false;
-    m.safe_state = static_cast<SafeState>(payload[3]);
-    m.accel_limit_mm_s2 = wire::get_u16(payload + 4);
-    m.decel_limit_mm_s2 = wire::get_u16(payload + 6);
-    m.max_wheel_speed_mm_s = wire::get_u16(payload + 8);
-    m.max_effort_permille = wire::get_u16(payload + 10);
-    m.encoder_cpr = wire::get_u16(payload + 12);
-    m.encoder_invert = payload[14];
-    m.motor_invert = payload[15];
-    m.wheel_diameter_um = wire::get_u32(payload + 16);
-    m.steering_center_cdeg = wire::get_u16(payload + 20);
-    m.steering_min_cdeg = wire::get_u16(payload + 22);
-    m.steering_max_cdeg = wire::get_u16(payload + 24);
-    m.steering_step_cdeg = wire::get_u16(payload + 26);
-    m.servo_min_us = wire::get_u16(payload + 28);
-    m.servo_max_us = wire::get_u16(payload + 30);
-    m.esc_min_us = wire::get_u16(payload + 32);
-    m.esc_neutral_us = wire::get_u16(payload + 34);
-    m.esc_max_us = wire::get_u16(payload + 36);
-    m.esc_arm_ms = wire::get_u16(payload + 38);
-    m.feedback_hz = payload[40];
-    return true;
-}
-
-uint8_t check_ranges(const Config& m) {
-    if (m.watchdog_ms < 50 || m.watchdog_ms > 2000) return 1;
-    if (m.accel_limit_mm_s2 < 1) return 3;
-    if (m.decel_limit_mm_s2 < 1) return 4;
-    if (m.max_wheel_speed_mm_s < 1 || m.max_wheel_speed_mm_s > 20000) return 5;
-    if (m.max_effort_permille > 1000) return 6;
-    if (m.encoder_cpr < 1) return 7;
-    if (m.encoder_invert > 3) return 8;
-    if (m.motor_invert > 3) return 9;
-    if (m.wheel_diameter_um < 1000UL || m.wheel_diameter_um > 1000000UL) return 10;
-    if (m.steering_center_cdeg > 18000) return 11;
-    if (m.steering_min_cdeg > 18000) return 12;
-    if (m.steering_max_cdeg > 18000) return 13;
-    if (m.steering_step_cdeg > 9000) return 14;
-    if (m.servo_min_us < 400 || m.servo_min_us > 2600) return 15;
-    if (m.servo_max_us < 400 || m.servo_max_us > 2600) return 16;
-    if (m.esc_min_us < 800 || m.esc_min_us > 2200) return 17;
-    if (m.esc_neutral_us < 800 || m.esc_neutral_us > 2200) return 18;
-    if (m.esc_max_us < 800 || m.esc_max_us > 2200) return 19;
-    if (m.esc_arm_ms > 10000) return 20;
-    if (m.feedback_hz < 1 || m.feedback_hz > 100) return 21;
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const LinkStats& m, uint8_t* payload) {
-    payload[0] = m.req_seq;
-    wire::put_u32(payload + 1, m.frames_ok);
-    wire::put_u32(payload + 5, m.crc_errors);
-    wire::put_u32(payload + 9, m.cobs_errors);
-    wire::put_u32(payload + 13, m.length_errors);
-    wire::put_u32(payload + 17, m.unknown_ids);
-    wire::put_u32(payload + 21, m.value_errors);
-    wire::put_u32(payload + 25, m.seq_gaps);
-    wire::put_u32(payload + 29, m.bytes_discarded);
-    wire::put_u32(payload + 33, m.rx_overruns);
-    wire::put_u32(payload + 37, m.duplicates);
-    wire::put_u32(payload + 41, m.frames_sent);
-    return 45;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, LinkStats& m) {
-    if (len != 45) return false;
-    m.req_seq = payload[0];
-    m.frames_ok = wire::get_u32(payload + 1);
-    m.crc_errors = wire::get_u32(payload + 5);
-    m.cobs_errors = wire::get_u32(payload + 9);
-    m.length_errors = wire::get_u32(payload + 13);
-    m.unknown_ids = wire::get_u32(payload + 17);
-    m.value_errors = wire::get_u32(payload + 21);
-    m.seq_gaps = wire::get_u32(payload + 25);
-    m.bytes_discarded = wire::get_u32(payload + 29);
-    m.rx_overruns = wire::get_u32(payload + 33);
-    m.duplicates = wire::get_u32(payload + 37);
-    m.frames_sent = wire::get_u32(payload + 41);
-    return true;
-}
-
-uint8_t check_ranges(const LinkStats& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const Feedback& m, uint8_t* payload) {
-    wire::put_u32(payload + 0, m.boot_id);
-    wire::put_u32(payload + 4, m.mcu_time_us);
-    wire::put_u16(payload + 8, m.tick);
-    payload[10] = m.ack_seq;
-    wire::put_u16(payload + 11, m.ack_tick);
-    payload[13] = m.status;
-    payload[14] = static_cast<uint8_t>(m.failsafe_reason);
-    for (uint8_t i = 0; i < 2; ++i) {
-        wire::put_i32(payload + 15 + i * 4, m.encoder_counts[i]);
-    }
-    for (uint8_t i = 0; i < 2; ++i) {
-        wire::put_i16(payload + 23 + i * 2, m.wheel_speed_mm_s[i]);
-    }
-    for (uint8_t i = 0; i < 2; ++i) {
-        wire::put_i16(payload + 27 + i * 2, m.effort_permille[i]);
-    }
-    wire::put_i16(payload + 31, m.steering_mrad);
-    return 33;
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, Feedback& m) {
-    if (len != 33) return false;
-    m.boot_id = wire::get_u32(payload + 0);
-    m.mcu_time_us = wire::get_u32(payload + 4);
-    m.tick = wire::get_u16(payload + 8);
-    m.ack_seq = payload[10];
-    m.ack_tick = wire::get_u16(payload + 11);
-    m.status = payload[13];
-    if (m.status & static_cast<uint8_t>(~Status::MASK)) return false;
-    if (!is_valid_FailsafeReason(payload[14])) return false;
-    m.failsafe_reason = static_cast<FailsafeReason>(payload[14]);
-    for (uint8_t i = 0; i < 2; ++i) {
-        m.encoder_counts[i] = wire::get_i32(payload + 15 + i * 4);
-    }
-    for (uint8_t i = 0; i < 2; ++i) {
-        m.wheel_speed_mm_s[i] = wire::get_i16(payload + 23 + i * 2);
-    }
-    for (uint8_t i = 0; i < 2; ++i) {
-        m.effort_permille[i] = wire::get_i16(payload + 27 + i * 2);
-    }
-    m.steering_mrad = wire::get_i16(payload + 31);
-    return true;
-}
-
-uint8_t check_ranges(const Feedback& m) {
-    for (uint8_t k = 0; k < 2; ++k) {
-        if (m.effort_permille[k] < -1000 || m.effort_permille[k] > 1000) return 9;
-    }
-    if (m.steering_mrad < -1571 || m.steering_mrad > 1571) return 10;
-    return ALL_FIELDS_VALID;
-}
-
-uint8_t pack(const Log& m, uint8_t* payload) {
-    payload[0] = static_cast<uint8_t>(m.level);
-    const uint8_t n = m.text_len < 60 ? m.text_len : 60;
-    for (uint8_t i = 0; i < n; ++i) payload[1 + i] = static_cast<uint8_t>(m.text[i]);
-    return static_cast<uint8_t>(1 + n);
-}
-
-bool unpack(const uint8_t* payload, uint8_t len, Log& m) {
-    if (len < 1 || len > 61) return false;
-    if (!is_valid_LogLevel(payload[0])) return false;
-    m.level = static_cast<LogLevel>(payload[0]);
-    m.text_len = static_cast<uint8_t>(len - 1);
-    for (uint8_t i = 0; i < m.text_len; ++i) {
-        if (payload[1 + i] > 0x7F) return false;  // ASCII only
-        m.text[i] = static_cast<char>(payload[1 + i]);
-    }
-    return true;
-}
-
-uint8_t check_ranges(const Log& /*m*/) {
-    return ALL_FIELDS_VALID;
-}
+    return false;
+}
+
+// Layouts (codec/layout.h): PAYLOAD_SIZE, PAYLOAD_MAX, field count, then per field its code,
+// its offset in the struct, [count | 0, max_len, offset of <name>_len], [check data, LE].
+// HELLO: payload 9..9 bytes, 5 fields.
+const uint8_t HELLO_LAYOUT[] ROVERLINK_PROGMEM = {
+    9, 9, 5,
+    layout::WIRE_U8, offsetof(Hello, protocol_version),  // 0 protocol_version
+    layout::WIRE_U32, offsetof(Hello, spec_hash),  // 1 spec_hash
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Hello, watchdog_ms), 0x00, 0x00, 0x60, 0xEA,  // 2 watchdog_ms: 0..60000
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Hello, feedback_mode), 0x00, 0x01,  // 3 feedback_mode: FeedbackMode 0..1
+    layout::WIRE_U8, offsetof(Hello, feedback_hz),  // 4 feedback_hz
+};
+
+// PING: payload 4..4 bytes, 1 fields.
+const uint8_t PING_LAYOUT[] ROVERLINK_PROGMEM = {
+    4, 4, 1,
+    layout::WIRE_U32, offsetof(Ping, host_time_us),  // 0 host_time_us
+};
+
+// ARM: payload 4..4 bytes, 1 fields.
+const uint8_t ARM_LAYOUT[] ROVERLINK_PROGMEM = {
+    4, 4, 1,
+    layout::WIRE_U32, offsetof(Arm, boot_id),  // 0 boot_id
+};
+
+// SET_PID: payload 17..17 bytes, 5 fields.
+const uint8_t SET_PID_LAYOUT[] ROVERLINK_PROGMEM = {
+    17, 17, 5,
+    layout::WIRE_U8, offsetof(SetPid, wheel),  // 0 wheel
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, kp), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 1 kp: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, ki), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 2 ki: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, kd), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 3 kd: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, kf), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 4 kf: 0.0f..1000.0f
+};
+
+// GET_PID: payload 1..1 bytes, 1 fields.
+const uint8_t GET_PID_LAYOUT[] ROVERLINK_PROGMEM = {
+    1, 1, 1,
+    layout::WIRE_U8, offsetof(GetPid, wheel),  // 0 wheel
+};
+
+// SET_CONFIG: payload 40..40 bytes, 21 fields.
+const uint8_t SET_CONFIG_LAYOUT[] ROVERLINK_PROGMEM = {
+    40, 40, 21,
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // 0 watchdog_ms: 50..2000
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(SetConfig, safe_state), 0x00, 0x02,  // 1 safe_state: SafeState 0..2
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, accel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // 2 accel_limit_mm_s2: 1..65535
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, decel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // 3 decel_limit_mm_s2: 1..65535
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, max_wheel_speed_mm_s), 0x01, 0x00, 0x20, 0x4E,  // 4 max_wheel_speed_mm_s: 1..20000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, max_effort_permille), 0x00, 0x00, 0xE8, 0x03,  // 5 max_effort_permille: 0..1000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, encoder_cpr), 0x01, 0x00, 0xFF, 0xFF,  // 6 encoder_cpr: 1..65535
+    layout::WIRE_U8 | layout::CHECK_RANGE, offsetof(SetConfig, encoder_invert), 0x00, 0x03,  // 7 encoder_invert: 0..3
+    layout::WIRE_U8 | layout::CHECK_RANGE, offsetof(SetConfig, motor_invert), 0x00, 0x03,  // 8 motor_invert: 0..3
+    layout::WIRE_U32 | layout::CHECK_RANGE, offsetof(SetConfig, wheel_diameter_um), 0xE8, 0x03, 0x00, 0x00, 0x40, 0x42, 0x0F, 0x00,  // 9 wheel_diameter_um: 1000..1000000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, steering_center_cdeg), 0x00, 0x00, 0x50, 0x46,  // 10 steering_center_cdeg: 0..18000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, steering_min_cdeg), 0x00, 0x00, 0x50, 0x46,  // 11 steering_min_cdeg: 0..18000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, steering_max_cdeg), 0x00, 0x00, 0x50, 0x46,  // 12 steering_max_cdeg: 0..18000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, steering_step_cdeg), 0x00, 0x00, 0x28, 0x23,  // 13 steering_step_cdeg: 0..9000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, servo_min_us), 0x90, 0x01, 0x28, 0x0A,  // 14 servo_min_us: 400..2600
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, servo_max_us), 0x90, 0x01, 0x28, 0x0A,  // 15 servo_max_us: 400..2600
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, esc_min_us), 0x20, 0x03, 0x98, 0x08,  // 16 esc_min_us: 800..2200
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, esc_neutral_us), 0x20, 0x03, 0x98, 0x08,  // 17 esc_neutral_us: 800..2200
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, esc_max_us), 0x20, 0x03, 0x98, 0x08,  // 18 esc_max_us: 800..2200
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, esc_arm_ms), 0x00, 0x00, 0x10, 0x27,  // 19 esc_arm_ms: 0..10000
+    layout::WIRE_U8 | layout::CHECK_RANGE, offsetof(SetConfig, feedback_hz), 0x01, 0x64,  // 20 feedback_hz: 1..100
+};
+
+// SET_WHEEL_SPEEDS: payload 4..4 bytes, 2 fields.
+const uint8_t SET_WHEEL_SPEEDS_LAYOUT[] ROVERLINK_PROGMEM = {
+    4, 4, 2,
+    layout::WIRE_I16, offsetof(SetWheelSpeeds, left_mm_s),  // 0 left_mm_s
+    layout::WIRE_I16, offsetof(SetWheelSpeeds, right_mm_s),  // 1 right_mm_s
+};
+
+// SET_ACKERMANN: payload 4..4 bytes, 2 fields.
+const uint8_t SET_ACKERMANN_LAYOUT[] ROVERLINK_PROGMEM = {
+    4, 4, 2,
+    layout::WIRE_I16, offsetof(SetAckermann, speed_mm_s),  // 0 speed_mm_s
+    layout::WIRE_I16 | layout::CHECK_RANGE, offsetof(SetAckermann, steering_mrad), 0xDD, 0xF9, 0x23, 0x06,  // 1 steering_mrad: -1571..1571
+};
+
+// IDENTITY: payload 25..49 bytes, 13 fields.
+const uint8_t IDENTITY_LAYOUT[] ROVERLINK_PROGMEM = {
+    25, 49, 13,
+    layout::WIRE_U8, offsetof(Identity, protocol_version),  // 0 protocol_version
+    layout::WIRE_U32, offsetof(Identity, spec_hash),  // 1 spec_hash
+    layout::WIRE_U8 | layout::ARRAY, offsetof(Identity, firmware_version), 3,  // 2 firmware_version
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Identity, board), 0x00, 0x04,  // 3 board: Board 0..4
+    layout::WIRE_U16 | layout::CHECK_FLAGS, offsetof(Identity, capabilities), 0xFF, 0x00,  // 4 capabilities: Capability bits 0xFF
+    layout::WIRE_U32, offsetof(Identity, boot_id),  // 5 boot_id
+    layout::WIRE_U32, offsetof(Identity, uptime_ms),  // 6 uptime_ms
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Identity, reason), 0x00, 0x02,  // 7 reason: IdentityReason 0..2
+    layout::WIRE_U8, offsetof(Identity, hello_seq),  // 8 hello_seq
+    layout::WIRE_U16, offsetof(Identity, watchdog_ms),  // 9 watchdog_ms
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Identity, feedback_mode), 0x00, 0x01,  // 10 feedback_mode: FeedbackMode 0..1
+    layout::WIRE_U8, offsetof(Identity, feedback_hz),  // 11 feedback_hz
+    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, offsetof(Identity, robot_name), 0, 24, offsetof(Identity, robot_name_len), 0x00, 0x7F,  // 12 robot_name: ASCII
+};
+
+// PONG: payload 8..8 bytes, 2 fields.
+const uint8_t PONG_LAYOUT[] ROVERLINK_PROGMEM = {
+    8, 8, 2,
+    layout::WIRE_U32, offsetof(Pong, host_time_us),  // 0 host_time_us
+    layout::WIRE_U32, offsetof(Pong, mcu_time_us),  // 1 mcu_time_us
+};
+
+// ACK: payload 2..2 bytes, 2 fields.
+const uint8_t ACK_LAYOUT[] ROVERLINK_PROGMEM = {
+    2, 2, 2,
+    layout::WIRE_U8, offsetof(Ack, req_id),  // 0 req_id
+    layout::WIRE_U8, offsetof(Ack, req_seq),  // 1 req_seq
+};
+
+// NACK: payload 4..4 bytes, 4 fields.
+const uint8_t NACK_LAYOUT[] ROVERLINK_PROGMEM = {
+    4, 4, 4,
+    layout::WIRE_U8, offsetof(Nack, req_id),  // 0 req_id
+    layout::WIRE_U8, offsetof(Nack, req_seq),  // 1 req_seq
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Nack, reason), 0x01, 0x09,  // 2 reason: NackReason 1..9
+    layout::WIRE_U8, offsetof(Nack, detail),  // 3 detail
+};
+
+// PID: payload 18..18 bytes, 6 fields.
+const uint8_t PID_LAYOUT[] ROVERLINK_PROGMEM = {
+    18, 18, 6,
+    layout::WIRE_U8, offsetof(Pid, req_seq),  // 0 req_seq
+    layout::WIRE_U8, offsetof(Pid, wheel),  // 1 wheel
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, kp), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 2 kp: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, ki), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 3 ki: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, kd), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 4 kd: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, kf), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 5 kf: 0.0f..1000.0f
+};
+
+// CONFIG: payload 41..41 bytes, 22 fields.
+const uint8_t CONFIG_LAYOUT[] ROVERLINK_PROGMEM = {
+    41, 41, 22,
+    layout::WIRE_U8, offsetof(Config, req_seq),  // 0 req_seq
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // 1 watchdog_ms: 50..2000
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Config, safe_state), 0x00, 0x02,  // 2 safe_state: SafeState 0..2
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, accel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // 3 accel_limit_mm_s2: 1..65535
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, decel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // 4 decel_limit_mm_s2: 1..65535
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, max_wheel_speed_mm_s), 0x01, 0x00, 0x20, 0x4E,  // 5 max_wheel_speed_mm_s: 1..20000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, max_effort_permille), 0x00, 0x00, 0xE8, 0x03,  // 6 max_effort_permille: 0..1000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, encoder_cpr), 0x01, 0x00, 0xFF, 0xFF,  // 7 encoder_cpr: 1..65535
+    layout::WIRE_U8 | layout::CHECK_RANGE, offsetof(Config, encoder_invert), 0x00, 0x03,  // 8 encoder_invert: 0..3
+    layout::WIRE_U8 | layout::CHECK_RANGE, offsetof(Config, motor_invert), 0x00, 0x03,  // 9 motor_invert: 0..3
+    layout::WIRE_U32 | layout::CHECK_RANGE, offsetof(Config, wheel_diameter_um), 0xE8, 0x03, 0x00, 0x00, 0x40, 0x42, 0x0F, 0x00,  // 10 wheel_diameter_um: 1000..1000000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, steering_center_cdeg), 0x00, 0x00, 0x50, 0x46,  // 11 steering_center_cdeg: 0..18000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, steering_min_cdeg), 0x00, 0x00, 0x50, 0x46,  // 12 steering_min_cdeg: 0..18000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, steering_max_cdeg), 0x00, 0x00, 0x50, 0x46,  // 13 steering_max_cdeg: 0..18000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, steering_step_cdeg), 0x00, 0x00, 0x28, 0x23,  // 14 steering_step_cdeg: 0..9000
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, servo_min_us), 0x90, 0x01, 0x28, 0x0A,  // 15 servo_min_us: 400..2600
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, servo_max_us), 0x90, 0x01, 0x28, 0x0A,  // 16 servo_max_us: 400..2600
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, esc_min_us), 0x20, 0x03, 0x98, 0x08,  // 17 esc_min_us: 800..2200
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, esc_neutral_us), 0x20, 0x03, 0x98, 0x08,  // 18 esc_neutral_us: 800..2200
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, esc_max_us), 0x20, 0x03, 0x98, 0x08,  // 19 esc_max_us: 800..2200
+    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, esc_arm_ms), 0x00, 0x00, 0x10, 0x27,  // 20 esc_arm_ms: 0..10000
+    layout::WIRE_U8 | layout::CHECK_RANGE, offsetof(Config, feedback_hz), 0x01, 0x64,  // 21 feedback_hz: 1..100
+};
+
+// LINK_STATS: payload 45..45 bytes, 12 fields.
+const uint8_t LINK_STATS_LAYOUT[] ROVERLINK_PROGMEM = {
+    45, 45, 12,
+    layout::WIRE_U8, offsetof(LinkStats, req_seq),  // 0 req_seq
+    layout::WIRE_U32, offsetof(LinkStats, frames_ok),  // 1 frames_ok
+    layout::WIRE_U32, offsetof(LinkStats, crc_errors),  // 2 crc_errors
+    layout::WIRE_U32, offsetof(LinkStats, cobs_errors),  // 3 cobs_errors
+    layout::WIRE_U32, offsetof(LinkStats, length_errors),  // 4 length_errors
+    layout::WIRE_U32, offsetof(LinkStats, unknown_ids),  // 5 unknown_ids
+    layout::WIRE_U32, offsetof(LinkStats, value_errors),  // 6 value_errors
+    layout::WIRE_U32, offsetof(LinkStats, seq_gaps),  // 7 seq_gaps
+    layout::WIRE_U32, offsetof(LinkStats, bytes_discarded),  // 8 bytes_discarded
+    layout::WIRE_U32, offsetof(LinkStats, rx_overruns),  // 9 rx_overruns
+    layout::WIRE_U32, offsetof(LinkStats, duplicates),  // 10 duplicates
+    layout::WIRE_U32, offsetof(LinkStats, frames_sent),  // 11 frames_sent
+};
+
+// FEEDBACK: payload 33..33 bytes, 11 fields.
+const uint8_t FEEDBACK_LAYOUT[] ROVERLINK_PROGMEM = {
+    33, 33, 11,
+    layout::WIRE_U32, offsetof(Feedback, boot_id),  // 0 boot_id
+    layout::WIRE_U32, offsetof(Feedback, mcu_time_us),  // 1 mcu_time_us
+    layout::WIRE_U16, offsetof(Feedback, tick),  // 2 tick
+    layout::WIRE_U8, offsetof(Feedback, ack_seq),  // 3 ack_seq
+    layout::WIRE_U16, offsetof(Feedback, ack_tick),  // 4 ack_tick
+    layout::WIRE_U8 | layout::CHECK_FLAGS, offsetof(Feedback, status), 0x7F,  // 5 status: Status bits 0x7F
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Feedback, failsafe_reason), 0x00, 0x04,  // 6 failsafe_reason: FailsafeReason 0..4
+    layout::WIRE_I32 | layout::ARRAY, offsetof(Feedback, encoder_counts), 2,  // 7 encoder_counts
+    layout::WIRE_I16 | layout::ARRAY, offsetof(Feedback, wheel_speed_mm_s), 2,  // 8 wheel_speed_mm_s
+    layout::WIRE_I16 | layout::CHECK_RANGE | layout::ARRAY, offsetof(Feedback, effort_permille), 2, 0x18, 0xFC, 0xE8, 0x03,  // 9 effort_permille: -1000..1000
+    layout::WIRE_I16 | layout::CHECK_RANGE, offsetof(Feedback, steering_mrad), 0xDD, 0xF9, 0x23, 0x06,  // 10 steering_mrad: -1571..1571
+};
+
+// LOG: payload 1..61 bytes, 2 fields.
+const uint8_t LOG_LAYOUT[] ROVERLINK_PROGMEM = {
+    1, 61, 2,
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Log, level), 0x00, 0x03,  // 0 level: LogLevel 0..3
+    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, offsetof(Log, text), 0, 60, offsetof(Log, text_len), 0x00, 0x7F,  // 1 text: ASCII
+};
 
 const uint8_t TRANSITIONS[TRANSITION_COUNT][6] ROVERLINK_PROGMEM = {
     {0, 0, GUARD_NONE, 1, 0x09, 0x00},  // BOOT INIT_DONE -> IDLE

@@ -1,23 +1,18 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
 // spec hash: 0x163FE6FE
-// RoverLink protocol: constants, enums, message structs, pack/unpack, dispatch, state table.
+// RoverLink protocol: constants, enums, message structs and layouts, pack/unpack, dispatch,
+// state table.
 #ifndef ROVERLINK_GENERATED_PROTOCOL_H
 #define ROVERLINK_GENERATED_PROTOCOL_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-#if defined(__AVR__)
-#include <avr/pgmspace.h>
-#define ROVERLINK_PROGMEM PROGMEM
-#define ROVERLINK_READ_BYTE(p) pgm_read_byte(p)
-#else
-#define ROVERLINK_PROGMEM
-#define ROVERLINK_READ_BYTE(p) (*(p))
-#endif
+// The runtime's layout walker (pack/unpack/check_ranges) and ROVERLINK_PROGMEM.
+#include "../codec/layout.h"
 
 // The runtime in src/codec/ refuses to compile against another API version (see codec.h).
-#define ROVERLINK_GENERATED_API_VERSION 1
+#define ROVERLINK_GENERATED_API_VERSION 2
 
 namespace roverlink {
 namespace proto {
@@ -55,7 +50,9 @@ enum class Board : uint8_t {
     UNO = 3,  // Arduino Uno (ATmega328P).
     MEGA2560 = 4,  // Arduino Mega 2560 (ATmega2560).
 };
-bool is_valid_Board(uint8_t value);
+inline bool is_valid_Board(uint8_t value) {
+    return value <= 4;
+}
 
 // What this firmware build can do.
 struct Capability {
@@ -77,7 +74,9 @@ enum class FeedbackMode : uint8_t {
     STREAM = 0,  // FEEDBACK at a fixed rate; setpoints whenever the host likes.
     LOCKSTEP = 1,  // Exactly one FEEDBACK answers each applied setpoint.
 };
-bool is_valid_FeedbackMode(uint8_t value);
+inline bool is_valid_FeedbackMode(uint8_t value) {
+    return value <= 1;
+}
 
 // What the motors do in FAILSAFE and when disarmed.
 enum class SafeState : uint8_t {
@@ -85,7 +84,9 @@ enum class SafeState : uint8_t {
     BRAKE = 1,  // Short-circuit brake (ESC: neutral).
     RAMP_DOWN = 2,  // Ramp wheel speed setpoints to zero at decel_limit_mm_s2, then coast.
 };
-bool is_valid_SafeState(uint8_t value);
+inline bool is_valid_SafeState(uint8_t value) {
+    return value <= 2;
+}
 
 // Why the firmware entered FAILSAFE (latched until the next ARM).
 enum class FailsafeReason : uint8_t {
@@ -95,7 +96,9 @@ enum class FailsafeReason : uint8_t {
     BAD_CONFIG = 3,  // The configuration is inconsistent.
     LOW_VOLTAGE = 4,  // Supply voltage below the safe limit.
 };
-bool is_valid_FailsafeReason(uint8_t value);
+inline bool is_valid_FailsafeReason(uint8_t value) {
+    return value <= 4;
+}
 
 // Why a request was refused.
 enum class NackReason : uint8_t {
@@ -109,7 +112,9 @@ enum class NackReason : uint8_t {
     INVALID_CONFIG = 8,  // Fields are in range but inconsistent; `detail` is the first bad field's index.
     ARMED = 9,  // Not allowed while armed (SAVE_CONFIG: EEPROM writes would stall the control loop).
 };
-bool is_valid_NackReason(uint8_t value);
+inline bool is_valid_NackReason(uint8_t value) {
+    return value >= 1 && value <= 9;
+}
 
 // Status bits carried in every FEEDBACK.
 struct Status {
@@ -131,7 +136,9 @@ enum class IdentityReason : uint8_t {
     HELLO_ACCEPTED = 1,  // Answer to a compatible HELLO: the session is open.
     HELLO_REJECTED = 2,  // Answer to a HELLO with another protocol version or spec hash: no session.
 };
-bool is_valid_IdentityReason(uint8_t value);
+inline bool is_valid_IdentityReason(uint8_t value) {
+    return value <= 2;
+}
 
 // Severity of a LOG frame.
 enum class LogLevel : uint8_t {
@@ -140,7 +147,9 @@ enum class LogLevel : uint8_t {
     WARN = 2,  // Something the user should look at.
     ERROR = 3,  // Something failed.
 };
-bool is_valid_LogLevel(uint8_t value);
+inline bool is_valid_LogLevel(uint8_t value) {
+    return value <= 3;
+}
 
 // Length rule of a msg_id: payload of min_payload..max_payload bytes.
 struct MessageBounds {
@@ -148,7 +157,7 @@ struct MessageBounds {
     uint8_t min_payload;
     uint8_t max_payload;
 };
-// False for an msg_id the spec does not define.
+// False for an msg_id the spec does not define (a table lookup).
 bool message_bounds(uint8_t msg_id, MessageBounds& out);
 
 // Returned by check_ranges() when every field is inside its spec range.
@@ -163,35 +172,53 @@ struct Hello {
     FeedbackMode feedback_mode;  // Stream or lockstep feedback.
     uint8_t feedback_hz;  // Requested stream rate; 0 = stored default. Clamped to 1..FEEDBACK_HZ_MAX. [Hz]
 };
-uint8_t pack(const Hello& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, Hello& m);  // false: wrong length or value
-uint8_t check_ranges(const Hello& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t HELLO_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const Hello& m, uint8_t* payload) { return layout::pack(HELLO_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, Hello& m) {
+    return layout::unpack(HELLO_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const Hello& m) { return layout::check_ranges(HELLO_LAYOUT, &m); }
 
 // PING (0x02, host to mcu, session): Time-sync probe; answered by PONG.
 struct Ping {
     enum : uint8_t { ID = 0x02, CRC_EXTRA = 0x8B, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
     uint32_t host_time_us;  // Host clock at send time (low 32 bits), echoed in PONG. [us]
 };
-uint8_t pack(const Ping& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, Ping& m);  // false: wrong length or value
-uint8_t check_ranges(const Ping& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t PING_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const Ping& m, uint8_t* payload) { return layout::pack(PING_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, Ping& m) {
+    return layout::unpack(PING_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const Ping&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // ARM (0x10, host to mcu, reliable): Enables the motors and clears a latched FAILSAFE. Refused unless boot_id names the running boot, so an ARM from a previous session is never applied.
 struct Arm {
     enum : uint8_t { ID = 0x10, CRC_EXTRA = 0x2A, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
     uint32_t boot_id;  // boot_id from this session's IDENTITY.
 };
-uint8_t pack(const Arm& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, Arm& m);  // false: wrong length or value
-uint8_t check_ranges(const Arm& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t ARM_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const Arm& m, uint8_t* payload) { return layout::pack(ARM_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, Arm& m) {
+    return layout::unpack(ARM_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const Arm&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // DISARM (0x11, host to mcu, reliable): Disables the motors (safe state) and clears a latched FAILSAFE.
 struct Disarm {
     enum : uint8_t { ID = 0x11, CRC_EXTRA = 0x95, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
 };
-uint8_t pack(const Disarm& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, Disarm& m);  // false: wrong length or value
-uint8_t check_ranges(const Disarm& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+inline uint8_t pack(const Disarm&, uint8_t*) { return 0; }
+inline bool unpack(const uint8_t*, uint8_t len, Disarm&) { return len == 0; }
+inline uint8_t check_ranges(const Disarm&) { return ALL_FIELDS_VALID; }
 
 // SET_PID (0x12, host to mcu, reliable): Sets the velocity PID gains of one wheel (or all). Takes effect at the next control tick; the integrator is reset.
 struct SetPid {
@@ -202,18 +229,30 @@ struct SetPid {
     float kd;  // Derivative gain, on the measurement. [permille/(mm/s^2)]
     float kf;  // Feed-forward gain on the setpoint. [permille/(mm/s)]
 };
-uint8_t pack(const SetPid& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, SetPid& m);  // false: wrong length or value
-uint8_t check_ranges(const SetPid& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t SET_PID_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const SetPid& m, uint8_t* payload) { return layout::pack(SET_PID_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, SetPid& m) {
+    return layout::unpack(SET_PID_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const SetPid& m) { return layout::check_ranges(SET_PID_LAYOUT, &m); }
 
 // GET_PID (0x13, host to mcu, reliable): Asks for one wheel's PID gains; answered by PID.
 struct GetPid {
     enum : uint8_t { ID = 0x13, CRC_EXTRA = 0x6F, PAYLOAD_SIZE = 1, PAYLOAD_MAX = 1 };
     uint8_t wheel;  // Wheel index (0..WHEEL_COUNT-1).
 };
-uint8_t pack(const GetPid& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, GetPid& m);  // false: wrong length or value
-uint8_t check_ranges(const GetPid& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t GET_PID_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const GetPid& m, uint8_t* payload) { return layout::pack(GET_PID_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, GetPid& m) {
+    return layout::unpack(GET_PID_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const GetPid&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // SET_CONFIG (0x14, host to mcu, reliable): Replaces the whole configuration (read it with GET_CONFIG, change, send back). Validated as a whole: NACK(OUT_OF_RANGE or INVALID_CONFIG, detail = field index) leaves the old one in place.
 struct SetConfig {
@@ -240,41 +279,47 @@ struct SetConfig {
     uint16_t esc_arm_ms;  // Arming sequence: neutral pulses held at boot before the ESC is driven. [ms]
     uint8_t feedback_hz;  // Default stream feedback rate. [Hz]
 };
-uint8_t pack(const SetConfig& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, SetConfig& m);  // false: wrong length or value
-uint8_t check_ranges(const SetConfig& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t SET_CONFIG_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const SetConfig& m, uint8_t* payload) { return layout::pack(SET_CONFIG_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, SetConfig& m) {
+    return layout::unpack(SET_CONFIG_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const SetConfig& m) { return layout::check_ranges(SET_CONFIG_LAYOUT, &m); }
 
 // GET_CONFIG (0x15, host to mcu, reliable): Asks for the configuration; answered by CONFIG.
 struct GetConfig {
     enum : uint8_t { ID = 0x15, CRC_EXTRA = 0x59, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
 };
-uint8_t pack(const GetConfig& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, GetConfig& m);  // false: wrong length or value
-uint8_t check_ranges(const GetConfig& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+inline uint8_t pack(const GetConfig&, uint8_t*) { return 0; }
+inline bool unpack(const uint8_t*, uint8_t len, GetConfig&) { return len == 0; }
+inline uint8_t check_ranges(const GetConfig&) { return ALL_FIELDS_VALID; }
 
 // SAVE_CONFIG (0x16, host to mcu, reliable): Writes configuration and PID gains to EEPROM with a version and CRC; ACK after read-back verification.
 struct SaveConfig {
     enum : uint8_t { ID = 0x16, CRC_EXTRA = 0x34, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
 };
-uint8_t pack(const SaveConfig& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, SaveConfig& m);  // false: wrong length or value
-uint8_t check_ranges(const SaveConfig& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+inline uint8_t pack(const SaveConfig&, uint8_t*) { return 0; }
+inline bool unpack(const uint8_t*, uint8_t len, SaveConfig&) { return len == 0; }
+inline uint8_t check_ranges(const SaveConfig&) { return ALL_FIELDS_VALID; }
 
 // RESET_ODOMETRY (0x17, host to mcu, reliable): Sets the cumulative encoder counts to zero.
 struct ResetOdometry {
     enum : uint8_t { ID = 0x17, CRC_EXTRA = 0x85, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
 };
-uint8_t pack(const ResetOdometry& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, ResetOdometry& m);  // false: wrong length or value
-uint8_t check_ranges(const ResetOdometry& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+inline uint8_t pack(const ResetOdometry&, uint8_t*) { return 0; }
+inline bool unpack(const uint8_t*, uint8_t len, ResetOdometry&) { return len == 0; }
+inline uint8_t check_ranges(const ResetOdometry&) { return ALL_FIELDS_VALID; }
 
 // GET_LINK_STATS (0x18, host to mcu, reliable): Asks for the firmware's link counters; answered by LINK_STATS.
 struct GetLinkStats {
     enum : uint8_t { ID = 0x18, CRC_EXTRA = 0x6C, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
 };
-uint8_t pack(const GetLinkStats& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, GetLinkStats& m);  // false: wrong length or value
-uint8_t check_ranges(const GetLinkStats& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+inline uint8_t pack(const GetLinkStats&, uint8_t*) { return 0; }
+inline bool unpack(const uint8_t*, uint8_t len, GetLinkStats&) { return len == 0; }
+inline uint8_t check_ranges(const GetLinkStats&) { return ALL_FIELDS_VALID; }
 
 // SET_WHEEL_SPEEDS (0x20, host to mcu, setpoint): Differential-drive setpoint: target speed of each wheel's rim. Latest wins; applied at the next control tick.
 struct SetWheelSpeeds {
@@ -282,9 +327,15 @@ struct SetWheelSpeeds {
     int16_t left_mm_s;  // Left wheel target speed, positive forward. [mm/s]
     int16_t right_mm_s;  // Right wheel target speed, positive forward. [mm/s]
 };
-uint8_t pack(const SetWheelSpeeds& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, SetWheelSpeeds& m);  // false: wrong length or value
-uint8_t check_ranges(const SetWheelSpeeds& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t SET_WHEEL_SPEEDS_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const SetWheelSpeeds& m, uint8_t* payload) { return layout::pack(SET_WHEEL_SPEEDS_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, SetWheelSpeeds& m) {
+    return layout::unpack(SET_WHEEL_SPEEDS_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const SetWheelSpeeds&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // SET_ACKERMANN (0x21, host to mcu, setpoint): Ackermann setpoint: drive speed and front-wheel steering angle. Latest wins; applied at the next control tick.
 struct SetAckermann {
@@ -292,9 +343,15 @@ struct SetAckermann {
     int16_t speed_mm_s;  // Target speed at the rear axle, positive forward. [mm/s]
     int16_t steering_mrad;  // Front-wheel angle, positive turns left. [mrad]
 };
-uint8_t pack(const SetAckermann& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, SetAckermann& m);  // false: wrong length or value
-uint8_t check_ranges(const SetAckermann& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t SET_ACKERMANN_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const SetAckermann& m, uint8_t* payload) { return layout::pack(SET_ACKERMANN_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, SetAckermann& m) {
+    return layout::unpack(SET_ACKERMANN_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const SetAckermann& m) { return layout::check_ranges(SET_ACKERMANN_LAYOUT, &m); }
 
 // IDENTITY (0x81, mcu to host, session): Boot announcement (sent once, unsolicited, after reset) and the answer to every HELLO.
 struct Identity {
@@ -314,9 +371,15 @@ struct Identity {
     char robot_name[24];  // Name of the firmware example (ASCII).
     uint8_t robot_name_len;  // bytes used in robot_name
 };
-uint8_t pack(const Identity& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, Identity& m);  // false: wrong length or value
-uint8_t check_ranges(const Identity& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t IDENTITY_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const Identity& m, uint8_t* payload) { return layout::pack(IDENTITY_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, Identity& m) {
+    return layout::unpack(IDENTITY_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const Identity&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // PONG (0x82, mcu to host, session): Answer to PING.
 struct Pong {
@@ -324,9 +387,15 @@ struct Pong {
     uint32_t host_time_us;  // host_time_us of the PING. [us]
     uint32_t mcu_time_us;  // MCU clock when the PING was processed. [us]
 };
-uint8_t pack(const Pong& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, Pong& m);  // false: wrong length or value
-uint8_t check_ranges(const Pong& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t PONG_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const Pong& m, uint8_t* payload) { return layout::pack(PONG_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, Pong& m) {
+    return layout::unpack(PONG_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const Pong&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // ACK (0x83, mcu to host, reliable): A reliable request was applied (or was a duplicate of one already applied).
 struct Ack {
@@ -334,9 +403,15 @@ struct Ack {
     uint8_t req_id;  // msg_id of the request.
     uint8_t req_seq;  // seq of the request.
 };
-uint8_t pack(const Ack& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, Ack& m);  // false: wrong length or value
-uint8_t check_ranges(const Ack& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t ACK_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const Ack& m, uint8_t* payload) { return layout::pack(ACK_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, Ack& m) {
+    return layout::unpack(ACK_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const Ack&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // NACK (0x84, mcu to host, reliable): A request was refused. Also answers setpoints that cannot be applied.
 struct Nack {
@@ -346,9 +421,15 @@ struct Nack {
     NackReason reason;  // Why.
     uint8_t detail;  // Reason-specific: field index, FailsafeReason, ...
 };
-uint8_t pack(const Nack& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, Nack& m);  // false: wrong length or value
-uint8_t check_ranges(const Nack& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t NACK_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const Nack& m, uint8_t* payload) { return layout::pack(NACK_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, Nack& m) {
+    return layout::unpack(NACK_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const Nack&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // PID (0x85, mcu to host, reliable): Answer to GET_PID.
 struct Pid {
@@ -360,9 +441,15 @@ struct Pid {
     float kd;  // Derivative gain, on the measurement. [permille/(mm/s^2)]
     float kf;  // Feed-forward gain on the setpoint. [permille/(mm/s)]
 };
-uint8_t pack(const Pid& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, Pid& m);  // false: wrong length or value
-uint8_t check_ranges(const Pid& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t PID_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const Pid& m, uint8_t* payload) { return layout::pack(PID_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, Pid& m) {
+    return layout::unpack(PID_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const Pid& m) { return layout::check_ranges(PID_LAYOUT, &m); }
 
 // CONFIG (0x86, mcu to host, reliable): Answer to GET_CONFIG.
 struct Config {
@@ -390,9 +477,15 @@ struct Config {
     uint16_t esc_arm_ms;  // Arming sequence: neutral pulses held at boot before the ESC is driven. [ms]
     uint8_t feedback_hz;  // Default stream feedback rate. [Hz]
 };
-uint8_t pack(const Config& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, Config& m);  // false: wrong length or value
-uint8_t check_ranges(const Config& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t CONFIG_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const Config& m, uint8_t* payload) { return layout::pack(CONFIG_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, Config& m) {
+    return layout::unpack(CONFIG_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const Config& m) { return layout::check_ranges(CONFIG_LAYOUT, &m); }
 
 // LINK_STATS (0x87, mcu to host, reliable): Answer to GET_LINK_STATS: the firmware's receive and transmit counters since boot.
 struct LinkStats {
@@ -410,9 +503,15 @@ struct LinkStats {
     uint32_t duplicates;  // Reliable requests received again (answered, not re-applied).
     uint32_t frames_sent;  // Frames sent.
 };
-uint8_t pack(const LinkStats& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, LinkStats& m);  // false: wrong length or value
-uint8_t check_ranges(const LinkStats& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t LINK_STATS_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const LinkStats& m, uint8_t* payload) { return layout::pack(LINK_STATS_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, LinkStats& m) {
+    return layout::unpack(LINK_STATS_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const LinkStats&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // FEEDBACK (0x90, mcu to host, telemetry): Robot state at one control tick: in stream mode at the session rate, in lockstep mode once per applied setpoint.
 struct Feedback {
@@ -429,9 +528,15 @@ struct Feedback {
     int16_t effort_permille[2];  // Motor efforts applied (negative: reverse). [0.1 %]
     int16_t steering_mrad;  // Front-wheel angle commanded to the servo (0 without steering). [mrad]
 };
-uint8_t pack(const Feedback& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, Feedback& m);  // false: wrong length or value
-uint8_t check_ranges(const Feedback& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t FEEDBACK_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const Feedback& m, uint8_t* payload) { return layout::pack(FEEDBACK_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, Feedback& m) {
+    return layout::unpack(FEEDBACK_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const Feedback& m) { return layout::check_ranges(FEEDBACK_LAYOUT, &m); }
 
 // LOG (0x91, mcu to host, telemetry): A short text from the firmware. The firmware never prints text on the port; this is its only text channel.
 struct Log {
@@ -440,9 +545,15 @@ struct Log {
     char text[60];  // ASCII text.
     uint8_t text_len;  // bytes used in text
 };
-uint8_t pack(const Log& m, uint8_t* payload);  // returns the payload length
-bool unpack(const uint8_t* payload, uint8_t len, Log& m);  // false: wrong length or value
-uint8_t check_ranges(const Log& m);  // index of the first field out of range, or ALL_FIELDS_VALID
+extern const uint8_t LOG_LAYOUT[] ROVERLINK_PROGMEM;
+// Returns the payload length.
+inline uint8_t pack(const Log& m, uint8_t* payload) { return layout::pack(LOG_LAYOUT, &m, payload); }
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, Log& m) {
+    return layout::unpack(LOG_LAYOUT, payload, len, &m);
+}
+// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+inline uint8_t check_ranges(const Log&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 enum DispatchResult : uint8_t {
     DISPATCH_OK = 0,
