@@ -327,11 +327,13 @@ def _check(f: Field) -> tuple[str, list[int], str]:
         lo, hi = values[0], values[-1]
         if values == list(range(lo, hi + 1)):
             return "CHECK_VALUES", _le(lo, width) + _le(hi, width), f"{f.enum.name} {lo}..{hi}"
+        if hi - lo > 255:
+            raise ValueError(f"{f.enum.name}: values spread over more than 256 need a CHECK_VALUE_SET extension")
         bitmap = [0] * ((hi - lo) // 8 + 1)
         for v in values:
             bitmap[(v - lo) // 8] |= 1 << ((v - lo) % 8)
         text = f"{f.enum.name} {', '.join(str(v) for v in values)}"
-        return "CHECK_VALUE_SET", [*_le(lo, width), len(bitmap), *bitmap], text
+        return "CHECK_VALUE_SET", [*_le(lo, width), *_le(hi, width), *bitmap], text
     if f.prim == "char":
         return "CHECK_VALUES", [0x00, 0x7F], "ASCII"
     if f.max_len is not None:

@@ -11,31 +11,29 @@ enum Op : uint8_t { PACK, UNPACK, CHECK };
 
 uint8_t flash_byte(const uint8_t* p) { return ROVERLINK_READ_BYTE(p); }
 
-// `w` little-endian bytes of check data, from flash.
-uint32_t flash_le(const uint8_t* p, uint8_t w) {
-    uint32_t v = 0;
-    while (w-- > 0) {
-        v = (v << 8) | flash_byte(p + w);
-    }
-    return v;
-}
-
-// One struct member of `w` bytes, through a variable of its own width (any host byte order).
-uint32_t load_member(const uint8_t* m, uint8_t w) {
-    if (w == 1) {
-        return *m;
-    }
-    if (w == 2) {
-        uint16_t v;
-        memcpy(&v, m, sizeof v);
-        return v;
-    }
+// Struct member <-> its w bytes little-endian, through a variable of the member's width and
+// shifts, so the wire is the same whatever the host's byte order.
+void member_to_le(const uint8_t* m, uint8_t w, uint8_t* le) {
     uint32_t v;
-    memcpy(&v, m, sizeof v);
-    return v;
+    if (w == 1) {
+        v = *m;
+    } else if (w == 2) {
+        uint16_t x;
+        memcpy(&x, m, sizeof x);
+        v = x;
+    } else {
+        memcpy(&v, m, sizeof v);
+    }
+    for (uint8_t i = 0; i < w; ++i, v >>= 8) {
+        le[i] = static_cast<uint8_t>(v);
+    }
 }
 
-void store_member(uint8_t* m, uint8_t w, uint32_t v) {
+void le_to_member(const uint8_t* le, uint8_t w, uint8_t* m) {
+    uint32_t v = 0;
+    for (uint8_t i = w; i-- > 0;) {
+        v = (v << 8) | le[i];
+    }
     if (w == 1) {
         *m = static_cast<uint8_t>(v);
     } else if (w == 2) {
@@ -46,50 +44,77 @@ void store_member(uint8_t* m, uint8_t w, uint32_t v) {
     }
 }
 
-// An element's bits (zero-extended from its width w) as a number whose unsigned order is the
-// order of the values, so every range check is an integer comparison. NaN maps to 0, below the
-// low end of every float range (the generator never writes a NaN bound).
-uint32_t order_key(uint8_t code, uint8_t w, uint32_t raw) {
-    switch (code & KIND_MASK) {
-    case KIND_SIGNED: {
-        const uint32_t sign = 1UL << (8u * w - 1u);
-        return ((raw ^ sign) - sign) ^ 0x80000000UL;  // sign-extended, then zero moved to the middle
-    }
-    case KIND_FLOAT:
-        if ((raw << 1) > 0xFF000000UL) {
-            return 0;  // NaN
+// Compares a value (w bytes little-endian, RAM) with a bound (the same, in flash) as numbers of
+// the field's kind: < 0, 0 or > 0. Both are mapped, from the top byte down, to keys whose
+// unsigned order is the numbers' order: signed: the sign bit flipped; f32 (sign and magnitude):
+// a positive value gets its sign bit set, a negative one has every bit inverted.
+int8_t compare(uint8_t code, const uint8_t* value, const uint8_t* bound, uint8_t w) {
+    const uint8_t kind = code & KIND_MASK;
+    uint8_t flip_v = 0;  // what the lower bytes are XORed with (f32: 0xFF when negative)
+    uint8_t flip_b = 0;
+    for (uint8_t i = w; i-- > 0;) {
+        uint8_t v = value[i] ^ flip_v;
+        uint8_t b = flash_byte(bound + i) ^ flip_b;
+        if (i == w - 1u && kind != KIND_UNSIGNED) {
+            if (kind == KIND_FLOAT) {
+                flip_v = (v & 0x80) ? 0xFF : 0x00;
+                flip_b = (b & 0x80) ? 0xFF : 0x00;
+            }
+            v ^= flip_v | 0x80;
+            b ^= flip_b | 0x80;
         }
-        if ((raw << 1) == 0) {
-            return 0x80000000UL;  // -0.0 == 0.0
+        if (v != b) {
+            return v < b ? -1 : 1;
         }
-        return (raw & 0x80000000UL) ? ~raw : (raw | 0x80000000UL);
-    default:
-        return raw;
     }
+    return 0;
 }
 
-// Whether element value `v` passes the field's check (data: its check data in flash).
-ROVERLINK_NOINLINE bool accepts(uint8_t code, const uint8_t* data, uint32_t v) {
+// Whether an element (w bytes little-endian) passes its field's check (data: in flash).
+bool accepts(uint8_t code, const uint8_t* data, uint8_t* value) {
     const uint8_t w = static_cast<uint8_t>(1u << (code & WIDTH_MASK));
-    const uint32_t first = flash_le(data, w);
+    const uint8_t check = code & CHECK_MASK;
+    if (check == CHECK_FLAGS) {
+        for (uint8_t i = 0; i < w; ++i) {
+            if (value[i] & ~flash_byte(data + i)) {
+                return false;
+            }
+        }
+        return true;
+    }
+    if ((code & KIND_MASK) == KIND_FLOAT) {
+        const uint8_t top = value[3] & 0x7F;
+        if (top == 0x7F && (value[2] & 0x80) && ((value[2] & 0x7F) | value[1] | value[0])) {
+            return false;  // NaN: outside every range
+        }
+        if ((top | value[2] | value[1] | value[0]) == 0) {
+            value[3] = 0;  // -0.0 == 0.0
+        }
+    }
+    if (compare(code, value, data, w) < 0 || compare(code, value, data + w, w) > 0) {
+        return false;
+    }
+    if (check == CHECK_VALUE_SET) {  // lo <= value <= hi, hi - lo < 256: the low bytes give the bit
+        const uint8_t k = static_cast<uint8_t>(value[0] - flash_byte(data));
+        return ((flash_byte(data + 2 * w + (k >> 3)) >> (k & 7u)) & 1u) != 0;
+    }
+    return true;
+}
+
+uint8_t check_size(uint8_t code, const uint8_t* data) {
+    const uint8_t w = static_cast<uint8_t>(1u << (code & WIDTH_MASK));
     switch (code & CHECK_MASK) {
+    case CHECK_NONE:
+        return 0;
     case CHECK_FLAGS:
-        return (v & ~first) == 0;
-    case CHECK_VALUE_SET: {
-        const uint32_t k = v - first;  // below `first`: wraps far past the bitmap
-        return k < 8u * flash_byte(data + w) && ((flash_byte(data + w + 1 + (k >> 3)) >> (k & 7u)) & 1u) != 0;
-    }
-    default: {  // CHECK_RANGE, CHECK_VALUES
-        const uint32_t key = order_key(code, w, v);
-        return key >= order_key(code, w, first) && key <= order_key(code, w, flash_le(data + w, w));
-    }
+        return w;
+    case CHECK_VALUE_SET:  // lo, hi, then the bitmap's (hi - lo) / 8 + 1 bytes
+        return static_cast<uint8_t>(2 * w + (static_cast<uint8_t>(flash_byte(data + w) - flash_byte(data)) >> 3) + 1);
+    default:
+        return static_cast<uint8_t>(2 * w);
     }
 }
 
-// The one walk over a layout's fields behind pack, unpack and check_ranges. PACK reads the
-// struct and writes the payload, UNPACK the other way round, CHECK only reads the struct. Returns
-// the index of the first field with an element that fails the operation's checks (PACK checks
-// nothing), else ALL_VALID; `len` is the payload length (in for UNPACK, out for PACK).
 uint8_t walk(Op op, const uint8_t* layout, uint8_t* base, uint8_t* payload, uint8_t& len) {
     const uint8_t* p = layout + HEADER_SIZE;
     const uint8_t fields = flash_byte(layout + 2);
@@ -102,15 +127,14 @@ uint8_t walk(Op op, const uint8_t* layout, uint8_t* base, uint8_t* payload, uint
         uint8_t count = 1;
         if (code & ARRAY) {
             count = flash_byte(p++);
-            if (count == 0) {  // the variable-length last field
+            if (count == 0) {
                 count = flash_byte(p++);
                 uint8_t* const used = base + flash_byte(p++);
                 if (op == UNPACK) {
-                    // The rest of the payload; unpack() checked len <= PAYLOAD_MAX, so it fits.
                     const uint8_t rest = static_cast<uint8_t>(len - pos);
                     count = static_cast<uint8_t>(rest >> log_w);
                     if (static_cast<uint8_t>(count << log_w) != rest) {
-                        return i;  // not a whole number of elements
+                        return i;
                     }
                     *used = count;
                 } else if (*used < count) {
@@ -120,32 +144,21 @@ uint8_t walk(Op op, const uint8_t* layout, uint8_t* base, uint8_t* payload, uint
         }
         const uint8_t check = code & CHECK_MASK;
         const uint8_t* const data = p;
-        if (check == CHECK_FLAGS) {
-            p += w;
-        } else if (check == CHECK_VALUE_SET) {
-            p += w + 1 + flash_byte(p + w);
-        } else if (check != CHECK_NONE) {
-            p += 2 * w;
-        }
+        p += check_size(code, p);
         const bool checked = op == CHECK ? check == CHECK_RANGE : op == UNPACK && check > CHECK_RANGE;
-        for (; count > 0; --count, m += w, pos = static_cast<uint8_t>(pos + w)) {
-            uint32_t v = 0;
+        for (; count > 0; --count, m += w) {
+            uint8_t scratch[4];
+            uint8_t* const wire = op == CHECK ? scratch : payload + pos;
             if (op == UNPACK) {
-                for (uint8_t k = w; k-- > 0;) {
-                    v = (v << 8) | payload[pos + k];
-                }
-                store_member(m, w, v);
+                le_to_member(wire, w, m);
             } else {
-                v = load_member(m, w);
-                if (op == PACK) {
-                    uint32_t out = v;
-                    for (uint8_t k = 0; k < w; ++k, out >>= 8) {
-                        payload[pos + k] = static_cast<uint8_t>(out);
-                    }
-                }
+                member_to_le(m, w, wire);
             }
-            if (checked && !accepts(code, data, v)) {
+            if (checked && !accepts(code, data, wire)) {
                 return i;
+            }
+            if (op != CHECK) {
+                pos = static_cast<uint8_t>(pos + w);
             }
         }
     }
@@ -155,8 +168,6 @@ uint8_t walk(Op op, const uint8_t* layout, uint8_t* base, uint8_t* payload, uint
 
 }  // namespace
 
-// walk() takes one mutable struct pointer and one mutable payload pointer for all three
-// operations; it writes only the struct in UNPACK and only the payload in PACK.
 uint8_t pack(const uint8_t* layout, const void* msg, uint8_t* payload) {
     uint8_t len = 0;
     walk(PACK, layout, const_cast<uint8_t*>(static_cast<const uint8_t*>(msg)), payload, len);

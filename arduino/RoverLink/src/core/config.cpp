@@ -10,25 +10,29 @@ static_assert(IMAGE_FIRST_CHUNK <= proto::MAX_FRAME, "the EEPROM image chunks us
 static_assert(IMAGE_ADDR >= BOOT_COUNTER_ADDR + 4, "the image must not overlap the boot counter");
 
 bool validate(const proto::SetConfig& c, proto::NackReason& reason, uint8_t& detail) {
-    const uint8_t bad = proto::check_ranges(c);
-    if (bad != proto::ALL_FIELDS_VALID) {
-        reason = proto::NackReason::OUT_OF_RANGE;
-        detail = bad;
-        return false;
+    detail = proto::check_ranges(c);
+    reason = proto::NackReason::OUT_OF_RANGE;
+    if (detail == proto::ALL_FIELDS_VALID) {
+        detail = inconsistent_field(c);
+        reason = proto::NackReason::INVALID_CONFIG;
     }
-    reason = proto::NackReason::INVALID_CONFIG;
+    return detail == proto::ALL_FIELDS_VALID;
+}
+
+uint8_t inconsistent_field(const proto::SetConfig& c) {
     if (c.steering_min_cdeg > c.steering_center_cdeg || c.steering_center_cdeg > c.steering_max_cdeg) {
-        detail = FIELD_STEERING_CENTER;
-    } else if (c.servo_min_us >= c.servo_max_us) {
-        detail = FIELD_SERVO_MIN;
-    } else if (c.esc_min_us >= c.esc_neutral_us) {
-        detail = FIELD_ESC_MIN;
-    } else if (c.esc_neutral_us >= c.esc_max_us) {
-        detail = FIELD_ESC_NEUTRAL;
-    } else {
-        return true;
+        return FIELD_STEERING_CENTER;
     }
-    return false;
+    if (c.servo_min_us >= c.servo_max_us) {
+        return FIELD_SERVO_MIN;
+    }
+    if (c.esc_min_us >= c.esc_neutral_us) {
+        return FIELD_ESC_MIN;
+    }
+    if (c.esc_neutral_us >= c.esc_max_us) {
+        return FIELD_ESC_NEUTRAL;
+    }
+    return proto::ALL_FIELDS_VALID;
 }
 
 namespace {

@@ -46,6 +46,10 @@ static const uint8_t FIELD_ESC_NEUTRAL = 17;
 //   esc_neutral_us < esc_max_us                        -> esc_neutral_us
 bool validate(const proto::SetConfig& c, proto::NackReason& reason, uint8_t& detail);
 
+// The consistency rules alone (the ranges already checked): the field index validate() would
+// give with INVALID_CONFIG, or proto::ALL_FIELDS_VALID.
+uint8_t inconsistent_field(const proto::SetConfig& c);
+
 enum class LoadResult : uint8_t {
     OK = 0,
     NO_IMAGE,  // never saved, erased, or written by another firmware version

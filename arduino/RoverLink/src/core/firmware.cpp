@@ -6,7 +6,6 @@ namespace roverlink {
 
 using proto::FailsafeReason;
 using proto::NackReason;
-using proto::SessionEvent;
 using proto::SessionState;
 
 namespace {
@@ -18,28 +17,9 @@ const char LOG_BAD_CRC[] ROVERLINK_PROGMEM = "config: EEPROM CRC error, using de
 const char LOG_INVALID[] ROVERLINK_PROGMEM = "config: EEPROM values invalid, using defaults";
 const char LOG_LATE[] ROVERLINK_PROGMEM = "control: poll() late, ticks skipped: ";
 
-const uint8_t STALL_TICKS = 50;                // docs/control.md 4.8: 0.5 s ...
-const int16_t STALL_EFFORT = 300;              // ... at |u| >= 300 permille without a count
-const uint8_t LATE_LOG_HOLDOFF_TICKS = 100;    // at most one "late" LOG per second
-const uint32_t MS_PER_MICROS_WRAP = 4294967u;  // 2^32 us, in whole ms
-
-const uint8_t G_COMPATIBLE = 1u << static_cast<uint8_t>(proto::Guard::COMPATIBLE);
-const uint8_t G_BOOT_ID = 1u << static_cast<uint8_t>(proto::Guard::BOOT_ID_MATCHES);
-
-struct Guards {
-    uint8_t bits;
-    bool check(proto::Guard g) const { return (bits >> static_cast<uint8_t>(g)) & 1u; }
-};
-
-// A 32-bit finaliser (xorshift-multiply): every input bit affects every output bit.
-ROVERLINK_NOINLINE uint32_t mix32(uint32_t x) {
-    x ^= x >> 16;
-    x *= 0x7FEB352DUL;
-    x ^= x >> 15;
-    x *= 0x846CA68BUL;
-    x ^= x >> 16;
-    return x;
-}
+const uint8_t STALL_TICKS = 50;              // docs/control.md 4.8: 0.5 s ...
+const int16_t STALL_EFFORT = 300;            // ... at |u| >= 300 permille without a count
+const uint8_t LATE_LOG_HOLDOFF_TICKS = 100;  // at most one "late" LOG per second
 
 int32_t invert_if(int32_t raw, bool invert) {
     // Two's complement negation without signed overflow (INT32_MIN stays INT32_MIN).
@@ -48,62 +28,37 @@ int32_t invert_if(int32_t raw, bool invert) {
 
 int16_t abs16(int16_t x) { return x < 0 ? static_cast<int16_t>(-x) : x; }
 
-uint8_t checked_speed(int16_t a, int16_t b, uint16_t max, uint8_t other) {
-    // Index of the first speed over the limit, else `other` (check_ranges' answer).
-    return static_cast<uint16_t>(abs16(a)) > max ? 0 : (static_cast<uint16_t>(abs16(b)) > max ? 1 : other);
-}
-
 }  // namespace
 
-struct Firmware::Rx {
-    Firmware& fw;
-    template <class M>
-    void handle(const M& m, uint8_t seq) {
-        fw.on_message(m, seq);
-    }
-};
-
 Firmware::Firmware(Stream& port, Board& board, const Robot& robot)
-    : v_(), port_(port), board_(board), robot_(robot), link_(port) {}
+    : v_(), board_(board), robot_(robot), session_(port, board, robot, *this) {}
 
 // ------------------------------------------------------------------------------------------------
 // Boot
 
 void Firmware::begin() {
-    if (v_.state != proto::INITIAL_STATE) {
+    if (session_.state() != proto::INITIAL_STATE) {
         return;  // begin() runs once per boot
     }
-    memset(&v_, 0, sizeof v_);  // all of the state is plain data; 0 is BOOT, NONE, STREAM
+    memset(&v_, 0, sizeof v_);  // all of the state is plain data
     Vars& v = v_;
-    v.caps = robot_.capabilities;
 
     // 1. Configuration: the example's defaults, replaced by a good EEPROM image.
     v.cfg = robot_.default_config();
-    const proto::SetPid pid = robot_.default_pid();
-    for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
-        v.gains[w].kp = pid.kp;
-        v.gains[w].ki = pid.ki;
-        v.gains[w].kd = pid.kd;
-        v.gains[w].kf = pid.kf;
-    }
+    proto::SetPid pid = robot_.default_pid();
+    pid.wheel = proto::PID_ALL_WHEELS;  // the example's gains on every wheel
+    set_pid(pid);
     config::LoadResult loaded = config::LoadResult::OK;
     uint32_t boots = 0;
     if (has(proto::Capability::EEPROM)) {
-        loaded = config::load(board_, v.cfg, v.gains, link_.scratch());
+        loaded = config::load(board_, v.cfg, v.gains, session_.scratch());
         v.config_defaults = loaded != config::LoadResult::OK;
         boots = config::bump_boot_counter(board_);
     }
     apply_config(v.cfg);
 
-    // 2. boot_id: the EEPROM boot counter mixed with the board's noise and the clock; never 0.
-    uint32_t id = mix32(boots ^ 0x9E3779B9UL);
-    for (uint8_t i = 0; i < 5; ++i) {
-        id = mix32(id ^ (i < 4 ? board_.entropy() : board_.micros()));
-    }
-    v.boot_id = id != 0 ? id : 1;
-
-    // Clocks, counts and the session values in force before any HELLO.
-    const uint32_t now = clock();
+    // Clocks and counts.
+    const uint32_t now = session_.clock();
     v.boot_us = now;
     v.next_tick_us = now + control::TICK_US;
     int32_t raw[proto::WHEEL_COUNT];
@@ -111,20 +66,18 @@ void Firmware::begin() {
     for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
         v.wheels[w].count = invert_if(raw[w], (v.cfg.encoder_invert >> w) & 1u);
     }
-    v.watchdog_ms = v.cfg.watchdog_ms;
-    v.feedback_hz = v.cfg.feedback_hz;
     v.esc_ready = !has(proto::Capability::ESC) || v.cfg.esc_arm_ms == 0;
 
-    // 3. INIT_DONE: motors safe, boot IDENTITY. Then the LOG about the config, if any.
-    fire(SessionEvent::INIT_DONE, 0, FailsafeReason::NONE);
+    // 2.-3. boot_id, INIT_DONE: motors safe, boot IDENTITY. Then the LOG about the config, if any.
+    session_.begin(boots);
     if (loaded != config::LoadResult::OK) {
         const char* text = loaded == config::LoadResult::NO_IMAGE
                                ? LOG_NO_IMAGE
                                : (loaded == config::LoadResult::BAD_CRC ? LOG_BAD_CRC : LOG_INVALID);
-        log(proto::LogLevel::WARN, text, 0, false);
+        session_.log(proto::LogLevel::WARN, text, 0, false);
     }
     if (has(proto::Capability::TURN_SIGNALS)) {
-        v.lights = control::lights_for(v.state, 0, 0, 0, false, 0);
+        v.lights = control::lights_for(session_.state(), 0, 0, 0, false, 0);
         board_.lights(v.lights);
     }
 }
@@ -132,21 +85,12 @@ void Firmware::begin() {
 // ------------------------------------------------------------------------------------------------
 // Loop
 
-uint32_t Firmware::clock() {
-    const uint32_t now = board_.micros();
-    if (now < v_.last_micros) {
-        ++v_.micros_wraps;
-    }
-    v_.last_micros = now;
-    return now;
-}
-
 void Firmware::poll() {
-    if (v_.state == proto::INITIAL_STATE) {
+    if (session_.state() == proto::INITIAL_STATE) {
         return;  // begin() has not run
     }
-    receive();
-    const uint32_t now = clock();
+    session_.poll();
+    const uint32_t now = session_.clock();
     const uint32_t late = now - v_.next_tick_us;
     if (late >= 0x80000000UL) {
         return;  // the next tick is still ahead
@@ -163,7 +107,7 @@ void Firmware::poll() {
     if (skipped != 0) {
         v_.ticks_skipped += skipped;
         if (v_.late_holdoff == 0) {
-            log(proto::LogLevel::WARN, LOG_LATE, skipped, true);
+            session_.log(proto::LogLevel::WARN, LOG_LATE, skipped, true);
             v_.late_holdoff = LATE_LOG_HOLDOFF_TICKS;
         }
     }
@@ -171,194 +115,92 @@ void Firmware::poll() {
     control_tick(static_cast<uint16_t>(skipped + 1u), now);
 }
 
-void Firmware::receive() {
-    // Only the bytes already there: a host that keeps sending cannot starve the control tick.
-    int n = port_.available();
-    FrameDecoder& decoder = link_.decoder();
-    while (n-- > 0) {
-        const int c = port_.read();
-        if (c < 0) {
-            break;
-        }
-        if (decoder.push(static_cast<uint8_t>(c)) != FrameDecoder::FRAME) {
-            continue;
-        }
-        Rx rx = {*this};
-        const uint8_t seq = decoder.seq();
-        const proto::DispatchResult r =
-            proto::dispatch_host_to_mcu(decoder.msg_id(), seq, decoder.payload(), decoder.payload_len(), rx);
-        if (r == proto::DISPATCH_BAD_PAYLOAD) {
-            decoder.reject_payload();  // not a valid frame: no seq accounting, no watchdog
-        } else if (r == proto::DISPATCH_WRONG_DIRECTION) {
-            on_valid_frame(seq);       // valid, counted, then ignored (docs/control.md 1.3)
-        }
-    }
-}
-
 // ------------------------------------------------------------------------------------------------
-// Session: every state change goes through the generated table.
+// The session's App: what the state table's rows and the requests do to the robot.
 
-// Fires `ev`; performs the row's generic actions and returns all its action bits, so the caller
-// does the message-specific ones (ACCEPT_HELLO, APPLY_SETPOINT). 0: no row, nothing happened.
-uint16_t Firmware::fire(SessionEvent ev, uint8_t guard_bits, FailsafeReason reason) {
-    Guards guards = {guard_bits};
-    const proto::StepResult r = proto::step(v_.state, ev, guards);
-    if (!r.matched) {
-        return 0;
-    }
-    const SessionState from = v_.state;
-    v_.state = r.target;
-    const uint16_t a = r.actions;
+void Firmware::session_actions(uint16_t a) {
     if (a & proto::Action::MOTORS_SAFE) {
         motors_safe();
     }
     if (a & proto::Action::CLEAR_REASON) {
-        v_.reason = FailsafeReason::NONE;
         v_.encoder_fault = false;
-    }
-    if (a & proto::Action::LATCH_REASON) {
-        v_.reason = reason;
-    }
-    if (a & proto::Action::FEED_WATCHDOG) {
-        v_.last_valid_us = board_.micros();
     }
     if (a & proto::Action::MOTORS_ENABLE) {
         for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
             v_.wheels[w].stalled = 0;
         }
     }
-    if (a & proto::Action::ANNOUNCE) {
-        send_identity(proto::IdentityReason::BOOT);
+}
+
+uint8_t Firmware::set_config(const proto::SetConfig& c, uint8_t& detail) {
+    detail = config::inconsistent_field(c);
+    if (detail != proto::ALL_FIELDS_VALID) {
+        return static_cast<uint8_t>(NackReason::INVALID_CONFIG);
     }
-    if (a & proto::Action::REJECT_HELLO) {
-        v_.fb_countdown = 0;
-        send_identity(proto::IdentityReason::HELLO_REJECTED);
-    }
-    if (a & proto::Action::ACK) {
-        answer(0, 0);
-    }
-    if (a & proto::Action::NACK) {
-        // "The reason for this state" (docs/control.md 1 and 3).
-        NackReason why = NackReason::NO_SESSION;
-        uint8_t detail = 0;
-        if (from != SessionState::IDLE) {
-            if (ev == SessionEvent::ARM) {
-                why = NackReason::BOOT_ID_MISMATCH;
-            } else if (from == SessionState::FAILSAFE) {
-                why = NackReason::FAILSAFE;
-                detail = static_cast<uint8_t>(v_.reason);
-            } else {
-                why = NackReason::NOT_ARMED;
-            }
-        }
-        if (ev == SessionEvent::SETPOINT) {
-            send_answer(static_cast<uint8_t>(why), detail);  // setpoints are not reliable: not remembered
-        } else {
-            answer(static_cast<uint8_t>(why), detail);
+    apply_config(c);
+    return 0;
+}
+
+void Firmware::set_pid(const proto::SetPid& m) {
+    for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
+        if (m.wheel == proto::PID_ALL_WHEELS || m.wheel == w) {
+            control::Gains& g = v_.gains[w];
+            g.kp = m.kp;
+            g.ki = m.ki;
+            g.kd = m.kd;
+            g.kf = m.kf;
+            v_.wheels[w].integral = 0.0f;
         }
     }
-    return a;
 }
 
-void Firmware::on_valid_frame(uint8_t seq) {
-    link_.account_seq(seq);
-    fire(SessionEvent::VALID_FRAME, 0, FailsafeReason::NONE);
+void Firmware::pid(uint8_t wheel, proto::SetPid& out) const {
+    const control::Gains& g = v_.gains[wheel];
+    out.kp = g.kp;
+    out.ki = g.ki;
+    out.kd = g.kd;
+    out.kf = g.kf;
 }
 
-// The common start of every message: seq accounting, VALID_FRAME, then for reliable requests the
-// duplicate rule (docs/control.md 2) and NO_SESSION in IDLE. False: already answered, stop.
-bool Firmware::request(uint8_t msg_id, uint8_t seq, Kind kind) {
-    on_valid_frame(seq);
-    Vars& v = v_;
-    v.req_id = msg_id;
-    v.req_seq = seq;
-    if (kind == PLAIN) {
-        return true;
+uint8_t Firmware::save_config() {
+    if (!has(proto::Capability::EEPROM)) {
+        return static_cast<uint8_t>(NackReason::UNSUPPORTED);
     }
-    if (v.dup_valid && v.dup_id == msg_id && v.dup_seq == seq) {
-        ++v.duplicates;
-        if (kind != QUERY) {
-            send_answer(v.dup_reason, v.dup_detail);  // answered again, not applied again
-            return false;
-        }
-    } else {
-        v.dup_valid = true;
-        v.dup_id = msg_id;
-        v.dup_seq = seq;
-        v.dup_reason = 0;
-        v.dup_detail = 0;
+    v_.late_holdoff = LATE_LOG_HOLDOFF_TICKS;  // the EEPROM stall is expected: no "late" LOG
+    if (!config::save(board_, v_.cfg, v_.gains, session_.scratch())) {
+        return static_cast<uint8_t>(NackReason::EEPROM_ERROR);
     }
-    if (kind != TABLE && v.state == SessionState::IDLE) {
-        answer(static_cast<uint8_t>(NackReason::NO_SESSION), 0);
-        return false;
-    }
-    return true;
+    v_.config_defaults = false;
+    return 0;
 }
 
-void Firmware::answer(uint8_t reason, uint8_t detail) {
-    v_.dup_reason = reason;
-    v_.dup_detail = detail;
-    send_answer(reason, detail);
-}
-
-void Firmware::send_answer(uint8_t reason, uint8_t detail) {
-    if (reason == 0) {
-        const proto::Ack ack = {v_.req_id, v_.req_seq};
-        link_.send(ack);
-    } else {
-        const proto::Nack nack = {v_.req_id, v_.req_seq, static_cast<NackReason>(reason), detail};
-        link_.send(nack);
+void Firmware::reset_odometry() {
+    board_.zero_encoders();  // the Board does it with interrupts off
+    for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
+        v_.wheels[w].count = 0;
     }
 }
 
-void Firmware::send_identity(proto::IdentityReason reason) {
-    const Vars& v = v_;
-    proto::Identity m = proto::Identity();  // zeroed: a field added to the spec is never garbage
-    m.protocol_version = proto::PROTOCOL_VERSION;
-    m.spec_hash = proto::SPEC_HASH;
-    m.firmware_version[0] = FIRMWARE_VERSION.major;
-    m.firmware_version[1] = FIRMWARE_VERSION.minor;
-    m.firmware_version[2] = FIRMWARE_VERSION.patch;
-    m.board = robot_.board;
-    m.capabilities = v.caps;
-    m.boot_id = v.boot_id;
-    const uint32_t now = clock();
-    m.uptime_ms = v.micros_wraps * MS_PER_MICROS_WRAP + now / 1000u;
-    m.reason = reason;
-    // Granted values; outside a session, those in force in IDLE (stream at the config's rate).
-    const bool session = reason == proto::IdentityReason::HELLO_ACCEPTED;
-    m.hello_seq = reason == proto::IdentityReason::BOOT ? 0 : v.req_seq;
-    m.watchdog_ms = session ? v.watchdog_ms : v.cfg.watchdog_ms;
-    m.feedback_mode = session ? v.mode : proto::FeedbackMode::STREAM;
-    m.feedback_hz = session ? v.feedback_hz : v.cfg.feedback_hz;
-    uint8_t n = 0;
-    const char* name = robot_.name;
-    while (name != 0 && n < sizeof m.robot_name && name[n] != '\0') {
-        m.robot_name[n] = name[n];
-        ++n;
-    }
-    m.robot_name_len = n;
-    link_.send(m);
+void Firmware::setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq) {
+    v_.pending[0] = left;
+    v_.pending[1] = right;
+    v_.pending_steer = steer_mrad;
+    v_.pending_seq = seq;
+    v_.has_pending = true;  // latest wins; the next tick applies it
 }
 
-void Firmware::accept_hello(const proto::Hello& h) {
-    Vars& v = v_;
-    uint16_t wd = h.watchdog_ms != 0 ? h.watchdog_ms : v.cfg.watchdog_ms;
-    if (wd == 0) {
-        wd = proto::WATCHDOG_DEFAULT_MS;
+uint8_t Firmware::status_bits() const {
+    uint8_t s = 0;
+    if (v_.saturated) {
+        s |= proto::Status::SATURATED;
     }
-    v.watchdog_ms = wd < proto::WATCHDOG_MIN_MS ? proto::WATCHDOG_MIN_MS
-                                                 : (wd > proto::WATCHDOG_MAX_MS ? proto::WATCHDOG_MAX_MS : wd);
-    v.mode = h.feedback_mode;
-    uint8_t hz = h.feedback_hz != 0 ? h.feedback_hz : v.cfg.feedback_hz;
-    if (hz == 0) {
-        hz = proto::FEEDBACK_HZ_DEFAULT;
+    if (v_.encoder_fault) {
+        s |= proto::Status::ENCODER_FAULT;
     }
-    v.feedback_hz = hz > proto::FEEDBACK_HZ_MAX ? proto::FEEDBACK_HZ_MAX : hz;
-    v.dup_valid = false;
-    link_.restart_seq();
-    v.fb_countdown = 0;
-    send_identity(proto::IdentityReason::HELLO_ACCEPTED);
+    if (v_.config_defaults) {
+        s |= proto::Status::CONFIG_DEFAULTS;
+    }
+    return s;
 }
 
 void Firmware::motors_safe() {
@@ -379,24 +221,6 @@ void Firmware::motors_safe() {
     write_outputs(ramping);
 }
 
-void Firmware::setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t bad_field, uint16_t capability) {
-    if (!has(capability)) {
-        send_answer(static_cast<uint8_t>(NackReason::UNSUPPORTED), 0);
-        return;
-    }
-    if (fire(SessionEvent::SETPOINT, 0, FailsafeReason::NONE) & proto::Action::APPLY_SETPOINT) {
-        if (bad_field != proto::ALL_FIELDS_VALID) {
-            send_answer(static_cast<uint8_t>(NackReason::OUT_OF_RANGE), bad_field);
-            return;
-        }
-        v_.pending[0] = left;
-        v_.pending[1] = right;
-        v_.pending_steer = steer_mrad;
-        v_.pending_seq = v_.req_seq;
-        v_.has_pending = true;  // latest wins; the next tick applies it
-    }
-}
-
 void Firmware::apply_config(const proto::SetConfig& c) {
     Vars& v = v_;
     // Keep each wheel's count continuous across an encoder_invert change: the next tick's delta
@@ -410,200 +234,6 @@ void Firmware::apply_config(const proto::SetConfig& c) {
     v.cfg = c;
     v.mm_s_per_count = control::mm_s_per_count(c);
     v.max_effort = static_cast<float>(c.max_effort_permille);
-}
-
-void Firmware::log(proto::LogLevel level, const char* flash_text, uint32_t number, bool with_number) {
-    uint8_t* p = link_.payload_slot();
-    const uint8_t cap = proto::Log::PAYLOAD_MAX;
-    uint8_t n = 0;
-    p[n++] = static_cast<uint8_t>(level);
-    for (const char* s = flash_text; n < cap; ++s) {
-        const uint8_t c = static_cast<uint8_t>(ROVERLINK_READ_BYTE(s));
-        if (c == 0) {
-            break;
-        }
-        p[n++] = c;
-    }
-    if (with_number) {
-        char digits[10];
-        uint8_t k = 0;
-        do {
-            digits[k++] = static_cast<char>('0' + number % 10u);
-            number /= 10u;
-        } while (number != 0 && k < sizeof digits);
-        while (k > 0 && n < cap) {
-            p[n++] = static_cast<uint8_t>(digits[--k]);
-        }
-    }
-    link_.send_payload(proto::Log::ID, proto::Log::CRC_EXTRA, n);
-}
-
-// ------------------------------------------------------------------------------------------------
-// Messages
-
-void Firmware::on_message(const proto::Hello& m, uint8_t seq) {
-    request(proto::Hello::ID, seq, PLAIN);
-    const bool compatible = m.protocol_version == proto::PROTOCOL_VERSION && m.spec_hash == proto::SPEC_HASH;
-    if (fire(SessionEvent::HELLO, compatible ? G_COMPATIBLE : 0, FailsafeReason::NONE) & proto::Action::ACCEPT_HELLO) {
-        accept_hello(m);
-    }
-}
-
-void Firmware::on_message(const proto::Ping& m, uint8_t seq) {
-    request(proto::Ping::ID, seq, PLAIN);
-    proto::Pong pong;
-    pong.host_time_us = m.host_time_us;
-    pong.mcu_time_us = board_.micros();
-    link_.send(pong);
-}
-
-void Firmware::on_message(const proto::Arm& m, uint8_t seq) {
-    if (request(proto::Arm::ID, seq, TABLE)) {
-        fire(SessionEvent::ARM, m.boot_id == v_.boot_id ? G_BOOT_ID : 0, FailsafeReason::NONE);
-    }
-}
-
-void Firmware::on_message(const proto::Disarm&, uint8_t seq) {
-    if (request(proto::Disarm::ID, seq, TABLE)) {
-        fire(SessionEvent::DISARM, 0, FailsafeReason::NONE);
-    }
-}
-
-void Firmware::on_message(const proto::SetPid& m, uint8_t seq) {
-    if (!request(proto::SetPid::ID, seq, RELIABLE)) {
-        return;
-    }
-    const bool all = m.wheel == proto::PID_ALL_WHEELS;
-    if (m.wheel >= proto::WHEEL_COUNT && !all) {
-        answer(static_cast<uint8_t>(NackReason::OUT_OF_RANGE), 0);
-        return;
-    }
-    const uint8_t bad = proto::check_ranges(m);
-    if (bad != proto::ALL_FIELDS_VALID) {
-        answer(static_cast<uint8_t>(NackReason::OUT_OF_RANGE), bad);
-        return;
-    }
-    for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
-        if (all || m.wheel == w) {
-            control::Gains& g = v_.gains[w];
-            g.kp = m.kp;
-            g.ki = m.ki;
-            g.kd = m.kd;
-            g.kf = m.kf;
-            v_.wheels[w].integral = 0.0f;
-        }
-    }
-    answer(0, 0);
-}
-
-void Firmware::on_message(const proto::GetPid& m, uint8_t seq) {
-    if (!request(proto::GetPid::ID, seq, QUERY)) {
-        return;
-    }
-    if (m.wheel >= proto::WHEEL_COUNT) {
-        answer(static_cast<uint8_t>(NackReason::OUT_OF_RANGE), 0);
-        return;
-    }
-    // PID = req_seq followed by exactly the SET_PID fields: packed in place, no struct copy.
-    static_assert(proto::Pid::PAYLOAD_SIZE == 1 + proto::SetPid::PAYLOAD_SIZE, "PID must be req_seq + SET_PID");
-    const control::Gains& g = v_.gains[m.wheel];
-    const proto::SetPid p = {m.wheel, g.kp, g.ki, g.kd, g.kf};
-    uint8_t* out = link_.payload_slot();
-    out[0] = seq;
-    link_.send_payload(proto::Pid::ID, proto::Pid::CRC_EXTRA, static_cast<uint8_t>(1 + proto::pack(p, out + 1)));
-}
-
-void Firmware::on_message(const proto::SetConfig& m, uint8_t seq) {
-    if (!request(proto::SetConfig::ID, seq, RELIABLE)) {
-        return;
-    }
-    NackReason why;
-    uint8_t detail;
-    if (!config::validate(m, why, detail)) {
-        answer(static_cast<uint8_t>(why), detail);
-        return;
-    }
-    apply_config(m);
-    answer(0, 0);
-}
-
-void Firmware::on_message(const proto::GetConfig&, uint8_t seq) {
-    if (!request(proto::GetConfig::ID, seq, QUERY)) {
-        return;
-    }
-    // CONFIG = req_seq followed by exactly the SET_CONFIG fields: packed in place.
-    static_assert(proto::Config::PAYLOAD_SIZE == 1 + proto::SetConfig::PAYLOAD_SIZE,
-                  "CONFIG must be req_seq + SET_CONFIG");
-    uint8_t* out = link_.payload_slot();
-    out[0] = seq;
-    link_.send_payload(proto::Config::ID, proto::Config::CRC_EXTRA,
-                       static_cast<uint8_t>(1 + proto::pack(v_.cfg, out + 1)));
-}
-
-void Firmware::on_message(const proto::SaveConfig&, uint8_t seq) {
-    if (!request(proto::SaveConfig::ID, seq, RELIABLE)) {
-        return;
-    }
-    NackReason why = NackReason::ARMED;
-    if (v_.state != SessionState::ARMED) {
-        why = NackReason::UNSUPPORTED;
-        if (has(proto::Capability::EEPROM)) {
-            why = NackReason::EEPROM_ERROR;
-            v_.late_holdoff = LATE_LOG_HOLDOFF_TICKS;  // the EEPROM stall is expected: no "late" LOG
-            if (config::save(board_, v_.cfg, v_.gains, link_.scratch())) {
-                v_.config_defaults = false;
-                answer(0, 0);
-                return;
-            }
-        }
-    }
-    answer(static_cast<uint8_t>(why), 0);
-}
-
-void Firmware::on_message(const proto::ResetOdometry&, uint8_t seq) {
-    if (!request(proto::ResetOdometry::ID, seq, RELIABLE)) {
-        return;
-    }
-    board_.zero_encoders();  // the Board does it with interrupts off
-    for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
-        v_.wheels[w].count = 0;
-    }
-    answer(0, 0);
-}
-
-void Firmware::on_message(const proto::GetLinkStats&, uint8_t seq) {
-    if (!request(proto::GetLinkStats::ID, seq, QUERY)) {
-        return;
-    }
-    const DecoderStats& d = link_.decoder().stats();
-    proto::LinkStats s = proto::LinkStats();
-    s.req_seq = seq;
-    s.frames_ok = d.frames_ok;
-    s.crc_errors = d.crc_errors;
-    s.cobs_errors = d.cobs_errors;
-    s.length_errors = d.length_errors;
-    s.unknown_ids = d.unknown_ids;
-    s.value_errors = d.value_errors;
-    s.seq_gaps = link_.seq_gaps();
-    s.bytes_discarded = d.bytes_discarded;
-    s.rx_overruns = 0;  // the Arduino core drops UART overruns silently: not observable here
-    s.duplicates = v_.duplicates;
-    s.frames_sent = link_.frames_sent();
-    link_.send(s);
-}
-
-void Firmware::on_message(const proto::SetWheelSpeeds& m, uint8_t seq) {
-    request(proto::SetWheelSpeeds::ID, seq, PLAIN);
-    setpoint(m.left_mm_s, m.right_mm_s, 0,
-             checked_speed(m.left_mm_s, m.right_mm_s, v_.cfg.max_wheel_speed_mm_s, proto::check_ranges(m)),
-             proto::Capability::DIFF_DRIVE);
-}
-
-void Firmware::on_message(const proto::SetAckermann& m, uint8_t seq) {
-    request(proto::SetAckermann::ID, seq, PLAIN);
-    setpoint(m.speed_mm_s, 0, m.steering_mrad,
-             checked_speed(m.speed_mm_s, 0, v_.cfg.max_wheel_speed_mm_s, proto::check_ranges(m)),
-             proto::Capability::ACKERMANN);
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -634,12 +264,10 @@ void Firmware::control_tick(uint16_t periods, uint32_t now) {
     }
 
     // 3. Watchdog: FAILSAFE in this tick, at most one tick after expiry.
-    if (v.state == SessionState::ARMED && now - v.last_valid_us >= static_cast<uint32_t>(v.watchdog_ms) * 1000u) {
-        fire(SessionEvent::WATCHDOG_EXPIRED, 0, FailsafeReason::COMM_TIMEOUT);
-    }
+    session_.check_watchdog(now);
 
     // 4. The latest setpoint, if one arrived (only ever stored while ARMED).
-    const bool armed = v.state == SessionState::ARMED;
+    const bool armed = session_.armed();
     bool applied = false;
     if (v.has_pending && armed) {
         for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
@@ -707,14 +335,14 @@ void Firmware::control_tick(uint16_t periods, uint32_t now) {
         }
         if (fault) {
             v.encoder_fault = true;
-            fire(SessionEvent::FAULT, 0, FailsafeReason::ENCODER_FAULT);
+            session_.fault(FailsafeReason::ENCODER_FAULT);
         }
     }
 
     // Lights from the motion state, blinking from the tick counter.
     if (has(proto::Capability::TURN_SIGNALS)) {
         const uint8_t mask =
-            control::lights_for(v.state, v.wheels[0].target, v.wheels[1].target,
+            control::lights_for(session_.state(), v.wheels[0].target, v.wheels[1].target,
                                 static_cast<int16_t>(v.servo_cdeg - v.cfg.steering_center_cdeg),
                                 has(proto::Capability::ACKERMANN), v.blink);
         if (mask != v.lights) {
@@ -727,20 +355,7 @@ void Firmware::control_tick(uint16_t periods, uint32_t now) {
     }
 
     // 9. Feedback: stream (always in IDLE) on a countdown; lockstep once per applied setpoint.
-    bool send = applied;
-    if (feedback_mode() == proto::FeedbackMode::STREAM) {
-        send = v.fb_countdown == 0;
-        if (send) {
-            // round(CONTROL_RATE_HZ / hz), half up, in 8 bits: floor((floor(2 * 100 / hz) + 1) / 2).
-            static_assert(2 * proto::CONTROL_RATE_HZ <= 255, "the stream period is computed in 8 bits");
-            const uint8_t hz = feedback_hz();
-            const uint8_t twice = static_cast<uint8_t>(2 * proto::CONTROL_RATE_HZ);
-            v.fb_countdown = static_cast<uint8_t>((hz != 0 ? twice / hz + 1u : 2u) / 2u - 1u);
-        } else {
-            --v.fb_countdown;
-        }
-    }
-    if (send) {
+    if (session_.feedback_due(applied)) {
         send_feedback(now);
     }
 }
@@ -773,57 +388,17 @@ void Firmware::write_outputs(bool drive) {
 void Firmware::send_feedback(uint32_t sample_us) {
     const Vars& v = v_;
     proto::Feedback f = proto::Feedback();
-    f.boot_id = v.boot_id;
     f.mcu_time_us = sample_us;
     f.tick = v.tick;
     f.ack_seq = v.ack_seq;
     f.ack_tick = v.ack_tick;
-    f.status = status();
-    f.failsafe_reason = v.reason;
     for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
         f.encoder_counts[w] = v.wheels[w].count;
         f.wheel_speed_mm_s[w] = v.wheels[w].measured;
         f.effort_permille[w] = v.wheels[w].effort;
     }
     f.steering_mrad = has(proto::Capability::STEERING_SERVO) ? control::steering_mrad(v.servo_cdeg, v.cfg) : 0;
-    link_.send(f);
+    session_.send_feedback(f);  // + boot_id, status, failsafe_reason
 }
-
-uint8_t Firmware::status() const {
-    const Vars& v = v_;
-    uint8_t s = 0;
-    switch (v.state) {
-    case SessionState::ARMED:
-        s = proto::Status::SESSION | proto::Status::ARMED;
-        break;
-    case SessionState::FAILSAFE:
-        s = proto::Status::SESSION | proto::Status::FAILSAFE;
-        break;
-    case SessionState::DISARMED:
-        s = proto::Status::SESSION;
-        break;
-    default:
-        break;
-    }
-    if (s != 0 && v.mode == proto::FeedbackMode::LOCKSTEP) {
-        s |= proto::Status::LOCKSTEP;
-    }
-    if (v.saturated) {
-        s |= proto::Status::SATURATED;
-    }
-    if (v.encoder_fault) {
-        s |= proto::Status::ENCODER_FAULT;
-    }
-    if (v.config_defaults) {
-        s |= proto::Status::CONFIG_DEFAULTS;
-    }
-    return s;
-}
-
-proto::FeedbackMode Firmware::feedback_mode() const {
-    return v_.state <= SessionState::IDLE ? proto::FeedbackMode::STREAM : v_.mode;
-}
-
-uint8_t Firmware::feedback_hz() const { return v_.state <= SessionState::IDLE ? v_.cfg.feedback_hz : v_.feedback_hz; }
 
 }  // namespace roverlink

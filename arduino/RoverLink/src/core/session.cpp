@@ -1,0 +1,310 @@
+#include "session.h"
+
+namespace roverlink {
+
+using proto::FailsafeReason;
+using proto::NackReason;
+using proto::SessionEvent;
+using proto::SessionState;
+
+namespace {
+
+const uint32_t MS_PER_MICROS_WRAP = 4294967u;  // 2^32 us, in whole ms
+
+struct Guards {
+    uint8_t bits;
+    bool check(proto::Guard g) const { return (bits >> static_cast<uint8_t>(g)) & 1u; }
+};
+
+// A 32-bit finaliser (xorshift-multiply): every input bit affects every output bit.
+uint32_t mix32(uint32_t x) {
+    x ^= x >> 16;
+    x *= 0x7FEB352DUL;
+    x ^= x >> 15;
+    x *= 0x846CA68BUL;
+    x ^= x >> 16;
+    return x;
+}
+
+uint16_t magnitude(int16_t x) { return static_cast<uint16_t>(x < 0 ? -static_cast<int32_t>(x) : x); }
+
+}  // namespace
+
+uint8_t SessionCore::checked_speed(int16_t a, int16_t b, uint16_t max, uint8_t other) {
+    return magnitude(a) > max ? 0 : (magnitude(b) > max ? 1 : other);
+}
+
+SessionCore::SessionCore(Stream& port, Board& board, const Robot& robot)
+    : v_(), board_(board), robot_(robot), link_(port) {}
+
+void SessionCore::reset(uint32_t boot_counter, const proto::SetConfig& config) {
+    memset(&v_, 0, sizeof v_);  // all plain data; 0 is BOOT, NONE, STREAM
+    v_.watchdog_ms = config.watchdog_ms;
+    v_.feedback_hz = config.feedback_hz;
+    // boot_id: the EEPROM boot counter mixed with the board's noise and the clock; never 0.
+    uint32_t id = mix32(boot_counter ^ 0x9E3779B9UL);
+    for (uint8_t i = 0; i < 5; ++i) {
+        id = mix32(id ^ (i < 4 ? board_.entropy() : board_.micros()));
+    }
+    v_.boot_id = id != 0 ? id : 1;
+}
+
+uint32_t SessionCore::clock() {
+    const uint32_t now = board_.micros();
+    if (now < v_.last_micros) {
+        ++v_.micros_wraps;
+    }
+    v_.last_micros = now;
+    return now;
+}
+
+uint16_t SessionCore::step(SessionEvent ev, uint8_t guard_bits, SessionState& from) {
+    Guards guards = {guard_bits};
+    const proto::StepResult r = proto::step(v_.state, ev, guards);
+    from = v_.state;
+    if (!r.matched) {
+        return 0;
+    }
+    v_.state = r.target;
+    return r.actions;
+}
+
+void SessionCore::perform(uint16_t a, SessionEvent ev, SessionState from, FailsafeReason reason,
+                   const proto::SetConfig& config) {
+    if (a & proto::Action::CLEAR_REASON) {
+        v_.reason = FailsafeReason::NONE;
+    }
+    if (a & proto::Action::LATCH_REASON) {
+        v_.reason = reason;
+    }
+    if (a & proto::Action::FEED_WATCHDOG) {
+        v_.last_valid_us = board_.micros();
+    }
+    if (a & proto::Action::ANNOUNCE) {
+        send_identity(proto::IdentityReason::BOOT, config);
+    }
+    if (a & proto::Action::REJECT_HELLO) {
+        v_.fb_countdown = 0;
+        send_identity(proto::IdentityReason::HELLO_REJECTED, config);
+    }
+    if (a & proto::Action::ACK) {
+        answer(0, 0);
+    }
+    if (a & proto::Action::NACK) {
+        // "The reason for this state" (docs/control.md 1 and 3).
+        NackReason why = NackReason::NO_SESSION;
+        uint8_t detail = 0;
+        if (from != SessionState::IDLE) {
+            if (ev == SessionEvent::ARM) {
+                why = NackReason::BOOT_ID_MISMATCH;
+            } else if (from == SessionState::FAILSAFE) {
+                why = NackReason::FAILSAFE;
+                detail = static_cast<uint8_t>(v_.reason);
+            } else {
+                why = NackReason::NOT_ARMED;
+            }
+        }
+        if (ev == SessionEvent::SETPOINT) {
+            send_answer(static_cast<uint8_t>(why), detail);  // setpoints are not reliable: not remembered
+        } else {
+            answer(static_cast<uint8_t>(why), detail);
+        }
+    }
+}
+
+// After seq accounting and VALID_FRAME: for reliable requests the duplicate rule (docs/control.md
+// 2) and NO_SESSION in IDLE. False: already answered, stop.
+bool SessionCore::request(uint8_t msg_id, uint8_t seq, Kind kind) {
+    Vars& v = v_;
+    v.req_id = msg_id;
+    v.req_seq = seq;
+    if (kind == PLAIN) {
+        return true;
+    }
+    if (v.dup_valid && v.dup_id == msg_id && v.dup_seq == seq) {
+        ++v.duplicates;
+        if (kind != QUERY) {
+            send_answer(v.dup_reason, v.dup_detail);  // answered again, not applied again
+            return false;
+        }
+    } else {
+        v.dup_valid = true;
+        v.dup_id = msg_id;
+        v.dup_seq = seq;
+        v.dup_reason = 0;
+        v.dup_detail = 0;
+    }
+    if (kind != TABLE && v.state == SessionState::IDLE) {
+        answer(static_cast<uint8_t>(NackReason::NO_SESSION), 0);
+        return false;
+    }
+    return true;
+}
+
+void SessionCore::answer(uint8_t reason, uint8_t detail) {
+    v_.dup_reason = reason;
+    v_.dup_detail = detail;
+    send_answer(reason, detail);
+}
+
+void SessionCore::send_answer(uint8_t reason, uint8_t detail) {
+    if (reason == 0) {
+        const proto::Ack ack = {v_.req_id, v_.req_seq};
+        link_.send(ack);
+    } else {
+        const proto::Nack nack = {v_.req_id, v_.req_seq, static_cast<NackReason>(reason), detail};
+        link_.send(nack);
+    }
+}
+
+void SessionCore::send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t seq, uint8_t len) {
+    link_.payload_slot()[0] = seq;
+    link_.send_payload(msg_id, crc_extra, static_cast<uint8_t>(1 + len));
+}
+
+void SessionCore::send_identity(proto::IdentityReason reason, const proto::SetConfig& config) {
+    const Vars& v = v_;
+    proto::Identity m = proto::Identity();  // zeroed: a field added to the spec is never garbage
+    m.protocol_version = proto::PROTOCOL_VERSION;
+    m.spec_hash = proto::SPEC_HASH;
+    m.firmware_version[0] = FIRMWARE_VERSION.major;
+    m.firmware_version[1] = FIRMWARE_VERSION.minor;
+    m.firmware_version[2] = FIRMWARE_VERSION.patch;
+    m.board = robot_.board;
+    m.capabilities = robot_.capabilities;
+    m.boot_id = v.boot_id;
+    const uint32_t now = clock();
+    m.uptime_ms = v.micros_wraps * MS_PER_MICROS_WRAP + now / 1000u;
+    m.reason = reason;
+    // Granted values; outside a session, those in force in IDLE (stream at the config's rate).
+    const bool session = reason == proto::IdentityReason::HELLO_ACCEPTED;
+    m.hello_seq = reason == proto::IdentityReason::BOOT ? 0 : v.req_seq;
+    m.watchdog_ms = session ? v.watchdog_ms : config.watchdog_ms;
+    m.feedback_mode = session ? v.mode : proto::FeedbackMode::STREAM;
+    m.feedback_hz = session ? v.feedback_hz : config.feedback_hz;
+    uint8_t n = 0;
+    const char* name = robot_.name;
+    while (name != 0 && n < sizeof m.robot_name && name[n] != '\0') {
+        m.robot_name[n] = name[n];
+        ++n;
+    }
+    m.robot_name_len = n;
+    link_.send(m);
+}
+
+void SessionCore::accept_hello(const proto::Hello& h, const proto::SetConfig& config) {
+    Vars& v = v_;
+    uint16_t wd = h.watchdog_ms != 0 ? h.watchdog_ms : config.watchdog_ms;
+    if (wd == 0) {
+        wd = proto::WATCHDOG_DEFAULT_MS;
+    }
+    v.watchdog_ms = wd < proto::WATCHDOG_MIN_MS ? proto::WATCHDOG_MIN_MS
+                                                 : (wd > proto::WATCHDOG_MAX_MS ? proto::WATCHDOG_MAX_MS : wd);
+    v.mode = h.feedback_mode;
+    uint8_t hz = h.feedback_hz != 0 ? h.feedback_hz : config.feedback_hz;
+    if (hz == 0) {
+        hz = proto::FEEDBACK_HZ_DEFAULT;
+    }
+    v.feedback_hz = hz > proto::FEEDBACK_HZ_MAX ? proto::FEEDBACK_HZ_MAX : hz;
+    v.dup_valid = false;
+    link_.restart_seq();
+    v.fb_countdown = 0;
+    send_identity(proto::IdentityReason::HELLO_ACCEPTED, config);
+}
+
+void SessionCore::send_pong(const proto::Ping& m) {
+    proto::Pong pong;
+    pong.host_time_us = m.host_time_us;
+    pong.mcu_time_us = board_.micros();
+    link_.send(pong);
+}
+
+void SessionCore::send_link_stats(uint8_t seq) {
+    const DecoderStats& d = link_.decoder().stats();
+    proto::LinkStats s = proto::LinkStats();
+    s.req_seq = seq;
+    s.frames_ok = d.frames_ok;
+    s.crc_errors = d.crc_errors;
+    s.cobs_errors = d.cobs_errors;
+    s.length_errors = d.length_errors;
+    s.unknown_ids = d.unknown_ids;
+    s.value_errors = d.value_errors;
+    s.seq_gaps = link_.seq_gaps();
+    s.bytes_discarded = d.bytes_discarded;
+    s.rx_overruns = 0;  // the Arduino core drops UART overruns silently: not observable here
+    s.duplicates = v_.duplicates;
+    s.frames_sent = link_.frames_sent();
+    link_.send(s);
+}
+
+uint8_t SessionCore::session_status() const {
+    uint8_t s = 0;
+    switch (v_.state) {
+    case SessionState::ARMED:
+        s = proto::Status::SESSION | proto::Status::ARMED;
+        break;
+    case SessionState::FAILSAFE:
+        s = proto::Status::SESSION | proto::Status::FAILSAFE;
+        break;
+    case SessionState::DISARMED:
+        s = proto::Status::SESSION;
+        break;
+    default:
+        return 0;
+    }
+    if (v_.mode == proto::FeedbackMode::LOCKSTEP) {
+        s |= proto::Status::LOCKSTEP;
+    }
+    return s;
+}
+
+bool SessionCore::feedback_due(bool applied, uint8_t config_hz) {
+    if (in_session() && v_.mode == proto::FeedbackMode::LOCKSTEP) {
+        return applied;
+    }
+    if (v_.fb_countdown != 0) {
+        --v_.fb_countdown;
+        return false;
+    }
+    // round(CONTROL_RATE_HZ / hz), half up, in 8 bits: floor((floor(2 * 100 / hz) + 1) / 2).
+    static_assert(2 * proto::CONTROL_RATE_HZ <= 255, "the stream period is computed in 8 bits");
+    const uint8_t hz = in_session() ? v_.feedback_hz : config_hz;
+    const uint8_t twice = static_cast<uint8_t>(2 * proto::CONTROL_RATE_HZ);
+    v_.fb_countdown = static_cast<uint8_t>((hz != 0 ? twice / hz + 1u : 2u) / 2u - 1u);
+    return true;
+}
+
+void SessionCore::send_feedback(proto::Feedback& f, uint8_t app_status) {
+    f.boot_id = v_.boot_id;
+    f.status = static_cast<uint8_t>(session_status() | app_status);
+    f.failsafe_reason = v_.reason;
+    link_.send(f);
+}
+
+void SessionCore::log(proto::LogLevel level, const char* flash_text, uint32_t number, bool with_number) {
+    uint8_t* p = link_.payload_slot();
+    const uint8_t cap = proto::Log::PAYLOAD_MAX;
+    uint8_t n = 0;
+    p[n++] = static_cast<uint8_t>(level);
+    for (const char* s = flash_text; n < cap; ++s) {
+        const uint8_t c = static_cast<uint8_t>(ROVERLINK_READ_BYTE(s));
+        if (c == 0) {
+            break;
+        }
+        p[n++] = c;
+    }
+    if (with_number) {
+        char digits[10];
+        uint8_t k = 0;
+        do {
+            digits[k++] = static_cast<char>('0' + number % 10u);
+            number /= 10u;
+        } while (number != 0 && k < sizeof digits);
+        while (k > 0 && n < cap) {
+            p[n++] = static_cast<uint8_t>(digits[--k]);
+        }
+    }
+    link_.send_payload(proto::Log::ID, proto::Log::CRC_EXTRA, n);
+}
+
+}  // namespace roverlink

@@ -1,0 +1,396 @@
+// The session of the firmware: link (frames in and out) and every session rule of
+// docs/control.md sections 1-3 and 6-7, over an App that owns the rest of the robot (control law,
+// configuration, outputs). It is the part the design's "protocol + session" budget measures
+// (DESIGN.md section 6), and links without the control law, PID or EEPROM code.
+//
+//   handshake and IDENTITY, the state machine (every state change through proto::step() on the
+//   generated table), the watchdog, reliable requests with duplicate detection, ACK/NACK,
+//   PING/PONG, LINK_STATS, LOG, the stream/lockstep FEEDBACK schedule, the boot_id.
+//
+// App is a template parameter (no vtable: on AVR, vtables live in SRAM). It must provide:
+//
+//   void session_actions(uint16_t actions);
+//       The proto::Action bits of a row that fired; the App does MOTORS_SAFE, CLEAR_REASON (its
+//       own fault bits) and MOTORS_ENABLE, before the session does the others.
+//   const proto::SetConfig& config() const;
+//       The configuration in force (IDLE's watchdog and stream rate, max_wheel_speed_mm_s, GET_CONFIG).
+//   uint8_t set_config(const proto::SetConfig& c, uint8_t& detail);
+//       SET_CONFIG, its ranges already checked: 0 when applied, else a NackReason (and detail).
+//   void set_pid(const proto::SetPid& m);          SET_PID, wheel and ranges checked
+//   void pid(uint8_t wheel, proto::SetPid& out);   GET_PID: the gains of wheel (< WHEEL_COUNT)
+//   uint8_t save_config();                         SAVE_CONFIG outside ARMED: 0 or a NackReason
+//   void reset_odometry();                         RESET_ODOMETRY
+//   void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq);
+//       A setpoint accepted in ARMED (ranges checked); the next control tick applies it.
+//   uint8_t status_bits() const;                   its FEEDBACK status bits (SATURATED, ...)
+//
+// The App drives time: Firmware::poll() calls poll() (bytes), and per control tick
+// check_watchdog(), maybe fault(), feedback_due() and send_feedback().
+#ifndef ROVERLINK_CORE_SESSION_H
+#define ROVERLINK_CORE_SESSION_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "../codec/codec.h"
+#include "../generated/roverlink_protocol.h"
+#include "../hal/board.h"
+#include "../hal/stream.h"
+#include "link.h"
+#include "robot.h"
+#include "version.h"
+
+namespace roverlink {
+
+static const FirmwareVersion FIRMWARE_VERSION = {ROVERLINK_FIRMWARE_VERSION_MAJOR, ROVERLINK_FIRMWARE_VERSION_MINOR,
+                                                 ROVERLINK_FIRMWARE_VERSION_PATCH};
+
+// The session's own state and the rules that do not call the App, compiled once (session.cpp);
+// Session<App> adds the ones that do.
+class SessionCore {
+public:
+    SessionCore(Stream& port, Board& board, const Robot& robot);
+
+    proto::SessionState state() const { return v_.state; }
+    uint32_t boot_id() const { return v_.boot_id; }
+    proto::FailsafeReason failsafe_reason() const { return v_.reason; }
+    uint16_t watchdog_ms() const { return v_.watchdog_ms; }  // granted by the last accepted HELLO
+    uint32_t duplicates() const { return v_.duplicates; }
+    bool in_session() const { return v_.state > proto::SessionState::IDLE; }
+    bool armed() const { return v_.state == proto::SessionState::ARMED; }
+    const Link& link() const { return link_; }
+
+    // micros(), counting its wraps for IDENTITY.uptime_ms.
+    uint32_t clock();
+
+    // The TX frame buffer, as scratch memory between frames (EEPROM images): Link::SCRATCH_SIZE.
+    uint8_t* scratch() { return link_.scratch(); }
+
+    // LOG(level, text from flash [+ number in decimal]); the only text the firmware sends.
+    void log(proto::LogLevel level, const char* flash_text, uint32_t number, bool with_number);
+
+protected:
+    // How a request is handled before its own code runs (request()).
+    enum Kind : uint8_t {
+        PLAIN,     // HELLO, PING, setpoints: seq accounting and VALID_FRAME only
+        TABLE,     // ARM, DISARM: + duplicate detection; the state table answers
+        RELIABLE,  // SET_*, SAVE_CONFIG, RESET_ODOMETRY: + duplicate replay, NO_SESSION in IDLE
+        QUERY,     // GET_*: + duplicates answered afresh, NO_SESSION in IDLE
+    };
+
+    static const uint8_t G_COMPATIBLE = 1u << static_cast<uint8_t>(proto::Guard::COMPATIBLE);
+    static const uint8_t G_BOOT_ID = 1u << static_cast<uint8_t>(proto::Guard::BOOT_ID_MATCHES);
+
+    // Small, often used members first (AVR's 6-bit load/store displacement).
+    struct Vars {
+        proto::SessionState state;
+        proto::FailsafeReason reason;
+        proto::FeedbackMode mode;  // granted by the last accepted HELLO
+        uint8_t feedback_hz;       // granted by the last accepted HELLO
+        uint8_t fb_countdown;      // ticks until the next stream FEEDBACK
+        uint8_t req_id;            // the request being handled
+        uint8_t req_seq;
+        uint8_t dup_id;            // the last reliable request, for duplicate detection ...
+        uint8_t dup_seq;
+        uint8_t dup_reason;        // ... and its answer: 0 = ACK, else the NackReason
+        uint8_t dup_detail;
+        bool dup_valid;
+        uint16_t watchdog_ms;      // granted by the last accepted HELLO
+        uint16_t micros_wraps;     // for uptime_ms
+        uint32_t last_micros;
+        uint32_t last_valid_us;    // the watchdog's reference
+        uint32_t boot_id;
+        uint32_t duplicates;
+    };
+
+    // begin(): state cleared, boot_id drawn, IDLE's watchdog and stream rate from the config.
+    void reset(uint32_t boot_counter, const proto::SetConfig& config);
+    // The state change of `ev`; returns the row's actions (0: no row matched). `from` gets the
+    // state before it.
+    uint16_t step(proto::SessionEvent ev, uint8_t guards, proto::SessionState& from);
+    // The row's session actions, after the App's (LATCH/CLEAR_REASON, FEED_WATCHDOG, ANNOUNCE,
+    // REJECT_HELLO, ACK, NACK); `config` is the App's, for IDENTITY's values outside a session.
+    void perform(uint16_t actions, proto::SessionEvent ev, proto::SessionState from, proto::FailsafeReason reason,
+                 const proto::SetConfig& config);
+    // The common start of every message; false: already answered, stop.
+    bool request(uint8_t msg_id, uint8_t seq, Kind kind);
+    void answer(uint8_t reason, uint8_t detail);       // to the current request; remembered
+    void send_answer(uint8_t reason, uint8_t detail);  // 0: ACK, else NACK(reason, detail)
+    void send_identity(proto::IdentityReason reason, const proto::SetConfig& config);
+    void accept_hello(const proto::Hello& h, const proto::SetConfig& config);
+    void send_pong(const proto::Ping& m);
+    void send_link_stats(uint8_t seq);
+    void send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t seq, uint8_t len);  // payload_slot()[1..len]
+    uint8_t session_status() const;
+    bool feedback_due(bool applied, uint8_t config_hz);
+    void send_feedback(proto::Feedback& f, uint8_t app_status);
+    bool has(uint16_t capability) const { return (robot_.capabilities & capability) != 0; }
+    // Index of the first speed over the limit, else `other` (check_ranges' answer).
+    static uint8_t checked_speed(int16_t a, int16_t b, uint16_t max, uint8_t other);
+
+    Vars v_;
+    Board& board_;
+    const Robot& robot_;
+    Link link_;  // last: its buffers would push the other members out of AVR's short addressing
+};
+
+template <class App>
+class Session : public SessionCore {
+public:
+    // Stores references only: safe to construct as a global before the Arduino core is up.
+    Session(Stream& port, Board& board, const Robot& robot, App& app) : SessionCore(port, board, robot), app_(app) {}
+
+    // Clears the session, draws the boot_id (mixing `boot_counter`, the board's entropy and the
+    // clock), and fires INIT_DONE: the App's motors_safe, then the boot IDENTITY.
+    void begin(uint32_t boot_counter) {
+        reset(boot_counter, app_.config());
+        fire(proto::SessionEvent::INIT_DONE, 0, proto::FailsafeReason::NONE);
+    }
+
+    // Handles the bytes already received (only those: a host that keeps sending cannot starve the
+    // control tick), dispatching every complete frame. Replies go out in the same pass.
+    void poll();
+
+    // -- for the App's control tick ----------------------------------------------------------
+    // In ARMED, WATCHDOG_EXPIRED when no valid frame came for the granted period.
+    void check_watchdog(uint32_t now) {
+        if (armed() && now - v_.last_valid_us >= static_cast<uint32_t>(v_.watchdog_ms) * 1000u) {
+            fire(proto::SessionEvent::WATCHDOG_EXPIRED, 0, proto::FailsafeReason::COMM_TIMEOUT);
+        }
+    }
+    void fault(proto::FailsafeReason reason) { fire(proto::SessionEvent::FAULT, 0, reason); }
+    // Whether this tick sends FEEDBACK: stream (always in IDLE) on a countdown, lockstep when a
+    // setpoint was applied.
+    bool feedback_due(bool applied) { return SessionCore::feedback_due(applied, app_.config().feedback_hz); }
+    // Fills FEEDBACK's boot_id, status and failsafe_reason, and sends it.
+    void send_feedback(proto::Feedback& f) { SessionCore::send_feedback(f, app_.status_bits()); }
+
+    // -- read-only view ------------------------------------------------------------------------
+    uint8_t status() const { return static_cast<uint8_t>(session_status() | app_.status_bits()); }
+    proto::FeedbackMode feedback_mode() const { return in_session() ? v_.mode : proto::FeedbackMode::STREAM; }
+    uint8_t feedback_hz() const { return in_session() ? v_.feedback_hz : app_.config().feedback_hz; }
+
+    // Adapts the generated dispatcher's handle(msg, seq) calls to on_message().
+    struct Rx {
+        Session& s;
+        template <class M>
+        void handle(const M& m, uint8_t seq) {
+            s.on_message(m, seq);
+        }
+    };
+
+private:
+    // Fires `ev`: the state change, the App's actions, then the session's. Returns the row's
+    // action bits (0: no row), so the caller does ACCEPT_HELLO and APPLY_SETPOINT.
+    uint16_t fire(proto::SessionEvent ev, uint8_t guards, proto::FailsafeReason reason) {
+        proto::SessionState from;
+        const uint16_t a = step(ev, guards, from);
+        if (a != 0) {
+            app_.session_actions(a);
+            perform(a, ev, from, reason, app_.config());
+        }
+        return a;
+    }
+
+    void on_valid_frame(uint8_t seq) {
+        link_.account_seq(seq);
+        fire(proto::SessionEvent::VALID_FRAME, 0, proto::FailsafeReason::NONE);
+    }
+
+    bool start(uint8_t msg_id, uint8_t seq, Kind kind) {
+        on_valid_frame(seq);
+        return request(msg_id, seq, kind);
+    }
+
+    void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t bad_field, uint16_t capability);
+
+    void on_message(const proto::Hello& m, uint8_t seq);
+    void on_message(const proto::Ping& m, uint8_t seq);
+    void on_message(const proto::Arm& m, uint8_t seq);
+    void on_message(const proto::Disarm& m, uint8_t seq);
+    void on_message(const proto::SetPid& m, uint8_t seq);
+    void on_message(const proto::GetPid& m, uint8_t seq);
+    void on_message(const proto::SetConfig& m, uint8_t seq);
+    void on_message(const proto::GetConfig& m, uint8_t seq);
+    void on_message(const proto::SaveConfig& m, uint8_t seq);
+    void on_message(const proto::ResetOdometry& m, uint8_t seq);
+    void on_message(const proto::GetLinkStats& m, uint8_t seq);
+    void on_message(const proto::SetWheelSpeeds& m, uint8_t seq);
+    void on_message(const proto::SetAckermann& m, uint8_t seq);
+
+    App& app_;
+};
+
+// ------------------------------------------------------------------------------------------------
+// Session<App>: the handlers that call the App.
+
+template <class App>
+void Session<App>::poll() {
+    int n = link_.port().available();
+    FrameDecoder& decoder = link_.decoder();
+    while (n-- > 0) {
+        const int c = link_.port().read();
+        if (c < 0) {
+            break;
+        }
+        if (decoder.push(static_cast<uint8_t>(c)) != FrameDecoder::FRAME) {
+            continue;
+        }
+        Rx rx = {*this};
+        const uint8_t seq = decoder.seq();
+        const proto::DispatchResult r =
+            proto::dispatch_host_to_mcu(decoder.msg_id(), seq, decoder.payload(), decoder.payload_len(), rx);
+        if (r == proto::DISPATCH_BAD_PAYLOAD) {
+            decoder.reject_payload();  // not a valid frame: no seq accounting, no watchdog
+        } else if (r == proto::DISPATCH_WRONG_DIRECTION) {
+            on_valid_frame(seq);       // valid, counted, then ignored (docs/control.md 1.3)
+        }
+    }
+}
+
+template <class App>
+void Session<App>::on_message(const proto::Hello& m, uint8_t seq) {
+    start(proto::Hello::ID, seq, PLAIN);
+    const bool compatible = m.protocol_version == proto::PROTOCOL_VERSION && m.spec_hash == proto::SPEC_HASH;
+    if (fire(proto::SessionEvent::HELLO, compatible ? G_COMPATIBLE : 0, proto::FailsafeReason::NONE) &
+        proto::Action::ACCEPT_HELLO) {
+        accept_hello(m, app_.config());
+    }
+}
+
+template <class App>
+void Session<App>::on_message(const proto::Ping& m, uint8_t seq) {
+    start(proto::Ping::ID, seq, PLAIN);
+    send_pong(m);
+}
+
+template <class App>
+void Session<App>::on_message(const proto::Arm& m, uint8_t seq) {
+    if (start(proto::Arm::ID, seq, TABLE)) {
+        fire(proto::SessionEvent::ARM, m.boot_id == v_.boot_id ? G_BOOT_ID : 0, proto::FailsafeReason::NONE);
+    }
+}
+
+template <class App>
+void Session<App>::on_message(const proto::Disarm&, uint8_t seq) {
+    if (start(proto::Disarm::ID, seq, TABLE)) {
+        fire(proto::SessionEvent::DISARM, 0, proto::FailsafeReason::NONE);
+    }
+}
+
+template <class App>
+void Session<App>::on_message(const proto::SetPid& m, uint8_t seq) {
+    if (!start(proto::SetPid::ID, seq, RELIABLE)) {
+        return;
+    }
+    uint8_t bad = 0;  // docs/control.md 2: the wheel first (detail 0), then the gains
+    if (m.wheel < proto::WHEEL_COUNT || m.wheel == proto::PID_ALL_WHEELS) {
+        bad = proto::check_ranges(m);
+        if (bad == proto::ALL_FIELDS_VALID) {
+            app_.set_pid(m);
+            answer(0, 0);
+            return;
+        }
+    }
+    answer(static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE), bad);
+}
+
+template <class App>
+void Session<App>::on_message(const proto::GetPid& m, uint8_t seq) {
+    if (!start(proto::GetPid::ID, seq, QUERY)) {
+        return;
+    }
+    if (m.wheel >= proto::WHEEL_COUNT) {
+        answer(static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE), 0);
+        return;
+    }
+    // PID = req_seq followed by exactly the SET_PID fields: packed in place, no PID struct.
+    static_assert(proto::Pid::PAYLOAD_SIZE == 1 + proto::SetPid::PAYLOAD_SIZE, "PID must be req_seq + SET_PID");
+    proto::SetPid p;
+    app_.pid(m.wheel, p);
+    p.wheel = m.wheel;
+    send_reply(proto::Pid::ID, proto::Pid::CRC_EXTRA, seq, proto::pack(p, link_.payload_slot() + 1));
+}
+
+template <class App>
+void Session<App>::on_message(const proto::SetConfig& m, uint8_t seq) {
+    if (!start(proto::SetConfig::ID, seq, RELIABLE)) {
+        return;
+    }
+    uint8_t detail = proto::check_ranges(m);
+    uint8_t why = static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE);
+    if (detail == proto::ALL_FIELDS_VALID) {
+        why = app_.set_config(m, detail);  // consistency, then applied
+    }
+    answer(why, why != 0 ? detail : 0);
+}
+
+template <class App>
+void Session<App>::on_message(const proto::GetConfig&, uint8_t seq) {
+    if (!start(proto::GetConfig::ID, seq, QUERY)) {
+        return;
+    }
+    // CONFIG = req_seq followed by exactly the SET_CONFIG fields: packed in place.
+    static_assert(proto::Config::PAYLOAD_SIZE == 1 + proto::SetConfig::PAYLOAD_SIZE,
+                  "CONFIG must be req_seq + SET_CONFIG");
+    send_reply(proto::Config::ID, proto::Config::CRC_EXTRA, seq, proto::pack(app_.config(), link_.payload_slot() + 1));
+}
+
+template <class App>
+void Session<App>::on_message(const proto::SaveConfig&, uint8_t seq) {
+    if (start(proto::SaveConfig::ID, seq, RELIABLE)) {
+        // EEPROM writes stall the loop: never while ARMED.
+        answer(armed() ? static_cast<uint8_t>(proto::NackReason::ARMED) : app_.save_config(), 0);
+    }
+}
+
+template <class App>
+void Session<App>::on_message(const proto::ResetOdometry&, uint8_t seq) {
+    if (start(proto::ResetOdometry::ID, seq, RELIABLE)) {
+        app_.reset_odometry();
+        answer(0, 0);
+    }
+}
+
+template <class App>
+void Session<App>::on_message(const proto::GetLinkStats&, uint8_t seq) {
+    if (start(proto::GetLinkStats::ID, seq, QUERY)) {
+        send_link_stats(seq);
+    }
+}
+
+template <class App>
+void Session<App>::on_message(const proto::SetWheelSpeeds& m, uint8_t seq) {
+    start(proto::SetWheelSpeeds::ID, seq, PLAIN);
+    setpoint(m.left_mm_s, m.right_mm_s, 0,
+             checked_speed(m.left_mm_s, m.right_mm_s, app_.config().max_wheel_speed_mm_s,
+                                    proto::check_ranges(m)),
+             proto::Capability::DIFF_DRIVE);
+}
+
+template <class App>
+void Session<App>::on_message(const proto::SetAckermann& m, uint8_t seq) {
+    start(proto::SetAckermann::ID, seq, PLAIN);
+    setpoint(m.speed_mm_s, 0, m.steering_mrad,
+             checked_speed(m.speed_mm_s, 0, app_.config().max_wheel_speed_mm_s, proto::check_ranges(m)),
+             proto::Capability::ACKERMANN);
+}
+
+template <class App>
+void Session<App>::setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t bad_field, uint16_t capability) {
+    // Checks in this order (docs/firmware.md): capability, the state (the table's NACK), ranges.
+    if (!has(capability)) {
+        send_answer(static_cast<uint8_t>(proto::NackReason::UNSUPPORTED), 0);
+    } else if (fire(proto::SessionEvent::SETPOINT, 0, proto::FailsafeReason::NONE) & proto::Action::APPLY_SETPOINT) {
+        if (bad_field != proto::ALL_FIELDS_VALID) {
+            send_answer(static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE), bad_field);
+        } else {
+            app_.setpoint(left, right, steer_mrad, v_.req_seq);  // latest wins; the next tick applies it
+        }
+    }
+}
+
+}  // namespace roverlink
+
+#endif  // ROVERLINK_CORE_SESSION_H
