@@ -21,6 +21,14 @@ from emulator.transport.socket import SocketEndpoint
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--backend",
+        choices=("python", "simavr"),
+        default="python",
+        help="python: the firmware model (default); simavr: the example's compiled AVR firmware in simavr "
+        "with the same plant (needs avr-gcc and simavr; faults, baud, latency, drift and eeprom options "
+        "are python-only)",
+    )
     p.add_argument("--profile", default="diffdrive-tb6612", choices=PROFILE_NAMES, help="reference robot to emulate")
     p.add_argument("--seed", type=int, default=0, help="random seed: boot ids, line faults, noise (default 0)")
     p.add_argument(
@@ -51,6 +59,8 @@ def add_subparser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def cmd_emulate(args: argparse.Namespace) -> int:
+    if getattr(args, "backend", "python") == "simavr":
+        return _cmd_emulate_simavr(args)
     try:
         emu = Emulator(
             args.profile,
@@ -89,6 +99,62 @@ def cmd_emulate(args: argparse.Namespace) -> int:
         serve(emu, endpoint, lambda: stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log)
     finally:
         endpoint.close()
+    return 0
+
+
+_PYTHON_ONLY = {
+    "faults": "",
+    "baud": 115200,
+    "latency_ms": 1.0,
+    "drift_ppm": 0.0,
+    "eeprom": "blank",
+    "bootloader_ms": None,
+}
+
+
+def _cmd_emulate_simavr(args: argparse.Namespace) -> int:
+    from emulator.backends.simavr import SimavrError, SimavrRobot, serve  # noqa: PLC0415 (optional backend)
+
+    unsupported = [name for name, default in _PYTHON_ONLY.items() if getattr(args, name) != default]
+    if unsupported:
+        options = ", ".join("--" + n.replace("_", "-") for n in unsupported)
+        print(f"error: {options}: not available with --backend simavr", file=sys.stderr)
+        return 2
+    if not args.speed > 0:
+        print(f"error: --speed = {args.speed} is not allowed: a number > 0", file=sys.stderr)
+        return 2
+    try:
+        robot = SimavrRobot(args.profile)
+    except SimavrError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    endpoint: Endpoint = SocketEndpoint(args.socket) if args.socket is not None else PtyEndpoint()
+    stopping = False
+
+    def stop(_signum: int, _frame: object) -> None:
+        nonlocal stopping
+        stopping = True
+
+    signal.signal(signal.SIGINT, stop)
+    signal.signal(signal.SIGTERM, stop)
+    print(endpoint.name, flush=True)
+    log = None if args.quiet else sys.stderr
+    if log is not None:
+        print(
+            f"[simavr] {args.profile}: {robot.elf.name} on {robot.harness.wiring.mcu} at 16 MHz, "
+            f"115200 baud on {endpoint.name}; Ctrl-C to stop",
+            file=log,
+            flush=True,
+        )
+    try:
+        ratio = serve(
+            robot, endpoint, lambda: stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log
+        )
+    finally:
+        endpoint.close()
+        robot.close()
+    if log is not None:
+        print(f"[simavr] ran {ratio:.1f}x faster than real time while busy", file=log, flush=True)
     return 0
 
 

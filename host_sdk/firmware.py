@@ -432,7 +432,7 @@ class Builder:
         out = (out_dir or BUILD_ROOT / name / self.board.name).resolve()
         objects = [*self.sketch_objects(sketch), *self.library_objects()]
         archive = self.core_archive()
-        link_flags = [f"-mmcu={self.board.mcu}", "-Os", "-g", "-mcall-prologues", "-Wl,--gc-sections"]
+        link_flags = [f"-mmcu={self.board.mcu}", "-Os", "-g", "-mcall-prologues", "-mrelax", "-Wl,--gc-sections"]
         if self.flags.lto:
             link_flags += ["-flto", "-fuse-linker-plugin"]
         elf, hex_file, stamp = out / f"{name}.elf", out / f"{name}.hex", out / f"{name}.link-key"

@@ -154,29 +154,42 @@ def _struct(m: Message) -> str:
     return "".join(out)
 
 
+def _member(m: Message) -> str:
+    """The union member that holds message `m` (HELLO -> hello, SET_PID -> set_pid)."""
+    return m.name.lower()
+
+
+_DIRECTIONS = (("host_to_mcu", "HostToMcu", "firmware"), ("mcu_to_host", "McuToHost", "host-side tools"))
+
+
 def _dispatch(spec: Spec) -> str:
     out = [
         "enum DispatchResult : uint8_t {\n    DISPATCH_OK = 0,\n    DISPATCH_UNKNOWN_ID,\n"
         "    DISPATCH_BAD_PAYLOAD,     // wrong length or a value the spec does not allow\n"
         "    DISPATCH_WRONG_DIRECTION  // a known message that this side never receives\n};\n\n"
     ]
-    for direction, fn in (("host_to_mcu", "dispatch_host_to_mcu"), ("mcu_to_host", "dispatch_mcu_to_host")):
-        who = "firmware" if direction == "host_to_mcu" else "host-side tools"
+    for direction, union, who in _DIRECTIONS:
+        msgs = [m for m in spec.messages if m.direction == direction]
+        out.append(f"// Every {direction} message, one at a time.\nunion {union} {{\n")
+        for m in msgs:
+            out.append(f"    {m.class_name} {_member(m)};\n")
+        out.append("};\n")
+        out.append(f"// Unpacks a {direction} payload into the member of `m` that msg_id names (one table lookup,\n")
+        out.append("// one layout walk): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.\n")
+        out.append(
+            f"DispatchResult unpack_{direction}(uint8_t msg_id, const uint8_t* payload, uint8_t len, {union}& m);\n\n"
+        )
         out.append(f"// Decodes a payload and calls h.handle(const Msg&, seq) for {direction} messages ({who}).\n")
         out.append("template <class Handler>\n")
         out.append(
-            f"DispatchResult {fn}(uint8_t msg_id, uint8_t seq, const uint8_t* payload, uint8_t len, Handler& h) {{\n"
+            f"DispatchResult dispatch_{direction}(uint8_t msg_id, uint8_t seq, const uint8_t* payload, uint8_t len, "
+            "Handler& h) {\n"
         )
-        out.append("    switch (msg_id) {\n")
-        for m in spec.messages:
-            if m.direction != direction:
-                continue
-            out.append(f"    case {m.class_name}::ID: {{\n        {m.class_name} m;\n")
-            out.append("        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;\n")
-            out.append("        h.handle(m, seq);\n        return DISPATCH_OK;\n    }\n")
-        out.append("    default: {\n        MessageBounds b;\n")
-        out.append("        return message_bounds(msg_id, b) ? DISPATCH_WRONG_DIRECTION : DISPATCH_UNKNOWN_ID;\n")
-        out.append("    }\n    }\n}\n\n")
+        out.append(f"    {union} m;\n    const DispatchResult r = unpack_{direction}(msg_id, payload, len, m);\n")
+        out.append("    if (r != DISPATCH_OK) return r;\n    switch (msg_id) {\n")
+        for m in msgs:
+            out.append(f"    case {m.class_name}::ID:\n        h.handle(m.{_member(m)}, seq);\n        break;\n")
+        out.append("    }\n    return DISPATCH_OK;\n}\n\n")
     return "".join(out)
 
 
@@ -194,11 +207,12 @@ def _sm_header(spec: Spec) -> str:
     for i, a in enumerate(sm.actions):
         out.append(f"        {a.name.upper()} = 1u << {i},  // {a.doc}\n")
     out.append("    };\n};\n\n")
-    rows = sm.rows()
-    out.append("// One row per byte sextet: source, event, guard (0xFF: none; bit 7: negated), target,\n")
+    out.append("// One row per transition, in spec order, 6 bytes: source states (bit i: SessionState i), event,\n")
+    out.append("// guard (GUARD_NONE, or a Guard with GUARD_NEGATED), target (TARGET_STAY: the source state),\n")
     out.append("// actions low byte, actions high byte. Kept in flash on AVR.\n")
-    out.append(f"static const uint8_t TRANSITION_COUNT = {len(rows)};\n")
+    out.append(f"static const uint8_t TRANSITION_COUNT = {len(sm.transitions)};\n")
     out.append("static const uint8_t GUARD_NONE = 0xFF;\nstatic const uint8_t GUARD_NEGATED = 0x80;\n")
+    out.append("static const uint8_t TARGET_STAY = 0xFF;\n")
     out.append("extern const uint8_t TRANSITIONS[TRANSITION_COUNT][6] ROVERLINK_PROGMEM;\n\n")
     out.append("struct StepResult {\n    bool matched;        // false: no row, stay and do nothing\n")
     out.append("    SessionState target;\n    uint16_t actions;    // Action bits\n};\n\n")
@@ -207,7 +221,7 @@ def _sm_header(spec: Spec) -> str:
     out.append("    StepResult r = {false, state, 0};\n")
     out.append("    for (uint8_t i = 0; i < TRANSITION_COUNT; ++i) {\n")
     out.append("        const uint8_t* row = TRANSITIONS[i];\n")
-    out.append("        if (ROVERLINK_READ_BYTE(row) != static_cast<uint8_t>(state) ||\n")
+    out.append("        if (!((ROVERLINK_READ_BYTE(row) >> static_cast<uint8_t>(state)) & 1u) ||\n")
     out.append(
         "            ROVERLINK_READ_BYTE(row + 1) != static_cast<uint8_t>(event)) {\n            continue;\n        }\n"
     )
@@ -215,9 +229,9 @@ def _sm_header(spec: Spec) -> str:
     out.append("        if (g != GUARD_NONE) {\n")
     out.append("            const bool holds = guards.check(static_cast<Guard>(g & 0x7F));\n")
     out.append("            if (holds == ((g & GUARD_NEGATED) != 0)) continue;\n        }\n")
-    out.append(
-        "        r.matched = true;\n        r.target = static_cast<SessionState>(ROVERLINK_READ_BYTE(row + 3));\n"
-    )
+    out.append("        const uint8_t target = ROVERLINK_READ_BYTE(row + 3);\n")
+    out.append("        r.matched = true;\n")
+    out.append("        if (target != TARGET_STAY) r.target = static_cast<SessionState>(target);\n")
     out.append("        r.actions = static_cast<uint16_t>(ROVERLINK_READ_BYTE(row + 4) |\n")
     out.append("                                          (ROVERLINK_READ_BYTE(row + 5) << 8));\n")
     out.append("        return r;\n    }\n    return r;\n}\n\n")
@@ -255,26 +269,62 @@ def _source(spec: Spec) -> str:
     out.append("            out.min_payload = ROVERLINK_READ_BYTE(row + 2);\n")
     out.append("            out.max_payload = ROVERLINK_READ_BYTE(row + 3);\n")
     out.append("            return true;\n        }\n    }\n    return false;\n}\n\n")
+    out.append(_unpackers(spec))
     out.append("// Layouts (codec/layout.h): PAYLOAD_SIZE, PAYLOAD_MAX, field count, then per field its code,\n")
     out.append("// its offset in the struct, [count | 0, max_len, offset of <name>_len], [check data, LE].\n")
     for m in spec.messages:
         if m.fields:
             out.append(_layout(m))
-    rows = spec.state_machine.rows()
-    states = [s.name for s in spec.state_machine.states]
-    events = [e.name for e in spec.state_machine.events]
-    guards = [g.name for g in spec.state_machine.guards]
-    actions = [a.name for a in spec.state_machine.actions]
+    sm = spec.state_machine
+    if len(sm.states) > 8:
+        raise ValueError("the C++ state table keeps the source states of a row in one byte: at most 8 states")
+    states = [st.name for st in sm.states]
+    events = [e.name for e in sm.events]
+    guards = [g.name for g in sm.guards]
+    actions = [a.name for a in sm.actions]
     out.append("const uint8_t TRANSITIONS[TRANSITION_COUNT][6] ROVERLINK_PROGMEM = {\n")
-    for src, event, guard, negated, to, acts in rows:
-        g = "GUARD_NONE" if guard is None else f"{guards.index(guard) + 1}{' | GUARD_NEGATED' if negated else ''}"
-        bits = sum(1 << actions.index(a) for a in acts)
+    for t in sm.transitions:
+        mask = sum(1 << states.index(src) for src in t.sources)
+        g = "GUARD_NONE" if t.guard is None else f"{guards.index(t.guard) + 1}{' | GUARD_NEGATED' if t.negated else ''}"
+        to = "TARGET_STAY" if t.target is None else str(states.index(t.target))
+        bits = sum(1 << actions.index(a) for a in t.actions)
+        guard_text = f" [{'!' if t.negated else ''}{t.guard}]" if t.guard else ""
         out.append(
-            f"    {{{states.index(src)}, {events.index(event)}, {g}, {states.index(to)}, "
-            f"0x{bits & 0xFF:02X}, 0x{bits >> 8:02X}}},"
-            f"  // {src} {event}{' [' + ('!' if negated else '') + guard + ']' if guard else ''} -> {to}\n"
+            f"    {{0x{mask:02X}, {events.index(t.event)}, {g}, {to}, 0x{bits & 0xFF:02X}, 0x{bits >> 8:02X}}},"
+            f"  // {'|'.join(t.sources)} {t.event}{guard_text} -> {t.target or '(stay)'}\n"
         )
     out.append("};\n\n}  // namespace proto\n}  // namespace roverlink\n")
+    return "".join(out)
+
+
+def _unpackers(spec: Spec) -> str:
+    """unpack_<direction>(): the direction's msg_id -> layout table and one generic unpack."""
+    out = ["namespace {\n\n// msg_id and layout (0: no fields) of every message one direction carries.\n"]
+    out.append("struct LayoutOf {\n    uint8_t msg_id;\n    const uint8_t* layout;\n};\n\n")
+    out.append("DispatchResult unpack_with(const LayoutOf* table, uint8_t count, uint8_t msg_id,\n")
+    out.append("                           const uint8_t* payload, uint8_t len, void* m) {\n")
+    out.append("    for (uint8_t i = 0; i < count; ++i) {\n")
+    out.append("        if (ROVERLINK_READ_BYTE(&table[i].msg_id) == msg_id) {\n")
+    out.append("            const uint8_t* layout = ROVERLINK_READ_PTR(&table[i].layout);\n")
+    out.append("            const bool ok = layout != 0 ? layout::unpack(layout, payload, len, m) : len == 0;\n")
+    out.append("            return ok ? DISPATCH_OK : DISPATCH_BAD_PAYLOAD;\n        }\n    }\n")
+    out.append("    MessageBounds b;\n")
+    out.append("    return message_bounds(msg_id, b) ? DISPATCH_WRONG_DIRECTION : DISPATCH_UNKNOWN_ID;\n}\n\n")
+    for direction, _, _ in _DIRECTIONS:
+        msgs = [m for m in spec.messages if m.direction == direction]
+        table = direction.upper()
+        out.append(f"const LayoutOf {table}[] ROVERLINK_PROGMEM = {{\n")
+        for m in msgs:
+            out.append(f"    {{{m.class_name}::ID, {_layout_name(m) if m.fields else '0'}}},\n")
+        out.append("};\n\n")
+    out.append("}  // namespace\n\n")
+    for direction, union, _ in _DIRECTIONS:
+        table = direction.upper()
+        out.append(
+            f"DispatchResult unpack_{direction}(uint8_t msg_id, const uint8_t* payload, uint8_t len, {union}& m) {{\n"
+        )
+        count = f"sizeof {table} / sizeof {table}[0]"
+        out.append(f"    return unpack_with({table}, {count}, msg_id, payload, len, &m);\n}}\n\n")
     return "".join(out)
 
 
@@ -286,7 +336,7 @@ _WIRE = {
     "i16": "WIRE_I16",
     "i32": "WIRE_I32",
     "f32": "WIRE_F32",
-    "char": "WIRE_U8",  # checked as the values 0..0x7F (ASCII)
+    "char": "WIRE_U8",  # with CHECK_VALUES 0..0x7F (ASCII)
 }
 
 
@@ -325,21 +375,23 @@ def _check(f: Field) -> tuple[str, list[int], str]:
     if f.enum is not None:
         values = sorted(v.value for v in f.enum.values)
         lo, hi = values[0], values[-1]
+        bounds = _le(lo, width) + _le(hi, width)
         if values == list(range(lo, hi + 1)):
-            return "CHECK_VALUES", _le(lo, width) + _le(hi, width), f"{f.enum.name} {lo}..{hi}"
+            return "CHECK_VALUES", [*bounds, 0], f"{f.enum.name} {lo}..{hi}"
         if hi - lo > 255:
-            raise ValueError(f"{f.enum.name}: values spread over more than 256 need a CHECK_VALUE_SET extension")
+            raise ValueError(f"{f.enum.name}: the C++ layouts hold a bitmap of at most 256 enum values")
         bitmap = [0] * ((hi - lo) // 8 + 1)
         for v in values:
             bitmap[(v - lo) // 8] |= 1 << ((v - lo) % 8)
-        text = f"{f.enum.name} {', '.join(str(v) for v in values)}"
-        return "CHECK_VALUE_SET", [*_le(lo, width), *_le(hi, width), *bitmap], text
+        return "CHECK_VALUES", [*bounds, len(bitmap), *bitmap], f"{f.enum.name} {', '.join(map(str, values))}"
     if f.prim == "char":
-        return "CHECK_VALUES", [0x00, 0x7F], "ASCII"
+        return "CHECK_VALUES", [0x00, 0x7F, 0], "ASCII"
     if f.max_len is not None:
         return "CHECK_NONE", [], ""
     if f.is_float:  # always: a float field without a spec range still refuses NaN and infinity
-        lo_bits, hi_bits = _f32_bits(f.lo), _f32_bits(f.hi)
+        # Both zeros compare equal in the spec (and in Python): widen a bound at zero to take both.
+        lo_bits = 0x80000000 if f.lo == 0 else _f32_bits(f.lo)
+        hi_bits = 0x00000000 if f.hi == 0 else _f32_bits(f.hi)
         return "CHECK_RANGE", _le(lo_bits, 4) + _le(hi_bits, 4), f"{_float_lit(f.lo)}..{_float_lit(f.hi)}"
     _, _, _, tlo, thi = PRIMITIVES[f.prim]
     lo_i = int(f.min) if f.min is not None else int(tlo or 0)
@@ -365,6 +417,8 @@ def _layout(m: Message) -> str:
             if f.count is not None:
                 items.append(str(f.count))
             else:
+                if PRIMITIVES[f.prim][0] != 1:
+                    raise ValueError(f"{m.name}.{f.name}: the C++ layouts hold variable-length arrays of bytes only")
                 items += ["0", str(f.max_len), f"offsetof({n}, {f.name}_len)"]
         items += [f"0x{b:02X}" for b in data]
         comment = f"{i} {f.name}" + (f": {note}" if note else "")

@@ -1,6 +1,6 @@
 // Inlining hints and flash access: the hot per-byte path wants inlining forced, rare paths want it
 // prevented, because avr-gcc -Os decides the other way round in both cases; constant tables live
-// in flash (PROGMEM) on AVR, where reading them takes pgm_read_byte().
+// in flash (PROGMEM) on AVR, where reading them takes pgm_read_byte() / pgm_read_word().
 #ifndef ROVERLINK_CODEC_COMPILER_H
 #define ROVERLINK_CODEC_COMPILER_H
 
@@ -16,9 +16,11 @@
 #include <avr/pgmspace.h>
 #define ROVERLINK_PROGMEM PROGMEM
 #define ROVERLINK_READ_BYTE(p) pgm_read_byte(p)
+#define ROVERLINK_READ_PTR(p) reinterpret_cast<const uint8_t*>(pgm_read_word(p))  // a const uint8_t*
 #else
 #define ROVERLINK_PROGMEM
 #define ROVERLINK_READ_BYTE(p) (*(p))
+#define ROVERLINK_READ_PTR(p) (*(p))
 #endif
 
 #endif  // ROVERLINK_CODEC_COMPILER_H

@@ -1,63 +1,37 @@
 #include "codec.h"
 
+#include <string.h>
+
 namespace roverlink {
-
-namespace {
-
-// COBS for a body shorter than 254 bytes: body byte i lands at out[i + 1] and every zero is
-// replaced by the distance to the next one, so no 0xFF blocks and no bounds checks are needed.
-// Writes never pass the read position, which makes packing in place at out + 3 safe.
-class BodyWriter {
-public:
-    explicit BodyWriter(uint8_t* out) : out_(out), pos_(0), code_pos_(0), crc_(CRC16_INIT) {}
-
-    void put(uint8_t b) {
-        crc_ = crc16_update(crc_, b);
-        emit(b);
-    }
-
-    // Appends the CRC (with the unsent CRC_EXTRA mixed in) and the delimiter; returns the length.
-    size_t finish(uint8_t crc_extra) {
-        const uint16_t crc = crc16(&crc_extra, 1, crc_);  // a call: one inlined CRC is enough
-        emit(static_cast<uint8_t>(crc & 0xFFu));
-        emit(static_cast<uint8_t>(crc >> 8));
-        ++pos_;
-        out_[code_pos_] = static_cast<uint8_t>(pos_ - code_pos_);
-        out_[pos_] = 0;
-        return static_cast<size_t>(pos_) + 1u;
-    }
-
-private:
-    ROVERLINK_ALWAYS_INLINE void emit(uint8_t b) {
-        ++pos_;
-        if (b == 0) {
-            out_[code_pos_] = static_cast<uint8_t>(pos_ - code_pos_);
-            code_pos_ = pos_;
-        } else {
-            out_[pos_] = b;
-        }
-    }
-
-    uint8_t* out_;
-    uint8_t pos_;       // index of the last byte written
-    uint8_t code_pos_;  // index of the open block's code byte
-    uint16_t crc_;
-};
-
-}  // namespace
 
 size_t encode_frame(uint8_t msg_id, uint8_t seq, uint8_t crc_extra, const uint8_t* payload,
                     uint8_t len, uint8_t* out, size_t cap) {
     if (len > proto::MAX_PAYLOAD || out == 0 || cap < frame_size(len) || (len != 0 && payload == 0)) {
         return 0;
     }
-    BodyWriter w(out);
-    w.put(msg_id);
-    w.put(seq);
-    for (uint8_t i = 0; i < len; ++i) {
-        w.put(payload[i]);
+    // The body (msg_id, seq, payload, crc) goes to out[1..n], then COBS turns it into the frame in
+    // place: each zero becomes the distance to the next one, out[0] the distance to the first. A
+    // body is shorter than 254 bytes (codec.h), so there is exactly one code byte per zero.
+    if (len != 0 && payload != out + 3) {
+        memmove(out + 3, payload, len);
     }
-    return w.finish(crc_extra);
+    out[1] = msg_id;
+    out[2] = seq;
+    const uint8_t n = static_cast<uint8_t>(len + 4u);
+    uint16_t crc = crc16(out + 1, static_cast<uint8_t>(n - 2u));
+    crc = crc16(&crc_extra, 1, crc);  // CRC_EXTRA: hashed, never sent
+    out[n - 1] = static_cast<uint8_t>(crc);
+    out[n] = static_cast<uint8_t>(crc >> 8);
+    uint8_t code = 0;  // where the open block's code byte goes
+    for (uint8_t i = 1; i <= n; ++i) {
+        if (out[i] == 0) {
+            out[code] = static_cast<uint8_t>(i - code);
+            code = i;
+        }
+    }
+    out[code] = static_cast<uint8_t>(n + 1u - code);
+    out[n + 1] = 0;
+    return static_cast<size_t>(n) + 2u;
 }
 
 }  // namespace roverlink

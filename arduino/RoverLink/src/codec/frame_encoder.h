@@ -18,10 +18,10 @@ inline size_t frame_size(uint8_t payload_len) {
     return static_cast<size_t>(payload_len) + FRAME_OVERHEAD;
 }
 
-// Writes one complete frame (including the trailing 0x00) into `out` in a single pass.
-// Returns its length, or 0 when len > MAX_PAYLOAD or cap < frame_size(len).
-// `payload` must not overlap `out`, except that it may be exactly `out + 3`: the payload's own
-// slot in the encoded frame, which lets a message be packed in place without a second buffer.
+// Writes one complete frame (including the trailing 0x00) into `out`. Returns its length, or 0
+// when len > MAX_PAYLOAD or cap < frame_size(len). The payload is first moved to `out + 3`, its own
+// slot in the frame (it may overlap `out`); a message packed there already is encoded in place,
+// with no second buffer.
 size_t encode_frame(uint8_t msg_id, uint8_t seq, uint8_t crc_extra, const uint8_t* payload,
                     uint8_t len, uint8_t* out, size_t cap);
 

@@ -11,9 +11,9 @@ enum Op : uint8_t { PACK, UNPACK, CHECK };
 
 uint8_t flash_byte(const uint8_t* p) { return ROVERLINK_READ_BYTE(p); }
 
-// Struct member <-> its w bytes little-endian, through a variable of the member's width and
-// shifts, so the wire is the same whatever the host's byte order.
-void member_to_le(const uint8_t* m, uint8_t w, uint8_t* le) {
+// A struct member <-> its w bytes little-endian: through a variable of the member's own width
+// and shifts, so the wire is the same whatever the host's byte order.
+void member_to_le(const uint8_t* m, uint8_t* le, uint8_t w) {
     uint32_t v;
     if (w == 1) {
         v = *m;
@@ -29,7 +29,7 @@ void member_to_le(const uint8_t* m, uint8_t w, uint8_t* le) {
     }
 }
 
-void le_to_member(const uint8_t* le, uint8_t w, uint8_t* m) {
+void le_to_member(const uint8_t* le, uint8_t* m, uint8_t w) {
     uint32_t v = 0;
     for (uint8_t i = w; i-- > 0;) {
         v = (v << 8) | le[i];
@@ -44,19 +44,20 @@ void le_to_member(const uint8_t* le, uint8_t w, uint8_t* m) {
     }
 }
 
-// Compares a value (w bytes little-endian, RAM) with a bound (the same, in flash) as numbers of
-// the field's kind: < 0, 0 or > 0. Both are mapped, from the top byte down, to keys whose
-// unsigned order is the numbers' order: signed: the sign bit flipped; f32 (sign and magnitude):
-// a positive value gets its sign bit set, a negative one has every bit inverted.
-int8_t compare(uint8_t code, const uint8_t* value, const uint8_t* bound, uint8_t w) {
-    const uint8_t kind = code & KIND_MASK;
-    uint8_t flip_v = 0;  // what the lower bytes are XORed with (f32: 0xFF when negative)
+// Compares value (w bytes little-endian, RAM) with bound (the same, in flash) as numbers of the
+// field's kind: < 0, 0, > 0. Both are read from the top byte down as keys whose unsigned order is
+// the numbers' order: signed: the sign bit flipped; f32 (sign and magnitude): a positive number
+// gets its sign bit set, a negative one has every bit inverted. NaNs come out beyond -inf and
+// +inf, so they fail every range.
+int8_t compare(uint8_t code, const uint8_t* value, const uint8_t* bound) {
+    const uint8_t w = code & WIDTH_MASK;
+    uint8_t flip_v = 0;  // XORed into the lower bytes: 0xFF for a negative f32
     uint8_t flip_b = 0;
     for (uint8_t i = w; i-- > 0;) {
         uint8_t v = value[i] ^ flip_v;
         uint8_t b = flash_byte(bound + i) ^ flip_b;
-        if (i == w - 1u && kind != KIND_UNSIGNED) {
-            if (kind == KIND_FLOAT) {
+        if (i == w - 1u && (code & KIND_MASK) != KIND_UNSIGNED) {
+            if (code & KIND_FLOAT) {
                 flip_v = (v & 0x80) ? 0xFF : 0x00;
                 flip_b = (b & 0x80) ? 0xFF : 0x00;
             }
@@ -70,11 +71,10 @@ int8_t compare(uint8_t code, const uint8_t* value, const uint8_t* bound, uint8_t
     return 0;
 }
 
-// Whether an element (w bytes little-endian) passes its field's check (data: in flash).
-bool accepts(uint8_t code, const uint8_t* data, uint8_t* value) {
-    const uint8_t w = static_cast<uint8_t>(1u << (code & WIDTH_MASK));
-    const uint8_t check = code & CHECK_MASK;
-    if (check == CHECK_FLAGS) {
+// Whether an element (w bytes little-endian) passes its field's check; data: the check data.
+bool accepts(uint8_t code, const uint8_t* data, const uint8_t* value) {
+    const uint8_t w = code & WIDTH_MASK;
+    if ((code & CHECK_MASK) == CHECK_FLAGS) {
         for (uint8_t i = 0; i < w; ++i) {
             if (value[i] & ~flash_byte(data + i)) {
                 return false;
@@ -82,37 +82,17 @@ bool accepts(uint8_t code, const uint8_t* data, uint8_t* value) {
         }
         return true;
     }
-    if ((code & KIND_MASK) == KIND_FLOAT) {
-        const uint8_t top = value[3] & 0x7F;
-        if (top == 0x7F && (value[2] & 0x80) && ((value[2] & 0x7F) | value[1] | value[0])) {
-            return false;  // NaN: outside every range
-        }
-        if ((top | value[2] | value[1] | value[0]) == 0) {
-            value[3] = 0;  // -0.0 == 0.0
-        }
-    }
-    if (compare(code, value, data, w) < 0 || compare(code, value, data + w, w) > 0) {
+    if (compare(code, value, data) < 0 || compare(code, value, data + w) > 0) {
         return false;
     }
-    if (check == CHECK_VALUE_SET) {  // lo <= value <= hi, hi - lo < 256: the low bytes give the bit
+    // CHECK_VALUES with a bitmap: lo <= value <= hi and hi - lo < 256, so the low bytes' difference
+    // is the value's bit.
+    const uint8_t* bitmap = data + 2 * w;
+    if ((code & CHECK_MASK) == CHECK_VALUES && flash_byte(bitmap) != 0) {
         const uint8_t k = static_cast<uint8_t>(value[0] - flash_byte(data));
-        return ((flash_byte(data + 2 * w + (k >> 3)) >> (k & 7u)) & 1u) != 0;
+        return (flash_byte(bitmap + 1 + (k >> 3)) >> (k & 7u)) & 1u;
     }
     return true;
-}
-
-uint8_t check_size(uint8_t code, const uint8_t* data) {
-    const uint8_t w = static_cast<uint8_t>(1u << (code & WIDTH_MASK));
-    switch (code & CHECK_MASK) {
-    case CHECK_NONE:
-        return 0;
-    case CHECK_FLAGS:
-        return w;
-    case CHECK_VALUE_SET:  // lo, hi, then the bitmap's (hi - lo) / 8 + 1 bytes
-        return static_cast<uint8_t>(2 * w + (static_cast<uint8_t>(flash_byte(data + w) - flash_byte(data)) >> 3) + 1);
-    default:
-        return static_cast<uint8_t>(2 * w);
-    }
 }
 
 uint8_t walk(Op op, const uint8_t* layout, uint8_t* base, uint8_t* payload, uint8_t& len) {
@@ -120,22 +100,19 @@ uint8_t walk(Op op, const uint8_t* layout, uint8_t* base, uint8_t* payload, uint
     const uint8_t fields = flash_byte(layout + 2);
     uint8_t pos = 0;
     for (uint8_t i = 0; i < fields; ++i) {
-        const uint8_t code = flash_byte(p++);
-        uint8_t* m = base + flash_byte(p++);
-        const uint8_t log_w = code & WIDTH_MASK;
-        const uint8_t w = static_cast<uint8_t>(1u << log_w);
+        const uint8_t code = flash_byte(p);
+        uint8_t* m = base + flash_byte(p + 1);
+        p += 2;
+        const uint8_t w = code & WIDTH_MASK;
         uint8_t count = 1;
         if (code & ARRAY) {
             count = flash_byte(p++);
-            if (count == 0) {
-                count = flash_byte(p++);
-                uint8_t* const used = base + flash_byte(p++);
+            if (count == 0) {  // the variable-length last field (bytes): max_len, offsetof(len)
+                count = flash_byte(p);
+                uint8_t* const used = base + flash_byte(p + 1);
+                p += 2;
                 if (op == UNPACK) {
-                    const uint8_t rest = static_cast<uint8_t>(len - pos);
-                    count = static_cast<uint8_t>(rest >> log_w);
-                    if (static_cast<uint8_t>(count << log_w) != rest) {
-                        return i;
-                    }
+                    count = static_cast<uint8_t>(len - pos);  // unpack() checked len <= PAYLOAD_MAX
                     *used = count;
                 } else if (*used < count) {
                     count = *used;
@@ -144,22 +121,27 @@ uint8_t walk(Op op, const uint8_t* layout, uint8_t* base, uint8_t* payload, uint
         }
         const uint8_t check = code & CHECK_MASK;
         const uint8_t* const data = p;
-        p += check_size(code, p);
+        if (check == CHECK_FLAGS) {
+            p += w;
+        } else if (check != CHECK_NONE) {
+            p += 2 * w;
+            if (check == CHECK_VALUES) {
+                p += 1 + flash_byte(p);  // the bitmap's size, and the bitmap
+            }
+        }
         const bool checked = op == CHECK ? check == CHECK_RANGE : op == UNPACK && check > CHECK_RANGE;
         for (; count > 0; --count, m += w) {
             uint8_t scratch[4];
             uint8_t* const wire = op == CHECK ? scratch : payload + pos;
             if (op == UNPACK) {
-                le_to_member(wire, w, m);
+                le_to_member(wire, m, w);
             } else {
-                member_to_le(m, w, wire);
+                member_to_le(m, wire, w);
             }
             if (checked && !accepts(code, data, wire)) {
                 return i;
             }
-            if (op != CHECK) {
-                pos = static_cast<uint8_t>(pos + w);
-            }
+            pos = static_cast<uint8_t>(pos + w);
         }
     }
     len = pos;
@@ -168,6 +150,8 @@ uint8_t walk(Op op, const uint8_t* layout, uint8_t* base, uint8_t* payload, uint
 
 }  // namespace
 
+// walk() takes one mutable struct pointer and one mutable payload pointer for all three
+// operations; it writes only the struct in UNPACK and only the payload in PACK.
 uint8_t pack(const uint8_t* layout, const void* msg, uint8_t* payload) {
     uint8_t len = 0;
     walk(PACK, layout, const_cast<uint8_t*>(static_cast<const uint8_t*>(msg)), payload, len);

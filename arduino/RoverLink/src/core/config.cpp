@@ -1,5 +1,7 @@
 #include "config.h"
 
+#include <string.h>
+
 #include "../codec/codec.h"
 #include "../codec/wire.h"
 
@@ -37,38 +39,30 @@ uint8_t inconsistent_field(const proto::SetConfig& c) {
 
 namespace {
 
-void write_header(uint8_t* p) {
-    p[0] = 'R';
-    p[1] = 'L';
-    p[2] = IMAGE_VERSION;
-    p[3] = proto::SetConfig::CRC_EXTRA;
-    p[4] = proto::SetPid::CRC_EXTRA;
-}
+const uint8_t HEADER[IMAGE_HEADER] ROVERLINK_PROGMEM = {'R', 'L', IMAGE_VERSION, proto::SetConfig::CRC_EXTRA,
+                                                         proto::SetPid::CRC_EXTRA};
 
-uint8_t pack_gains(uint8_t wheel, const control::Gains& g, uint8_t* out) {
-    proto::SetPid p;
-    p.wheel = wheel;
-    p.kp = g.kp;
-    p.ki = g.ki;
-    p.kd = g.kd;
-    p.kf = g.kf;
-    return proto::pack(p, out);
-}
+// The image is a run of chunks: the header, the SET_CONFIG payload, one SET_PID payload per wheel
+// (then the CRC of all of them). Both load() and save() go through it chunk by chunk in `scratch`.
+const uint8_t CHUNKS = 2 + proto::WHEEL_COUNT;
+static_assert(IMAGE_SIZE == IMAGE_HEADER + proto::SetConfig::PAYLOAD_SIZE +
+                                proto::WHEEL_COUNT * proto::SetPid::PAYLOAD_SIZE + 2,
+              "the image is its chunks and a CRC");
 
-// Writes the bytes of `data` that differ from the EEPROM, then verifies all of them.
-bool write_verified(Board& board, uint16_t addr, const uint8_t* data, uint8_t len) {
-    for (uint8_t i = 0; i < len; ++i) {
-        uint8_t cur;
-        if (!board.eeprom_read(static_cast<uint16_t>(addr + i), &cur, 1)) {
-            return false;
-        }
-        if (cur != data[i] && !board.eeprom_write(static_cast<uint16_t>(addr + i), data + i, 1)) {
-            return false;
-        }
+uint8_t chunk_size(uint8_t k) {
+    if (k == 0) {
+        return IMAGE_HEADER;
     }
-    for (uint8_t i = 0; i < len; ++i) {
-        uint8_t back;
-        if (!board.eeprom_read(static_cast<uint16_t>(addr + i), &back, 1) || back != data[i]) {
+    return k == 1 ? static_cast<uint8_t>(proto::SetConfig::PAYLOAD_SIZE) : static_cast<uint8_t>(proto::SetPid::PAYLOAD_SIZE);
+}
+
+// Writes the bytes of `data` that differ from the EEPROM, reading each back.
+bool write_verified(Board& board, uint16_t addr, const uint8_t* data, uint8_t len) {
+    for (uint8_t i = 0; i < len; ++i, ++addr) {
+        uint8_t cur;
+        if (!board.eeprom_read(addr, &cur, 1) ||
+            (cur != data[i] && (!board.eeprom_write(addr, data + i, 1) || !board.eeprom_read(addr, &cur, 1) ||
+                                cur != data[i]))) {
             return false;
         }
     }
@@ -78,74 +72,83 @@ bool write_verified(Board& board, uint16_t addr, const uint8_t* data, uint8_t le
 }  // namespace
 
 LoadResult load(Board& board, proto::SetConfig& cfg, control::Gains gains[proto::WHEEL_COUNT], uint8_t* scratch) {
-    // 1. Header, then the CRC over the whole image, a byte at a time (no second buffer).
-    uint8_t header[IMAGE_HEADER];
-    write_header(header);
+    // One pass: each chunk is read, added to the CRC and parsed; the verdict comes in the order
+    // unreadable or foreign image, CRC, values (checked as SET_CONFIG and SET_PID would be).
+    proto::SetConfig c;
+    control::Gains g[proto::WHEEL_COUNT];
+    bool valid = true;
     uint16_t crc = CRC16_INIT;
-    for (uint16_t i = 0; i < IMAGE_SIZE - 2u; ++i) {
-        uint8_t b;
-        if (!board.eeprom_read(static_cast<uint16_t>(IMAGE_ADDR + i), &b, 1) || (i < IMAGE_HEADER && b != header[i])) {
+    uint16_t addr = IMAGE_ADDR;
+    for (uint8_t k = 0; k < CHUNKS; ++k) {
+        const uint8_t n = chunk_size(k);
+        if (!board.eeprom_read(addr, scratch, n)) {
             return LoadResult::NO_IMAGE;
         }
-        crc = crc16_update(crc, b);
+        addr = static_cast<uint16_t>(addr + n);
+        crc = crc16(scratch, n, crc);
+        if (k == 0) {
+            for (uint8_t i = 0; i < n; ++i) {
+                if (scratch[i] != ROVERLINK_READ_BYTE(HEADER + i)) {
+                    return LoadResult::NO_IMAGE;  // blank, or written by another version
+                }
+            }
+        } else if (k == 1) {
+            proto::NackReason reason;
+            uint8_t detail;
+            valid = proto::unpack(scratch, n, c) && validate(c, reason, detail);
+        } else {
+            proto::SetPid p;
+            const uint8_t w = static_cast<uint8_t>(k - 2);
+            valid = valid && proto::unpack(scratch, n, p) && p.wheel == w &&
+                    proto::check_ranges(p) == proto::ALL_FIELDS_VALID;
+            g[w].kp = p.kp;
+            g[w].ki = p.ki;
+            g[w].kd = p.kd;
+            g[w].kf = p.kf;
+        }
     }
-    uint8_t stored[2];
-    if (!board.eeprom_read(static_cast<uint16_t>(IMAGE_ADDR + IMAGE_SIZE - 2u), stored, 2)) {
+    if (!board.eeprom_read(addr, scratch, 2)) {
         return LoadResult::NO_IMAGE;
     }
-    if (wire::get_u16(stored) != crc) {
+    if (wire::get_u16(scratch) != crc) {
         return LoadResult::BAD_CRC;
     }
-    // 2. The values, checked as SET_CONFIG and SET_PID would be.
-    proto::SetConfig c;
-    proto::NackReason reason;
-    uint8_t detail;
-    if (!board.eeprom_read(IMAGE_ADDR + IMAGE_HEADER, scratch, proto::SetConfig::PAYLOAD_SIZE) ||
-        !proto::unpack(scratch, proto::SetConfig::PAYLOAD_SIZE, c) || !validate(c, reason, detail)) {
+    if (!valid) {
         return LoadResult::INVALID;
     }
-    control::Gains g[proto::WHEEL_COUNT];
-    for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
-        proto::SetPid p;
-        const uint16_t addr = static_cast<uint16_t>(IMAGE_ADDR + IMAGE_FIRST_CHUNK + w * proto::SetPid::PAYLOAD_SIZE);
-        if (!board.eeprom_read(addr, scratch, proto::SetPid::PAYLOAD_SIZE) ||
-            !proto::unpack(scratch, proto::SetPid::PAYLOAD_SIZE, p) || p.wheel != w ||
-            proto::check_ranges(p) != proto::ALL_FIELDS_VALID) {
-            return LoadResult::INVALID;
-        }
-        g[w].kp = p.kp;
-        g[w].ki = p.ki;
-        g[w].kd = p.kd;
-        g[w].kf = p.kf;
-    }
     cfg = c;
-    for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
-        gains[w] = g[w];
-    }
+    memcpy(gains, g, sizeof g);
     return LoadResult::OK;
 }
 
 bool save(Board& board, const proto::SetConfig& cfg, const control::Gains gains[proto::WHEEL_COUNT],
           uint8_t* scratch) {
+    uint16_t crc = CRC16_INIT;
     uint16_t addr = IMAGE_ADDR;
-    write_header(scratch);
-    const uint8_t n = static_cast<uint8_t>(IMAGE_HEADER + proto::pack(cfg, scratch + IMAGE_HEADER));
-    uint16_t crc = crc16(scratch, n);
-    if (!write_verified(board, addr, scratch, n)) {
-        return false;
-    }
-    addr = static_cast<uint16_t>(addr + n);
-    for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
-        const uint8_t k = pack_gains(w, gains[w], scratch);
-        crc = crc16(scratch, k, crc);
-        if (!write_verified(board, addr, scratch, k)) {
+    for (uint8_t k = 0; k <= CHUNKS; ++k) {
+        uint8_t n = 2;
+        if (k == 0) {
+            for (n = 0; n < IMAGE_HEADER; ++n) {
+                scratch[n] = ROVERLINK_READ_BYTE(HEADER + n);
+            }
+        } else if (k == 1) {
+            n = proto::pack(cfg, scratch);
+        } else if (k < CHUNKS) {
+            const uint8_t w = static_cast<uint8_t>(k - 2);
+            const proto::SetPid p = {w, gains[w].kp, gains[w].ki, gains[w].kd, gains[w].kf};
+            n = proto::pack(p, scratch);
+        } else {
+            wire::put_u16(scratch, crc);  // the last chunk: the CRC of the others
+        }
+        if (k < CHUNKS) {
+            crc = crc16(scratch, n, crc);
+        }
+        if (!write_verified(board, addr, scratch, n)) {
             return false;
         }
-        addr = static_cast<uint16_t>(addr + k);
+        addr = static_cast<uint16_t>(addr + n);
     }
-    scratch[0] = static_cast<uint8_t>(crc);
-    scratch[1] = static_cast<uint8_t>(crc >> 8);
-    return write_verified(board, addr, scratch, 2);
+    return true;
 }
 
 uint32_t bump_boot_counter(Board& board) {

@@ -141,7 +141,7 @@ uint8_t Firmware::set_config(const proto::SetConfig& c, uint8_t& detail) {
     return 0;
 }
 
-void Firmware::set_pid(const proto::SetPid& m) {
+ROVERLINK_NOINLINE void Firmware::set_pid(const proto::SetPid& m) {
     for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
         if (m.wheel == proto::PID_ALL_WHEELS || m.wheel == w) {
             control::Gains& g = v_.gains[w];
@@ -248,31 +248,21 @@ void Firmware::control_tick(uint16_t periods, uint32_t now) {
         --v.late_holdoff;
     }
 
-    // 1. Sample: one atomic copy of the counts (the Board's job), encoder_invert; 2. measure.
+    // 1. Sample: one atomic copy of the counts (the Board's job).
     int32_t raw[proto::WHEEL_COUNT];
     board_.read_encoders(raw);
-    int32_t delta[proto::WHEEL_COUNT];
-    int16_t m_prev[proto::WHEEL_COUNT];
-    const bool encoders = has(proto::Capability::ENCODERS);
-    for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
-        Wheel& wh = v.wheels[w];
-        const int32_t c = invert_if(raw[w], (v.cfg.encoder_invert >> w) & 1u);
-        delta[w] = static_cast<int32_t>(static_cast<uint32_t>(c) - static_cast<uint32_t>(wh.count));
-        wh.count = c;
-        m_prev[w] = wh.measured;
-        wh.measured = encoders ? control::measure_speed(delta[w], v.mm_s_per_count, periods) : 0;
-    }
 
-    // 3. Watchdog: FAILSAFE in this tick, at most one tick after expiry.
+    // 3. Watchdog: FAILSAFE in this tick, at most one tick after expiry. (Step 2, the measurement,
+    // comes with each wheel below: nothing the watchdog's safe state does touches it.)
     session_.check_watchdog(now);
 
     // 4. The latest setpoint, if one arrived (only ever stored while ARMED).
     const bool armed = session_.armed();
     bool applied = false;
     if (v.has_pending && armed) {
-        for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
-            v.wheels[w].target = v.pending[w];
-        }
+        v.wheels[0].target = v.pending[0];
+        v.wheels[1].target = v.pending[1];
+        static_assert(proto::WHEEL_COUNT == 2, "one target per wheel");
         v.steer_mrad = v.pending_steer;
         v.ack_seq = v.pending_seq;
         v.ack_tick = v.tick;
@@ -285,58 +275,21 @@ void Firmware::control_tick(uint16_t periods, uint32_t now) {
         v.esc_ready = true;
     }
 
-    // 5.-6. Ramp and PID.
+    // 2., 5.-6. and 8.'s count, wheel by wheel.
     const bool hold = !v.esc_ready || (!armed && v.cfg.safe_state != proto::SafeState::RAMP_DOWN);
-    bool ramping = false;
-    v.saturated = false;
+    uint8_t flags = 0;
     for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
-        Wheel& wh = v.wheels[w];
-        if (hold) {
-            wh.ramp = 0;  // at rest (also covers a safe_state change in the middle of a ramp)
-        } else {
-            wh.ramp = control::ramp_step(wh.ramp, static_cast<int32_t>(wh.target) * control::RAMP_UNITS_PER_MM_S,
-                                         v.cfg.accel_limit_mm_s2, v.cfg.decel_limit_mm_s2);
-        }
-        if ((wh.target == 0 || !v.esc_ready) && wh.ramp == 0) {
-            wh.effort = 0;  // standstill: no hum
-            wh.integral = 0.0f;
-            continue;
-        }
-        ramping = true;
-        bool sat = false;
-        const float r = static_cast<float>(wh.ramp) * (1.0f / control::RAMP_UNITS_PER_MM_S);
-        if (encoders) {
-            wh.effort = control::pid_step(v.gains[w], r, wh.measured, m_prev[w], v.max_effort, wh.integral, sat);
-        } else {
-            // Open loop (no encoder to close it on): feed-forward only.
-            const control::Gains ff = {0.0f, 0.0f, 0.0f, v.gains[w].kf};
-            wh.integral = 0.0f;
-            wh.effort = control::pid_step(ff, r, 0, 0, v.max_effort, wh.integral, sat);
-        }
-        v.saturated = v.saturated || sat;
+        flags |= tick_wheel(w, raw[w], periods, hold);
     }
+    v.saturated = (flags & WHEEL_SATURATED) != 0;
 
     // 7. Outputs. Out of ARMED, RAMP_DOWN drives until every ramped speed is 0, then coasts.
-    write_outputs(armed || ramping);
+    write_outputs(armed || (flags & WHEEL_RAMPING) != 0);
 
     // 8. Encoder fault: |u| >= 300 for 50 ticks while the count does not move.
-    if (encoders) {
-        bool fault = false;
-        for (uint8_t w = 0; w < driven_wheels(); ++w) {
-            Wheel& wh = v.wheels[w];
-            if (abs16(wh.effort) >= STALL_EFFORT && delta[w] == 0) {
-                if (wh.stalled < STALL_TICKS) {
-                    ++wh.stalled;
-                }
-                fault = fault || wh.stalled >= STALL_TICKS;
-            } else {
-                wh.stalled = 0;
-            }
-        }
-        if (fault) {
-            v.encoder_fault = true;
-            session_.fault(FailsafeReason::ENCODER_FAULT);
-        }
+    if (flags & WHEEL_STALLED) {
+        v.encoder_fault = true;
+        session_.fault(FailsafeReason::ENCODER_FAULT);
     }
 
     // Lights from the motion state, blinking from the tick counter.
@@ -358,6 +311,60 @@ void Firmware::control_tick(uint16_t periods, uint32_t now) {
     if (session_.feedback_due(applied)) {
         send_feedback(now);
     }
+}
+
+// One wheel's share of the tick: measure (2), ramp (5), PID (6), and the stall count of the
+// encoder fault (8). Its effort is final here: write_outputs() only zeroes efforts that already are.
+uint8_t Firmware::tick_wheel(uint8_t w, int32_t raw, uint16_t periods, bool hold) {
+    Vars& v = v_;
+    Wheel& wh = v.wheels[w];
+    const int32_t c = invert_if(raw, (v.cfg.encoder_invert >> w) & 1u);
+    const int32_t delta = static_cast<int32_t>(static_cast<uint32_t>(c) - static_cast<uint32_t>(wh.count));
+    wh.count = c;
+    const int16_t m_prev = wh.measured;
+    const bool encoders = has(proto::Capability::ENCODERS);
+    wh.measured = encoders ? control::measure_speed(delta, v.mm_s_per_count, periods) : 0;
+
+    if (hold) {
+        wh.ramp = 0;  // at rest (also covers a safe_state change in the middle of a ramp)
+    } else {
+        wh.ramp = control::ramp_step(wh.ramp, static_cast<int32_t>(wh.target) * control::RAMP_UNITS_PER_MM_S,
+                                     v.cfg.accel_limit_mm_s2, v.cfg.decel_limit_mm_s2);
+    }
+    uint8_t flags = 0;
+    if ((wh.target == 0 || !v.esc_ready) && wh.ramp == 0) {
+        wh.effort = 0;  // standstill: no hum
+        wh.integral = 0.0f;
+    } else {
+        flags = WHEEL_RAMPING;
+        bool sat = false;
+        const float r = static_cast<float>(wh.ramp) * (1.0f / control::RAMP_UNITS_PER_MM_S);
+        if (encoders) {
+            wh.effort = control::pid_step(v.gains[w], r, wh.measured, m_prev, v.max_effort, wh.integral, sat);
+        } else {
+            // Open loop (no encoder to close it on): feed-forward only.
+            const control::Gains ff = {0.0f, 0.0f, 0.0f, v.gains[w].kf};
+            wh.integral = 0.0f;
+            wh.effort = control::pid_step(ff, r, 0, 0, v.max_effort, wh.integral, sat);
+        }
+        if (sat) {
+            flags |= WHEEL_SATURATED;
+        }
+    }
+
+    if (encoders && w < driven_wheels()) {
+        if (abs16(wh.effort) >= STALL_EFFORT && delta == 0) {
+            if (wh.stalled < STALL_TICKS) {
+                ++wh.stalled;
+            }
+            if (wh.stalled >= STALL_TICKS) {
+                flags |= WHEEL_STALLED;
+            }
+        } else {
+            wh.stalled = 0;
+        }
+    }
+    return flags;
 }
 
 void Firmware::write_outputs(bool drive) {

@@ -126,6 +126,8 @@ private:
     void motors_safe();
     void apply_config(const proto::SetConfig& c);
     void control_tick(uint16_t periods, uint32_t now);
+    enum : uint8_t { WHEEL_RAMPING = 1, WHEEL_SATURATED = 2, WHEEL_STALLED = 4 };  // tick_wheel()
+    uint8_t tick_wheel(uint8_t w, int32_t raw, uint16_t periods, bool hold);
     void write_outputs(bool drive);
     void send_feedback(uint32_t sample_us);
 

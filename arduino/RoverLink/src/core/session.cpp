@@ -17,7 +17,7 @@ struct Guards {
 };
 
 // A 32-bit finaliser (xorshift-multiply): every input bit affects every output bit.
-uint32_t mix32(uint32_t x) {
+ROVERLINK_NOINLINE uint32_t mix32(uint32_t x) {
     x ^= x >> 16;
     x *= 0x7FEB352DUL;
     x ^= x >> 15;
@@ -26,7 +26,7 @@ uint32_t mix32(uint32_t x) {
     return x;
 }
 
-uint16_t magnitude(int16_t x) { return static_cast<uint16_t>(x < 0 ? -static_cast<int32_t>(x) : x); }
+uint16_t magnitude(int16_t x) { return x < 0 ? static_cast<uint16_t>(0u - static_cast<uint16_t>(x)) : static_cast<uint16_t>(x); }
 
 }  // namespace
 
@@ -41,10 +41,15 @@ void SessionCore::reset(uint32_t boot_counter, const proto::SetConfig& config) {
     memset(&v_, 0, sizeof v_);  // all plain data; 0 is BOOT, NONE, STREAM
     v_.watchdog_ms = config.watchdog_ms;
     v_.feedback_hz = config.feedback_hz;
-    // boot_id: the EEPROM boot counter mixed with the board's noise and the clock; never 0.
-    uint32_t id = mix32(boot_counter ^ 0x9E3779B9UL);
-    for (uint8_t i = 0; i < 5; ++i) {
-        id = mix32(id ^ (i < 4 ? board_.entropy() : board_.micros()));
+    // boot_id: the EEPROM boot counter mixed with four entropy() samples and the clock; never 0.
+    uint32_t id = boot_counter ^ 0x9E3779B9UL;
+    for (uint8_t i = 0; i < 6; ++i) {
+        id = mix32(id);
+        if (i < 4) {
+            id ^= board_.entropy();
+        } else if (i == 4) {
+            id ^= board_.micros();
+        }
     }
     v_.boot_id = id != 0 ? id : 1;
 }
@@ -112,17 +117,31 @@ void SessionCore::perform(uint16_t a, SessionEvent ev, SessionState from, Failsa
     }
 }
 
-// After seq accounting and VALID_FRAME: for reliable requests the duplicate rule (docs/control.md
-// 2) and NO_SESSION in IDLE. False: already answered, stop.
-bool SessionCore::request(uint8_t msg_id, uint8_t seq, Kind kind) {
+// An if chain, not a switch: avr-gcc turns a switch of constants into a lookup table in SRAM.
+SessionCore::Kind SessionCore::kind_of(uint8_t id) {
+    if (id == proto::Arm::ID || id == proto::Disarm::ID) {
+        return TABLE;
+    }
+    if (id == proto::GetPid::ID || id == proto::GetConfig::ID || id == proto::GetLinkStats::ID) {
+        return QUERY;
+    }
+    if (id == proto::SetPid::ID || id == proto::SetConfig::ID || id == proto::SaveConfig::ID ||
+        id == proto::ResetOdometry::ID) {
+        return RELIABLE;
+    }
+    return PLAIN;  // HELLO, PING, setpoints
+}
+
+bool SessionCore::request(uint8_t msg_id, uint8_t seq) {
     Vars& v = v_;
     v.req_id = msg_id;
     v.req_seq = seq;
+    const Kind kind = kind_of(msg_id);
     if (kind == PLAIN) {
         return true;
     }
     if (v.dup_valid && v.dup_id == msg_id && v.dup_seq == seq) {
-        ++v.duplicates;
+        add_count(v.duplicates);
         if (kind != QUERY) {
             send_answer(v.dup_reason, v.dup_detail);  // answered again, not applied again
             return false;
@@ -141,28 +160,41 @@ bool SessionCore::request(uint8_t msg_id, uint8_t seq, Kind kind) {
     return true;
 }
 
-void SessionCore::answer(uint8_t reason, uint8_t detail) {
+ROVERLINK_NOINLINE void SessionCore::answer(uint8_t reason, uint8_t detail) {
     v_.dup_reason = reason;
     v_.dup_detail = detail;
     send_answer(reason, detail);
 }
 
-void SessionCore::send_answer(uint8_t reason, uint8_t detail) {
-    if (reason == 0) {
-        const proto::Ack ack = {v_.req_id, v_.req_seq};
-        link_.send(ack);
+void SessionCore::answer_checked(uint8_t bad_field) {
+    if (bad_field == proto::ALL_FIELDS_VALID) {
+        answer(0, 0);
     } else {
-        const proto::Nack nack = {v_.req_id, v_.req_seq, static_cast<NackReason>(reason), detail};
-        link_.send(nack);
+        answer(static_cast<uint8_t>(NackReason::OUT_OF_RANGE), bad_field);
     }
 }
 
-void SessionCore::send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t seq, uint8_t len) {
-    link_.payload_slot()[0] = seq;
+ROVERLINK_NOINLINE void SessionCore::send_answer(uint8_t reason, uint8_t detail) {
+    // An ACK is a NACK's first two fields: one NACK is packed, and sent whole or as the ACK.
+    static_assert(proto::Ack::PAYLOAD_SIZE == 2 && offsetof(proto::Ack, req_seq) == offsetof(proto::Nack, req_seq) &&
+                      offsetof(proto::Ack, req_id) == 0 && offsetof(proto::Nack, req_id) == 0 &&
+                      sizeof(proto::Ack::req_seq) == 1 && sizeof(proto::Nack::req_seq) == 1,
+                  "ACK must be the start of NACK");
+    const proto::Nack nack = {v_.req_id, v_.req_seq, static_cast<NackReason>(reason), detail};
+    const uint8_t len = proto::pack(nack, link_.payload_slot());
+    if (reason == 0) {
+        link_.send_payload(proto::Ack::ID, proto::Ack::CRC_EXTRA, proto::Ack::PAYLOAD_SIZE);
+    } else {
+        link_.send_payload(proto::Nack::ID, proto::Nack::CRC_EXTRA, len);
+    }
+}
+
+void SessionCore::send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t len) {
+    link_.payload_slot()[0] = v_.req_seq;
     link_.send_payload(msg_id, crc_extra, static_cast<uint8_t>(1 + len));
 }
 
-void SessionCore::send_identity(proto::IdentityReason reason, const proto::SetConfig& config) {
+ROVERLINK_NOINLINE void SessionCore::send_identity(proto::IdentityReason reason, const proto::SetConfig& config) {
     const Vars& v = v_;
     proto::Identity m = proto::Identity();  // zeroed: a field added to the spec is never garbage
     m.protocol_version = proto::PROTOCOL_VERSION;
@@ -219,16 +251,15 @@ void SessionCore::send_pong(const proto::Ping& m) {
     link_.send(pong);
 }
 
-void SessionCore::send_link_stats(uint8_t seq) {
+void SessionCore::send_link_stats() {
     const DecoderStats& d = link_.decoder().stats();
-    proto::LinkStats s = proto::LinkStats();
-    s.req_seq = seq;
-    s.frames_ok = d.frames_ok;
-    s.crc_errors = d.crc_errors;
-    s.cobs_errors = d.cobs_errors;
-    s.length_errors = d.length_errors;
-    s.unknown_ids = d.unknown_ids;
-    s.value_errors = d.value_errors;
+    proto::LinkStats s;
+    s.req_seq = v_.req_seq;
+    // frames_ok .. value_errors: six counters in the same order in both structs, copied at once.
+    static_assert(offsetof(proto::LinkStats, value_errors) - offsetof(proto::LinkStats, frames_ok) == 5 * 4 &&
+                      offsetof(DecoderStats, value_errors) - offsetof(DecoderStats, frames_ok) == 5 * 4,
+                  "LINK_STATS and DecoderStats must list frames_ok..value_errors alike");
+    memcpy(&s.frames_ok, &d.frames_ok, 6 * sizeof(uint32_t));
     s.seq_gaps = link_.seq_gaps();
     s.bytes_discarded = d.bytes_discarded;
     s.rx_overruns = 0;  // the Arduino core drops UART overruns silently: not observable here
@@ -281,7 +312,7 @@ void SessionCore::send_feedback(proto::Feedback& f, uint8_t app_status) {
     link_.send(f);
 }
 
-void SessionCore::log(proto::LogLevel level, const char* flash_text, uint32_t number, bool with_number) {
+ROVERLINK_NOINLINE void SessionCore::log(proto::LogLevel level, const char* flash_text, uint32_t number, bool with_number) {
     uint8_t* p = link_.payload_slot();
     const uint8_t cap = proto::Log::PAYLOAD_MAX;
     uint8_t n = 0;
@@ -294,14 +325,16 @@ void SessionCore::log(proto::LogLevel level, const char* flash_text, uint32_t nu
         p[n++] = c;
     }
     if (with_number) {
-        char digits[10];
-        uint8_t k = 0;
+        // Digits least significant first, then turned round in place.
+        uint8_t first = n;
         do {
-            digits[k++] = static_cast<char>('0' + number % 10u);
+            p[n++] = static_cast<uint8_t>('0' + number % 10u);
             number /= 10u;
-        } while (number != 0 && k < sizeof digits);
-        while (k > 0 && n < cap) {
-            p[n++] = static_cast<uint8_t>(digits[--k]);
+        } while (number != 0 && n < cap);
+        for (uint8_t last = static_cast<uint8_t>(n - 1u); first < last; ++first, --last) {
+            const uint8_t c = p[first];
+            p[first] = p[last];
+            p[last] = c;
         }
     }
     link_.send_payload(proto::Log::ID, proto::Log::CRC_EXTRA, n);

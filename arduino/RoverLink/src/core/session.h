@@ -113,20 +113,24 @@ protected:
     // REJECT_HELLO, ACK, NACK); `config` is the App's, for IDENTITY's values outside a session.
     void perform(uint16_t actions, proto::SessionEvent ev, proto::SessionState from, proto::FailsafeReason reason,
                  const proto::SetConfig& config);
-    // The common start of every message; false: already answered, stop.
-    bool request(uint8_t msg_id, uint8_t seq, Kind kind);
+    // After seq accounting and VALID_FRAME: the request's kind of handling (reliable requests'
+    // duplicate rule, NO_SESSION in IDLE); false: already answered, stop.
+    bool request(uint8_t msg_id, uint8_t seq);
+    static Kind kind_of(uint8_t msg_id);
     void answer(uint8_t reason, uint8_t detail);       // to the current request; remembered
+    void answer_checked(uint8_t bad_field);            // ACK, or NACK(OUT_OF_RANGE, bad_field)
     void send_answer(uint8_t reason, uint8_t detail);  // 0: ACK, else NACK(reason, detail)
     void send_identity(proto::IdentityReason reason, const proto::SetConfig& config);
     void accept_hello(const proto::Hello& h, const proto::SetConfig& config);
     void send_pong(const proto::Ping& m);
-    void send_link_stats(uint8_t seq);
-    void send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t seq, uint8_t len);  // payload_slot()[1..len]
+    void send_link_stats();
+    // A GET_* answer: req_seq, then the `len` bytes already packed at payload_slot() + 1.
+    void send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t len);
     uint8_t session_status() const;
     bool feedback_due(bool applied, uint8_t config_hz);
     void send_feedback(proto::Feedback& f, uint8_t app_status);
     bool has(uint16_t capability) const { return (robot_.capabilities & capability) != 0; }
-    // Index of the first speed over the limit, else `other` (check_ranges' answer).
+    // Index of the first speed over `max`, else `other` (check_ranges' answer).
     static uint8_t checked_speed(int16_t a, int16_t b, uint16_t max, uint8_t other);
 
     Vars v_;
@@ -171,15 +175,6 @@ public:
     proto::FeedbackMode feedback_mode() const { return in_session() ? v_.mode : proto::FeedbackMode::STREAM; }
     uint8_t feedback_hz() const { return in_session() ? v_.feedback_hz : app_.config().feedback_hz; }
 
-    // Adapts the generated dispatcher's handle(msg, seq) calls to on_message().
-    struct Rx {
-        Session& s;
-        template <class M>
-        void handle(const M& m, uint8_t seq) {
-            s.on_message(m, seq);
-        }
-    };
-
 private:
     // Fires `ev`: the state change, the App's actions, then the session's. Returns the row's
     // action bits (0: no row), so the caller does ACCEPT_HELLO and APPLY_SETPOINT.
@@ -193,198 +188,146 @@ private:
         return a;
     }
 
-    void on_valid_frame(uint8_t seq) {
-        link_.account_seq(seq);
-        fire(proto::SessionEvent::VALID_FRAME, 0, proto::FailsafeReason::NONE);
-    }
-
-    bool start(uint8_t msg_id, uint8_t seq, Kind kind) {
-        on_valid_frame(seq);
-        return request(msg_id, seq, kind);
-    }
-
+    void on_frame();
     void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t bad_field, uint16_t capability);
-
-    void on_message(const proto::Hello& m, uint8_t seq);
-    void on_message(const proto::Ping& m, uint8_t seq);
-    void on_message(const proto::Arm& m, uint8_t seq);
-    void on_message(const proto::Disarm& m, uint8_t seq);
-    void on_message(const proto::SetPid& m, uint8_t seq);
-    void on_message(const proto::GetPid& m, uint8_t seq);
-    void on_message(const proto::SetConfig& m, uint8_t seq);
-    void on_message(const proto::GetConfig& m, uint8_t seq);
-    void on_message(const proto::SaveConfig& m, uint8_t seq);
-    void on_message(const proto::ResetOdometry& m, uint8_t seq);
-    void on_message(const proto::GetLinkStats& m, uint8_t seq);
-    void on_message(const proto::SetWheelSpeeds& m, uint8_t seq);
-    void on_message(const proto::SetAckermann& m, uint8_t seq);
 
     App& app_;
 };
 
 // ------------------------------------------------------------------------------------------------
-// Session<App>: the handlers that call the App.
+// Session<App>: the rules that call the App.
 
 template <class App>
 void Session<App>::poll() {
-    int n = link_.port().available();
     FrameDecoder& decoder = link_.decoder();
-    while (n-- > 0) {
+    for (int n = link_.port().available(); n > 0; --n) {
         const int c = link_.port().read();
         if (c < 0) {
             break;
         }
-        if (decoder.push(static_cast<uint8_t>(c)) != FrameDecoder::FRAME) {
-            continue;
-        }
-        Rx rx = {*this};
-        const uint8_t seq = decoder.seq();
-        const proto::DispatchResult r =
-            proto::dispatch_host_to_mcu(decoder.msg_id(), seq, decoder.payload(), decoder.payload_len(), rx);
-        if (r == proto::DISPATCH_BAD_PAYLOAD) {
-            decoder.reject_payload();  // not a valid frame: no seq accounting, no watchdog
-        } else if (r == proto::DISPATCH_WRONG_DIRECTION) {
-            on_valid_frame(seq);       // valid, counted, then ignored (docs/control.md 1.3)
+        if (decoder.push(static_cast<uint8_t>(c)) == FrameDecoder::FRAME) {
+            on_frame();
         }
     }
 }
 
+// A frame the decoder accepted (COBS, length, id and CRC checked): docs/control.md section 1.
 template <class App>
-void Session<App>::on_message(const proto::Hello& m, uint8_t seq) {
-    start(proto::Hello::ID, seq, PLAIN);
-    const bool compatible = m.protocol_version == proto::PROTOCOL_VERSION && m.spec_hash == proto::SPEC_HASH;
-    if (fire(proto::SessionEvent::HELLO, compatible ? G_COMPATIBLE : 0, proto::FailsafeReason::NONE) &
-        proto::Action::ACCEPT_HELLO) {
-        accept_hello(m, app_.config());
+void Session<App>::on_frame() {
+    FrameDecoder& d = link_.decoder();
+    const uint8_t id = d.msg_id();
+    const uint8_t seq = d.seq();
+    proto::HostToMcu m;
+    const proto::DispatchResult r = proto::unpack_host_to_mcu(id, d.payload(), d.payload_len(), m);
+    if (r == proto::DISPATCH_BAD_PAYLOAD) {
+        d.reject_payload();  // a value the spec does not allow: not a valid frame, no watchdog
+        return;
     }
-}
-
-template <class App>
-void Session<App>::on_message(const proto::Ping& m, uint8_t seq) {
-    start(proto::Ping::ID, seq, PLAIN);
-    send_pong(m);
-}
-
-template <class App>
-void Session<App>::on_message(const proto::Arm& m, uint8_t seq) {
-    if (start(proto::Arm::ID, seq, TABLE)) {
-        fire(proto::SessionEvent::ARM, m.boot_id == v_.boot_id ? G_BOOT_ID : 0, proto::FailsafeReason::NONE);
+    // 1. seq accounting, 2. VALID_FRAME (an MCU-to-host message too, then ignored: 1.3).
+    link_.account_seq(seq);
+    fire(proto::SessionEvent::VALID_FRAME, 0, proto::FailsafeReason::NONE);
+    if (r != proto::DISPATCH_OK || !request(id, seq)) {
+        return;
     }
-}
-
-template <class App>
-void Session<App>::on_message(const proto::Disarm&, uint8_t seq) {
-    if (start(proto::Disarm::ID, seq, TABLE)) {
+    // 3. The message's own handling.
+    switch (id) {
+    case proto::Hello::ID: {
+        const proto::Hello& h = m.hello;
+        const bool compatible = h.protocol_version == proto::PROTOCOL_VERSION && h.spec_hash == proto::SPEC_HASH;
+        if (fire(proto::SessionEvent::HELLO, compatible ? G_COMPATIBLE : 0, proto::FailsafeReason::NONE) &
+            proto::Action::ACCEPT_HELLO) {
+            accept_hello(h, app_.config());
+        }
+        break;
+    }
+    case proto::Ping::ID:
+        send_pong(m.ping);
+        break;
+    case proto::Arm::ID:
+        fire(proto::SessionEvent::ARM, m.arm.boot_id == v_.boot_id ? G_BOOT_ID : 0, proto::FailsafeReason::NONE);
+        break;
+    case proto::Disarm::ID:
         fire(proto::SessionEvent::DISARM, 0, proto::FailsafeReason::NONE);
-    }
-}
-
-template <class App>
-void Session<App>::on_message(const proto::SetPid& m, uint8_t seq) {
-    if (!start(proto::SetPid::ID, seq, RELIABLE)) {
-        return;
-    }
-    uint8_t bad = 0;  // docs/control.md 2: the wheel first (detail 0), then the gains
-    if (m.wheel < proto::WHEEL_COUNT || m.wheel == proto::PID_ALL_WHEELS) {
-        bad = proto::check_ranges(m);
-        if (bad == proto::ALL_FIELDS_VALID) {
-            app_.set_pid(m);
-            answer(0, 0);
-            return;
+        break;
+    case proto::SetPid::ID: {
+        const proto::SetPid& p = m.set_pid;
+        uint8_t bad = 0;  // docs/control.md 2: the wheel first (detail 0), then the gains
+        if (p.wheel < proto::WHEEL_COUNT || p.wheel == proto::PID_ALL_WHEELS) {
+            bad = proto::check_ranges(p);
+            if (bad == proto::ALL_FIELDS_VALID) {
+                app_.set_pid(p);
+            }
         }
+        answer_checked(bad);
+        break;
     }
-    answer(static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE), bad);
-}
-
-template <class App>
-void Session<App>::on_message(const proto::GetPid& m, uint8_t seq) {
-    if (!start(proto::GetPid::ID, seq, QUERY)) {
-        return;
+    case proto::GetPid::ID: {
+        const uint8_t wheel = m.get_pid.wheel;
+        if (wheel >= proto::WHEEL_COUNT) {
+            answer_checked(0);
+            break;
+        }
+        // PID = req_seq followed by exactly the SET_PID fields: packed in place.
+        static_assert(proto::Pid::PAYLOAD_SIZE == 1 + proto::SetPid::PAYLOAD_SIZE, "PID must be req_seq + SET_PID");
+        proto::SetPid p;
+        app_.pid(wheel, p);
+        p.wheel = wheel;
+        send_reply(proto::Pid::ID, proto::Pid::CRC_EXTRA, proto::pack(p, link_.payload_slot() + 1));
+        break;
     }
-    if (m.wheel >= proto::WHEEL_COUNT) {
-        answer(static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE), 0);
-        return;
+    case proto::SetConfig::ID: {
+        uint8_t detail = proto::check_ranges(m.set_config);
+        if (detail != proto::ALL_FIELDS_VALID) {
+            answer_checked(detail);
+        } else {
+            const uint8_t why = app_.set_config(m.set_config, detail);  // consistency, then applied
+            answer(why, why != 0 ? detail : 0);
+        }
+        break;
     }
-    // PID = req_seq followed by exactly the SET_PID fields: packed in place, no PID struct.
-    static_assert(proto::Pid::PAYLOAD_SIZE == 1 + proto::SetPid::PAYLOAD_SIZE, "PID must be req_seq + SET_PID");
-    proto::SetPid p;
-    app_.pid(m.wheel, p);
-    p.wheel = m.wheel;
-    send_reply(proto::Pid::ID, proto::Pid::CRC_EXTRA, seq, proto::pack(p, link_.payload_slot() + 1));
-}
-
-template <class App>
-void Session<App>::on_message(const proto::SetConfig& m, uint8_t seq) {
-    if (!start(proto::SetConfig::ID, seq, RELIABLE)) {
-        return;
-    }
-    uint8_t detail = proto::check_ranges(m);
-    uint8_t why = static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE);
-    if (detail == proto::ALL_FIELDS_VALID) {
-        why = app_.set_config(m, detail);  // consistency, then applied
-    }
-    answer(why, why != 0 ? detail : 0);
-}
-
-template <class App>
-void Session<App>::on_message(const proto::GetConfig&, uint8_t seq) {
-    if (!start(proto::GetConfig::ID, seq, QUERY)) {
-        return;
-    }
-    // CONFIG = req_seq followed by exactly the SET_CONFIG fields: packed in place.
-    static_assert(proto::Config::PAYLOAD_SIZE == 1 + proto::SetConfig::PAYLOAD_SIZE,
-                  "CONFIG must be req_seq + SET_CONFIG");
-    send_reply(proto::Config::ID, proto::Config::CRC_EXTRA, seq, proto::pack(app_.config(), link_.payload_slot() + 1));
-}
-
-template <class App>
-void Session<App>::on_message(const proto::SaveConfig&, uint8_t seq) {
-    if (start(proto::SaveConfig::ID, seq, RELIABLE)) {
+    case proto::GetConfig::ID:
+        // CONFIG = req_seq followed by exactly the SET_CONFIG fields: packed in place.
+        static_assert(proto::Config::PAYLOAD_SIZE == 1 + proto::SetConfig::PAYLOAD_SIZE,
+                      "CONFIG must be req_seq + SET_CONFIG");
+        send_reply(proto::Config::ID, proto::Config::CRC_EXTRA, proto::pack(app_.config(), link_.payload_slot() + 1));
+        break;
+    case proto::SaveConfig::ID:
         // EEPROM writes stall the loop: never while ARMED.
         answer(armed() ? static_cast<uint8_t>(proto::NackReason::ARMED) : app_.save_config(), 0);
-    }
-}
-
-template <class App>
-void Session<App>::on_message(const proto::ResetOdometry&, uint8_t seq) {
-    if (start(proto::ResetOdometry::ID, seq, RELIABLE)) {
+        break;
+    case proto::ResetOdometry::ID:
         app_.reset_odometry();
         answer(0, 0);
+        break;
+    case proto::GetLinkStats::ID:
+        send_link_stats();
+        break;
+    case proto::SetWheelSpeeds::ID: {
+        const proto::SetWheelSpeeds& s = m.set_wheel_speeds;
+        setpoint(s.left_mm_s, s.right_mm_s, 0, proto::check_ranges(s), proto::Capability::DIFF_DRIVE);
+        break;
     }
-}
-
-template <class App>
-void Session<App>::on_message(const proto::GetLinkStats&, uint8_t seq) {
-    if (start(proto::GetLinkStats::ID, seq, QUERY)) {
-        send_link_stats(seq);
+    case proto::SetAckermann::ID: {
+        const proto::SetAckermann& s = m.set_ackermann;
+        setpoint(s.speed_mm_s, 0, s.steering_mrad, proto::check_ranges(s), proto::Capability::ACKERMANN);
+        break;
     }
-}
-
-template <class App>
-void Session<App>::on_message(const proto::SetWheelSpeeds& m, uint8_t seq) {
-    start(proto::SetWheelSpeeds::ID, seq, PLAIN);
-    setpoint(m.left_mm_s, m.right_mm_s, 0,
-             checked_speed(m.left_mm_s, m.right_mm_s, app_.config().max_wheel_speed_mm_s,
-                                    proto::check_ranges(m)),
-             proto::Capability::DIFF_DRIVE);
-}
-
-template <class App>
-void Session<App>::on_message(const proto::SetAckermann& m, uint8_t seq) {
-    start(proto::SetAckermann::ID, seq, PLAIN);
-    setpoint(m.speed_mm_s, 0, m.steering_mrad,
-             checked_speed(m.speed_mm_s, 0, app_.config().max_wheel_speed_mm_s, proto::check_ranges(m)),
-             proto::Capability::ACKERMANN);
+    default:
+        break;  // a message added to the spec that this firmware does not handle yet
+    }
 }
 
 template <class App>
 void Session<App>::setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t bad_field, uint16_t capability) {
-    // Checks in this order (docs/firmware.md): capability, the state (the table's NACK), ranges.
+    // Checks in this order (docs/firmware.md): capability, the state (the table's NACK), then
+    // (ARMED only) the first speed over max_wheel_speed_mm_s or the first field check_ranges()
+    // refuses, whichever has the lower field index.
     if (!has(capability)) {
         send_answer(static_cast<uint8_t>(proto::NackReason::UNSUPPORTED), 0);
     } else if (fire(proto::SessionEvent::SETPOINT, 0, proto::FailsafeReason::NONE) & proto::Action::APPLY_SETPOINT) {
-        if (bad_field != proto::ALL_FIELDS_VALID) {
-            send_answer(static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE), bad_field);
+        const uint8_t bad = checked_speed(left, right, app_.config().max_wheel_speed_mm_s, bad_field);
+        if (bad != proto::ALL_FIELDS_VALID) {
+            send_answer(static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE), bad);
         } else {
             app_.setpoint(left, right, steer_mrad, v_.req_seq);  // latest wins; the next tick applies it
         }

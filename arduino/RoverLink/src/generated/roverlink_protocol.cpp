@@ -105,6 +105,65 @@ bool message_bounds(uint8_t msg_id, MessageBounds& out) {
     return false;
 }
 
+namespace {
+
+// msg_id and layout (0: no fields) of every message one direction carries.
+struct LayoutOf {
+    uint8_t msg_id;
+    const uint8_t* layout;
+};
+
+DispatchResult unpack_with(const LayoutOf* table, uint8_t count, uint8_t msg_id,
+                           const uint8_t* payload, uint8_t len, void* m) {
+    for (uint8_t i = 0; i < count; ++i) {
+        if (ROVERLINK_READ_BYTE(&table[i].msg_id) == msg_id) {
+            const uint8_t* layout = ROVERLINK_READ_PTR(&table[i].layout);
+            const bool ok = layout != 0 ? layout::unpack(layout, payload, len, m) : len == 0;
+            return ok ? DISPATCH_OK : DISPATCH_BAD_PAYLOAD;
+        }
+    }
+    MessageBounds b;
+    return message_bounds(msg_id, b) ? DISPATCH_WRONG_DIRECTION : DISPATCH_UNKNOWN_ID;
+}
+
+const LayoutOf HOST_TO_MCU[] ROVERLINK_PROGMEM = {
+    {Hello::ID, HELLO_LAYOUT},
+    {Ping::ID, PING_LAYOUT},
+    {Arm::ID, ARM_LAYOUT},
+    {Disarm::ID, 0},
+    {SetPid::ID, SET_PID_LAYOUT},
+    {GetPid::ID, GET_PID_LAYOUT},
+    {SetConfig::ID, SET_CONFIG_LAYOUT},
+    {GetConfig::ID, 0},
+    {SaveConfig::ID, 0},
+    {ResetOdometry::ID, 0},
+    {GetLinkStats::ID, 0},
+    {SetWheelSpeeds::ID, SET_WHEEL_SPEEDS_LAYOUT},
+    {SetAckermann::ID, SET_ACKERMANN_LAYOUT},
+};
+
+const LayoutOf MCU_TO_HOST[] ROVERLINK_PROGMEM = {
+    {Identity::ID, IDENTITY_LAYOUT},
+    {Pong::ID, PONG_LAYOUT},
+    {Ack::ID, ACK_LAYOUT},
+    {Nack::ID, NACK_LAYOUT},
+    {Pid::ID, PID_LAYOUT},
+    {Config::ID, CONFIG_LAYOUT},
+    {LinkStats::ID, LINK_STATS_LAYOUT},
+    {Feedback::ID, FEEDBACK_LAYOUT},
+    {Log::ID, LOG_LAYOUT},
+};
+
+}  // namespace
+
+DispatchResult unpack_host_to_mcu(uint8_t msg_id, const uint8_t* payload, uint8_t len, HostToMcu& m) {
+    return unpack_with(HOST_TO_MCU, sizeof HOST_TO_MCU / sizeof HOST_TO_MCU[0], msg_id, payload, len, &m);
+}
+
+DispatchResult unpack_mcu_to_host(uint8_t msg_id, const uint8_t* payload, uint8_t len, McuToHost& m) {
+    return unpack_with(MCU_TO_HOST, sizeof MCU_TO_HOST / sizeof MCU_TO_HOST[0], msg_id, payload, len, &m);
+}
+
 // Layouts (codec/layout.h): PAYLOAD_SIZE, PAYLOAD_MAX, field count, then per field its code,
 // its offset in the struct, [count | 0, max_len, offset of <name>_len], [check data, LE].
 // HELLO: payload 9..9 bytes, 5 fields.
@@ -113,7 +172,7 @@ const uint8_t HELLO_LAYOUT[] ROVERLINK_PROGMEM = {
     layout::WIRE_U8, offsetof(Hello, protocol_version),  // 0 protocol_version
     layout::WIRE_U32, offsetof(Hello, spec_hash),  // 1 spec_hash
     layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Hello, watchdog_ms), 0x00, 0x00, 0x60, 0xEA,  // 2 watchdog_ms: 0..60000
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Hello, feedback_mode), 0x00, 0x01,  // 3 feedback_mode: FeedbackMode 0..1
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Hello, feedback_mode), 0x00, 0x01, 0x00,  // 3 feedback_mode: FeedbackMode 0..1
     layout::WIRE_U8, offsetof(Hello, feedback_hz),  // 4 feedback_hz
 };
 
@@ -133,10 +192,10 @@ const uint8_t ARM_LAYOUT[] ROVERLINK_PROGMEM = {
 const uint8_t SET_PID_LAYOUT[] ROVERLINK_PROGMEM = {
     17, 17, 5,
     layout::WIRE_U8, offsetof(SetPid, wheel),  // 0 wheel
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, kp), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 1 kp: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, ki), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 2 ki: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, kd), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 3 kd: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, kf), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 4 kf: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, kp), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 1 kp: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, ki), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 2 ki: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, kd), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 3 kd: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, kf), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 4 kf: 0.0f..1000.0f
 };
 
 // GET_PID: payload 1..1 bytes, 1 fields.
@@ -149,7 +208,7 @@ const uint8_t GET_PID_LAYOUT[] ROVERLINK_PROGMEM = {
 const uint8_t SET_CONFIG_LAYOUT[] ROVERLINK_PROGMEM = {
     40, 40, 21,
     layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // 0 watchdog_ms: 50..2000
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(SetConfig, safe_state), 0x00, 0x02,  // 1 safe_state: SafeState 0..2
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(SetConfig, safe_state), 0x00, 0x02, 0x00,  // 1 safe_state: SafeState 0..2
     layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, accel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // 2 accel_limit_mm_s2: 1..65535
     layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, decel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // 3 decel_limit_mm_s2: 1..65535
     layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, max_wheel_speed_mm_s), 0x01, 0x00, 0x20, 0x4E,  // 4 max_wheel_speed_mm_s: 1..20000
@@ -191,16 +250,16 @@ const uint8_t IDENTITY_LAYOUT[] ROVERLINK_PROGMEM = {
     layout::WIRE_U8, offsetof(Identity, protocol_version),  // 0 protocol_version
     layout::WIRE_U32, offsetof(Identity, spec_hash),  // 1 spec_hash
     layout::WIRE_U8 | layout::ARRAY, offsetof(Identity, firmware_version), 3,  // 2 firmware_version
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Identity, board), 0x00, 0x04,  // 3 board: Board 0..4
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Identity, board), 0x00, 0x04, 0x00,  // 3 board: Board 0..4
     layout::WIRE_U16 | layout::CHECK_FLAGS, offsetof(Identity, capabilities), 0xFF, 0x00,  // 4 capabilities: Capability bits 0xFF
     layout::WIRE_U32, offsetof(Identity, boot_id),  // 5 boot_id
     layout::WIRE_U32, offsetof(Identity, uptime_ms),  // 6 uptime_ms
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Identity, reason), 0x00, 0x02,  // 7 reason: IdentityReason 0..2
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Identity, reason), 0x00, 0x02, 0x00,  // 7 reason: IdentityReason 0..2
     layout::WIRE_U8, offsetof(Identity, hello_seq),  // 8 hello_seq
     layout::WIRE_U16, offsetof(Identity, watchdog_ms),  // 9 watchdog_ms
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Identity, feedback_mode), 0x00, 0x01,  // 10 feedback_mode: FeedbackMode 0..1
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Identity, feedback_mode), 0x00, 0x01, 0x00,  // 10 feedback_mode: FeedbackMode 0..1
     layout::WIRE_U8, offsetof(Identity, feedback_hz),  // 11 feedback_hz
-    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, offsetof(Identity, robot_name), 0, 24, offsetof(Identity, robot_name_len), 0x00, 0x7F,  // 12 robot_name: ASCII
+    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, offsetof(Identity, robot_name), 0, 24, offsetof(Identity, robot_name_len), 0x00, 0x7F, 0x00,  // 12 robot_name: ASCII
 };
 
 // PONG: payload 8..8 bytes, 2 fields.
@@ -222,7 +281,7 @@ const uint8_t NACK_LAYOUT[] ROVERLINK_PROGMEM = {
     4, 4, 4,
     layout::WIRE_U8, offsetof(Nack, req_id),  // 0 req_id
     layout::WIRE_U8, offsetof(Nack, req_seq),  // 1 req_seq
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Nack, reason), 0x01, 0x09,  // 2 reason: NackReason 1..9
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Nack, reason), 0x01, 0x09, 0x00,  // 2 reason: NackReason 1..9
     layout::WIRE_U8, offsetof(Nack, detail),  // 3 detail
 };
 
@@ -231,10 +290,10 @@ const uint8_t PID_LAYOUT[] ROVERLINK_PROGMEM = {
     18, 18, 6,
     layout::WIRE_U8, offsetof(Pid, req_seq),  // 0 req_seq
     layout::WIRE_U8, offsetof(Pid, wheel),  // 1 wheel
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, kp), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 2 kp: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, ki), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 3 ki: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, kd), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 4 kd: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, kf), 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7A, 0x44,  // 5 kf: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, kp), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 2 kp: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, ki), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 3 ki: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, kd), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 4 kd: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, kf), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 5 kf: 0.0f..1000.0f
 };
 
 // CONFIG: payload 41..41 bytes, 22 fields.
@@ -242,7 +301,7 @@ const uint8_t CONFIG_LAYOUT[] ROVERLINK_PROGMEM = {
     41, 41, 22,
     layout::WIRE_U8, offsetof(Config, req_seq),  // 0 req_seq
     layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // 1 watchdog_ms: 50..2000
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Config, safe_state), 0x00, 0x02,  // 2 safe_state: SafeState 0..2
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Config, safe_state), 0x00, 0x02, 0x00,  // 2 safe_state: SafeState 0..2
     layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, accel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // 3 accel_limit_mm_s2: 1..65535
     layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, decel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // 4 decel_limit_mm_s2: 1..65535
     layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, max_wheel_speed_mm_s), 0x01, 0x00, 0x20, 0x4E,  // 5 max_wheel_speed_mm_s: 1..20000
@@ -290,7 +349,7 @@ const uint8_t FEEDBACK_LAYOUT[] ROVERLINK_PROGMEM = {
     layout::WIRE_U8, offsetof(Feedback, ack_seq),  // 3 ack_seq
     layout::WIRE_U16, offsetof(Feedback, ack_tick),  // 4 ack_tick
     layout::WIRE_U8 | layout::CHECK_FLAGS, offsetof(Feedback, status), 0x7F,  // 5 status: Status bits 0x7F
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Feedback, failsafe_reason), 0x00, 0x04,  // 6 failsafe_reason: FailsafeReason 0..4
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Feedback, failsafe_reason), 0x00, 0x04, 0x00,  // 6 failsafe_reason: FailsafeReason 0..4
     layout::WIRE_I32 | layout::ARRAY, offsetof(Feedback, encoder_counts), 2,  // 7 encoder_counts
     layout::WIRE_I16 | layout::ARRAY, offsetof(Feedback, wheel_speed_mm_s), 2,  // 8 wheel_speed_mm_s
     layout::WIRE_I16 | layout::CHECK_RANGE | layout::ARRAY, offsetof(Feedback, effort_permille), 2, 0x18, 0xFC, 0xE8, 0x03,  // 9 effort_permille: -1000..1000
@@ -300,46 +359,28 @@ const uint8_t FEEDBACK_LAYOUT[] ROVERLINK_PROGMEM = {
 // LOG: payload 1..61 bytes, 2 fields.
 const uint8_t LOG_LAYOUT[] ROVERLINK_PROGMEM = {
     1, 61, 2,
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Log, level), 0x00, 0x03,  // 0 level: LogLevel 0..3
-    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, offsetof(Log, text), 0, 60, offsetof(Log, text_len), 0x00, 0x7F,  // 1 text: ASCII
+    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Log, level), 0x00, 0x03, 0x00,  // 0 level: LogLevel 0..3
+    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, offsetof(Log, text), 0, 60, offsetof(Log, text_len), 0x00, 0x7F, 0x00,  // 1 text: ASCII
 };
 
 const uint8_t TRANSITIONS[TRANSITION_COUNT][6] ROVERLINK_PROGMEM = {
-    {0, 0, GUARD_NONE, 1, 0x09, 0x00},  // BOOT INIT_DONE -> IDLE
-    {1, 1, 1, 2, 0x02, 0x00},  // IDLE HELLO [compatible] -> DISARMED
-    {1, 1, 1 | GUARD_NEGATED, 1, 0x04, 0x00},  // IDLE HELLO [!compatible] -> IDLE
-    {2, 1, 1, 2, 0x8A, 0x00},  // DISARMED HELLO [compatible] -> DISARMED
-    {3, 1, 1, 2, 0x8A, 0x00},  // ARMED HELLO [compatible] -> DISARMED
-    {4, 1, 1, 2, 0x8A, 0x00},  // FAILSAFE HELLO [compatible] -> DISARMED
-    {2, 1, 1 | GUARD_NEGATED, 1, 0x8C, 0x00},  // DISARMED HELLO [!compatible] -> IDLE
-    {3, 1, 1 | GUARD_NEGATED, 1, 0x8C, 0x00},  // ARMED HELLO [!compatible] -> IDLE
-    {4, 1, 1 | GUARD_NEGATED, 1, 0x8C, 0x00},  // FAILSAFE HELLO [!compatible] -> IDLE
-    {1, 2, GUARD_NONE, 1, 0x00, 0x02},  // IDLE ARM -> IDLE
-    {2, 2, 2, 3, 0xB0, 0x01},  // DISARMED ARM [boot_id_matches] -> ARMED
-    {4, 2, 2, 3, 0xB0, 0x01},  // FAILSAFE ARM [boot_id_matches] -> ARMED
-    {3, 2, 2, 3, 0x20, 0x01},  // ARMED ARM [boot_id_matches] -> ARMED
-    {2, 2, 2 | GUARD_NEGATED, 2, 0x00, 0x02},  // DISARMED ARM [!boot_id_matches] -> DISARMED
-    {3, 2, 2 | GUARD_NEGATED, 3, 0x00, 0x02},  // ARMED ARM [!boot_id_matches] -> ARMED
-    {4, 2, 2 | GUARD_NEGATED, 4, 0x00, 0x02},  // FAILSAFE ARM [!boot_id_matches] -> FAILSAFE
-    {1, 3, GUARD_NONE, 1, 0x00, 0x01},  // IDLE DISARM -> IDLE
-    {2, 3, GUARD_NONE, 2, 0x88, 0x01},  // DISARMED DISARM -> DISARMED
-    {3, 3, GUARD_NONE, 2, 0x88, 0x01},  // ARMED DISARM -> DISARMED
-    {4, 3, GUARD_NONE, 2, 0x88, 0x01},  // FAILSAFE DISARM -> DISARMED
-    {3, 4, GUARD_NONE, 3, 0x00, 0x04},  // ARMED SETPOINT -> ARMED
-    {1, 4, GUARD_NONE, 1, 0x00, 0x02},  // IDLE SETPOINT -> IDLE
-    {2, 4, GUARD_NONE, 2, 0x00, 0x02},  // DISARMED SETPOINT -> DISARMED
-    {4, 4, GUARD_NONE, 4, 0x00, 0x02},  // FAILSAFE SETPOINT -> FAILSAFE
-    {2, 5, GUARD_NONE, 2, 0x20, 0x00},  // DISARMED VALID_FRAME -> DISARMED
-    {3, 5, GUARD_NONE, 3, 0x20, 0x00},  // ARMED VALID_FRAME -> ARMED
-    {4, 5, GUARD_NONE, 4, 0x20, 0x00},  // FAILSAFE VALID_FRAME -> FAILSAFE
-    {3, 6, GUARD_NONE, 4, 0x48, 0x00},  // ARMED WATCHDOG_EXPIRED -> FAILSAFE
-    {3, 7, GUARD_NONE, 4, 0x48, 0x00},  // ARMED FAULT -> FAILSAFE
-    {2, 7, GUARD_NONE, 4, 0x48, 0x00},  // DISARMED FAULT -> FAILSAFE
-    {0, 8, GUARD_NONE, 0, 0x08, 0x00},  // BOOT RESET -> BOOT
-    {1, 8, GUARD_NONE, 0, 0x08, 0x00},  // IDLE RESET -> BOOT
-    {2, 8, GUARD_NONE, 0, 0x08, 0x00},  // DISARMED RESET -> BOOT
-    {3, 8, GUARD_NONE, 0, 0x08, 0x00},  // ARMED RESET -> BOOT
-    {4, 8, GUARD_NONE, 0, 0x08, 0x00},  // FAILSAFE RESET -> BOOT
+    {0x01, 0, GUARD_NONE, 1, 0x09, 0x00},  // BOOT INIT_DONE -> IDLE
+    {0x02, 1, 1, 2, 0x02, 0x00},  // IDLE HELLO [compatible] -> DISARMED
+    {0x02, 1, 1 | GUARD_NEGATED, 1, 0x04, 0x00},  // IDLE HELLO [!compatible] -> IDLE
+    {0x1C, 1, 1, 2, 0x8A, 0x00},  // DISARMED|ARMED|FAILSAFE HELLO [compatible] -> DISARMED
+    {0x1C, 1, 1 | GUARD_NEGATED, 1, 0x8C, 0x00},  // DISARMED|ARMED|FAILSAFE HELLO [!compatible] -> IDLE
+    {0x02, 2, GUARD_NONE, 1, 0x00, 0x02},  // IDLE ARM -> IDLE
+    {0x14, 2, 2, 3, 0xB0, 0x01},  // DISARMED|FAILSAFE ARM [boot_id_matches] -> ARMED
+    {0x08, 2, 2, 3, 0x20, 0x01},  // ARMED ARM [boot_id_matches] -> ARMED
+    {0x1C, 2, 2 | GUARD_NEGATED, TARGET_STAY, 0x00, 0x02},  // DISARMED|ARMED|FAILSAFE ARM [!boot_id_matches] -> (stay)
+    {0x02, 3, GUARD_NONE, 1, 0x00, 0x01},  // IDLE DISARM -> IDLE
+    {0x1C, 3, GUARD_NONE, 2, 0x88, 0x01},  // DISARMED|ARMED|FAILSAFE DISARM -> DISARMED
+    {0x08, 4, GUARD_NONE, 3, 0x00, 0x04},  // ARMED SETPOINT -> ARMED
+    {0x16, 4, GUARD_NONE, TARGET_STAY, 0x00, 0x02},  // IDLE|DISARMED|FAILSAFE SETPOINT -> (stay)
+    {0x1C, 5, GUARD_NONE, TARGET_STAY, 0x20, 0x00},  // DISARMED|ARMED|FAILSAFE VALID_FRAME -> (stay)
+    {0x08, 6, GUARD_NONE, 4, 0x48, 0x00},  // ARMED WATCHDOG_EXPIRED -> FAILSAFE
+    {0x0C, 7, GUARD_NONE, 4, 0x48, 0x00},  // ARMED|DISARMED FAULT -> FAILSAFE
+    {0x1F, 8, GUARD_NONE, 0, 0x08, 0x00},  // BOOT|IDLE|DISARMED|ARMED|FAILSAFE RESET -> BOOT
 };
 
 }  // namespace proto

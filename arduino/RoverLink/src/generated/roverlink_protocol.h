@@ -562,158 +562,128 @@ enum DispatchResult : uint8_t {
     DISPATCH_WRONG_DIRECTION  // a known message that this side never receives
 };
 
+// Every host_to_mcu message, one at a time.
+union HostToMcu {
+    Hello hello;
+    Ping ping;
+    Arm arm;
+    Disarm disarm;
+    SetPid set_pid;
+    GetPid get_pid;
+    SetConfig set_config;
+    GetConfig get_config;
+    SaveConfig save_config;
+    ResetOdometry reset_odometry;
+    GetLinkStats get_link_stats;
+    SetWheelSpeeds set_wheel_speeds;
+    SetAckermann set_ackermann;
+};
+// Unpacks a host_to_mcu payload into the member of `m` that msg_id names (one table lookup,
+// one layout walk): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.
+DispatchResult unpack_host_to_mcu(uint8_t msg_id, const uint8_t* payload, uint8_t len, HostToMcu& m);
+
 // Decodes a payload and calls h.handle(const Msg&, seq) for host_to_mcu messages (firmware).
 template <class Handler>
 DispatchResult dispatch_host_to_mcu(uint8_t msg_id, uint8_t seq, const uint8_t* payload, uint8_t len, Handler& h) {
+    HostToMcu m;
+    const DispatchResult r = unpack_host_to_mcu(msg_id, payload, len, m);
+    if (r != DISPATCH_OK) return r;
     switch (msg_id) {
-    case Hello::ID: {
-        Hello m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
+    case Hello::ID:
+        h.handle(m.hello, seq);
+        break;
+    case Ping::ID:
+        h.handle(m.ping, seq);
+        break;
+    case Arm::ID:
+        h.handle(m.arm, seq);
+        break;
+    case Disarm::ID:
+        h.handle(m.disarm, seq);
+        break;
+    case SetPid::ID:
+        h.handle(m.set_pid, seq);
+        break;
+    case GetPid::ID:
+        h.handle(m.get_pid, seq);
+        break;
+    case SetConfig::ID:
+        h.handle(m.set_config, seq);
+        break;
+    case GetConfig::ID:
+        h.handle(m.get_config, seq);
+        break;
+    case SaveConfig::ID:
+        h.handle(m.save_config, seq);
+        break;
+    case ResetOdometry::ID:
+        h.handle(m.reset_odometry, seq);
+        break;
+    case GetLinkStats::ID:
+        h.handle(m.get_link_stats, seq);
+        break;
+    case SetWheelSpeeds::ID:
+        h.handle(m.set_wheel_speeds, seq);
+        break;
+    case SetAckermann::ID:
+        h.handle(m.set_ackermann, seq);
+        break;
     }
-    case Ping::ID: {
-        Ping m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case Arm::ID: {
-        Arm m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case Disarm::ID: {
-        Disarm m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case SetPid::ID: {
-        SetPid m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case GetPid::ID: {
-        GetPid m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case SetConfig::ID: {
-        SetConfig m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case GetConfig::ID: {
-        GetConfig m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case SaveConfig::ID: {
-        SaveConfig m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case ResetOdometry::ID: {
-        ResetOdometry m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case GetLinkStats::ID: {
-        GetLinkStats m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case SetWheelSpeeds::ID: {
-        SetWheelSpeeds m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case SetAckermann::ID: {
-        SetAckermann m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    default: {
-        MessageBounds b;
-        return message_bounds(msg_id, b) ? DISPATCH_WRONG_DIRECTION : DISPATCH_UNKNOWN_ID;
-    }
-    }
+    return DISPATCH_OK;
 }
+
+// Every mcu_to_host message, one at a time.
+union McuToHost {
+    Identity identity;
+    Pong pong;
+    Ack ack;
+    Nack nack;
+    Pid pid;
+    Config config;
+    LinkStats link_stats;
+    Feedback feedback;
+    Log log;
+};
+// Unpacks a mcu_to_host payload into the member of `m` that msg_id names (one table lookup,
+// one layout walk): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.
+DispatchResult unpack_mcu_to_host(uint8_t msg_id, const uint8_t* payload, uint8_t len, McuToHost& m);
 
 // Decodes a payload and calls h.handle(const Msg&, seq) for mcu_to_host messages (host-side tools).
 template <class Handler>
 DispatchResult dispatch_mcu_to_host(uint8_t msg_id, uint8_t seq, const uint8_t* payload, uint8_t len, Handler& h) {
+    McuToHost m;
+    const DispatchResult r = unpack_mcu_to_host(msg_id, payload, len, m);
+    if (r != DISPATCH_OK) return r;
     switch (msg_id) {
-    case Identity::ID: {
-        Identity m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
+    case Identity::ID:
+        h.handle(m.identity, seq);
+        break;
+    case Pong::ID:
+        h.handle(m.pong, seq);
+        break;
+    case Ack::ID:
+        h.handle(m.ack, seq);
+        break;
+    case Nack::ID:
+        h.handle(m.nack, seq);
+        break;
+    case Pid::ID:
+        h.handle(m.pid, seq);
+        break;
+    case Config::ID:
+        h.handle(m.config, seq);
+        break;
+    case LinkStats::ID:
+        h.handle(m.link_stats, seq);
+        break;
+    case Feedback::ID:
+        h.handle(m.feedback, seq);
+        break;
+    case Log::ID:
+        h.handle(m.log, seq);
+        break;
     }
-    case Pong::ID: {
-        Pong m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case Ack::ID: {
-        Ack m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case Nack::ID: {
-        Nack m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case Pid::ID: {
-        Pid m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case Config::ID: {
-        Config m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case LinkStats::ID: {
-        LinkStats m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case Feedback::ID: {
-        Feedback m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    case Log::ID: {
-        Log m;
-        if (!unpack(payload, len, m)) return DISPATCH_BAD_PAYLOAD;
-        h.handle(m, seq);
-        return DISPATCH_OK;
-    }
-    default: {
-        MessageBounds b;
-        return message_bounds(msg_id, b) ? DISPATCH_WRONG_DIRECTION : DISPATCH_UNKNOWN_ID;
-    }
-    }
+    return DISPATCH_OK;
 }
 
 // Session state machine (Firmware session: one per boot; the host drives it with HELLO, ARM and DISARM and the watchdog ends it.)
@@ -757,11 +727,13 @@ struct Action {
     };
 };
 
-// One row per byte sextet: source, event, guard (0xFF: none; bit 7: negated), target,
+// One row per transition, in spec order, 6 bytes: source states (bit i: SessionState i), event,
+// guard (GUARD_NONE, or a Guard with GUARD_NEGATED), target (TARGET_STAY: the source state),
 // actions low byte, actions high byte. Kept in flash on AVR.
-static const uint8_t TRANSITION_COUNT = 35;
+static const uint8_t TRANSITION_COUNT = 17;
 static const uint8_t GUARD_NONE = 0xFF;
 static const uint8_t GUARD_NEGATED = 0x80;
+static const uint8_t TARGET_STAY = 0xFF;
 extern const uint8_t TRANSITIONS[TRANSITION_COUNT][6] ROVERLINK_PROGMEM;
 
 struct StepResult {
@@ -776,7 +748,7 @@ StepResult step(SessionState state, SessionEvent event, Guards& guards) {
     StepResult r = {false, state, 0};
     for (uint8_t i = 0; i < TRANSITION_COUNT; ++i) {
         const uint8_t* row = TRANSITIONS[i];
-        if (ROVERLINK_READ_BYTE(row) != static_cast<uint8_t>(state) ||
+        if (!((ROVERLINK_READ_BYTE(row) >> static_cast<uint8_t>(state)) & 1u) ||
             ROVERLINK_READ_BYTE(row + 1) != static_cast<uint8_t>(event)) {
             continue;
         }
@@ -785,8 +757,9 @@ StepResult step(SessionState state, SessionEvent event, Guards& guards) {
             const bool holds = guards.check(static_cast<Guard>(g & 0x7F));
             if (holds == ((g & GUARD_NEGATED) != 0)) continue;
         }
+        const uint8_t target = ROVERLINK_READ_BYTE(row + 3);
         r.matched = true;
-        r.target = static_cast<SessionState>(ROVERLINK_READ_BYTE(row + 3));
+        if (target != TARGET_STAY) r.target = static_cast<SessionState>(target);
         r.actions = static_cast<uint16_t>(ROVERLINK_READ_BYTE(row + 4) |
                                           (ROVERLINK_READ_BYTE(row + 5) << 8));
         return r;

@@ -1,0 +1,1 @@
+"""Alternative backends for `roverlink emulate`: the compiled firmware in simavr (simavr.py)."""
