@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import struct
+
 from protocol.emit.common import GENERATOR, num
-from protocol.model import Spec
+from protocol.model import PRIMITIVES, Spec
 from protocol.robots import Robot
 
 ROBOTS_PATH = "protocol/spec/robots.toml"
@@ -94,11 +96,24 @@ def _cpp(spec: Spec, r: Robot) -> str:
         "static const roverlink::proto::FeedbackMode FEEDBACK_MODE = "
         f"roverlink::proto::FeedbackMode::{r.feedback_mode};\n\n"
     )
-    o.append("// Built in code, not kept as a static struct: on AVR that would cost SRAM for the whole run.\n")
+    o.append("// The configuration as a SET_CONFIG payload in flash, unpacked when asked for: a static struct\n")
+    o.append("// would cost SRAM for the whole run on AVR, and code setting each field more flash than this.\n")
     o.append("// static: two profiles linked into one test program must not merge.\n")
-    o.append("static inline roverlink::proto::SetConfig default_config() {\n    roverlink::proto::SetConfig c;\n")
+    o.append("static const uint8_t DEFAULT_CONFIG[] ROVERLINK_PROGMEM = {\n")
     for f, v in r.config:
-        o.append(f"    c.{f.name} = {_cpp_value(f.enum.name if f.enum else None, v, f.is_float)};\n")
+        number = next(e.value for e in f.enum.values if e.name == v) if f.enum else v
+        data = struct.pack("<" + PRIMITIVES[f.prim][2], number)
+        o.append(f"    {', '.join(f'0x{b:02X}' for b in data)},  // {f.name} = {v}\n")
+    o.append("};\n")
+    o.append(
+        'static_assert(sizeof DEFAULT_CONFIG == roverlink::proto::SetConfig::PAYLOAD_SIZE, "a SET_CONFIG payload");\n\n'
+    )
+    o.append("static inline roverlink::proto::SetConfig default_config() {\n")
+    o.append("    uint8_t payload[sizeof DEFAULT_CONFIG];\n")
+    o.append("    for (uint8_t i = 0; i < sizeof payload; ++i) {\n")
+    o.append("        payload[i] = ROVERLINK_READ_BYTE(DEFAULT_CONFIG + i);\n    }\n")
+    o.append("    roverlink::proto::SetConfig c = roverlink::proto::SetConfig();\n")
+    o.append("    roverlink::proto::unpack(payload, sizeof payload, c);  // valid: robots.toml is checked\n")
     o.append("    return c;\n}\n\n")
     o.append("static inline roverlink::proto::SetPid default_pid() {\n    roverlink::proto::SetPid p;\n")
     o.append("    p.wheel = roverlink::proto::PID_ALL_WHEELS;\n")

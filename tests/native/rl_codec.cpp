@@ -30,6 +30,9 @@
 //              trailing arrays as lowercase hex. Each value is read back through print_fields and
 //              must come out identical, so a typo or an out-of-type value is an ERR, not a silent
 //              truncation. Spec ranges are not checked (the C++ encoder packs what it is given).
+//   C <NAME> <field>=<value> ...
+//              Builds the message as E does and answers its proto::check_ranges():
+//                                                 -> RANGE <index of the first bad field, 255: all valid>
 //   S <state> <event> <guards>
 //              proto::step(state, event, g) where g.check(Guard x) is bit x of <guards>.
 //                                                 -> STEP <matched 0/1> <target> <actions>
@@ -222,6 +225,7 @@ struct Encoder {
     const Tokens* tokens;  // tokens[3..] are the field=value pairs
     uint8_t seq;
     std::string result;
+    bool ranges;  // C: answer check_ranges() instead of the frame
 
     template <class M>
     void operator()(M& m) {
@@ -246,6 +250,12 @@ struct Encoder {
                 return;
             }
         }
+        if (ranges) {
+            char text[16];
+            snprintf(text, sizeof text, "RANGE %u", static_cast<unsigned>(proto::check_ranges(m)));
+            result = text;
+            return;
+        }
         uint8_t frame[proto::MAX_FRAME];
         const size_t n = encode_message(m, seq, frame, sizeof frame);
         if (n == 0) {
@@ -256,7 +266,7 @@ struct Encoder {
     }
 };
 
-void encode(const Tokens& tokens) {
+void encode(const Tokens& tokens, bool ranges) {
     if (tokens.size() < 3) {
         answer("ERR usage: E <NAME> <seq> <field>=<value> ...");
         return;
@@ -271,7 +281,7 @@ void encode(const Tokens& tokens) {
         answer("ERR bad seq " + tokens[2]);
         return;
     }
-    Encoder enc = {&tokens, static_cast<uint8_t>(seq), std::string()};
+    Encoder enc = {&tokens, static_cast<uint8_t>(seq), std::string(), ranges};
     if (!reflect::with_message(static_cast<uint8_t>(id), enc)) {
         answer("ERR with_message does not know " + tokens[1]);
         return;
@@ -335,7 +345,12 @@ int main() {
             stream = new FrameDecoder();
             answer("OK");
         } else if (cmd == "E") {
-            encode(tokens);
+            encode(tokens, false);
+        } else if (cmd == "C") {
+            // C takes no seq: the tokens are shifted so that field pairs start at tokens[3].
+            Tokens shifted = tokens;
+            shifted.insert(shifted.begin() + 2, "0");
+            encode(shifted, true);
         } else if (cmd == "S") {
             step(tokens);
         } else if (cmd == "Q" && tokens.size() == 1) {

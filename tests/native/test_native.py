@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import math
 import os
 import re
 import select
@@ -218,6 +219,11 @@ class RlCodec:
     def encode(self, msg: Message, seq: int) -> str:
         return self.ask(" ".join(["E", msg.NAME, str(seq), *field_pairs(msg)]))
 
+    def check_ranges(self, name: str, pairs: list[str]) -> int:
+        answer = self.ask(" ".join(["C", name, *pairs])).split()
+        assert answer[0] == "RANGE" and len(answer) == 2, answer
+        return int(answer[1])
+
     def step(self, state: int, event: int, guards: int) -> tuple[bool, int, int]:
         answer = self.ask(f"S {state} {event} {guards}").split()
         assert answer[0] == "STEP" and len(answer) == 4, answer
@@ -391,6 +397,74 @@ def test_cpp_encodes_and_decodes_like_python(codec: RlCodec, frame: Frame) -> No
     decoded = codec.decode(wire)
     assert decoded.items == [frame_item(msg, seq)]
     assert decoded.stats == dict.fromkeys(STAT_NAMES, 0) | {"frames_ok": 1}
+
+
+# -- check_ranges: the C++ layouts' range checks against the spec's ranges -----------------------------
+NUMERIC_KINDS = ("int", "float")
+F32_MAX = 3.4028234663852886e38
+
+
+def _base_value(info: FieldInfo) -> Any:
+    """A value every check accepts: the low end of a numeric range, an enum's first member."""
+    if info.kind == "str":
+        return ""
+    if info.kind == "bytes":
+        return b""
+    if info.kind == "enum" and info.enum is not None:
+        value: Any = next(iter(info.enum)).value
+    elif info.kind in NUMERIC_KINDS:
+        value = info.lo
+    else:
+        value = 0
+    return (value,) * info.count if info.count is not None else value
+
+
+def _edge_values(info: FieldInfo) -> list[float]:
+    """Values of one element at and around the field's range, all representable in its wire type."""
+    if info.kind == "float":
+        out = [info.lo, info.hi, -0.0, 0.0, math.nan, math.inf, -math.inf, F32_MAX, -F32_MAX]
+        out += [math.nextafter(info.lo, -math.inf), math.nextafter(info.hi, math.inf)]
+        return [v for v in out if math.isnan(v) or abs(v) <= F32_MAX or math.isinf(v)]
+    wire = WIRE_RANGES[info.wire_type.split("[")[0]]
+    out = [info.lo, info.hi, info.lo - 1, info.hi + 1, wire[0], wire[1], 0, -1, 1]
+    return [v for v in out if wire[0] <= v <= wire[1]]
+
+
+WIRE_RANGES = {
+    "u8": (0, 0xFF),
+    "i8": (-0x80, 0x7F),
+    "u16": (0, 0xFFFF),
+    "i16": (-0x8000, 0x7FFF),
+    "u32": (0, 0xFFFFFFFF),
+    "i32": (-0x80000000, 0x7FFFFFFF),
+}
+
+
+def _in_range(info: FieldInfo, value: float) -> bool:
+    if info.kind == "float":
+        stored = struct.unpack("<f", struct.pack("<f", value))[0] if not math.isinf(value) else value
+        return not math.isnan(stored) and info.lo <= stored <= info.hi  # NaN fails; -0.0 == 0.0
+    return info.lo <= value <= info.hi
+
+
+@pytest.mark.parametrize("cls", messages.ALL_MESSAGES, ids=lambda c: c.NAME)
+def test_check_ranges_matches_the_spec(codec: RlCodec, cls: type[Message]) -> None:
+    """Every element of every numeric field at the edges of its range, one field at a time."""
+    base = {info.name: _base_value(info) for info in cls.FIELDS}
+    pairs = {info.name: f"{info.name}={field_text(info, base[info.name])}" for info in cls.FIELDS}
+    assert codec.check_ranges(cls.NAME, list(pairs.values())) == 255, "the base values are valid"
+    for index, info in enumerate(cls.FIELDS):
+        if info.kind not in NUMERIC_KINDS:
+            continue
+        for element in range(info.count or 1):
+            for value in _edge_values(info):
+                field = list(base[info.name]) if info.count is not None else value
+                if info.count is not None:
+                    field[element] = value
+                text = dict(pairs, **{info.name: f"{info.name}={field_text(info, field)}"})
+                expected = 255 if _in_range(info, value) else index
+                got = codec.check_ranges(cls.NAME, list(text.values()))
+                assert got == expected, f"{cls.NAME}.{info.name}[{element}] = {value!r}: {got} != {expected}"
 
 
 def test_encode_rejects_malformed_commands(codec: RlCodec) -> None:

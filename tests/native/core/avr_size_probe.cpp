@@ -4,5 +4,6 @@
 
 char sizeof_FrameDecoder[sizeof(roverlink::FrameDecoder)];
 char sizeof_Link[sizeof(roverlink::Link)];
+char sizeof_Session[sizeof(roverlink::Session<roverlink::Firmware>)];
 char sizeof_Firmware[sizeof(roverlink::Firmware)];
 char sizeof_SetConfig[sizeof(roverlink::proto::SetConfig)];

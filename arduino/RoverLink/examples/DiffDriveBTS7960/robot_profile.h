@@ -14,31 +14,41 @@ static const roverlink::proto::Board BOARD = roverlink::proto::Board::MEGA2560;
 static const uint16_t CAPABILITIES = roverlink::proto::Capability::DIFF_DRIVE | roverlink::proto::Capability::ENCODERS | roverlink::proto::Capability::EEPROM | roverlink::proto::Capability::LOCKSTEP;
 static const roverlink::proto::FeedbackMode FEEDBACK_MODE = roverlink::proto::FeedbackMode::LOCKSTEP;
 
-// Built in code, not kept as a static struct: on AVR that would cost SRAM for the whole run.
+// The configuration as a SET_CONFIG payload in flash, unpacked when asked for: a static struct
+// would cost SRAM for the whole run on AVR, and code setting each field more flash than this.
 // static: two profiles linked into one test program must not merge.
+static const uint8_t DEFAULT_CONFIG[] ROVERLINK_PROGMEM = {
+    0xFA, 0x00,  // watchdog_ms = 250
+    0x02,  // safe_state = RAMP_DOWN
+    0xDC, 0x05,  // accel_limit_mm_s2 = 1500
+    0xB8, 0x0B,  // decel_limit_mm_s2 = 3000
+    0xE8, 0x03,  // max_wheel_speed_mm_s = 1000
+    0xE8, 0x03,  // max_effort_permille = 1000
+    0xC0, 0x04,  // encoder_cpr = 1216
+    0x00,  // encoder_invert = 0
+    0x00,  // motor_invert = 0
+    0x90, 0x5F, 0x01, 0x00,  // wheel_diameter_um = 90000
+    0x28, 0x23,  // steering_center_cdeg = 9000
+    0x28, 0x23,  // steering_min_cdeg = 9000
+    0x28, 0x23,  // steering_max_cdeg = 9000
+    0x00, 0x00,  // steering_step_cdeg = 0
+    0xF4, 0x01,  // servo_min_us = 500
+    0xC4, 0x09,  // servo_max_us = 2500
+    0xE8, 0x03,  // esc_min_us = 1000
+    0xDC, 0x05,  // esc_neutral_us = 1500
+    0xD0, 0x07,  // esc_max_us = 2000
+    0x00, 0x00,  // esc_arm_ms = 0
+    0x64,  // feedback_hz = 100
+};
+static_assert(sizeof DEFAULT_CONFIG == roverlink::proto::SetConfig::PAYLOAD_SIZE, "a SET_CONFIG payload");
+
 static inline roverlink::proto::SetConfig default_config() {
-    roverlink::proto::SetConfig c;
-    c.watchdog_ms = 250;
-    c.safe_state = roverlink::proto::SafeState::RAMP_DOWN;
-    c.accel_limit_mm_s2 = 1500;
-    c.decel_limit_mm_s2 = 3000;
-    c.max_wheel_speed_mm_s = 1000;
-    c.max_effort_permille = 1000;
-    c.encoder_cpr = 1216;
-    c.encoder_invert = 0;
-    c.motor_invert = 0;
-    c.wheel_diameter_um = 90000;
-    c.steering_center_cdeg = 9000;
-    c.steering_min_cdeg = 9000;
-    c.steering_max_cdeg = 9000;
-    c.steering_step_cdeg = 0;
-    c.servo_min_us = 500;
-    c.servo_max_us = 2500;
-    c.esc_min_us = 1000;
-    c.esc_neutral_us = 1500;
-    c.esc_max_us = 2000;
-    c.esc_arm_ms = 0;
-    c.feedback_hz = 100;
+    uint8_t payload[sizeof DEFAULT_CONFIG];
+    for (uint8_t i = 0; i < sizeof payload; ++i) {
+        payload[i] = ROVERLINK_READ_BYTE(DEFAULT_CONFIG + i);
+    }
+    roverlink::proto::SetConfig c = roverlink::proto::SetConfig();
+    roverlink::proto::unpack(payload, sizeof payload, c);  // valid: robots.toml is checked
     return c;
 }
 

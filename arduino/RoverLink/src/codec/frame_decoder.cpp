@@ -17,10 +17,8 @@ static_assert(MAX_CHUNK < 255, "a 0xFF COBS block (code + 254 bytes) must not fi
 
 ROVERLINK_NOINLINE void add_count(uint32_t& counter, uint8_t n) { counter += n; }
 
-FrameDecoder::FrameDecoder() : len_(0), payload_len_(0), frame_chunk_len_(0) {
-    memset(buf_, 0, sizeof buf_);
-    reset_stats();
-}
+// All of the decoder is plain bytes and counters: one loop zeroes it.
+FrameDecoder::FrameDecoder() { memset(static_cast<void*>(this), 0, sizeof *this); }
 
 void FrameDecoder::reset() { len_ = 0; }
 

@@ -53,7 +53,9 @@ uint8_t chunk_size(uint8_t k) {
     if (k == 0) {
         return IMAGE_HEADER;
     }
-    return k == 1 ? static_cast<uint8_t>(proto::SetConfig::PAYLOAD_SIZE) : static_cast<uint8_t>(proto::SetPid::PAYLOAD_SIZE);
+    const uint8_t config = proto::SetConfig::PAYLOAD_SIZE;
+    const uint8_t pid = proto::SetPid::PAYLOAD_SIZE;
+    return k == 1 ? config : pid;
 }
 
 // Writes the bytes of `data` that differ from the EEPROM, reading each back.
@@ -101,10 +103,7 @@ LoadResult load(Board& board, proto::SetConfig& cfg, control::Gains gains[proto:
             const uint8_t w = static_cast<uint8_t>(k - 2);
             valid = valid && proto::unpack(scratch, n, p) && p.wheel == w &&
                     proto::check_ranges(p) == proto::ALL_FIELDS_VALID;
-            g[w].kp = p.kp;
-            g[w].ki = p.ki;
-            g[w].kd = p.kd;
-            g[w].kf = p.kf;
+            control::gains_from(g[w], p);
         }
     }
     if (!board.eeprom_read(addr, scratch, 2)) {
@@ -135,7 +134,9 @@ bool save(Board& board, const proto::SetConfig& cfg, const control::Gains gains[
             n = proto::pack(cfg, scratch);
         } else if (k < CHUNKS) {
             const uint8_t w = static_cast<uint8_t>(k - 2);
-            const proto::SetPid p = {w, gains[w].kp, gains[w].ki, gains[w].kd, gains[w].kf};
+            proto::SetPid p;
+            p.wheel = w;
+            control::gains_to(p, gains[w]);
             n = proto::pack(p, scratch);
         } else {
             wire::put_u16(scratch, crc);  // the last chunk: the CRC of the others

@@ -1,5 +1,6 @@
 #include "control.h"
 
+#include "../codec/compiler.h"
 #include "../hal/board.h"
 
 namespace roverlink {
@@ -10,7 +11,9 @@ int32_t round_half_away(float x) {
     return x >= 0.0f ? static_cast<int32_t>(x + 0.5f) : -static_cast<int32_t>(0.5f - x);
 }
 
-int16_t round_to_i16(float x) {
+// Out of line (as div_round and signed_mul_round): each has several callers, and an inlined copy
+// per caller costs more AVR flash than the call.
+ROVERLINK_NOINLINE int16_t round_to_i16(float x) {
     if (!(x == x)) {
         return 0;  // NaN
     }
@@ -18,7 +21,7 @@ int16_t round_to_i16(float x) {
     return static_cast<int16_t>(round_half_away(x > lim ? lim : (x < -lim - 1.0f ? -lim - 1.0f : x)));
 }
 
-int32_t div_round(int32_t a, int32_t b) {
+ROVERLINK_NOINLINE int32_t div_round(int32_t a, int32_t b) {
     return a >= 0 ? (a + b / 2) / b : -((-a + b / 2) / b);
 }
 
@@ -51,11 +54,11 @@ int16_t pid_step(const Gains& g, float r, int16_t m, int16_t m_prev, float max_e
     return round_to_i16(u);
 }
 
-int32_t ramp_step(int32_t ramped, int32_t target, uint16_t up, uint16_t down) {
-    const bool same_way = ramped == 0 || ((ramped > 0) == (target > 0));
-    const bool faster = (target < 0 ? -target : target) > (ramped < 0 ? -ramped : ramped);
-    const int32_t limit = (same_way && faster) ? up : down;
+ROVERLINK_NOINLINE int32_t ramp_step(int32_t ramped, int32_t target, uint16_t up, uint16_t down) {
     const int32_t diff = target - ramped;
+    // Speeding up (|target| > |ramped| on ramped's side of zero, or from 0) is exactly a step away
+    // from zero; everything else (slowing down, reversing through zero) uses the decel limit.
+    const int32_t limit = (diff > 0 ? ramped >= 0 : ramped <= 0) ? up : down;
     if (diff > limit) {
         return ramped + limit;
     }
@@ -81,10 +84,14 @@ int16_t measure_speed(int32_t delta_counts, float mm_s_per_count_, uint16_t peri
 static const uint32_t CDEG_PER_MRAD_FRAC = 0xBAC59EE1UL;
 static const uint32_t MRAD_PER_CDEG_FRAC = 0x2CAE3096UL;
 
-static int16_t signed_mul_round(int16_t x, uint8_t whole, uint32_t frac) {
+ROVERLINK_NOINLINE static int16_t signed_mul_round(int16_t x, uint8_t whole, uint32_t frac) {
     const uint16_t mag = static_cast<uint16_t>(x < 0 ? -static_cast<int32_t>(x) : x);
     const int16_t r = static_cast<int16_t>(mul_round(mag, whole, frac));
     return x < 0 ? static_cast<int16_t>(-r) : r;
+}
+
+static uint16_t magnitude(int16_t x) {
+    return x < 0 ? static_cast<uint16_t>(0u - static_cast<uint16_t>(x)) : static_cast<uint16_t>(x);
 }
 
 static int16_t clamp16(int16_t x, int16_t lo, int16_t hi) { return x < lo ? lo : (x > hi ? hi : x); }
@@ -115,7 +122,7 @@ uint16_t servo_pulse_us(uint16_t cdeg, const proto::SetConfig& c) {
     return static_cast<uint16_t>(c.servo_min_us + div_round(static_cast<int32_t>(cdeg) * span, 18000));
 }
 
-uint16_t esc_pulse_us(int16_t u, const proto::SetConfig& c) {
+ROVERLINK_NOINLINE uint16_t esc_pulse_us(int16_t u, const proto::SetConfig& c) {
     const int32_t neutral = c.esc_neutral_us;
     const int32_t span = u >= 0 ? static_cast<int32_t>(c.esc_max_us) - neutral : neutral - static_cast<int32_t>(c.esc_min_us);
     return static_cast<uint16_t>(neutral + div_round(static_cast<int32_t>(u) * span, 1000));
@@ -128,11 +135,12 @@ uint8_t lights_for(proto::SessionState state, int16_t left, int16_t right, int16
     const uint8_t FRONT = Lights::FRONT_LEFT | Lights::FRONT_RIGHT;
     const uint8_t REAR = Lights::REAR_LEFT | Lights::REAR_RIGHT;
     const uint8_t ALL = LEFT | RIGHT;
-    const bool on = blink < BLINK_PERIOD_TICKS / 2;
+    const uint8_t half = BLINK_PERIOD_TICKS / 2;
+    const bool on = blink < half;
     switch (state) {
     case proto::SessionState::FAILSAFE: {
-        const bool fast_on = (blink % (BLINK_PERIOD_TICKS / 2)) < BLINK_PERIOD_TICKS / 4;  // 3 Hz
-        return fast_on ? ALL : 0;
+        const uint8_t phase = on ? blink : static_cast<uint8_t>(blink - half);  // blink % half
+        return phase < BLINK_PERIOD_TICKS / 4 ? ALL : 0;                         // 3 Hz
     }
     case proto::SessionState::ARMED: {
         if (!on) {
@@ -144,14 +152,15 @@ uint8_t lights_for(proto::SessionState state, int16_t left, int16_t right, int16
         if ((left > 0 && right < 0) || (left < 0 && right > 0)) {
             return ALL;  // rotating in place: hazard
         }
-        const int32_t l = left;
-        const int32_t r = right;
-        const int32_t mag = (l < 0 ? -l : l) > (r < 0 ? -r : r) ? (l < 0 ? -l : l) : (r < 0 ? -r : r);
-        const int32_t turn = r - l;  // > 0: the heading turns counter-clockwise (left)
-        if (turn * 8 > mag) {
+        // right - left > max(|left|, |right|) / 8, in integers: turn > floor(mag / 8).
+        const uint16_t ml = magnitude(left);
+        const uint16_t mr = magnitude(right);
+        const int32_t eighth = (ml > mr ? ml : mr) / 8u;
+        const int32_t turn = static_cast<int32_t>(right) - left;  // > 0: the heading turns left
+        if (turn > eighth) {
             return LEFT;
         }
-        if (-turn * 8 > mag) {
+        if (-turn > eighth) {
             return RIGHT;
         }
         return 0;

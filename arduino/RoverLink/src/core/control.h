@@ -3,7 +3,9 @@
 #ifndef ROVERLINK_CORE_CONTROL_H
 #define ROVERLINK_CORE_CONTROL_H
 
+#include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "../generated/roverlink_protocol.h"
 
@@ -32,6 +34,18 @@ struct Gains {
     float kd;  // permille per mm/s^2, on the measurement
     float kf;  // permille per mm/s of setpoint (feed-forward)
 };
+
+// SET_PID's four gains are a Gains (the same floats in the same order): copied as one block.
+static_assert(sizeof(Gains) == 4 * sizeof(float) &&
+                  offsetof(proto::SetPid, kf) - offsetof(proto::SetPid, kp) == 3 * sizeof(float) &&
+                  sizeof(proto::SetPid::kp) == sizeof(float) && sizeof(proto::SetPid::kf) == sizeof(float),
+              "SET_PID's kp..kf must be laid out as control::Gains");
+inline void gains_from(Gains& g, const proto::SetPid& p) {
+    memcpy(&g, reinterpret_cast<const uint8_t*>(&p) + offsetof(proto::SetPid, kp), sizeof g);
+}
+inline void gains_to(proto::SetPid& p, const Gains& g) {
+    memcpy(reinterpret_cast<uint8_t*>(&p) + offsetof(proto::SetPid, kp), &g, sizeof g);
+}
 
 // One wheel's velocity PID (section 4.6) on r = ramped setpoint and m = measured speed (mm/s).
 // `integral` is the controller's memory and `saturated` is set when the output was clamped. The

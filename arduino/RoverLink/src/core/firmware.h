@@ -93,6 +93,7 @@ private:
         uint8_t blink;
         uint8_t lights;
         uint8_t late_holdoff;      // ticks before another "late" LOG may be sent
+        uint16_t caps;             // robot capabilities (a copy: one load instead of two per test)
         uint16_t tick;
         uint16_t ack_tick;
         uint16_t servo_cdeg;
@@ -120,7 +121,7 @@ private:
     uint8_t status_bits() const;
 
     const Wheel& wheel(uint8_t w) const { return v_.wheels[w < proto::WHEEL_COUNT ? w : 0]; }
-    bool has(uint16_t capability) const { return (robot_.capabilities & capability) != 0; }
+    bool has(uint16_t capability) const { return (v_.caps & capability) != 0; }
     uint8_t driven_wheels() const;
 
     void motors_safe();

@@ -38,20 +38,23 @@ public:
 
     // Receive-side seq accounting (docs/control.md 1.2.1).
     void account_seq(uint8_t seq);
-    void restart_seq() { have_last_seq_ = false; }
+    void restart_seq() { c_.have_last_seq = false; }
 
-    uint32_t seq_gaps() const { return seq_gaps_; }
-    uint32_t frames_sent() const { return frames_sent_; }
-    uint8_t next_tx_seq() const { return tx_seq_; }
+    uint32_t seq_gaps() const { return c_.seq_gaps; }
+    uint32_t frames_sent() const { return c_.frames_sent; }
+    uint8_t next_tx_seq() const { return c_.tx_seq; }
 
 private:
+    struct Counters {  // zeroed as one block by the constructor
+        uint32_t frames_sent;
+        uint32_t seq_gaps;
+        uint8_t tx_seq;
+        uint8_t last_seq;
+        bool have_last_seq;
+    };
 
     Stream& port_;
-    uint32_t frames_sent_;
-    uint32_t seq_gaps_;
-    uint8_t tx_seq_;
-    uint8_t last_seq_;
-    bool have_last_seq_;
+    Counters c_;
     FrameDecoder decoder_;
     uint8_t tx_[proto::MAX_FRAME];
 };

@@ -17,7 +17,7 @@ struct Guards {
 };
 
 // A 32-bit finaliser (xorshift-multiply): every input bit affects every output bit.
-ROVERLINK_NOINLINE uint32_t mix32(uint32_t x) {
+uint32_t mix32(uint32_t x) {
     x ^= x >> 16;
     x *= 0x7FEB352DUL;
     x ^= x >> 15;
@@ -26,11 +26,13 @@ ROVERLINK_NOINLINE uint32_t mix32(uint32_t x) {
     return x;
 }
 
-uint16_t magnitude(int16_t x) { return x < 0 ? static_cast<uint16_t>(0u - static_cast<uint16_t>(x)) : static_cast<uint16_t>(x); }
+uint16_t magnitude(int16_t x) {
+    return x < 0 ? static_cast<uint16_t>(0u - static_cast<uint16_t>(x)) : static_cast<uint16_t>(x);
+}
 
 }  // namespace
 
-uint8_t SessionCore::checked_speed(int16_t a, int16_t b, uint16_t max, uint8_t other) {
+ROVERLINK_NOINLINE uint8_t SessionCore::checked_speed(int16_t a, int16_t b, uint16_t max, uint8_t other) {
     return magnitude(a) > max ? 0 : (magnitude(b) > max ? 1 : other);
 }
 
@@ -54,7 +56,7 @@ void SessionCore::reset(uint32_t boot_counter, const proto::SetConfig& config) {
     v_.boot_id = id != 0 ? id : 1;
 }
 
-uint32_t SessionCore::clock() {
+ROVERLINK_OUT_OF_LINE uint32_t SessionCore::clock() {
     const uint32_t now = board_.micros();
     if (now < v_.last_micros) {
         ++v_.micros_wraps;
@@ -132,7 +134,7 @@ SessionCore::Kind SessionCore::kind_of(uint8_t id) {
     return PLAIN;  // HELLO, PING, setpoints
 }
 
-bool SessionCore::request(uint8_t msg_id, uint8_t seq) {
+ROVERLINK_OUT_OF_LINE bool SessionCore::request(uint8_t msg_id, uint8_t seq) {
     Vars& v = v_;
     v.req_id = msg_id;
     v.req_seq = seq;
@@ -189,7 +191,7 @@ ROVERLINK_NOINLINE void SessionCore::send_answer(uint8_t reason, uint8_t detail)
     }
 }
 
-void SessionCore::send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t len) {
+ROVERLINK_NOINLINE void SessionCore::send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t len) {
     link_.payload_slot()[0] = v_.req_seq;
     link_.send_payload(msg_id, crc_extra, static_cast<uint8_t>(1 + len));
 }
@@ -208,12 +210,19 @@ ROVERLINK_NOINLINE void SessionCore::send_identity(proto::IdentityReason reason,
     const uint32_t now = clock();
     m.uptime_ms = v.micros_wraps * MS_PER_MICROS_WRAP + now / 1000u;
     m.reason = reason;
-    // Granted values; outside a session, those in force in IDLE (stream at the config's rate).
-    const bool session = reason == proto::IdentityReason::HELLO_ACCEPTED;
-    m.hello_seq = reason == proto::IdentityReason::BOOT ? 0 : v.req_seq;
-    m.watchdog_ms = session ? v.watchdog_ms : config.watchdog_ms;
-    m.feedback_mode = session ? v.mode : proto::FeedbackMode::STREAM;
-    m.feedback_hz = session ? v.feedback_hz : config.feedback_hz;
+    if (reason != proto::IdentityReason::BOOT) {
+        m.hello_seq = v.req_seq;
+    }
+    // Granted values; outside a session, those in force in IDLE (stream, zeroed above, at the
+    // config's rate).
+    if (reason == proto::IdentityReason::HELLO_ACCEPTED) {
+        m.watchdog_ms = v.watchdog_ms;
+        m.feedback_mode = v.mode;
+        m.feedback_hz = v.feedback_hz;
+    } else {
+        m.watchdog_ms = config.watchdog_ms;
+        m.feedback_hz = config.feedback_hz;
+    }
     uint8_t n = 0;
     const char* name = robot_.name;
     while (name != 0 && n < sizeof m.robot_name && name[n] != '\0') {
@@ -232,7 +241,8 @@ void SessionCore::accept_hello(const proto::Hello& h, const proto::SetConfig& co
     }
     v.watchdog_ms = wd < proto::WATCHDOG_MIN_MS ? proto::WATCHDOG_MIN_MS
                                                  : (wd > proto::WATCHDOG_MAX_MS ? proto::WATCHDOG_MAX_MS : wd);
-    v.mode = h.feedback_mode;
+    // Lockstep only where the build can do it; IDENTITY reports what was granted.
+    v.mode = has(proto::Capability::LOCKSTEP) ? h.feedback_mode : proto::FeedbackMode::STREAM;
     uint8_t hz = h.feedback_hz != 0 ? h.feedback_hz : config.feedback_hz;
     if (hz == 0) {
         hz = proto::FEEDBACK_HZ_DEFAULT;
@@ -251,7 +261,7 @@ void SessionCore::send_pong(const proto::Ping& m) {
     link_.send(pong);
 }
 
-void SessionCore::send_link_stats() {
+ROVERLINK_OUT_OF_LINE void SessionCore::send_link_stats() {
     const DecoderStats& d = link_.decoder().stats();
     proto::LinkStats s;
     s.req_seq = v_.req_seq;
@@ -312,7 +322,8 @@ void SessionCore::send_feedback(proto::Feedback& f, uint8_t app_status) {
     link_.send(f);
 }
 
-ROVERLINK_NOINLINE void SessionCore::log(proto::LogLevel level, const char* flash_text, uint32_t number, bool with_number) {
+ROVERLINK_NOINLINE void SessionCore::log(proto::LogLevel level, const char* flash_text, const char* tail,
+                                         uint8_t tail_len) {
     uint8_t* p = link_.payload_slot();
     const uint8_t cap = proto::Log::PAYLOAD_MAX;
     uint8_t n = 0;
@@ -324,18 +335,8 @@ ROVERLINK_NOINLINE void SessionCore::log(proto::LogLevel level, const char* flas
         }
         p[n++] = c;
     }
-    if (with_number) {
-        // Digits least significant first, then turned round in place.
-        uint8_t first = n;
-        do {
-            p[n++] = static_cast<uint8_t>('0' + number % 10u);
-            number /= 10u;
-        } while (number != 0 && n < cap);
-        for (uint8_t last = static_cast<uint8_t>(n - 1u); first < last; ++first, --last) {
-            const uint8_t c = p[first];
-            p[first] = p[last];
-            p[last] = c;
-        }
+    for (; tail_len > 0 && n < cap; --tail_len) {
+        p[n++] = static_cast<uint8_t>(*tail++);
     }
     link_.send_payload(proto::Log::ID, proto::Log::CRC_EXTRA, n);
 }

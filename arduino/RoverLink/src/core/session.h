@@ -67,8 +67,9 @@ public:
     // The TX frame buffer, as scratch memory between frames (EEPROM images): Link::SCRATCH_SIZE.
     uint8_t* scratch() { return link_.scratch(); }
 
-    // LOG(level, text from flash [+ number in decimal]); the only text the firmware sends.
-    void log(proto::LogLevel level, const char* flash_text, uint32_t number, bool with_number);
+    // LOG(level, a text from flash followed by `tail_len` characters from RAM): the only text the
+    // firmware sends. The texts are the App's (a number in one is the App's to write).
+    void log(proto::LogLevel level, const char* flash_text, const char* tail = 0, uint8_t tail_len = 0);
 
 protected:
     // How a request is handled before its own code runs (request()).

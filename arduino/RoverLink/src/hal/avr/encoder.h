@@ -20,6 +20,7 @@
 #include <Arduino.h>
 #include <util/atomic.h>
 
+#include "mcu.h"
 #include "quadrature.h"
 
 namespace roverlink {
@@ -39,8 +40,8 @@ public:
 
     // Pins as inputs (open-collector encoders need the pull-ups), decoding from the present levels.
     void begin() {
-        pinMode(pin_a_, pullups_ ? INPUT_PULLUP : INPUT);
-        pinMode(pin_b_, pullups_ ? INPUT_PULLUP : INPUT);
+        pin_input(pin_a_, pullups_);
+        pin_input(pin_b_, pullups_);
         a_in_ = portInputRegister(digitalPinToPort(pin_a_));
         b_in_ = portInputRegister(digitalPinToPort(pin_b_));
         a_mask_ = digitalPinToBitMask(pin_a_);

@@ -4,6 +4,7 @@
 
 #include <Arduino.h>
 #include <avr/eeprom.h>
+#include <util/atomic.h>
 
 namespace roverlink {
 namespace avr {
@@ -12,6 +13,21 @@ namespace {
 
 bool eeprom_range_ok(uint16_t address, uint16_t length) {
     return static_cast<uint32_t>(address) + length <= static_cast<uint32_t>(E2END) + 1u;
+}
+
+// Sets the pin's DDR bit to `output` and its PORT bit to `high` (an input's pull-up).
+void set_pin(uint8_t pin, bool output, bool high) {
+    const uint8_t port = digitalPinToPort(pin);
+    if (port == NOT_A_PIN) {
+        return;
+    }
+    const uint8_t bit = digitalPinToBitMask(pin);
+    volatile uint8_t* const ddr = portModeRegister(port);
+    volatile uint8_t* const out = portOutputRegister(port);
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+        *out = static_cast<uint8_t>(high ? (*out | bit) : (*out & ~bit));  // the level first, then the direction
+        *ddr = static_cast<uint8_t>(output ? (*ddr | bit) : (*ddr & ~bit));
+    }
 }
 
 }  // namespace
@@ -38,6 +54,10 @@ bool eeprom_write(uint16_t address, const uint8_t* data, uint16_t length) {
     }
     return true;
 }
+
+void pin_input(uint8_t pin, bool pullup) { set_pin(pin, false, pullup); }
+
+void pin_output(uint8_t pin, bool high) { set_pin(pin, true, high); }
 
 uint32_t adc_entropy(uint8_t unconnected_analog_pin) {
     // FNV-1a over the samples: cheap, and every input bit reaches every output bit.

@@ -23,6 +23,13 @@ bool eeprom_write(uint16_t address, const uint8_t* data, uint16_t length);
 // boots never share a boot_id even if the ADC happens to be quiet. Takes about 2 ms.
 uint32_t adc_entropy(uint8_t unconnected_analog_pin);
 
+// A pin as an input (with or without its pull-up) or as an output at a level, through its port
+// registers with interrupts off. pinMode() and digitalWrite() do the same and also switch a
+// timer's PWM off that pin, which costs ~400 bytes of flash; the encoders and the pulse timers,
+// which manage their timers themselves, use these.
+void pin_input(uint8_t pin, bool pullup);
+void pin_output(uint8_t pin, bool high);
+
 }  // namespace avr
 }  // namespace roverlink
 

@@ -23,6 +23,8 @@
 #include <Arduino.h>
 #include <util/atomic.h>
 
+#include "mcu.h"
+
 namespace roverlink {
 namespace avr {
 
@@ -89,8 +91,7 @@ public:
         if (pulse_us == 0) {
             // Held low as an output: a floating signal wire can look like pulses to an ESC.
             Timer::control_a() = static_cast<uint8_t>(Timer::control_a() & ~com_bit);
-            digitalWrite(pin, LOW);
-            pinMode(pin, OUTPUT);
+            pin_output(pin, false);
             return;
         }
         if (pulse_us < MIN_PULSE_US) pulse_us = MIN_PULSE_US;
@@ -103,7 +104,7 @@ public:
             Timer::control_a() = static_cast<uint8_t>(Timer::control_a() | com_bit);  // non-inverting
         }
         if (was_off) {
-            pinMode(pin, OUTPUT);
+            pin_output(pin, false);  // the timer drives it now; the port level only shows when it stops
         }
     }
 
