@@ -34,7 +34,7 @@ def test_control_loop_and_byte_latency_within_budget(figures: dict[str, bench.Fi
 
 @pytest.mark.xfail(
     strict=True,
-    reason="measured 3000-3900 AVR cycles per SET_PID frame (17-byte payload), budget 1500; the figure "
+    reason="measured about 2,500-3,400 AVR cycles per SET_PID frame (17-byte payload), budget 1500; the figure "
     "includes the 24 RX interrupts, the Stream reads and the ACK's TX interrupts (benchmarks/firmware.py)",
 )
 @pytest.mark.parametrize("example", sorted(p.example for p in PROFILES.values()))
