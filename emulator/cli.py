@@ -9,8 +9,8 @@ from __future__ import annotations
 import argparse
 import signal
 import sys
-from collections.abc import Sequence
-from typing import Any
+from collections.abc import Callable, Sequence
+from typing import Any, TextIO
 
 from emulator.device import Emulator
 from emulator.errors import EmulatorError
@@ -78,17 +78,7 @@ def cmd_emulate(args: argparse.Namespace) -> int:
     if not args.speed > 0:
         print(f"error: --speed = {args.speed} is not allowed: a number > 0", file=sys.stderr)
         return 2
-    endpoint: Endpoint = SocketEndpoint(args.socket) if args.socket is not None else PtyEndpoint()
-    stopping = False
-
-    def stop(_signum: int, _frame: object) -> None:
-        nonlocal stopping
-        stopping = True
-
-    signal.signal(signal.SIGINT, stop)
-    signal.signal(signal.SIGTERM, stop)
-    print(endpoint.name, flush=True)
-    log = None if args.quiet else sys.stderr
+    endpoint, stopping, log = _open_endpoint(args)
     if log is not None:
         print(
             f"[emulator] {args.profile}, seed {args.seed}, {args.baud} baud on {endpoint.name}; Ctrl-C to stop",
@@ -96,10 +86,26 @@ def cmd_emulate(args: argparse.Namespace) -> int:
             flush=True,
         )
     try:
-        serve(emu, endpoint, lambda: stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log)
+        serve(emu, endpoint, stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log)
     finally:
         endpoint.close()
     return 0
+
+
+def _open_endpoint(args: argparse.Namespace) -> tuple[Endpoint, Callable[[], bool], TextIO | None]:
+    """The pty (or socket) to serve, a stop flag raised by SIGINT/SIGTERM, and the log stream.
+
+    The device path goes to stdout as the first line, which is what callers wait for."""
+    endpoint: Endpoint = SocketEndpoint(args.socket) if args.socket is not None else PtyEndpoint()
+    stop_requested = [False]
+
+    def stop(_signum: int, _frame: object) -> None:
+        stop_requested[0] = True
+
+    signal.signal(signal.SIGINT, stop)
+    signal.signal(signal.SIGTERM, stop)
+    print(endpoint.name, flush=True)
+    return endpoint, lambda: stop_requested[0], None if args.quiet else sys.stderr
 
 
 _PYTHON_ONLY = {
@@ -128,17 +134,7 @@ def _cmd_emulate_simavr(args: argparse.Namespace) -> int:
     except SimavrError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    endpoint: Endpoint = SocketEndpoint(args.socket) if args.socket is not None else PtyEndpoint()
-    stopping = False
-
-    def stop(_signum: int, _frame: object) -> None:
-        nonlocal stopping
-        stopping = True
-
-    signal.signal(signal.SIGINT, stop)
-    signal.signal(signal.SIGTERM, stop)
-    print(endpoint.name, flush=True)
-    log = None if args.quiet else sys.stderr
+    endpoint, stopping, log = _open_endpoint(args)
     if log is not None:
         print(
             f"[simavr] {args.profile}: {robot.elf.name} on {robot.harness.wiring.mcu} at 16 MHz, "
@@ -147,9 +143,7 @@ def _cmd_emulate_simavr(args: argparse.Namespace) -> int:
             flush=True,
         )
     try:
-        ratio = serve(
-            robot, endpoint, lambda: stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log
-        )
+        ratio = serve(robot, endpoint, stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log)
     finally:
         endpoint.close()
         robot.close()
