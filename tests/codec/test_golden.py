@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from codec_oracle import codec_values, oracle_values
 
 from host_sdk import messages
 from host_sdk._generated import oracle
@@ -67,46 +68,6 @@ def message_from_json(cls: type[Message], fields: dict[str, Any]) -> Message:
 
 
 # -- comparing field values exactly ---------------------------------------------------------------
-def _exact(info: FieldInfo, value: Any) -> Any:
-    """One element as a plain, exactly comparable value (floats by bit pattern: -0.0 != 0.0)."""
-    if info.kind == "float":
-        return float(value).hex()
-    return int(value)
-
-
-def codec_values(msg: Message) -> dict[str, Any]:
-    """Field values of a message from the fast codec, normalised: arrays as lists, enums as ints."""
-    out: dict[str, Any] = {}
-    for info in msg.FIELDS:
-        value = getattr(msg, info.name)
-        if info.kind in ("str", "bytes"):
-            out[info.name] = value
-        elif info.count is not None:
-            out[info.name] = [_exact(info, v) for v in value]
-        else:
-            out[info.name] = _exact(info, value)
-    return out
-
-
-def oracle_values(cls: type[Message], payload: bytes) -> dict[str, Any]:
-    """Field values of a payload parsed by the construct oracle, normalised like codec_values."""
-    parsed = oracle.PAYLOADS[cls.MSG_ID].parse(payload)
-    out: dict[str, Any] = {}
-    for info in cls.FIELDS:
-        value = parsed[info.name]
-        if info.kind == "str":
-            out[info.name] = bytes(value).decode("ascii")  # GreedyBytes tail
-        elif info.kind == "bytes":
-            out[info.name] = bytes(value)
-        elif info.count is not None:
-            out[info.name] = [_exact(info, v) for v in value]
-        else:
-            out[info.name] = _exact(info, value)
-    # Rebuilding gives the payload back only if the oracle consumed all of it.
-    assert oracle.PAYLOADS[cls.MSG_ID].build(parsed) == payload
-    return out
-
-
 # -- the vector files themselves --------------------------------------------------------------------
 def test_there_are_vectors() -> None:
     assert VECTOR_FILES, f"no golden vectors in {VECTOR_DIR}"

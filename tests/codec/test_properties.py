@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from codec_oracle import codec_values, oracle_values
 from hypothesis import example, given, note, settings
 from hypothesis import strategies as st
 
@@ -89,40 +90,6 @@ def assert_accounted(decoder: FrameDecoder, fed: bytes, events: list[Frame | Bad
     assert stats.frames_ok == len(good)
     errors = stats.crc_errors + stats.cobs_errors + stats.length_errors + stats.unknown_ids + stats.value_errors
     assert errors == len(events) - len(good), stats
-
-
-def _exact(info: FieldInfo, value: Any) -> Any:
-    return float(value).hex() if info.kind == "float" else int(value)
-
-
-def codec_values(msg: Message) -> dict[str, Any]:
-    out: dict[str, Any] = {}
-    for info in msg.FIELDS:
-        value = getattr(msg, info.name)
-        if info.kind in ("str", "bytes"):
-            out[info.name] = value
-        elif info.count is not None:
-            out[info.name] = [_exact(info, v) for v in value]
-        else:
-            out[info.name] = _exact(info, value)
-    return out
-
-
-def oracle_values(cls: type[Message], payload: bytes) -> dict[str, Any]:
-    parsed = oracle.PAYLOADS[cls.MSG_ID].parse(payload)
-    out: dict[str, Any] = {}
-    for info in cls.FIELDS:
-        value = parsed[info.name]
-        if info.kind == "str":
-            out[info.name] = bytes(value).decode("ascii")
-        elif info.kind == "bytes":
-            out[info.name] = bytes(value)
-        elif info.count is not None:
-            out[info.name] = [_exact(info, v) for v in value]
-        else:
-            out[info.name] = _exact(info, value)
-    assert oracle.PAYLOADS[cls.MSG_ID].build(parsed) == payload  # the oracle consumed it all
-    return out
 
 
 # -- round trips ---------------------------------------------------------------------------------------
