@@ -1,7 +1,8 @@
-"""Emit the Arduino library's generated C++11 (structs, layouts, pack/unpack, dispatch, state table).
+"""Emit the Arduino library's generated C++11 (structs, checks tables, pack/unpack, dispatch, state table).
 
-Pack, unpack and check_ranges are one generic walker in the runtime (src/codec/layout.cpp) over a
-byte table per message (its layout), so the generated code has no per-message function bodies.
+Each message struct is the packed little-endian image of its payload, so pack() and unpack() copy
+bytes; value and range checks are one generic walker in the runtime (src/codec/layout.cpp) over a
+byte table per message (its checks), so the generated code has no per-message function bodies.
 
 Also emits tests/native/generated/roverlink_reflect.h: a test-only text interface (print fields,
 set fields by name) that lets the Python tests drive the C++ codec field by field.
@@ -15,7 +16,7 @@ from protocol.emit.common import banner
 from protocol.model import PRIMITIVES, Enum, Field, Message, Spec
 
 LIB = "arduino/RoverLink/src/generated"
-API_VERSION = 2
+API_VERSION = 3
 
 _CTYPE = {
     "u8": "uint8_t",
@@ -66,11 +67,11 @@ def _float_lit(value: float) -> str:
 # -- header ------------------------------------------------------------------------------------
 def _header(spec: Spec) -> str:
     out = [banner(spec, "//")]
-    out.append("// RoverLink protocol: constants, enums, message structs and layouts, pack/unpack, dispatch,\n")
-    out.append("// state table.\n")
+    out.append("// RoverLink protocol: constants, enums, message structs (packed wire images) and their checks,\n")
+    out.append("// pack/unpack, dispatch, state table.\n")
     out.append("#ifndef ROVERLINK_GENERATED_PROTOCOL_H\n#define ROVERLINK_GENERATED_PROTOCOL_H\n\n")
-    out.append("#include <stddef.h>\n#include <stdint.h>\n\n")
-    out.append("// The runtime's layout walker (pack/unpack/check_ranges) and ROVERLINK_PROGMEM.\n")
+    out.append("#include <stddef.h>\n#include <stdint.h>\n#include <string.h>\n\n")
+    out.append("// The runtime's checks walker (unpack/check_ranges), ROVERLINK_PACKED and ROVERLINK_PROGMEM.\n")
     out.append('#include "../codec/layout.h"\n\n')
     out.append("// The runtime in src/codec/ refuses to compile against another API version (see codec.h).\n")
     out.append(f"#define ROVERLINK_GENERATED_API_VERSION {API_VERSION}\n\n")
@@ -118,7 +119,7 @@ def _header(spec: Spec) -> str:
 
 def _struct(m: Message) -> str:
     out = [f"// {m.name} (0x{m.id:02X}, {m.direction.replace('_', ' ')}, {m.delivery}): {m.doc}\n"]
-    out.append(f"struct {m.class_name} {{\n")
+    out.append(f"struct ROVERLINK_PACKED {m.class_name} {{\n")
     out.append(
         f"    enum : uint8_t {{ ID = 0x{m.id:02X}, CRC_EXTRA = 0x{m.crc_extra:02X}, "
         f"PAYLOAD_SIZE = {m.payload_size}, PAYLOAD_MAX = {m.payload_max} }};\n"
@@ -142,7 +143,17 @@ def _struct(m: Message) -> str:
     lay = _layout_name(m)
     out.append(f"extern const uint8_t {lay}[] ROVERLINK_PROGMEM;\n")
     out.append("// Returns the payload length.\n")
-    out.append(f"inline uint8_t pack(const {n}& m, uint8_t* payload) {{ return layout::pack({lay}, &m, payload); }}\n")
+    tail = m.trailing
+    if tail is None:
+        out.append(
+            f"inline uint8_t pack(const {n}& m, uint8_t* payload) {{\n"
+            f"    memcpy(payload, &m, {n}::PAYLOAD_SIZE);\n    return {n}::PAYLOAD_SIZE;\n}}\n"
+        )
+    else:
+        out.append(
+            f"inline uint8_t pack(const {n}& m, uint8_t* payload) {{\n"
+            f"    return layout::pack_tail(&m, {n}::PAYLOAD_SIZE, m.{tail.name}_len, {tail.max_len}, payload);\n}}\n"
+        )
     out.append("// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).\n")
     out.append(f"inline bool unpack(const uint8_t* payload, uint8_t len, {n}& m) {{\n")
     out.append(f"    return layout::unpack({lay}, payload, len, &m);\n}}\n")
@@ -175,7 +186,7 @@ def _dispatch(spec: Spec) -> str:
             out.append(f"    {m.class_name} {_member(m)};\n")
         out.append("};\n")
         out.append(f"// Unpacks a {direction} payload into the member of `m` that msg_id names (one table lookup,\n")
-        out.append("// one layout walk): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.\n")
+        out.append("// one copy and its checks): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.\n")
         out.append(
             f"DispatchResult unpack_{direction}(uint8_t msg_id, const uint8_t* payload, uint8_t len, {union}& m);\n\n"
         )
@@ -243,16 +254,27 @@ def _source(spec: Spec) -> str:
     out = [banner(spec, "//")]
     out.append('#include "roverlink_protocol.h"\n\n')
     out.append("namespace roverlink {\nnamespace proto {\n\n")
-    out.append("// Every struct member has the width of its wire field (no int, no double; AVR and ARM agree),\n")
-    out.append("// and every member offset fits the byte a layout keeps it in.\n")
-    out.append('static_assert(ALL_FIELDS_VALID == layout::ALL_VALID, "check_ranges() answers the layout walker\'s");\n')
+    out.append("// Every struct is its payload's image: each member at its wire offset with its wire width (no\n")
+    out.append("// int, no double, no padding), then the variable-length field's <name>_len.\n")
+    out.append('static_assert(ALL_FIELDS_VALID == layout::ALL_VALID, "check_ranges() answers the checks walker\'s");\n')
     for m in spec.messages:
         n = m.class_name
         out.append(f'static_assert({n}::PAYLOAD_MAX <= MAX_PAYLOAD, "{m.name} payload exceeds MAX_PAYLOAD");\n')
-        if m.fields:
-            sizes = " + ".join(f"sizeof({n}::{f.name})" for f in m.fields)
-            out.append(f'static_assert({sizes} == {n}::PAYLOAD_MAX, "{m.name} member widths differ from the wire");\n')
-            out.append(f'static_assert(sizeof({n}) < 256, "{m.name} member offsets must fit in a byte");\n')
+        if not m.fields:
+            continue
+        offset = 0
+        for f in m.fields:
+            where = f'"{m.name}.{f.name} is not at its wire offset"'
+            out.append(f"static_assert(offsetof({n}, {f.name}) == {offset}, {where});\n")
+            offset += f.size
+        tail = m.trailing
+        if tail is not None:
+            out.append(
+                f"static_assert(offsetof({n}, {tail.name}_len) == {n}::PAYLOAD_MAX, "
+                f'"{m.name}.{tail.name}_len must follow the payload image");\n'
+            )
+        size = f"{n}::PAYLOAD_MAX + 1" if tail is not None else f"{n}::PAYLOAD_MAX"
+        out.append(f'static_assert(sizeof({n}) == {size}, "{m.name} is not its payload\'s image");\n')
     out.append("\n")
     out.append("// msg_id, CRC_EXTRA, PAYLOAD_SIZE, PAYLOAD_MAX of every message.\n")
     out.append(f"static const uint8_t MESSAGE_COUNT = {len(spec.messages)};\n")
@@ -270,8 +292,8 @@ def _source(spec: Spec) -> str:
     out.append("            out.max_payload = ROVERLINK_READ_BYTE(row + 3);\n")
     out.append("            return true;\n        }\n    }\n    return false;\n}\n\n")
     out.append(_unpackers(spec))
-    out.append("// Layouts (codec/layout.h): PAYLOAD_SIZE, PAYLOAD_MAX, field count, then per field its code,\n")
-    out.append("// its offset in the struct, [count | 0, max_len, offset of <name>_len], [check data, LE].\n")
+    out.append("// Checks tables (codec/layout.h): PAYLOAD_SIZE, PAYLOAD_MAX, offset of <name>_len or NO_TAIL,\n")
+    out.append("// entry count, then per checked field its code, index, offset, [count | 0], check data (LE).\n")
     for m in spec.messages:
         if m.fields:
             out.append(_layout(m))
@@ -298,22 +320,22 @@ def _source(spec: Spec) -> str:
 
 
 def _unpackers(spec: Spec) -> str:
-    """unpack_<direction>(): the direction's msg_id -> layout table and one generic unpack."""
-    out = ["namespace {\n\n// msg_id and layout (0: no fields) of every message one direction carries.\n"]
-    out.append("struct LayoutOf {\n    uint8_t msg_id;\n    const uint8_t* layout;\n};\n\n")
-    out.append("DispatchResult unpack_with(const LayoutOf* table, uint8_t count, uint8_t msg_id,\n")
+    """unpack_<direction>(): the direction's msg_id -> checks table and one generic unpack."""
+    out = ["namespace {\n\n// msg_id and checks table (0: no fields) of every message one direction carries.\n"]
+    out.append("struct ChecksOf {\n    uint8_t msg_id;\n    const uint8_t* checks;\n};\n\n")
+    out.append("DispatchResult unpack_with(const ChecksOf* table, uint8_t count, uint8_t msg_id,\n")
     out.append("                           const uint8_t* payload, uint8_t len, void* m) {\n")
     out.append("    for (uint8_t i = 0; i < count; ++i) {\n")
     out.append("        if (ROVERLINK_READ_BYTE(&table[i].msg_id) == msg_id) {\n")
-    out.append("            const uint8_t* layout = ROVERLINK_READ_PTR(&table[i].layout);\n")
-    out.append("            const bool ok = layout != 0 ? layout::unpack(layout, payload, len, m) : len == 0;\n")
+    out.append("            const uint8_t* checks = ROVERLINK_READ_PTR(&table[i].checks);\n")
+    out.append("            const bool ok = checks != 0 ? layout::unpack(checks, payload, len, m) : len == 0;\n")
     out.append("            return ok ? DISPATCH_OK : DISPATCH_BAD_PAYLOAD;\n        }\n    }\n")
     out.append("    MessageBounds b;\n")
     out.append("    return message_bounds(msg_id, b) ? DISPATCH_WRONG_DIRECTION : DISPATCH_UNKNOWN_ID;\n}\n\n")
     for direction, _, _ in _DIRECTIONS:
         msgs = [m for m in spec.messages if m.direction == direction]
         table = direction.upper()
-        out.append(f"const LayoutOf {table}[] ROVERLINK_PROGMEM = {{\n")
+        out.append(f"const ChecksOf {table}[] ROVERLINK_PROGMEM = {{\n")
         for m in msgs:
             out.append(f"    {{{m.class_name}::ID, {_layout_name(m) if m.fields else '0'}}},\n")
         out.append("};\n\n")
@@ -341,7 +363,7 @@ _WIRE = {
 
 
 def _layout_name(m: Message) -> str:
-    return f"{m.name}_LAYOUT"
+    return f"{m.name}_CHECKS"
 
 
 def _enum_test(e: Enum) -> str:
@@ -367,15 +389,26 @@ def _f32_bits(value: float) -> int:
         return 0xFF800000 if value < 0 else 0x7F800000
 
 
+def _key(value: int, prim: str) -> int:
+    """The order key of an element (codec/layout.h): unsigned order = the numbers' order."""
+    width = PRIMITIVES[prim][0]
+    bits = value & ((1 << (8 * width)) - 1)
+    if prim == "f32":
+        return bits ^ 0xFFFFFFFF if bits & 0x80000000 else bits | 0x80000000
+    if prim.startswith("i"):
+        return bits ^ (1 << (8 * width - 1))
+    return bits
+
+
 def _check(f: Field) -> tuple[str, list[int], str]:
-    """A field's check: (CHECK_* name, its data bytes, a comment)."""
+    """A field's check: (CHECK_* name, its data bytes (bounds as order keys), a comment)."""
     width = PRIMITIVES[f.prim][0]
     if f.enum is not None and f.enum.flags:
         return "CHECK_FLAGS", _le(f.enum.mask, width), f"{f.enum.name} bits 0x{f.enum.mask:X}"
     if f.enum is not None:
         values = sorted(v.value for v in f.enum.values)
         lo, hi = values[0], values[-1]
-        bounds = _le(lo, width) + _le(hi, width)
+        bounds = _le(_key(lo, f.prim), width) + _le(_key(hi, f.prim), width)
         if values == list(range(lo, hi + 1)):
             return "CHECK_VALUES", [*bounds, 0], f"{f.enum.name} {lo}..{hi}"
         if hi - lo > 255:
@@ -392,37 +425,36 @@ def _check(f: Field) -> tuple[str, list[int], str]:
         # Both zeros compare equal in the spec (and in Python): widen a bound at zero to take both.
         lo_bits = 0x80000000 if f.lo == 0 else _f32_bits(f.lo)
         hi_bits = 0x00000000 if f.hi == 0 else _f32_bits(f.hi)
-        return "CHECK_RANGE", _le(lo_bits, 4) + _le(hi_bits, 4), f"{_float_lit(f.lo)}..{_float_lit(f.hi)}"
+        bounds = _le(_key(lo_bits, "f32"), 4) + _le(_key(hi_bits, "f32"), 4)
+        return "CHECK_RANGE", bounds, f"{_float_lit(f.lo)}..{_float_lit(f.hi)}"
     _, _, _, tlo, thi = PRIMITIVES[f.prim]
     lo_i = int(f.min) if f.min is not None else int(tlo or 0)
     hi_i = int(f.max) if f.max is not None else int(thi or 0)
     if lo_i == tlo and hi_i == thi:
         return "CHECK_NONE", [], ""
-    return "CHECK_RANGE", _le(lo_i, width) + _le(hi_i, width), f"{lo_i}..{hi_i}"
+    return "CHECK_RANGE", _le(_key(lo_i, f.prim), width) + _le(_key(hi_i, f.prim), width), f"{lo_i}..{hi_i}"
 
 
 def _layout(m: Message) -> str:
+    """The message's checks table: its length rule and the fields that have something to check."""
     n = m.class_name
-    out = [f"// {m.name}: payload {m.payload_size}..{m.payload_max} bytes, {len(m.fields)} fields.\n"]
+    checked = [(i, f, *_check(f)) for i, f in enumerate(m.fields)]
+    checked = [c for c in checked if c[2] != "CHECK_NONE"]
+    tail = m.trailing
+    if tail is not None and PRIMITIVES[tail.prim][0] != 1:
+        raise ValueError(f"{m.name}.{tail.name}: the C++ structs hold variable-length arrays of bytes only")
+    tail_at = f"offsetof({n}, {tail.name}_len)" if tail is not None else "layout::NO_TAIL"
+    out = [f"// {m.name}: payload {m.payload_size}..{m.payload_max} bytes, {len(checked)} checked fields.\n"]
     out.append(f"const uint8_t {_layout_name(m)}[] ROVERLINK_PROGMEM = {{\n")
-    out.append(f"    {m.payload_size}, {m.payload_max}, {len(m.fields)},\n")
-    for i, f in enumerate(m.fields):
-        check, data, note = _check(f)
-        code = f"layout::{_WIRE[f.prim]}"
-        if check != "CHECK_NONE":
-            code += f" | layout::{check}"
-        items = [f"offsetof({n}, {f.name})"]
+    out.append(f"    {m.payload_size}, {m.payload_max}, {tail_at}, {len(checked)},\n")
+    for i, f, check, data, note in checked:
+        code = f"layout::{_WIRE[f.prim]} | layout::{check}"
+        items = [str(i), f"offsetof({n}, {f.name})"]
         if f.count is not None or f.max_len is not None:
             code += " | layout::ARRAY"
-            if f.count is not None:
-                items.append(str(f.count))
-            else:
-                if PRIMITIVES[f.prim][0] != 1:
-                    raise ValueError(f"{m.name}.{f.name}: the C++ layouts hold variable-length arrays of bytes only")
-                items += ["0", str(f.max_len), f"offsetof({n}, {f.name}_len)"]
+            items.append(str(f.count) if f.count is not None else "0")
         items += [f"0x{b:02X}" for b in data]
-        comment = f"{i} {f.name}" + (f": {note}" if note else "")
-        out.append(f"    {code}, {', '.join(items)},  // {comment}\n")
+        out.append(f"    {code}, {', '.join(items)},  // {f.name}: {note}\n")
     out.append("};\n\n")
     return "".join(out)
 

@@ -845,9 +845,11 @@ static void test_messages() {
     }
 }
 
-// The layout walker on a hand-made layout with what the spec does not use yet: an enum with gaps
-// (its bitmap), a signed and a negative float range, a flags mask with gaps, ASCII bytes.
-struct Probe {
+// The checks walker on a hand-made table with what the spec does not use yet: an enum with gaps
+// (its bitmap), a signed and a negative float range, a flags mask with gaps, ASCII bytes. Bounds
+// are order keys (codec/layout.h): i16 -300 = 0xFED4 ^ 0x8000, f32 -1.5 = ~0xBFC00000,
+// 2.5 = 0x40200000 | 0x80000000.
+struct ROVERLINK_PACKED Probe {
     uint8_t e;       // values 3, 7, 10, 12
     int16_t s;       // range -300..-100
     float f;         // range -1.5..2.5
@@ -855,14 +857,14 @@ struct Probe {
     uint8_t text[4];
     uint8_t text_len;
 };
+static_assert(offsetof(Probe, text_len) == 13, "Probe must be its payload's image");
 static const uint8_t PROBE_LAYOUT[] = {
-    9, 13, 5,
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Probe, e), 3, 12, 2, 0x91, 0x02,
-    layout::WIRE_I16 | layout::CHECK_RANGE, offsetof(Probe, s), 0xD4, 0xFE, 0x9C, 0xFF,
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Probe, f), 0x00, 0x00, 0xC0, 0xBF, 0x00, 0x00, 0x20, 0x40,
-    layout::WIRE_U16 | layout::CHECK_FLAGS, offsetof(Probe, flags), 0x05, 0x01,
-    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, offsetof(Probe, text), 0, 4, offsetof(Probe, text_len),
-    0x00, 0x7F, 0,
+    9, 13, offsetof(Probe, text_len), 5,
+    layout::WIRE_U8 | layout::CHECK_VALUES, 0, offsetof(Probe, e), 3, 12, 2, 0x91, 0x02,
+    layout::WIRE_I16 | layout::CHECK_RANGE, 1, offsetof(Probe, s), 0xD4, 0x7E, 0x9C, 0x7F,
+    layout::WIRE_F32 | layout::CHECK_RANGE, 2, offsetof(Probe, f), 0xFF, 0xFF, 0x3F, 0x40, 0x00, 0x00, 0x20, 0xC0,
+    layout::WIRE_U16 | layout::CHECK_FLAGS, 3, offsetof(Probe, flags), 0x05, 0x01,
+    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, 4, offsetof(Probe, text), 0, 0x00, 0x7F, 0,
 };
 
 static float f32(uint32_t bits) {
@@ -871,7 +873,7 @@ static float f32(uint32_t bits) {
     return v;
 }
 
-static void test_layouts() {
+static void test_checks() {
     // unpack: the enum's values, the flags' bits, ASCII.
     uint8_t p[13] = {3, 0x9C, 0xFF, 0, 0, 0, 0, 0x05, 0x01, 'a', 'b', 'c', 'd'};
     Probe m;
@@ -899,7 +901,7 @@ static void test_layouts() {
     p[11] = 'c';
     CHECK(layout::unpack(PROBE_LAYOUT, p, 12, &m));
     uint8_t out[13];
-    CHECK(layout::pack(PROBE_LAYOUT, &m, out) == 12 && memcmp(out, p, 12) == 0);
+    CHECK(layout::pack_tail(&m, 9, m.text_len, 4, out) == 12 && memcmp(out, p, 12) == 0);
     // check_ranges: signed and float ends, NaN, both zeros, infinities.
     struct Case {
         int16_t s;
@@ -945,7 +947,7 @@ int main() {
     test_reset();
     test_encode_frame_limits();
     test_messages();
-    test_layouts();
+    test_checks();
     printf("%u passed, %u failed\n", g_passed, g_failed);
     return g_failed == 0 ? 0 : 1;
 }

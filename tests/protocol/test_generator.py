@@ -75,14 +75,14 @@ def test_check_names_each_stale_file_and_says_how_to_fix(tmp_path: Path, capsys:
     assert main(["check", "--spec", str(spec_file), "--root", str(tmp_path)]) == 1
 
 
-def test_cpp_layouts_check_enum_values_with_a_bitmap_when_they_have_gaps() -> None:
-    """Contiguous enum values are a range in the C++ layouts; with gaps, a bitmap over lo..hi."""
+def test_cpp_checks_take_enum_values_with_a_bitmap_when_they_have_gaps() -> None:
+    """Contiguous enum values are a range in the C++ checks tables; with gaps, a bitmap over lo..hi."""
     source = render(spec())["arduino/RoverLink/src/generated/roverlink_protocol.cpp"]
-    assert "CHECK_VALUES, offsetof(Nack, reason), 0x01, 0x09, 0x00," in source
+    assert "CHECK_VALUES, 2, offsetof(Nack, reason), 0x01, 0x09, 0x00," in source
     gapped = GOOD.replace('{ name = "ARMED", value = 9,', '{ name = "ARMED", value = 12,')
     source = render(spec(gapped))["arduino/RoverLink/src/generated/roverlink_protocol.cpp"]
     # 1..8 and 12: bits 0..7 of the first byte, bit 3 (12 - 1 - 8) of the second.
-    assert "CHECK_VALUES, offsetof(Nack, reason), 0x01, 0x0C, 0x02, 0xFF, 0x08," in source
+    assert "CHECK_VALUES, 2, offsetof(Nack, reason), 0x01, 0x0C, 0x02, 0xFF, 0x08," in source
 
 
 def test_crc_extra_follows_the_definition_not_the_prose() -> None:

@@ -1,6 +1,7 @@
-// Inlining hints and flash access: the hot per-byte path wants inlining forced, rare paths want it
-// prevented, because avr-gcc -Os decides the other way round in both cases; constant tables live
-// in flash (PROGMEM) on AVR, where reading them takes pgm_read_byte() / pgm_read_word().
+// Packed structs, inlining hints and flash access: message structs are packed wire images; the hot
+// per-byte path wants inlining forced, rare paths want it prevented, because avr-gcc -Os decides the
+// other way round in both cases; constant tables live in flash (PROGMEM) on AVR, where reading them
+// takes pgm_read_byte() / pgm_read_word().
 #ifndef ROVERLINK_CODEC_COMPILER_H
 #define ROVERLINK_CODEC_COMPILER_H
 
@@ -11,10 +12,12 @@
 #define ROVERLINK_ALWAYS_INLINE inline __attribute__((always_inline))
 #define ROVERLINK_NOINLINE __attribute__((noinline))
 #define ROVERLINK_OUT_OF_LINE __attribute__((noinline, noclone))
+#define ROVERLINK_PACKED __attribute__((packed))
 #else
 #define ROVERLINK_ALWAYS_INLINE inline
 #define ROVERLINK_NOINLINE
 #define ROVERLINK_OUT_OF_LINE
+#error "RoverLink's message structs need GCC's or Clang's packed attribute"
 #endif
 
 #if defined(__AVR__)

@@ -7,167 +7,109 @@ namespace layout {
 
 namespace {
 
-enum Op : uint8_t { PACK, UNPACK, CHECK };
-
 uint8_t flash_byte(const uint8_t* p) { return ROVERLINK_READ_BYTE(p); }
 
-// A struct member <-> its w bytes little-endian: through a variable of the member's own width
-// and shifts, so the wire is the same whatever the host's byte order.
-void member_to_le(const uint8_t* m, uint8_t* le, uint8_t w) {
-    uint32_t v;
-    if (w == 1) {
-        v = *m;
-    } else if (w == 2) {
-        uint16_t x;
-        memcpy(&x, m, sizeof x);
-        v = x;
-    } else {
-        memcpy(&v, m, sizeof v);
+// An element's order key (w bytes, little-endian): signed with the sign bit flipped; f32 (sign
+// and magnitude) with the sign bit set when positive, every bit inverted when negative. The keys'
+// unsigned order is the numbers' order, so a NaN comes out beyond -inf or +inf and fails every
+// range; the generator writes the bounds as keys.
+void to_key(uint8_t code, const uint8_t* value, uint8_t w, uint8_t* k) {
+    const uint8_t kind = code & KIND_MASK;
+    const uint8_t invert = kind == KIND_FLOAT && (value[w - 1] & 0x80) ? 0xFF : 0x00;
+    for (uint8_t i = 0; i < w; ++i) {
+        k[i] = value[i] ^ invert;
     }
-    for (uint8_t i = 0; i < w; ++i, v >>= 8) {
-        le[i] = static_cast<uint8_t>(v);
+    if (kind != KIND_UNSIGNED && invert == 0) {
+        k[w - 1] ^= 0x80;
     }
 }
 
-void le_to_member(const uint8_t* le, uint8_t* m, uint8_t w) {
-    uint32_t v = 0;
+// Compares a key (RAM) with a bound (flash), both w bytes little-endian: < 0, 0, > 0.
+int8_t compare(const uint8_t* k, const uint8_t* bound, uint8_t w) {
     for (uint8_t i = w; i-- > 0;) {
-        v = (v << 8) | le[i];
-    }
-    if (w == 1) {
-        *m = static_cast<uint8_t>(v);
-    } else if (w == 2) {
-        const uint16_t x = static_cast<uint16_t>(v);
-        memcpy(m, &x, sizeof x);
-    } else {
-        memcpy(m, &v, sizeof v);
-    }
-}
-
-// Compares value (w bytes little-endian, RAM) with bound (the same, in flash) as numbers of the
-// field's kind: < 0, 0, > 0. Both are read from the top byte down as keys whose unsigned order is
-// the numbers' order: signed: the sign bit flipped; f32 (sign and magnitude): a positive number
-// gets its sign bit set, a negative one has every bit inverted. NaNs come out beyond -inf and
-// +inf, so they fail every range.
-int8_t compare(uint8_t code, const uint8_t* value, const uint8_t* bound) {
-    const uint8_t w = code & WIDTH_MASK;
-    uint8_t flip_v = 0;  // XORed into the lower bytes: 0xFF for a negative f32
-    uint8_t flip_b = 0;
-    for (uint8_t i = w; i-- > 0;) {
-        uint8_t v = value[i] ^ flip_v;
-        uint8_t b = flash_byte(bound + i) ^ flip_b;
-        if (i == w - 1u && (code & KIND_MASK) != KIND_UNSIGNED) {
-            if (code & KIND_FLOAT) {
-                flip_v = (v & 0x80) ? 0xFF : 0x00;
-                flip_b = (b & 0x80) ? 0xFF : 0x00;
-            }
-            v ^= flip_v | 0x80;
-            b ^= flip_b | 0x80;
-        }
-        if (v != b) {
-            return v < b ? -1 : 1;
+        const uint8_t b = flash_byte(bound + i);
+        if (k[i] != b) {
+            return k[i] < b ? -1 : 1;
         }
     }
     return 0;
 }
 
-// Whether an element (w bytes little-endian) passes its field's check; data: the check data.
-bool accepts(uint8_t code, const uint8_t* data, const uint8_t* value) {
-    const uint8_t w = code & WIDTH_MASK;
-    if ((code & CHECK_MASK) == CHECK_FLAGS) {
-        for (uint8_t i = 0; i < w; ++i) {
-            if (value[i] & ~flash_byte(data + i)) {
-                return false;
-            }
-        }
-        return true;
-    }
-    if (compare(code, value, data) < 0 || compare(code, value, data + w) > 0) {
-        return false;
-    }
-    // CHECK_VALUES with a bitmap: lo <= value <= hi and hi - lo < 256, so the low bytes' difference
-    // is the value's bit.
-    const uint8_t* bitmap = data + 2 * w;
-    if ((code & CHECK_MASK) == CHECK_VALUES && flash_byte(bitmap) != 0) {
-        const uint8_t k = static_cast<uint8_t>(value[0] - flash_byte(data));
-        return (flash_byte(bitmap + 1 + (k >> 3)) >> (k & 7u)) & 1u;
-    }
-    return true;
-}
-
-uint8_t walk(Op op, const uint8_t* layout, uint8_t* base, uint8_t* payload, uint8_t& len) {
-    const uint8_t* p = layout + HEADER_SIZE;
-    const uint8_t fields = flash_byte(layout + 2);
-    uint8_t pos = 0;
-    for (uint8_t i = 0; i < fields; ++i) {
+// The field index of the first element that fails a check of the wanted kind (CHECK_RANGE, or the
+// value checks when `ranges` is false), else ALL_VALID.
+uint8_t first_failing(const uint8_t* checks, const uint8_t* m, bool ranges) {
+    const uint8_t* p = checks + HEADER_SIZE;
+    for (uint8_t n = flash_byte(checks + 3); n > 0; --n) {
         const uint8_t code = flash_byte(p);
-        uint8_t* m = base + flash_byte(p + 1);
-        p += 2;
-        const uint8_t w = code & WIDTH_MASK;
+        const uint8_t field = flash_byte(p + 1);
+        const uint8_t* v = m + flash_byte(p + 2);
+        p += 3;
         uint8_t count = 1;
         if (code & ARRAY) {
             count = flash_byte(p++);
-            if (count == 0) {  // the variable-length last field (bytes): max_len, offsetof(len)
-                count = flash_byte(p);
-                uint8_t* const used = base + flash_byte(p + 1);
-                p += 2;
-                if (op == UNPACK) {
-                    count = static_cast<uint8_t>(len - pos);  // unpack() checked len <= PAYLOAD_MAX
-                    *used = count;
-                } else if (*used < count) {
-                    count = *used;
+            if (count == 0) {
+                count = m[flash_byte(checks + 2)];  // the variable-length field: <name>_len elements
+            }
+        }
+        const uint8_t w = code & WIDTH_MASK;
+        const uint8_t check = code & CHECK_MASK;
+        const uint8_t* const lo = p;
+        p += check == CHECK_FLAGS ? w : 2 * w;
+        const uint8_t* const bitmap = p;
+        if (check == CHECK_VALUES) {
+            p += 1 + flash_byte(p);  // the bitmap's size, and the bitmap
+        }
+        if ((check == CHECK_RANGE) != ranges) {
+            continue;
+        }
+        for (; count > 0; --count, v += w) {
+            uint8_t k[4];
+            to_key(code, v, w, k);
+            bool ok = true;
+            if (check == CHECK_FLAGS) {
+                for (uint8_t i = 0; i < w; ++i) {
+                    ok = ok && (k[i] & ~flash_byte(lo + i)) == 0;
+                }
+            } else {
+                ok = compare(k, lo, w) >= 0 && compare(k, lo + w, w) <= 0;
+                // CHECK_VALUES with a bitmap: hi - lo < 256, so the low bytes' difference is the bit.
+                if (ok && check == CHECK_VALUES && flash_byte(bitmap) != 0) {
+                    const uint8_t i = static_cast<uint8_t>(k[0] - flash_byte(lo));
+                    ok = (flash_byte(bitmap + 1 + (i >> 3)) >> (i & 7u)) & 1u;
                 }
             }
-        }
-        const uint8_t check = code & CHECK_MASK;
-        const uint8_t* const data = p;
-        if (check == CHECK_FLAGS) {
-            p += w;
-        } else if (check != CHECK_NONE) {
-            p += 2 * w;
-            if (check == CHECK_VALUES) {
-                p += 1 + flash_byte(p);  // the bitmap's size, and the bitmap
+            if (!ok) {
+                return field;
             }
-        }
-        const bool checked = op == CHECK ? check == CHECK_RANGE : op == UNPACK && check > CHECK_RANGE;
-        for (; count > 0; --count, m += w) {
-            uint8_t scratch[4];
-            uint8_t* const wire = op == CHECK ? scratch : payload + pos;
-            if (op == UNPACK) {
-                le_to_member(wire, m, w);
-            } else {
-                member_to_le(m, wire, w);
-            }
-            if (checked && !accepts(code, data, wire)) {
-                return i;
-            }
-            pos = static_cast<uint8_t>(pos + w);
         }
     }
-    len = pos;
     return ALL_VALID;
 }
 
 }  // namespace
 
-// walk() takes one mutable struct pointer and one mutable payload pointer for all three
-// operations; it writes only the struct in UNPACK and only the payload in PACK.
-uint8_t pack(const uint8_t* layout, const void* msg, uint8_t* payload) {
-    uint8_t len = 0;
-    walk(PACK, layout, const_cast<uint8_t*>(static_cast<const uint8_t*>(msg)), payload, len);
-    return len;
-}
-
-bool unpack(const uint8_t* layout, const uint8_t* payload, uint8_t len, void* msg) {
-    if (len < flash_byte(layout) || len > flash_byte(layout + 1)) {
+bool unpack(const uint8_t* checks, const uint8_t* payload, uint8_t len, void* msg) {
+    const uint8_t fixed = flash_byte(checks);
+    if (len < fixed || len > flash_byte(checks + 1)) {
         return false;
     }
-    return walk(UNPACK, layout, static_cast<uint8_t*>(msg), const_cast<uint8_t*>(payload), len) == ALL_VALID;
+    uint8_t* const m = static_cast<uint8_t*>(msg);
+    memcpy(m, payload, len);
+    const uint8_t tail = flash_byte(checks + 2);
+    if (tail != NO_TAIL) {
+        m[tail] = static_cast<uint8_t>(len - fixed);
+    }
+    return first_failing(checks, m, false) == ALL_VALID;
 }
 
-uint8_t check_ranges(const uint8_t* layout, const void* msg) {
-    uint8_t len = 0;
-    return walk(CHECK, layout, const_cast<uint8_t*>(static_cast<const uint8_t*>(msg)), 0, len);
+uint8_t check_ranges(const uint8_t* checks, const void* msg) {
+    return first_failing(checks, static_cast<const uint8_t*>(msg), true);
+}
+
+uint8_t pack_tail(const void* msg, uint8_t fixed, uint8_t tail_len, uint8_t tail_max, uint8_t* payload) {
+    const uint8_t len = static_cast<uint8_t>(fixed + (tail_len < tail_max ? tail_len : tail_max));
+    memcpy(payload, msg, len);
+    return len;
 }
 
 }  // namespace layout

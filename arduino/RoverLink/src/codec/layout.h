@@ -1,16 +1,19 @@
-// Message layouts: the generated protocol describes every message as a small byte table in flash,
-// and these three functions walk it. One generic packer, unpacker and range checker serve every
-// message, instead of unrolled code per message (which cost several KB of AVR flash).
+// Message layouts. Every generated message struct is the little-endian wire image of its payload
+// (packed, members in spec order with their wire widths, offsets static_asserted by the generator),
+// so pack() and unpack() are a copy; what remains per message is a small byte table in flash of the
+// fields that have something to check, walked by the two functions below. One walker serves every
+// message instead of unrolled code per message (which cost several KB of AVR flash).
 //
-// A layout (generated into src/generated/roverlink_protocol.cpp, PROGMEM on AVR) is:
+// A message's checks table (generated into src/generated/roverlink_protocol.cpp, PROGMEM on AVR):
 //
-//   PAYLOAD_SIZE, PAYLOAD_MAX, field count,
-//   then per field, in spec order:
+//   PAYLOAD_SIZE, PAYLOAD_MAX, offsetof(<name>_len) of the variable-length last field or NO_TAIL,
+//   number of entries, then per checked field, in spec order:
 //     code                       element width in bytes | kind | check | ARRAY (constants below)
-//     offsetof(struct, field)    where the field's first element is in the message struct
-//     [count]                    ARRAY: elements of a fixed array; 0 marks the variable-length
-//     [max_len, offsetof(len)]     last field (bytes): its most elements and its `<name>_len`
-//     [check data]               in the field's width w, little-endian:
+//     field index                the field's position in the spec (check_ranges()' answer)
+//     offsetof(struct, field)    = its offset in the payload
+//     [count]                    ARRAY: elements of a fixed array; 0: the variable-length field,
+//                                whose element count is in <name>_len
+//     check data                 in the field's width w, little-endian:
 //                                  CHECK_RANGE   lo (w), hi (w): the spec range, for check_ranges()
 //                                  CHECK_VALUES  lo (w), hi (w), n, n bitmap bytes: the values
 //                                                unpack() accepts (an enum's, or 0..0x7F for ASCII
@@ -18,18 +21,23 @@
 //                                                lo + i is a value (hi - lo < 256)
 //                                  CHECK_FLAGS   mask (w): the bits unpack() accepts
 //
-// Every element is moved field by field with shifts (little-endian on the wire whatever the
-// host), each struct member read or written through a variable of its own width: never a struct
-// memcpy. Ranges are compared in integers, f32 ones as IEEE-754 bit patterns mapped to an order
-// (so a range check needs no floating-point code): NaN is outside every range, and the generator
-// writes a float range starting or ending at 0.0 with -0.0 at the low end and 0.0 at the high end,
-// so both zeros pass as the spec's comparison does.
+// Bounds are order keys, compared as unsigned integers (so a range check needs no floating-point
+// code): signed values with the sign bit flipped; f32 bit patterns with the sign bit set when
+// positive and every bit inverted when negative. NaN is then outside every range, and the
+// generator writes a float range starting or ending at 0.0 with -0.0 at the low end and 0.0 at the
+// high end, so both zeros pass as the spec's comparison does.
 #ifndef ROVERLINK_CODEC_LAYOUT_H
 #define ROVERLINK_CODEC_LAYOUT_H
 
 #include <stdint.h>
 
 #include "compiler.h"
+
+// The structs are the wire's little-endian image: AVR, ARM Cortex-M, ESP32, x86 all are.
+#if !defined(__BYTE_ORDER__) || __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "RoverLink message structs are little-endian wire images: this target is not little-endian"
+#endif
+static_assert(sizeof(float) == 4, "RoverLink f32 fields need a 32-bit IEEE-754 float");
 
 namespace roverlink {
 namespace layout {
@@ -60,18 +68,20 @@ enum : uint8_t {
     CHECK_MASK = 0x60,
     ARRAY = 0x80,
 };
-static const uint8_t HEADER_SIZE = 3;
+static const uint8_t HEADER_SIZE = 4;
+static const uint8_t NO_TAIL = 0xFF;    // header byte 2: the message has no variable-length field
 static const uint8_t ALL_VALID = 0xFF;  // check_ranges(): every field in range
 
-// Writes the payload of `msg` (the struct the layout describes) and returns its length.
-uint8_t pack(const uint8_t* layout, const void* msg, uint8_t* payload);
-
-// Fills `msg` from `len` payload bytes. False when the length does not fit the layout, or an
-// element fails its CHECK_VALUES or CHECK_FLAGS (msg is then partly written).
-bool unpack(const uint8_t* layout, const uint8_t* payload, uint8_t len, void* msg);
+// Fills `msg` (the struct the table describes) from `len` payload bytes. False when the length does
+// not fit the message, or an element fails its CHECK_VALUES or CHECK_FLAGS (msg is then written).
+bool unpack(const uint8_t* checks, const uint8_t* payload, uint8_t len, void* msg);
 
 // Index of the first field with an element outside its CHECK_RANGE, or ALL_VALID.
-uint8_t check_ranges(const uint8_t* layout, const void* msg);
+uint8_t check_ranges(const uint8_t* checks, const void* msg);
+
+// The payload of a message with a variable-length last field: the fixed part and `tail_len`
+// elements (at most `tail_max`) of one byte. Returns the payload length.
+uint8_t pack_tail(const void* msg, uint8_t fixed, uint8_t tail_len, uint8_t tail_max, uint8_t* payload);
 
 }  // namespace layout
 }  // namespace roverlink

@@ -1,4 +1,4 @@
-// Little-endian field packing with shifts: identical bytes on AVR, ARM and x86, never a struct memcpy.
+// Little-endian field packing with shifts, for byte images that are not message structs (EEPROM).
 #ifndef ROVERLINK_WIRE_H
 #define ROVERLINK_WIRE_H
 

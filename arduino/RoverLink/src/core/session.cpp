@@ -43,15 +43,10 @@ void SessionCore::reset(uint32_t boot_counter, const proto::SetConfig& config) {
     memset(&v_, 0, sizeof v_);  // all plain data; 0 is BOOT, NONE, STREAM
     v_.watchdog_ms = config.watchdog_ms;
     v_.feedback_hz = config.feedback_hz;
-    // boot_id: the EEPROM boot counter mixed with four entropy() samples and the clock; never 0.
-    uint32_t id = boot_counter ^ 0x9E3779B9UL;
-    for (uint8_t i = 0; i < 6; ++i) {
-        id = mix32(id);
-        if (i < 4) {
-            id ^= board_.entropy();
-        } else if (i == 4) {
-            id ^= board_.micros();
-        }
+    // boot_id: the EEPROM boot counter and the clock mixed with four entropy() samples; never 0.
+    uint32_t id = boot_counter ^ board_.micros();
+    for (uint8_t i = 0; i < 4; ++i) {
+        id = mix32(id ^ board_.entropy());
     }
     v_.boot_id = id != 0 ? id : 1;
 }

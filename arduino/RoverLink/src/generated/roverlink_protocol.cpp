@@ -5,65 +5,162 @@
 namespace roverlink {
 namespace proto {
 
-// Every struct member has the width of its wire field (no int, no double; AVR and ARM agree),
-// and every member offset fits the byte a layout keeps it in.
-static_assert(ALL_FIELDS_VALID == layout::ALL_VALID, "check_ranges() answers the layout walker's");
+// Every struct is its payload's image: each member at its wire offset with its wire width (no
+// int, no double, no padding), then the variable-length field's <name>_len.
+static_assert(ALL_FIELDS_VALID == layout::ALL_VALID, "check_ranges() answers the checks walker's");
 static_assert(Hello::PAYLOAD_MAX <= MAX_PAYLOAD, "HELLO payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(Hello::protocol_version) + sizeof(Hello::spec_hash) + sizeof(Hello::watchdog_ms) + sizeof(Hello::feedback_mode) + sizeof(Hello::feedback_hz) == Hello::PAYLOAD_MAX, "HELLO member widths differ from the wire");
-static_assert(sizeof(Hello) < 256, "HELLO member offsets must fit in a byte");
+static_assert(offsetof(Hello, protocol_version) == 0, "HELLO.protocol_version is not at its wire offset");
+static_assert(offsetof(Hello, spec_hash) == 1, "HELLO.spec_hash is not at its wire offset");
+static_assert(offsetof(Hello, watchdog_ms) == 5, "HELLO.watchdog_ms is not at its wire offset");
+static_assert(offsetof(Hello, feedback_mode) == 7, "HELLO.feedback_mode is not at its wire offset");
+static_assert(offsetof(Hello, feedback_hz) == 8, "HELLO.feedback_hz is not at its wire offset");
+static_assert(sizeof(Hello) == Hello::PAYLOAD_MAX, "HELLO is not its payload's image");
 static_assert(Ping::PAYLOAD_MAX <= MAX_PAYLOAD, "PING payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(Ping::host_time_us) == Ping::PAYLOAD_MAX, "PING member widths differ from the wire");
-static_assert(sizeof(Ping) < 256, "PING member offsets must fit in a byte");
+static_assert(offsetof(Ping, host_time_us) == 0, "PING.host_time_us is not at its wire offset");
+static_assert(sizeof(Ping) == Ping::PAYLOAD_MAX, "PING is not its payload's image");
 static_assert(Arm::PAYLOAD_MAX <= MAX_PAYLOAD, "ARM payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(Arm::boot_id) == Arm::PAYLOAD_MAX, "ARM member widths differ from the wire");
-static_assert(sizeof(Arm) < 256, "ARM member offsets must fit in a byte");
+static_assert(offsetof(Arm, boot_id) == 0, "ARM.boot_id is not at its wire offset");
+static_assert(sizeof(Arm) == Arm::PAYLOAD_MAX, "ARM is not its payload's image");
 static_assert(Disarm::PAYLOAD_MAX <= MAX_PAYLOAD, "DISARM payload exceeds MAX_PAYLOAD");
 static_assert(SetPid::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_PID payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(SetPid::wheel) + sizeof(SetPid::kp) + sizeof(SetPid::ki) + sizeof(SetPid::kd) + sizeof(SetPid::kf) == SetPid::PAYLOAD_MAX, "SET_PID member widths differ from the wire");
-static_assert(sizeof(SetPid) < 256, "SET_PID member offsets must fit in a byte");
+static_assert(offsetof(SetPid, wheel) == 0, "SET_PID.wheel is not at its wire offset");
+static_assert(offsetof(SetPid, kp) == 1, "SET_PID.kp is not at its wire offset");
+static_assert(offsetof(SetPid, ki) == 5, "SET_PID.ki is not at its wire offset");
+static_assert(offsetof(SetPid, kd) == 9, "SET_PID.kd is not at its wire offset");
+static_assert(offsetof(SetPid, kf) == 13, "SET_PID.kf is not at its wire offset");
+static_assert(sizeof(SetPid) == SetPid::PAYLOAD_MAX, "SET_PID is not its payload's image");
 static_assert(GetPid::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_PID payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(GetPid::wheel) == GetPid::PAYLOAD_MAX, "GET_PID member widths differ from the wire");
-static_assert(sizeof(GetPid) < 256, "GET_PID member offsets must fit in a byte");
+static_assert(offsetof(GetPid, wheel) == 0, "GET_PID.wheel is not at its wire offset");
+static_assert(sizeof(GetPid) == GetPid::PAYLOAD_MAX, "GET_PID is not its payload's image");
 static_assert(SetConfig::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_CONFIG payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(SetConfig::watchdog_ms) + sizeof(SetConfig::safe_state) + sizeof(SetConfig::accel_limit_mm_s2) + sizeof(SetConfig::decel_limit_mm_s2) + sizeof(SetConfig::max_wheel_speed_mm_s) + sizeof(SetConfig::max_effort_permille) + sizeof(SetConfig::encoder_cpr) + sizeof(SetConfig::encoder_invert) + sizeof(SetConfig::motor_invert) + sizeof(SetConfig::wheel_diameter_um) + sizeof(SetConfig::steering_center_cdeg) + sizeof(SetConfig::steering_min_cdeg) + sizeof(SetConfig::steering_max_cdeg) + sizeof(SetConfig::steering_step_cdeg) + sizeof(SetConfig::servo_min_us) + sizeof(SetConfig::servo_max_us) + sizeof(SetConfig::esc_min_us) + sizeof(SetConfig::esc_neutral_us) + sizeof(SetConfig::esc_max_us) + sizeof(SetConfig::esc_arm_ms) + sizeof(SetConfig::feedback_hz) == SetConfig::PAYLOAD_MAX, "SET_CONFIG member widths differ from the wire");
-static_assert(sizeof(SetConfig) < 256, "SET_CONFIG member offsets must fit in a byte");
+static_assert(offsetof(SetConfig, watchdog_ms) == 0, "SET_CONFIG.watchdog_ms is not at its wire offset");
+static_assert(offsetof(SetConfig, safe_state) == 2, "SET_CONFIG.safe_state is not at its wire offset");
+static_assert(offsetof(SetConfig, accel_limit_mm_s2) == 3, "SET_CONFIG.accel_limit_mm_s2 is not at its wire offset");
+static_assert(offsetof(SetConfig, decel_limit_mm_s2) == 5, "SET_CONFIG.decel_limit_mm_s2 is not at its wire offset");
+static_assert(offsetof(SetConfig, max_wheel_speed_mm_s) == 7, "SET_CONFIG.max_wheel_speed_mm_s is not at its wire offset");
+static_assert(offsetof(SetConfig, max_effort_permille) == 9, "SET_CONFIG.max_effort_permille is not at its wire offset");
+static_assert(offsetof(SetConfig, encoder_cpr) == 11, "SET_CONFIG.encoder_cpr is not at its wire offset");
+static_assert(offsetof(SetConfig, encoder_invert) == 13, "SET_CONFIG.encoder_invert is not at its wire offset");
+static_assert(offsetof(SetConfig, motor_invert) == 14, "SET_CONFIG.motor_invert is not at its wire offset");
+static_assert(offsetof(SetConfig, wheel_diameter_um) == 15, "SET_CONFIG.wheel_diameter_um is not at its wire offset");
+static_assert(offsetof(SetConfig, steering_center_cdeg) == 19, "SET_CONFIG.steering_center_cdeg is not at its wire offset");
+static_assert(offsetof(SetConfig, steering_min_cdeg) == 21, "SET_CONFIG.steering_min_cdeg is not at its wire offset");
+static_assert(offsetof(SetConfig, steering_max_cdeg) == 23, "SET_CONFIG.steering_max_cdeg is not at its wire offset");
+static_assert(offsetof(SetConfig, steering_step_cdeg) == 25, "SET_CONFIG.steering_step_cdeg is not at its wire offset");
+static_assert(offsetof(SetConfig, servo_min_us) == 27, "SET_CONFIG.servo_min_us is not at its wire offset");
+static_assert(offsetof(SetConfig, servo_max_us) == 29, "SET_CONFIG.servo_max_us is not at its wire offset");
+static_assert(offsetof(SetConfig, esc_min_us) == 31, "SET_CONFIG.esc_min_us is not at its wire offset");
+static_assert(offsetof(SetConfig, esc_neutral_us) == 33, "SET_CONFIG.esc_neutral_us is not at its wire offset");
+static_assert(offsetof(SetConfig, esc_max_us) == 35, "SET_CONFIG.esc_max_us is not at its wire offset");
+static_assert(offsetof(SetConfig, esc_arm_ms) == 37, "SET_CONFIG.esc_arm_ms is not at its wire offset");
+static_assert(offsetof(SetConfig, feedback_hz) == 39, "SET_CONFIG.feedback_hz is not at its wire offset");
+static_assert(sizeof(SetConfig) == SetConfig::PAYLOAD_MAX, "SET_CONFIG is not its payload's image");
 static_assert(GetConfig::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_CONFIG payload exceeds MAX_PAYLOAD");
 static_assert(SaveConfig::PAYLOAD_MAX <= MAX_PAYLOAD, "SAVE_CONFIG payload exceeds MAX_PAYLOAD");
 static_assert(ResetOdometry::PAYLOAD_MAX <= MAX_PAYLOAD, "RESET_ODOMETRY payload exceeds MAX_PAYLOAD");
 static_assert(GetLinkStats::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_LINK_STATS payload exceeds MAX_PAYLOAD");
 static_assert(SetWheelSpeeds::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_WHEEL_SPEEDS payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(SetWheelSpeeds::left_mm_s) + sizeof(SetWheelSpeeds::right_mm_s) == SetWheelSpeeds::PAYLOAD_MAX, "SET_WHEEL_SPEEDS member widths differ from the wire");
-static_assert(sizeof(SetWheelSpeeds) < 256, "SET_WHEEL_SPEEDS member offsets must fit in a byte");
+static_assert(offsetof(SetWheelSpeeds, left_mm_s) == 0, "SET_WHEEL_SPEEDS.left_mm_s is not at its wire offset");
+static_assert(offsetof(SetWheelSpeeds, right_mm_s) == 2, "SET_WHEEL_SPEEDS.right_mm_s is not at its wire offset");
+static_assert(sizeof(SetWheelSpeeds) == SetWheelSpeeds::PAYLOAD_MAX, "SET_WHEEL_SPEEDS is not its payload's image");
 static_assert(SetAckermann::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_ACKERMANN payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(SetAckermann::speed_mm_s) + sizeof(SetAckermann::steering_mrad) == SetAckermann::PAYLOAD_MAX, "SET_ACKERMANN member widths differ from the wire");
-static_assert(sizeof(SetAckermann) < 256, "SET_ACKERMANN member offsets must fit in a byte");
+static_assert(offsetof(SetAckermann, speed_mm_s) == 0, "SET_ACKERMANN.speed_mm_s is not at its wire offset");
+static_assert(offsetof(SetAckermann, steering_mrad) == 2, "SET_ACKERMANN.steering_mrad is not at its wire offset");
+static_assert(sizeof(SetAckermann) == SetAckermann::PAYLOAD_MAX, "SET_ACKERMANN is not its payload's image");
 static_assert(Identity::PAYLOAD_MAX <= MAX_PAYLOAD, "IDENTITY payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(Identity::protocol_version) + sizeof(Identity::spec_hash) + sizeof(Identity::firmware_version) + sizeof(Identity::board) + sizeof(Identity::capabilities) + sizeof(Identity::boot_id) + sizeof(Identity::uptime_ms) + sizeof(Identity::reason) + sizeof(Identity::hello_seq) + sizeof(Identity::watchdog_ms) + sizeof(Identity::feedback_mode) + sizeof(Identity::feedback_hz) + sizeof(Identity::robot_name) == Identity::PAYLOAD_MAX, "IDENTITY member widths differ from the wire");
-static_assert(sizeof(Identity) < 256, "IDENTITY member offsets must fit in a byte");
+static_assert(offsetof(Identity, protocol_version) == 0, "IDENTITY.protocol_version is not at its wire offset");
+static_assert(offsetof(Identity, spec_hash) == 1, "IDENTITY.spec_hash is not at its wire offset");
+static_assert(offsetof(Identity, firmware_version) == 5, "IDENTITY.firmware_version is not at its wire offset");
+static_assert(offsetof(Identity, board) == 8, "IDENTITY.board is not at its wire offset");
+static_assert(offsetof(Identity, capabilities) == 9, "IDENTITY.capabilities is not at its wire offset");
+static_assert(offsetof(Identity, boot_id) == 11, "IDENTITY.boot_id is not at its wire offset");
+static_assert(offsetof(Identity, uptime_ms) == 15, "IDENTITY.uptime_ms is not at its wire offset");
+static_assert(offsetof(Identity, reason) == 19, "IDENTITY.reason is not at its wire offset");
+static_assert(offsetof(Identity, hello_seq) == 20, "IDENTITY.hello_seq is not at its wire offset");
+static_assert(offsetof(Identity, watchdog_ms) == 21, "IDENTITY.watchdog_ms is not at its wire offset");
+static_assert(offsetof(Identity, feedback_mode) == 23, "IDENTITY.feedback_mode is not at its wire offset");
+static_assert(offsetof(Identity, feedback_hz) == 24, "IDENTITY.feedback_hz is not at its wire offset");
+static_assert(offsetof(Identity, robot_name) == 25, "IDENTITY.robot_name is not at its wire offset");
+static_assert(offsetof(Identity, robot_name_len) == Identity::PAYLOAD_MAX, "IDENTITY.robot_name_len must follow the payload image");
+static_assert(sizeof(Identity) == Identity::PAYLOAD_MAX + 1, "IDENTITY is not its payload's image");
 static_assert(Pong::PAYLOAD_MAX <= MAX_PAYLOAD, "PONG payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(Pong::host_time_us) + sizeof(Pong::mcu_time_us) == Pong::PAYLOAD_MAX, "PONG member widths differ from the wire");
-static_assert(sizeof(Pong) < 256, "PONG member offsets must fit in a byte");
+static_assert(offsetof(Pong, host_time_us) == 0, "PONG.host_time_us is not at its wire offset");
+static_assert(offsetof(Pong, mcu_time_us) == 4, "PONG.mcu_time_us is not at its wire offset");
+static_assert(sizeof(Pong) == Pong::PAYLOAD_MAX, "PONG is not its payload's image");
 static_assert(Ack::PAYLOAD_MAX <= MAX_PAYLOAD, "ACK payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(Ack::req_id) + sizeof(Ack::req_seq) == Ack::PAYLOAD_MAX, "ACK member widths differ from the wire");
-static_assert(sizeof(Ack) < 256, "ACK member offsets must fit in a byte");
+static_assert(offsetof(Ack, req_id) == 0, "ACK.req_id is not at its wire offset");
+static_assert(offsetof(Ack, req_seq) == 1, "ACK.req_seq is not at its wire offset");
+static_assert(sizeof(Ack) == Ack::PAYLOAD_MAX, "ACK is not its payload's image");
 static_assert(Nack::PAYLOAD_MAX <= MAX_PAYLOAD, "NACK payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(Nack::req_id) + sizeof(Nack::req_seq) + sizeof(Nack::reason) + sizeof(Nack::detail) == Nack::PAYLOAD_MAX, "NACK member widths differ from the wire");
-static_assert(sizeof(Nack) < 256, "NACK member offsets must fit in a byte");
+static_assert(offsetof(Nack, req_id) == 0, "NACK.req_id is not at its wire offset");
+static_assert(offsetof(Nack, req_seq) == 1, "NACK.req_seq is not at its wire offset");
+static_assert(offsetof(Nack, reason) == 2, "NACK.reason is not at its wire offset");
+static_assert(offsetof(Nack, detail) == 3, "NACK.detail is not at its wire offset");
+static_assert(sizeof(Nack) == Nack::PAYLOAD_MAX, "NACK is not its payload's image");
 static_assert(Pid::PAYLOAD_MAX <= MAX_PAYLOAD, "PID payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(Pid::req_seq) + sizeof(Pid::wheel) + sizeof(Pid::kp) + sizeof(Pid::ki) + sizeof(Pid::kd) + sizeof(Pid::kf) == Pid::PAYLOAD_MAX, "PID member widths differ from the wire");
-static_assert(sizeof(Pid) < 256, "PID member offsets must fit in a byte");
+static_assert(offsetof(Pid, req_seq) == 0, "PID.req_seq is not at its wire offset");
+static_assert(offsetof(Pid, wheel) == 1, "PID.wheel is not at its wire offset");
+static_assert(offsetof(Pid, kp) == 2, "PID.kp is not at its wire offset");
+static_assert(offsetof(Pid, ki) == 6, "PID.ki is not at its wire offset");
+static_assert(offsetof(Pid, kd) == 10, "PID.kd is not at its wire offset");
+static_assert(offsetof(Pid, kf) == 14, "PID.kf is not at its wire offset");
+static_assert(sizeof(Pid) == Pid::PAYLOAD_MAX, "PID is not its payload's image");
 static_assert(Config::PAYLOAD_MAX <= MAX_PAYLOAD, "CONFIG payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(Config::req_seq) + sizeof(Config::watchdog_ms) + sizeof(Config::safe_state) + sizeof(Config::accel_limit_mm_s2) + sizeof(Config::decel_limit_mm_s2) + sizeof(Config::max_wheel_speed_mm_s) + sizeof(Config::max_effort_permille) + sizeof(Config::encoder_cpr) + sizeof(Config::encoder_invert) + sizeof(Config::motor_invert) + sizeof(Config::wheel_diameter_um) + sizeof(Config::steering_center_cdeg) + sizeof(Config::steering_min_cdeg) + sizeof(Config::steering_max_cdeg) + sizeof(Config::steering_step_cdeg) + sizeof(Config::servo_min_us) + sizeof(Config::servo_max_us) + sizeof(Config::esc_min_us) + sizeof(Config::esc_neutral_us) + sizeof(Config::esc_max_us) + sizeof(Config::esc_arm_ms) + sizeof(Config::feedback_hz) == Config::PAYLOAD_MAX, "CONFIG member widths differ from the wire");
-static_assert(sizeof(Config) < 256, "CONFIG member offsets must fit in a byte");
+static_assert(offsetof(Config, req_seq) == 0, "CONFIG.req_seq is not at its wire offset");
+static_assert(offsetof(Config, watchdog_ms) == 1, "CONFIG.watchdog_ms is not at its wire offset");
+static_assert(offsetof(Config, safe_state) == 3, "CONFIG.safe_state is not at its wire offset");
+static_assert(offsetof(Config, accel_limit_mm_s2) == 4, "CONFIG.accel_limit_mm_s2 is not at its wire offset");
+static_assert(offsetof(Config, decel_limit_mm_s2) == 6, "CONFIG.decel_limit_mm_s2 is not at its wire offset");
+static_assert(offsetof(Config, max_wheel_speed_mm_s) == 8, "CONFIG.max_wheel_speed_mm_s is not at its wire offset");
+static_assert(offsetof(Config, max_effort_permille) == 10, "CONFIG.max_effort_permille is not at its wire offset");
+static_assert(offsetof(Config, encoder_cpr) == 12, "CONFIG.encoder_cpr is not at its wire offset");
+static_assert(offsetof(Config, encoder_invert) == 14, "CONFIG.encoder_invert is not at its wire offset");
+static_assert(offsetof(Config, motor_invert) == 15, "CONFIG.motor_invert is not at its wire offset");
+static_assert(offsetof(Config, wheel_diameter_um) == 16, "CONFIG.wheel_diameter_um is not at its wire offset");
+static_assert(offsetof(Config, steering_center_cdeg) == 20, "CONFIG.steering_center_cdeg is not at its wire offset");
+static_assert(offsetof(Config, steering_min_cdeg) == 22, "CONFIG.steering_min_cdeg is not at its wire offset");
+static_assert(offsetof(Config, steering_max_cdeg) == 24, "CONFIG.steering_max_cdeg is not at its wire offset");
+static_assert(offsetof(Config, steering_step_cdeg) == 26, "CONFIG.steering_step_cdeg is not at its wire offset");
+static_assert(offsetof(Config, servo_min_us) == 28, "CONFIG.servo_min_us is not at its wire offset");
+static_assert(offsetof(Config, servo_max_us) == 30, "CONFIG.servo_max_us is not at its wire offset");
+static_assert(offsetof(Config, esc_min_us) == 32, "CONFIG.esc_min_us is not at its wire offset");
+static_assert(offsetof(Config, esc_neutral_us) == 34, "CONFIG.esc_neutral_us is not at its wire offset");
+static_assert(offsetof(Config, esc_max_us) == 36, "CONFIG.esc_max_us is not at its wire offset");
+static_assert(offsetof(Config, esc_arm_ms) == 38, "CONFIG.esc_arm_ms is not at its wire offset");
+static_assert(offsetof(Config, feedback_hz) == 40, "CONFIG.feedback_hz is not at its wire offset");
+static_assert(sizeof(Config) == Config::PAYLOAD_MAX, "CONFIG is not its payload's image");
 static_assert(LinkStats::PAYLOAD_MAX <= MAX_PAYLOAD, "LINK_STATS payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(LinkStats::req_seq) + sizeof(LinkStats::frames_ok) + sizeof(LinkStats::crc_errors) + sizeof(LinkStats::cobs_errors) + sizeof(LinkStats::length_errors) + sizeof(LinkStats::unknown_ids) + sizeof(LinkStats::value_errors) + sizeof(LinkStats::seq_gaps) + sizeof(LinkStats::bytes_discarded) + sizeof(LinkStats::rx_overruns) + sizeof(LinkStats::duplicates) + sizeof(LinkStats::frames_sent) == LinkStats::PAYLOAD_MAX, "LINK_STATS member widths differ from the wire");
-static_assert(sizeof(LinkStats) < 256, "LINK_STATS member offsets must fit in a byte");
+static_assert(offsetof(LinkStats, req_seq) == 0, "LINK_STATS.req_seq is not at its wire offset");
+static_assert(offsetof(LinkStats, frames_ok) == 1, "LINK_STATS.frames_ok is not at its wire offset");
+static_assert(offsetof(LinkStats, crc_errors) == 5, "LINK_STATS.crc_errors is not at its wire offset");
+static_assert(offsetof(LinkStats, cobs_errors) == 9, "LINK_STATS.cobs_errors is not at its wire offset");
+static_assert(offsetof(LinkStats, length_errors) == 13, "LINK_STATS.length_errors is not at its wire offset");
+static_assert(offsetof(LinkStats, unknown_ids) == 17, "LINK_STATS.unknown_ids is not at its wire offset");
+static_assert(offsetof(LinkStats, value_errors) == 21, "LINK_STATS.value_errors is not at its wire offset");
+static_assert(offsetof(LinkStats, seq_gaps) == 25, "LINK_STATS.seq_gaps is not at its wire offset");
+static_assert(offsetof(LinkStats, bytes_discarded) == 29, "LINK_STATS.bytes_discarded is not at its wire offset");
+static_assert(offsetof(LinkStats, rx_overruns) == 33, "LINK_STATS.rx_overruns is not at its wire offset");
+static_assert(offsetof(LinkStats, duplicates) == 37, "LINK_STATS.duplicates is not at its wire offset");
+static_assert(offsetof(LinkStats, frames_sent) == 41, "LINK_STATS.frames_sent is not at its wire offset");
+static_assert(sizeof(LinkStats) == LinkStats::PAYLOAD_MAX, "LINK_STATS is not its payload's image");
 static_assert(Feedback::PAYLOAD_MAX <= MAX_PAYLOAD, "FEEDBACK payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(Feedback::boot_id) + sizeof(Feedback::mcu_time_us) + sizeof(Feedback::tick) + sizeof(Feedback::ack_seq) + sizeof(Feedback::ack_tick) + sizeof(Feedback::status) + sizeof(Feedback::failsafe_reason) + sizeof(Feedback::encoder_counts) + sizeof(Feedback::wheel_speed_mm_s) + sizeof(Feedback::effort_permille) + sizeof(Feedback::steering_mrad) == Feedback::PAYLOAD_MAX, "FEEDBACK member widths differ from the wire");
-static_assert(sizeof(Feedback) < 256, "FEEDBACK member offsets must fit in a byte");
+static_assert(offsetof(Feedback, boot_id) == 0, "FEEDBACK.boot_id is not at its wire offset");
+static_assert(offsetof(Feedback, mcu_time_us) == 4, "FEEDBACK.mcu_time_us is not at its wire offset");
+static_assert(offsetof(Feedback, tick) == 8, "FEEDBACK.tick is not at its wire offset");
+static_assert(offsetof(Feedback, ack_seq) == 10, "FEEDBACK.ack_seq is not at its wire offset");
+static_assert(offsetof(Feedback, ack_tick) == 11, "FEEDBACK.ack_tick is not at its wire offset");
+static_assert(offsetof(Feedback, status) == 13, "FEEDBACK.status is not at its wire offset");
+static_assert(offsetof(Feedback, failsafe_reason) == 14, "FEEDBACK.failsafe_reason is not at its wire offset");
+static_assert(offsetof(Feedback, encoder_counts) == 15, "FEEDBACK.encoder_counts is not at its wire offset");
+static_assert(offsetof(Feedback, wheel_speed_mm_s) == 23, "FEEDBACK.wheel_speed_mm_s is not at its wire offset");
+static_assert(offsetof(Feedback, effort_permille) == 27, "FEEDBACK.effort_permille is not at its wire offset");
+static_assert(offsetof(Feedback, steering_mrad) == 31, "FEEDBACK.steering_mrad is not at its wire offset");
+static_assert(sizeof(Feedback) == Feedback::PAYLOAD_MAX, "FEEDBACK is not its payload's image");
 static_assert(Log::PAYLOAD_MAX <= MAX_PAYLOAD, "LOG payload exceeds MAX_PAYLOAD");
-static_assert(sizeof(Log::level) + sizeof(Log::text) == Log::PAYLOAD_MAX, "LOG member widths differ from the wire");
-static_assert(sizeof(Log) < 256, "LOG member offsets must fit in a byte");
+static_assert(offsetof(Log, level) == 0, "LOG.level is not at its wire offset");
+static_assert(offsetof(Log, text) == 1, "LOG.text is not at its wire offset");
+static_assert(offsetof(Log, text_len) == Log::PAYLOAD_MAX, "LOG.text_len must follow the payload image");
+static_assert(sizeof(Log) == Log::PAYLOAD_MAX + 1, "LOG is not its payload's image");
 
 // msg_id, CRC_EXTRA, PAYLOAD_SIZE, PAYLOAD_MAX of every message.
 static const uint8_t MESSAGE_COUNT = 22;
@@ -107,18 +204,18 @@ bool message_bounds(uint8_t msg_id, MessageBounds& out) {
 
 namespace {
 
-// msg_id and layout (0: no fields) of every message one direction carries.
-struct LayoutOf {
+// msg_id and checks table (0: no fields) of every message one direction carries.
+struct ChecksOf {
     uint8_t msg_id;
-    const uint8_t* layout;
+    const uint8_t* checks;
 };
 
-DispatchResult unpack_with(const LayoutOf* table, uint8_t count, uint8_t msg_id,
+DispatchResult unpack_with(const ChecksOf* table, uint8_t count, uint8_t msg_id,
                            const uint8_t* payload, uint8_t len, void* m) {
     for (uint8_t i = 0; i < count; ++i) {
         if (ROVERLINK_READ_BYTE(&table[i].msg_id) == msg_id) {
-            const uint8_t* layout = ROVERLINK_READ_PTR(&table[i].layout);
-            const bool ok = layout != 0 ? layout::unpack(layout, payload, len, m) : len == 0;
+            const uint8_t* checks = ROVERLINK_READ_PTR(&table[i].checks);
+            const bool ok = checks != 0 ? layout::unpack(checks, payload, len, m) : len == 0;
             return ok ? DISPATCH_OK : DISPATCH_BAD_PAYLOAD;
         }
     }
@@ -126,32 +223,32 @@ DispatchResult unpack_with(const LayoutOf* table, uint8_t count, uint8_t msg_id,
     return message_bounds(msg_id, b) ? DISPATCH_WRONG_DIRECTION : DISPATCH_UNKNOWN_ID;
 }
 
-const LayoutOf HOST_TO_MCU[] ROVERLINK_PROGMEM = {
-    {Hello::ID, HELLO_LAYOUT},
-    {Ping::ID, PING_LAYOUT},
-    {Arm::ID, ARM_LAYOUT},
+const ChecksOf HOST_TO_MCU[] ROVERLINK_PROGMEM = {
+    {Hello::ID, HELLO_CHECKS},
+    {Ping::ID, PING_CHECKS},
+    {Arm::ID, ARM_CHECKS},
     {Disarm::ID, 0},
-    {SetPid::ID, SET_PID_LAYOUT},
-    {GetPid::ID, GET_PID_LAYOUT},
-    {SetConfig::ID, SET_CONFIG_LAYOUT},
+    {SetPid::ID, SET_PID_CHECKS},
+    {GetPid::ID, GET_PID_CHECKS},
+    {SetConfig::ID, SET_CONFIG_CHECKS},
     {GetConfig::ID, 0},
     {SaveConfig::ID, 0},
     {ResetOdometry::ID, 0},
     {GetLinkStats::ID, 0},
-    {SetWheelSpeeds::ID, SET_WHEEL_SPEEDS_LAYOUT},
-    {SetAckermann::ID, SET_ACKERMANN_LAYOUT},
+    {SetWheelSpeeds::ID, SET_WHEEL_SPEEDS_CHECKS},
+    {SetAckermann::ID, SET_ACKERMANN_CHECKS},
 };
 
-const LayoutOf MCU_TO_HOST[] ROVERLINK_PROGMEM = {
-    {Identity::ID, IDENTITY_LAYOUT},
-    {Pong::ID, PONG_LAYOUT},
-    {Ack::ID, ACK_LAYOUT},
-    {Nack::ID, NACK_LAYOUT},
-    {Pid::ID, PID_LAYOUT},
-    {Config::ID, CONFIG_LAYOUT},
-    {LinkStats::ID, LINK_STATS_LAYOUT},
-    {Feedback::ID, FEEDBACK_LAYOUT},
-    {Log::ID, LOG_LAYOUT},
+const ChecksOf MCU_TO_HOST[] ROVERLINK_PROGMEM = {
+    {Identity::ID, IDENTITY_CHECKS},
+    {Pong::ID, PONG_CHECKS},
+    {Ack::ID, ACK_CHECKS},
+    {Nack::ID, NACK_CHECKS},
+    {Pid::ID, PID_CHECKS},
+    {Config::ID, CONFIG_CHECKS},
+    {LinkStats::ID, LINK_STATS_CHECKS},
+    {Feedback::ID, FEEDBACK_CHECKS},
+    {Log::ID, LOG_CHECKS},
 };
 
 }  // namespace
@@ -164,203 +261,156 @@ DispatchResult unpack_mcu_to_host(uint8_t msg_id, const uint8_t* payload, uint8_
     return unpack_with(MCU_TO_HOST, sizeof MCU_TO_HOST / sizeof MCU_TO_HOST[0], msg_id, payload, len, &m);
 }
 
-// Layouts (codec/layout.h): PAYLOAD_SIZE, PAYLOAD_MAX, field count, then per field its code,
-// its offset in the struct, [count | 0, max_len, offset of <name>_len], [check data, LE].
-// HELLO: payload 9..9 bytes, 5 fields.
-const uint8_t HELLO_LAYOUT[] ROVERLINK_PROGMEM = {
-    9, 9, 5,
-    layout::WIRE_U8, offsetof(Hello, protocol_version),  // 0 protocol_version
-    layout::WIRE_U32, offsetof(Hello, spec_hash),  // 1 spec_hash
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Hello, watchdog_ms), 0x00, 0x00, 0x60, 0xEA,  // 2 watchdog_ms: 0..60000
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Hello, feedback_mode), 0x00, 0x01, 0x00,  // 3 feedback_mode: FeedbackMode 0..1
-    layout::WIRE_U8, offsetof(Hello, feedback_hz),  // 4 feedback_hz
+// Checks tables (codec/layout.h): PAYLOAD_SIZE, PAYLOAD_MAX, offset of <name>_len or NO_TAIL,
+// entry count, then per checked field its code, index, offset, [count | 0], check data (LE).
+// HELLO: payload 9..9 bytes, 2 checked fields.
+const uint8_t HELLO_CHECKS[] ROVERLINK_PROGMEM = {
+    9, 9, layout::NO_TAIL, 2,
+    layout::WIRE_U16 | layout::CHECK_RANGE, 2, offsetof(Hello, watchdog_ms), 0x00, 0x00, 0x60, 0xEA,  // watchdog_ms: 0..60000
+    layout::WIRE_U8 | layout::CHECK_VALUES, 3, offsetof(Hello, feedback_mode), 0x00, 0x01, 0x00,  // feedback_mode: FeedbackMode 0..1
 };
 
-// PING: payload 4..4 bytes, 1 fields.
-const uint8_t PING_LAYOUT[] ROVERLINK_PROGMEM = {
-    4, 4, 1,
-    layout::WIRE_U32, offsetof(Ping, host_time_us),  // 0 host_time_us
+// PING: payload 4..4 bytes, 0 checked fields.
+const uint8_t PING_CHECKS[] ROVERLINK_PROGMEM = {
+    4, 4, layout::NO_TAIL, 0,
 };
 
-// ARM: payload 4..4 bytes, 1 fields.
-const uint8_t ARM_LAYOUT[] ROVERLINK_PROGMEM = {
-    4, 4, 1,
-    layout::WIRE_U32, offsetof(Arm, boot_id),  // 0 boot_id
+// ARM: payload 4..4 bytes, 0 checked fields.
+const uint8_t ARM_CHECKS[] ROVERLINK_PROGMEM = {
+    4, 4, layout::NO_TAIL, 0,
 };
 
-// SET_PID: payload 17..17 bytes, 5 fields.
-const uint8_t SET_PID_LAYOUT[] ROVERLINK_PROGMEM = {
-    17, 17, 5,
-    layout::WIRE_U8, offsetof(SetPid, wheel),  // 0 wheel
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, kp), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 1 kp: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, ki), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 2 ki: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, kd), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 3 kd: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(SetPid, kf), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 4 kf: 0.0f..1000.0f
+// SET_PID: payload 17..17 bytes, 4 checked fields.
+const uint8_t SET_PID_CHECKS[] ROVERLINK_PROGMEM = {
+    17, 17, layout::NO_TAIL, 4,
+    layout::WIRE_F32 | layout::CHECK_RANGE, 1, offsetof(SetPid, kp), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kp: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, 2, offsetof(SetPid, ki), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // ki: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, 3, offsetof(SetPid, kd), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kd: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, 4, offsetof(SetPid, kf), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kf: 0.0f..1000.0f
 };
 
-// GET_PID: payload 1..1 bytes, 1 fields.
-const uint8_t GET_PID_LAYOUT[] ROVERLINK_PROGMEM = {
-    1, 1, 1,
-    layout::WIRE_U8, offsetof(GetPid, wheel),  // 0 wheel
+// GET_PID: payload 1..1 bytes, 0 checked fields.
+const uint8_t GET_PID_CHECKS[] ROVERLINK_PROGMEM = {
+    1, 1, layout::NO_TAIL, 0,
 };
 
-// SET_CONFIG: payload 40..40 bytes, 21 fields.
-const uint8_t SET_CONFIG_LAYOUT[] ROVERLINK_PROGMEM = {
-    40, 40, 21,
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // 0 watchdog_ms: 50..2000
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(SetConfig, safe_state), 0x00, 0x02, 0x00,  // 1 safe_state: SafeState 0..2
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, accel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // 2 accel_limit_mm_s2: 1..65535
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, decel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // 3 decel_limit_mm_s2: 1..65535
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, max_wheel_speed_mm_s), 0x01, 0x00, 0x20, 0x4E,  // 4 max_wheel_speed_mm_s: 1..20000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, max_effort_permille), 0x00, 0x00, 0xE8, 0x03,  // 5 max_effort_permille: 0..1000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, encoder_cpr), 0x01, 0x00, 0xFF, 0xFF,  // 6 encoder_cpr: 1..65535
-    layout::WIRE_U8 | layout::CHECK_RANGE, offsetof(SetConfig, encoder_invert), 0x00, 0x03,  // 7 encoder_invert: 0..3
-    layout::WIRE_U8 | layout::CHECK_RANGE, offsetof(SetConfig, motor_invert), 0x00, 0x03,  // 8 motor_invert: 0..3
-    layout::WIRE_U32 | layout::CHECK_RANGE, offsetof(SetConfig, wheel_diameter_um), 0xE8, 0x03, 0x00, 0x00, 0x40, 0x42, 0x0F, 0x00,  // 9 wheel_diameter_um: 1000..1000000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, steering_center_cdeg), 0x00, 0x00, 0x50, 0x46,  // 10 steering_center_cdeg: 0..18000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, steering_min_cdeg), 0x00, 0x00, 0x50, 0x46,  // 11 steering_min_cdeg: 0..18000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, steering_max_cdeg), 0x00, 0x00, 0x50, 0x46,  // 12 steering_max_cdeg: 0..18000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, steering_step_cdeg), 0x00, 0x00, 0x28, 0x23,  // 13 steering_step_cdeg: 0..9000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, servo_min_us), 0x90, 0x01, 0x28, 0x0A,  // 14 servo_min_us: 400..2600
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, servo_max_us), 0x90, 0x01, 0x28, 0x0A,  // 15 servo_max_us: 400..2600
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, esc_min_us), 0x20, 0x03, 0x98, 0x08,  // 16 esc_min_us: 800..2200
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, esc_neutral_us), 0x20, 0x03, 0x98, 0x08,  // 17 esc_neutral_us: 800..2200
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, esc_max_us), 0x20, 0x03, 0x98, 0x08,  // 18 esc_max_us: 800..2200
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(SetConfig, esc_arm_ms), 0x00, 0x00, 0x10, 0x27,  // 19 esc_arm_ms: 0..10000
-    layout::WIRE_U8 | layout::CHECK_RANGE, offsetof(SetConfig, feedback_hz), 0x01, 0x64,  // 20 feedback_hz: 1..100
+// SET_CONFIG: payload 40..40 bytes, 21 checked fields.
+const uint8_t SET_CONFIG_CHECKS[] ROVERLINK_PROGMEM = {
+    40, 40, layout::NO_TAIL, 21,
+    layout::WIRE_U16 | layout::CHECK_RANGE, 0, offsetof(SetConfig, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // watchdog_ms: 50..2000
+    layout::WIRE_U8 | layout::CHECK_VALUES, 1, offsetof(SetConfig, safe_state), 0x00, 0x02, 0x00,  // safe_state: SafeState 0..2
+    layout::WIRE_U16 | layout::CHECK_RANGE, 2, offsetof(SetConfig, accel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // accel_limit_mm_s2: 1..65535
+    layout::WIRE_U16 | layout::CHECK_RANGE, 3, offsetof(SetConfig, decel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // decel_limit_mm_s2: 1..65535
+    layout::WIRE_U16 | layout::CHECK_RANGE, 4, offsetof(SetConfig, max_wheel_speed_mm_s), 0x01, 0x00, 0x20, 0x4E,  // max_wheel_speed_mm_s: 1..20000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 5, offsetof(SetConfig, max_effort_permille), 0x00, 0x00, 0xE8, 0x03,  // max_effort_permille: 0..1000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 6, offsetof(SetConfig, encoder_cpr), 0x01, 0x00, 0xFF, 0xFF,  // encoder_cpr: 1..65535
+    layout::WIRE_U8 | layout::CHECK_RANGE, 7, offsetof(SetConfig, encoder_invert), 0x00, 0x03,  // encoder_invert: 0..3
+    layout::WIRE_U8 | layout::CHECK_RANGE, 8, offsetof(SetConfig, motor_invert), 0x00, 0x03,  // motor_invert: 0..3
+    layout::WIRE_U32 | layout::CHECK_RANGE, 9, offsetof(SetConfig, wheel_diameter_um), 0xE8, 0x03, 0x00, 0x00, 0x40, 0x42, 0x0F, 0x00,  // wheel_diameter_um: 1000..1000000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 10, offsetof(SetConfig, steering_center_cdeg), 0x00, 0x00, 0x50, 0x46,  // steering_center_cdeg: 0..18000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 11, offsetof(SetConfig, steering_min_cdeg), 0x00, 0x00, 0x50, 0x46,  // steering_min_cdeg: 0..18000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 12, offsetof(SetConfig, steering_max_cdeg), 0x00, 0x00, 0x50, 0x46,  // steering_max_cdeg: 0..18000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 13, offsetof(SetConfig, steering_step_cdeg), 0x00, 0x00, 0x28, 0x23,  // steering_step_cdeg: 0..9000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 14, offsetof(SetConfig, servo_min_us), 0x90, 0x01, 0x28, 0x0A,  // servo_min_us: 400..2600
+    layout::WIRE_U16 | layout::CHECK_RANGE, 15, offsetof(SetConfig, servo_max_us), 0x90, 0x01, 0x28, 0x0A,  // servo_max_us: 400..2600
+    layout::WIRE_U16 | layout::CHECK_RANGE, 16, offsetof(SetConfig, esc_min_us), 0x20, 0x03, 0x98, 0x08,  // esc_min_us: 800..2200
+    layout::WIRE_U16 | layout::CHECK_RANGE, 17, offsetof(SetConfig, esc_neutral_us), 0x20, 0x03, 0x98, 0x08,  // esc_neutral_us: 800..2200
+    layout::WIRE_U16 | layout::CHECK_RANGE, 18, offsetof(SetConfig, esc_max_us), 0x20, 0x03, 0x98, 0x08,  // esc_max_us: 800..2200
+    layout::WIRE_U16 | layout::CHECK_RANGE, 19, offsetof(SetConfig, esc_arm_ms), 0x00, 0x00, 0x10, 0x27,  // esc_arm_ms: 0..10000
+    layout::WIRE_U8 | layout::CHECK_RANGE, 20, offsetof(SetConfig, feedback_hz), 0x01, 0x64,  // feedback_hz: 1..100
 };
 
-// SET_WHEEL_SPEEDS: payload 4..4 bytes, 2 fields.
-const uint8_t SET_WHEEL_SPEEDS_LAYOUT[] ROVERLINK_PROGMEM = {
-    4, 4, 2,
-    layout::WIRE_I16, offsetof(SetWheelSpeeds, left_mm_s),  // 0 left_mm_s
-    layout::WIRE_I16, offsetof(SetWheelSpeeds, right_mm_s),  // 1 right_mm_s
+// SET_WHEEL_SPEEDS: payload 4..4 bytes, 0 checked fields.
+const uint8_t SET_WHEEL_SPEEDS_CHECKS[] ROVERLINK_PROGMEM = {
+    4, 4, layout::NO_TAIL, 0,
 };
 
-// SET_ACKERMANN: payload 4..4 bytes, 2 fields.
-const uint8_t SET_ACKERMANN_LAYOUT[] ROVERLINK_PROGMEM = {
-    4, 4, 2,
-    layout::WIRE_I16, offsetof(SetAckermann, speed_mm_s),  // 0 speed_mm_s
-    layout::WIRE_I16 | layout::CHECK_RANGE, offsetof(SetAckermann, steering_mrad), 0xDD, 0xF9, 0x23, 0x06,  // 1 steering_mrad: -1571..1571
+// SET_ACKERMANN: payload 4..4 bytes, 1 checked fields.
+const uint8_t SET_ACKERMANN_CHECKS[] ROVERLINK_PROGMEM = {
+    4, 4, layout::NO_TAIL, 1,
+    layout::WIRE_I16 | layout::CHECK_RANGE, 1, offsetof(SetAckermann, steering_mrad), 0xDD, 0x79, 0x23, 0x86,  // steering_mrad: -1571..1571
 };
 
-// IDENTITY: payload 25..49 bytes, 13 fields.
-const uint8_t IDENTITY_LAYOUT[] ROVERLINK_PROGMEM = {
-    25, 49, 13,
-    layout::WIRE_U8, offsetof(Identity, protocol_version),  // 0 protocol_version
-    layout::WIRE_U32, offsetof(Identity, spec_hash),  // 1 spec_hash
-    layout::WIRE_U8 | layout::ARRAY, offsetof(Identity, firmware_version), 3,  // 2 firmware_version
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Identity, board), 0x00, 0x04, 0x00,  // 3 board: Board 0..4
-    layout::WIRE_U16 | layout::CHECK_FLAGS, offsetof(Identity, capabilities), 0xFF, 0x00,  // 4 capabilities: Capability bits 0xFF
-    layout::WIRE_U32, offsetof(Identity, boot_id),  // 5 boot_id
-    layout::WIRE_U32, offsetof(Identity, uptime_ms),  // 6 uptime_ms
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Identity, reason), 0x00, 0x02, 0x00,  // 7 reason: IdentityReason 0..2
-    layout::WIRE_U8, offsetof(Identity, hello_seq),  // 8 hello_seq
-    layout::WIRE_U16, offsetof(Identity, watchdog_ms),  // 9 watchdog_ms
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Identity, feedback_mode), 0x00, 0x01, 0x00,  // 10 feedback_mode: FeedbackMode 0..1
-    layout::WIRE_U8, offsetof(Identity, feedback_hz),  // 11 feedback_hz
-    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, offsetof(Identity, robot_name), 0, 24, offsetof(Identity, robot_name_len), 0x00, 0x7F, 0x00,  // 12 robot_name: ASCII
+// IDENTITY: payload 25..49 bytes, 5 checked fields.
+const uint8_t IDENTITY_CHECKS[] ROVERLINK_PROGMEM = {
+    25, 49, offsetof(Identity, robot_name_len), 5,
+    layout::WIRE_U8 | layout::CHECK_VALUES, 3, offsetof(Identity, board), 0x00, 0x04, 0x00,  // board: Board 0..4
+    layout::WIRE_U16 | layout::CHECK_FLAGS, 4, offsetof(Identity, capabilities), 0xFF, 0x00,  // capabilities: Capability bits 0xFF
+    layout::WIRE_U8 | layout::CHECK_VALUES, 7, offsetof(Identity, reason), 0x00, 0x02, 0x00,  // reason: IdentityReason 0..2
+    layout::WIRE_U8 | layout::CHECK_VALUES, 10, offsetof(Identity, feedback_mode), 0x00, 0x01, 0x00,  // feedback_mode: FeedbackMode 0..1
+    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, 12, offsetof(Identity, robot_name), 0, 0x00, 0x7F, 0x00,  // robot_name: ASCII
 };
 
-// PONG: payload 8..8 bytes, 2 fields.
-const uint8_t PONG_LAYOUT[] ROVERLINK_PROGMEM = {
-    8, 8, 2,
-    layout::WIRE_U32, offsetof(Pong, host_time_us),  // 0 host_time_us
-    layout::WIRE_U32, offsetof(Pong, mcu_time_us),  // 1 mcu_time_us
+// PONG: payload 8..8 bytes, 0 checked fields.
+const uint8_t PONG_CHECKS[] ROVERLINK_PROGMEM = {
+    8, 8, layout::NO_TAIL, 0,
 };
 
-// ACK: payload 2..2 bytes, 2 fields.
-const uint8_t ACK_LAYOUT[] ROVERLINK_PROGMEM = {
-    2, 2, 2,
-    layout::WIRE_U8, offsetof(Ack, req_id),  // 0 req_id
-    layout::WIRE_U8, offsetof(Ack, req_seq),  // 1 req_seq
+// ACK: payload 2..2 bytes, 0 checked fields.
+const uint8_t ACK_CHECKS[] ROVERLINK_PROGMEM = {
+    2, 2, layout::NO_TAIL, 0,
 };
 
-// NACK: payload 4..4 bytes, 4 fields.
-const uint8_t NACK_LAYOUT[] ROVERLINK_PROGMEM = {
-    4, 4, 4,
-    layout::WIRE_U8, offsetof(Nack, req_id),  // 0 req_id
-    layout::WIRE_U8, offsetof(Nack, req_seq),  // 1 req_seq
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Nack, reason), 0x01, 0x09, 0x00,  // 2 reason: NackReason 1..9
-    layout::WIRE_U8, offsetof(Nack, detail),  // 3 detail
+// NACK: payload 4..4 bytes, 1 checked fields.
+const uint8_t NACK_CHECKS[] ROVERLINK_PROGMEM = {
+    4, 4, layout::NO_TAIL, 1,
+    layout::WIRE_U8 | layout::CHECK_VALUES, 2, offsetof(Nack, reason), 0x01, 0x09, 0x00,  // reason: NackReason 1..9
 };
 
-// PID: payload 18..18 bytes, 6 fields.
-const uint8_t PID_LAYOUT[] ROVERLINK_PROGMEM = {
-    18, 18, 6,
-    layout::WIRE_U8, offsetof(Pid, req_seq),  // 0 req_seq
-    layout::WIRE_U8, offsetof(Pid, wheel),  // 1 wheel
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, kp), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 2 kp: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, ki), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 3 ki: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, kd), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 4 kd: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, offsetof(Pid, kf), 0x00, 0x00, 0x00, 0x80, 0x00, 0x00, 0x7A, 0x44,  // 5 kf: 0.0f..1000.0f
+// PID: payload 18..18 bytes, 4 checked fields.
+const uint8_t PID_CHECKS[] ROVERLINK_PROGMEM = {
+    18, 18, layout::NO_TAIL, 4,
+    layout::WIRE_F32 | layout::CHECK_RANGE, 2, offsetof(Pid, kp), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kp: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, 3, offsetof(Pid, ki), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // ki: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, 4, offsetof(Pid, kd), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kd: 0.0f..1000.0f
+    layout::WIRE_F32 | layout::CHECK_RANGE, 5, offsetof(Pid, kf), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kf: 0.0f..1000.0f
 };
 
-// CONFIG: payload 41..41 bytes, 22 fields.
-const uint8_t CONFIG_LAYOUT[] ROVERLINK_PROGMEM = {
-    41, 41, 22,
-    layout::WIRE_U8, offsetof(Config, req_seq),  // 0 req_seq
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // 1 watchdog_ms: 50..2000
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Config, safe_state), 0x00, 0x02, 0x00,  // 2 safe_state: SafeState 0..2
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, accel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // 3 accel_limit_mm_s2: 1..65535
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, decel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // 4 decel_limit_mm_s2: 1..65535
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, max_wheel_speed_mm_s), 0x01, 0x00, 0x20, 0x4E,  // 5 max_wheel_speed_mm_s: 1..20000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, max_effort_permille), 0x00, 0x00, 0xE8, 0x03,  // 6 max_effort_permille: 0..1000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, encoder_cpr), 0x01, 0x00, 0xFF, 0xFF,  // 7 encoder_cpr: 1..65535
-    layout::WIRE_U8 | layout::CHECK_RANGE, offsetof(Config, encoder_invert), 0x00, 0x03,  // 8 encoder_invert: 0..3
-    layout::WIRE_U8 | layout::CHECK_RANGE, offsetof(Config, motor_invert), 0x00, 0x03,  // 9 motor_invert: 0..3
-    layout::WIRE_U32 | layout::CHECK_RANGE, offsetof(Config, wheel_diameter_um), 0xE8, 0x03, 0x00, 0x00, 0x40, 0x42, 0x0F, 0x00,  // 10 wheel_diameter_um: 1000..1000000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, steering_center_cdeg), 0x00, 0x00, 0x50, 0x46,  // 11 steering_center_cdeg: 0..18000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, steering_min_cdeg), 0x00, 0x00, 0x50, 0x46,  // 12 steering_min_cdeg: 0..18000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, steering_max_cdeg), 0x00, 0x00, 0x50, 0x46,  // 13 steering_max_cdeg: 0..18000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, steering_step_cdeg), 0x00, 0x00, 0x28, 0x23,  // 14 steering_step_cdeg: 0..9000
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, servo_min_us), 0x90, 0x01, 0x28, 0x0A,  // 15 servo_min_us: 400..2600
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, servo_max_us), 0x90, 0x01, 0x28, 0x0A,  // 16 servo_max_us: 400..2600
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, esc_min_us), 0x20, 0x03, 0x98, 0x08,  // 17 esc_min_us: 800..2200
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, esc_neutral_us), 0x20, 0x03, 0x98, 0x08,  // 18 esc_neutral_us: 800..2200
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, esc_max_us), 0x20, 0x03, 0x98, 0x08,  // 19 esc_max_us: 800..2200
-    layout::WIRE_U16 | layout::CHECK_RANGE, offsetof(Config, esc_arm_ms), 0x00, 0x00, 0x10, 0x27,  // 20 esc_arm_ms: 0..10000
-    layout::WIRE_U8 | layout::CHECK_RANGE, offsetof(Config, feedback_hz), 0x01, 0x64,  // 21 feedback_hz: 1..100
+// CONFIG: payload 41..41 bytes, 21 checked fields.
+const uint8_t CONFIG_CHECKS[] ROVERLINK_PROGMEM = {
+    41, 41, layout::NO_TAIL, 21,
+    layout::WIRE_U16 | layout::CHECK_RANGE, 1, offsetof(Config, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // watchdog_ms: 50..2000
+    layout::WIRE_U8 | layout::CHECK_VALUES, 2, offsetof(Config, safe_state), 0x00, 0x02, 0x00,  // safe_state: SafeState 0..2
+    layout::WIRE_U16 | layout::CHECK_RANGE, 3, offsetof(Config, accel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // accel_limit_mm_s2: 1..65535
+    layout::WIRE_U16 | layout::CHECK_RANGE, 4, offsetof(Config, decel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // decel_limit_mm_s2: 1..65535
+    layout::WIRE_U16 | layout::CHECK_RANGE, 5, offsetof(Config, max_wheel_speed_mm_s), 0x01, 0x00, 0x20, 0x4E,  // max_wheel_speed_mm_s: 1..20000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 6, offsetof(Config, max_effort_permille), 0x00, 0x00, 0xE8, 0x03,  // max_effort_permille: 0..1000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 7, offsetof(Config, encoder_cpr), 0x01, 0x00, 0xFF, 0xFF,  // encoder_cpr: 1..65535
+    layout::WIRE_U8 | layout::CHECK_RANGE, 8, offsetof(Config, encoder_invert), 0x00, 0x03,  // encoder_invert: 0..3
+    layout::WIRE_U8 | layout::CHECK_RANGE, 9, offsetof(Config, motor_invert), 0x00, 0x03,  // motor_invert: 0..3
+    layout::WIRE_U32 | layout::CHECK_RANGE, 10, offsetof(Config, wheel_diameter_um), 0xE8, 0x03, 0x00, 0x00, 0x40, 0x42, 0x0F, 0x00,  // wheel_diameter_um: 1000..1000000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 11, offsetof(Config, steering_center_cdeg), 0x00, 0x00, 0x50, 0x46,  // steering_center_cdeg: 0..18000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 12, offsetof(Config, steering_min_cdeg), 0x00, 0x00, 0x50, 0x46,  // steering_min_cdeg: 0..18000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 13, offsetof(Config, steering_max_cdeg), 0x00, 0x00, 0x50, 0x46,  // steering_max_cdeg: 0..18000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 14, offsetof(Config, steering_step_cdeg), 0x00, 0x00, 0x28, 0x23,  // steering_step_cdeg: 0..9000
+    layout::WIRE_U16 | layout::CHECK_RANGE, 15, offsetof(Config, servo_min_us), 0x90, 0x01, 0x28, 0x0A,  // servo_min_us: 400..2600
+    layout::WIRE_U16 | layout::CHECK_RANGE, 16, offsetof(Config, servo_max_us), 0x90, 0x01, 0x28, 0x0A,  // servo_max_us: 400..2600
+    layout::WIRE_U16 | layout::CHECK_RANGE, 17, offsetof(Config, esc_min_us), 0x20, 0x03, 0x98, 0x08,  // esc_min_us: 800..2200
+    layout::WIRE_U16 | layout::CHECK_RANGE, 18, offsetof(Config, esc_neutral_us), 0x20, 0x03, 0x98, 0x08,  // esc_neutral_us: 800..2200
+    layout::WIRE_U16 | layout::CHECK_RANGE, 19, offsetof(Config, esc_max_us), 0x20, 0x03, 0x98, 0x08,  // esc_max_us: 800..2200
+    layout::WIRE_U16 | layout::CHECK_RANGE, 20, offsetof(Config, esc_arm_ms), 0x00, 0x00, 0x10, 0x27,  // esc_arm_ms: 0..10000
+    layout::WIRE_U8 | layout::CHECK_RANGE, 21, offsetof(Config, feedback_hz), 0x01, 0x64,  // feedback_hz: 1..100
 };
 
-// LINK_STATS: payload 45..45 bytes, 12 fields.
-const uint8_t LINK_STATS_LAYOUT[] ROVERLINK_PROGMEM = {
-    45, 45, 12,
-    layout::WIRE_U8, offsetof(LinkStats, req_seq),  // 0 req_seq
-    layout::WIRE_U32, offsetof(LinkStats, frames_ok),  // 1 frames_ok
-    layout::WIRE_U32, offsetof(LinkStats, crc_errors),  // 2 crc_errors
-    layout::WIRE_U32, offsetof(LinkStats, cobs_errors),  // 3 cobs_errors
-    layout::WIRE_U32, offsetof(LinkStats, length_errors),  // 4 length_errors
-    layout::WIRE_U32, offsetof(LinkStats, unknown_ids),  // 5 unknown_ids
-    layout::WIRE_U32, offsetof(LinkStats, value_errors),  // 6 value_errors
-    layout::WIRE_U32, offsetof(LinkStats, seq_gaps),  // 7 seq_gaps
-    layout::WIRE_U32, offsetof(LinkStats, bytes_discarded),  // 8 bytes_discarded
-    layout::WIRE_U32, offsetof(LinkStats, rx_overruns),  // 9 rx_overruns
-    layout::WIRE_U32, offsetof(LinkStats, duplicates),  // 10 duplicates
-    layout::WIRE_U32, offsetof(LinkStats, frames_sent),  // 11 frames_sent
+// LINK_STATS: payload 45..45 bytes, 0 checked fields.
+const uint8_t LINK_STATS_CHECKS[] ROVERLINK_PROGMEM = {
+    45, 45, layout::NO_TAIL, 0,
 };
 
-// FEEDBACK: payload 33..33 bytes, 11 fields.
-const uint8_t FEEDBACK_LAYOUT[] ROVERLINK_PROGMEM = {
-    33, 33, 11,
-    layout::WIRE_U32, offsetof(Feedback, boot_id),  // 0 boot_id
-    layout::WIRE_U32, offsetof(Feedback, mcu_time_us),  // 1 mcu_time_us
-    layout::WIRE_U16, offsetof(Feedback, tick),  // 2 tick
-    layout::WIRE_U8, offsetof(Feedback, ack_seq),  // 3 ack_seq
-    layout::WIRE_U16, offsetof(Feedback, ack_tick),  // 4 ack_tick
-    layout::WIRE_U8 | layout::CHECK_FLAGS, offsetof(Feedback, status), 0x7F,  // 5 status: Status bits 0x7F
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Feedback, failsafe_reason), 0x00, 0x04, 0x00,  // 6 failsafe_reason: FailsafeReason 0..4
-    layout::WIRE_I32 | layout::ARRAY, offsetof(Feedback, encoder_counts), 2,  // 7 encoder_counts
-    layout::WIRE_I16 | layout::ARRAY, offsetof(Feedback, wheel_speed_mm_s), 2,  // 8 wheel_speed_mm_s
-    layout::WIRE_I16 | layout::CHECK_RANGE | layout::ARRAY, offsetof(Feedback, effort_permille), 2, 0x18, 0xFC, 0xE8, 0x03,  // 9 effort_permille: -1000..1000
-    layout::WIRE_I16 | layout::CHECK_RANGE, offsetof(Feedback, steering_mrad), 0xDD, 0xF9, 0x23, 0x06,  // 10 steering_mrad: -1571..1571
+// FEEDBACK: payload 33..33 bytes, 4 checked fields.
+const uint8_t FEEDBACK_CHECKS[] ROVERLINK_PROGMEM = {
+    33, 33, layout::NO_TAIL, 4,
+    layout::WIRE_U8 | layout::CHECK_FLAGS, 5, offsetof(Feedback, status), 0x7F,  // status: Status bits 0x7F
+    layout::WIRE_U8 | layout::CHECK_VALUES, 6, offsetof(Feedback, failsafe_reason), 0x00, 0x04, 0x00,  // failsafe_reason: FailsafeReason 0..4
+    layout::WIRE_I16 | layout::CHECK_RANGE | layout::ARRAY, 9, offsetof(Feedback, effort_permille), 2, 0x18, 0x7C, 0xE8, 0x83,  // effort_permille: -1000..1000
+    layout::WIRE_I16 | layout::CHECK_RANGE, 10, offsetof(Feedback, steering_mrad), 0xDD, 0x79, 0x23, 0x86,  // steering_mrad: -1571..1571
 };
 
-// LOG: payload 1..61 bytes, 2 fields.
-const uint8_t LOG_LAYOUT[] ROVERLINK_PROGMEM = {
-    1, 61, 2,
-    layout::WIRE_U8 | layout::CHECK_VALUES, offsetof(Log, level), 0x00, 0x03, 0x00,  // 0 level: LogLevel 0..3
-    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, offsetof(Log, text), 0, 60, offsetof(Log, text_len), 0x00, 0x7F, 0x00,  // 1 text: ASCII
+// LOG: payload 1..61 bytes, 2 checked fields.
+const uint8_t LOG_CHECKS[] ROVERLINK_PROGMEM = {
+    1, 61, offsetof(Log, text_len), 2,
+    layout::WIRE_U8 | layout::CHECK_VALUES, 0, offsetof(Log, level), 0x00, 0x03, 0x00,  // level: LogLevel 0..3
+    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, 1, offsetof(Log, text), 0, 0x00, 0x7F, 0x00,  // text: ASCII
 };
 
 const uint8_t TRANSITIONS[TRANSITION_COUNT][6] ROVERLINK_PROGMEM = {

@@ -1,18 +1,19 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
 // spec hash: 0x163FE6FE
-// RoverLink protocol: constants, enums, message structs and layouts, pack/unpack, dispatch,
-// state table.
+// RoverLink protocol: constants, enums, message structs (packed wire images) and their checks,
+// pack/unpack, dispatch, state table.
 #ifndef ROVERLINK_GENERATED_PROTOCOL_H
 #define ROVERLINK_GENERATED_PROTOCOL_H
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
-// The runtime's layout walker (pack/unpack/check_ranges) and ROVERLINK_PROGMEM.
+// The runtime's checks walker (unpack/check_ranges), ROVERLINK_PACKED and ROVERLINK_PROGMEM.
 #include "../codec/layout.h"
 
 // The runtime in src/codec/ refuses to compile against another API version (see codec.h).
-#define ROVERLINK_GENERATED_API_VERSION 2
+#define ROVERLINK_GENERATED_API_VERSION 3
 
 namespace roverlink {
 namespace proto {
@@ -164,7 +165,7 @@ bool message_bounds(uint8_t msg_id, MessageBounds& out);
 static const uint8_t ALL_FIELDS_VALID = 0xFF;
 
 // HELLO (0x01, host to mcu, session): Opens (or restarts) a session. Repeated every HELLO_INTERVAL_MS until IDENTITY arrives. Motors are disabled while the session restarts.
-struct Hello {
+struct ROVERLINK_PACKED Hello {
     enum : uint8_t { ID = 0x01, CRC_EXTRA = 0x77, PAYLOAD_SIZE = 9, PAYLOAD_MAX = 9 };
     uint8_t protocol_version;  // Protocol version the host was built for.
     uint32_t spec_hash;  // Spec hash the host was built from.
@@ -172,48 +173,57 @@ struct Hello {
     FeedbackMode feedback_mode;  // Stream or lockstep feedback.
     uint8_t feedback_hz;  // Requested stream rate; 0 = stored default. Clamped to 1..FEEDBACK_HZ_MAX. [Hz]
 };
-extern const uint8_t HELLO_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t HELLO_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const Hello& m, uint8_t* payload) { return layout::pack(HELLO_LAYOUT, &m, payload); }
+inline uint8_t pack(const Hello& m, uint8_t* payload) {
+    memcpy(payload, &m, Hello::PAYLOAD_SIZE);
+    return Hello::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Hello& m) {
-    return layout::unpack(HELLO_LAYOUT, payload, len, &m);
+    return layout::unpack(HELLO_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const Hello& m) { return layout::check_ranges(HELLO_LAYOUT, &m); }
+inline uint8_t check_ranges(const Hello& m) { return layout::check_ranges(HELLO_CHECKS, &m); }
 
 // PING (0x02, host to mcu, session): Time-sync probe; answered by PONG.
-struct Ping {
+struct ROVERLINK_PACKED Ping {
     enum : uint8_t { ID = 0x02, CRC_EXTRA = 0x8B, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
     uint32_t host_time_us;  // Host clock at send time (low 32 bits), echoed in PONG. [us]
 };
-extern const uint8_t PING_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t PING_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const Ping& m, uint8_t* payload) { return layout::pack(PING_LAYOUT, &m, payload); }
+inline uint8_t pack(const Ping& m, uint8_t* payload) {
+    memcpy(payload, &m, Ping::PAYLOAD_SIZE);
+    return Ping::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Ping& m) {
-    return layout::unpack(PING_LAYOUT, payload, len, &m);
+    return layout::unpack(PING_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Ping&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // ARM (0x10, host to mcu, reliable): Enables the motors and clears a latched FAILSAFE. Refused unless boot_id names the running boot, so an ARM from a previous session is never applied.
-struct Arm {
+struct ROVERLINK_PACKED Arm {
     enum : uint8_t { ID = 0x10, CRC_EXTRA = 0x2A, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
     uint32_t boot_id;  // boot_id from this session's IDENTITY.
 };
-extern const uint8_t ARM_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t ARM_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const Arm& m, uint8_t* payload) { return layout::pack(ARM_LAYOUT, &m, payload); }
+inline uint8_t pack(const Arm& m, uint8_t* payload) {
+    memcpy(payload, &m, Arm::PAYLOAD_SIZE);
+    return Arm::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Arm& m) {
-    return layout::unpack(ARM_LAYOUT, payload, len, &m);
+    return layout::unpack(ARM_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Arm&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // DISARM (0x11, host to mcu, reliable): Disables the motors (safe state) and clears a latched FAILSAFE.
-struct Disarm {
+struct ROVERLINK_PACKED Disarm {
     enum : uint8_t { ID = 0x11, CRC_EXTRA = 0x95, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
 };
 inline uint8_t pack(const Disarm&, uint8_t*) { return 0; }
@@ -221,7 +231,7 @@ inline bool unpack(const uint8_t*, uint8_t len, Disarm&) { return len == 0; }
 inline uint8_t check_ranges(const Disarm&) { return ALL_FIELDS_VALID; }
 
 // SET_PID (0x12, host to mcu, reliable): Sets the velocity PID gains of one wheel (or all). Takes effect at the next control tick; the integrator is reset.
-struct SetPid {
+struct ROVERLINK_PACKED SetPid {
     enum : uint8_t { ID = 0x12, CRC_EXTRA = 0xCA, PAYLOAD_SIZE = 17, PAYLOAD_MAX = 17 };
     uint8_t wheel;  // Wheel index (0..WHEEL_COUNT-1) or PID_ALL_WHEELS.
     float kp;  // Proportional gain. [permille/(mm/s)]
@@ -229,33 +239,39 @@ struct SetPid {
     float kd;  // Derivative gain, on the measurement. [permille/(mm/s^2)]
     float kf;  // Feed-forward gain on the setpoint. [permille/(mm/s)]
 };
-extern const uint8_t SET_PID_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t SET_PID_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const SetPid& m, uint8_t* payload) { return layout::pack(SET_PID_LAYOUT, &m, payload); }
+inline uint8_t pack(const SetPid& m, uint8_t* payload) {
+    memcpy(payload, &m, SetPid::PAYLOAD_SIZE);
+    return SetPid::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, SetPid& m) {
-    return layout::unpack(SET_PID_LAYOUT, payload, len, &m);
+    return layout::unpack(SET_PID_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const SetPid& m) { return layout::check_ranges(SET_PID_LAYOUT, &m); }
+inline uint8_t check_ranges(const SetPid& m) { return layout::check_ranges(SET_PID_CHECKS, &m); }
 
 // GET_PID (0x13, host to mcu, reliable): Asks for one wheel's PID gains; answered by PID.
-struct GetPid {
+struct ROVERLINK_PACKED GetPid {
     enum : uint8_t { ID = 0x13, CRC_EXTRA = 0x6F, PAYLOAD_SIZE = 1, PAYLOAD_MAX = 1 };
     uint8_t wheel;  // Wheel index (0..WHEEL_COUNT-1).
 };
-extern const uint8_t GET_PID_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t GET_PID_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const GetPid& m, uint8_t* payload) { return layout::pack(GET_PID_LAYOUT, &m, payload); }
+inline uint8_t pack(const GetPid& m, uint8_t* payload) {
+    memcpy(payload, &m, GetPid::PAYLOAD_SIZE);
+    return GetPid::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, GetPid& m) {
-    return layout::unpack(GET_PID_LAYOUT, payload, len, &m);
+    return layout::unpack(GET_PID_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const GetPid&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // SET_CONFIG (0x14, host to mcu, reliable): Replaces the whole configuration (read it with GET_CONFIG, change, send back). Validated as a whole: NACK(OUT_OF_RANGE or INVALID_CONFIG, detail = field index) leaves the old one in place.
-struct SetConfig {
+struct ROVERLINK_PACKED SetConfig {
     enum : uint8_t { ID = 0x14, CRC_EXTRA = 0xF8, PAYLOAD_SIZE = 40, PAYLOAD_MAX = 40 };
     uint16_t watchdog_ms;  // Default watchdog period (a HELLO may ask for another). [ms]
     SafeState safe_state;  // Motor behaviour in FAILSAFE and when disarmed.
@@ -279,18 +295,21 @@ struct SetConfig {
     uint16_t esc_arm_ms;  // Arming sequence: neutral pulses held at boot before the ESC is driven. [ms]
     uint8_t feedback_hz;  // Default stream feedback rate. [Hz]
 };
-extern const uint8_t SET_CONFIG_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t SET_CONFIG_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const SetConfig& m, uint8_t* payload) { return layout::pack(SET_CONFIG_LAYOUT, &m, payload); }
+inline uint8_t pack(const SetConfig& m, uint8_t* payload) {
+    memcpy(payload, &m, SetConfig::PAYLOAD_SIZE);
+    return SetConfig::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, SetConfig& m) {
-    return layout::unpack(SET_CONFIG_LAYOUT, payload, len, &m);
+    return layout::unpack(SET_CONFIG_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const SetConfig& m) { return layout::check_ranges(SET_CONFIG_LAYOUT, &m); }
+inline uint8_t check_ranges(const SetConfig& m) { return layout::check_ranges(SET_CONFIG_CHECKS, &m); }
 
 // GET_CONFIG (0x15, host to mcu, reliable): Asks for the configuration; answered by CONFIG.
-struct GetConfig {
+struct ROVERLINK_PACKED GetConfig {
     enum : uint8_t { ID = 0x15, CRC_EXTRA = 0x59, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
 };
 inline uint8_t pack(const GetConfig&, uint8_t*) { return 0; }
@@ -298,7 +317,7 @@ inline bool unpack(const uint8_t*, uint8_t len, GetConfig&) { return len == 0; }
 inline uint8_t check_ranges(const GetConfig&) { return ALL_FIELDS_VALID; }
 
 // SAVE_CONFIG (0x16, host to mcu, reliable): Writes configuration and PID gains to EEPROM with a version and CRC; ACK after read-back verification.
-struct SaveConfig {
+struct ROVERLINK_PACKED SaveConfig {
     enum : uint8_t { ID = 0x16, CRC_EXTRA = 0x34, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
 };
 inline uint8_t pack(const SaveConfig&, uint8_t*) { return 0; }
@@ -306,7 +325,7 @@ inline bool unpack(const uint8_t*, uint8_t len, SaveConfig&) { return len == 0; 
 inline uint8_t check_ranges(const SaveConfig&) { return ALL_FIELDS_VALID; }
 
 // RESET_ODOMETRY (0x17, host to mcu, reliable): Sets the cumulative encoder counts to zero.
-struct ResetOdometry {
+struct ROVERLINK_PACKED ResetOdometry {
     enum : uint8_t { ID = 0x17, CRC_EXTRA = 0x85, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
 };
 inline uint8_t pack(const ResetOdometry&, uint8_t*) { return 0; }
@@ -314,7 +333,7 @@ inline bool unpack(const uint8_t*, uint8_t len, ResetOdometry&) { return len == 
 inline uint8_t check_ranges(const ResetOdometry&) { return ALL_FIELDS_VALID; }
 
 // GET_LINK_STATS (0x18, host to mcu, reliable): Asks for the firmware's link counters; answered by LINK_STATS.
-struct GetLinkStats {
+struct ROVERLINK_PACKED GetLinkStats {
     enum : uint8_t { ID = 0x18, CRC_EXTRA = 0x6C, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
 };
 inline uint8_t pack(const GetLinkStats&, uint8_t*) { return 0; }
@@ -322,39 +341,45 @@ inline bool unpack(const uint8_t*, uint8_t len, GetLinkStats&) { return len == 0
 inline uint8_t check_ranges(const GetLinkStats&) { return ALL_FIELDS_VALID; }
 
 // SET_WHEEL_SPEEDS (0x20, host to mcu, setpoint): Differential-drive setpoint: target speed of each wheel's rim. Latest wins; applied at the next control tick.
-struct SetWheelSpeeds {
+struct ROVERLINK_PACKED SetWheelSpeeds {
     enum : uint8_t { ID = 0x20, CRC_EXTRA = 0xC9, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
     int16_t left_mm_s;  // Left wheel target speed, positive forward. [mm/s]
     int16_t right_mm_s;  // Right wheel target speed, positive forward. [mm/s]
 };
-extern const uint8_t SET_WHEEL_SPEEDS_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t SET_WHEEL_SPEEDS_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const SetWheelSpeeds& m, uint8_t* payload) { return layout::pack(SET_WHEEL_SPEEDS_LAYOUT, &m, payload); }
+inline uint8_t pack(const SetWheelSpeeds& m, uint8_t* payload) {
+    memcpy(payload, &m, SetWheelSpeeds::PAYLOAD_SIZE);
+    return SetWheelSpeeds::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, SetWheelSpeeds& m) {
-    return layout::unpack(SET_WHEEL_SPEEDS_LAYOUT, payload, len, &m);
+    return layout::unpack(SET_WHEEL_SPEEDS_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const SetWheelSpeeds&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // SET_ACKERMANN (0x21, host to mcu, setpoint): Ackermann setpoint: drive speed and front-wheel steering angle. Latest wins; applied at the next control tick.
-struct SetAckermann {
+struct ROVERLINK_PACKED SetAckermann {
     enum : uint8_t { ID = 0x21, CRC_EXTRA = 0x5D, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
     int16_t speed_mm_s;  // Target speed at the rear axle, positive forward. [mm/s]
     int16_t steering_mrad;  // Front-wheel angle, positive turns left. [mrad]
 };
-extern const uint8_t SET_ACKERMANN_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t SET_ACKERMANN_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const SetAckermann& m, uint8_t* payload) { return layout::pack(SET_ACKERMANN_LAYOUT, &m, payload); }
+inline uint8_t pack(const SetAckermann& m, uint8_t* payload) {
+    memcpy(payload, &m, SetAckermann::PAYLOAD_SIZE);
+    return SetAckermann::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, SetAckermann& m) {
-    return layout::unpack(SET_ACKERMANN_LAYOUT, payload, len, &m);
+    return layout::unpack(SET_ACKERMANN_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const SetAckermann& m) { return layout::check_ranges(SET_ACKERMANN_LAYOUT, &m); }
+inline uint8_t check_ranges(const SetAckermann& m) { return layout::check_ranges(SET_ACKERMANN_CHECKS, &m); }
 
 // IDENTITY (0x81, mcu to host, session): Boot announcement (sent once, unsolicited, after reset) and the answer to every HELLO.
-struct Identity {
+struct ROVERLINK_PACKED Identity {
     enum : uint8_t { ID = 0x81, CRC_EXTRA = 0x2B, PAYLOAD_SIZE = 25, PAYLOAD_MAX = 49 };
     uint8_t protocol_version;  // Protocol version the firmware was built for.
     uint32_t spec_hash;  // Spec hash the firmware was built from.
@@ -371,68 +396,79 @@ struct Identity {
     char robot_name[24];  // Name of the firmware example (ASCII).
     uint8_t robot_name_len;  // bytes used in robot_name
 };
-extern const uint8_t IDENTITY_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t IDENTITY_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const Identity& m, uint8_t* payload) { return layout::pack(IDENTITY_LAYOUT, &m, payload); }
+inline uint8_t pack(const Identity& m, uint8_t* payload) {
+    return layout::pack_tail(&m, Identity::PAYLOAD_SIZE, m.robot_name_len, 24, payload);
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Identity& m) {
-    return layout::unpack(IDENTITY_LAYOUT, payload, len, &m);
+    return layout::unpack(IDENTITY_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Identity&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // PONG (0x82, mcu to host, session): Answer to PING.
-struct Pong {
+struct ROVERLINK_PACKED Pong {
     enum : uint8_t { ID = 0x82, CRC_EXTRA = 0xE6, PAYLOAD_SIZE = 8, PAYLOAD_MAX = 8 };
     uint32_t host_time_us;  // host_time_us of the PING. [us]
     uint32_t mcu_time_us;  // MCU clock when the PING was processed. [us]
 };
-extern const uint8_t PONG_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t PONG_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const Pong& m, uint8_t* payload) { return layout::pack(PONG_LAYOUT, &m, payload); }
+inline uint8_t pack(const Pong& m, uint8_t* payload) {
+    memcpy(payload, &m, Pong::PAYLOAD_SIZE);
+    return Pong::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Pong& m) {
-    return layout::unpack(PONG_LAYOUT, payload, len, &m);
+    return layout::unpack(PONG_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Pong&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // ACK (0x83, mcu to host, reliable): A reliable request was applied (or was a duplicate of one already applied).
-struct Ack {
+struct ROVERLINK_PACKED Ack {
     enum : uint8_t { ID = 0x83, CRC_EXTRA = 0x34, PAYLOAD_SIZE = 2, PAYLOAD_MAX = 2 };
     uint8_t req_id;  // msg_id of the request.
     uint8_t req_seq;  // seq of the request.
 };
-extern const uint8_t ACK_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t ACK_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const Ack& m, uint8_t* payload) { return layout::pack(ACK_LAYOUT, &m, payload); }
+inline uint8_t pack(const Ack& m, uint8_t* payload) {
+    memcpy(payload, &m, Ack::PAYLOAD_SIZE);
+    return Ack::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Ack& m) {
-    return layout::unpack(ACK_LAYOUT, payload, len, &m);
+    return layout::unpack(ACK_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Ack&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // NACK (0x84, mcu to host, reliable): A request was refused. Also answers setpoints that cannot be applied.
-struct Nack {
+struct ROVERLINK_PACKED Nack {
     enum : uint8_t { ID = 0x84, CRC_EXTRA = 0xC6, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
     uint8_t req_id;  // msg_id of the request.
     uint8_t req_seq;  // seq of the request.
     NackReason reason;  // Why.
     uint8_t detail;  // Reason-specific: field index, FailsafeReason, ...
 };
-extern const uint8_t NACK_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t NACK_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const Nack& m, uint8_t* payload) { return layout::pack(NACK_LAYOUT, &m, payload); }
+inline uint8_t pack(const Nack& m, uint8_t* payload) {
+    memcpy(payload, &m, Nack::PAYLOAD_SIZE);
+    return Nack::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Nack& m) {
-    return layout::unpack(NACK_LAYOUT, payload, len, &m);
+    return layout::unpack(NACK_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Nack&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // PID (0x85, mcu to host, reliable): Answer to GET_PID.
-struct Pid {
+struct ROVERLINK_PACKED Pid {
     enum : uint8_t { ID = 0x85, CRC_EXTRA = 0x31, PAYLOAD_SIZE = 18, PAYLOAD_MAX = 18 };
     uint8_t req_seq;  // seq of the GET_PID.
     uint8_t wheel;  // Wheel index.
@@ -441,18 +477,21 @@ struct Pid {
     float kd;  // Derivative gain, on the measurement. [permille/(mm/s^2)]
     float kf;  // Feed-forward gain on the setpoint. [permille/(mm/s)]
 };
-extern const uint8_t PID_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t PID_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const Pid& m, uint8_t* payload) { return layout::pack(PID_LAYOUT, &m, payload); }
+inline uint8_t pack(const Pid& m, uint8_t* payload) {
+    memcpy(payload, &m, Pid::PAYLOAD_SIZE);
+    return Pid::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Pid& m) {
-    return layout::unpack(PID_LAYOUT, payload, len, &m);
+    return layout::unpack(PID_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const Pid& m) { return layout::check_ranges(PID_LAYOUT, &m); }
+inline uint8_t check_ranges(const Pid& m) { return layout::check_ranges(PID_CHECKS, &m); }
 
 // CONFIG (0x86, mcu to host, reliable): Answer to GET_CONFIG.
-struct Config {
+struct ROVERLINK_PACKED Config {
     enum : uint8_t { ID = 0x86, CRC_EXTRA = 0x18, PAYLOAD_SIZE = 41, PAYLOAD_MAX = 41 };
     uint8_t req_seq;  // seq of the GET_CONFIG.
     uint16_t watchdog_ms;  // Default watchdog period (a HELLO may ask for another). [ms]
@@ -477,18 +516,21 @@ struct Config {
     uint16_t esc_arm_ms;  // Arming sequence: neutral pulses held at boot before the ESC is driven. [ms]
     uint8_t feedback_hz;  // Default stream feedback rate. [Hz]
 };
-extern const uint8_t CONFIG_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t CONFIG_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const Config& m, uint8_t* payload) { return layout::pack(CONFIG_LAYOUT, &m, payload); }
+inline uint8_t pack(const Config& m, uint8_t* payload) {
+    memcpy(payload, &m, Config::PAYLOAD_SIZE);
+    return Config::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Config& m) {
-    return layout::unpack(CONFIG_LAYOUT, payload, len, &m);
+    return layout::unpack(CONFIG_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const Config& m) { return layout::check_ranges(CONFIG_LAYOUT, &m); }
+inline uint8_t check_ranges(const Config& m) { return layout::check_ranges(CONFIG_CHECKS, &m); }
 
 // LINK_STATS (0x87, mcu to host, reliable): Answer to GET_LINK_STATS: the firmware's receive and transmit counters since boot.
-struct LinkStats {
+struct ROVERLINK_PACKED LinkStats {
     enum : uint8_t { ID = 0x87, CRC_EXTRA = 0x62, PAYLOAD_SIZE = 45, PAYLOAD_MAX = 45 };
     uint8_t req_seq;  // seq of the GET_LINK_STATS.
     uint32_t frames_ok;  // Valid frames received.
@@ -503,18 +545,21 @@ struct LinkStats {
     uint32_t duplicates;  // Reliable requests received again (answered, not re-applied).
     uint32_t frames_sent;  // Frames sent.
 };
-extern const uint8_t LINK_STATS_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t LINK_STATS_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const LinkStats& m, uint8_t* payload) { return layout::pack(LINK_STATS_LAYOUT, &m, payload); }
+inline uint8_t pack(const LinkStats& m, uint8_t* payload) {
+    memcpy(payload, &m, LinkStats::PAYLOAD_SIZE);
+    return LinkStats::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, LinkStats& m) {
-    return layout::unpack(LINK_STATS_LAYOUT, payload, len, &m);
+    return layout::unpack(LINK_STATS_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const LinkStats&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // FEEDBACK (0x90, mcu to host, telemetry): Robot state at one control tick: in stream mode at the session rate, in lockstep mode once per applied setpoint.
-struct Feedback {
+struct ROVERLINK_PACKED Feedback {
     enum : uint8_t { ID = 0x90, CRC_EXTRA = 0x3F, PAYLOAD_SIZE = 33, PAYLOAD_MAX = 33 };
     uint32_t boot_id;  // boot_id of the running boot: a change means the board was reset.
     uint32_t mcu_time_us;  // MCU clock at the tick (wraps every 71.6 min; the host unwraps it). [us]
@@ -528,29 +573,34 @@ struct Feedback {
     int16_t effort_permille[2];  // Motor efforts applied (negative: reverse). [0.1 %]
     int16_t steering_mrad;  // Front-wheel angle commanded to the servo (0 without steering). [mrad]
 };
-extern const uint8_t FEEDBACK_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t FEEDBACK_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const Feedback& m, uint8_t* payload) { return layout::pack(FEEDBACK_LAYOUT, &m, payload); }
+inline uint8_t pack(const Feedback& m, uint8_t* payload) {
+    memcpy(payload, &m, Feedback::PAYLOAD_SIZE);
+    return Feedback::PAYLOAD_SIZE;
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Feedback& m) {
-    return layout::unpack(FEEDBACK_LAYOUT, payload, len, &m);
+    return layout::unpack(FEEDBACK_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const Feedback& m) { return layout::check_ranges(FEEDBACK_LAYOUT, &m); }
+inline uint8_t check_ranges(const Feedback& m) { return layout::check_ranges(FEEDBACK_CHECKS, &m); }
 
 // LOG (0x91, mcu to host, telemetry): A short text from the firmware. The firmware never prints text on the port; this is its only text channel.
-struct Log {
+struct ROVERLINK_PACKED Log {
     enum : uint8_t { ID = 0x91, CRC_EXTRA = 0x13, PAYLOAD_SIZE = 1, PAYLOAD_MAX = 61 };
     LogLevel level;  // Severity.
     char text[60];  // ASCII text.
     uint8_t text_len;  // bytes used in text
 };
-extern const uint8_t LOG_LAYOUT[] ROVERLINK_PROGMEM;
+extern const uint8_t LOG_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
-inline uint8_t pack(const Log& m, uint8_t* payload) { return layout::pack(LOG_LAYOUT, &m, payload); }
+inline uint8_t pack(const Log& m, uint8_t* payload) {
+    return layout::pack_tail(&m, Log::PAYLOAD_SIZE, m.text_len, 60, payload);
+}
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Log& m) {
-    return layout::unpack(LOG_LAYOUT, payload, len, &m);
+    return layout::unpack(LOG_CHECKS, payload, len, &m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Log&) { return ALL_FIELDS_VALID; }  // no ranged field
@@ -579,7 +629,7 @@ union HostToMcu {
     SetAckermann set_ackermann;
 };
 // Unpacks a host_to_mcu payload into the member of `m` that msg_id names (one table lookup,
-// one layout walk): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.
+// one copy and its checks): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.
 DispatchResult unpack_host_to_mcu(uint8_t msg_id, const uint8_t* payload, uint8_t len, HostToMcu& m);
 
 // Decodes a payload and calls h.handle(const Msg&, seq) for host_to_mcu messages (firmware).
@@ -645,7 +695,7 @@ union McuToHost {
     Log log;
 };
 // Unpacks a mcu_to_host payload into the member of `m` that msg_id names (one table lookup,
-// one layout walk): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.
+// one copy and its checks): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.
 DispatchResult unpack_mcu_to_host(uint8_t msg_id, const uint8_t* payload, uint8_t len, McuToHost& m);
 
 // Decodes a payload and calls h.handle(const Msg&, seq) for mcu_to_host messages (host-side tools).
