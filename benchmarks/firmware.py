@@ -1,41 +1,70 @@
 """Budgets measured on the real binary: every example's ELF in simavr (cycle counts) and avr-size.
 
-    python3 benchmarks/firmware.py            # all examples, print the figures and the budgets
+    python3 benchmarks/firmware.py            # all examples, print the figures, the budgets and where
+                                              # the decode and dispatch cycles go
     python3 benchmarks/firmware.py --json     # machine-readable
 
-Method. The harness (tools/simavr/fil_harness.c) counts the passes of the sketch's main loop
-(each pass calls serialEventRun() once, a symbol the ELF keeps). The shortest pass is poll() with
-nothing to do; every cycle beyond `passes x shortest` is work: control ticks, frames, interrupts.
+Method. Two instruments in the harness (tools/simavr/fil_harness.c):
 
+* a loop marker counts the passes of the sketch's main loop (each pass calls serialEventRun()
+  once, a symbol the ELF keeps). The shortest pass is poll() with nothing to do; every cycle beyond
+  `passes x shortest` is work: control ticks, frames, interrupts;
+* a profiler follows the calls of `roverlink::Session<App>::poll()` (the function that reads the
+  bytes waiting in the serial port, feeds the frame decoder and dispatches every complete frame,
+  reply included): from the PC reaching its address until SP rises above its value there, each
+  instruction's cycles are added to its PC, interrupt handlers excluded. avr-addr2line maps the
+  PCs to source files (the ELF is built with -g); PCs without line information (libgcc's soft
+  float and prologue helpers, which LTO's line tables attribute to main) are named by avr-nm's
+  symbol.
+
+Figures:
+
+* Decode and dispatch cycles per command frame (the DESIGN.md budget): the cycles inside
+  Session::poll while the host sends frames back to back at 115200 baud for 1 s, less the
+  instructions whose source is the Arduino core's serial driver (HardwareSerial*.cpp/.h, Print,
+  Stream, and what is inlined into their functions, e.g. ATOMIC_BLOCK: reading the ring buffer,
+  writing the reply into the TX buffer), less `calls x the
+  cheapest call` (poll() finding no byte: measured over 20 ms with no host bytes, where every call
+  takes that path, with the same source filter), divided by the frames sent. Counted: COBS
+  decoding, CRC, length and id checks, unpacking and range checks, the session rules, the
+  message's handling (SET_PID: the gains applied), building and encoding the reply (COBS, CRC),
+  libgcc helpers called from there (soft float, prologues). Not counted: interrupt handlers (RX
+  and TX of every byte, timers, encoders), the serial driver, control ticks (outside poll()). Every
+  frame must be answered (SET_PID: one ACK each) or the run is invalid. SET_PID (17-byte payload)
+  is the 16-byte-payload frame; SET_WHEEL_SPEEDS / SET_ACKERMANN (4 bytes, sent 100 times a
+  second, no reply in STREAM mode) are reported too.
+* Full cost per command frame (no budget; what a frame really costs the CPU): the main-loop work
+  during the same floods less the work of ticks and FEEDBACK (measured over 1 s of driving),
+  divided by the frames sent: decode and dispatch plus the RX interrupt of every byte, the serial
+  driver's reads, and the reply's TX interrupts.
 * CPU share of the 100 Hz control loop: work / cycles over 2 s with a session open, armed and
-  driving (one setpoint per tick, FEEDBACK streaming at the configured rate), less the cycles the
-  setpoint frames themselves cost (measured next).
-* Cycles to decode and dispatch one command frame: the extra work when the host sends frames back
-  to back at 115200 baud for 1 s, divided by the frames sent (RX interrupts, decoding, CRC,
-  dispatch, the reply). SET_PID (17-byte payload) is the 16-byte-payload frame; SET_WHEEL_SPEEDS
-  (4 bytes, the frame sent 100 times a second) is reported too.
-* Worst-case time from a byte's arrival to its processing: the longest main-loop pass (a byte that
-  arrives just after poll() emptied the buffer waits one pass) while frames arrive back to back,
-  and the longest time a received byte sat in UDR0 before the RX interrupt read it. DOR0 rises are
-  reported but not gated: simavr 1.6 queues received bytes in its own FIFO rather than modelling
-  the two-byte receive buffer, so its DOR0 is not the hardware's overrun (unverified). The
-  Arduino core's 64-byte ring buffer holds 5.5 ms of bytes at 115200 baud.
+  driving (one setpoint per tick, FEEDBACK streaming at the configured rate), less the full cost
+  of the setpoint frames themselves.
+* Receive overruns and latency while frames arrive back to back (both floods): the harness models
+  the ATmega's receiver (a shift register and a 2-byte FIFO; a byte still in the shift register
+  when the next start bit arrives is lost and DOR0 set), so an overrun here is one on the
+  hardware. Gated at 0. Also the longest time from a byte's stop bit to the RX interrupt reading
+  it from UDR0 (gated at two byte times, 2 x 1389 cycles) and the longest main-loop pass (a byte
+  that arrives just after poll() emptied the buffer waits one pass; the Arduino core's 64-byte ring
+  buffer holds 5.5 ms of bytes at 115200 baud).
 * Flash and SRAM per example: avr-size of the ELF (`host_sdk.firmware`).
 
-Budgets (DESIGN.md section 6): <= 1500 cycles per 16-byte-payload command frame; a reference
-firmware on the Uno leaves >= 50 % of flash and SRAM free. The control-loop share and the latency
-have no numeric budget there; they are gated at 50 % of the CPU and at two byte times on the line
-(2 x 1389 cycles: the UART's receive buffer holds two bytes, so no overrun) respectively.
+Budgets (DESIGN.md section 6): <= 1500 cycles to decode and dispatch one 16-byte-payload command
+frame; a reference firmware on the Uno leaves >= 50 % of flash and SRAM free. The control-loop
+share has no numeric budget there; it is gated at 50 % of the CPU.
 """
 
 from __future__ import annotations
 
 import argparse
+import bisect
 import json
+import re
 import subprocess
 import sys
 import time
-from dataclasses import asdict, dataclass
+from collections import defaultdict
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -49,10 +78,14 @@ from host_sdk._generated.enums import FeedbackMode, IdentityReason  # noqa: E402
 from host_sdk._generated.profiles import PROFILES  # noqa: E402
 from host_sdk.framing import Frame, FrameDecoder, encode_frame  # noqa: E402
 
-CYCLES_PER_BYTE = 16_000_000 * 10 // 115_200  # 1389
+CYCLES_PER_BYTE = 16_000_000 * 10 // 115_200  # 1388 (1388.9)
 FRAME_CYCLES_BUDGET = 1500
 CONTROL_SHARE_BUDGET = 0.50
 UNO_FREE_FRACTION = 0.50
+POLL_SYMBOL = "roverlink::Session<roverlink::Firmware>::poll()"
+SERIAL_DRIVER_FILE = re.compile(r"^(HardwareSerial\w*|Print|Stream)\.(cpp|h)$")
+SERIAL_DRIVER_FUNCTION = re.compile(r"^(HardwareSerial|Print|Stream)::")
+NO_LINE_INFO = "(no line info)"
 
 
 @dataclass
@@ -64,21 +97,127 @@ class Figures:
     sram_bytes: int
     sram_capacity: int
     control_cpu_share: float
-    cycles_per_set_pid_frame: float
-    cycles_per_setpoint_frame: float
+    decode_dispatch_cycles_per_set_pid_frame: float
+    decode_dispatch_cycles_per_setpoint_frame: float
+    full_cycles_per_set_pid_frame: float
+    full_cycles_per_setpoint_frame: float
+    poll_idle_call_cycles: int
     worst_loop_pass_cycles: int
     worst_rx_isr_latency_cycles: int
+    rx_bytes: int
     rx_overruns: int
     realtime_ratio: float
+    set_pid_breakdown: dict[str, dict[str, float]] = field(default_factory=dict)
+    """Decode and dispatch cycles per SET_PID frame by "file", "function" and "line"."""
+
+
+@dataclass(frozen=True)
+class Source:
+    file: str
+    """Base name of the instruction's source file (innermost inline frame), or NO_LINE_INFO."""
+    line: int
+    function: str
+    """The function the instruction belongs to (its symbol)."""
+
+
+@dataclass
+class Profile:
+    calls: int
+    cycles: int
+    cheapest_call: int
+    per_pc: dict[int, int]
+
+
+def _symbols(elf: Path) -> list[tuple[int, str]]:
+    """Code symbols, demangled, by address."""
+    out = subprocess.run(
+        ["avr-nm", "-n", "-C", "--defined-only", str(elf)], capture_output=True, text=True, check=True
+    ).stdout
+    syms = []
+    for line in out.splitlines():
+        parts = line.split(maxsplit=2)
+        if len(parts) == 3 and parts[1] in "tTwW":
+            syms.append((int(parts[0], 16), parts[2]))
+    return syms
 
 
 def _symbol(elf: Path, name: str) -> int:
-    out = subprocess.run(["avr-nm", str(elf)], capture_output=True, text=True, check=True).stdout
-    for line in out.splitlines():
-        parts = line.split()
-        if len(parts) == 3 and parts[2] == name:
-            return int(parts[0], 16)
+    for addr, sym in _symbols(elf):
+        if sym == name:
+            return addr
     raise SystemExit(f"{elf}: no symbol {name}")
+
+
+_CLONE = re.compile(r" \[clone [^]]*\]")
+
+
+def sources(elf: Path, pcs: list[int]) -> dict[int, Source]:
+    """Source of each PC, from one avr-addr2line run over all of them. With LTO the line tables
+    give libgcc's and avr-libc's code (no debug information) to main: a PC whose outermost
+    addr2line function is not the symbol containing it is named by the symbol alone."""
+    syms = _symbols(elf)
+    starts = [a for a, _ in syms]
+    out = subprocess.run(
+        ["avr-addr2line", "-e", str(elf), "-a", "-f", "-C", "-i"],
+        input="\n".join(hex(pc) for pc in pcs),
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    frames: dict[int, list[str]] = {}
+    current: list[str] = []
+    for line in out.splitlines():
+        if line.startswith("0x"):
+            current = frames.setdefault(int(line, 16), [])
+        else:
+            current.append(line)
+    result = {}
+    for pc in pcs:
+        i = bisect.bisect_right(starts, pc) - 1
+        symbol = _CLONE.sub("", syms[i][1]) if i >= 0 else "?"
+        lines = frames.get(pc, [])
+        if len(lines) >= 2 and _CLONE.sub("", lines[-2]) == symbol:
+            path, _, num = lines[1].partition(":")
+            digits = re.match(r"\d+", num)
+            result[pc] = Source(Path(path).name, int(digits.group()) if digits else 0, symbol)
+        else:
+            result[pc] = Source(NO_LINE_INFO, 0, symbol)
+    return result
+
+
+def decode_dispatch(
+    flood: Profile, idle: Profile, frames: int, src: dict[int, Source]
+) -> tuple[float, dict[str, dict[str, float]]]:
+    """Cycles per frame inside poll(), serial driver excluded, less `calls x the cheapest call`
+    (the idle window's per-call profile, filtered the same way), and where they go."""
+    if idle.calls == 0 or idle.cycles != idle.calls * idle.cheapest_call:
+        raise SystemExit(f"BENCHMARK INVALID: the idle window's poll() calls differ ({idle})")
+    groups: dict[str, dict[str, float]] = {"file": defaultdict(float), "function": defaultdict(float)}
+    groups["line"] = defaultdict(float)
+    total = 0.0
+    for pc in flood.per_pc.keys() | idle.per_pc.keys():
+        s = src[pc]
+        if SERIAL_DRIVER_FILE.match(s.file) or SERIAL_DRIVER_FUNCTION.match(s.function):
+            continue
+        excess = (flood.per_pc.get(pc, 0) - flood.calls * idle.per_pc.get(pc, 0) / idle.calls) / frames
+        total += excess
+        groups["file"][s.file] += excess
+        groups["function"][_short(s.function)] += excess
+        groups["line"][f"{s.file}:{s.line}" if s.line else _short(s.function)] += excess
+    return total, {k: dict(sorted(v.items(), key=lambda kv: -kv[1])) for k, v in groups.items()}
+
+
+def _short(name: str) -> str:
+    """A demangled name without its parameter list."""
+    name = name.removesuffix(" const")
+    if not name.endswith(")"):
+        return name
+    depth = 0
+    for i in range(len(name) - 1, -1, -1):
+        depth += {")": 1, "(": -1}.get(name[i], 0)
+        if depth == 0:
+            return name[:i]
+    return name
 
 
 def _work(stats: tuple[int, int, int, int]) -> int:
@@ -99,6 +238,9 @@ def measure(example: str, profile: str) -> Figures:
             robot.advance_us(ms * 1000)
             frames.extend(e for e in decoder.feed(robot.host_read()) if isinstance(e, Frame))
 
+        def profile_since() -> Profile:
+            return Profile(*h.profile())
+
         run(300)
         boot = next(f.message for f in frames if isinstance(f.message, messages.Identity))
         assert isinstance(boot, messages.Identity) and boot.reason == IdentityReason.BOOT
@@ -117,43 +259,57 @@ def measure(example: str, profile: str) -> Figures:
                 run(10)
         send(messages.Arm(boot.boot_id))
         run(20)
-        h.set_loop_marker(_symbol(build.elf, "_Z14serialEventRunv"))
+        h.set_loop_marker(_symbol(build.elf, "serialEventRun()"))
+        h.profile_function(_symbol(build.elf, POLL_SYMBOL))
+        # 0. No host bytes: every poll() call finds nothing.
+        run(20)
+        idle = profile_since()
         h.loop_stats()
-        h.rx_stats()
         # 1. Driving: one setpoint per tick, FEEDBACK streaming.
         ticks = 200
         for _ in range(ticks):
             send(_setpoint(profile, 200))
             run(10)
         driving = h.loop_stats()
+        profile_since()
+        h.rx_stats()
         # 2. Setpoint frames back to back for 1 s (the line's capacity).
         setpoint_frame = encode_frame(_setpoint(profile, 200), 0)
         n_sp = 115_200 // 10 // len(setpoint_frame)
         for _ in range(n_sp):
             send(_setpoint(profile, 200))
-        run(1000)
+        run(1010)
         flood_sp = h.loop_stats()
+        prof_sp = profile_since()
         # 3. SET_PID frames back to back for 1 s (each answered by an ACK).
         pid = messages.SetPid(255, 1.0, 6.0, 0.0, 1.5)
         n_pid = 115_200 // 10 // len(encode_frame(pid, 0))
+        frames.clear()
         for _ in range(n_pid):
             send(pid)
-        run(1000)
+        run(1010)
         flood_pid = h.loop_stats()
-        latency, _, overruns = h.rx_stats()
+        prof_pid = profile_since()
+        acks = sum(isinstance(f.message, messages.Ack) and f.message.req_id == messages.SetPid.MSG_ID for f in frames)
+        if acks != n_pid:
+            raise SystemExit(f"BENCHMARK INVALID: {example}: {acks} ACKs to {n_pid} SET_PID frames")
+        latency, rx_bytes, overruns = h.rx_stats()
         # 4. Idle baseline with the session open (ticks and FEEDBACK only) for the per-ms rate.
         for _ in range(100):
             send(_setpoint(profile, 200))
             run(10)
         base = h.loop_stats()
         per_cycle_tick_work = _work(base) / max(1, base[1])
-        cycles_sp = (_work(flood_sp) - per_cycle_tick_work * flood_sp[1]) / n_sp
-        cycles_pid = (_work(flood_pid) - per_cycle_tick_work * flood_pid[1]) / n_pid
-        control_share = (_work(driving) - ticks * cycles_sp) / max(1, driving[1])
+        full_sp = (_work(flood_sp) - per_cycle_tick_work * flood_sp[1]) / n_sp
+        full_pid = (_work(flood_pid) - per_cycle_tick_work * flood_pid[1]) / n_pid
+        control_share = (_work(driving) - ticks * full_sp) / max(1, driving[1])
         sim_s = robot.now_us / 1e6
     finally:
         robot.close()
     wall = time.perf_counter() - wall0
+    src = sources(build.elf, sorted(idle.per_pc.keys() | prof_sp.per_pc.keys() | prof_pid.per_pc.keys()))
+    dd_sp, _ = decode_dispatch(prof_sp, idle, n_sp, src)
+    dd_pid, breakdown = decode_dispatch(prof_pid, idle, n_pid, src)
     return Figures(
         example=example,
         board=build.board.name,
@@ -162,12 +318,17 @@ def measure(example: str, profile: str) -> Figures:
         sram_bytes=build.sram_used,
         sram_capacity=build.board.sram_bytes,
         control_cpu_share=control_share,
-        cycles_per_set_pid_frame=cycles_pid,
-        cycles_per_setpoint_frame=cycles_sp,
+        decode_dispatch_cycles_per_set_pid_frame=dd_pid,
+        decode_dispatch_cycles_per_setpoint_frame=dd_sp,
+        full_cycles_per_set_pid_frame=full_pid,
+        full_cycles_per_setpoint_frame=full_sp,
+        poll_idle_call_cycles=idle.cheapest_call,
         worst_loop_pass_cycles=max(flood_sp[3], flood_pid[3]),
         worst_rx_isr_latency_cycles=latency,
+        rx_bytes=rx_bytes,
         rx_overruns=overruns,
         realtime_ratio=sim_s / wall,
+        set_pid_breakdown=breakdown,
     )
 
 
@@ -179,13 +340,17 @@ def _setpoint(profile: str, speed: int) -> messages.Message:
 
 def problems(f: Figures) -> list[str]:
     out = []
-    if f.cycles_per_set_pid_frame > FRAME_CYCLES_BUDGET:
-        cycles = f.cycles_per_set_pid_frame
-        out.append(f"{f.example}: {cycles:.0f} cycles per 16-byte-payload frame > {FRAME_CYCLES_BUDGET}")
+    if f.decode_dispatch_cycles_per_set_pid_frame > FRAME_CYCLES_BUDGET:
+        cycles = f.decode_dispatch_cycles_per_set_pid_frame
+        out.append(
+            f"{f.example}: {cycles:.0f} cycles to decode and dispatch a 16-byte-payload frame > {FRAME_CYCLES_BUDGET}"
+        )
     if f.control_cpu_share > CONTROL_SHARE_BUDGET:
         out.append(f"{f.example}: control loop uses {f.control_cpu_share:.1%} of the CPU > {CONTROL_SHARE_BUDGET:.0%}")
     if f.worst_rx_isr_latency_cycles > 2 * CYCLES_PER_BYTE:
         out.append(f"{f.example}: RX latency {f.worst_rx_isr_latency_cycles} cycles > two byte times")
+    if f.rx_overruns:
+        out.append(f"{f.example}: {f.rx_overruns} bytes lost to receive overruns")
     if f.board == "uno":
         if f.flash_bytes > f.flash_capacity * UNO_FREE_FRACTION:
             out.append(f"{f.example}: flash {f.flash_bytes} B > 50% of {f.flash_capacity} B")
@@ -197,12 +362,32 @@ def problems(f: Figures) -> list[str]:
 def report(f: Figures) -> str:
     return (
         f"{f.example} ({f.board}): flash {f.flash_bytes:,}/{f.flash_capacity:,} B, SRAM {f.sram_bytes:,}/"
-        f"{f.sram_capacity:,} B; control loop {f.control_cpu_share:.1%} CPU; "
-        f"{f.cycles_per_set_pid_frame:.0f} cycles/SET_PID frame (budget {FRAME_CYCLES_BUDGET}), "
-        f"{f.cycles_per_setpoint_frame:.0f} cycles/setpoint frame; longest loop pass {f.worst_loop_pass_cycles} "
-        f"cycles, RX ISR latency {f.worst_rx_isr_latency_cycles} cycles (one byte: {CYCLES_PER_BYTE}), "
-        f"{f.rx_overruns} overruns; {f.realtime_ratio:.1f}x real time"
+        f"{f.sram_capacity:,} B; control loop {f.control_cpu_share:.1%} CPU\n"
+        f"    decode+dispatch (Session::poll, no ISRs, no serial driver, less idle polls): "
+        f"{f.decode_dispatch_cycles_per_set_pid_frame:.0f} cycles/SET_PID frame (budget {FRAME_CYCLES_BUDGET}), "
+        f"{f.decode_dispatch_cycles_per_setpoint_frame:.0f} cycles/setpoint frame; idle poll() "
+        f"{f.poll_idle_call_cycles} cycles\n"
+        f"    full cost (+ RX ISR per byte, serial driver, reply TX ISRs): "
+        f"{f.full_cycles_per_set_pid_frame:.0f} cycles/SET_PID frame, "
+        f"{f.full_cycles_per_setpoint_frame:.0f} cycles/setpoint frame\n"
+        f"    back to back: {f.rx_bytes:,} bytes received, {f.rx_overruns} overruns, RX ISR latency "
+        f"{f.worst_rx_isr_latency_cycles} cycles (one byte: {CYCLES_PER_BYTE}), longest loop pass "
+        f"{f.worst_loop_pass_cycles} cycles; {f.realtime_ratio:.1f}x real time"
     )
+
+
+def breakdown(f: Figures, top: int = 8) -> str:
+    """Where the decode and dispatch cycles of a SET_PID frame go (cycles per frame)."""
+    lines = [f"{f.example}: decode+dispatch cycles per SET_PID frame"]
+    for key in ("file", "function", "line"):
+        items = list(f.set_pid_breakdown.get(key, {}).items())
+        shown = items[:top]
+        rest = sum(v for _, v in items[top:])
+        lines.append(f"  by {key}:")
+        lines += [f"    {v:8.0f}  {k}" for k, v in shown]
+        if items[top:]:
+            lines.append(f"    {rest:8.0f}  ({len(items) - top} more)")
+    return "\n".join(lines)
 
 
 def all_figures() -> list[Figures]:
@@ -219,6 +404,8 @@ def main(argv: list[str] | None = None) -> int:
     else:
         for f in figures:
             print(report(f))
+        for f in figures:
+            print(breakdown(f))
     bad = [p for f in figures for p in problems(f)]
     for p in bad:
         print(f"OVER BUDGET: {p}", file=sys.stderr)

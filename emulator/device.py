@@ -24,16 +24,16 @@ Firmware object (RAM lost); the EEPROM (config, boot counter) persists.
 from __future__ import annotations
 
 import enum
-import functools
 import math
 from collections.abc import Callable
 
-from emulator.clock import PRIORITY_FAULT, PRIORITY_PHYSICS, PRIORITY_RX, PRIORITY_TICK, Timer, VirtualClock
-from emulator.errors import EmulatorValueError, FaultSpecError
-from emulator.faults import FaultItem, FaultSpec, parse_faults
+from emulator.clock import PRIORITY_PHYSICS, PRIORITY_RX, PRIORITY_TICK, Timer, VirtualClock
+from emulator.errors import EmulatorValueError
+from emulator.faults import FaultSpec
 from emulator.firmware.config import IMAGE_ADDR, Gains, encode_image
 from emulator.firmware.core import TICK_US, Firmware
-from emulator.line import Line
+from emulator.injection import MAX_FAULT_LOG, FaultInjection
+from emulator.line import SerialLink
 from emulator.plant.motor import DriveMode
 from emulator.plant.plant import WHEEL_CHANNELS, Plant
 from emulator.profiles import EmulatorProfile, get_profile
@@ -43,7 +43,7 @@ from host_sdk.enums import Board as BoardId
 from host_sdk.statemachine import SessionEvent
 
 _U32 = 1 << 32
-MAX_FAULT_LOG = 100_000
+__all__ = ["MAX_FAULT_LOG", "Emulator", "McuPhase", "ResetKind", "saved_eeprom_image"]
 
 
 class McuPhase(enum.Enum):
@@ -119,7 +119,14 @@ class _McuBoard:
         emu.m2h.send(data, emu.clock.now_us + self.stall_us)  # the host polls: nothing to schedule
 
 
-class Emulator:
+def saved_eeprom_image(profile: EmulatorProfile) -> tuple[int, bytes]:
+    """(address, bytes) of the EEPROM image a board whose defaults were saved holds (`eeprom="saved"`):
+    the profile's config and PID defaults in the C++ core's layout."""
+    robot = profile.robot
+    return IMAGE_ADDR, encode_image(robot.config, [Gains.of(robot.pid)] * WHEEL_CHANNELS)
+
+
+class Emulator(FaultInjection):
     """A RoverLink robot in software. See the module docstring and docs/emulator.md."""
 
     def __init__(
@@ -161,13 +168,13 @@ class Emulator:
         self.plant = Plant(self.profile, physics_dt_us / 1e6)
         self.faults: list[FaultRecord] = []
         self.faults_dropped = 0
-        self.h2m = Line("h2m", baud, latency_us, rng=self.streams.get("line:h2m"), log=self._log, jitter_us=jitter_us)
-        self.m2h = Line("m2h", baud, latency_us, rng=self.streams.get("line:m2h"), log=self._log, jitter_us=jitter_us)
+        self.link = SerialLink(self.streams, baud, latency_us, log=self._log, jitter_us=jitter_us)
+        self.h2m = self.link.h2m
+        self.m2h = self.link.m2h
         self.eeprom = bytearray(b"\xff" * timing.eeprom_bytes)
         if eeprom == "saved":
-            robot = self.profile.robot
-            image = encode_image(robot.config, [Gains.of(robot.pid)] * WHEEL_CHANNELS)
-            self.eeprom[IMAGE_ADDR : IMAGE_ADDR + len(image)] = image
+            address, image = saved_eeprom_image(self.profile)
+            self.eeprom[address : address + len(image)] = image
         self.eeprom_failing = False
         self.pending_eeprom: list[tuple[int, int, int]] = []
         self.firmware: Firmware | None = None
@@ -190,8 +197,7 @@ class Emulator:
         self._rx_deferred: Timer | None = None
         self.clock.call_at(physics_dt_us, self._physics, PRIORITY_PHYSICS)
         self._begin_reset(ResetKind.POWER_ON, hold_us=0)
-        spec = parse_faults(faults) if isinstance(faults, str) or faults is None else faults
-        self.apply_faults(spec)
+        self.apply_faults(faults or FaultSpec())
 
     # == time ======================================================================================
     @property
@@ -262,23 +268,19 @@ class Emulator:
             if done_us > now:
                 self.eeprom[address] = old
         self.pending_eeprom = []
-        self.m2h.abort_unsent(now)
+        bootloader = kind in (ResetKind.EXTERNAL, ResetKind.DTR)
+        self.link.mcu_reset(now, bootloader=bootloader)
         self.plant.pins_released()
         self.phase = McuPhase.RESET
         if kind is not ResetKind.POWER_ON:
             self.resets += 1
         if kind is ResetKind.BROWN_OUT:
             self.plant.power_cycle()
-        timing = self.profile.plant.timing
-        if kind in (ResetKind.EXTERNAL, ResetKind.DTR):
+        if bootloader:
             self.phase = McuPhase.BOOTLOADER
-            rng = self.streams.get("bootloader")
-            garbage = bytes(rng.randrange(256) for _ in range(rng.randint(1, 4)))
-            self.m2h.send(garbage, now + rng.randint(1000, 20000))
-            self._log(now, "bootloader_garbage", garbage.hex(" "))
             start = now + self.bootloader_ms * 1000
         else:
-            start = now + hold_us + timing.power_on_ms * 1000
+            start = now + hold_us + self.profile.plant.timing.power_on_ms * 1000
         self._boot_timer = self.clock.call_at(start, self._start_app, PRIORITY_TICK)
 
     def _start_app(self) -> None:
@@ -286,10 +288,8 @@ class Emulator:
         self.phase = McuPhase.RUNNING
         self._app_start_us = self.clock.now_us
         self._busy_until = 0
-        self._drain_rx_while_not_running()
-        # Serial.begin() drives TX high after the pin floated through reset: the adapter reads a
-        # break, a 0x00, which also ends any garbage as a frame of its own for the host's decoder.
-        self.m2h.send(b"\x00", self.clock.now_us)
+        # Host bytes that arrived in reset are lost; Serial.begin() makes the adapter read a break.
+        self.bytes_lost_not_running += self.link.sketch_started(self.clock.now_us)
         board = _McuBoard(self)
         self._board = board
         fw = Firmware(board, self.profile.robot, self.board_id)
@@ -381,37 +381,9 @@ class Emulator:
         lost = self.h2m.receive(self.clock.now_us)
         self.bytes_lost_not_running += len(lost)
 
-    # == faults ====================================================================================
-    def _log(self, time_us: int, kind: str, detail: str) -> None:
-        if len(self.faults) < MAX_FAULT_LOG:
-            self.faults.append(FaultRecord(time_us, kind, detail))
-        else:
-            self.faults_dropped += 1
-
-    def _lines(self, direction: str | None) -> list[Line]:
-        if direction is None or direction == "both":
-            return [self.h2m, self.m2h]
-        if direction == "h2m":
-            return [self.h2m]
-        if direction == "m2h":
-            return [self.m2h]
-        raise EmulatorValueError("direction", direction, "'h2m', 'm2h' or 'both'")
-
-    def _check_wheel(self, wheel: int) -> None:
-        units = len(self.plant.units)
-        if not (isinstance(wheel, int) and 0 <= wheel < units):
-            raise EmulatorValueError("wheel", wheel, f"a wheel index in 0..{units - 1} for {self.profile.name}")
-
-    def cut_link(self, direction: str = "both") -> None:
-        """Cut the cable: bytes in flight and bytes sent from now on are lost."""
-        for line in self._lines(direction):
-            line.set_cut(True, self.clock.now_us)
-        self._log(self.clock.now_us, "cut", direction)
-
-    def restore_link(self, direction: str = "both") -> None:
-        for line in self._lines(direction):
-            line.set_cut(False, self.clock.now_us)
-        self._log(self.clock.now_us, "restore", direction)
+    # == faults (the rest: emulator.injection.FaultInjection) ====================================
+    def _h2m_wake(self, time_us: int) -> None:
+        self.clock.call_at(time_us, self._on_rx, PRIORITY_RX)
 
     def reset_mcu(self) -> None:
         """Reset pin pulled (or the firmware's watchdog bit): bootloader, then a new boot."""
@@ -431,110 +403,10 @@ class Emulator:
         self._log(self.clock.now_us, "brownout", f"{duration_ms} ms")
         self._begin_reset(ResetKind.BROWN_OUT, round(duration_ms * 1000))
 
-    def stall_wheel(self, wheel: int, stalled: bool = True) -> None:
-        """Jam a wheel (it cannot turn; its motor draws stall current)."""
-        self._check_wheel(wheel)
-        self.plant.units[wheel].stalled = stalled
-        self._log(self.clock.now_us, "stall" if stalled else "unstall", f"wheel {wheel}")
-
-    def release_wheel(self, wheel: int) -> None:
-        self.stall_wheel(wheel, False)
-
-    def disconnect_encoder(self, wheel: int, disconnected: bool = True) -> None:
-        """Pull an encoder's signal wire: its count freezes while the wheel keeps turning."""
-        self._check_wheel(wheel)
-        unit = self.plant.units[wheel]
-        assert unit.encoder is not None
-        if disconnected:
-            unit.encoder.connected = False
-        else:
-            unit.encoder.reconnect(unit.angle_rad)
-        kind = "encoder_disconnect" if disconnected else "encoder_reconnect"
-        self._log(self.clock.now_us, kind, f"wheel {wheel}")
-
-    def reconnect_encoder(self, wheel: int) -> None:
-        self.disconnect_encoder(wheel, False)
-
     def fail_eeprom(self, failing: bool = True) -> None:
         """Worn EEPROM: writes no longer change the cells (SAVE_CONFIG gets EEPROM_ERROR)."""
         self.eeprom_failing = failing
         self._log(self.clock.now_us, "eeprom_fail" if failing else "eeprom_ok", "")
-
-    def set_traction(self, mu: float) -> None:
-        """Tyre friction coefficient (math.inf: never slips)."""
-        if not (mu >= 0 and not math.isnan(mu)):
-            raise EmulatorValueError("mu", mu, "a friction coefficient >= 0 (or math.inf)")
-        self.plant.vehicle.mu = mu
-        self._log(self.clock.now_us, "traction", f"mu {mu}")
-
-    def _set_rate(self, kind: str, rate: float, direction: str | None) -> None:
-        if not (0.0 <= rate <= 1.0):
-            raise EmulatorValueError(kind, rate, "a probability in 0..1")
-        for line in self._lines(direction):
-            setattr(line, kind, rate)
-        self._log(self.clock.now_us, f"{kind}_rate", f"{direction or 'both'} {rate}")
-
-    def set_bitflip_rate(self, rate: float, direction: str = "both") -> None:
-        """Probability that each data bit flips."""
-        self._set_rate("bitflip", rate, direction)
-
-    def set_drop_rate(self, rate: float, direction: str = "both") -> None:
-        """Probability that each byte is lost."""
-        self._set_rate("drop", rate, direction)
-
-    def set_insert_rate(self, rate: float, direction: str = "both") -> None:
-        """Probability that a random byte follows each byte."""
-        self._set_rate("insert", rate, direction)
-
-    def noise_burst(self, duration_s: float, ber: float = 0.02, direction: str = "both") -> None:
-        """Electrical noise from now for `duration_s`: bit errors and random bytes."""
-        now = self.clock.now_us
-        end = now + round(duration_s * 1e6)
-        for line in self._lines(direction):
-            wake = line.noise_burst(now, end, ber)
-            if line is self.h2m:
-                self.clock.call_at(wake, self._on_rx, PRIORITY_RX)
-
-    def apply_faults(self, spec: str | FaultSpec) -> None:
-        """Apply a fault spec (see emulator.faults): standing items now, timed ones when due."""
-        if isinstance(spec, str):
-            spec = parse_faults(spec)
-        for item in spec.items:
-            if item.kind in ("stall", "encoder") and item.value is not None and item.value >= len(self.plant.units):
-                raise FaultSpecError(
-                    item.token, f"wheel must be 0..{len(self.plant.units) - 1} for {self.profile.name}"
-                )
-        for item in spec.items:
-            if item.start_us is None:
-                self._apply_item(item, undo=False)
-                continue
-            self.clock.call_at(item.start_us, functools.partial(self._apply_item, item, False), PRIORITY_FAULT)
-            if item.end_us is not None and item.kind != "noise":
-                self.clock.call_at(item.end_us, functools.partial(self._apply_item, item, True), PRIORITY_FAULT)
-
-    def _apply_item(self, item: FaultItem, undo: bool) -> None:
-        kind, value, direction = item.kind, item.value, item.direction
-        if kind in ("bitflip", "drop", "insert"):
-            self._set_rate(kind, 0.0 if undo else float(value or 0.0), direction)
-        elif kind == "traction":
-            self.set_traction(self.profile.plant.body.mu if undo else float(value if value is not None else 0.0))
-        elif kind == "cut":
-            (self.restore_link if undo else self.cut_link)(direction or "both")
-        elif kind == "noise":
-            assert item.end_us is not None and item.start_us is not None
-            self.noise_burst((item.end_us - item.start_us) / 1e6, value or 0.02, direction or "both")
-        elif kind == "reset":
-            self.reset_mcu()
-        elif kind == "dtr":
-            self.dtr_reset()
-        elif kind == "brownout":
-            self.brown_out(value or 50.0)
-        elif kind == "stall":
-            self.stall_wheel(int(value or 0), not undo)
-        elif kind == "encoder":
-            self.disconnect_encoder(int(value or 0), not undo)
-        elif kind == "eeprom":
-            self.fail_eeprom(not undo)
 
     # == ground truth ==============================================================================
     @property

@@ -14,6 +14,11 @@ Faults, drawn from this direction's own seeded random stream when the byte is se
 * a cut: bytes sent, and bytes still in flight, are lost until the line is restored.
 
 Each fault is counted in `stats` and reported through `log(kind, detail)` with its virtual time.
+
+`SerialLink` is both directions together, plus what the USB-serial adapter shows the host around an
+MCU reset (the bootloader's garbage, the break when the sketch's UART starts). The Python emulator
+and the firmware-in-the-loop backends (emulator/backends/simavr.py) share it, so a fault spec or a
+DTR reset looks the same to the host on either.
 """
 
 from __future__ import annotations
@@ -24,9 +29,14 @@ from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from emulator.errors import EmulatorValueError
+from emulator.rng import Streams
 from emulator.truth import LineTruth
 
 _BITS_PER_BYTE = 10  # start + 8 data + stop
+BREAK = b"\x00"
+"""What the adapter reads when the sketch's Serial.begin() drives TX high after it floated through
+the reset: a break, received as 0x00 (it also ends any garbage as a chunk of its own)."""
 
 
 @dataclass(slots=True)
@@ -92,30 +102,47 @@ class Line:
             arrival = end_us + self.latency_us
             if self.jitter_us:
                 arrival += rng.randint(0, self.jitter_us)
-            arrival = max(arrival, self._last_arrival)
-            if self.cut:
-                stats.bytes_lost_cut += 1
-                continue
-            if self.drop and rng.random() < self.drop:
-                stats.bytes_dropped += 1
-                self._log(start_us, "drop", f"{self.name} byte #{self._sent_index} 0x{sent:02X} dropped")
-                continue
-            byte = self._flip(sent, start_us, end_us)
-            self._last_arrival = arrival
-            self._queue.append((arrival, start_us, byte))
-            if byte == 0:
-                wake.append(arrival)
-            if self.insert and rng.random() < self.insert:
-                extra = rng.randrange(256)
-                stats.bytes_inserted += 1
-                self._log(start_us, "insert", f"{self.name} byte 0x{extra:02X} inserted after #{self._sent_index}")
-                self._queue.append((arrival, start_us, extra))
-                if extra == 0:
-                    wake.append(arrival)
+            self._put(sent, start_us, end_us, max(arrival, self._last_arrival), wake)
         self._tx_free = tx
         if self._queue:
             wake.append(self._queue[-1][0])
         return wake
+
+    def send_paced(self, data: bytes, end_us: int) -> None:
+        """Bytes the sender's UART has already paced, all on the line by `end_us` (a simulated MCU
+        reports what it sent once per step): each arrives `latency_us` after `end_us`, with this
+        direction's faults, without being paced a second time."""
+        self.stats.bytes_sent += len(data)
+        start_us = max(0, end_us - round(self.byte_time_us))
+        arrival = max(end_us + self.latency_us, self._last_arrival)
+        for sent in data:
+            self._sent_index += 1
+            self._put(sent, start_us, end_us, arrival, [])
+        self._tx_free = max(self._tx_free, end_us * self.baud)
+
+    def _put(self, sent: int, start_us: int, end_us: int, arrival: int, wake: list[int]) -> None:
+        """One byte onto the line at `arrival`, through the cut, drop, flip and insert faults."""
+        stats = self.stats
+        rng = self._rng
+        if self.cut:
+            stats.bytes_lost_cut += 1
+            return
+        if self.drop and rng.random() < self.drop:
+            stats.bytes_dropped += 1
+            self._log(start_us, "drop", f"{self.name} byte #{self._sent_index} 0x{sent:02X} dropped")
+            return
+        byte = self._flip(sent, start_us, end_us)
+        self._last_arrival = arrival
+        self._queue.append((arrival, start_us, byte))
+        if byte == 0:
+            wake.append(arrival)
+        if self.insert and rng.random() < self.insert:
+            extra = rng.randrange(256)
+            stats.bytes_inserted += 1
+            self._log(start_us, "insert", f"{self.name} byte 0x{extra:02X} inserted after #{self._sent_index}")
+            self._queue.append((arrival, start_us, extra))
+            if extra == 0:
+                wake.append(arrival)
 
     def _flip(self, byte: int, start_us: int, end_us: int) -> int:
         p = self.bitflip
@@ -198,3 +225,50 @@ class Line:
             cut=self.cut,
             in_flight=self.pending(),
         )
+
+
+class SerialLink:
+    """Both directions of the line between the host and the MCU (each with its own seeded stream),
+    and the host's view of MCU resets."""
+
+    def __init__(
+        self,
+        streams: Streams,
+        baud: int,
+        latency_us: int,
+        *,
+        log: Callable[[int, str, str], None],
+        jitter_us: int = 0,
+    ) -> None:
+        self.h2m = Line("h2m", baud, latency_us, rng=streams.get("line:h2m"), log=log, jitter_us=jitter_us)
+        self.m2h = Line("m2h", baud, latency_us, rng=streams.get("line:m2h"), log=log, jitter_us=jitter_us)
+        self._bootloader = streams.get("bootloader")
+        self._log = log
+
+    def lines(self, direction: str | None) -> list[Line]:
+        """The lines a fault with this direction applies to (None or "both": both)."""
+        if direction is None or direction == "both":
+            return [self.h2m, self.m2h]
+        if direction == "h2m":
+            return [self.h2m]
+        if direction == "m2h":
+            return [self.m2h]
+        raise EmulatorValueError("direction", direction, "'h2m', 'm2h' or 'both'")
+
+    def mcu_reset(self, now_us: int, *, bootloader: bool) -> None:
+        """The MCU went into reset: what its UART had not started to send is gone. An external or DTR
+        reset runs the bootloader (a brown-out or power-on skips it, as Optiboot does): 1..4 random
+        bytes reach the host 1..20 ms later."""
+        self.m2h.abort_unsent(now_us)
+        if bootloader:
+            rng = self._bootloader
+            garbage = bytes(rng.randrange(256) for _ in range(rng.randint(1, 4)))
+            self.m2h.send(garbage, now_us + rng.randint(1000, 20000))
+            self._log(now_us, "bootloader_garbage", garbage.hex(" "))
+
+    def sketch_started(self, now_us: int) -> int:
+        """The sketch starts: the break goes to the host; returns how many host bytes arrived while
+        the MCU was not running (lost)."""
+        lost = len(self.h2m.receive(now_us))
+        self.m2h.send(BREAK, now_us)
+        return lost

@@ -13,7 +13,11 @@ and the bytes UART0 sent; this module decodes those registers into what the boar
 (duty, direction, brake/coast, pulse widths), steps `emulator.plant.Plant` (the same equations and
 profiles as the Python emulator) every `PHYSICS_US`, and hands the harness the encoder positions
 the plant reached (the harness turns each count change into quadrature edges on the encoder pins)
-and the host's bytes, paced at the baud rate. Time is virtual: simavr's cycle counter, 16 per us.
+and the host's bytes. Time is virtual: simavr's cycle counter, 16 per us. Between the host and the
+MCU is the Python emulator's serial line (`emulator.line.SerialLink`: pacing, latency, faults, the
+bootloader's garbage), and fault specs use its grammar and injection code (`emulator.injection`);
+`seed` also draws the board's own randomness (ADC0 noise, EEPROM boot counter). docs/emulator.md,
+"The simavr backend", lists what is supported and what is refused.
 
 `serve()` paces the same loop to the wall clock behind a pseudo-terminal for `roverlink emulate
 --backend simavr`; opening the port resets the MCU after the board's bootloader time (DTR).
@@ -22,19 +26,31 @@ and the host's bytes, paced at the baud rate. Time is virtual: simavr's cycle co
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import math
 import os
+import shutil
 import subprocess
 import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Protocol, TextIO
+from typing import ClassVar, Protocol, TextIO
 
+from emulator.clock import VirtualClock
+from emulator.device import ResetKind, saved_eeprom_image
+from emulator.errors import EmulatorValueError
+from emulator.faults import FaultSpec
+from emulator.firmware.config import BOOT_COUNTER_ADDR
+from emulator.injection import FaultInjection
+from emulator.line import SerialLink
 from emulator.plant.motor import DriveMode
 from emulator.plant.plant import WHEEL_CHANNELS, Plant
 from emulator.profiles import EmulatorProfile, get_profile
+from emulator.rng import Streams
+from emulator.transport.realtime import report_faults
+from emulator.truth import FaultRecord, LineTruth
 
 ROOT = Path(__file__).resolve().parents[2]
 HARNESS_DIR = ROOT / "tools" / "simavr"
@@ -275,7 +291,9 @@ def build_elf(example: str) -> Path:
 class Harness:
     """One fil_harness process: the MCU. Steps are synchronous request/reply over pipes."""
 
-    def __init__(self, wiring: BoardWiring, elf: Path, harness: Path | None = None) -> None:
+    def __init__(
+        self, wiring: BoardWiring, elf: Path, harness: Path | None = None, *, adc0_mv: int | None = None
+    ) -> None:
         exe = harness if harness is not None else build_harness()
         self.wiring = wiring
         self.watch = wiring.watch()
@@ -286,6 +304,8 @@ class Harness:
             cmd += ["--watch", hex(addr)]
         if wiring.pcint_k:
             cmd.append("--pcint-k")
+        if adc0_mv is not None:
+            cmd += ["--adc0", str(adc0_mv)]
         self._proc = subprocess.Popen(
             cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1, cwd=ROOT
         )
@@ -337,6 +357,17 @@ class Harness:
         r = self._ask("M")
         return int(r[1]), int(r[2]), int(r[3]), int(r[4])
 
+    def profile_function(self, byte_address: int) -> None:
+        """Profiles the calls of the function at that address from now on, interrupt handlers
+        excluded (see `profile`); 0 stops."""
+        self._ask(f"P {byte_address}")
+
+    def profile(self) -> tuple[int, int, int, dict[int, int]]:
+        """(calls, cycles, cheapest call, cycles per PC byte address) since the last call."""
+        r = self._ask("D")
+        per_pc = {} if r[4] == "-" else {int(a, 16): int(c) for a, c in (t.split(":") for t in r[4:])}
+        return int(r[1]), int(r[2]), int(r[3]), per_pc
+
     def close(self) -> None:
         if self._proc.poll() is None:
             with contextlib.suppress(SimavrError, BrokenPipeError, OSError):
@@ -369,6 +400,14 @@ class SimTruth:
     steering_rad: float
     resets: int
     in_reset: bool
+    stalled: tuple[bool, ...] = ()
+    encoder_connected: tuple[bool, ...] = ()
+    bytes_lost_in_reset: int = 0
+    """Host bytes that reached the MCU while it was in reset or in its bootloader."""
+    host_to_mcu: LineTruth | None = None
+    mcu_to_host: LineTruth | None = None
+    faults: tuple[FaultRecord, ...] = ()
+    """Every fault with the virtual time it took effect (as `Emulator.truth.faults`)."""
 
 
 class MCU(Protocol):
@@ -394,35 +433,73 @@ class _SimavrMCU:
 _RELEASED = PinState((0.0, 0.0), (DriveMode.COAST, DriveMode.COAST), 0, 0, 0)
 
 
-class PlantLoop:
-    """The plant around an MCU, on a virtual clock in microseconds.
+class PlantLoop(FaultInjection):
+    """The plant around an MCU, on a virtual clock in microseconds, behind the emulator's serial line.
 
     Every PHYSICS_US: the plant is stepped with the pins of the last MCU step, then the MCU runs
-    PHYSICS_US with the encoder positions the plant reached and the host bytes that reach it in
-    that interval (paced at the baud rate). MCU output bytes are delivered to the host at once."""
+    PHYSICS_US of its own time (more or less with `drift_ppm`) with the encoder positions the plant
+    reached and the host bytes that reach it in that interval. Both directions go through the Python
+    emulator's `SerialLink` (emulator/line.py): baud pacing, `latency_us`, the line faults of a fault
+    spec drawn from `seed`, the bootloader's garbage after an external or DTR reset and the break
+    when the sketch starts. Host bytes that arrive while the MCU is in reset or in its bootloader are
+    lost. Fault items are scheduled on `clock` (emulator/injection.py); see UNSUPPORTED_FAULTS."""
 
-    def __init__(self, profile: str | EmulatorProfile, mcu: MCU, *, baud: int = BAUD) -> None:
+    UNSUPPORTED_FAULTS: ClassVar[dict[str, str]] = {
+        "eeprom": "not available with --backend simavr: simavr programs every EEPROM cell the firmware "
+        "writes (it has no failing-cell model), so a write cannot be made to fail",
+    }
+
+    def __init__(
+        self,
+        profile: str | EmulatorProfile,
+        mcu: MCU,
+        *,
+        baud: int = BAUD,
+        seed: int = 0,
+        faults: str | FaultSpec | None = None,
+        latency_us: int = 0,
+        drift_ppm: float = 0.0,
+        bootloader_ms: int | None = None,
+    ) -> None:
         self.profile = get_profile(profile) if isinstance(profile, str) else profile
+        if not (isinstance(latency_us, int) and 0 <= latency_us <= 1_000_000):
+            raise EmulatorValueError("latency_us", latency_us, "an integer in 0..1000000 us")
+        if not (math.isfinite(drift_ppm) and abs(drift_ppm) <= 10_000):
+            raise EmulatorValueError("drift_ppm", drift_ppm, "a number in -10000..10000 ppm")
+        timing = self.profile.plant.timing
+        self.bootloader_ms = timing.bootloader_ms if bootloader_ms is None else bootloader_ms
+        if not (isinstance(self.bootloader_ms, int) and 0 <= self.bootloader_ms <= 60_000):
+            raise EmulatorValueError("bootloader_ms", bootloader_ms, "an integer in 0..60000 ms")
         self.plant = Plant(self.profile, PHYSICS_US / 1e6)
         self.mcu = mcu
         self.now_us = 0
+        self.clock = VirtualClock()
+        self.seed = seed
+        self.streams = Streams(seed)
+        self.faults: list[FaultRecord] = []
+        self.faults_dropped = 0
+        self.link = SerialLink(self.streams, baud, latency_us, log=self._log)
+        self.h2m = self.link.h2m
+        self.m2h = self.link.m2h
         self.pins = _RELEASED
-        self._to_mcu = bytearray()
-        self._from_mcu = bytearray()
-        self._credit = 0.0
-        self._bytes_per_step = baud / BITS_PER_BYTE * PHYSICS_US / 1e6
+        self._drift_ppb = round(drift_ppm * 1000)
+        self._mcu_steps = 0
+        self._mcu_us = 0
         self.resets = 0
-        self._hold_until = 0
+        self._restart_at: int | None = None
         self.bytes_lost_in_reset = 0
+        # Power-on: the sketch runs from the first step (no bootloader); its UART start is a break.
+        self.link.sketch_started(0)
+        self.apply_faults(faults or FaultSpec())
 
     # -- the host's end ------------------------------------------------------------------------------
     def host_write(self, data: bytes) -> None:
-        self._to_mcu += data
+        """Bytes from the host, sent now; they reach the MCU after pacing and latency."""
+        self.h2m.send(bytes(data), self.now_us)
 
     def host_read(self) -> bytes:
-        out = bytes(self._from_mcu)
-        self._from_mcu.clear()
-        return out
+        """Every byte from the MCU that has reached the host by now."""
+        return self.m2h.receive(self.now_us)
 
     # -- time --------------------------------------------------------------------------------------------
     def advance_us(self, us: int) -> None:
@@ -441,23 +518,35 @@ class PlantLoop:
         return True
 
     def _step(self) -> None:
+        start = self.now_us
         self._apply(self.pins)
-        self.plant.step(self.now_us)
-        self.now_us += PHYSICS_US
-        self._credit = min(self._credit + self._bytes_per_step, 2 * self._bytes_per_step)
-        n = min(int(self._credit), len(self._to_mcu))
-        rx = bytes(self._to_mcu[:n])
-        del self._to_mcu[:n]
-        self._credit -= n
-        if self.now_us <= self._hold_until:  # in reset / bootloader: pins released, bytes lost
+        self.plant.step(start)
+        end = self.now_us = start + PHYSICS_US
+        # The bytes whose start bit reaches the MCU in this step: its UART (the harness's receive
+        # model) takes them from there at the baud rate.
+        rx = self.h2m.receive(end + int(self.h2m.byte_time_us))
+        if self._restart_at is not None:  # in reset / bootloader: pins released, bytes lost
             self.bytes_lost_in_reset += len(rx)
             self.pins = _RELEASED
-            if self.now_us == self._hold_until:
+            if end >= self._restart_at:
+                self._restart_at = None
                 self.mcu.reset()
-            return
-        counts = self.plant.encoder_counts()
-        self.pins, out = self.mcu.step(PHYSICS_US, counts[:WHEEL_CHANNELS], rx)
-        self._from_mcu += out
+                self.bytes_lost_in_reset += self.link.sketch_started(end)
+        else:
+            counts = self.plant.encoder_counts()
+            self.pins, out = self.mcu.step(self._mcu_step_us(), counts[:WHEEL_CHANNELS], rx)
+            if out:
+                self.m2h.send_paced(out, end)  # the MCU's UART paced them during the step
+        self.clock.advance_to(end)  # fault items due by now
+
+    def _mcu_step_us(self) -> int:
+        """MCU microseconds in this step: PHYSICS_US, times 1 + drift_ppm / 1e6 on average."""
+        if not self._drift_ppb:
+            return PHYSICS_US
+        self._mcu_steps += 1
+        total = self._mcu_steps * PHYSICS_US * (1_000_000_000 + self._drift_ppb) // 1_000_000_000
+        us, self._mcu_us = total - self._mcu_us, total
+        return us
 
     def _apply(self, pins: PinState) -> None:
         plant = self.plant
@@ -470,19 +559,42 @@ class PlantLoop:
         plant.lights(pins.leds)
 
     # -- resets --------------------------------------------------------------------------------------------
-    def reset_mcu(self, hold_ms: int = 0) -> None:
-        """The reset pin: held for `hold_ms` (the bootloader's time after a DTR reset), then the sketch
-        starts again. RAM and outputs are lost, the EEPROM and the encoders' positions are kept."""
+    def _begin_reset(self, kind: ResetKind, hold_us: int) -> None:
+        """RAM and outputs are lost, the EEPROM and the encoders' positions are kept. An external or
+        DTR reset runs the bootloader (`bootloader_ms`, garbage on the line); a brown-out holds the
+        MCU in reset `hold_us`, then the oscillator starts (`power_on_ms`) and the ESC has lost its
+        calibration."""
+        now = self.now_us
         self.resets += 1
         self.pins = _RELEASED
-        self._to_mcu.clear()
-        if hold_ms <= 0:
-            self.mcu.reset()
+        bootloader = kind in (ResetKind.EXTERNAL, ResetKind.DTR)
+        self.link.mcu_reset(now, bootloader=bootloader)
+        if kind is ResetKind.BROWN_OUT:
+            self.plant.power_cycle()
+        if bootloader:
+            self._restart_at = now + self.bootloader_ms * 1000
         else:
-            self._hold_until = self.now_us + hold_ms * 1000
+            self._restart_at = now + hold_us + self.profile.plant.timing.power_on_ms * 1000
+
+    def reset_mcu(self) -> None:
+        """The reset pin: the bootloader, then the sketch starts again."""
+        self._log(self.now_us, "reset", "external reset")
+        self._begin_reset(ResetKind.EXTERNAL, 0)
 
     def dtr_reset(self) -> None:
-        self.reset_mcu(self.profile.plant.timing.bootloader_ms)
+        """What opening the port does to an Arduino: DTR pulses the reset pin."""
+        self._log(self.now_us, "dtr_reset", "DTR reset (port opened)")
+        self._begin_reset(ResetKind.DTR, 0)
+
+    def brown_out(self, duration_ms: float = 50.0) -> None:
+        """Supply dip: the MCU is held in reset for `duration_ms`, the ESC loses its calibration."""
+        if not (math.isfinite(duration_ms) and 0 < duration_ms <= 60_000):
+            raise EmulatorValueError("duration_ms", duration_ms, "a number of ms in (0, 60000]")
+        self._log(self.now_us, "brownout", f"{duration_ms} ms")
+        self._begin_reset(ResetKind.BROWN_OUT, round(duration_ms * 1000))
+
+    def fail_eeprom(self, failing: bool = True) -> None:
+        raise SimavrError(f"fail_eeprom: {self.UNSUPPORTED_FAULTS['eeprom']}")
 
     # -- truth ---------------------------------------------------------------------------------------------
     @property
@@ -502,12 +614,23 @@ class PlantLoop:
             pins=self.pins,
             steering_rad=servo.wheel_angle_rad if servo is not None else 0.0,
             resets=self.resets,
-            in_reset=self.now_us < self._hold_until,
+            in_reset=self._restart_at is not None,
+            stalled=tuple(u.stalled for u in self.plant.units),
+            encoder_connected=tuple(u.encoder.connected if u.encoder is not None else False for u in self.plant.units),
+            bytes_lost_in_reset=self.bytes_lost_in_reset,
+            host_to_mcu=self.h2m.truth(),
+            mcu_to_host=self.m2h.truth(),
+            faults=tuple(self.faults),
         )
 
 
 class SimavrRobot(PlantLoop):
-    """A reference robot's example ELF in simavr with the profile's plant around it."""
+    """A reference robot's example ELF in simavr with the profile's plant around it.
+
+    `seed` (None: the harness's fixed board) draws what is random on a real board: the ADC0 noise
+    the firmware mixes into its boot_id (`--adc0` of the harness) and the EEPROM boot counter it
+    starts from, as well as the line's faults and the bootloader's garbage. `eeprom="saved"` starts
+    with the profile's defaults saved (the image Python writes, in the C++ core's layout)."""
 
     def __init__(
         self,
@@ -516,12 +639,42 @@ class SimavrRobot(PlantLoop):
         elf: Path | None = None,
         harness: Path | None = None,
         baud: int = BAUD,
+        seed: int | None = None,
+        faults: str | FaultSpec | None = None,
+        latency_us: int = 0,
+        drift_ppm: float = 0.0,
+        eeprom: str = "blank",
+        bootloader_ms: int | None = None,
     ) -> None:
         prof = get_profile(profile)
+        if baud != BAUD:
+            raise EmulatorValueError(
+                "baud", baud, f"{BAUD} with the simavr backend: the example's Serial.begin({BAUD}) is compiled in"
+            )
+        if eeprom not in ("blank", "saved"):
+            raise EmulatorValueError("eeprom", eeprom, "'blank' (a new board) or 'saved' (defaults saved)")
         wiring = WIRING[prof.robot.example]
-        self.elf = elf if elf is not None else build_elf(wiring.example)
-        self.harness = Harness(wiring, self.elf, harness)
-        super().__init__(prof, _SimavrMCU(self.harness), baud=baud)
+        elf = elf if elf is not None else build_elf(wiring.example)
+        adc0_mv, image = board_randomness(seed)
+        if eeprom == "saved":
+            address, saved = saved_eeprom_image(prof)
+            image = image.ljust(address, b"\xff")[:address] + saved
+        self.elf = elf_with_eeprom(elf, image) if image else elf
+        self.harness = Harness(wiring, self.elf, harness, adc0_mv=adc0_mv)
+        try:
+            super().__init__(
+                prof,
+                _SimavrMCU(self.harness),
+                baud=baud,
+                seed=seed or 0,
+                faults=faults,
+                latency_us=latency_us,
+                drift_ppm=drift_ppm,
+                bootloader_ms=bootloader_ms,
+            )
+        except BaseException:
+            self.harness.close()
+            raise
 
     @property
     def mcu_cycles(self) -> int:
@@ -535,6 +688,45 @@ class SimavrRobot(PlantLoop):
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def board_randomness(seed: int | None) -> tuple[int | None, bytes]:
+    """What is random on a real board, drawn from `seed`: the millivolts on the open ADC0 pin and the
+    EEPROM boot counter (u32 at BOOT_COUNTER_ADDR, little-endian). None: the harness's fixed ADC0
+    and an erased EEPROM (no bytes to load)."""
+    if seed is None:
+        return None, b""
+    rng = Streams(seed).get("simavr:board")
+    adc0_mv = rng.randrange(5000)
+    counter = rng.getrandbits(32).to_bytes(4, "little")
+    return adc0_mv, b"\xff" * BOOT_COUNTER_ADDR + counter
+
+
+def elf_with_eeprom(elf: Path, eeprom: bytes) -> Path:
+    """A copy of `elf` with an `.eeprom` section holding `eeprom` (from address 0): simavr's loader
+    programs it into the EEPROM before the first instruction, as avrdude would flash an .eep file.
+    Cached under BUILD_DIR by content."""
+    key = hashlib.sha256(elf.read_bytes() + b"\0" + eeprom).hexdigest()[:16]
+    out = BUILD_DIR / "elf-eeprom" / key / elf.name
+    if out.is_file():
+        return out
+    objcopy = shutil.which("avr-objcopy")
+    if objcopy is None:
+        raise SimavrError("avr-objcopy (Debian: binutils-avr) is needed to give the ELF an EEPROM image")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    image = out.with_suffix(".eep.bin")
+    image.write_bytes(eeprom)
+    tmp = out.with_suffix(f".{os.getpid()}.tmp")
+    result = subprocess.run(
+        [objcopy, "--add-section", f".eeprom={image}", "--set-section-flags", ".eeprom=contents,data", elf, tmp],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    if result.returncode != 0:
+        raise SimavrError(f"avr-objcopy could not add the EEPROM image to {elf}: {result.stderr.strip()}")
+    tmp.replace(out)
+    return out
 
 
 # -- real time, behind a pseudo-terminal -------------------------------------------------------------------
@@ -568,6 +760,7 @@ def serve(
     connected = False
     busy_s = 0.0
     lag_warned = False
+    reported_faults = len(robot.faults)
     while not stop():
         now_connected, opens = endpoint.poll()
         if opens:
@@ -595,6 +788,9 @@ def serve(
         out = robot.host_read()
         if connected and out:
             endpoint.write(out)
+        if log is not None:
+            report_faults(robot.faults[reported_faults:], lambda text: _say(log, text))
+            reported_faults = len(robot.faults)
         endpoint.wait(0.001 if connected else 0.01)
     simulated_s = (robot.now_us - virt0) / 1e6
     return simulated_s / busy_s if busy_s > 0 else math.inf

@@ -165,6 +165,8 @@ class Firmware:
         self._reset_integrator = [False] * WHEEL_COUNT
         self._fb_countdown = 1
         self._blink = 0
+        self._esc_armed = False
+        """The ESC's arming window is over (latched by the first tick after it)."""
         self.sent_feedback = 0
         self._handlers: dict[type[Message], Callable[[Message, int], None]] = {
             Hello: self._on_hello,
@@ -206,6 +208,10 @@ class Firmware:
         self._fire(SessionEvent.INIT_DONE)
         if loaded is not LoadResult.OK:
             self._send(Log(LogLevel.WARN, loaded.value))
+        # The turn signals show the IDLE pattern from INIT_DONE on, not from the first tick (the
+        # C++ core's begin() does the same; found by tests/conformance, test_turn_signal_leds).
+        if self.caps & Capability.TURN_SIGNALS:
+            board.lights(light_mask(self.session.state, 0, 0, steer_cdeg=0, ackermann=False, blink=0))
 
     # == frames (1) ================================================================================
     def on_bytes(self, data: bytes) -> None:
@@ -473,6 +479,7 @@ class Firmware:
         # itself in those units), and 6. PID. Held at rest during the ESC's arming window, and out
         # of ARMED unless the safe state ramps down.
         esc_hold = self._esc_hold(now)
+        self._esc_armed = not esc_hold
         hold = esc_hold or (not armed and config.safe_state is not SafeState.RAMP_DOWN)
         saturated = False
         moving = False
@@ -547,7 +554,9 @@ class Firmware:
         return [wrap_i32(-raw[w] if inv >> w & 1 else raw[w]) for w in range(WHEEL_COUNT)]
 
     def _esc_hold(self, now: int) -> bool:
-        if not self.caps & Capability.ESC:
+        """In the ESC's arming window (5): esc_arm_ms after boot, once. Latched over by the tick
+        (`_esc_armed`): micros() wraps after 71.6 minutes, and the window must not come back then."""
+        if not self.caps & Capability.ESC or self._esc_armed:
             return False
         return (now - self.boot_micros) % _U32 < self.config.esc_arm_ms * 1000
 

@@ -11,10 +11,11 @@ from __future__ import annotations
 
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Protocol, TextIO
 
 from emulator.device import Emulator
+from emulator.truth import FaultRecord
 
 
 class Endpoint(Protocol):
@@ -80,9 +81,7 @@ def serve(
         if connected and out:
             endpoint.write(out)
         if log is not None:
-            for record in emu.faults[reported_faults:]:
-                if record.kind not in ("bitflip", "drop", "insert"):
-                    _say(log, f"t={record.time_us / 1e6:.3f}s fault {record.kind} {record.detail}")
+            report_faults(emu.faults[reported_faults:], lambda text: _say(log, text))
             reported_faults = len(emu.faults)
             for boot_id in emu.boot_ids[reported_boots:]:
                 _say(log, f"t={emu.now_us / 1e6:.3f}s boot, boot_id 0x{boot_id:08X}")
@@ -93,3 +92,10 @@ def serve(
 def _say(log: TextIO | None, text: str) -> None:
     if log is not None:
         print(f"[emulator] {text}", file=log, flush=True)
+
+
+def report_faults(records: Sequence[FaultRecord], say: Callable[[str], None]) -> None:
+    """Progress lines for fault records (not every flipped, dropped or inserted byte)."""
+    for record in records:
+        if record.kind not in ("bitflip", "drop", "insert"):
+            say(f"t={record.time_us / 1e6:.3f}s fault {record.kind} {record.detail}")

@@ -7,8 +7,14 @@
   plant, the encoders as quadrature edges on the pins.
 
 Each backend: ``write(bytes)``, ``advance_us(us)``, ``read() -> bytes``, ``reset()`` (the reset
-pin, with the board's bootloader time), ``now_us`` and ``truth()`` (pose and encoder edges from
-the plant). Everything runs on virtual time: no sleeps, deterministic for a given input.
+pin, with the board's bootloader time), ``now_us``, ``truth()`` (pose and encoder edges from
+the plant), ``pins()`` (what the ESC, servo and LED pins carry now: the plant's inputs for the
+Python model, the core's recorded outputs for the native build, the decoded registers for simavr)
+and ``disconnect_encoder(wheel)`` (the plant's encoder stops producing edges). ``make_backend(...,
+eeprom=image)`` starts the board with those bytes at EEPROM address 0 before its first boot (the
+native core boots again after the poke; simavr loads them from an ``.eeprom`` section added to a
+copy of the ELF, ``emulator.backends.simavr.elf_with_eeprom``). Everything runs on virtual time:
+no sleeps, deterministic for a given input.
 """
 
 from __future__ import annotations
@@ -20,8 +26,9 @@ from pathlib import Path
 from typing import Protocol
 
 from emulator import Emulator
-from emulator.backends.simavr import PinState, PlantLoop, SimavrRobot
+from emulator.backends.simavr import WIRING, PinState, PlantLoop, SimavrRobot, build_elf, elf_with_eeprom
 from emulator.plant.motor import DriveMode
+from emulator.profiles import get_profile
 from host_sdk import messages
 from host_sdk._generated.enums import IdentityReason
 from host_sdk._generated.profiles import PROFILES
@@ -43,6 +50,17 @@ class Truth:
     encoder_edges: tuple[int, ...]
 
 
+@dataclass(frozen=True)
+class Pins:
+    """What the board's pulse and LED pins carry at one instant (ground truth, not FEEDBACK)."""
+
+    esc_us: int
+    """0: no pulses."""
+    servo_us: int
+    leds: int
+    """roverlink::Lights bits."""
+
+
 class Backend(Protocol):
     name: str
     profile: str
@@ -60,15 +78,22 @@ class Backend(Protocol):
 
     def truth(self) -> Truth: ...
 
+    def pins(self) -> Pins: ...
+
+    def disconnect_encoder(self, wheel: int, disconnected: bool = True) -> None: ...
+
     def close(self) -> None: ...
 
 
 class PythonBackend:
-    def __init__(self, profile: str, seed: int = 1) -> None:
+    def __init__(self, profile: str, seed: int = 1, eeprom: bytes | None = None) -> None:
         self.name = "python"
         self.profile = profile
         # The board id the example reports, so IDENTITY compares byte for byte; no adapter latency.
         self.emu = Emulator(profile, seed, latency_us=0, board_id=PROFILES[profile].board)
+        if eeprom is not None:
+            assert self.emu.firmware is None  # the sketch starts after power_on_ms: not booted yet
+            self.emu.eeprom[: len(eeprom)] = eeprom
 
     @property
     def now_us(self) -> int:
@@ -89,6 +114,15 @@ class PythonBackend:
     def truth(self) -> Truth:
         p = self.emu.truth.plant
         return Truth(self.emu.now_us, p.x_m, p.y_m, p.theta_rad, tuple(w.encoder_edges for w in p.wheels))
+
+    def pins(self) -> Pins:
+        plant = self.emu.plant
+        esc = plant.esc.pulse_us if plant.esc is not None else 0
+        servo = plant.servo.pulse_us if plant.servo is not None else 0
+        return Pins(esc, servo, plant.leds.mask)
+
+    def disconnect_encoder(self, wheel: int, disconnected: bool = True) -> None:
+        self.emu.disconnect_encoder(wheel, disconnected)
 
     def close(self) -> None:
         pass
@@ -119,10 +153,14 @@ class _NativeMCU:
 
 
 class NativeBackend:
-    def __init__(self, profile: str, seed: int = 1) -> None:
+    def __init__(self, profile: str, seed: int = 1, eeprom: bytes | None = None) -> None:
         self.name = "native"
         self.profile = profile
         self.mcu = _NativeMCU(profile, seed)
+        if eeprom is not None:
+            self.mcu.sim.read()  # the first boot's bytes: dropped, as if it never happened
+            self.mcu.sim.eeprom_write(0, eeprom)
+            self.mcu.reset()  # boot again on that EEPROM
         self.loop = PlantLoop(profile, self.mcu)
 
     @property
@@ -145,16 +183,26 @@ class NativeBackend:
         t = self.loop.truth
         return Truth(t.time_us, t.x_m, t.y_m, t.theta_rad, t.encoder_edges)
 
+    def pins(self) -> Pins:
+        p = self.loop.pins
+        return Pins(p.esc_us, p.servo_us, p.leds)
+
+    def disconnect_encoder(self, wheel: int, disconnected: bool = True) -> None:
+        self.loop.disconnect_encoder(wheel, disconnected)
+
     def close(self) -> None:
         self.mcu.sim.close()
 
 
 class SimavrBackend:
-    def __init__(self, profile: str, seed: int = 1) -> None:
+    def __init__(self, profile: str, seed: int = 1, eeprom: bytes | None = None) -> None:
         del seed  # the ELF's boot_id comes from its EEPROM boot counter and ADC noise
         self.name = "simavr"
         self.profile = profile
-        self.robot = SimavrRobot(profile)
+        elf = None
+        if eeprom is not None:
+            elf = elf_with_eeprom(build_elf(WIRING[get_profile(profile).robot.example].example), eeprom)
+        self.robot = SimavrRobot(profile, elf=elf)
 
     @property
     def now_us(self) -> int:
@@ -176,17 +224,25 @@ class SimavrBackend:
         t = self.robot.truth
         return Truth(t.time_us, t.x_m, t.y_m, t.theta_rad, t.encoder_edges)
 
+    def pins(self) -> Pins:
+        p = self.robot.pins
+        return Pins(p.esc_us, p.servo_us, p.leds)
+
+    def disconnect_encoder(self, wheel: int, disconnected: bool = True) -> None:
+        self.robot.disconnect_encoder(wheel, disconnected)
+
     def close(self) -> None:
         self.robot.close()
 
 
-def make_backend(name: str, profile: str, seed: int = 1) -> Backend:
+def make_backend(name: str, profile: str, seed: int = 1, eeprom: bytes | None = None) -> Backend:
+    """`eeprom`: bytes at EEPROM address 0 before the first boot (None: a blank, erased EEPROM)."""
     if name == "python":
-        return PythonBackend(profile, seed)
+        return PythonBackend(profile, seed, eeprom)
     if name == "native":
-        return NativeBackend(profile, seed)
+        return NativeBackend(profile, seed, eeprom)
     if name == "simavr":
-        return SimavrBackend(profile, seed)
+        return SimavrBackend(profile, seed, eeprom)
     raise ValueError(f"unknown backend {name!r}: one of {', '.join(BACKENDS)}")
 
 
@@ -201,6 +257,8 @@ class Host:
         self.frames: list[tuple[int, Message]] = []
         self.cursor = 0
         self.sent_at: dict[int, int] = {}
+        self.pin_log: list[tuple[int, Pins]] | None = None
+        """Set to a list to sample ``pins()`` after every step (1 ms)."""
 
     def send(self, msg: Message, seq: int | None = None) -> int:
         if seq is None:
@@ -215,6 +273,8 @@ class Host:
         for event in self.decoder.feed(self.b.read()):
             if isinstance(event, Frame):
                 self.frames.append((self.b.now_us, event.message))
+        if self.pin_log is not None:
+            self.pin_log.append((self.b.now_us, self.b.pins()))
 
     def run_ms(self, ms: int) -> None:
         for _ in range(ms):

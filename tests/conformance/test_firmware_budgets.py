@@ -1,6 +1,7 @@
 """DESIGN.md section 6 budgets measured on the real binaries in simavr (benchmarks/firmware.py).
 
-`pytest -s` prints the figures. About 10 s for the three examples.
+`pytest -s` prints the figures and where the decode and dispatch cycles go. About 10 s for the
+three examples.
 """
 
 from __future__ import annotations
@@ -15,16 +16,20 @@ import firmware as bench
 
 from host_sdk._generated.profiles import PROFILES
 
+EXAMPLES = sorted(p.example for p in PROFILES.values())
+
 
 @pytest.fixture(scope="module")
 def figures() -> dict[str, bench.Figures]:
     out = {p.example: bench.measure(p.example, name) for name, p in sorted(PROFILES.items())}
     for f in out.values():
         print("\n  " + bench.report(f))
+    for f in out.values():
+        print("\n" + bench.breakdown(f))
     return out
 
 
-@pytest.mark.parametrize("example", sorted(p.example for p in PROFILES.values()))
+@pytest.mark.parametrize("example", EXAMPLES)
 def test_control_loop_and_byte_latency_within_budget(figures: dict[str, bench.Figures], example: str) -> None:
     f = figures[example]
     assert f.control_cpu_share <= bench.CONTROL_SHARE_BUDGET
@@ -32,11 +37,21 @@ def test_control_loop_and_byte_latency_within_budget(figures: dict[str, bench.Fi
     assert f.realtime_ratio >= 1.0, "the firmware-in-the-loop must run at least as fast as real time"
 
 
+@pytest.mark.parametrize("example", EXAMPLES)
+def test_no_receive_overrun_with_frames_back_to_back(figures: dict[str, bench.Figures], example: str) -> None:
+    f = figures[example]
+    assert f.rx_bytes > 0
+    assert f.rx_overruns == 0
+
+
 @pytest.mark.xfail(
     strict=True,
-    reason="measured about 2,500-3,400 AVR cycles per SET_PID frame (17-byte payload), budget 1500; the figure "
-    "includes the 24 RX interrupts, the Stream reads and the ACK's TX interrupts (benchmarks/firmware.py)",
+    reason="measured 6,134 (AckermannPiCar) to 6,196 (DiffDriveTB6612) AVR cycles to decode and dispatch a "
+    "SET_PID frame (17-byte payload), budget 1500: poll()'s byte loop with the inlined frame decoder about 2,000, "
+    "the range checks (layout.cpp first_failing) about 1,400, CRC-16 of the frame and of the ACK about 730, "
+    "-mcall-prologues helpers about 600, the session rules (fire) about 400, set_pid about 290; `pytest -s` "
+    "prints the breakdown (benchmarks/firmware.py)",
 )
-@pytest.mark.parametrize("example", sorted(p.example for p in PROFILES.values()))
-def test_command_frame_cycles_within_budget(figures: dict[str, bench.Figures], example: str) -> None:
-    assert figures[example].cycles_per_set_pid_frame <= bench.FRAME_CYCLES_BUDGET
+@pytest.mark.parametrize("example", EXAMPLES)
+def test_command_frame_decode_and_dispatch_within_budget(figures: dict[str, bench.Figures], example: str) -> None:
+    assert figures[example].decode_dispatch_cycles_per_set_pid_frame <= bench.FRAME_CYCLES_BUDGET

@@ -146,3 +146,13 @@ def test_turn_signals_follow_motion_state() -> None:
     emu.cut_link()
     host.run(0.5)  # watchdog: FAILSAFE
     assert all(10 <= n <= 14 for n in _toggles_over(emu, host, None, 2.0))  # all four at 3 Hz
+
+
+def test_turn_signals_light_at_boot_not_at_the_first_tick() -> None:
+    # Found by tests/conformance (test_turn_signal_leds): the C++ core lights the IDLE pattern at the
+    # end of begin(); the model waited for the first control tick, 10 ms (here 14: the boot's
+    # EEPROM write delays it) later.
+    emu = Emulator("diffdrive-tb6612", seed=16)
+    assert emu.run_until(lambda: emu.firmware is not None, 1.0, step_us=100)
+    assert emu.firmware is not None and emu.firmware.tick_count == 0
+    assert emu.truth.plant.leds == {"front_left": True, "front_right": True, "rear_left": False, "rear_right": False}

@@ -18,7 +18,12 @@ from emulator.firmware.config import (
     first_out_of_range,
 )
 from emulator.firmware.control import WheelPid, ramp_step, round_half_away
+from emulator.firmware.core import Firmware
 from emulator.profiles import get_profile
+from host_sdk import messages
+from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
+from host_sdk._generated.profiles import PROFILES
+from host_sdk.framing import encode_frame
 from host_sdk.messages import SetConfig, SetPid
 
 GAINS = Gains(kp=1.0, ki=6.0, kd=0.0, kf=1.5)
@@ -126,3 +131,69 @@ def test_eeprom_image_round_trip_and_corruption() -> None:
     bad = Sc(**{**robot.config.fields(), "esc_neutral_us": 2100})  # in range, inconsistent
     body = encode_image(bad, gains)[:-2]
     assert decode_image(body + crc16(body).to_bytes(2, "little"))[0] is LoadResult.INVALID
+
+
+class _WrapBoard:
+    """A Board whose micros() the test sets (u32, wraps), for the firmware model alone."""
+
+    eeprom_size = 1024
+
+    def __init__(self) -> None:
+        self.t = 0
+        self.esc_us = 0
+        self.out = b""
+        self.eeprom = bytearray(b"\xff" * self.eeprom_size)
+
+    def micros(self) -> int:
+        return self.t % (1 << 32)
+
+    def read_encoders(self) -> list[int]:
+        return [0, 0]
+
+    def zero_encoders(self) -> None:
+        pass
+
+    def drive(self, wheel: int, effort_permille: int, mode: object) -> None:
+        pass
+
+    def esc_pulse(self, pulse_us: int) -> None:
+        self.esc_us = pulse_us
+
+    def steering_pulse(self, pulse_us: int) -> None:
+        pass
+
+    def lights(self, mask: int) -> None:
+        pass
+
+    def eeprom_read(self, address: int, length: int) -> bytes:
+        return bytes(self.eeprom[address : address + length])
+
+    def eeprom_write(self, address: int, data: bytes) -> bool:
+        self.eeprom[address : address + len(data)] = data
+        return True
+
+    def entropy(self) -> int:
+        return 12345
+
+    def serial_write(self, data: bytes) -> None:
+        self.out += data
+
+
+def test_esc_arming_window_does_not_come_back_when_micros_wraps() -> None:
+    # control.md 5: neutral only "for esc_arm_ms after boot". The model compared micros() modulo
+    # 2^32 with the window on every tick, so 71.6 minutes after boot it held the drive at neutral
+    # for another esc_arm_ms; the C++ core latches the end of the window.
+    robot = PROFILES["picar"]
+    board = _WrapBoard()
+    fw = Firmware(board, robot)
+    fw.setup()
+    neutral = robot.config.esc_neutral_us
+    board.t = (robot.config.esc_arm_ms + 10) * 1000
+    fw.tick()  # the window is over
+    board.t = (1 << 32) + 100_000  # micros() has wrapped: 100 ms "after boot" again
+    fw.on_bytes(encode_frame(messages.Hello(PROTOCOL_VERSION, SPEC_HASH, 0, 0, 0), 0))
+    fw.on_bytes(encode_frame(messages.Arm(fw.boot_id), 1))
+    fw.on_bytes(encode_frame(messages.SetAckermann(300, 0), 2))
+    board.t += 10_000
+    fw.tick()
+    assert fw.efforts[0] > 0 and board.esc_us > neutral

@@ -269,7 +269,7 @@ def test_link_and_session_alone_fit_their_flash_budget(
 
 AREAS = (
     ("roverlink::Session", "session (core/session.{h,cpp})"),
-    ("roverlink::layout::", "message layouts walker (codec/layout.cpp)"),
+    ("roverlink::layout::", "message checks walker (codec/layout.cpp)"),
     ("roverlink::Firmware::", "control tick and the session's App (core/firmware.cpp)"),
     ("roverlink::control::", "control law (core/control.cpp)"),
     ("roverlink::config::", "configuration + EEPROM (core/config.cpp)"),

@@ -91,3 +91,14 @@ def test_pty_lockstep_and_roverlink_info() -> None:
         with Robot.connect(port, mode="lockstep") as robot:
             assert robot.mode == "lockstep"
             drive_and_check(robot)
+
+
+def test_pty_simavr_backend_with_seed_faults_and_bootloader() -> None:
+    """The compiled firmware behind the pty, with the options the Python backend has: the SDK rides
+    through a short bootloader (its garbage included), adapter latency and a lossy line."""
+    args = ("--backend", "simavr", "--profile", "diffdrive-tb6612", "--seed", "7", "--bootloader-ms", "300")
+    faults = ("--faults", "bitflip=2e-5,drop=1e-4", "--latency-ms", "2")
+    with emulate(*args, *faults) as port, Robot.connect(port, profile="diffdrive-tb6612") as robot:
+        ready = robot.stats.connect_time_s
+        assert ready is not None and ready < 3.0
+        drive_and_check(robot)

@@ -11,25 +11,44 @@
  * The driver (emulator/backends/simavr.py) owns the plant and the clock and sends one command per
  * line on stdin; each gets one reply line on stdout:
  *
- *   S <us> <count0> ... <countN-1> <hex|->  feed host bytes to UART0 (simavr paces them at the baud
- *                                           rate), move each encoder to its absolute count with
+ *   S <us> <count0> ... <countN-1> <hex|->  queue host bytes on UART0's line (sent back to back at
+ *                                           115200 baud from now or from the end of the bytes still
+ *                                           queued), move each encoder to its absolute count with
  *                                           quadrature edges spread evenly over the step, run <us>
  *                                           microseconds of MCU time. Reply:
  *                                           O <cycle> <watched bytes as hex> <uart out hex|->
  *   R                                       reset the MCU (reset pin: SRAM and I/O reset, EEPROM and
- *                                           encoder positions kept). Reply: OK <cycle>
+ *                                           encoder positions kept; bytes on the line are lost).
+ *                                           Reply: OK <cycle>
  *   T <addr>                                read a 16-bit little-endian value in data space (ground
  *                                           truth / benchmarks). Reply: V <value>
- *   C                                       cycle statistics since the last C: the longest time
- *                                           (cycles) from a UART byte entering UDR0 to the RX
- *                                           interrupt reading it, and overruns. Reply:
+ *   C                                       receive statistics since the last C: the longest time
+ *                                           (cycles) from a byte's stop bit to the firmware reading
+ *                                           it from UDR0, the bytes read, and the bytes lost to
+ *                                           overruns (see "UART0 receive" below). Reply:
  *                                           C <max_rx_latency_cycles> <bytes> <overruns>
  *   L <byte address>                        loop marker: the address of a function the sketch's main
  *                                           loop calls once per pass (serialEventRun). Reply: OK
  *   M                                       loop statistics since the last M: passes, cycles, the
  *                                           shortest and the longest pass. Reply:
  *                                           M <passes> <cycles> <min> <max>
+ *   P <byte address>                        profile calls of the function at that address (0: stop):
+ *                                           while the CPU is inside a call (from the PC reaching the
+ *                                           address until SP rises above its value there) and not in
+ *                                           an interrupt handler, each instruction's cycles are added
+ *                                           to its PC. Reply: OK
+ *   D                                       dump and reset the profile: calls, cycles, the cheapest
+ *                                           call, then <byte address hex>:<cycles> per PC (or -).
+ *                                           Reply: D <calls> <cycles> <min_call> <pc>:<cycles>...
  *   Q                                       quit (reply: BYE)
+ *
+ * UART0 receive. simavr 1.6 queues input bytes in its own 64-byte FIFO at its own pace, so neither
+ * its timing nor its DOR0 is the hardware's. The harness models the receiver instead: host bytes
+ * occupy the line for 10 bit times each (16e6 * 10 / 115200 cycles); a byte is complete in the shift
+ * register at its stop bit's middle and moves into the 2-byte receive FIFO if there is room (RXC0
+ * set while the FIFO holds a byte, reading UDR0 pops it). Otherwise it waits in the shift register
+ * and is lost when the next start bit arrives (an overrun: DOR0 is then set with the next byte that
+ * enters the FIFO, as the datasheet says). UDR0 reads are served from this model.
  *
  * After loading, the harness prints `READY <mcu>` (simavr's ELF loader may print before it).
  *
@@ -64,10 +83,6 @@
 #define M2560_PCMSK2 0x6D
 #define M2560_PCINT2_VECTOR 11
 
-/* UART0 data-space addresses, the same on both MCUs. */
-#define UCSR0A 0xC0
-#define UDR0 0xC6
-
 typedef struct {
     avr_irq_t* a;
     avr_irq_t* b;
@@ -87,9 +102,25 @@ static int pcint_k;
 static avr_int_vector_t pcint2_vector;
 static uint8_t port_k_level;
 
-/* RX latency bookkeeping: a byte enters UDR0 when RXC0 rises; it is processed when RXC0 falls. */
-static uint64_t rx_since;
-static int rx_pending;
+/* UART0 receive model (header comment). Line times are in ninths of a cycle: one bit at 115200 baud
+ * is 16e6 / 115200 = 1250/9 cycles, so every edge is an exact integer. */
+#define LINE_QUEUE 65536
+#define BIT_9 1250u
+#define BYTE_9 (10u * BIT_9)
+#define STOP_MIDDLE_9 (BIT_9 * 19u / 2u) /* start + 8 data bits + half the stop bit */
+static avr_uart_t* uart0;
+static uint8_t line_byte[LINE_QUEUE];
+static uint64_t line_start9[LINE_QUEUE];
+static size_t line_head, line_count;
+static int line_head_started;       /* the head byte's start bit has reached the receiver */
+static uint64_t line_free9;         /* when the line can carry the next queued byte's start bit */
+static int shift_full;              /* a complete byte waits in the shift register: the FIFO is full */
+static uint8_t shift_byte;
+static uint64_t shift_since;
+static uint8_t fifo_byte[2], fifo_dor[2];
+static uint64_t fifo_since[2];      /* the cycle the byte was complete: the latency's origin */
+static int fifo_count;
+static int dor_pending;             /* a byte was lost: the next byte into the FIFO carries DOR0 */
 static uint64_t rx_max_latency;
 static uint64_t rx_bytes;
 static uint64_t rx_overruns;
@@ -161,21 +192,189 @@ static void drive_encoder(encoder_t* e) {
     pin_change_k(e->port_b, e->bit_b, b);
 }
 
-static void track_rx(void) {
-    const int rxc = (avr->data[UCSR0A] & 0x80) != 0;
-    if (rxc && !rx_pending) {
-        rx_pending = 1;
-        rx_since = avr->cycle;
-    } else if (!rxc && rx_pending) {
-        rx_pending = 0;
-        const uint64_t latency = avr->cycle - rx_since;
-        if (latency > rx_max_latency) rx_max_latency = latency;
-        ++rx_bytes;
+/* RXC0 and DOR0 follow the FIFO. The RX vector is sticky (RXC0 stays set while it runs), so it is
+ * raised again while bytes remain: the handler runs once per byte, as on the hardware. */
+static void rx_flags(void) {
+    avr_regbit_setto(avr, uart0->dor, fifo_count > 0 && fifo_dor[0]);
+    if (fifo_count > 0) {
+        avr_raise_interrupt(avr, &uart0->rxc);
+    } else {
+        avr_clear_interrupt(avr, &uart0->rxc);
+        avr_regbit_clear(avr, uart0->rxc.raised);
     }
-    static int dor;
-    const int dor_now = (avr->data[UCSR0A] & 0x08) != 0; /* DOR0, counted on its rising edge */
-    if (dor_now && !dor) ++rx_overruns;
-    dor = dor_now;
+}
+
+static void fifo_push(uint8_t byte, uint64_t since) {
+    fifo_byte[fifo_count] = byte;
+    fifo_dor[fifo_count] = (uint8_t)dor_pending;
+    fifo_since[fifo_count] = since;
+    ++fifo_count;
+    dor_pending = 0;
+}
+
+static uint8_t udr0_read(struct avr_t* a, avr_io_addr_t addr, void* param) {
+    (void)param;
+    if (fifo_count == 0) return a->data[addr]; /* nothing received: the last byte again */
+    const uint8_t v = fifo_byte[0];
+    const uint64_t latency = a->cycle - fifo_since[0];
+    if (latency > rx_max_latency) rx_max_latency = latency;
+    ++rx_bytes;
+    fifo_byte[0] = fifo_byte[1];
+    fifo_dor[0] = fifo_dor[1];
+    fifo_since[0] = fifo_since[1];
+    --fifo_count;
+    if (shift_full) {
+        shift_full = 0;
+        fifo_push(shift_byte, shift_since);
+    }
+    rx_flags();
+    return v;
+}
+
+static uint64_t ceil_9(uint64_t t9) { return (t9 + 8u) / 9u; }
+
+/* Every line edge due by now: start bits (a byte still in the shift register is lost) and stop bits
+ * (the byte is complete). Returns the cycle of the next edge, 0 when the line is idle. */
+static avr_cycle_count_t line_events(struct avr_t* a, avr_cycle_count_t when, void* param) {
+    (void)when;
+    (void)param;
+    const uint64_t now9 = a->cycle * 9u;
+    const int rxen = (a->data[uart0->rxen.reg] >> uart0->rxen.bit) & 1;
+    while (line_count > 0) {
+        const uint64_t start9 = line_start9[line_head];
+        if (!line_head_started) {
+            if (start9 > now9) return ceil_9(start9);
+            line_head_started = 1;
+            if (shift_full) {
+                shift_full = 0;
+                ++rx_overruns;
+                dor_pending = 1;
+            }
+        }
+        const uint64_t done9 = start9 + STOP_MIDDLE_9;
+        if (done9 > now9) return ceil_9(done9);
+        const uint8_t byte = line_byte[line_head];
+        line_head = (line_head + 1) % LINE_QUEUE;
+        --line_count;
+        line_head_started = 0;
+        if (!rxen) continue; /* receiver off (before Serial.begin): the byte is not received */
+        if (fifo_count < 2) {
+            fifo_push(byte, ceil_9(done9));
+            rx_flags();
+        } else {
+            shift_full = 1;
+            shift_byte = byte;
+            shift_since = ceil_9(done9);
+        }
+    }
+    return 0;
+}
+
+static int line_send(uint8_t byte) {
+    if (line_count == LINE_QUEUE) return 0;
+    const uint64_t now9 = avr->cycle * 9u;
+    const uint64_t start9 = line_free9 > now9 ? line_free9 : now9;
+    const size_t at = (line_head + line_count) % LINE_QUEUE;
+    line_byte[at] = byte;
+    line_start9[at] = start9;
+    ++line_count;
+    line_free9 = start9 + BYTE_9;
+    return 1;
+}
+
+static void line_schedule(void) {
+    if (line_count == 0) return;
+    const uint64_t start9 = line_start9[line_head];
+    const uint64_t next9 = line_head_started ? start9 + STOP_MIDDLE_9 : start9;
+    const uint64_t next = ceil_9(next9);
+    avr_cycle_timer_register(avr, next > avr->cycle ? next - avr->cycle : 0, line_events, NULL);
+}
+
+/* After a reset: the line and the receiver start empty. simavr refuses a second reader for UDR0
+ * (avr_register_io_read aborts), so the model's reader replaces the UART module's in the I/O table;
+ * simavr's own input FIFO is never fed. */
+static void uart_rx_reset(void) {
+    for (avr_io_t* io = avr->io_port; io != NULL && uart0 == NULL; io = io->next) {
+        if (strcmp(io->kind, "uart") == 0 && ((avr_uart_t*)io)->name == '0') uart0 = (avr_uart_t*)io;
+    }
+    if (uart0 == NULL) {
+        fprintf(stderr, "fil_harness: no UART0\n");
+        exit(2);
+    }
+    avr->io[AVR_DATA_TO_IO(uart0->r_udr)].r.c = udr0_read;
+    avr->io[AVR_DATA_TO_IO(uart0->r_udr)].r.param = NULL;
+    avr_cycle_timer_cancel(avr, line_events, NULL);
+    line_head = line_count = 0;
+    line_head_started = 0;
+    line_free9 = avr->cycle * 9u;
+    shift_full = 0;
+    fifo_count = 0;
+    dor_pending = 0;
+}
+
+/* Profile of one function's calls (P / D): cycles per PC inside its dynamic extent, interrupt
+ * handlers excluded. One slot per flash word. A call counts when it returns (its cycles wait in
+ * prof_cur until then), so a dump holds whole calls only. */
+static avr_flashaddr_t prof_func;
+static uint64_t *prof_hist, *prof_cur;
+static uint32_t* prof_touched;
+static size_t prof_words, prof_touched_count;
+static int prof_in;
+static uint16_t prof_sp;
+static uint64_t prof_calls, prof_cycles, prof_call, prof_min = UINT64_MAX;
+
+static uint16_t sp(void) { return (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8)); }
+
+static void prof_reset(void) {
+    if (prof_hist != NULL) memset(prof_hist, 0, prof_words * sizeof *prof_hist);
+    prof_calls = prof_cycles = 0;
+    prof_min = UINT64_MAX;
+}
+
+static void prof_abandon(void) { /* a call cut short by a reset or a new P */
+    for (size_t i = 0; i < prof_touched_count; ++i) prof_cur[prof_touched[i]] = 0;
+    prof_touched_count = 0;
+    prof_in = 0;
+}
+
+static int prof_alloc(void) {
+    prof_words = (size_t)avr->flashend / 2 + 1;
+    prof_hist = calloc(prof_words, sizeof *prof_hist);
+    prof_cur = calloc(prof_words, sizeof *prof_cur);
+    prof_touched = calloc(prof_words, sizeof *prof_touched);
+    return prof_hist != NULL && prof_cur != NULL && prof_touched != NULL;
+}
+
+static void prof_add(avr_flashaddr_t pc, uint64_t cycles) {
+    const uint32_t w = pc >> 1;
+    if (prof_cur[w] == 0) prof_touched[prof_touched_count++] = w;
+    prof_cur[w] += cycles;
+    prof_call += cycles;
+}
+
+static void prof_return(void) {
+    for (size_t i = 0; i < prof_touched_count; ++i) {
+        const uint32_t w = prof_touched[i];
+        prof_hist[w] += prof_cur[w];
+        prof_cur[w] = 0;
+    }
+    prof_touched_count = 0;
+    prof_in = 0;
+    ++prof_calls;
+    prof_cycles += prof_call;
+    if (prof_call < prof_min) prof_min = prof_call;
+}
+
+static void prof_dump(void) {
+    printf("D %" PRIu64 " %" PRIu64 " %" PRIu64, prof_calls, prof_cycles, prof_calls ? prof_min : 0);
+    int any = 0;
+    for (size_t w = 0; prof_hist != NULL && w < prof_words; ++w) {
+        if (prof_hist[w] == 0) continue;
+        printf(" %zx:%" PRIu64, w * 2, prof_hist[w]);
+        any = 1;
+    }
+    printf(any ? "\n" : " -\n");
+    prof_reset();
 }
 
 /* Main-loop passes: each time the PC reaches the marker. The shortest pass is poll() with nothing
@@ -198,13 +397,26 @@ static void track_loop(void) {
 
 static int run_until(uint64_t end) {
     while (avr->cycle < end) {
+        /* The step's cycles belong to the instruction at the PC before it (an interrupt is entered
+         * after the instruction, within the same avr_run). */
+        const avr_flashaddr_t pc = avr->pc;
+        const avr_cycle_count_t before = avr->cycle;
+        const int in_isr = avr->interrupts.running_ptr > 0;
+        if (prof_func != 0 && !prof_in && pc == prof_func && !in_isr) {
+            prof_in = 1;
+            prof_sp = sp();
+            prof_call = 0;
+        }
         const int state = avr_run(avr);
         if (state == cpu_Done || state == cpu_Crashed) {
             fprintf(stderr, "fil_harness: the firmware stopped (state %d) at cycle %" PRIu64 "\n", state,
                     (uint64_t)avr->cycle);
             return 0;
         }
-        track_rx();
+        if (prof_in) {
+            if (!in_isr) prof_add(pc, avr->cycle - before);
+            if (sp() > prof_sp) prof_return(); /* an interrupt lowers SP; only the return raises it */
+        }
         track_loop();
     }
     return 1;
@@ -231,12 +443,11 @@ static int cmd_step(char* args) {
     tok = strtok_r(NULL, " \t\n", &save);
     if (tok == NULL) return 0;
     if (strcmp(tok, "-") != 0) {
-        avr_irq_t* in = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT);
         for (size_t i = 0; tok[i] && tok[i + 1]; i += 2) {
             const int hi = hexval(tok[i]), lo = hexval(tok[i + 1]);
-            if (hi < 0 || lo < 0) return 0;
-            avr_raise_irq(in, (uint32_t)(hi * 16 + lo));
+            if (hi < 0 || lo < 0 || !line_send((uint8_t)(hi * 16 + lo))) return 0;
         }
+        line_schedule();
     }
     const uint64_t start = avr->cycle;
     const uint64_t span = us * CYCLES_PER_US;
@@ -293,7 +504,8 @@ static void after_reset(uint32_t adc_mv) {
     avr->avcc = avr->aref = 5000;
     avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_ADC0), adc_mv);
     for (int w = 0; w < encoder_count; ++w) drive_encoder(&encoders[w]);
-    rx_pending = 0;
+    uart_rx_reset();
+    if (prof_in) prof_abandon();
 }
 
 int main(int argc, char** argv) {
@@ -404,6 +616,19 @@ int main(int argc, char** argv) {
                 loop_passes = loop_max = 0;
                 loop_min = UINT64_MAX;
                 loop_cycles_from = loop_last;
+                break;
+            case 'P':
+                if (prof_hist == NULL && !prof_alloc()) {
+                    ok = 0;
+                    break;
+                }
+                prof_func = (avr_flashaddr_t)strtoul(line + 1, NULL, 0);
+                if (prof_in) prof_abandon();
+                prof_reset();
+                printf("OK\n");
+                break;
+            case 'D':
+                prof_dump();
                 break;
             case 'Q':
                 printf("BYE\n");
