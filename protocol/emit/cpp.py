@@ -293,7 +293,8 @@ def _source(spec: Spec) -> str:
     out.append("            return true;\n        }\n    }\n    return false;\n}\n\n")
     out.append(_unpackers(spec))
     out.append("// Checks tables (codec/layout.h): PAYLOAD_SIZE, PAYLOAD_MAX, offset of <name>_len or NO_TAIL,\n")
-    out.append("// entry count, then per checked field its code, index, offset, [count | 0], check data (LE).\n")
+    out.append("// value and range entry counts, then per checked field (value entries first) its code, index,\n")
+    out.append("// offset, [count | 0], check data (LE).\n")
     for m in spec.messages:
         if m.fields:
             out.append(_layout(m))
@@ -440,13 +441,15 @@ def _layout(m: Message) -> str:
     n = m.class_name
     checked = [(i, f, *_check(f)) for i, f in enumerate(m.fields)]
     checked = [c for c in checked if c[2] != "CHECK_NONE"]
+    checked.sort(key=lambda c: c[2] == "CHECK_RANGE")  # value entries first (stable: spec order)
+    values = sum(1 for c in checked if c[2] != "CHECK_RANGE")
     tail = m.trailing
     if tail is not None and PRIMITIVES[tail.prim][0] != 1:
         raise ValueError(f"{m.name}.{tail.name}: the C++ structs hold variable-length arrays of bytes only")
     tail_at = f"offsetof({n}, {tail.name}_len)" if tail is not None else "layout::NO_TAIL"
     out = [f"// {m.name}: payload {m.payload_size}..{m.payload_max} bytes, {len(checked)} checked fields.\n"]
     out.append(f"const uint8_t {_layout_name(m)}[] ROVERLINK_PROGMEM = {{\n")
-    out.append(f"    {m.payload_size}, {m.payload_max}, {tail_at}, {len(checked)},\n")
+    out.append(f"    {m.payload_size}, {m.payload_max}, {tail_at}, {values}, {len(checked) - values},\n")
     for i, f, check, data, note in checked:
         code = f"layout::{_WIRE[f.prim]} | layout::{check}"
         items = [str(i), f"offsetof({n}, {f.name})"]

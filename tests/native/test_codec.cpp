@@ -859,12 +859,12 @@ struct ROVERLINK_PACKED Probe {
 };
 static_assert(offsetof(Probe, text_len) == 13, "Probe must be its payload's image");
 static const uint8_t PROBE_LAYOUT[] = {
-    9, 13, offsetof(Probe, text_len), 5,
+    9, 13, offsetof(Probe, text_len), 3, 2,  // three value entries, then two range entries
     layout::WIRE_U8 | layout::CHECK_VALUES, 0, offsetof(Probe, e), 3, 12, 2, 0x91, 0x02,
-    layout::WIRE_I16 | layout::CHECK_RANGE, 1, offsetof(Probe, s), 0xD4, 0x7E, 0x9C, 0x7F,
-    layout::WIRE_F32 | layout::CHECK_RANGE, 2, offsetof(Probe, f), 0xFF, 0xFF, 0x3F, 0x40, 0x00, 0x00, 0x20, 0xC0,
     layout::WIRE_U16 | layout::CHECK_FLAGS, 3, offsetof(Probe, flags), 0x05, 0x01,
     layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, 4, offsetof(Probe, text), 0, 0x00, 0x7F, 0,
+    layout::WIRE_I16 | layout::CHECK_RANGE, 1, offsetof(Probe, s), 0xD4, 0x7E, 0x9C, 0x7F,
+    layout::WIRE_F32 | layout::CHECK_RANGE, 2, offsetof(Probe, f), 0xFF, 0xFF, 0x3F, 0x40, 0x00, 0x00, 0x20, 0xC0,
 };
 
 static float f32(uint32_t bits) {

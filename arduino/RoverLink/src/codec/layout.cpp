@@ -9,37 +9,59 @@ namespace {
 
 uint8_t flash_byte(const uint8_t* p) { return ROVERLINK_READ_BYTE(p); }
 
-// An element's order key (w bytes, little-endian): signed with the sign bit flipped; f32 (sign
-// and magnitude) with the sign bit set when positive, every bit inverted when negative. The keys'
-// unsigned order is the numbers' order, so a NaN comes out beyond -inf or +inf and fails every
-// range; the generator writes the bounds as keys.
-void to_key(uint8_t code, const uint8_t* value, uint8_t w, uint8_t* k) {
+// Compares an element (w bytes little-endian, RAM) with a bound (flash) as numbers of the field's
+// kind: < 0, 0, > 0. The bound is an order key (layout.h); the element's key is made byte by byte
+// from the top down, so most comparisons end at the first byte: signed: the sign bit flipped; f32
+// (sign and magnitude): the sign bit set when positive, every bit inverted when negative. NaNs come
+// out beyond -inf and +inf, so they fail every range.
+int8_t compare(uint8_t code, const uint8_t* v, const uint8_t* bound, uint8_t w) {
     const uint8_t kind = code & KIND_MASK;
-    const uint8_t invert = kind == KIND_FLOAT && (value[w - 1] & 0x80) ? 0xFF : 0x00;
-    for (uint8_t i = 0; i < w; ++i) {
-        k[i] = value[i] ^ invert;
-    }
-    if (kind != KIND_UNSIGNED && invert == 0) {
-        k[w - 1] ^= 0x80;
-    }
-}
-
-// Compares a key (RAM) with a bound (flash), both w bytes little-endian: < 0, 0, > 0.
-int8_t compare(const uint8_t* k, const uint8_t* bound, uint8_t w) {
-    for (uint8_t i = w; i-- > 0;) {
+    const uint8_t invert = kind == KIND_FLOAT && (v[w - 1] & 0x80) ? 0xFF : 0x00;
+    uint8_t flip = kind != KIND_UNSIGNED && invert == 0 ? 0x80 : 0x00;  // the top byte's sign bit
+    for (uint8_t i = w; i-- > 0; flip = 0) {
+        const uint8_t k = static_cast<uint8_t>(v[i] ^ invert ^ flip);
         const uint8_t b = flash_byte(bound + i);
-        if (k[i] != b) {
-            return k[i] < b ? -1 : 1;
+        if (k != b) {
+            return k < b ? -1 : 1;
         }
     }
     return 0;
 }
 
-// The field index of the first element that fails a check of the wanted kind (CHECK_RANGE, or the
-// value checks when `ranges` is false), else ALL_VALID.
+// Whether an element passes its field's check; data: the check data (layout.h).
+bool accepts(uint8_t code, const uint8_t* data, const uint8_t* v) {
+    const uint8_t w = code & WIDTH_MASK;
+    const uint8_t check = code & CHECK_MASK;
+    if (check == CHECK_FLAGS) {
+        for (uint8_t i = 0; i < w; ++i) {
+            if (v[i] & ~flash_byte(data + i)) {
+                return false;
+            }
+        }
+        return true;
+    }
+    if (compare(code, v, data, w) < 0 || compare(code, v, data + w, w) > 0) {
+        return false;
+    }
+    // CHECK_VALUES with a bitmap: lo <= value <= hi and hi - lo < 256, so the low bytes' difference
+    // (of the keys: the values of an enum, never floats) is the value's bit.
+    const uint8_t* const bitmap = data + 2 * w;
+    if (check == CHECK_VALUES && flash_byte(bitmap) != 0) {
+        const uint8_t low = w == 1 && (code & KIND_MASK) == KIND_SIGNED ? v[0] ^ 0x80 : v[0];
+        const uint8_t k = static_cast<uint8_t>(low - flash_byte(data));
+        return (flash_byte(bitmap + 1 + (k >> 3)) >> (k & 7u)) & 1u;
+    }
+    return true;
+}
+
+// The field index of the first element that fails a check of the wanted kind (the range entries,
+// or the value entries before them), else ALL_VALID.
 uint8_t first_failing(const uint8_t* checks, const uint8_t* m, bool ranges) {
+    const uint8_t values = flash_byte(checks + 3);
+    const uint8_t first = ranges ? values : 0;
+    const uint8_t end = ranges ? static_cast<uint8_t>(values + flash_byte(checks + 4)) : values;
     const uint8_t* p = checks + HEADER_SIZE;
-    for (uint8_t n = flash_byte(checks + 3); n > 0; --n) {
+    for (uint8_t e = 0; e < end; ++e) {
         const uint8_t code = flash_byte(p);
         const uint8_t field = flash_byte(p + 1);
         const uint8_t* v = m + flash_byte(p + 2);
@@ -53,32 +75,16 @@ uint8_t first_failing(const uint8_t* checks, const uint8_t* m, bool ranges) {
         }
         const uint8_t w = code & WIDTH_MASK;
         const uint8_t check = code & CHECK_MASK;
-        const uint8_t* const lo = p;
+        const uint8_t* const data = p;
         p += check == CHECK_FLAGS ? w : 2 * w;
-        const uint8_t* const bitmap = p;
         if (check == CHECK_VALUES) {
             p += 1 + flash_byte(p);  // the bitmap's size, and the bitmap
         }
-        if ((check == CHECK_RANGE) != ranges) {
+        if (e < first) {
             continue;
         }
         for (; count > 0; --count, v += w) {
-            uint8_t k[4];
-            to_key(code, v, w, k);
-            bool ok = true;
-            if (check == CHECK_FLAGS) {
-                for (uint8_t i = 0; i < w; ++i) {
-                    ok = ok && (k[i] & ~flash_byte(lo + i)) == 0;
-                }
-            } else {
-                ok = compare(k, lo, w) >= 0 && compare(k, lo + w, w) <= 0;
-                // CHECK_VALUES with a bitmap: hi - lo < 256, so the low bytes' difference is the bit.
-                if (ok && check == CHECK_VALUES && flash_byte(bitmap) != 0) {
-                    const uint8_t i = static_cast<uint8_t>(k[0] - flash_byte(lo));
-                    ok = (flash_byte(bitmap + 1 + (i >> 3)) >> (i & 7u)) & 1u;
-                }
-            }
-            if (!ok) {
+            if (!accepts(code, data, v)) {
                 return field;
             }
         }

@@ -7,7 +7,8 @@
 // A message's checks table (generated into src/generated/roverlink_protocol.cpp, PROGMEM on AVR):
 //
 //   PAYLOAD_SIZE, PAYLOAD_MAX, offsetof(<name>_len) of the variable-length last field or NO_TAIL,
-//   number of entries, then per checked field, in spec order:
+//   number of value entries (CHECK_VALUES, CHECK_FLAGS), number of range entries (CHECK_RANGE),
+//   then per checked field, the value entries first (unpack() walks only those), each in spec order:
 //     code                       element width in bytes | kind | check | ARRAY (constants below)
 //     field index                the field's position in the spec (check_ranges()' answer)
 //     offsetof(struct, field)    = its offset in the payload
@@ -68,7 +69,7 @@ enum : uint8_t {
     CHECK_MASK = 0x60,
     ARRAY = 0x80,
 };
-static const uint8_t HEADER_SIZE = 4;
+static const uint8_t HEADER_SIZE = 5;
 static const uint8_t NO_TAIL = 0xFF;    // header byte 2: the message has no variable-length field
 static const uint8_t ALL_VALID = 0xFF;  // check_ranges(): every field in range
 

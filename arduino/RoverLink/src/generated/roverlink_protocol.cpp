@@ -262,27 +262,28 @@ DispatchResult unpack_mcu_to_host(uint8_t msg_id, const uint8_t* payload, uint8_
 }
 
 // Checks tables (codec/layout.h): PAYLOAD_SIZE, PAYLOAD_MAX, offset of <name>_len or NO_TAIL,
-// entry count, then per checked field its code, index, offset, [count | 0], check data (LE).
+// value and range entry counts, then per checked field (value entries first) its code, index,
+// offset, [count | 0], check data (LE).
 // HELLO: payload 9..9 bytes, 2 checked fields.
 const uint8_t HELLO_CHECKS[] ROVERLINK_PROGMEM = {
-    9, 9, layout::NO_TAIL, 2,
-    layout::WIRE_U16 | layout::CHECK_RANGE, 2, offsetof(Hello, watchdog_ms), 0x00, 0x00, 0x60, 0xEA,  // watchdog_ms: 0..60000
+    9, 9, layout::NO_TAIL, 1, 1,
     layout::WIRE_U8 | layout::CHECK_VALUES, 3, offsetof(Hello, feedback_mode), 0x00, 0x01, 0x00,  // feedback_mode: FeedbackMode 0..1
+    layout::WIRE_U16 | layout::CHECK_RANGE, 2, offsetof(Hello, watchdog_ms), 0x00, 0x00, 0x60, 0xEA,  // watchdog_ms: 0..60000
 };
 
 // PING: payload 4..4 bytes, 0 checked fields.
 const uint8_t PING_CHECKS[] ROVERLINK_PROGMEM = {
-    4, 4, layout::NO_TAIL, 0,
+    4, 4, layout::NO_TAIL, 0, 0,
 };
 
 // ARM: payload 4..4 bytes, 0 checked fields.
 const uint8_t ARM_CHECKS[] ROVERLINK_PROGMEM = {
-    4, 4, layout::NO_TAIL, 0,
+    4, 4, layout::NO_TAIL, 0, 0,
 };
 
 // SET_PID: payload 17..17 bytes, 4 checked fields.
 const uint8_t SET_PID_CHECKS[] ROVERLINK_PROGMEM = {
-    17, 17, layout::NO_TAIL, 4,
+    17, 17, layout::NO_TAIL, 0, 4,
     layout::WIRE_F32 | layout::CHECK_RANGE, 1, offsetof(SetPid, kp), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kp: 0.0f..1000.0f
     layout::WIRE_F32 | layout::CHECK_RANGE, 2, offsetof(SetPid, ki), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // ki: 0.0f..1000.0f
     layout::WIRE_F32 | layout::CHECK_RANGE, 3, offsetof(SetPid, kd), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kd: 0.0f..1000.0f
@@ -291,14 +292,14 @@ const uint8_t SET_PID_CHECKS[] ROVERLINK_PROGMEM = {
 
 // GET_PID: payload 1..1 bytes, 0 checked fields.
 const uint8_t GET_PID_CHECKS[] ROVERLINK_PROGMEM = {
-    1, 1, layout::NO_TAIL, 0,
+    1, 1, layout::NO_TAIL, 0, 0,
 };
 
 // SET_CONFIG: payload 40..40 bytes, 21 checked fields.
 const uint8_t SET_CONFIG_CHECKS[] ROVERLINK_PROGMEM = {
-    40, 40, layout::NO_TAIL, 21,
-    layout::WIRE_U16 | layout::CHECK_RANGE, 0, offsetof(SetConfig, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // watchdog_ms: 50..2000
+    40, 40, layout::NO_TAIL, 1, 20,
     layout::WIRE_U8 | layout::CHECK_VALUES, 1, offsetof(SetConfig, safe_state), 0x00, 0x02, 0x00,  // safe_state: SafeState 0..2
+    layout::WIRE_U16 | layout::CHECK_RANGE, 0, offsetof(SetConfig, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // watchdog_ms: 50..2000
     layout::WIRE_U16 | layout::CHECK_RANGE, 2, offsetof(SetConfig, accel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // accel_limit_mm_s2: 1..65535
     layout::WIRE_U16 | layout::CHECK_RANGE, 3, offsetof(SetConfig, decel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // decel_limit_mm_s2: 1..65535
     layout::WIRE_U16 | layout::CHECK_RANGE, 4, offsetof(SetConfig, max_wheel_speed_mm_s), 0x01, 0x00, 0x20, 0x4E,  // max_wheel_speed_mm_s: 1..20000
@@ -322,18 +323,18 @@ const uint8_t SET_CONFIG_CHECKS[] ROVERLINK_PROGMEM = {
 
 // SET_WHEEL_SPEEDS: payload 4..4 bytes, 0 checked fields.
 const uint8_t SET_WHEEL_SPEEDS_CHECKS[] ROVERLINK_PROGMEM = {
-    4, 4, layout::NO_TAIL, 0,
+    4, 4, layout::NO_TAIL, 0, 0,
 };
 
 // SET_ACKERMANN: payload 4..4 bytes, 1 checked fields.
 const uint8_t SET_ACKERMANN_CHECKS[] ROVERLINK_PROGMEM = {
-    4, 4, layout::NO_TAIL, 1,
+    4, 4, layout::NO_TAIL, 0, 1,
     layout::WIRE_I16 | layout::CHECK_RANGE, 1, offsetof(SetAckermann, steering_mrad), 0xDD, 0x79, 0x23, 0x86,  // steering_mrad: -1571..1571
 };
 
 // IDENTITY: payload 25..49 bytes, 5 checked fields.
 const uint8_t IDENTITY_CHECKS[] ROVERLINK_PROGMEM = {
-    25, 49, offsetof(Identity, robot_name_len), 5,
+    25, 49, offsetof(Identity, robot_name_len), 5, 0,
     layout::WIRE_U8 | layout::CHECK_VALUES, 3, offsetof(Identity, board), 0x00, 0x04, 0x00,  // board: Board 0..4
     layout::WIRE_U16 | layout::CHECK_FLAGS, 4, offsetof(Identity, capabilities), 0xFF, 0x00,  // capabilities: Capability bits 0xFF
     layout::WIRE_U8 | layout::CHECK_VALUES, 7, offsetof(Identity, reason), 0x00, 0x02, 0x00,  // reason: IdentityReason 0..2
@@ -343,23 +344,23 @@ const uint8_t IDENTITY_CHECKS[] ROVERLINK_PROGMEM = {
 
 // PONG: payload 8..8 bytes, 0 checked fields.
 const uint8_t PONG_CHECKS[] ROVERLINK_PROGMEM = {
-    8, 8, layout::NO_TAIL, 0,
+    8, 8, layout::NO_TAIL, 0, 0,
 };
 
 // ACK: payload 2..2 bytes, 0 checked fields.
 const uint8_t ACK_CHECKS[] ROVERLINK_PROGMEM = {
-    2, 2, layout::NO_TAIL, 0,
+    2, 2, layout::NO_TAIL, 0, 0,
 };
 
 // NACK: payload 4..4 bytes, 1 checked fields.
 const uint8_t NACK_CHECKS[] ROVERLINK_PROGMEM = {
-    4, 4, layout::NO_TAIL, 1,
+    4, 4, layout::NO_TAIL, 1, 0,
     layout::WIRE_U8 | layout::CHECK_VALUES, 2, offsetof(Nack, reason), 0x01, 0x09, 0x00,  // reason: NackReason 1..9
 };
 
 // PID: payload 18..18 bytes, 4 checked fields.
 const uint8_t PID_CHECKS[] ROVERLINK_PROGMEM = {
-    18, 18, layout::NO_TAIL, 4,
+    18, 18, layout::NO_TAIL, 0, 4,
     layout::WIRE_F32 | layout::CHECK_RANGE, 2, offsetof(Pid, kp), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kp: 0.0f..1000.0f
     layout::WIRE_F32 | layout::CHECK_RANGE, 3, offsetof(Pid, ki), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // ki: 0.0f..1000.0f
     layout::WIRE_F32 | layout::CHECK_RANGE, 4, offsetof(Pid, kd), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kd: 0.0f..1000.0f
@@ -368,9 +369,9 @@ const uint8_t PID_CHECKS[] ROVERLINK_PROGMEM = {
 
 // CONFIG: payload 41..41 bytes, 21 checked fields.
 const uint8_t CONFIG_CHECKS[] ROVERLINK_PROGMEM = {
-    41, 41, layout::NO_TAIL, 21,
-    layout::WIRE_U16 | layout::CHECK_RANGE, 1, offsetof(Config, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // watchdog_ms: 50..2000
+    41, 41, layout::NO_TAIL, 1, 20,
     layout::WIRE_U8 | layout::CHECK_VALUES, 2, offsetof(Config, safe_state), 0x00, 0x02, 0x00,  // safe_state: SafeState 0..2
+    layout::WIRE_U16 | layout::CHECK_RANGE, 1, offsetof(Config, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // watchdog_ms: 50..2000
     layout::WIRE_U16 | layout::CHECK_RANGE, 3, offsetof(Config, accel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // accel_limit_mm_s2: 1..65535
     layout::WIRE_U16 | layout::CHECK_RANGE, 4, offsetof(Config, decel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // decel_limit_mm_s2: 1..65535
     layout::WIRE_U16 | layout::CHECK_RANGE, 5, offsetof(Config, max_wheel_speed_mm_s), 0x01, 0x00, 0x20, 0x4E,  // max_wheel_speed_mm_s: 1..20000
@@ -394,12 +395,12 @@ const uint8_t CONFIG_CHECKS[] ROVERLINK_PROGMEM = {
 
 // LINK_STATS: payload 45..45 bytes, 0 checked fields.
 const uint8_t LINK_STATS_CHECKS[] ROVERLINK_PROGMEM = {
-    45, 45, layout::NO_TAIL, 0,
+    45, 45, layout::NO_TAIL, 0, 0,
 };
 
 // FEEDBACK: payload 33..33 bytes, 4 checked fields.
 const uint8_t FEEDBACK_CHECKS[] ROVERLINK_PROGMEM = {
-    33, 33, layout::NO_TAIL, 4,
+    33, 33, layout::NO_TAIL, 2, 2,
     layout::WIRE_U8 | layout::CHECK_FLAGS, 5, offsetof(Feedback, status), 0x7F,  // status: Status bits 0x7F
     layout::WIRE_U8 | layout::CHECK_VALUES, 6, offsetof(Feedback, failsafe_reason), 0x00, 0x04, 0x00,  // failsafe_reason: FailsafeReason 0..4
     layout::WIRE_I16 | layout::CHECK_RANGE | layout::ARRAY, 9, offsetof(Feedback, effort_permille), 2, 0x18, 0x7C, 0xE8, 0x83,  // effort_permille: -1000..1000
@@ -408,7 +409,7 @@ const uint8_t FEEDBACK_CHECKS[] ROVERLINK_PROGMEM = {
 
 // LOG: payload 1..61 bytes, 2 checked fields.
 const uint8_t LOG_CHECKS[] ROVERLINK_PROGMEM = {
-    1, 61, offsetof(Log, text_len), 2,
+    1, 61, offsetof(Log, text_len), 2, 0,
     layout::WIRE_U8 | layout::CHECK_VALUES, 0, offsetof(Log, level), 0x00, 0x03, 0x00,  // level: LogLevel 0..3
     layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, 1, offsetof(Log, text), 0, 0x00, 0x7F, 0x00,  // text: ASCII
 };
