@@ -54,7 +54,7 @@ void SessionCore::reset(uint32_t boot_counter, const proto::SetConfig& config) {
 ROVERLINK_OUT_OF_LINE uint32_t SessionCore::clock() {
     const uint32_t now = board_.micros();
     if (now < v_.last_micros) {
-        ++v_.micros_wraps;
+        v_.wrapped_ms += MS_PER_MICROS_WRAP;
     }
     v_.last_micros = now;
     return now;
@@ -203,7 +203,7 @@ ROVERLINK_NOINLINE void SessionCore::send_identity(proto::IdentityReason reason,
     m.capabilities = robot_.capabilities;
     m.boot_id = v.boot_id;
     const uint32_t now = clock();
-    m.uptime_ms = v.micros_wraps * MS_PER_MICROS_WRAP + now / 1000u;
+    m.uptime_ms = v.wrapped_ms + now / 1000u;
     m.reason = reason;
     if (reason != proto::IdentityReason::BOOT) {
         m.hello_seq = v.req_seq;
@@ -304,9 +304,13 @@ bool SessionCore::feedback_due(bool applied, uint8_t config_hz) {
     }
     // round(CONTROL_RATE_HZ / hz), half up, in 8 bits: floor((floor(2 * 100 / hz) + 1) / 2).
     static_assert(2 * proto::CONTROL_RATE_HZ <= 255, "the stream period is computed in 8 bits");
+    // The quotient by subtraction (at most 200 steps, once per FEEDBACK): no division routine.
     const uint8_t hz = in_session() ? v_.feedback_hz : config_hz;
-    const uint8_t twice = static_cast<uint8_t>(2 * proto::CONTROL_RATE_HZ);
-    v_.fb_countdown = static_cast<uint8_t>((hz != 0 ? twice / hz + 1u : 2u) / 2u - 1u);
+    uint8_t q = 1;  // floor(2 * 100 / hz) + 1; hz = 0 (never granted) counts as 200 Hz
+    for (uint8_t r = static_cast<uint8_t>(2 * proto::CONTROL_RATE_HZ); hz != 0 && r >= hz; r -= hz) {
+        ++q;
+    }
+    v_.fb_countdown = static_cast<uint8_t>((hz != 0 ? q : 2u) / 2u - 1u);
     return true;
 }
 

@@ -98,7 +98,7 @@ protected:
         uint8_t dup_detail;
         bool dup_valid;
         uint16_t watchdog_ms;      // granted by the last accepted HELLO
-        uint16_t micros_wraps;     // for uptime_ms
+        uint32_t wrapped_ms;       // whole ms of the micros() wraps so far, for uptime_ms
         uint32_t last_micros;
         uint32_t last_valid_us;    // the watchdog's reference
         uint32_t boot_id;
