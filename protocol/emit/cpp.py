@@ -218,33 +218,36 @@ def _sm_header(spec: Spec) -> str:
     for i, a in enumerate(sm.actions):
         out.append(f"        {a.name.upper()} = 1u << {i},  // {a.doc}\n")
     out.append("    };\n};\n\n")
-    out.append("// One row per transition, in spec order, 6 bytes: source states (bit i: SessionState i), event,\n")
-    out.append("// guard (GUARD_NONE, or a Guard with GUARD_NEGATED), target (TARGET_STAY: the source state),\n")
-    out.append("// actions low byte, actions high byte. Kept in flash on AVR.\n")
+    out.append("// One row per transition, grouped by event (spec order within an event), 5 bytes: source\n")
+    out.append("// states (bit i: SessionState i), guard (GUARD_NONE, or a Guard with GUARD_NEGATED), target\n")
+    out.append("// (TARGET_STAY: the source state), actions low byte, actions high byte. EVENT_ROWS[e] is the first\n")
+    out.append("// row of event e, EVENT_ROWS[e + 1] the end of its rows. Kept in flash on AVR.\n")
     out.append(f"static const uint8_t TRANSITION_COUNT = {len(sm.transitions)};\n")
+    out.append(f"static const uint8_t EVENT_COUNT = {len(sm.events)};\n")
     out.append("static const uint8_t GUARD_NONE = 0xFF;\nstatic const uint8_t GUARD_NEGATED = 0x80;\n")
     out.append("static const uint8_t TARGET_STAY = 0xFF;\n")
-    out.append("extern const uint8_t TRANSITIONS[TRANSITION_COUNT][6] ROVERLINK_PROGMEM;\n\n")
+    out.append("extern const uint8_t TRANSITIONS[TRANSITION_COUNT][5] ROVERLINK_PROGMEM;\n")
+    out.append("extern const uint8_t EVENT_ROWS[EVENT_COUNT + 1] ROVERLINK_PROGMEM;\n\n")
     out.append("struct StepResult {\n    bool matched;        // false: no row, stay and do nothing\n")
     out.append("    SessionState target;\n    uint16_t actions;    // Action bits\n};\n\n")
     out.append("// First row for (state, event) whose guard holds; guards.check(Guard) evaluates guards.\n")
     out.append("template <class Guards>\nStepResult step(SessionState state, SessionEvent event, Guards& guards) {\n")
     out.append("    StepResult r = {false, state, 0};\n")
-    out.append("    for (uint8_t i = 0; i < TRANSITION_COUNT; ++i) {\n")
+    out.append("    const uint8_t e = static_cast<uint8_t>(event);\n")
+    out.append("    const uint8_t end = ROVERLINK_READ_BYTE(&EVENT_ROWS[e + 1]);\n")
+    out.append("    for (uint8_t i = ROVERLINK_READ_BYTE(&EVENT_ROWS[e]); i < end; ++i) {\n")
     out.append("        const uint8_t* row = TRANSITIONS[i];\n")
-    out.append("        if (!((ROVERLINK_READ_BYTE(row) >> static_cast<uint8_t>(state)) & 1u) ||\n")
-    out.append(
-        "            ROVERLINK_READ_BYTE(row + 1) != static_cast<uint8_t>(event)) {\n            continue;\n        }\n"
-    )
-    out.append("        const uint8_t g = ROVERLINK_READ_BYTE(row + 2);\n")
+    out.append("        if (!((ROVERLINK_READ_BYTE(row) >> static_cast<uint8_t>(state)) & 1u)) {\n")
+    out.append("            continue;\n        }\n")
+    out.append("        const uint8_t g = ROVERLINK_READ_BYTE(row + 1);\n")
     out.append("        if (g != GUARD_NONE) {\n")
     out.append("            const bool holds = guards.check(static_cast<Guard>(g & 0x7F));\n")
     out.append("            if (holds == ((g & GUARD_NEGATED) != 0)) continue;\n        }\n")
-    out.append("        const uint8_t target = ROVERLINK_READ_BYTE(row + 3);\n")
+    out.append("        const uint8_t target = ROVERLINK_READ_BYTE(row + 2);\n")
     out.append("        r.matched = true;\n")
     out.append("        if (target != TARGET_STAY) r.target = static_cast<SessionState>(target);\n")
-    out.append("        r.actions = static_cast<uint16_t>(ROVERLINK_READ_BYTE(row + 4) |\n")
-    out.append("                                          (ROVERLINK_READ_BYTE(row + 5) << 8));\n")
+    out.append("        r.actions = static_cast<uint16_t>(ROVERLINK_READ_BYTE(row + 3) |\n")
+    out.append("                                          (ROVERLINK_READ_BYTE(row + 4) << 8));\n")
     out.append("        return r;\n    }\n    return r;\n}\n\n")
     return "".join(out)
 
@@ -305,17 +308,22 @@ def _source(spec: Spec) -> str:
     events = [e.name for e in sm.events]
     guards = [g.name for g in sm.guards]
     actions = [a.name for a in sm.actions]
-    out.append("const uint8_t TRANSITIONS[TRANSITION_COUNT][6] ROVERLINK_PROGMEM = {\n")
-    for t in sm.transitions:
+    rows = sorted(sm.transitions, key=lambda t: events.index(t.event))  # stable: spec order per event
+    out.append("const uint8_t TRANSITIONS[TRANSITION_COUNT][5] ROVERLINK_PROGMEM = {\n")
+    for t in rows:
         mask = sum(1 << states.index(src) for src in t.sources)
         g = "GUARD_NONE" if t.guard is None else f"{guards.index(t.guard) + 1}{' | GUARD_NEGATED' if t.negated else ''}"
         to = "TARGET_STAY" if t.target is None else str(states.index(t.target))
         bits = sum(1 << actions.index(a) for a in t.actions)
         guard_text = f" [{'!' if t.negated else ''}{t.guard}]" if t.guard else ""
         out.append(
-            f"    {{0x{mask:02X}, {events.index(t.event)}, {g}, {to}, 0x{bits & 0xFF:02X}, 0x{bits >> 8:02X}}},"
+            f"    {{0x{mask:02X}, {g}, {to}, 0x{bits & 0xFF:02X}, 0x{bits >> 8:02X}}},"
             f"  // {'|'.join(t.sources)} {t.event}{guard_text} -> {t.target or '(stay)'}\n"
         )
+    starts = [sum(1 for t in rows if events.index(t.event) < i) for i in range(len(events) + 1)]
+    out.append("};\n\n")
+    out.append("const uint8_t EVENT_ROWS[EVENT_COUNT + 1] ROVERLINK_PROGMEM = {")
+    out.append(", ".join(str(x) for x in starts))
     out.append("};\n\n}  // namespace proto\n}  // namespace roverlink\n")
     return "".join(out)
 

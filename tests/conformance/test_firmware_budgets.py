@@ -46,10 +46,10 @@ def test_no_receive_overrun_with_frames_back_to_back(figures: dict[str, bench.Fi
 
 @pytest.mark.xfail(
     strict=True,
-    reason="measured 5,716 (AckermannPiCar) to 5,794 (DiffDriveTB6612) AVR cycles to decode and dispatch a "
+    reason="measured 5,477 (AckermannPiCar) to 5,555 (DiffDriveTB6612) AVR cycles to decode and dispatch a "
     "SET_PID frame (17-byte payload), budget 1500: poll()'s byte loop with the inlined frame decoder about 2,000 "
     "(of which ~620 the virtual Stream calls), the range checks (layout.cpp) about 980, CRC-16 of the frame and of "
-    "the ACK about 720, -mcall-prologues helpers about 600, the session rules (fire) about 410, set_pid about 290; "
+    "the ACK about 720, -mcall-prologues helpers about 600, set_pid about 290, the session rules (fire) about 180; "
     "`pytest -s` prints the breakdown (benchmarks/firmware.py)",
 )
 @pytest.mark.parametrize("example", EXAMPLES)

@@ -777,14 +777,17 @@ struct Action {
     };
 };
 
-// One row per transition, in spec order, 6 bytes: source states (bit i: SessionState i), event,
-// guard (GUARD_NONE, or a Guard with GUARD_NEGATED), target (TARGET_STAY: the source state),
-// actions low byte, actions high byte. Kept in flash on AVR.
+// One row per transition, grouped by event (spec order within an event), 5 bytes: source
+// states (bit i: SessionState i), guard (GUARD_NONE, or a Guard with GUARD_NEGATED), target
+// (TARGET_STAY: the source state), actions low byte, actions high byte. EVENT_ROWS[e] is the first
+// row of event e, EVENT_ROWS[e + 1] the end of its rows. Kept in flash on AVR.
 static const uint8_t TRANSITION_COUNT = 17;
+static const uint8_t EVENT_COUNT = 9;
 static const uint8_t GUARD_NONE = 0xFF;
 static const uint8_t GUARD_NEGATED = 0x80;
 static const uint8_t TARGET_STAY = 0xFF;
-extern const uint8_t TRANSITIONS[TRANSITION_COUNT][6] ROVERLINK_PROGMEM;
+extern const uint8_t TRANSITIONS[TRANSITION_COUNT][5] ROVERLINK_PROGMEM;
+extern const uint8_t EVENT_ROWS[EVENT_COUNT + 1] ROVERLINK_PROGMEM;
 
 struct StepResult {
     bool matched;        // false: no row, stay and do nothing
@@ -796,22 +799,23 @@ struct StepResult {
 template <class Guards>
 StepResult step(SessionState state, SessionEvent event, Guards& guards) {
     StepResult r = {false, state, 0};
-    for (uint8_t i = 0; i < TRANSITION_COUNT; ++i) {
+    const uint8_t e = static_cast<uint8_t>(event);
+    const uint8_t end = ROVERLINK_READ_BYTE(&EVENT_ROWS[e + 1]);
+    for (uint8_t i = ROVERLINK_READ_BYTE(&EVENT_ROWS[e]); i < end; ++i) {
         const uint8_t* row = TRANSITIONS[i];
-        if (!((ROVERLINK_READ_BYTE(row) >> static_cast<uint8_t>(state)) & 1u) ||
-            ROVERLINK_READ_BYTE(row + 1) != static_cast<uint8_t>(event)) {
+        if (!((ROVERLINK_READ_BYTE(row) >> static_cast<uint8_t>(state)) & 1u)) {
             continue;
         }
-        const uint8_t g = ROVERLINK_READ_BYTE(row + 2);
+        const uint8_t g = ROVERLINK_READ_BYTE(row + 1);
         if (g != GUARD_NONE) {
             const bool holds = guards.check(static_cast<Guard>(g & 0x7F));
             if (holds == ((g & GUARD_NEGATED) != 0)) continue;
         }
-        const uint8_t target = ROVERLINK_READ_BYTE(row + 3);
+        const uint8_t target = ROVERLINK_READ_BYTE(row + 2);
         r.matched = true;
         if (target != TARGET_STAY) r.target = static_cast<SessionState>(target);
-        r.actions = static_cast<uint16_t>(ROVERLINK_READ_BYTE(row + 4) |
-                                          (ROVERLINK_READ_BYTE(row + 5) << 8));
+        r.actions = static_cast<uint16_t>(ROVERLINK_READ_BYTE(row + 3) |
+                                          (ROVERLINK_READ_BYTE(row + 4) << 8));
         return r;
     }
     return r;
