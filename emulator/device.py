@@ -32,7 +32,7 @@ from emulator.errors import EmulatorValueError
 from emulator.faults import FaultSpec
 from emulator.firmware.config import IMAGE_ADDR, Gains, encode_image
 from emulator.firmware.core import TICK_US, Firmware
-from emulator.injection import MAX_FAULT_LOG, FaultInjection
+from emulator.injection import MAX_FAULT_LOG, FaultInjection, ResetKind, checked_board_options
 from emulator.line import SerialLink
 from emulator.plant.motor import DriveMode
 from emulator.plant.plant import WHEEL_CHANNELS, Plant
@@ -50,13 +50,6 @@ class McuPhase(enum.Enum):
     RESET = "reset"
     BOOTLOADER = "bootloader"
     RUNNING = "running"
-
-
-class ResetKind(enum.Enum):
-    POWER_ON = "power_on"
-    EXTERNAL = "reset"
-    DTR = "dtr_reset"
-    BROWN_OUT = "brownout"
 
 
 class _McuBoard:
@@ -148,12 +141,9 @@ class Emulator(FaultInjection):
         self.profile = get_profile(profile) if isinstance(profile, str) else profile
         if not (isinstance(baud, int) and 300 <= baud <= 2_000_000):
             raise EmulatorValueError("baud", baud, "an integer in 300..2000000")
-        if not (isinstance(latency_us, int) and 0 <= latency_us <= 1_000_000):
-            raise EmulatorValueError("latency_us", latency_us, "an integer in 0..1000000 us")
+        self.bootloader_ms = checked_board_options(self.profile, latency_us, drift_ppm, bootloader_ms)
         if not (isinstance(physics_dt_us, int) and 100 <= physics_dt_us <= TICK_US and TICK_US % physics_dt_us == 0):
             raise EmulatorValueError("physics_dt_us", physics_dt_us, f"a divisor of {TICK_US} in 100..{TICK_US} us")
-        if not (math.isfinite(drift_ppm) and abs(drift_ppm) <= 10_000):
-            raise EmulatorValueError("drift_ppm", drift_ppm, "a number in -10000..10000 ppm")
         if eeprom not in ("blank", "saved"):
             raise EmulatorValueError("eeprom", eeprom, "'blank' (a new board) or 'saved' (defaults saved)")
         self.seed = seed
@@ -164,7 +154,6 @@ class Emulator(FaultInjection):
         self.drift_ppb = round(drift_ppm * 1000)
         self.micros_offset_us = micros_offset_us & 0xFFFFFFFF
         timing = self.profile.plant.timing
-        self.bootloader_ms = timing.bootloader_ms if bootloader_ms is None else bootloader_ms
         self.plant = Plant(self.profile, physics_dt_us / 1e6)
         self.faults: list[FaultRecord] = []
         self.faults_dropped = 0
@@ -384,24 +373,6 @@ class Emulator(FaultInjection):
     # == faults (the rest: emulator.injection.FaultInjection) ====================================
     def _h2m_wake(self, time_us: int) -> None:
         self.clock.call_at(time_us, self._on_rx, PRIORITY_RX)
-
-    def reset_mcu(self) -> None:
-        """Reset pin pulled (or the firmware's watchdog bit): bootloader, then a new boot."""
-        self._log(self.clock.now_us, "reset", "external reset")
-        self._begin_reset(ResetKind.EXTERNAL, 0)
-
-    def dtr_reset(self) -> None:
-        """What opening the port does to an Arduino: DTR pulses the reset pin."""
-        self._log(self.clock.now_us, "dtr_reset", "DTR reset (port opened)")
-        self._begin_reset(ResetKind.DTR, 0)
-
-    def brown_out(self, duration_ms: float = 50.0) -> None:
-        """Supply dip: the MCU is held in reset for `duration_ms`, the ESC loses its calibration,
-        an EEPROM write in progress is cut short."""
-        if not (math.isfinite(duration_ms) and 0 < duration_ms <= 60_000):
-            raise EmulatorValueError("duration_ms", duration_ms, "a number of ms in (0, 60000]")
-        self._log(self.clock.now_us, "brownout", f"{duration_ms} ms")
-        self._begin_reset(ResetKind.BROWN_OUT, round(duration_ms * 1000))
 
     def fail_eeprom(self, failing: bool = True) -> None:
         """Worn EEPROM: writes no longer change the cells (SAVE_CONFIG gets EEPROM_ERROR)."""

@@ -9,6 +9,7 @@ item lists it in `UNSUPPORTED_FAULTS` with the reason; `apply_faults` refuses su
 
 from __future__ import annotations
 
+import enum
 import functools
 import math
 from typing import ClassVar
@@ -22,6 +23,28 @@ from emulator.profiles import EmulatorProfile
 from emulator.truth import FaultRecord
 
 MAX_FAULT_LOG = 100_000
+
+
+def checked_board_options(
+    profile: EmulatorProfile, latency_us: int, drift_ppm: float, bootloader_ms: int | None
+) -> int:
+    """Checks the board and line options every backend takes; returns the bootloader time in ms
+    (the profile's when None)."""
+    if not (isinstance(latency_us, int) and 0 <= latency_us <= 1_000_000):
+        raise EmulatorValueError("latency_us", latency_us, "an integer in 0..1000000 us")
+    if not (math.isfinite(drift_ppm) and abs(drift_ppm) <= 10_000):
+        raise EmulatorValueError("drift_ppm", drift_ppm, "a number in -10000..10000 ppm")
+    ms = profile.plant.timing.bootloader_ms if bootloader_ms is None else bootloader_ms
+    if not (isinstance(ms, int) and 0 <= ms <= 60_000):
+        raise EmulatorValueError("bootloader_ms", bootloader_ms, "an integer in 0..60000 ms")
+    return ms
+
+
+class ResetKind(enum.Enum):
+    POWER_ON = "power_on"
+    EXTERNAL = "reset"
+    DTR = "dtr_reset"
+    BROWN_OUT = "brownout"
 
 
 class FaultInjection:
@@ -39,13 +62,9 @@ class FaultInjection:
     faults_dropped: int
 
     # -- provided by the backend ---------------------------------------------------------------------
-    def reset_mcu(self) -> None:
-        raise NotImplementedError
-
-    def dtr_reset(self) -> None:
-        raise NotImplementedError
-
-    def brown_out(self, duration_ms: float = 50.0) -> None:
+    def _begin_reset(self, kind: ResetKind, hold_us: int) -> None:
+        """RAM and outputs lost, EEPROM kept; an external or DTR reset runs the bootloader, a
+        brown-out holds the MCU in reset `hold_us` and the ESC loses its calibration."""
         raise NotImplementedError
 
     def fail_eeprom(self, failing: bool = True) -> None:
@@ -54,6 +73,25 @@ class FaultInjection:
     def _h2m_wake(self, time_us: int) -> None:
         """Bytes (noise) will reach the MCU at `time_us`: a backend that is woken by arrivals
         schedules itself; one that polls every step needs nothing."""
+
+    # -- resets ------------------------------------------------------------------------------------------
+    def reset_mcu(self) -> None:
+        """Reset pin pulled (or the firmware's watchdog bit): bootloader, then a new boot."""
+        self._log(self.clock.now_us, "reset", "external reset")
+        self._begin_reset(ResetKind.EXTERNAL, 0)
+
+    def dtr_reset(self) -> None:
+        """What opening the port does to an Arduino: DTR pulses the reset pin."""
+        self._log(self.clock.now_us, "dtr_reset", "DTR reset (port opened)")
+        self._begin_reset(ResetKind.DTR, 0)
+
+    def brown_out(self, duration_ms: float = 50.0) -> None:
+        """Supply dip: the MCU is held in reset for `duration_ms`, the ESC loses its calibration
+        (and, where the backend models it, an EEPROM write in progress is cut short)."""
+        if not (math.isfinite(duration_ms) and 0 < duration_ms <= 60_000):
+            raise EmulatorValueError("duration_ms", duration_ms, "a number of ms in (0, 60000]")
+        self._log(self.clock.now_us, "brownout", f"{duration_ms} ms")
+        self._begin_reset(ResetKind.BROWN_OUT, round(duration_ms * 1000))
 
     # -- the log ---------------------------------------------------------------------------------------
     def _log(self, time_us: int, kind: str, detail: str) -> None:

@@ -43,7 +43,7 @@ from emulator.device import ResetKind, saved_eeprom_image
 from emulator.errors import EmulatorValueError
 from emulator.faults import FaultSpec
 from emulator.firmware.config import BOOT_COUNTER_ADDR
-from emulator.injection import FaultInjection
+from emulator.injection import FaultInjection, checked_board_options
 from emulator.line import SerialLink
 from emulator.plant.motor import DriveMode
 from emulator.plant.plant import WHEEL_CHANNELS, Plant
@@ -462,14 +462,7 @@ class PlantLoop(FaultInjection):
         bootloader_ms: int | None = None,
     ) -> None:
         self.profile = get_profile(profile) if isinstance(profile, str) else profile
-        if not (isinstance(latency_us, int) and 0 <= latency_us <= 1_000_000):
-            raise EmulatorValueError("latency_us", latency_us, "an integer in 0..1000000 us")
-        if not (math.isfinite(drift_ppm) and abs(drift_ppm) <= 10_000):
-            raise EmulatorValueError("drift_ppm", drift_ppm, "a number in -10000..10000 ppm")
-        timing = self.profile.plant.timing
-        self.bootloader_ms = timing.bootloader_ms if bootloader_ms is None else bootloader_ms
-        if not (isinstance(self.bootloader_ms, int) and 0 <= self.bootloader_ms <= 60_000):
-            raise EmulatorValueError("bootloader_ms", bootloader_ms, "an integer in 0..60000 ms")
+        self.bootloader_ms = checked_board_options(self.profile, latency_us, drift_ppm, bootloader_ms)
         self.plant = Plant(self.profile, PHYSICS_US / 1e6)
         self.mcu = mcu
         self.now_us = 0
@@ -575,23 +568,6 @@ class PlantLoop(FaultInjection):
             self._restart_at = now + self.bootloader_ms * 1000
         else:
             self._restart_at = now + hold_us + self.profile.plant.timing.power_on_ms * 1000
-
-    def reset_mcu(self) -> None:
-        """The reset pin: the bootloader, then the sketch starts again."""
-        self._log(self.now_us, "reset", "external reset")
-        self._begin_reset(ResetKind.EXTERNAL, 0)
-
-    def dtr_reset(self) -> None:
-        """What opening the port does to an Arduino: DTR pulses the reset pin."""
-        self._log(self.now_us, "dtr_reset", "DTR reset (port opened)")
-        self._begin_reset(ResetKind.DTR, 0)
-
-    def brown_out(self, duration_ms: float = 50.0) -> None:
-        """Supply dip: the MCU is held in reset for `duration_ms`, the ESC loses its calibration."""
-        if not (math.isfinite(duration_ms) and 0 < duration_ms <= 60_000):
-            raise EmulatorValueError("duration_ms", duration_ms, "a number of ms in (0, 60000]")
-        self._log(self.now_us, "brownout", f"{duration_ms} ms")
-        self._begin_reset(ResetKind.BROWN_OUT, round(duration_ms * 1000))
 
     def fail_eeprom(self, failing: bool = True) -> None:
         raise SimavrError(f"fail_eeprom: {self.UNSUPPORTED_FAULTS['eeprom']}")

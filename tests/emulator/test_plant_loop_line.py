@@ -9,7 +9,7 @@ import pytest
 
 from emulator import Emulator
 from emulator.backends.simavr import _RELEASED, PHYSICS_US, PinState, PlantLoop
-from emulator.errors import FaultSpecError
+from emulator.errors import EmulatorValueError, FaultSpecError
 
 PROFILE = "diffdrive-tb6612"
 
@@ -175,3 +175,12 @@ def test_drift_runs_the_mcu_clock_fast_or_slow() -> None:
         loop.advance_us(1_000_000)
         assert sum(mcu.steps) == expected
         assert max(mcu.steps) - min(mcu.steps) <= 3
+
+
+@pytest.mark.parametrize(
+    ("option", "value"), [("latency_us", -1), ("drift_ppm", float("nan")), ("bootloader_ms", 60_001)]
+)
+def test_both_backends_refuse_a_bad_board_option_by_name(option: str, value: object) -> None:
+    for backend in (lambda: Emulator("picar", **{option: value}), lambda: make(**{option: value})):
+        with pytest.raises(EmulatorValueError, match=option):
+            backend()
