@@ -51,6 +51,9 @@ from emulator.profiles import EmulatorProfile, get_profile
 from emulator.rng import Streams
 from emulator.transport.realtime import report_faults
 from emulator.truth import FaultRecord, LineTruth
+from host_sdk.codec.frames import Frame, FrameDecoder
+from host_sdk.enums import IdentityReason
+from host_sdk.messages import Identity
 
 ROOT = Path(__file__).resolve().parents[2]
 HARNESS_DIR = ROOT / "tools" / "simavr"
@@ -292,7 +295,13 @@ class Harness:
     """One fil_harness process: the MCU. Steps are synchronous request/reply over pipes."""
 
     def __init__(
-        self, wiring: BoardWiring, elf: Path, harness: Path | None = None, *, adc0_mv: int | None = None
+        self,
+        wiring: BoardWiring,
+        elf: Path,
+        harness: Path | None = None,
+        *,
+        adc0_mv: int | None = None,
+        line_ppb: int = 0,
     ) -> None:
         exe = harness if harness is not None else build_harness()
         self.wiring = wiring
@@ -306,6 +315,8 @@ class Harness:
             cmd.append("--pcint-k")
         if adc0_mv is not None:
             cmd += ["--adc0", str(adc0_mv)]
+        if line_ppb:
+            cmd += ["--line-ppb", str(line_ppb)]  # the host's bytes, in the drifting MCU's cycles
         self._proc = subprocess.Popen(
             cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1, cwd=ROOT
         )
@@ -408,6 +419,9 @@ class SimTruth:
     mcu_to_host: LineTruth | None = None
     faults: tuple[FaultRecord, ...] = ()
     """Every fault with the virtual time it took effect (as `Emulator.truth.faults`)."""
+    boot_ids: tuple[int, ...] = ()
+    """boot_id of every boot so far, oldest first: read from the boot IDENTITY the firmware sent
+    (its UART output, before the line), as `Emulator.truth.mcu.boot_ids`."""
 
 
 class MCU(Protocol):
@@ -481,6 +495,9 @@ class PlantLoop(FaultInjection):
         self.resets = 0
         self._restart_at: int | None = None
         self.bytes_lost_in_reset = 0
+        # The firmware's own output, decoded before the line: the boot_id is the firmware's to draw.
+        self.boot_ids: list[int] = []
+        self._tx_frames = FrameDecoder()
         # Power-on: the sketch runs from the first step (no bootloader); its UART start is a break.
         self.link.sketch_started(0)
         self.apply_faults(faults or FaultSpec())
@@ -524,13 +541,24 @@ class PlantLoop(FaultInjection):
             if end >= self._restart_at:
                 self._restart_at = None
                 self.mcu.reset()
+                self._tx_frames.reset()  # a frame cut by the reset is not the new boot's
                 self.bytes_lost_in_reset += self.link.sketch_started(end)
         else:
             counts = self.plant.encoder_counts()
             self.pins, out = self.mcu.step(self._mcu_step_us(), counts[:WHEEL_CHANNELS], rx)
             if out:
                 self.m2h.send_paced(out, end)  # the MCU's UART paced them during the step
+                self._note_boots(out)
         self.clock.advance_to(end)  # fault items due by now
+
+    def _note_boots(self, out: bytes) -> None:
+        for item in self._tx_frames.feed(out):
+            if (
+                isinstance(item, Frame)
+                and isinstance(item.message, Identity)
+                and item.message.reason is IdentityReason.BOOT
+            ):
+                self.boot_ids.append(item.message.boot_id)
 
     def _mcu_step_us(self) -> int:
         """MCU microseconds in this step: PHYSICS_US, times 1 + drift_ppm / 1e6 on average."""
@@ -597,6 +625,7 @@ class PlantLoop(FaultInjection):
             host_to_mcu=self.h2m.truth(),
             mcu_to_host=self.m2h.truth(),
             faults=tuple(self.faults),
+            boot_ids=tuple(self.boot_ids),
         )
 
 
@@ -629,6 +658,7 @@ class SimavrRobot(PlantLoop):
             )
         if eeprom not in ("blank", "saved"):
             raise EmulatorValueError("eeprom", eeprom, "'blank' (a new board) or 'saved' (defaults saved)")
+        checked_board_options(prof, latency_us, drift_ppm, bootloader_ms)  # before the harness gets them
         wiring = WIRING[prof.robot.example]
         elf = elf if elf is not None else build_elf(wiring.example)
         adc0_mv, image = board_randomness(seed)
@@ -636,7 +666,7 @@ class SimavrRobot(PlantLoop):
             address, saved = saved_eeprom_image(prof)
             image = image.ljust(address, b"\xff")[:address] + saved
         self.elf = elf_with_eeprom(elf, image) if image else elf
-        self.harness = Harness(wiring, self.elf, harness, adc0_mv=adc0_mv)
+        self.harness = Harness(wiring, self.elf, harness, adc0_mv=adc0_mv, line_ppb=round(drift_ppm * 1000))
         try:
             super().__init__(
                 prof,
@@ -737,6 +767,7 @@ def serve(
     busy_s = 0.0
     lag_warned = False
     reported_faults = len(robot.faults)
+    reported_boots = 0
     while not stop():
         now_connected, opens = endpoint.poll()
         if opens:
@@ -767,6 +798,9 @@ def serve(
         if log is not None:
             report_faults(robot.faults[reported_faults:], lambda text: _say(log, text))
             reported_faults = len(robot.faults)
+            for boot_id in robot.boot_ids[reported_boots:]:
+                _say(log, f"t={robot.now_us / 1e6:.3f}s boot, boot_id 0x{boot_id:08X}")
+            reported_boots = len(robot.boot_ids)
         endpoint.wait(0.001 if connected else 0.01)
     simulated_s = (robot.now_us - virt0) / 1e6
     return simulated_s / busy_s if busy_s > 0 else math.inf

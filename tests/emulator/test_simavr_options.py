@@ -99,6 +99,7 @@ def test_dtr_reset_bootloader_as_the_python_emulator_models_it() -> None:
         t_boot, ident = boots[1]
         assert 300_000 <= t_boot - t_reset <= 400_000
         assert ident.boot_id != boots[0][1].boot_id
+        assert robot.truth.boot_ids == (boots[0][1].boot_id, ident.boot_id)  # from before the line
         garbage = next(f.detail for f in robot.truth.faults if f.kind == "bootloader_garbage")
         assert r.raw[raw_before:].startswith(bytes.fromhex(garbage) + b"\x00")
         assert robot.truth.bytes_lost_in_reset > 0
@@ -123,6 +124,8 @@ def test_fault_spec_on_the_firmware() -> None:
         ]
         boots = [t_us for t_us, m in r.boots()]
         assert boots and boots[-1] >= 500_000  # the second boot, after the bootloader
+        # Ground truth, read before the line's bit flips: both boots, whatever the host lost.
+        assert len(t.boot_ids) == 2 and t.boot_ids[0] != t.boot_ids[1]
 
 
 @pytest.mark.usefixtures("built")
@@ -133,3 +136,25 @@ def test_cli_refuses_what_simavr_cannot_do(capsys: pytest.CaptureFixture[str]) -
     assert main(["--backend", "simavr", "--baud", "57600"]) == 2
     err = capsys.readouterr().err
     assert "baud = 57600" in err and "Serial.begin(115200)" in err
+
+
+@pytest.mark.usefixtures("built")
+@pytest.mark.parametrize("drift_ppm", [-10_000, 10_000])
+def test_drift_keeps_the_hosts_byte_pace(drift_ppm: int) -> None:
+    """A drifting MCU clock still receives the host's bytes at the host's pace: after a 2 s flood,
+    the last answer comes one frame after the last byte, not after a backlog (1 % of 2 s = 20 ms)."""
+    with SimavrRobot(PROFILE, seed=1, drift_ppm=drift_ppm) as robot:
+        r = Reader(robot)
+        r.run_until_boots(1)
+        pid = messages.SetPid(255, 1.0, 6.0, 0.0, 1.5)  # answered NACK(NO_SESSION) outside a session
+        flood = b"".join(encode_frame(pid, seq=i % 256) for i in range(1000))
+        t0 = robot.now_us
+        robot.host_write(flood)
+        flood_end = t0 + len(flood) * 10 * 1_000_000 // 115_200
+
+        def answers() -> list[int]:
+            r.pump()
+            return [t for t, m in r.frames if isinstance(m, messages.Nack) and m.req_id == messages.SetPid.MSG_ID]
+
+        assert robot.run_until(lambda: len(answers()) == 1000, 3_000_000), f"{len(answers())} of 1000 answered"
+        assert answers()[-1] - flood_end < 4_000

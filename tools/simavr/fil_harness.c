@@ -1,12 +1,14 @@
 /* Firmware in the loop: a RoverLink example's ELF running in simavr, stepped by a plant driver.
  *
- *   fil_harness MCU ELF [--enc PA PB]... [--pcint-k] [--watch ADDR]... [--adc0 MV]
+ *   fil_harness MCU ELF [--enc PA PB]... [--pcint-k] [--watch ADDR]... [--adc0 MV] [--line-ppb N]
  *
  * MCU is atmega328p or atmega2560 (16 MHz). Each --enc gives one wheel's encoder channels as port
  * pins (e.g. --enc E4 E5 for Mega pins 2 and 3); --watch ADDR adds a data-space address (decimal
  * or 0x..) whose byte is reported after every step (timer compare registers, TCCRnA, PORTx...).
  * --pcint-k models the Mega's PCINT2 (port K, PCINT16..23), which simavr 1.6 lacks: an edge on a
- * port K pin enabled in PCMSK2 raises PCINT2_vect while PCICR.PCIE2 is set.
+ * port K pin enabled in PCMSK2 raises PCINT2_vect while PCICR.PCIE2 is set. --line-ppb N: the MCU's
+ * clock runs N parts per billion fast against the host's (the driver's --drift-ppm), so a received
+ * bit, paced by the host, lasts 1 + N/1e9 times the nominal 1250/9 cycles.
  *
  * The driver (emulator/backends/simavr.py) owns the plant and the clock and sends one command per
  * line on stdin; each gets one reply line on stdout:
@@ -102,18 +104,21 @@ static int pcint_k;
 static avr_int_vector_t pcint2_vector;
 static uint8_t port_k_level;
 
-/* UART0 receive model (header comment). Line times are in ninths of a cycle: one bit at 115200 baud
- * is 16e6 / 115200 = 1250/9 cycles, so every edge is an exact integer. */
+/* UART0 receive model (header comment). Line times are in units of 1/9000 cycle: one bit at 115200
+ * baud is 16e6 / 115200 = 1250/9 cycles, so without drift every edge is an exact integer, and a
+ * --line-ppb drift (the host's bit time in MCU cycles) has a resolution of 0.8 ppb. */
 #define LINE_QUEUE 65536
-#define BIT_9 1250u
-#define BYTE_9 (10u * BIT_9)
-#define STOP_MIDDLE_9 (BIT_9 * 19u / 2u) /* start + 8 data bits + half the stop bit */
+#define UNITS 9000u
+#define BIT_UNITS 1250000u
+static uint64_t bit_u = BIT_UNITS;
+#define BYTE_U (10u * bit_u)
+#define STOP_MIDDLE_U (bit_u * 19u / 2u) /* start + 8 data bits + half the stop bit */
 static avr_uart_t* uart0;
 static uint8_t line_byte[LINE_QUEUE];
-static uint64_t line_start9[LINE_QUEUE];
+static uint64_t line_start_u[LINE_QUEUE];
 static size_t line_head, line_count;
 static int line_head_started;       /* the head byte's start bit has reached the receiver */
-static uint64_t line_free9;         /* when the line can carry the next queued byte's start bit */
+static uint64_t line_free_u;         /* when the line can carry the next queued byte's start bit */
 static int shift_full;              /* a complete byte waits in the shift register: the FIFO is full */
 static uint8_t shift_byte;
 static uint64_t shift_since;
@@ -231,19 +236,19 @@ static uint8_t udr0_read(struct avr_t* a, avr_io_addr_t addr, void* param) {
     return v;
 }
 
-static uint64_t ceil_9(uint64_t t9) { return (t9 + 8u) / 9u; }
+static uint64_t ceil_u(uint64_t t) { return (t + UNITS - 1u) / UNITS; }
 
 /* Every line edge due by now: start bits (a byte still in the shift register is lost) and stop bits
  * (the byte is complete). Returns the cycle of the next edge, 0 when the line is idle. */
 static avr_cycle_count_t line_events(struct avr_t* a, avr_cycle_count_t when, void* param) {
     (void)when;
     (void)param;
-    const uint64_t now9 = a->cycle * 9u;
+    const uint64_t now_u = a->cycle * UNITS;
     const int rxen = (a->data[uart0->rxen.reg] >> uart0->rxen.bit) & 1;
     while (line_count > 0) {
-        const uint64_t start9 = line_start9[line_head];
+        const uint64_t start_u = line_start_u[line_head];
         if (!line_head_started) {
-            if (start9 > now9) return ceil_9(start9);
+            if (start_u > now_u) return ceil_u(start_u);
             line_head_started = 1;
             if (shift_full) {
                 shift_full = 0;
@@ -251,20 +256,20 @@ static avr_cycle_count_t line_events(struct avr_t* a, avr_cycle_count_t when, vo
                 dor_pending = 1;
             }
         }
-        const uint64_t done9 = start9 + STOP_MIDDLE_9;
-        if (done9 > now9) return ceil_9(done9);
+        const uint64_t done_u = start_u + STOP_MIDDLE_U;
+        if (done_u > now_u) return ceil_u(done_u);
         const uint8_t byte = line_byte[line_head];
         line_head = (line_head + 1) % LINE_QUEUE;
         --line_count;
         line_head_started = 0;
         if (!rxen) continue; /* receiver off (before Serial.begin): the byte is not received */
         if (fifo_count < 2) {
-            fifo_push(byte, ceil_9(done9));
+            fifo_push(byte, ceil_u(done_u));
             rx_flags();
         } else {
             shift_full = 1;
             shift_byte = byte;
-            shift_since = ceil_9(done9);
+            shift_since = ceil_u(done_u);
         }
     }
     return 0;
@@ -272,21 +277,21 @@ static avr_cycle_count_t line_events(struct avr_t* a, avr_cycle_count_t when, vo
 
 static int line_send(uint8_t byte) {
     if (line_count == LINE_QUEUE) return 0;
-    const uint64_t now9 = avr->cycle * 9u;
-    const uint64_t start9 = line_free9 > now9 ? line_free9 : now9;
+    const uint64_t now_u = avr->cycle * UNITS;
+    const uint64_t start_u = line_free_u > now_u ? line_free_u : now_u;
     const size_t at = (line_head + line_count) % LINE_QUEUE;
     line_byte[at] = byte;
-    line_start9[at] = start9;
+    line_start_u[at] = start_u;
     ++line_count;
-    line_free9 = start9 + BYTE_9;
+    line_free_u = start_u + BYTE_U;
     return 1;
 }
 
 static void line_schedule(void) {
     if (line_count == 0) return;
-    const uint64_t start9 = line_start9[line_head];
-    const uint64_t next9 = line_head_started ? start9 + STOP_MIDDLE_9 : start9;
-    const uint64_t next = ceil_9(next9);
+    const uint64_t start_u = line_start_u[line_head];
+    const uint64_t next_u = line_head_started ? start_u + STOP_MIDDLE_U : start_u;
+    const uint64_t next = ceil_u(next_u);
     avr_cycle_timer_register(avr, next > avr->cycle ? next - avr->cycle : 0, line_events, NULL);
 }
 
@@ -306,7 +311,7 @@ static void uart_rx_reset(void) {
     avr_cycle_timer_cancel(avr, line_events, NULL);
     line_head = line_count = 0;
     line_head_started = 0;
-    line_free9 = avr->cycle * 9u;
+    line_free_u = avr->cycle * UNITS;
     shift_full = 0;
     fifo_count = 0;
     dor_pending = 0;
@@ -510,7 +515,8 @@ static void after_reset(uint32_t adc_mv) {
 
 int main(int argc, char** argv) {
     if (argc < 3) {
-        fprintf(stderr, "usage: %s MCU ELF [--enc PA PB]... [--pcint-k] [--watch ADDR]... [--adc0 MV]\n", argv[0]);
+        fprintf(stderr, "usage: %s MCU ELF [--enc PA PB]... [--pcint-k] [--watch ADDR]... [--adc0 MV] [--line-ppb N]\n",
+                argv[0]);
         return 2;
     }
     uint32_t adc_mv = 1234;
@@ -526,6 +532,13 @@ int main(int argc, char** argv) {
             pcint_k = 1;
         } else if (strcmp(argv[i], "--adc0") == 0 && i + 1 < argc) {
             adc_mv = (uint32_t)strtoul(argv[++i], NULL, 0);
+        } else if (strcmp(argv[i], "--line-ppb") == 0 && i + 1 < argc) {
+            const long long ppb = strtoll(argv[++i], NULL, 0);
+            if (ppb <= -100000000LL || ppb >= 100000000LL) {
+                fprintf(stderr, "fil_harness: --line-ppb %lld is outside +-1e8 (10 %%)\n", ppb);
+                return 2;
+            }
+            bit_u = (uint64_t)(((long long)BIT_UNITS * (1000000000LL + ppb) + 500000000LL) / 1000000000LL);
         } else {
             fprintf(stderr, "fil_harness: bad argument %s\n", argv[i]);
             return 2;
