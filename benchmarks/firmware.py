@@ -25,14 +25,19 @@ Figures:
   Stream, and what is inlined into their functions, e.g. ATOMIC_BLOCK: reading the ring buffer,
   writing the reply into the TX buffer), less `calls x the
   cheapest call` (poll() finding no byte: measured over 20 ms with no host bytes, where every call
-  takes that path, with the same source filter), divided by the frames sent. Counted: COBS
-  decoding, CRC, length and id checks, unpacking and range checks, the session rules, the
-  message's handling (SET_PID: the gains applied), building and encoding the reply (COBS, CRC),
-  libgcc helpers called from there (soft float, prologues). Not counted: interrupt handlers (RX
-  and TX of every byte, timers, encoders), the serial driver, control ticks (outside poll()). Every
-  frame must be answered (SET_PID: one ACK each) or the run is invalid. SET_PID (17-byte payload)
-  is the 16-byte-payload frame; SET_WHEEL_SPEEDS / SET_ACKERMANN (4 bytes, sent 100 times a
-  second, no reply in STREAM mode) are reported too.
+  takes that path, with the same source filter), less the handling (below), divided by the frames
+  sent. Counted: reading the bytes from the Stream, COBS decoding, CRC, length and id checks,
+  unpacking and range checks, the session rules (seq, watchdog, duplicate detection, state
+  table), libgcc helpers called from there (prologues). Not counted: interrupt handlers (RX and TX
+  of every byte, timers, encoders), the serial driver, control ticks (outside poll()). Every frame
+  must be answered (SET_PID: one ACK each) or the run is invalid. SET_PID (17-byte payload) is the
+  16-byte-payload frame; SET_WHEEL_SPEEDS / SET_ACKERMANN (4 bytes, sent 100 times a second, no
+  reply in STREAM mode) are reported too.
+* Handling and reply per command frame (reported beside it, no budget): the cycles inside poll()
+  spent in calls of the App's code (roverlink::Firmware::*: SET_PID's gains applied, the session's
+  actions on the motors) and of the reply's sending (SessionCore::send_answer, Link::send_payload:
+  packing, CRC and COBS of the ACK), which the harness keeps apart (its H command). Decode +
+  dispatch + handling is what the whole frame costs inside poll().
 * Full cost per command frame (no budget; what a frame really costs the CPU): the main-loop work
   during the same floods less the work of ticks and FEEDBACK (measured over 1 s of driving),
   divided by the frames sent: decode and dispatch plus the RX interrupt of every byte, the serial
@@ -71,7 +76,7 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from emulator.backends.simavr import SimavrRobot  # noqa: E402
+from emulator.backends.simavr import HANDLER_FLAG, SimavrRobot  # noqa: E402
 from host_sdk import firmware, messages  # noqa: E402
 from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH  # noqa: E402
 from host_sdk._generated.enums import FeedbackMode, IdentityReason  # noqa: E402
@@ -83,6 +88,12 @@ FRAME_CYCLES_BUDGET = 1500
 CONTROL_SHARE_BUDGET = 0.50
 UNO_FREE_FRACTION = 0.50
 POLL_SYMBOL = "roverlink::Session<roverlink::Firmware>::poll()"
+# Where decoding and dispatching end: the App's code (the handlers: SET_PID's gains applied, a
+# setpoint stored, the session's actions on the motors) and sending a reply (packing and framing an
+# ACK/NACK or an answer). Their cycles inside poll() are reported apart, as handling.
+HANDLER_SYMBOLS = re.compile(
+    r"^(roverlink::Firmware::\w+|roverlink::SessionCore::send_answer|roverlink::Link::send_payload)\("
+)
 SERIAL_DRIVER_FILE = re.compile(r"^(HardwareSerial\w*|Print|Stream)\.(cpp|h)$")
 SERIAL_DRIVER_FUNCTION = re.compile(r"^(HardwareSerial|Print|Stream)::")
 NO_LINE_INFO = "(no line info)"
@@ -99,6 +110,8 @@ class Figures:
     control_cpu_share: float
     decode_dispatch_cycles_per_set_pid_frame: float
     decode_dispatch_cycles_per_setpoint_frame: float
+    handling_cycles_per_set_pid_frame: float
+    handling_cycles_per_setpoint_frame: float
     full_cycles_per_set_pid_frame: float
     full_cycles_per_setpoint_frame: float
     poll_idle_call_cycles: int
@@ -108,7 +121,9 @@ class Figures:
     rx_overruns: int
     realtime_ratio: float
     set_pid_breakdown: dict[str, dict[str, float]] = field(default_factory=dict)
-    """Decode and dispatch cycles per SET_PID frame by "file", "function" and "line"."""
+    """Cycles per SET_PID frame inside poll() by "file", "function" and "line" (handling included)."""
+    setpoint_breakdown: dict[str, dict[str, float]] = field(default_factory=dict)
+    """The same per setpoint frame."""
 
 
 @dataclass(frozen=True)
@@ -187,24 +202,28 @@ def sources(elf: Path, pcs: list[int]) -> dict[int, Source]:
 
 def decode_dispatch(
     flood: Profile, idle: Profile, frames: int, src: dict[int, Source]
-) -> tuple[float, dict[str, dict[str, float]]]:
+) -> tuple[float, float, dict[str, dict[str, float]]]:
     """Cycles per frame inside poll(), serial driver excluded, less `calls x the cheapest call`
-    (the idle window's per-call profile, filtered the same way), and where they go."""
+    (the idle window's per-call profile, filtered the same way): (decode and dispatch, handling),
+    and where both go. Handling is what ran inside the handler boundaries (HANDLER_SYMBOLS)."""
     if idle.calls == 0 or idle.cycles != idle.calls * idle.cheapest_call:
         raise SystemExit(f"BENCHMARK INVALID: the idle window's poll() calls differ ({idle})")
     groups: dict[str, dict[str, float]] = {"file": defaultdict(float), "function": defaultdict(float)}
     groups["line"] = defaultdict(float)
-    total = 0.0
-    for pc in flood.per_pc.keys() | idle.per_pc.keys():
-        s = src[pc]
+    totals = [0.0, 0.0]
+    for key in flood.per_pc.keys() | idle.per_pc.keys():
+        handling = key >= HANDLER_FLAG
+        s = src[key - HANDLER_FLAG if handling else key]
         if SERIAL_DRIVER_FILE.match(s.file) or SERIAL_DRIVER_FUNCTION.match(s.function):
             continue
-        excess = (flood.per_pc.get(pc, 0) - flood.calls * idle.per_pc.get(pc, 0) / idle.calls) / frames
-        total += excess
-        groups["file"][s.file] += excess
-        groups["function"][_short(s.function)] += excess
-        groups["line"][f"{s.file}:{s.line}" if s.line else _short(s.function)] += excess
-    return total, {k: dict(sorted(v.items(), key=lambda kv: -kv[1])) for k, v in groups.items()}
+        excess = (flood.per_pc.get(key, 0) - flood.calls * idle.per_pc.get(key, 0) / idle.calls) / frames
+        totals[handling] += excess
+        mark = " (handling)" if handling else ""
+        groups["file"][s.file + mark] += excess
+        groups["function"][_short(s.function) + mark] += excess
+        groups["line"][(f"{s.file}:{s.line}" if s.line else _short(s.function)) + mark] += excess
+    ordered = {k: dict(sorted(v.items(), key=lambda kv: -kv[1])) for k, v in groups.items()}
+    return totals[0], totals[1], ordered
 
 
 def _short(name: str) -> str:
@@ -261,6 +280,9 @@ def measure(example: str, profile: str) -> Figures:
         run(20)
         h.set_loop_marker(_symbol(build.elf, "serialEventRun()"))
         h.profile_function(_symbol(build.elf, POLL_SYMBOL))
+        for address, name in _symbols(build.elf):
+            if HANDLER_SYMBOLS.match(_CLONE.sub("", name)):
+                h.profile_handler(address)
         # 0. No host bytes: every poll() call finds nothing.
         run(20)
         idle = profile_since()
@@ -307,9 +329,10 @@ def measure(example: str, profile: str) -> Figures:
     finally:
         robot.close()
     wall = time.perf_counter() - wall0
-    src = sources(build.elf, sorted(idle.per_pc.keys() | prof_sp.per_pc.keys() | prof_pid.per_pc.keys()))
-    dd_sp, _ = decode_dispatch(prof_sp, idle, n_sp, src)
-    dd_pid, breakdown = decode_dispatch(prof_pid, idle, n_pid, src)
+    keys = idle.per_pc.keys() | prof_sp.per_pc.keys() | prof_pid.per_pc.keys()
+    src = sources(build.elf, sorted({k - HANDLER_FLAG if k >= HANDLER_FLAG else k for k in keys}))
+    dd_sp, handling_sp, sp_breakdown = decode_dispatch(prof_sp, idle, n_sp, src)
+    dd_pid, handling_pid, breakdown = decode_dispatch(prof_pid, idle, n_pid, src)
     return Figures(
         example=example,
         board=build.board.name,
@@ -320,6 +343,8 @@ def measure(example: str, profile: str) -> Figures:
         control_cpu_share=control_share,
         decode_dispatch_cycles_per_set_pid_frame=dd_pid,
         decode_dispatch_cycles_per_setpoint_frame=dd_sp,
+        handling_cycles_per_set_pid_frame=handling_pid,
+        handling_cycles_per_setpoint_frame=handling_sp,
         full_cycles_per_set_pid_frame=full_pid,
         full_cycles_per_setpoint_frame=full_sp,
         poll_idle_call_cycles=idle.cheapest_call,
@@ -329,6 +354,7 @@ def measure(example: str, profile: str) -> Figures:
         rx_overruns=overruns,
         realtime_ratio=sim_s / wall,
         set_pid_breakdown=breakdown,
+        setpoint_breakdown=sp_breakdown,
     )
 
 
@@ -363,10 +389,12 @@ def report(f: Figures) -> str:
     return (
         f"{f.example} ({f.board}): flash {f.flash_bytes:,}/{f.flash_capacity:,} B, SRAM {f.sram_bytes:,}/"
         f"{f.sram_capacity:,} B; control loop {f.control_cpu_share:.1%} CPU\n"
-        f"    decode+dispatch (Session::poll, no ISRs, no serial driver, less idle polls): "
+        f"    decode+dispatch (Session::poll up to the handler, no ISRs, no serial driver, less idle polls): "
         f"{f.decode_dispatch_cycles_per_set_pid_frame:.0f} cycles/SET_PID frame (budget {FRAME_CYCLES_BUDGET}), "
         f"{f.decode_dispatch_cycles_per_setpoint_frame:.0f} cycles/setpoint frame; idle poll() "
         f"{f.poll_idle_call_cycles} cycles\n"
+        f"    + handling and reply (the App's code, the ACK): {f.handling_cycles_per_set_pid_frame:.0f} cycles/SET_PID "
+        f"frame, {f.handling_cycles_per_setpoint_frame:.0f} cycles/setpoint frame\n"
         f"    full cost (+ RX ISR per byte, serial driver, reply TX ISRs): "
         f"{f.full_cycles_per_set_pid_frame:.0f} cycles/SET_PID frame, "
         f"{f.full_cycles_per_setpoint_frame:.0f} cycles/setpoint frame\n"
@@ -377,8 +405,8 @@ def report(f: Figures) -> str:
 
 
 def breakdown(f: Figures, top: int = 8) -> str:
-    """Where the decode and dispatch cycles of a SET_PID frame go (cycles per frame)."""
-    lines = [f"{f.example}: decode+dispatch cycles per SET_PID frame"]
+    """Where the cycles of a SET_PID frame inside poll() go (per frame; handling marked)."""
+    lines = [f"{f.example}: cycles per SET_PID frame inside poll() (decode+dispatch, and handling marked so)"]
     for key in ("file", "function", "line"):
         items = list(f.set_pid_breakdown.get(key, {}).items())
         shown = items[:top]

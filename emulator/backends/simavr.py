@@ -63,6 +63,7 @@ PHYSICS_US = 1000
 CYCLES_PER_US = 16
 BAUD = 115200
 BITS_PER_BYTE = 10
+HANDLER_FLAG = 0x1000000  # profile keys of PCs run inside a handler boundary (Harness.profile_handler)
 
 
 class SimavrError(RuntimeError):
@@ -372,6 +373,11 @@ class Harness:
         """Profiles the calls of the function at that address from now on, interrupt handlers
         excluded (see `profile`); 0 stops."""
         self._ask(f"P {byte_address}")
+
+    def profile_handler(self, byte_address: int) -> None:
+        """Inside profiled calls, the cycles of calls of the function at that address are kept
+        apart: `profile` reports them at PC + HANDLER_FLAG (0 clears every handler)."""
+        self._ask(f"H {byte_address}")
 
     def profile(self) -> tuple[int, int, int, dict[int, int]]:
         """(calls, cycles, cheapest call, cycles per PC byte address) since the last call."""

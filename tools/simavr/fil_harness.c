@@ -39,6 +39,12 @@
  *                                           address until SP rises above its value there) and not in
  *                                           an interrupt handler, each instruction's cycles are added
  *                                           to its PC. Reply: OK
+ *   H <byte address>                        a handler boundary of the profile (0 clears them; at
+ *                                           most 16): inside a profiled call, the cycles of a call of
+ *                                           that function (until SP rises above its value at entry)
+ *                                           are added to PC + 0x1000000 instead of PC, so a dump
+ *                                           tells decoding and dispatching from what the handlers
+ *                                           and the replies cost. Reply: OK
  *   D                                       dump and reset the profile: calls, cycles, the cheapest
  *                                           call, then <byte address hex>:<cycles> per PC (or -).
  *                                           Reply: D <calls> <cycles> <min_call> <pc>:<cycles>...
@@ -327,11 +333,24 @@ static size_t prof_words, prof_touched_count;
 static int prof_in;
 static uint16_t prof_sp;
 static uint64_t prof_calls, prof_cycles, prof_call, prof_min = UINT64_MAX;
+/* Handler boundaries (H): one histogram slot per flash word beyond prof_words for their cycles. */
+#define PROF_HANDLER_FLAG 0x1000000u
+#define PROF_MAX_HANDLERS 16
+static avr_flashaddr_t prof_handlers[PROF_MAX_HANDLERS];
+static int prof_handler_count, prof_in_handler;
+static uint16_t prof_handler_sp;
+
+static int prof_is_handler(avr_flashaddr_t pc) {
+    for (int i = 0; i < prof_handler_count; ++i) {
+        if (prof_handlers[i] == pc) return 1;
+    }
+    return 0;
+}
 
 static uint16_t sp(void) { return (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8)); }
 
 static void prof_reset(void) {
-    if (prof_hist != NULL) memset(prof_hist, 0, prof_words * sizeof *prof_hist);
+    if (prof_hist != NULL) memset(prof_hist, 0, 2 * prof_words * sizeof *prof_hist);
     prof_calls = prof_cycles = 0;
     prof_min = UINT64_MAX;
 }
@@ -340,18 +359,19 @@ static void prof_abandon(void) { /* a call cut short by a reset or a new P */
     for (size_t i = 0; i < prof_touched_count; ++i) prof_cur[prof_touched[i]] = 0;
     prof_touched_count = 0;
     prof_in = 0;
+    prof_in_handler = 0;
 }
 
 static int prof_alloc(void) {
     prof_words = (size_t)avr->flashend / 2 + 1;
-    prof_hist = calloc(prof_words, sizeof *prof_hist);
-    prof_cur = calloc(prof_words, sizeof *prof_cur);
-    prof_touched = calloc(prof_words, sizeof *prof_touched);
+    prof_hist = calloc(2 * prof_words, sizeof *prof_hist);
+    prof_cur = calloc(2 * prof_words, sizeof *prof_cur);
+    prof_touched = calloc(2 * prof_words, sizeof *prof_touched);
     return prof_hist != NULL && prof_cur != NULL && prof_touched != NULL;
 }
 
 static void prof_add(avr_flashaddr_t pc, uint64_t cycles) {
-    const uint32_t w = pc >> 1;
+    const uint32_t w = (uint32_t)(pc >> 1) + (prof_in_handler ? (uint32_t)prof_words : 0u);
     if (prof_cur[w] == 0) prof_touched[prof_touched_count++] = w;
     prof_cur[w] += cycles;
     prof_call += cycles;
@@ -365,6 +385,7 @@ static void prof_return(void) {
     }
     prof_touched_count = 0;
     prof_in = 0;
+    prof_in_handler = 0;
     ++prof_calls;
     prof_cycles += prof_call;
     if (prof_call < prof_min) prof_min = prof_call;
@@ -373,9 +394,10 @@ static void prof_return(void) {
 static void prof_dump(void) {
     printf("D %" PRIu64 " %" PRIu64 " %" PRIu64, prof_calls, prof_cycles, prof_calls ? prof_min : 0);
     int any = 0;
-    for (size_t w = 0; prof_hist != NULL && w < prof_words; ++w) {
+    for (size_t w = 0; prof_hist != NULL && w < 2 * prof_words; ++w) {
         if (prof_hist[w] == 0) continue;
-        printf(" %zx:%" PRIu64, w * 2, prof_hist[w]);
+        const size_t address = w < prof_words ? w * 2 : (w - prof_words) * 2 + PROF_HANDLER_FLAG;
+        printf(" %zx:%" PRIu64, address, prof_hist[w]);
         any = 1;
     }
     printf(any ? "\n" : " -\n");
@@ -411,6 +433,9 @@ static int run_until(uint64_t end) {
             prof_in = 1;
             prof_sp = sp();
             prof_call = 0;
+        } else if (prof_in && !prof_in_handler && !in_isr && prof_is_handler(pc)) {
+            prof_in_handler = 1;
+            prof_handler_sp = sp();
         }
         const int state = avr_run(avr);
         if (state == cpu_Done || state == cpu_Crashed) {
@@ -420,6 +445,7 @@ static int run_until(uint64_t end) {
         }
         if (prof_in) {
             if (!in_isr) prof_add(pc, avr->cycle - before);
+            if (prof_in_handler && sp() > prof_handler_sp) prof_in_handler = 0;
             if (sp() > prof_sp) prof_return(); /* an interrupt lowers SP; only the return raises it */
         }
         track_loop();
@@ -640,6 +666,19 @@ int main(int argc, char** argv) {
                 prof_reset();
                 printf("OK\n");
                 break;
+            case 'H': {
+                const avr_flashaddr_t address = (avr_flashaddr_t)strtoul(line + 1, NULL, 0);
+                if (address == 0) {
+                    prof_handler_count = 0;
+                } else if (prof_handler_count < PROF_MAX_HANDLERS) {
+                    prof_handlers[prof_handler_count++] = address;
+                } else {
+                    ok = 0;
+                    break;
+                }
+                printf("OK\n");
+                break;
+            }
             case 'D':
                 prof_dump();
                 break;
