@@ -232,27 +232,22 @@ void Session<App>::on_frame() {
     if (r != proto::DISPATCH_OK || !request(id, seq)) {
         return;
     }
-    // 3. The message's own handling.
-    switch (id) {
-    case proto::Hello::ID: {
+    // 3. The message's own handling. An if chain, not a switch: the ids span 0x01..0x21, and
+    // avr-gcc would spend a 66-byte jump table on them.
+    if (id == proto::Hello::ID) {
         const proto::Hello& h = m.hello;
         const bool compatible = h.protocol_version == proto::PROTOCOL_VERSION && h.spec_hash == proto::SPEC_HASH;
         if (fire(proto::SessionEvent::HELLO, compatible ? G_COMPATIBLE : 0, proto::FailsafeReason::NONE) &
             proto::Action::ACCEPT_HELLO) {
             accept_hello(h, app_.config());
         }
-        break;
-    }
-    case proto::Ping::ID:
+    } else if (id == proto::Ping::ID) {
         send_pong(m.ping);
-        break;
-    case proto::Arm::ID:
+    } else if (id == proto::Arm::ID) {
         fire(proto::SessionEvent::ARM, m.arm.boot_id == v_.boot_id ? G_BOOT_ID : 0, proto::FailsafeReason::NONE);
-        break;
-    case proto::Disarm::ID:
+    } else if (id == proto::Disarm::ID) {
         fire(proto::SessionEvent::DISARM, 0, proto::FailsafeReason::NONE);
-        break;
-    case proto::SetPid::ID: {
+    } else if (id == proto::SetPid::ID) {
         const proto::SetPid& p = m.set_pid;
         uint8_t bad = 0;  // docs/control.md 2: the wheel first (detail 0), then the gains
         if (p.wheel < proto::WHEEL_COUNT || p.wheel == proto::PID_ALL_WHEELS) {
@@ -262,13 +257,11 @@ void Session<App>::on_frame() {
             }
         }
         answer_checked(bad);
-        break;
-    }
-    case proto::GetPid::ID: {
+    } else if (id == proto::GetPid::ID) {
         const uint8_t wheel = m.get_pid.wheel;
         if (wheel >= proto::WHEEL_COUNT) {
             answer_checked(0);
-            break;
+            return;
         }
         // PID = req_seq followed by exactly the SET_PID fields: packed in place.
         static_assert(proto::Pid::PAYLOAD_SIZE == 1 + proto::SetPid::PAYLOAD_SIZE, "PID must be req_seq + SET_PID");
@@ -276,9 +269,7 @@ void Session<App>::on_frame() {
         app_.pid(wheel, p);
         p.wheel = wheel;
         send_reply(proto::Pid::ID, proto::Pid::CRC_EXTRA, proto::pack(p, link_.payload_slot() + 1));
-        break;
-    }
-    case proto::SetConfig::ID: {
+    } else if (id == proto::SetConfig::ID) {
         uint8_t detail = proto::check_ranges(m.set_config);
         if (detail != proto::ALL_FIELDS_VALID) {
             answer_checked(detail);
@@ -286,38 +277,27 @@ void Session<App>::on_frame() {
             const uint8_t why = app_.set_config(m.set_config, detail);  // consistency, then applied
             answer(why, why != 0 ? detail : 0);
         }
-        break;
-    }
-    case proto::GetConfig::ID:
+    } else if (id == proto::GetConfig::ID) {
         // CONFIG = req_seq followed by exactly the SET_CONFIG fields: packed in place.
         static_assert(proto::Config::PAYLOAD_SIZE == 1 + proto::SetConfig::PAYLOAD_SIZE,
                       "CONFIG must be req_seq + SET_CONFIG");
         send_reply(proto::Config::ID, proto::Config::CRC_EXTRA, proto::pack(app_.config(), link_.payload_slot() + 1));
-        break;
-    case proto::SaveConfig::ID:
+    } else if (id == proto::SaveConfig::ID) {
         // EEPROM writes stall the loop: never while ARMED.
         answer(armed() ? static_cast<uint8_t>(proto::NackReason::ARMED) : app_.save_config(), 0);
-        break;
-    case proto::ResetOdometry::ID:
+    } else if (id == proto::ResetOdometry::ID) {
         app_.reset_odometry();
         answer(0, 0);
-        break;
-    case proto::GetLinkStats::ID:
+    } else if (id == proto::GetLinkStats::ID) {
         send_link_stats();
-        break;
-    case proto::SetWheelSpeeds::ID: {
+    } else if (id == proto::SetWheelSpeeds::ID) {
         const proto::SetWheelSpeeds& s = m.set_wheel_speeds;
         setpoint(s.left_mm_s, s.right_mm_s, 0, proto::check_ranges(s), proto::Capability::DIFF_DRIVE);
-        break;
-    }
-    case proto::SetAckermann::ID: {
+    } else if (id == proto::SetAckermann::ID) {
         const proto::SetAckermann& s = m.set_ackermann;
         setpoint(s.speed_mm_s, 0, s.steering_mrad, proto::check_ranges(s), proto::Capability::ACKERMANN);
-        break;
     }
-    default:
-        break;  // a message added to the spec that this firmware does not handle yet
-    }
+    // else: a message added to the spec that this firmware does not handle yet
 }
 
 template <class App>
