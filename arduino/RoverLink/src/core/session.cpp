@@ -36,8 +36,11 @@ ROVERLINK_NOINLINE uint8_t SessionCore::checked_speed(int16_t a, int16_t b, uint
     return magnitude(a) > max ? 0 : (magnitude(b) > max ? 1 : other);
 }
 
+// v_ is set by reset() (begin()); until then only the state is read: BOOT, begin() not run yet.
 SessionCore::SessionCore(Stream& port, Board& board, const Robot& robot)
-    : v_(), board_(board), robot_(robot), link_(port) {}
+    : board_(board), robot_(robot), link_(port) {
+    v_.state = SessionState::BOOT;
+}
 
 void SessionCore::reset(uint32_t boot_counter, const proto::SetConfig& config) {
     memset(&v_, 0, sizeof v_);  // all plain data; 0 is BOOT, NONE, STREAM
