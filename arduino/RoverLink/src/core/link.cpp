@@ -9,11 +9,11 @@ Link::Link(Stream& port) : port_(port) { memset(&c_, 0, sizeof c_); }
 
 // Out of line: every message goes through this one call site (a few bytes per sender on AVR).
 ROVERLINK_NOINLINE void Link::send_payload(uint8_t msg_id, uint8_t crc_extra, uint8_t len) {
-    const size_t n = encode_frame(msg_id, c_.tx_seq, crc_extra, payload_slot(), len, tx_, sizeof tx_);
+    const size_t n = encode_frame(msg_id, c_.tx_seq, crc_extra, payload_slot(), len, tx_.frame, sizeof tx_.frame);
     if (n == 0) {
         return;  // cannot happen with a MAX_FRAME buffer; never send half a frame
     }
-    port_.write(tx_, n);
+    port_.write(tx_.frame, n);
     add_count(c_.frames_sent);
     ++c_.tx_seq;
 }

@@ -28,12 +28,14 @@ public:
     }
 
     // For messages built straight into the frame buffer (no message struct on the stack): write
-    // up to proto::MAX_PAYLOAD bytes at payload_slot(), then send_payload().
-    uint8_t* payload_slot() { return tx_ + 3; }
+    // up to proto::MAX_PAYLOAD bytes at payload_slot(), or the fields of a message in out(), then
+    // send_payload().
+    uint8_t* payload_slot() { return tx_.frame + 3; }
+    proto::McuToHost& out() { return tx_.slot.msg; }
     void send_payload(uint8_t msg_id, uint8_t crc_extra, uint8_t len);
 
     // The TX buffer doubles as scratch memory between frames (EEPROM images).
-    uint8_t* scratch() { return tx_; }
+    uint8_t* scratch() { return tx_.frame; }
     static const uint8_t SCRATCH_SIZE = proto::MAX_FRAME;
 
     // Receive-side seq accounting (docs/control.md 1.2.1).
@@ -53,10 +55,20 @@ private:
         bool have_last_seq;
     };
 
+    // The frame being sent; its payload, at offset 3, is also the message structs' wire image.
+    union Tx {
+        uint8_t frame[proto::MAX_FRAME];
+        struct {
+            uint8_t head[3];  // COBS code, msg_id, seq
+            proto::McuToHost msg;
+        } slot;
+    };
+    static_assert(sizeof(Tx) == proto::MAX_FRAME, "every message must fit the frame buffer");
+
     Stream& port_;
     Counters c_;
     FrameDecoder decoder_;
-    uint8_t tx_[proto::MAX_FRAME];
+    Tx tx_;
 };
 
 }  // namespace roverlink

@@ -194,9 +194,15 @@ ROVERLINK_NOINLINE void SessionCore::send_reply(uint8_t msg_id, uint8_t crc_extr
     link_.send_payload(msg_id, crc_extra, static_cast<uint8_t>(1 + len));
 }
 
-ROVERLINK_NOINLINE void SessionCore::send_identity(proto::IdentityReason reason, const proto::SetConfig& config) {
+// Out of line and not cloned: cloned for the global session, every field store would take an
+// absolute address (four bytes) instead of an offset (two).
+ROVERLINK_OUT_OF_LINE void SessionCore::send_identity(proto::IdentityReason reason, const proto::SetConfig& config) {
+    // Built in the frame buffer, every payload byte written below: a field added to the spec must
+    // be added here too.
+    static_assert(proto::Identity::PAYLOAD_SIZE == 25 && offsetof(proto::Identity, robot_name) == 25,
+                  "send_identity() writes IDENTITY's fields one by one");
     const Vars& v = v_;
-    proto::Identity m = proto::Identity();  // zeroed: a field added to the spec is never garbage
+    proto::Identity& m = link_.out().identity;
     m.protocol_version = proto::PROTOCOL_VERSION;
     m.spec_hash = proto::SPEC_HASH;
     m.firmware_version[0] = FIRMWARE_VERSION.major;
@@ -208,17 +214,15 @@ ROVERLINK_NOINLINE void SessionCore::send_identity(proto::IdentityReason reason,
     const uint32_t now = clock();
     m.uptime_ms = v.wrapped_ms + now / 1000u;
     m.reason = reason;
-    if (reason != proto::IdentityReason::BOOT) {
-        m.hello_seq = v.req_seq;
-    }
-    // Granted values; outside a session, those in force in IDLE (stream, zeroed above, at the
-    // config's rate).
+    m.hello_seq = reason != proto::IdentityReason::BOOT ? v.req_seq : 0;
+    // Granted values; outside a session, those in force in IDLE (stream at the config's rate).
     if (reason == proto::IdentityReason::HELLO_ACCEPTED) {
         m.watchdog_ms = v.watchdog_ms;
         m.feedback_mode = v.mode;
         m.feedback_hz = v.feedback_hz;
     } else {
         m.watchdog_ms = config.watchdog_ms;
+        m.feedback_mode = proto::FeedbackMode::STREAM;
         m.feedback_hz = config.feedback_hz;
     }
     uint8_t n = 0;
@@ -227,8 +231,8 @@ ROVERLINK_NOINLINE void SessionCore::send_identity(proto::IdentityReason reason,
         m.robot_name[n] = name[n];
         ++n;
     }
-    m.robot_name_len = n;
-    link_.send(m);
+    link_.send_payload(proto::Identity::ID, proto::Identity::CRC_EXTRA,
+                       static_cast<uint8_t>(proto::Identity::PAYLOAD_SIZE + n));
 }
 
 void SessionCore::accept_hello(const proto::Hello& h, const proto::SetConfig& config) {
@@ -253,15 +257,17 @@ void SessionCore::accept_hello(const proto::Hello& h, const proto::SetConfig& co
 }
 
 void SessionCore::send_pong(const proto::Ping& m) {
-    proto::Pong pong;
+    static_assert(proto::Pong::PAYLOAD_SIZE == 8, "send_pong() writes PONG's fields one by one");
+    proto::Pong& pong = link_.out().pong;
     pong.host_time_us = m.host_time_us;
     pong.mcu_time_us = board_.micros();
-    link_.send(pong);
+    link_.send_payload(proto::Pong::ID, proto::Pong::CRC_EXTRA, proto::Pong::PAYLOAD_SIZE);
 }
 
 ROVERLINK_OUT_OF_LINE void SessionCore::send_link_stats() {
     const DecoderStats& d = link_.decoder().stats();
-    proto::LinkStats s;
+    static_assert(proto::LinkStats::PAYLOAD_SIZE == 45, "send_link_stats() writes LINK_STATS's fields one by one");
+    proto::LinkStats& s = link_.out().link_stats;
     s.req_seq = v_.req_seq;
     // frames_ok .. value_errors: six counters in the same order in both structs, copied at once.
     static_assert(offsetof(proto::LinkStats, value_errors) - offsetof(proto::LinkStats, frames_ok) == 5 * 4 &&
@@ -273,7 +279,7 @@ ROVERLINK_OUT_OF_LINE void SessionCore::send_link_stats() {
     s.rx_overruns = 0;  // the Arduino core drops UART overruns silently: not observable here
     s.duplicates = v_.duplicates;
     s.frames_sent = link_.frames_sent();
-    link_.send(s);
+    link_.send_payload(proto::LinkStats::ID, proto::LinkStats::CRC_EXTRA, proto::LinkStats::PAYLOAD_SIZE);
 }
 
 uint8_t SessionCore::session_status() const {
