@@ -26,6 +26,26 @@ uint32_t mix32(uint32_t x) {
     return x;
 }
 
+// floor(us / 1000) without a division routine: us / 8 / 125 by shift and subtract, the quotient's
+// bits entering x from the right as the dividend's leave it on the left (the low 3 bits are never
+// brought down: they only make up the / 8).
+uint32_t ms_of(uint32_t us) {
+    uint32_t x = us;
+    uint8_t r = 0;  // < 125
+    for (uint8_t i = 29; i != 0; --i) {
+        r = static_cast<uint8_t>(r << 1);
+        if (x & 0x80000000UL) {
+            ++r;
+        }
+        x <<= 1;
+        if (r >= 125u) {
+            r = static_cast<uint8_t>(r - 125u);
+            x |= 1u;
+        }
+    }
+    return x & 0x1FFFFFFFUL;
+}
+
 uint16_t magnitude(int16_t x) {
     return x < 0 ? static_cast<uint16_t>(0u - static_cast<uint16_t>(x)) : static_cast<uint16_t>(x);
 }
@@ -211,8 +231,7 @@ ROVERLINK_OUT_OF_LINE void SessionCore::send_identity(proto::IdentityReason reas
     m.board = robot_.board;
     m.capabilities = robot_.capabilities;
     m.boot_id = v.boot_id;
-    const uint32_t now = clock();
-    m.uptime_ms = v.wrapped_ms + now / 1000u;
+    m.uptime_ms = v.wrapped_ms + ms_of(clock());
     m.reason = reason;
     m.hello_seq = reason != proto::IdentityReason::BOOT ? v.req_seq : 0;
     // Granted values; outside a session, those in force in IDLE (stream at the config's rate).
