@@ -16,14 +16,20 @@ struct Guards {
     bool check(proto::Guard g) const { return (bits >> static_cast<uint8_t>(g)) & 1u; }
 };
 
-// A 32-bit finaliser (xorshift-multiply): every input bit affects every output bit.
+// Four Feistel rounds over the halves of x: the high half, multiplied (16 x 16 -> 32 bits, folded
+// to 16), is XORed into the low one, and the halves swap. Every input bit affects every output bit,
+// and no 32-bit multiply routine is needed.
 uint32_t mix32(uint32_t x) {
-    x ^= x >> 16;
-    x *= 0x7FEB352DUL;
-    x ^= x >> 15;
-    x *= 0x846CA68BUL;
-    x ^= x >> 16;
-    return x;
+    uint16_t lo = static_cast<uint16_t>(x);
+    uint16_t hi = static_cast<uint16_t>(x >> 16);
+    for (uint8_t i = 0; i < 4; ++i) {
+        const uint32_t p = static_cast<uint32_t>(hi) * 0x9E37u;
+        const uint16_t t = static_cast<uint16_t>(lo ^ static_cast<uint16_t>(static_cast<uint16_t>(p >> 16) +
+                                                                           static_cast<uint16_t>(p)));
+        lo = hi;
+        hi = t;
+    }
+    return (static_cast<uint32_t>(hi) << 16) | lo;
 }
 
 // floor(us / 1000) without a division routine: us / 8 / 125 by shift and subtract, the quotient's
