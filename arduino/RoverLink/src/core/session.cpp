@@ -143,19 +143,28 @@ void SessionCore::perform(uint16_t a, SessionEvent ev, SessionState from, Failsa
     }
 }
 
-// An if chain, not a switch: avr-gcc turns a switch of constants into a lookup table in SRAM.
+namespace {
+
+// Every request that is not PLAIN has its id in KIND_BASE .. KIND_BASE + 15, and its Kind in two
+// bits of a constant at 2 * (id - KIND_BASE): one shift, no chain of compares (nor a switch, which
+// avr-gcc turns into a lookup table in SRAM).
+const uint8_t KIND_BASE = proto::Arm::ID;
+
+constexpr uint32_t kind_bits(uint8_t id, uint32_t kind) {
+    return id >= KIND_BASE && id - KIND_BASE < 16 ? kind << (2 * (id - KIND_BASE)) : 0xFFFFFFFFUL;
+}
+
+}  // namespace
+
 SessionCore::Kind SessionCore::kind_of(uint8_t id) {
-    if (id == proto::Arm::ID || id == proto::Disarm::ID) {
-        return TABLE;
-    }
-    if (id == proto::GetPid::ID || id == proto::GetConfig::ID || id == proto::GetLinkStats::ID) {
-        return QUERY;
-    }
-    if (id == proto::SetPid::ID || id == proto::SetConfig::ID || id == proto::SaveConfig::ID ||
-        id == proto::ResetOdometry::ID) {
-        return RELIABLE;
-    }
-    return PLAIN;  // HELLO, PING, setpoints
+    const uint32_t KINDS = kind_bits(proto::Arm::ID, TABLE) | kind_bits(proto::Disarm::ID, TABLE) |
+                           kind_bits(proto::GetPid::ID, QUERY) | kind_bits(proto::GetConfig::ID, QUERY) |
+                           kind_bits(proto::GetLinkStats::ID, QUERY) | kind_bits(proto::SetPid::ID, RELIABLE) |
+                           kind_bits(proto::SetConfig::ID, RELIABLE) | kind_bits(proto::SaveConfig::ID, RELIABLE) |
+                           kind_bits(proto::ResetOdometry::ID, RELIABLE);
+    static_assert(KINDS != 0xFFFFFFFFUL, "a request id is outside KIND_BASE .. KIND_BASE + 15");
+    const uint8_t i = static_cast<uint8_t>(id - KIND_BASE);
+    return i < 16 ? static_cast<Kind>((KINDS >> (2 * i)) & 3u) : PLAIN;  // HELLO, PING, setpoints
 }
 
 ROVERLINK_OUT_OF_LINE bool SessionCore::request(uint8_t msg_id, uint8_t seq) {

@@ -73,11 +73,11 @@ public:
 
 protected:
     // How a request is handled before its own code runs (request()).
-    enum Kind : uint8_t {
-        PLAIN,     // HELLO, PING, setpoints: seq accounting and VALID_FRAME only
-        TABLE,     // ARM, DISARM: + duplicate detection; the state table answers
-        RELIABLE,  // SET_*, SAVE_CONFIG, RESET_ODOMETRY: + duplicate replay, NO_SESSION in IDLE
-        QUERY,     // GET_*: + duplicates answered afresh, NO_SESSION in IDLE
+    enum Kind : uint8_t {  // two bits (kind_of())
+        PLAIN = 0,     // HELLO, PING, setpoints: seq accounting and VALID_FRAME only
+        TABLE = 1,     // ARM, DISARM: + duplicate detection; the state table answers
+        RELIABLE = 2,  // SET_*, SAVE_CONFIG, RESET_ODOMETRY: + duplicate replay, NO_SESSION in IDLE
+        QUERY = 3,     // GET_*: + duplicates answered afresh, NO_SESSION in IDLE
     };
 
     static const uint8_t G_COMPATIBLE = 1u << static_cast<uint8_t>(proto::Guard::COMPATIBLE);
