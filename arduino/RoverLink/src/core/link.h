@@ -32,6 +32,15 @@ public:
     // send_payload().
     uint8_t* payload_slot() { return tx_.frame + 3; }
     proto::McuToHost& out() { return tx_.slot.msg; }
+    // A GET_* answer (PID, CONFIG): req_seq, then exactly the fields of the SET_* message.
+    struct Reply {
+        uint8_t req_seq;
+        union {
+            proto::SetPid pid;
+            proto::SetConfig config;
+        };
+    };
+    Reply& reply() { return tx_.slot.reply; }
     void send_payload(uint8_t msg_id, uint8_t crc_extra, uint8_t len);
 
     // The TX buffer doubles as scratch memory between frames (EEPROM images).
@@ -60,7 +69,10 @@ private:
         uint8_t frame[proto::MAX_FRAME];
         struct {
             uint8_t head[3];  // COBS code, msg_id, seq
-            proto::McuToHost msg;
+            union {
+                proto::McuToHost msg;
+                Reply reply;
+            };
         } slot;
     };
     static_assert(sizeof(Tx) == proto::MAX_FRAME, "every message must fit the frame buffer");

@@ -225,7 +225,7 @@ ROVERLINK_NOINLINE void SessionCore::send_answer(uint8_t reason, uint8_t detail)
 }
 
 ROVERLINK_NOINLINE void SessionCore::send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t len) {
-    link_.payload_slot()[0] = v_.req_seq;
+    link_.reply().req_seq = v_.req_seq;
     link_.send_payload(msg_id, crc_extra, static_cast<uint8_t>(1 + len));
 }
 

@@ -17,7 +17,8 @@
 //   uint8_t set_config(const proto::SetConfig& c, uint8_t& detail);
 //       SET_CONFIG, its ranges already checked: 0 when applied, else a NackReason (and detail).
 //   void set_pid(const proto::SetPid& m);          SET_PID, wheel and ranges checked
-//   void pid(uint8_t wheel, proto::SetPid& out);   GET_PID: the gains of wheel (< WHEEL_COUNT)
+//   void pid(uint8_t wheel, proto::SetPid& out);   GET_PID: the gains of wheel (< WHEEL_COUNT),
+//       into `out`, which is in the TX frame buffer: send nothing meanwhile
 //   uint8_t save_config();                         SAVE_CONFIG outside ARMED: 0 or a NackReason
 //   void reset_odometry();                         RESET_ODOMETRY
 //   void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq);
@@ -125,7 +126,7 @@ protected:
     void accept_hello(const proto::Hello& h, const proto::SetConfig& config);
     void send_pong(const proto::Ping& m);
     void send_link_stats();
-    // A GET_* answer: req_seq, then the `len` bytes already packed at payload_slot() + 1.
+    // A GET_* answer: req_seq, then the `len` bytes already in link_.reply().
     void send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t len);
     uint8_t session_status() const;
     bool feedback_due(bool applied, uint8_t config_hz);
@@ -263,12 +264,12 @@ void Session<App>::on_frame() {
             answer_checked(0);
             return;
         }
-        // PID = req_seq followed by exactly the SET_PID fields: packed in place.
+        // PID = req_seq followed by exactly the SET_PID fields: filled in the frame buffer.
         static_assert(proto::Pid::PAYLOAD_SIZE == 1 + proto::SetPid::PAYLOAD_SIZE, "PID must be req_seq + SET_PID");
-        proto::SetPid p;
+        proto::SetPid& p = link_.reply().pid;
         app_.pid(wheel, p);
         p.wheel = wheel;
-        send_reply(proto::Pid::ID, proto::Pid::CRC_EXTRA, proto::pack(p, link_.payload_slot() + 1));
+        send_reply(proto::Pid::ID, proto::Pid::CRC_EXTRA, proto::SetPid::PAYLOAD_SIZE);
     } else if (id == proto::SetConfig::ID) {
         uint8_t detail = proto::check_ranges(m.set_config);
         if (detail != proto::ALL_FIELDS_VALID) {
@@ -278,10 +279,11 @@ void Session<App>::on_frame() {
             answer(why, why != 0 ? detail : 0);
         }
     } else if (id == proto::GetConfig::ID) {
-        // CONFIG = req_seq followed by exactly the SET_CONFIG fields: packed in place.
+        // CONFIG = req_seq followed by exactly the SET_CONFIG fields: copied into the frame buffer.
         static_assert(proto::Config::PAYLOAD_SIZE == 1 + proto::SetConfig::PAYLOAD_SIZE,
                       "CONFIG must be req_seq + SET_CONFIG");
-        send_reply(proto::Config::ID, proto::Config::CRC_EXTRA, proto::pack(app_.config(), link_.payload_slot() + 1));
+        link_.reply().config = app_.config();
+        send_reply(proto::Config::ID, proto::Config::CRC_EXTRA, proto::SetConfig::PAYLOAD_SIZE);
     } else if (id == proto::SaveConfig::ID) {
         // EEPROM writes stall the loop: never while ARMED.
         answer(armed() ? static_cast<uint8_t>(proto::NackReason::ARMED) : app_.save_config(), 0);
