@@ -191,7 +191,6 @@ private:
     }
 
     void on_frame();
-    void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t bad_field, uint16_t capability);
 
     App& app_;
 };
@@ -292,29 +291,41 @@ void Session<App>::on_frame() {
         answer(0, 0);
     } else if (id == proto::GetLinkStats::ID) {
         send_link_stats();
-    } else if (id == proto::SetWheelSpeeds::ID) {
-        const proto::SetWheelSpeeds& s = m.set_wheel_speeds;
-        setpoint(s.left_mm_s, s.right_mm_s, 0, proto::check_ranges(s), proto::Capability::DIFF_DRIVE);
-    } else if (id == proto::SetAckermann::ID) {
-        const proto::SetAckermann& s = m.set_ackermann;
-        setpoint(s.speed_mm_s, 0, s.steering_mrad, proto::check_ranges(s), proto::Capability::ACKERMANN);
-    }
-    // else: a message added to the spec that this firmware does not handle yet
-}
-
-template <class App>
-void Session<App>::setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t bad_field, uint16_t capability) {
-    // Checks in this order (docs/firmware.md): capability, the state (the table's NACK), then
-    // (ARMED only) the first speed over max_wheel_speed_mm_s or the first field check_ranges()
-    // refuses, whichever has the lower field index.
-    if (!has(capability)) {
-        send_answer(static_cast<uint8_t>(proto::NackReason::UNSUPPORTED), 0);
-    } else if (fire(proto::SessionEvent::SETPOINT, 0, proto::FailsafeReason::NONE) & proto::Action::APPLY_SETPOINT) {
-        const uint8_t bad = checked_speed(left, right, app_.config().max_wheel_speed_mm_s, bad_field);
-        if (bad != proto::ALL_FIELDS_VALID) {
-            send_answer(static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE), bad);
+    } else {
+        // The setpoints, one tail for both. Checks in this order (docs/firmware.md): capability,
+        // the state (the table's NACK), then (ARMED only) the first speed over
+        // max_wheel_speed_mm_s or the first field check_ranges() refuses, whichever has the lower
+        // field index.
+        int16_t left;
+        int16_t right = 0;
+        int16_t steer_mrad = 0;
+        uint8_t bad_field;
+        uint16_t capability;
+        if (id == proto::SetWheelSpeeds::ID) {
+            const proto::SetWheelSpeeds& s = m.set_wheel_speeds;
+            left = s.left_mm_s;
+            right = s.right_mm_s;
+            bad_field = proto::check_ranges(s);
+            capability = proto::Capability::DIFF_DRIVE;
+        } else if (id == proto::SetAckermann::ID) {
+            const proto::SetAckermann& s = m.set_ackermann;
+            left = s.speed_mm_s;
+            steer_mrad = s.steering_mrad;
+            bad_field = proto::check_ranges(s);
+            capability = proto::Capability::ACKERMANN;
         } else {
-            app_.setpoint(left, right, steer_mrad, v_.req_seq);  // latest wins; the next tick applies it
+            return;  // a message added to the spec that this firmware does not handle yet
+        }
+        if (!has(capability)) {
+            send_answer(static_cast<uint8_t>(proto::NackReason::UNSUPPORTED), 0);
+        } else if (fire(proto::SessionEvent::SETPOINT, 0, proto::FailsafeReason::NONE) &
+                   proto::Action::APPLY_SETPOINT) {
+            const uint8_t bad = checked_speed(left, right, app_.config().max_wheel_speed_mm_s, bad_field);
+            if (bad != proto::ALL_FIELDS_VALID) {
+                send_answer(static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE), bad);
+            } else {
+                app_.setpoint(left, right, steer_mrad, v_.req_seq);  // latest wins; the next tick applies it
+            }
         }
     }
 }
