@@ -73,7 +73,7 @@ void SessionCore::reset(uint32_t boot_counter, const proto::SetConfig& config) {
     v_.watchdog_ms = config.watchdog_ms;
     v_.feedback_hz = config.feedback_hz;
     // boot_id: the EEPROM boot counter and the clock mixed with four entropy() samples; never 0.
-    uint32_t id = boot_counter ^ board_.micros();
+    uint32_t id = boot_counter ^ clock();
     for (uint8_t i = 0; i < 4; ++i) {
         id = mix32(id ^ board_.entropy());
     }
@@ -109,7 +109,7 @@ void SessionCore::perform(uint16_t a, SessionEvent ev, SessionState from, Failsa
         v_.reason = reason;
     }
     if (a & proto::Action::FEED_WATCHDOG) {
-        v_.last_valid_us = board_.micros();
+        v_.last_valid_us = clock();
     }
     if (a & proto::Action::ANNOUNCE) {
         send_identity(proto::IdentityReason::BOOT, config);
@@ -294,7 +294,7 @@ void SessionCore::send_pong(const proto::Ping& m) {
     static_assert(proto::Pong::PAYLOAD_SIZE == 8, "send_pong() writes PONG's fields one by one");
     proto::Pong& pong = link_.out().pong;
     pong.host_time_us = m.host_time_us;
-    pong.mcu_time_us = board_.micros();
+    pong.mcu_time_us = clock();
     link_.send_payload(proto::Pong::ID, proto::Pong::CRC_EXTRA, proto::Pong::PAYLOAD_SIZE);
 }
 

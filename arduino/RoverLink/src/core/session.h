@@ -62,7 +62,8 @@ public:
     bool armed() const { return v_.state == proto::SessionState::ARMED; }
     const Link& link() const { return link_; }
 
-    // micros(), counting its wraps for IDENTITY.uptime_ms.
+    // micros(), counting its wraps for IDENTITY.uptime_ms. The session reads the time only through
+    // it: one call of the virtual micros() instead of one per reader.
     uint32_t clock();
 
     // The TX frame buffer, as scratch memory between frames (EEPROM images): Link::SCRATCH_SIZE.
