@@ -11,10 +11,14 @@ namespace {
 
 const uint32_t MS_PER_MICROS_WRAP = 4294967u;  // 2^32 us, in whole ms
 
+// A compare, not a shift by the guard's number: at most one guard holds per event.
 struct Guards {
-    uint8_t bits;
-    bool check(proto::Guard g) const { return (bits >> static_cast<uint8_t>(g)) & 1u; }
+    uint8_t holds;  // the guard that holds, or 0 (no guard is 0)
+    bool check(proto::Guard g) const { return static_cast<uint8_t>(g) == holds; }
 };
+static_assert(static_cast<uint8_t>(proto::Guard::COMPATIBLE) != 0 &&
+                  static_cast<uint8_t>(proto::Guard::BOOT_ID_MATCHES) != 0,
+              "0 must mean no guard holds");
 
 // Four Feistel rounds over the halves of x: the high half, multiplied (16 x 16 -> 32 bits, folded
 // to 16), is XORed into the low one, and the halves swap. Every input bit affects every output bit,
@@ -89,8 +93,8 @@ ROVERLINK_OUT_OF_LINE uint32_t SessionCore::clock() {
     return now;
 }
 
-uint16_t SessionCore::step(SessionEvent ev, uint8_t guard_bits, SessionState& from) {
-    Guards guards = {guard_bits};
+uint16_t SessionCore::step(SessionEvent ev, uint8_t guard, SessionState& from) {
+    Guards guards = {guard};
     const proto::StepResult r = proto::step(v_.state, ev, guards);
     from = v_.state;
     if (!r.matched) {

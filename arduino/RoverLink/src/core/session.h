@@ -82,8 +82,9 @@ protected:
         QUERY = 3,     // GET_*: + duplicates answered afresh, NO_SESSION in IDLE
     };
 
-    static const uint8_t G_COMPATIBLE = 1u << static_cast<uint8_t>(proto::Guard::COMPATIBLE);
-    static const uint8_t G_BOOT_ID = 1u << static_cast<uint8_t>(proto::Guard::BOOT_ID_MATCHES);
+    // fire()'s `guard`: the one guard that holds (no event has two), or 0 for none.
+    static const uint8_t G_COMPATIBLE = static_cast<uint8_t>(proto::Guard::COMPATIBLE);
+    static const uint8_t G_BOOT_ID = static_cast<uint8_t>(proto::Guard::BOOT_ID_MATCHES);
 
     // Small, often used members first (AVR's 6-bit load/store displacement).
     struct Vars {
@@ -111,7 +112,7 @@ protected:
     void reset(uint32_t boot_counter, const proto::SetConfig& config);
     // The state change of `ev`; returns the row's actions (0: no row matched). `from` gets the
     // state before it.
-    uint16_t step(proto::SessionEvent ev, uint8_t guards, proto::SessionState& from);
+    uint16_t step(proto::SessionEvent ev, uint8_t guard, proto::SessionState& from);
     // The row's session actions, after the App's (LATCH/CLEAR_REASON, FEED_WATCHDOG, ANNOUNCE,
     // REJECT_HELLO, ACK, NACK); `config` is the App's, for IDENTITY's values outside a session.
     void perform(uint16_t actions, proto::SessionEvent ev, proto::SessionState from, proto::FailsafeReason reason,
@@ -181,9 +182,9 @@ public:
 private:
     // Fires `ev`: the state change, the App's actions, then the session's. Returns the row's
     // action bits (0: no row), so the caller does ACCEPT_HELLO and APPLY_SETPOINT.
-    uint16_t fire(proto::SessionEvent ev, uint8_t guards, proto::FailsafeReason reason) {
+    uint16_t fire(proto::SessionEvent ev, uint8_t guard, proto::FailsafeReason reason) {
         proto::SessionState from;
-        const uint16_t a = step(ev, guards, from);
+        const uint16_t a = step(ev, guard, from);
         if (a != 0) {
             app_.session_actions(a);
             perform(a, ev, from, reason, app_.config());
