@@ -205,14 +205,6 @@ ROVERLINK_NOINLINE void SessionCore::answer(uint8_t reason, uint8_t detail) {
     send_answer(reason, detail);
 }
 
-void SessionCore::answer_checked(uint8_t bad_field) {
-    if (bad_field == proto::ALL_FIELDS_VALID) {
-        answer(0, 0);
-    } else {
-        answer(static_cast<uint8_t>(NackReason::OUT_OF_RANGE), bad_field);
-    }
-}
-
 ROVERLINK_NOINLINE void SessionCore::send_answer(uint8_t reason, uint8_t detail) {
     // An ACK is a NACK's first two fields: one NACK is packed, and sent whole or as the ACK.
     static_assert(proto::Ack::PAYLOAD_SIZE == 2 && offsetof(proto::Ack, req_seq) == offsetof(proto::Nack, req_seq) &&

@@ -122,7 +122,6 @@ protected:
     bool request(uint8_t msg_id, uint8_t seq);
     static Kind kind_of(uint8_t msg_id);
     void answer(uint8_t reason, uint8_t detail);       // to the current request; remembered
-    void answer_checked(uint8_t bad_field);            // ACK, or NACK(OUT_OF_RANGE, bad_field)
     void send_answer(uint8_t reason, uint8_t detail);  // 0: ACK, else NACK(reason, detail)
     void send_identity(proto::IdentityReason reason, const proto::SetConfig& config);
     void accept_hello(const proto::Hello& h, const proto::SetConfig& config);
@@ -234,8 +233,8 @@ void Session<App>::on_frame() {
     if (r != proto::DISPATCH_OK || !request(id, seq)) {
         return;
     }
-    // 3. The message's own handling. An if chain, not a switch: the ids span 0x01..0x21, and
-    // avr-gcc would spend a 66-byte jump table on them.
+    // 3. The message's own handling. Ifs, not a switch: the ids span 0x01..0x21, and avr-gcc would
+    // spend a 66-byte jump table on them.
     if (id == proto::Hello::ID) {
         const proto::Hello& h = m.hello;
         const bool compatible = h.protocol_version == proto::PROTOCOL_VERSION && h.spec_hash == proto::SPEC_HASH;
@@ -243,56 +242,69 @@ void Session<App>::on_frame() {
             proto::Action::ACCEPT_HELLO) {
             accept_hello(h, app_.config());
         }
-    } else if (id == proto::Ping::ID) {
+        return;
+    }
+    if (id == proto::Ping::ID) {
         send_pong(m.ping);
-    } else if (id == proto::Arm::ID) {
+        return;
+    }
+    if (id == proto::Arm::ID) {
         fire(proto::SessionEvent::ARM, m.arm.boot_id == v_.boot_id ? G_BOOT_ID : 0, proto::FailsafeReason::NONE);
-    } else if (id == proto::Disarm::ID) {
+        return;
+    }
+    if (id == proto::Disarm::ID) {
         fire(proto::SessionEvent::DISARM, 0, proto::FailsafeReason::NONE);
-    } else if (id == proto::SetPid::ID) {
-        const proto::SetPid& p = m.set_pid;
-        uint8_t bad = 0;  // docs/control.md 2: the wheel first (detail 0), then the gains
-        if (p.wheel < proto::WHEEL_COUNT || p.wheel == proto::PID_ALL_WHEELS) {
-            bad = proto::check_ranges(p);
-            if (bad == proto::ALL_FIELDS_VALID) {
-                app_.set_pid(p);
-            }
-        }
-        answer_checked(bad);
-    } else if (id == proto::GetPid::ID) {
-        const uint8_t wheel = m.get_pid.wheel;
-        if (wheel >= proto::WHEEL_COUNT) {
-            answer_checked(0);
-            return;
-        }
-        // PID = req_seq followed by exactly the SET_PID fields: filled in the frame buffer.
-        static_assert(proto::Pid::PAYLOAD_SIZE == 1 + proto::SetPid::PAYLOAD_SIZE, "PID must be req_seq + SET_PID");
-        proto::SetPid& p = link_.reply().pid;
-        app_.pid(wheel, p);
-        p.wheel = wheel;
-        send_reply(proto::Pid::ID, proto::Pid::CRC_EXTRA, proto::SetPid::PAYLOAD_SIZE);
-    } else if (id == proto::SetConfig::ID) {
-        uint8_t detail = proto::check_ranges(m.set_config);
-        if (detail != proto::ALL_FIELDS_VALID) {
-            answer_checked(detail);
-        } else {
-            const uint8_t why = app_.set_config(m.set_config, detail);  // consistency, then applied
-            answer(why, why != 0 ? detail : 0);
-        }
-    } else if (id == proto::GetConfig::ID) {
+        return;
+    }
+    if (id == proto::GetConfig::ID) {
         // CONFIG = req_seq followed by exactly the SET_CONFIG fields: copied into the frame buffer.
         static_assert(proto::Config::PAYLOAD_SIZE == 1 + proto::SetConfig::PAYLOAD_SIZE,
                       "CONFIG must be req_seq + SET_CONFIG");
         link_.reply().config = app_.config();
         send_reply(proto::Config::ID, proto::Config::CRC_EXTRA, proto::SetConfig::PAYLOAD_SIZE);
+        return;
+    }
+    if (id == proto::GetLinkStats::ID) {
+        send_link_stats();
+        return;
+    }
+    // The reliable requests (and GET_PID's unknown wheel) end in one ACK or NACK.
+    uint8_t why = 0;     // 0 (ACK) or the NackReason
+    uint8_t detail = 0;  // the NACK's detail (an ACK has none)
+    if (id == proto::SetPid::ID) {
+        const proto::SetPid& p = m.set_pid;
+        // docs/control.md 2: the wheel first (detail 0), then the gains
+        if (p.wheel < proto::WHEEL_COUNT || p.wheel == proto::PID_ALL_WHEELS) {
+            detail = proto::check_ranges(p);
+        }
+        if (detail == proto::ALL_FIELDS_VALID) {
+            app_.set_pid(p);
+        } else {
+            why = static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE);
+        }
+    } else if (id == proto::GetPid::ID) {
+        const uint8_t wheel = m.get_pid.wheel;
+        if (wheel < proto::WHEEL_COUNT) {
+            // PID = req_seq followed by exactly the SET_PID fields: filled in the frame buffer.
+            static_assert(proto::Pid::PAYLOAD_SIZE == 1 + proto::SetPid::PAYLOAD_SIZE, "PID must be req_seq + SET_PID");
+            proto::SetPid& p = link_.reply().pid;
+            app_.pid(wheel, p);
+            p.wheel = wheel;
+            send_reply(proto::Pid::ID, proto::Pid::CRC_EXTRA, proto::SetPid::PAYLOAD_SIZE);
+            return;
+        }
+        why = static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE);
+    } else if (id == proto::SetConfig::ID) {
+        detail = proto::check_ranges(m.set_config);
+        why = static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE);
+        if (detail == proto::ALL_FIELDS_VALID) {
+            why = app_.set_config(m.set_config, detail);  // consistency, then applied
+        }
     } else if (id == proto::SaveConfig::ID) {
         // EEPROM writes stall the loop: never while ARMED.
-        answer(armed() ? static_cast<uint8_t>(proto::NackReason::ARMED) : app_.save_config(), 0);
+        why = armed() ? static_cast<uint8_t>(proto::NackReason::ARMED) : app_.save_config();
     } else if (id == proto::ResetOdometry::ID) {
         app_.reset_odometry();
-        answer(0, 0);
-    } else if (id == proto::GetLinkStats::ID) {
-        send_link_stats();
     } else {
         // The setpoints, one tail for both. Checks in this order (docs/firmware.md): capability,
         // the state (the table's NACK), then (ARMED only) the first speed over
@@ -329,7 +341,9 @@ void Session<App>::on_frame() {
                 app_.setpoint(left, right, steer_mrad, v_.req_seq);  // latest wins; the next tick applies it
             }
         }
+        return;
     }
+    answer(why, detail);
 }
 
 }  // namespace roverlink
