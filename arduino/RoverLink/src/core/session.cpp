@@ -234,6 +234,8 @@ ROVERLINK_OUT_OF_LINE void SessionCore::send_identity(proto::IdentityReason reas
                   "send_identity() writes IDENTITY's fields one by one");
     const Vars& v = v_;
     proto::Identity& m = link_.out().identity;
+    const uint32_t ms = ms_of(clock());  // before wrapped_ms is read: clock() may add a wrap to it
+    m.uptime_ms = v.wrapped_ms + ms;
     m.protocol_version = proto::PROTOCOL_VERSION;
     m.spec_hash = proto::SPEC_HASH;
     m.firmware_version[0] = FIRMWARE_VERSION.major;
@@ -242,7 +244,6 @@ ROVERLINK_OUT_OF_LINE void SessionCore::send_identity(proto::IdentityReason reas
     m.board = robot_.board;
     m.capabilities = robot_.capabilities;
     m.boot_id = v.boot_id;
-    m.uptime_ms = v.wrapped_ms + ms_of(clock());
     m.reason = reason;
     m.hello_seq = reason != proto::IdentityReason::BOOT ? v.req_seq : 0;
     // Granted values; outside a session, those in force in IDLE (stream at the config's rate).
