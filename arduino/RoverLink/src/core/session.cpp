@@ -258,9 +258,11 @@ ROVERLINK_OUT_OF_LINE void SessionCore::send_identity(proto::IdentityReason reas
     }
     uint8_t n = 0;
     const char* name = robot_.name;
-    while (name != 0 && n < sizeof m.robot_name && name[n] != '\0') {
-        m.robot_name[n] = name[n];
-        ++n;
+    if (name != 0) {
+        while (n < sizeof m.robot_name && name[n] != '\0') {
+            m.robot_name[n] = name[n];
+            ++n;
+        }
     }
     link_.send_payload(proto::Identity::ID, proto::Identity::CRC_EXTRA,
                        static_cast<uint8_t>(proto::Identity::PAYLOAD_SIZE + n));
