@@ -46,7 +46,7 @@ def test_no_receive_overrun_with_frames_back_to_back(figures: dict[str, bench.Fi
 
 @pytest.mark.xfail(
     strict=True,
-    reason="measured 4,455 (AckermannPiCar) to 4,513 (DiffDriveTB6612) AVR cycles to decode and dispatch a "
+    reason="measured 4,505 (AckermannPiCar) to 4,561 (the Mega examples) AVR cycles to decode and dispatch a "
     "SET_PID frame (17-byte payload, 23 bytes on the wire, one byte per poll() at 115200 baud), budget 1500, plus "
     "about 1,030 of handling and reply reported apart: the byte loop with the frame decoder about 2,000 (of which "
     "~640 the Stream calls), CRC-16 about 560, the range checks (layout.cpp) about 980, -mcall-prologues helpers "
