@@ -1,8 +1,10 @@
 """Emit the Arduino library's generated C++11 (structs, checks tables, pack/unpack, dispatch, state table).
 
 Each message struct is the packed little-endian image of its payload, so pack() and unpack() copy
-bytes; value and range checks are one generic walker in the runtime (src/codec/layout.cpp) over a
-byte table per message (its checks), so the generated code has no per-message function bodies.
+bytes. The checks are code per message: values_defined() (enums, flag bits, ASCII: what unpack()
+refuses) and check_ranges() (the spec ranges: the first field outside its range). Integers compare
+as integers; a float compares by its order key (src/codec/layout.h), so no floating-point code is
+needed. Only the messages a side receives are linked into its firmware.
 
 Also emits tests/native/generated/roverlink_reflect.h: a test-only text interface (print fields,
 set fields by name) that lets the Python tests drive the C++ codec field by field.
@@ -10,13 +12,14 @@ set fields by name) that lets the Python tests drive the C++ codec field by fiel
 
 from __future__ import annotations
 
+import re
 import struct
 
 from protocol.emit.common import banner
 from protocol.model import PRIMITIVES, Enum, Field, Message, Spec
 
 LIB = "arduino/RoverLink/src/generated"
-API_VERSION = 3
+API_VERSION = 4
 
 _CTYPE = {
     "u8": "uint8_t",
@@ -71,7 +74,7 @@ def _header(spec: Spec) -> str:
     out.append("// pack/unpack, dispatch, state table.\n")
     out.append("#ifndef ROVERLINK_GENERATED_PROTOCOL_H\n#define ROVERLINK_GENERATED_PROTOCOL_H\n\n")
     out.append("#include <stddef.h>\n#include <stdint.h>\n#include <string.h>\n\n")
-    out.append("// The runtime's checks walker (unpack/check_ranges), ROVERLINK_PACKED and ROVERLINK_PROGMEM.\n")
+    out.append("// The runtime's copy_payload() and f32 order keys, ROVERLINK_PACKED and ROVERLINK_PROGMEM.\n")
     out.append('#include "../codec/layout.h"\n\n')
     out.append("// The runtime in src/codec/ refuses to compile against another API version (see codec.h).\n")
     out.append(f"#define ROVERLINK_GENERATED_API_VERSION {API_VERSION}\n\n")
@@ -100,9 +103,10 @@ def _header(spec: Spec) -> str:
             out.append("};\n")
             out.append(f"inline bool is_valid_{e.name}({ctype} value) {{\n    {_enum_test(e)}\n}}\n\n")
 
-    out.append("// Length rule of a msg_id: payload of min_payload..max_payload bytes.\n")
+    out.append("// Length rule of a msg_id: payload of min_payload..max_payload bytes; and its direction.\n")
     out.append(
-        "struct MessageBounds {\n    uint8_t crc_extra;\n    uint8_t min_payload;\n    uint8_t max_payload;\n};\n"
+        "struct MessageBounds {\n    uint8_t crc_extra;\n    uint8_t min_payload;\n    uint8_t max_payload;\n"
+        "    bool host_to_mcu;\n};\n"
     )
     out.append("// False for an msg_id the spec does not define (a table lookup).\n")
     out.append("bool message_bounds(uint8_t msg_id, MessageBounds& out);\n\n")
@@ -140,8 +144,6 @@ def _struct(m: Message) -> str:
         out.append(f"inline bool unpack(const uint8_t*, uint8_t len, {n}&) {{ return len == 0; }}\n")
         out.append(f"inline uint8_t check_ranges(const {n}&) {{ return ALL_FIELDS_VALID; }}\n\n")
         return "".join(out)
-    lay = _layout_name(m)
-    out.append(f"extern const uint8_t {lay}[] ROVERLINK_PROGMEM;\n")
     out.append("// Returns the payload length.\n")
     tail = m.trailing
     if tail is None:
@@ -154,12 +156,19 @@ def _struct(m: Message) -> str:
             f"inline uint8_t pack(const {n}& m, uint8_t* payload) {{\n"
             f"    return layout::pack_tail(&m, {n}::PAYLOAD_SIZE, m.{tail.name}_len, {tail.max_len}, payload);\n}}\n"
         )
+    out.append("// Whether every enum, flags and char field holds a value the spec defines.\n")
+    if _value_checks(m):
+        out.append(f"bool values_defined(const {n}& m);\n")
+    else:
+        out.append(f"inline bool values_defined(const {n}&) {{ return true; }}\n")
     out.append("// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).\n")
     out.append(f"inline bool unpack(const uint8_t* payload, uint8_t len, {n}& m) {{\n")
-    out.append(f"    return layout::unpack({lay}, payload, len, &m);\n}}\n")
+    out.append(
+        f"    return layout::copy_payload(payload, len, {n}::PAYLOAD_SIZE, {n}::PAYLOAD_MAX, &m) && values_defined(m);\n}}\n"
+    )
     out.append("// Index of the first field outside its spec range, or ALL_FIELDS_VALID.\n")
-    if any(_check(f)[0] == "CHECK_RANGE" for f in m.fields):
-        out.append(f"inline uint8_t check_ranges(const {n}& m) {{ return layout::check_ranges({lay}, &m); }}\n\n")
+    if _range_checks(m):
+        out.append(f"uint8_t check_ranges(const {n}& m);\n\n")
     else:
         out.append(f"inline uint8_t check_ranges(const {n}&) {{ return ALL_FIELDS_VALID; }}  // no ranged field\n\n")
     return "".join(out)
@@ -259,7 +268,6 @@ def _source(spec: Spec) -> str:
     out.append("namespace roverlink {\nnamespace proto {\n\n")
     out.append("// Every struct is its payload's image: each member at its wire offset with its wire width (no\n")
     out.append("// int, no double, no padding), then the variable-length field's <name>_len.\n")
-    out.append('static_assert(ALL_FIELDS_VALID == layout::ALL_VALID, "check_ranges() answers the checks walker\'s");\n')
     for m in spec.messages:
         n = m.class_name
         out.append(f'static_assert({n}::PAYLOAD_MAX <= MAX_PAYLOAD, "{m.name} payload exceeds MAX_PAYLOAD");\n')
@@ -279,10 +287,13 @@ def _source(spec: Spec) -> str:
         size = f"{n}::PAYLOAD_MAX + 1" if tail is not None else f"{n}::PAYLOAD_MAX"
         out.append(f'static_assert(sizeof({n}) == {size}, "{m.name} is not its payload\'s image");\n')
     out.append("\n")
-    out.append("// msg_id, CRC_EXTRA, PAYLOAD_SIZE, PAYLOAD_MAX of every message.\n")
-    out.append(f"static const uint8_t MESSAGE_COUNT = {len(spec.messages)};\n")
+    ordered = _by_direction(spec)
+    inbound = sum(1 for m in ordered if m.direction == "host_to_mcu")
+    out.append("// msg_id, CRC_EXTRA, PAYLOAD_SIZE, PAYLOAD_MAX of every message: host to mcu first.\n")
+    out.append(f"static const uint8_t MESSAGE_COUNT = {len(ordered)};\n")
+    out.append(f"static const uint8_t HOST_TO_MCU_COUNT = {inbound};\n")
     out.append("static const uint8_t MESSAGES[MESSAGE_COUNT][4] ROVERLINK_PROGMEM = {\n")
-    for m in spec.messages:
+    for m in ordered:
         n = m.class_name
         out.append(f"    {{{n}::ID, {n}::CRC_EXTRA, {n}::PAYLOAD_SIZE, {n}::PAYLOAD_MAX}},\n")
     out.append("};\n\n")
@@ -293,14 +304,11 @@ def _source(spec: Spec) -> str:
     out.append("            out.crc_extra = ROVERLINK_READ_BYTE(row + 1);\n")
     out.append("            out.min_payload = ROVERLINK_READ_BYTE(row + 2);\n")
     out.append("            out.max_payload = ROVERLINK_READ_BYTE(row + 3);\n")
+    out.append("            out.host_to_mcu = i < HOST_TO_MCU_COUNT;\n")
     out.append("            return true;\n        }\n    }\n    return false;\n}\n\n")
     out.append(_unpackers(spec))
-    out.append("// Checks tables (codec/layout.h): PAYLOAD_SIZE, PAYLOAD_MAX, offset of <name>_len or NO_TAIL,\n")
-    out.append("// value and range entry counts, then per checked field (value entries first) its code, index,\n")
-    out.append("// offset, [count | 0], check data (LE).\n")
     for m in spec.messages:
-        if m.fields:
-            out.append(_layout(m))
+        out.append(_check_functions(m))
     sm = spec.state_machine
     if len(sm.states) > 8:
         raise ValueError("the C++ state table keeps the source states of a row in one byte: at most 8 states")
@@ -328,51 +336,120 @@ def _source(spec: Spec) -> str:
     return "".join(out)
 
 
+def _by_direction(spec: Spec) -> list[Message]:
+    """The messages, host to mcu first (spec order within a direction)."""
+    return [m for d, _, _ in _DIRECTIONS for m in spec.messages if m.direction == d]
+
+
 def _unpackers(spec: Spec) -> str:
-    """unpack_<direction>(): the direction's msg_id -> checks table and one generic unpack."""
-    out = ["namespace {\n\n// msg_id and checks table (0: no fields) of every message one direction carries.\n"]
-    out.append("struct ChecksOf {\n    uint8_t msg_id;\n    const uint8_t* checks;\n};\n\n")
-    out.append("DispatchResult unpack_with(const ChecksOf* table, uint8_t count, uint8_t msg_id,\n")
-    out.append("                           const uint8_t* payload, uint8_t len, void* m) {\n")
-    out.append("    for (uint8_t i = 0; i < count; ++i) {\n")
-    out.append("        if (ROVERLINK_READ_BYTE(&table[i].msg_id) == msg_id) {\n")
-    out.append("            const uint8_t* checks = ROVERLINK_READ_PTR(&table[i].checks);\n")
-    out.append("            const bool ok = checks != 0 ? layout::unpack(checks, payload, len, m) : len == 0;\n")
-    out.append("            return ok ? DISPATCH_OK : DISPATCH_BAD_PAYLOAD;\n        }\n    }\n")
-    out.append("    MessageBounds b;\n")
-    out.append("    return message_bounds(msg_id, b) ? DISPATCH_WRONG_DIRECTION : DISPATCH_UNKNOWN_ID;\n}\n\n")
-    for direction, _, _ in _DIRECTIONS:
-        msgs = [m for m in spec.messages if m.direction == direction]
-        table = direction.upper()
-        out.append(f"const ChecksOf {table}[] ROVERLINK_PROGMEM = {{\n")
-        for m in msgs:
-            out.append(f"    {{{m.class_name}::ID, {_layout_name(m) if m.fields else '0'}}},\n")
-        out.append("};\n\n")
-    out.append("}  // namespace\n\n")
+    """unpack_<direction>(): the length rule and direction from MESSAGES, one copy, the value checks."""
+    out = []
     for direction, union, _ in _DIRECTIONS:
-        table = direction.upper()
         out.append(
             f"DispatchResult unpack_{direction}(uint8_t msg_id, const uint8_t* payload, uint8_t len, {union}& m) {{\n"
         )
-        count = f"sizeof {table} / sizeof {table}[0]"
-        out.append(f"    return unpack_with({table}, {count}, msg_id, payload, len, &m);\n}}\n\n")
+        out.append("    MessageBounds b;\n")
+        out.append("    if (!message_bounds(msg_id, b)) {\n        return DISPATCH_UNKNOWN_ID;\n    }\n")
+        other = "!b.host_to_mcu" if direction == "host_to_mcu" else "b.host_to_mcu"
+        out.append(f"    if ({other}) {{\n        return DISPATCH_WRONG_DIRECTION;\n    }}\n")
+        out.append("    if (!layout::copy_payload(payload, len, b.min_payload, b.max_payload, &m)) {\n")
+        out.append("        return DISPATCH_BAD_PAYLOAD;\n    }\n")
+        checked = [m for m in spec.messages if m.direction == direction and _value_checks(m)]
+        out.append("    bool ok = true;\n")
+        for i, m in enumerate(checked):
+            out.append(f"{'    } else ' if i else '    '}if (msg_id == {m.class_name}::ID) {{\n")
+            out.append(f"        ok = values_defined(m.{_member(m)});\n")
+        if checked:
+            out.append("    }\n")
+        out.append("    return ok ? DISPATCH_OK : DISPATCH_BAD_PAYLOAD;\n}\n\n")
     return "".join(out)
 
 
-_WIRE = {
-    "u8": "WIRE_U8",
-    "u16": "WIRE_U16",
-    "u32": "WIRE_U32",
-    "i8": "WIRE_I8",
-    "i16": "WIRE_I16",
-    "i32": "WIRE_I32",
-    "f32": "WIRE_F32",
-    "char": "WIRE_U8",  # with CHECK_VALUES 0..0x7F (ASCII)
-}
+def _value_checks(m: Message) -> list[tuple[Field, str, str]]:
+    """(field, C++ test of one element `v` that is true for an undefined value, comment) per checked field."""
+    out = []
+    for f in m.fields:
+        ctype = _CTYPE[f.prim]
+        if f.enum is not None and f.enum.flags:
+            width = PRIMITIVES[f.prim][0]
+            undefined = ~f.enum.mask & ((1 << (8 * width)) - 1)
+            out.append((f, f"(v & 0x{undefined:X}u) != 0", f"{f.enum.name} bits 0x{f.enum.mask:X}"))
+        elif f.enum is not None:
+            out.append((f, f"!is_valid_{f.enum.name}(static_cast<{ctype}>(v))", f.enum.name))
+        elif f.prim == "char":
+            out.append((f, "static_cast<uint8_t>(v) > 0x7F", "ASCII"))
+    return out
 
 
-def _layout_name(m: Message) -> str:
-    return f"{m.name}_CHECKS"
+def _range_test(f: Field) -> tuple[str, str] | None:
+    """(C++ test of one element `v` that is true when it is OUT of range, comment), or None."""
+    if f.enum is not None or f.prim == "char" or f.max_len is not None:
+        return None
+    if f.is_float:  # always: a float field without a spec range still refuses NaN and infinity
+        # Both zeros compare equal in the spec (and in Python): widen a bound at zero to take both.
+        lo_bits = 0x80000000 if f.lo == 0 else _f32_bits(f.lo)
+        hi_bits = 0x00000000 if f.hi == 0 else _f32_bits(f.hi)
+        lo_key, hi_key = _key(lo_bits, "f32"), _key(hi_bits, "f32")
+        test = f"!layout::f32_within(v, 0x{lo_key:08X}UL, 0x{hi_key:08X}UL)"
+        return test, f"{_float_lit(f.lo)}..{_float_lit(f.hi)}, as order keys"
+    _, _, _, tlo, thi = PRIMITIVES[f.prim]
+    lo = int(f.min) if f.min is not None else int(tlo or 0)
+    hi = int(f.max) if f.max is not None else int(thi or 0)
+    unsigned = f.prim.startswith("u")
+    suffix = "u" if unsigned else ""
+    tests = []
+    if lo != tlo:
+        tests.append(f"v < {_int_lit(lo, f.prim)}{suffix if f.prim != 'u32' else ''}")
+    if hi != thi:
+        tests.append(f"v > {_int_lit(hi, f.prim)}{suffix if f.prim != 'u32' else ''}")
+    if not tests:
+        return None
+    return " || ".join(tests), f"{lo}..{hi}"
+
+
+def _range_checks(m: Message) -> list[tuple[int, Field, str, str]]:
+    """(field index, field, out-of-range test of `v`, comment) of every ranged field, spec order."""
+    out = []
+    for i, f in enumerate(m.fields):
+        r = _range_test(f)
+        if r is not None:
+            out.append((i, f, *r))
+    return out
+
+
+_ELEMENT = re.compile(r"\bv\b")
+
+
+def _each(f: Field, body: str, indent: str = "    ") -> str:
+    """`body` (a statement about `v`) for the field's element, or for each element of an array."""
+    if f.count is None and f.max_len is None:
+        return indent + _ELEMENT.sub(f"m.{f.name}", body) + "\n"
+    count = str(f.count) if f.count is not None else f"m.{f.name}_len"
+    return (
+        f"{indent}for (uint8_t i = 0; i < {count}; ++i) {{\n"
+        f"{indent}    const {_ctype(f)} v = m.{f.name}[i];\n{indent}    {body}\n{indent}}}\n"
+    )
+
+
+def _check_functions(m: Message) -> str:
+    """The message's values_defined() and check_ranges(), when it has something to check."""
+    n = m.class_name
+    out = []
+    values = _value_checks(m)
+    if values:
+        out.append(f"bool values_defined(const {n}& m) {{\n")
+        for f, test, note in values:
+            out.append(f"    // {f.name}: {note}\n")
+            out.append(_each(f, f"if ({test}) return false;"))
+        out.append("    return true;\n}\n\n")
+    ranges = _range_checks(m)
+    if ranges:
+        out.append(f"uint8_t check_ranges(const {n}& m) {{\n")
+        for i, f, test, note in ranges:
+            out.append(f"    // {f.name}: {note}\n")
+            out.append(_each(f, f"if ({test}) return {i};"))
+        out.append("    return ALL_FIELDS_VALID;\n}\n\n")
+    return "".join(out)
 
 
 def _enum_test(e: Enum) -> str:
@@ -383,11 +460,6 @@ def _enum_test(e: Enum) -> str:
         return f"return value <= {hi};" if lo == 0 else f"return value >= {lo} && value <= {hi};"
     cases = " ".join(f"case {v}:" for v in values)
     return f"switch (value) {{ {cases} return true; default: return false; }}"
-
-
-def _le(value: int, width: int) -> list[int]:
-    """`value` (two's complement when negative) as `width` little-endian bytes."""
-    return list((value & ((1 << (8 * width)) - 1)).to_bytes(width, "little"))
 
 
 def _f32_bits(value: float) -> int:
@@ -409,68 +481,6 @@ def _key(value: int, prim: str) -> int:
     return bits
 
 
-def _check(f: Field) -> tuple[str, list[int], str]:
-    """A field's check: (CHECK_* name, its data bytes (bounds as order keys), a comment)."""
-    width = PRIMITIVES[f.prim][0]
-    if f.enum is not None and f.enum.flags:
-        return "CHECK_FLAGS", _le(f.enum.mask, width), f"{f.enum.name} bits 0x{f.enum.mask:X}"
-    if f.enum is not None:
-        values = sorted(v.value for v in f.enum.values)
-        lo, hi = values[0], values[-1]
-        bounds = _le(_key(lo, f.prim), width) + _le(_key(hi, f.prim), width)
-        if values == list(range(lo, hi + 1)):
-            return "CHECK_VALUES", [*bounds, 0], f"{f.enum.name} {lo}..{hi}"
-        if hi - lo > 255:
-            raise ValueError(f"{f.enum.name}: the C++ layouts hold a bitmap of at most 256 enum values")
-        bitmap = [0] * ((hi - lo) // 8 + 1)
-        for v in values:
-            bitmap[(v - lo) // 8] |= 1 << ((v - lo) % 8)
-        return "CHECK_VALUES", [*bounds, len(bitmap), *bitmap], f"{f.enum.name} {', '.join(map(str, values))}"
-    if f.prim == "char":
-        return "CHECK_VALUES", [0x00, 0x7F, 0], "ASCII"
-    if f.max_len is not None:
-        return "CHECK_NONE", [], ""
-    if f.is_float:  # always: a float field without a spec range still refuses NaN and infinity
-        # Both zeros compare equal in the spec (and in Python): widen a bound at zero to take both.
-        lo_bits = 0x80000000 if f.lo == 0 else _f32_bits(f.lo)
-        hi_bits = 0x00000000 if f.hi == 0 else _f32_bits(f.hi)
-        bounds = _le(_key(lo_bits, "f32"), 4) + _le(_key(hi_bits, "f32"), 4)
-        return "CHECK_RANGE", bounds, f"{_float_lit(f.lo)}..{_float_lit(f.hi)}"
-    _, _, _, tlo, thi = PRIMITIVES[f.prim]
-    lo_i = int(f.min) if f.min is not None else int(tlo or 0)
-    hi_i = int(f.max) if f.max is not None else int(thi or 0)
-    if lo_i == tlo and hi_i == thi:
-        return "CHECK_NONE", [], ""
-    return "CHECK_RANGE", _le(_key(lo_i, f.prim), width) + _le(_key(hi_i, f.prim), width), f"{lo_i}..{hi_i}"
-
-
-def _layout(m: Message) -> str:
-    """The message's checks table: its length rule and the fields that have something to check."""
-    n = m.class_name
-    checked = [(i, f, *_check(f)) for i, f in enumerate(m.fields)]
-    checked = [c for c in checked if c[2] != "CHECK_NONE"]
-    checked.sort(key=lambda c: c[2] == "CHECK_RANGE")  # value entries first (stable: spec order)
-    values = sum(1 for c in checked if c[2] != "CHECK_RANGE")
-    tail = m.trailing
-    if tail is not None and PRIMITIVES[tail.prim][0] != 1:
-        raise ValueError(f"{m.name}.{tail.name}: the C++ structs hold variable-length arrays of bytes only")
-    tail_at = f"offsetof({n}, {tail.name}_len)" if tail is not None else "layout::NO_TAIL"
-    out = [f"// {m.name}: payload {m.payload_size}..{m.payload_max} bytes, {len(checked)} checked fields.\n"]
-    out.append(f"const uint8_t {_layout_name(m)}[] ROVERLINK_PROGMEM = {{\n")
-    out.append(f"    {m.payload_size}, {m.payload_max}, {tail_at}, {values}, {len(checked) - values},\n")
-    for i, f, check, data, note in checked:
-        code = f"layout::{_WIRE[f.prim]} | layout::{check}"
-        items = [str(i), f"offsetof({n}, {f.name})"]
-        if f.count is not None or f.max_len is not None:
-            code += " | layout::ARRAY"
-            items.append(str(f.count) if f.count is not None else "0")
-        items += [f"0x{b:02X}" for b in data]
-        out.append(f"    {code}, {', '.join(items)},  // {f.name}: {note}\n")
-    out.append("};\n\n")
-    return "".join(out)
-
-
-# -- test-only reflection ------------------------------------------------------------------------
 def _reflect(spec: Spec) -> str:
     """print_fields()/set_field() per message, for the native cross-check tool.
 

@@ -10,29 +10,13 @@
 
 #include <vector>
 
+#include "check.h"
 #include "codec/codec.h"
 
 using namespace roverlink;
 
 typedef std::vector<uint8_t> Bytes;
 
-static unsigned g_passed = 0;
-static unsigned g_failed = 0;
-static char g_ctx[160] = "";  // what the current loop iteration is testing; printed on failure
-
-#define CHECK(cond)                                                                     \
-    do {                                                                                \
-        if (cond) {                                                                     \
-            ++g_passed;                                                                 \
-        } else {                                                                        \
-            ++g_failed;                                                                 \
-            if (g_failed <= 50) {                                                       \
-                printf("%s:%d: CHECK(%s) failed [%s]\n", __FILE__, __LINE__, #cond, g_ctx); \
-            }                                                                           \
-        }                                                                               \
-    } while (0)
-
-#define CONTEXT(...) snprintf(g_ctx, sizeof(g_ctx), __VA_ARGS__)
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
@@ -845,84 +829,6 @@ static void test_messages() {
     }
 }
 
-// The checks walker on a hand-made table with what the spec does not use yet: an enum with gaps
-// (its bitmap), a signed and a negative float range, a flags mask with gaps, ASCII bytes. Bounds
-// are order keys (codec/layout.h): i16 -300 = 0xFED4 ^ 0x8000, f32 -1.5 = ~0xBFC00000,
-// 2.5 = 0x40200000 | 0x80000000.
-struct ROVERLINK_PACKED Probe {
-    uint8_t e;       // values 3, 7, 10, 12
-    int16_t s;       // range -300..-100
-    float f;         // range -1.5..2.5
-    uint16_t flags;  // bits 0x0105
-    uint8_t text[4];
-    uint8_t text_len;
-};
-static_assert(offsetof(Probe, text_len) == 13, "Probe must be its payload's image");
-static const uint8_t PROBE_LAYOUT[] = {
-    9, 13, offsetof(Probe, text_len), 3, 2,  // three value entries, then two range entries
-    layout::WIRE_U8 | layout::CHECK_VALUES, 0, offsetof(Probe, e), 3, 12, 2, 0x91, 0x02,
-    layout::WIRE_U16 | layout::CHECK_FLAGS, 3, offsetof(Probe, flags), 0x05, 0x01,
-    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, 4, offsetof(Probe, text), 0, 0x00, 0x7F, 0,
-    layout::WIRE_I16 | layout::CHECK_RANGE, 1, offsetof(Probe, s), 0xD4, 0x7E, 0x9C, 0x7F,
-    layout::WIRE_F32 | layout::CHECK_RANGE, 2, offsetof(Probe, f), 0xFF, 0xFF, 0x3F, 0x40, 0x00, 0x00, 0x20, 0xC0,
-};
-
-static float f32(uint32_t bits) {
-    float v;
-    memcpy(&v, &bits, sizeof v);
-    return v;
-}
-
-static void test_checks() {
-    // unpack: the enum's values, the flags' bits, ASCII.
-    uint8_t p[13] = {3, 0x9C, 0xFF, 0, 0, 0, 0, 0x05, 0x01, 'a', 'b', 'c', 'd'};
-    Probe m;
-    for (int v = 0; v < 256; ++v) {
-        CONTEXT("enum value %d", v);
-        p[0] = static_cast<uint8_t>(v);
-        CHECK(layout::unpack(PROBE_LAYOUT, p, 13, &m) == (v == 3 || v == 7 || v == 10 || v == 12));
-    }
-    p[0] = 7;
-    for (int bit = 0; bit < 16; ++bit) {
-        CONTEXT("flag bit %d", bit);
-        p[7] = static_cast<uint8_t>((1u << bit) & 0xFF);
-        p[8] = static_cast<uint8_t>((1u << bit) >> 8);
-        CHECK(layout::unpack(PROBE_LAYOUT, p, 13, &m) == ((0x0105u >> bit) & 1u));
-    }
-    p[7] = 0x05;
-    p[8] = 0x01;
-    CONTEXT("text");
-    CHECK(layout::unpack(PROBE_LAYOUT, p, 13, &m) && m.text_len == 4 && m.text[3] == 'd' && m.flags == 0x0105);
-    CHECK(layout::unpack(PROBE_LAYOUT, p, 10, &m) && m.text_len == 1 && m.s == -100);
-    p[11] = 0x80;
-    CHECK(!layout::unpack(PROBE_LAYOUT, p, 13, &m));
-    CHECK(!layout::unpack(PROBE_LAYOUT, p, 8, &m) && !layout::unpack(PROBE_LAYOUT, p, 14, &m));
-    // pack: the same bytes back.
-    p[11] = 'c';
-    CHECK(layout::unpack(PROBE_LAYOUT, p, 12, &m));
-    uint8_t out[13];
-    CHECK(layout::pack_tail(&m, 9, m.text_len, 4, out) == 12 && memcmp(out, p, 12) == 0);
-    // check_ranges: signed and float ends, NaN, both zeros, infinities.
-    struct Case {
-        int16_t s;
-        uint32_t f;
-        uint8_t expected;
-    };
-    const Case cases[] = {
-        {-300, 0x00000000, 0xFF}, {-100, 0x80000000, 0xFF}, {-301, 0, 1},          {-99, 0, 1},
-        {0, 0, 1},                {32767, 0, 1},            {-32768, 0, 1},        {-200, 0xBFC00000, 0xFF},
-        {-200, 0x40200000, 0xFF}, {-200, 0xBFC00001, 2},    {-200, 0x40200001, 2}, {-200, 0x7FC00000, 2},
-        {-200, 0xFFC00000, 2},    {-200, 0x7F800000, 2},    {-200, 0xFF800000, 2}, {-200, 0x7F800001, 2},
-        {-200, 0x3F800000, 0xFF}, {-200, 0xBF800000, 0xFF},
-    };
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        CONTEXT("check_ranges case %zu", i);
-        m.s = cases[i].s;
-        m.f = f32(cases[i].f);
-        CHECK(layout::check_ranges(PROBE_LAYOUT, &m) == cases[i].expected);
-    }
-}
-
 int main() {
     discover_messages();
     printf("protocol: %zu message ids, MAX_PAYLOAD %u, MAX_BODY %u, MAX_FRAME %u, "
@@ -930,8 +836,7 @@ int main() {
            g_msgs.size(), proto::MAX_PAYLOAD, proto::MAX_BODY, proto::MAX_FRAME, sizeof(FrameDecoder));
     CHECK(!g_msgs.empty());
     if (g_msgs.empty()) {
-        printf("%u passed, %u failed\n", g_passed, g_failed);
-        return 1;
+        return check_summary();
     }
     test_crc();
     test_cobs_vectors();
@@ -947,7 +852,5 @@ int main() {
     test_reset();
     test_encode_frame_limits();
     test_messages();
-    test_checks();
-    printf("%u passed, %u failed\n", g_passed, g_failed);
-    return g_failed == 0 ? 0 : 1;
+    return check_summary();
 }

@@ -75,14 +75,27 @@ def test_check_names_each_stale_file_and_says_how_to_fix(tmp_path: Path, capsys:
     assert main(["check", "--spec", str(spec_file), "--root", str(tmp_path)]) == 1
 
 
-def test_cpp_checks_take_enum_values_with_a_bitmap_when_they_have_gaps() -> None:
-    """Contiguous enum values are a range in the C++ checks tables; with gaps, a bitmap over lo..hi."""
+def test_cpp_checks_take_enum_values_as_a_range_or_a_switch_when_they_have_gaps() -> None:
+    """Contiguous enum values are a range test in the C++ is_valid_<Enum>(); with gaps, a switch."""
+    header = "arduino/RoverLink/src/generated/roverlink_protocol.h"
+    source = "arduino/RoverLink/src/generated/roverlink_protocol.cpp"
+    files = render(spec())
+    assert "inline bool is_valid_NackReason(uint8_t value) {\n    return value >= 1 && value <= 9;\n}" in files[header]
+    assert "if (!is_valid_NackReason(static_cast<uint8_t>(m.reason))) return false;" in files[source]
+    files = render(spec(GOOD.replace('{ name = "ARMED", value = 9,', '{ name = "ARMED", value = 12,')))
+    cases = " ".join(f"case {v}:" for v in (1, 2, 3, 4, 5, 6, 7, 8, 12))
+    assert f"switch (value) {{ {cases} return true; default: return false; }}" in files[header]
+    assert "if (!is_valid_NackReason(static_cast<uint8_t>(m.reason))) return false;" in files[source]
+
+
+def test_cpp_range_checks_leave_out_the_bounds_of_the_type() -> None:
     source = render(spec())["arduino/RoverLink/src/generated/roverlink_protocol.cpp"]
-    assert "CHECK_VALUES, 2, offsetof(Nack, reason), 0x01, 0x09, 0x00," in source
-    gapped = GOOD.replace('{ name = "ARMED", value = 9,', '{ name = "ARMED", value = 12,')
-    source = render(spec(gapped))["arduino/RoverLink/src/generated/roverlink_protocol.cpp"]
-    # 1..8 and 12: bits 0..7 of the first byte, bit 3 (12 - 1 - 8) of the second.
-    assert "CHECK_VALUES, 2, offsetof(Nack, reason), 0x01, 0x0C, 0x02, 0xFF, 0x08," in source
+    assert "if (m.watchdog_ms < 50u || m.watchdog_ms > 2000u) return 0;" in source
+    assert "if (m.accel_limit_mm_s2 < 1u) return 2;" in source  # 1..65535
+    assert "if (m.max_effort_permille > 1000u) return 5;" in source  # 0..1000
+    assert "if (m.steering_mrad < -1571 || m.steering_mrad > 1571) return 1;" in source
+    # 0.0..1000.0: from -0.0's key (0x7FFFFFFF) to 1000.0's (0x447A0000 with the sign bit set)
+    assert "if (!layout::f32_within(m.kp, 0x7FFFFFFFUL, 0xC47A0000UL)) return 1;" in source
 
 
 def test_crc_extra_follows_the_definition_not_the_prose() -> None:

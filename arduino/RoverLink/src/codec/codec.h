@@ -5,7 +5,7 @@
 #include "../generated/roverlink_protocol.h"
 
 // Bumped whenever the contract between this runtime and the generated header changes.
-#define ROVERLINK_RUNTIME_API_VERSION 3
+#define ROVERLINK_RUNTIME_API_VERSION 4
 
 #if !defined(ROVERLINK_GENERATED_API_VERSION) || \
     ROVERLINK_GENERATED_API_VERSION != ROVERLINK_RUNTIME_API_VERSION

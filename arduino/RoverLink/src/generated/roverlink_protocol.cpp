@@ -7,7 +7,6 @@ namespace proto {
 
 // Every struct is its payload's image: each member at its wire offset with its wire width (no
 // int, no double, no padding), then the variable-length field's <name>_len.
-static_assert(ALL_FIELDS_VALID == layout::ALL_VALID, "check_ranges() answers the checks walker's");
 static_assert(Hello::PAYLOAD_MAX <= MAX_PAYLOAD, "HELLO payload exceeds MAX_PAYLOAD");
 static_assert(offsetof(Hello, protocol_version) == 0, "HELLO.protocol_version is not at its wire offset");
 static_assert(offsetof(Hello, spec_hash) == 1, "HELLO.spec_hash is not at its wire offset");
@@ -162,8 +161,9 @@ static_assert(offsetof(Log, text) == 1, "LOG.text is not at its wire offset");
 static_assert(offsetof(Log, text_len) == Log::PAYLOAD_MAX, "LOG.text_len must follow the payload image");
 static_assert(sizeof(Log) == Log::PAYLOAD_MAX + 1, "LOG is not its payload's image");
 
-// msg_id, CRC_EXTRA, PAYLOAD_SIZE, PAYLOAD_MAX of every message.
+// msg_id, CRC_EXTRA, PAYLOAD_SIZE, PAYLOAD_MAX of every message: host to mcu first.
 static const uint8_t MESSAGE_COUNT = 22;
+static const uint8_t HOST_TO_MCU_COUNT = 13;
 static const uint8_t MESSAGES[MESSAGE_COUNT][4] ROVERLINK_PROGMEM = {
     {Hello::ID, Hello::CRC_EXTRA, Hello::PAYLOAD_SIZE, Hello::PAYLOAD_MAX},
     {Ping::ID, Ping::CRC_EXTRA, Ping::PAYLOAD_SIZE, Ping::PAYLOAD_MAX},
@@ -196,223 +196,253 @@ bool message_bounds(uint8_t msg_id, MessageBounds& out) {
             out.crc_extra = ROVERLINK_READ_BYTE(row + 1);
             out.min_payload = ROVERLINK_READ_BYTE(row + 2);
             out.max_payload = ROVERLINK_READ_BYTE(row + 3);
+            out.host_to_mcu = i < HOST_TO_MCU_COUNT;
             return true;
         }
     }
     return false;
 }
 
-namespace {
-
-// msg_id and checks table (0: no fields) of every message one direction carries.
-struct ChecksOf {
-    uint8_t msg_id;
-    const uint8_t* checks;
-};
-
-DispatchResult unpack_with(const ChecksOf* table, uint8_t count, uint8_t msg_id,
-                           const uint8_t* payload, uint8_t len, void* m) {
-    for (uint8_t i = 0; i < count; ++i) {
-        if (ROVERLINK_READ_BYTE(&table[i].msg_id) == msg_id) {
-            const uint8_t* checks = ROVERLINK_READ_PTR(&table[i].checks);
-            const bool ok = checks != 0 ? layout::unpack(checks, payload, len, m) : len == 0;
-            return ok ? DISPATCH_OK : DISPATCH_BAD_PAYLOAD;
-        }
-    }
-    MessageBounds b;
-    return message_bounds(msg_id, b) ? DISPATCH_WRONG_DIRECTION : DISPATCH_UNKNOWN_ID;
-}
-
-const ChecksOf HOST_TO_MCU[] ROVERLINK_PROGMEM = {
-    {Hello::ID, HELLO_CHECKS},
-    {Ping::ID, PING_CHECKS},
-    {Arm::ID, ARM_CHECKS},
-    {Disarm::ID, 0},
-    {SetPid::ID, SET_PID_CHECKS},
-    {GetPid::ID, GET_PID_CHECKS},
-    {SetConfig::ID, SET_CONFIG_CHECKS},
-    {GetConfig::ID, 0},
-    {SaveConfig::ID, 0},
-    {ResetOdometry::ID, 0},
-    {GetLinkStats::ID, 0},
-    {SetWheelSpeeds::ID, SET_WHEEL_SPEEDS_CHECKS},
-    {SetAckermann::ID, SET_ACKERMANN_CHECKS},
-};
-
-const ChecksOf MCU_TO_HOST[] ROVERLINK_PROGMEM = {
-    {Identity::ID, IDENTITY_CHECKS},
-    {Pong::ID, PONG_CHECKS},
-    {Ack::ID, ACK_CHECKS},
-    {Nack::ID, NACK_CHECKS},
-    {Pid::ID, PID_CHECKS},
-    {Config::ID, CONFIG_CHECKS},
-    {LinkStats::ID, LINK_STATS_CHECKS},
-    {Feedback::ID, FEEDBACK_CHECKS},
-    {Log::ID, LOG_CHECKS},
-};
-
-}  // namespace
-
 DispatchResult unpack_host_to_mcu(uint8_t msg_id, const uint8_t* payload, uint8_t len, HostToMcu& m) {
-    return unpack_with(HOST_TO_MCU, sizeof HOST_TO_MCU / sizeof HOST_TO_MCU[0], msg_id, payload, len, &m);
+    MessageBounds b;
+    if (!message_bounds(msg_id, b)) {
+        return DISPATCH_UNKNOWN_ID;
+    }
+    if (!b.host_to_mcu) {
+        return DISPATCH_WRONG_DIRECTION;
+    }
+    if (!layout::copy_payload(payload, len, b.min_payload, b.max_payload, &m)) {
+        return DISPATCH_BAD_PAYLOAD;
+    }
+    bool ok = true;
+    if (msg_id == Hello::ID) {
+        ok = values_defined(m.hello);
+    } else if (msg_id == SetConfig::ID) {
+        ok = values_defined(m.set_config);
+    }
+    return ok ? DISPATCH_OK : DISPATCH_BAD_PAYLOAD;
 }
 
 DispatchResult unpack_mcu_to_host(uint8_t msg_id, const uint8_t* payload, uint8_t len, McuToHost& m) {
-    return unpack_with(MCU_TO_HOST, sizeof MCU_TO_HOST / sizeof MCU_TO_HOST[0], msg_id, payload, len, &m);
+    MessageBounds b;
+    if (!message_bounds(msg_id, b)) {
+        return DISPATCH_UNKNOWN_ID;
+    }
+    if (b.host_to_mcu) {
+        return DISPATCH_WRONG_DIRECTION;
+    }
+    if (!layout::copy_payload(payload, len, b.min_payload, b.max_payload, &m)) {
+        return DISPATCH_BAD_PAYLOAD;
+    }
+    bool ok = true;
+    if (msg_id == Identity::ID) {
+        ok = values_defined(m.identity);
+    } else if (msg_id == Nack::ID) {
+        ok = values_defined(m.nack);
+    } else if (msg_id == Config::ID) {
+        ok = values_defined(m.config);
+    } else if (msg_id == Feedback::ID) {
+        ok = values_defined(m.feedback);
+    } else if (msg_id == Log::ID) {
+        ok = values_defined(m.log);
+    }
+    return ok ? DISPATCH_OK : DISPATCH_BAD_PAYLOAD;
 }
 
-// Checks tables (codec/layout.h): PAYLOAD_SIZE, PAYLOAD_MAX, offset of <name>_len or NO_TAIL,
-// value and range entry counts, then per checked field (value entries first) its code, index,
-// offset, [count | 0], check data (LE).
-// HELLO: payload 9..9 bytes, 2 checked fields.
-const uint8_t HELLO_CHECKS[] ROVERLINK_PROGMEM = {
-    9, 9, layout::NO_TAIL, 1, 1,
-    layout::WIRE_U8 | layout::CHECK_VALUES, 3, offsetof(Hello, feedback_mode), 0x00, 0x01, 0x00,  // feedback_mode: FeedbackMode 0..1
-    layout::WIRE_U16 | layout::CHECK_RANGE, 2, offsetof(Hello, watchdog_ms), 0x00, 0x00, 0x60, 0xEA,  // watchdog_ms: 0..60000
-};
+bool values_defined(const Hello& m) {
+    // feedback_mode: FeedbackMode
+    if (!is_valid_FeedbackMode(static_cast<uint8_t>(m.feedback_mode))) return false;
+    return true;
+}
 
-// PING: payload 4..4 bytes, 0 checked fields.
-const uint8_t PING_CHECKS[] ROVERLINK_PROGMEM = {
-    4, 4, layout::NO_TAIL, 0, 0,
-};
+uint8_t check_ranges(const Hello& m) {
+    // watchdog_ms: 0..60000
+    if (m.watchdog_ms > 60000u) return 2;
+    return ALL_FIELDS_VALID;
+}
 
-// ARM: payload 4..4 bytes, 0 checked fields.
-const uint8_t ARM_CHECKS[] ROVERLINK_PROGMEM = {
-    4, 4, layout::NO_TAIL, 0, 0,
-};
+uint8_t check_ranges(const SetPid& m) {
+    // kp: 0.0f..1000.0f, as order keys
+    if (!layout::f32_within(m.kp, 0x7FFFFFFFUL, 0xC47A0000UL)) return 1;
+    // ki: 0.0f..1000.0f, as order keys
+    if (!layout::f32_within(m.ki, 0x7FFFFFFFUL, 0xC47A0000UL)) return 2;
+    // kd: 0.0f..1000.0f, as order keys
+    if (!layout::f32_within(m.kd, 0x7FFFFFFFUL, 0xC47A0000UL)) return 3;
+    // kf: 0.0f..1000.0f, as order keys
+    if (!layout::f32_within(m.kf, 0x7FFFFFFFUL, 0xC47A0000UL)) return 4;
+    return ALL_FIELDS_VALID;
+}
 
-// SET_PID: payload 17..17 bytes, 4 checked fields.
-const uint8_t SET_PID_CHECKS[] ROVERLINK_PROGMEM = {
-    17, 17, layout::NO_TAIL, 0, 4,
-    layout::WIRE_F32 | layout::CHECK_RANGE, 1, offsetof(SetPid, kp), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kp: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, 2, offsetof(SetPid, ki), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // ki: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, 3, offsetof(SetPid, kd), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kd: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, 4, offsetof(SetPid, kf), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kf: 0.0f..1000.0f
-};
+bool values_defined(const SetConfig& m) {
+    // safe_state: SafeState
+    if (!is_valid_SafeState(static_cast<uint8_t>(m.safe_state))) return false;
+    return true;
+}
 
-// GET_PID: payload 1..1 bytes, 0 checked fields.
-const uint8_t GET_PID_CHECKS[] ROVERLINK_PROGMEM = {
-    1, 1, layout::NO_TAIL, 0, 0,
-};
+uint8_t check_ranges(const SetConfig& m) {
+    // watchdog_ms: 50..2000
+    if (m.watchdog_ms < 50u || m.watchdog_ms > 2000u) return 0;
+    // accel_limit_mm_s2: 1..65535
+    if (m.accel_limit_mm_s2 < 1u) return 2;
+    // decel_limit_mm_s2: 1..65535
+    if (m.decel_limit_mm_s2 < 1u) return 3;
+    // max_wheel_speed_mm_s: 1..20000
+    if (m.max_wheel_speed_mm_s < 1u || m.max_wheel_speed_mm_s > 20000u) return 4;
+    // max_effort_permille: 0..1000
+    if (m.max_effort_permille > 1000u) return 5;
+    // encoder_cpr: 1..65535
+    if (m.encoder_cpr < 1u) return 6;
+    // encoder_invert: 0..3
+    if (m.encoder_invert > 3u) return 7;
+    // motor_invert: 0..3
+    if (m.motor_invert > 3u) return 8;
+    // wheel_diameter_um: 1000..1000000
+    if (m.wheel_diameter_um < 1000UL || m.wheel_diameter_um > 1000000UL) return 9;
+    // steering_center_cdeg: 0..18000
+    if (m.steering_center_cdeg > 18000u) return 10;
+    // steering_min_cdeg: 0..18000
+    if (m.steering_min_cdeg > 18000u) return 11;
+    // steering_max_cdeg: 0..18000
+    if (m.steering_max_cdeg > 18000u) return 12;
+    // steering_step_cdeg: 0..9000
+    if (m.steering_step_cdeg > 9000u) return 13;
+    // servo_min_us: 400..2600
+    if (m.servo_min_us < 400u || m.servo_min_us > 2600u) return 14;
+    // servo_max_us: 400..2600
+    if (m.servo_max_us < 400u || m.servo_max_us > 2600u) return 15;
+    // esc_min_us: 800..2200
+    if (m.esc_min_us < 800u || m.esc_min_us > 2200u) return 16;
+    // esc_neutral_us: 800..2200
+    if (m.esc_neutral_us < 800u || m.esc_neutral_us > 2200u) return 17;
+    // esc_max_us: 800..2200
+    if (m.esc_max_us < 800u || m.esc_max_us > 2200u) return 18;
+    // esc_arm_ms: 0..10000
+    if (m.esc_arm_ms > 10000u) return 19;
+    // feedback_hz: 1..100
+    if (m.feedback_hz < 1u || m.feedback_hz > 100u) return 20;
+    return ALL_FIELDS_VALID;
+}
 
-// SET_CONFIG: payload 40..40 bytes, 21 checked fields.
-const uint8_t SET_CONFIG_CHECKS[] ROVERLINK_PROGMEM = {
-    40, 40, layout::NO_TAIL, 1, 20,
-    layout::WIRE_U8 | layout::CHECK_VALUES, 1, offsetof(SetConfig, safe_state), 0x00, 0x02, 0x00,  // safe_state: SafeState 0..2
-    layout::WIRE_U16 | layout::CHECK_RANGE, 0, offsetof(SetConfig, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // watchdog_ms: 50..2000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 2, offsetof(SetConfig, accel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // accel_limit_mm_s2: 1..65535
-    layout::WIRE_U16 | layout::CHECK_RANGE, 3, offsetof(SetConfig, decel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // decel_limit_mm_s2: 1..65535
-    layout::WIRE_U16 | layout::CHECK_RANGE, 4, offsetof(SetConfig, max_wheel_speed_mm_s), 0x01, 0x00, 0x20, 0x4E,  // max_wheel_speed_mm_s: 1..20000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 5, offsetof(SetConfig, max_effort_permille), 0x00, 0x00, 0xE8, 0x03,  // max_effort_permille: 0..1000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 6, offsetof(SetConfig, encoder_cpr), 0x01, 0x00, 0xFF, 0xFF,  // encoder_cpr: 1..65535
-    layout::WIRE_U8 | layout::CHECK_RANGE, 7, offsetof(SetConfig, encoder_invert), 0x00, 0x03,  // encoder_invert: 0..3
-    layout::WIRE_U8 | layout::CHECK_RANGE, 8, offsetof(SetConfig, motor_invert), 0x00, 0x03,  // motor_invert: 0..3
-    layout::WIRE_U32 | layout::CHECK_RANGE, 9, offsetof(SetConfig, wheel_diameter_um), 0xE8, 0x03, 0x00, 0x00, 0x40, 0x42, 0x0F, 0x00,  // wheel_diameter_um: 1000..1000000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 10, offsetof(SetConfig, steering_center_cdeg), 0x00, 0x00, 0x50, 0x46,  // steering_center_cdeg: 0..18000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 11, offsetof(SetConfig, steering_min_cdeg), 0x00, 0x00, 0x50, 0x46,  // steering_min_cdeg: 0..18000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 12, offsetof(SetConfig, steering_max_cdeg), 0x00, 0x00, 0x50, 0x46,  // steering_max_cdeg: 0..18000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 13, offsetof(SetConfig, steering_step_cdeg), 0x00, 0x00, 0x28, 0x23,  // steering_step_cdeg: 0..9000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 14, offsetof(SetConfig, servo_min_us), 0x90, 0x01, 0x28, 0x0A,  // servo_min_us: 400..2600
-    layout::WIRE_U16 | layout::CHECK_RANGE, 15, offsetof(SetConfig, servo_max_us), 0x90, 0x01, 0x28, 0x0A,  // servo_max_us: 400..2600
-    layout::WIRE_U16 | layout::CHECK_RANGE, 16, offsetof(SetConfig, esc_min_us), 0x20, 0x03, 0x98, 0x08,  // esc_min_us: 800..2200
-    layout::WIRE_U16 | layout::CHECK_RANGE, 17, offsetof(SetConfig, esc_neutral_us), 0x20, 0x03, 0x98, 0x08,  // esc_neutral_us: 800..2200
-    layout::WIRE_U16 | layout::CHECK_RANGE, 18, offsetof(SetConfig, esc_max_us), 0x20, 0x03, 0x98, 0x08,  // esc_max_us: 800..2200
-    layout::WIRE_U16 | layout::CHECK_RANGE, 19, offsetof(SetConfig, esc_arm_ms), 0x00, 0x00, 0x10, 0x27,  // esc_arm_ms: 0..10000
-    layout::WIRE_U8 | layout::CHECK_RANGE, 20, offsetof(SetConfig, feedback_hz), 0x01, 0x64,  // feedback_hz: 1..100
-};
+uint8_t check_ranges(const SetAckermann& m) {
+    // steering_mrad: -1571..1571
+    if (m.steering_mrad < -1571 || m.steering_mrad > 1571) return 1;
+    return ALL_FIELDS_VALID;
+}
 
-// SET_WHEEL_SPEEDS: payload 4..4 bytes, 0 checked fields.
-const uint8_t SET_WHEEL_SPEEDS_CHECKS[] ROVERLINK_PROGMEM = {
-    4, 4, layout::NO_TAIL, 0, 0,
-};
+bool values_defined(const Identity& m) {
+    // board: Board
+    if (!is_valid_Board(static_cast<uint8_t>(m.board))) return false;
+    // capabilities: Capability bits 0xFF
+    if ((m.capabilities & 0xFF00u) != 0) return false;
+    // reason: IdentityReason
+    if (!is_valid_IdentityReason(static_cast<uint8_t>(m.reason))) return false;
+    // feedback_mode: FeedbackMode
+    if (!is_valid_FeedbackMode(static_cast<uint8_t>(m.feedback_mode))) return false;
+    // robot_name: ASCII
+    for (uint8_t i = 0; i < m.robot_name_len; ++i) {
+        const char v = m.robot_name[i];
+        if (static_cast<uint8_t>(v) > 0x7F) return false;
+    }
+    return true;
+}
 
-// SET_ACKERMANN: payload 4..4 bytes, 1 checked fields.
-const uint8_t SET_ACKERMANN_CHECKS[] ROVERLINK_PROGMEM = {
-    4, 4, layout::NO_TAIL, 0, 1,
-    layout::WIRE_I16 | layout::CHECK_RANGE, 1, offsetof(SetAckermann, steering_mrad), 0xDD, 0x79, 0x23, 0x86,  // steering_mrad: -1571..1571
-};
+bool values_defined(const Nack& m) {
+    // reason: NackReason
+    if (!is_valid_NackReason(static_cast<uint8_t>(m.reason))) return false;
+    return true;
+}
 
-// IDENTITY: payload 25..49 bytes, 5 checked fields.
-const uint8_t IDENTITY_CHECKS[] ROVERLINK_PROGMEM = {
-    25, 49, offsetof(Identity, robot_name_len), 5, 0,
-    layout::WIRE_U8 | layout::CHECK_VALUES, 3, offsetof(Identity, board), 0x00, 0x04, 0x00,  // board: Board 0..4
-    layout::WIRE_U16 | layout::CHECK_FLAGS, 4, offsetof(Identity, capabilities), 0xFF, 0x00,  // capabilities: Capability bits 0xFF
-    layout::WIRE_U8 | layout::CHECK_VALUES, 7, offsetof(Identity, reason), 0x00, 0x02, 0x00,  // reason: IdentityReason 0..2
-    layout::WIRE_U8 | layout::CHECK_VALUES, 10, offsetof(Identity, feedback_mode), 0x00, 0x01, 0x00,  // feedback_mode: FeedbackMode 0..1
-    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, 12, offsetof(Identity, robot_name), 0, 0x00, 0x7F, 0x00,  // robot_name: ASCII
-};
+uint8_t check_ranges(const Pid& m) {
+    // kp: 0.0f..1000.0f, as order keys
+    if (!layout::f32_within(m.kp, 0x7FFFFFFFUL, 0xC47A0000UL)) return 2;
+    // ki: 0.0f..1000.0f, as order keys
+    if (!layout::f32_within(m.ki, 0x7FFFFFFFUL, 0xC47A0000UL)) return 3;
+    // kd: 0.0f..1000.0f, as order keys
+    if (!layout::f32_within(m.kd, 0x7FFFFFFFUL, 0xC47A0000UL)) return 4;
+    // kf: 0.0f..1000.0f, as order keys
+    if (!layout::f32_within(m.kf, 0x7FFFFFFFUL, 0xC47A0000UL)) return 5;
+    return ALL_FIELDS_VALID;
+}
 
-// PONG: payload 8..8 bytes, 0 checked fields.
-const uint8_t PONG_CHECKS[] ROVERLINK_PROGMEM = {
-    8, 8, layout::NO_TAIL, 0, 0,
-};
+bool values_defined(const Config& m) {
+    // safe_state: SafeState
+    if (!is_valid_SafeState(static_cast<uint8_t>(m.safe_state))) return false;
+    return true;
+}
 
-// ACK: payload 2..2 bytes, 0 checked fields.
-const uint8_t ACK_CHECKS[] ROVERLINK_PROGMEM = {
-    2, 2, layout::NO_TAIL, 0, 0,
-};
+uint8_t check_ranges(const Config& m) {
+    // watchdog_ms: 50..2000
+    if (m.watchdog_ms < 50u || m.watchdog_ms > 2000u) return 1;
+    // accel_limit_mm_s2: 1..65535
+    if (m.accel_limit_mm_s2 < 1u) return 3;
+    // decel_limit_mm_s2: 1..65535
+    if (m.decel_limit_mm_s2 < 1u) return 4;
+    // max_wheel_speed_mm_s: 1..20000
+    if (m.max_wheel_speed_mm_s < 1u || m.max_wheel_speed_mm_s > 20000u) return 5;
+    // max_effort_permille: 0..1000
+    if (m.max_effort_permille > 1000u) return 6;
+    // encoder_cpr: 1..65535
+    if (m.encoder_cpr < 1u) return 7;
+    // encoder_invert: 0..3
+    if (m.encoder_invert > 3u) return 8;
+    // motor_invert: 0..3
+    if (m.motor_invert > 3u) return 9;
+    // wheel_diameter_um: 1000..1000000
+    if (m.wheel_diameter_um < 1000UL || m.wheel_diameter_um > 1000000UL) return 10;
+    // steering_center_cdeg: 0..18000
+    if (m.steering_center_cdeg > 18000u) return 11;
+    // steering_min_cdeg: 0..18000
+    if (m.steering_min_cdeg > 18000u) return 12;
+    // steering_max_cdeg: 0..18000
+    if (m.steering_max_cdeg > 18000u) return 13;
+    // steering_step_cdeg: 0..9000
+    if (m.steering_step_cdeg > 9000u) return 14;
+    // servo_min_us: 400..2600
+    if (m.servo_min_us < 400u || m.servo_min_us > 2600u) return 15;
+    // servo_max_us: 400..2600
+    if (m.servo_max_us < 400u || m.servo_max_us > 2600u) return 16;
+    // esc_min_us: 800..2200
+    if (m.esc_min_us < 800u || m.esc_min_us > 2200u) return 17;
+    // esc_neutral_us: 800..2200
+    if (m.esc_neutral_us < 800u || m.esc_neutral_us > 2200u) return 18;
+    // esc_max_us: 800..2200
+    if (m.esc_max_us < 800u || m.esc_max_us > 2200u) return 19;
+    // esc_arm_ms: 0..10000
+    if (m.esc_arm_ms > 10000u) return 20;
+    // feedback_hz: 1..100
+    if (m.feedback_hz < 1u || m.feedback_hz > 100u) return 21;
+    return ALL_FIELDS_VALID;
+}
 
-// NACK: payload 4..4 bytes, 1 checked fields.
-const uint8_t NACK_CHECKS[] ROVERLINK_PROGMEM = {
-    4, 4, layout::NO_TAIL, 1, 0,
-    layout::WIRE_U8 | layout::CHECK_VALUES, 2, offsetof(Nack, reason), 0x01, 0x09, 0x00,  // reason: NackReason 1..9
-};
+bool values_defined(const Feedback& m) {
+    // status: Status bits 0x7F
+    if ((m.status & 0x80u) != 0) return false;
+    // failsafe_reason: FailsafeReason
+    if (!is_valid_FailsafeReason(static_cast<uint8_t>(m.failsafe_reason))) return false;
+    return true;
+}
 
-// PID: payload 18..18 bytes, 4 checked fields.
-const uint8_t PID_CHECKS[] ROVERLINK_PROGMEM = {
-    18, 18, layout::NO_TAIL, 0, 4,
-    layout::WIRE_F32 | layout::CHECK_RANGE, 2, offsetof(Pid, kp), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kp: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, 3, offsetof(Pid, ki), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // ki: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, 4, offsetof(Pid, kd), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kd: 0.0f..1000.0f
-    layout::WIRE_F32 | layout::CHECK_RANGE, 5, offsetof(Pid, kf), 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x7A, 0xC4,  // kf: 0.0f..1000.0f
-};
+uint8_t check_ranges(const Feedback& m) {
+    // effort_permille: -1000..1000
+    for (uint8_t i = 0; i < 2; ++i) {
+        const int16_t v = m.effort_permille[i];
+        if (v < -1000 || v > 1000) return 9;
+    }
+    // steering_mrad: -1571..1571
+    if (m.steering_mrad < -1571 || m.steering_mrad > 1571) return 10;
+    return ALL_FIELDS_VALID;
+}
 
-// CONFIG: payload 41..41 bytes, 21 checked fields.
-const uint8_t CONFIG_CHECKS[] ROVERLINK_PROGMEM = {
-    41, 41, layout::NO_TAIL, 1, 20,
-    layout::WIRE_U8 | layout::CHECK_VALUES, 2, offsetof(Config, safe_state), 0x00, 0x02, 0x00,  // safe_state: SafeState 0..2
-    layout::WIRE_U16 | layout::CHECK_RANGE, 1, offsetof(Config, watchdog_ms), 0x32, 0x00, 0xD0, 0x07,  // watchdog_ms: 50..2000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 3, offsetof(Config, accel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // accel_limit_mm_s2: 1..65535
-    layout::WIRE_U16 | layout::CHECK_RANGE, 4, offsetof(Config, decel_limit_mm_s2), 0x01, 0x00, 0xFF, 0xFF,  // decel_limit_mm_s2: 1..65535
-    layout::WIRE_U16 | layout::CHECK_RANGE, 5, offsetof(Config, max_wheel_speed_mm_s), 0x01, 0x00, 0x20, 0x4E,  // max_wheel_speed_mm_s: 1..20000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 6, offsetof(Config, max_effort_permille), 0x00, 0x00, 0xE8, 0x03,  // max_effort_permille: 0..1000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 7, offsetof(Config, encoder_cpr), 0x01, 0x00, 0xFF, 0xFF,  // encoder_cpr: 1..65535
-    layout::WIRE_U8 | layout::CHECK_RANGE, 8, offsetof(Config, encoder_invert), 0x00, 0x03,  // encoder_invert: 0..3
-    layout::WIRE_U8 | layout::CHECK_RANGE, 9, offsetof(Config, motor_invert), 0x00, 0x03,  // motor_invert: 0..3
-    layout::WIRE_U32 | layout::CHECK_RANGE, 10, offsetof(Config, wheel_diameter_um), 0xE8, 0x03, 0x00, 0x00, 0x40, 0x42, 0x0F, 0x00,  // wheel_diameter_um: 1000..1000000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 11, offsetof(Config, steering_center_cdeg), 0x00, 0x00, 0x50, 0x46,  // steering_center_cdeg: 0..18000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 12, offsetof(Config, steering_min_cdeg), 0x00, 0x00, 0x50, 0x46,  // steering_min_cdeg: 0..18000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 13, offsetof(Config, steering_max_cdeg), 0x00, 0x00, 0x50, 0x46,  // steering_max_cdeg: 0..18000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 14, offsetof(Config, steering_step_cdeg), 0x00, 0x00, 0x28, 0x23,  // steering_step_cdeg: 0..9000
-    layout::WIRE_U16 | layout::CHECK_RANGE, 15, offsetof(Config, servo_min_us), 0x90, 0x01, 0x28, 0x0A,  // servo_min_us: 400..2600
-    layout::WIRE_U16 | layout::CHECK_RANGE, 16, offsetof(Config, servo_max_us), 0x90, 0x01, 0x28, 0x0A,  // servo_max_us: 400..2600
-    layout::WIRE_U16 | layout::CHECK_RANGE, 17, offsetof(Config, esc_min_us), 0x20, 0x03, 0x98, 0x08,  // esc_min_us: 800..2200
-    layout::WIRE_U16 | layout::CHECK_RANGE, 18, offsetof(Config, esc_neutral_us), 0x20, 0x03, 0x98, 0x08,  // esc_neutral_us: 800..2200
-    layout::WIRE_U16 | layout::CHECK_RANGE, 19, offsetof(Config, esc_max_us), 0x20, 0x03, 0x98, 0x08,  // esc_max_us: 800..2200
-    layout::WIRE_U16 | layout::CHECK_RANGE, 20, offsetof(Config, esc_arm_ms), 0x00, 0x00, 0x10, 0x27,  // esc_arm_ms: 0..10000
-    layout::WIRE_U8 | layout::CHECK_RANGE, 21, offsetof(Config, feedback_hz), 0x01, 0x64,  // feedback_hz: 1..100
-};
-
-// LINK_STATS: payload 45..45 bytes, 0 checked fields.
-const uint8_t LINK_STATS_CHECKS[] ROVERLINK_PROGMEM = {
-    45, 45, layout::NO_TAIL, 0, 0,
-};
-
-// FEEDBACK: payload 33..33 bytes, 4 checked fields.
-const uint8_t FEEDBACK_CHECKS[] ROVERLINK_PROGMEM = {
-    33, 33, layout::NO_TAIL, 2, 2,
-    layout::WIRE_U8 | layout::CHECK_FLAGS, 5, offsetof(Feedback, status), 0x7F,  // status: Status bits 0x7F
-    layout::WIRE_U8 | layout::CHECK_VALUES, 6, offsetof(Feedback, failsafe_reason), 0x00, 0x04, 0x00,  // failsafe_reason: FailsafeReason 0..4
-    layout::WIRE_I16 | layout::CHECK_RANGE | layout::ARRAY, 9, offsetof(Feedback, effort_permille), 2, 0x18, 0x7C, 0xE8, 0x83,  // effort_permille: -1000..1000
-    layout::WIRE_I16 | layout::CHECK_RANGE, 10, offsetof(Feedback, steering_mrad), 0xDD, 0x79, 0x23, 0x86,  // steering_mrad: -1571..1571
-};
-
-// LOG: payload 1..61 bytes, 2 checked fields.
-const uint8_t LOG_CHECKS[] ROVERLINK_PROGMEM = {
-    1, 61, offsetof(Log, text_len), 2, 0,
-    layout::WIRE_U8 | layout::CHECK_VALUES, 0, offsetof(Log, level), 0x00, 0x03, 0x00,  // level: LogLevel 0..3
-    layout::WIRE_U8 | layout::CHECK_VALUES | layout::ARRAY, 1, offsetof(Log, text), 0, 0x00, 0x7F, 0x00,  // text: ASCII
-};
+bool values_defined(const Log& m) {
+    // level: LogLevel
+    if (!is_valid_LogLevel(static_cast<uint8_t>(m.level))) return false;
+    // text: ASCII
+    for (uint8_t i = 0; i < m.text_len; ++i) {
+        const char v = m.text[i];
+        if (static_cast<uint8_t>(v) > 0x7F) return false;
+    }
+    return true;
+}
 
 const uint8_t TRANSITIONS[TRANSITION_COUNT][5] ROVERLINK_PROGMEM = {
     {0x01, GUARD_NONE, 1, 0x09, 0x00},  // BOOT INIT_DONE -> IDLE

@@ -9,11 +9,11 @@
 #include <stdint.h>
 #include <string.h>
 
-// The runtime's checks walker (unpack/check_ranges), ROVERLINK_PACKED and ROVERLINK_PROGMEM.
+// The runtime's copy_payload() and f32 order keys, ROVERLINK_PACKED and ROVERLINK_PROGMEM.
 #include "../codec/layout.h"
 
 // The runtime in src/codec/ refuses to compile against another API version (see codec.h).
-#define ROVERLINK_GENERATED_API_VERSION 3
+#define ROVERLINK_GENERATED_API_VERSION 4
 
 namespace roverlink {
 namespace proto {
@@ -152,11 +152,12 @@ inline bool is_valid_LogLevel(uint8_t value) {
     return value <= 3;
 }
 
-// Length rule of a msg_id: payload of min_payload..max_payload bytes.
+// Length rule of a msg_id: payload of min_payload..max_payload bytes; and its direction.
 struct MessageBounds {
     uint8_t crc_extra;
     uint8_t min_payload;
     uint8_t max_payload;
+    bool host_to_mcu;
 };
 // False for an msg_id the spec does not define (a table lookup).
 bool message_bounds(uint8_t msg_id, MessageBounds& out);
@@ -173,33 +174,35 @@ struct ROVERLINK_PACKED Hello {
     FeedbackMode feedback_mode;  // Stream or lockstep feedback.
     uint8_t feedback_hz;  // Requested stream rate; 0 = stored default. Clamped to 1..FEEDBACK_HZ_MAX. [Hz]
 };
-extern const uint8_t HELLO_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const Hello& m, uint8_t* payload) {
     memcpy(payload, &m, Hello::PAYLOAD_SIZE);
     return Hello::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+bool values_defined(const Hello& m);
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Hello& m) {
-    return layout::unpack(HELLO_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, Hello::PAYLOAD_SIZE, Hello::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const Hello& m) { return layout::check_ranges(HELLO_CHECKS, &m); }
+uint8_t check_ranges(const Hello& m);
 
 // PING (0x02, host to mcu, session): Time-sync probe; answered by PONG.
 struct ROVERLINK_PACKED Ping {
     enum : uint8_t { ID = 0x02, CRC_EXTRA = 0x8B, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
     uint32_t host_time_us;  // Host clock at send time (low 32 bits), echoed in PONG. [us]
 };
-extern const uint8_t PING_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const Ping& m, uint8_t* payload) {
     memcpy(payload, &m, Ping::PAYLOAD_SIZE);
     return Ping::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+inline bool values_defined(const Ping&) { return true; }
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Ping& m) {
-    return layout::unpack(PING_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, Ping::PAYLOAD_SIZE, Ping::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Ping&) { return ALL_FIELDS_VALID; }  // no ranged field
@@ -209,15 +212,16 @@ struct ROVERLINK_PACKED Arm {
     enum : uint8_t { ID = 0x10, CRC_EXTRA = 0x2A, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
     uint32_t boot_id;  // boot_id from this session's IDENTITY.
 };
-extern const uint8_t ARM_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const Arm& m, uint8_t* payload) {
     memcpy(payload, &m, Arm::PAYLOAD_SIZE);
     return Arm::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+inline bool values_defined(const Arm&) { return true; }
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Arm& m) {
-    return layout::unpack(ARM_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, Arm::PAYLOAD_SIZE, Arm::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Arm&) { return ALL_FIELDS_VALID; }  // no ranged field
@@ -239,33 +243,35 @@ struct ROVERLINK_PACKED SetPid {
     float kd;  // Derivative gain, on the measurement. [permille/(mm/s^2)]
     float kf;  // Feed-forward gain on the setpoint. [permille/(mm/s)]
 };
-extern const uint8_t SET_PID_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const SetPid& m, uint8_t* payload) {
     memcpy(payload, &m, SetPid::PAYLOAD_SIZE);
     return SetPid::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+inline bool values_defined(const SetPid&) { return true; }
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, SetPid& m) {
-    return layout::unpack(SET_PID_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, SetPid::PAYLOAD_SIZE, SetPid::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const SetPid& m) { return layout::check_ranges(SET_PID_CHECKS, &m); }
+uint8_t check_ranges(const SetPid& m);
 
 // GET_PID (0x13, host to mcu, reliable): Asks for one wheel's PID gains; answered by PID.
 struct ROVERLINK_PACKED GetPid {
     enum : uint8_t { ID = 0x13, CRC_EXTRA = 0x6F, PAYLOAD_SIZE = 1, PAYLOAD_MAX = 1 };
     uint8_t wheel;  // Wheel index (0..WHEEL_COUNT-1).
 };
-extern const uint8_t GET_PID_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const GetPid& m, uint8_t* payload) {
     memcpy(payload, &m, GetPid::PAYLOAD_SIZE);
     return GetPid::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+inline bool values_defined(const GetPid&) { return true; }
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, GetPid& m) {
-    return layout::unpack(GET_PID_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, GetPid::PAYLOAD_SIZE, GetPid::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const GetPid&) { return ALL_FIELDS_VALID; }  // no ranged field
@@ -295,18 +301,19 @@ struct ROVERLINK_PACKED SetConfig {
     uint16_t esc_arm_ms;  // Arming sequence: neutral pulses held at boot before the ESC is driven. [ms]
     uint8_t feedback_hz;  // Default stream feedback rate. [Hz]
 };
-extern const uint8_t SET_CONFIG_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const SetConfig& m, uint8_t* payload) {
     memcpy(payload, &m, SetConfig::PAYLOAD_SIZE);
     return SetConfig::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+bool values_defined(const SetConfig& m);
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, SetConfig& m) {
-    return layout::unpack(SET_CONFIG_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, SetConfig::PAYLOAD_SIZE, SetConfig::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const SetConfig& m) { return layout::check_ranges(SET_CONFIG_CHECKS, &m); }
+uint8_t check_ranges(const SetConfig& m);
 
 // GET_CONFIG (0x15, host to mcu, reliable): Asks for the configuration; answered by CONFIG.
 struct ROVERLINK_PACKED GetConfig {
@@ -346,15 +353,16 @@ struct ROVERLINK_PACKED SetWheelSpeeds {
     int16_t left_mm_s;  // Left wheel target speed, positive forward. [mm/s]
     int16_t right_mm_s;  // Right wheel target speed, positive forward. [mm/s]
 };
-extern const uint8_t SET_WHEEL_SPEEDS_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const SetWheelSpeeds& m, uint8_t* payload) {
     memcpy(payload, &m, SetWheelSpeeds::PAYLOAD_SIZE);
     return SetWheelSpeeds::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+inline bool values_defined(const SetWheelSpeeds&) { return true; }
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, SetWheelSpeeds& m) {
-    return layout::unpack(SET_WHEEL_SPEEDS_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, SetWheelSpeeds::PAYLOAD_SIZE, SetWheelSpeeds::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const SetWheelSpeeds&) { return ALL_FIELDS_VALID; }  // no ranged field
@@ -365,18 +373,19 @@ struct ROVERLINK_PACKED SetAckermann {
     int16_t speed_mm_s;  // Target speed at the rear axle, positive forward. [mm/s]
     int16_t steering_mrad;  // Front-wheel angle, positive turns left. [mrad]
 };
-extern const uint8_t SET_ACKERMANN_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const SetAckermann& m, uint8_t* payload) {
     memcpy(payload, &m, SetAckermann::PAYLOAD_SIZE);
     return SetAckermann::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+inline bool values_defined(const SetAckermann&) { return true; }
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, SetAckermann& m) {
-    return layout::unpack(SET_ACKERMANN_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, SetAckermann::PAYLOAD_SIZE, SetAckermann::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const SetAckermann& m) { return layout::check_ranges(SET_ACKERMANN_CHECKS, &m); }
+uint8_t check_ranges(const SetAckermann& m);
 
 // IDENTITY (0x81, mcu to host, session): Boot announcement (sent once, unsolicited, after reset) and the answer to every HELLO.
 struct ROVERLINK_PACKED Identity {
@@ -396,14 +405,15 @@ struct ROVERLINK_PACKED Identity {
     char robot_name[24];  // Name of the firmware example (ASCII).
     uint8_t robot_name_len;  // bytes used in robot_name
 };
-extern const uint8_t IDENTITY_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const Identity& m, uint8_t* payload) {
     return layout::pack_tail(&m, Identity::PAYLOAD_SIZE, m.robot_name_len, 24, payload);
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+bool values_defined(const Identity& m);
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Identity& m) {
-    return layout::unpack(IDENTITY_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, Identity::PAYLOAD_SIZE, Identity::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Identity&) { return ALL_FIELDS_VALID; }  // no ranged field
@@ -414,15 +424,16 @@ struct ROVERLINK_PACKED Pong {
     uint32_t host_time_us;  // host_time_us of the PING. [us]
     uint32_t mcu_time_us;  // MCU clock when the PING was processed. [us]
 };
-extern const uint8_t PONG_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const Pong& m, uint8_t* payload) {
     memcpy(payload, &m, Pong::PAYLOAD_SIZE);
     return Pong::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+inline bool values_defined(const Pong&) { return true; }
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Pong& m) {
-    return layout::unpack(PONG_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, Pong::PAYLOAD_SIZE, Pong::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Pong&) { return ALL_FIELDS_VALID; }  // no ranged field
@@ -433,15 +444,16 @@ struct ROVERLINK_PACKED Ack {
     uint8_t req_id;  // msg_id of the request.
     uint8_t req_seq;  // seq of the request.
 };
-extern const uint8_t ACK_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const Ack& m, uint8_t* payload) {
     memcpy(payload, &m, Ack::PAYLOAD_SIZE);
     return Ack::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+inline bool values_defined(const Ack&) { return true; }
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Ack& m) {
-    return layout::unpack(ACK_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, Ack::PAYLOAD_SIZE, Ack::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Ack&) { return ALL_FIELDS_VALID; }  // no ranged field
@@ -454,15 +466,16 @@ struct ROVERLINK_PACKED Nack {
     NackReason reason;  // Why.
     uint8_t detail;  // Reason-specific: field index, FailsafeReason, ...
 };
-extern const uint8_t NACK_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const Nack& m, uint8_t* payload) {
     memcpy(payload, &m, Nack::PAYLOAD_SIZE);
     return Nack::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+bool values_defined(const Nack& m);
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Nack& m) {
-    return layout::unpack(NACK_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, Nack::PAYLOAD_SIZE, Nack::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Nack&) { return ALL_FIELDS_VALID; }  // no ranged field
@@ -477,18 +490,19 @@ struct ROVERLINK_PACKED Pid {
     float kd;  // Derivative gain, on the measurement. [permille/(mm/s^2)]
     float kf;  // Feed-forward gain on the setpoint. [permille/(mm/s)]
 };
-extern const uint8_t PID_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const Pid& m, uint8_t* payload) {
     memcpy(payload, &m, Pid::PAYLOAD_SIZE);
     return Pid::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+inline bool values_defined(const Pid&) { return true; }
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Pid& m) {
-    return layout::unpack(PID_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, Pid::PAYLOAD_SIZE, Pid::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const Pid& m) { return layout::check_ranges(PID_CHECKS, &m); }
+uint8_t check_ranges(const Pid& m);
 
 // CONFIG (0x86, mcu to host, reliable): Answer to GET_CONFIG.
 struct ROVERLINK_PACKED Config {
@@ -516,18 +530,19 @@ struct ROVERLINK_PACKED Config {
     uint16_t esc_arm_ms;  // Arming sequence: neutral pulses held at boot before the ESC is driven. [ms]
     uint8_t feedback_hz;  // Default stream feedback rate. [Hz]
 };
-extern const uint8_t CONFIG_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const Config& m, uint8_t* payload) {
     memcpy(payload, &m, Config::PAYLOAD_SIZE);
     return Config::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+bool values_defined(const Config& m);
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Config& m) {
-    return layout::unpack(CONFIG_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, Config::PAYLOAD_SIZE, Config::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const Config& m) { return layout::check_ranges(CONFIG_CHECKS, &m); }
+uint8_t check_ranges(const Config& m);
 
 // LINK_STATS (0x87, mcu to host, reliable): Answer to GET_LINK_STATS: the firmware's receive and transmit counters since boot.
 struct ROVERLINK_PACKED LinkStats {
@@ -545,15 +560,16 @@ struct ROVERLINK_PACKED LinkStats {
     uint32_t duplicates;  // Reliable requests received again (answered, not re-applied).
     uint32_t frames_sent;  // Frames sent.
 };
-extern const uint8_t LINK_STATS_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const LinkStats& m, uint8_t* payload) {
     memcpy(payload, &m, LinkStats::PAYLOAD_SIZE);
     return LinkStats::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+inline bool values_defined(const LinkStats&) { return true; }
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, LinkStats& m) {
-    return layout::unpack(LINK_STATS_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, LinkStats::PAYLOAD_SIZE, LinkStats::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const LinkStats&) { return ALL_FIELDS_VALID; }  // no ranged field
@@ -573,18 +589,19 @@ struct ROVERLINK_PACKED Feedback {
     int16_t effort_permille[2];  // Motor efforts applied (negative: reverse). [0.1 %]
     int16_t steering_mrad;  // Front-wheel angle commanded to the servo (0 without steering). [mrad]
 };
-extern const uint8_t FEEDBACK_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const Feedback& m, uint8_t* payload) {
     memcpy(payload, &m, Feedback::PAYLOAD_SIZE);
     return Feedback::PAYLOAD_SIZE;
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+bool values_defined(const Feedback& m);
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Feedback& m) {
-    return layout::unpack(FEEDBACK_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, Feedback::PAYLOAD_SIZE, Feedback::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const Feedback& m) { return layout::check_ranges(FEEDBACK_CHECKS, &m); }
+uint8_t check_ranges(const Feedback& m);
 
 // LOG (0x91, mcu to host, telemetry): A short text from the firmware. The firmware never prints text on the port; this is its only text channel.
 struct ROVERLINK_PACKED Log {
@@ -593,14 +610,15 @@ struct ROVERLINK_PACKED Log {
     char text[60];  // ASCII text.
     uint8_t text_len;  // bytes used in text
 };
-extern const uint8_t LOG_CHECKS[] ROVERLINK_PROGMEM;
 // Returns the payload length.
 inline uint8_t pack(const Log& m, uint8_t* payload) {
     return layout::pack_tail(&m, Log::PAYLOAD_SIZE, m.text_len, 60, payload);
 }
+// Whether every enum, flags and char field holds a value the spec defines.
+bool values_defined(const Log& m);
 // False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
 inline bool unpack(const uint8_t* payload, uint8_t len, Log& m) {
-    return layout::unpack(LOG_CHECKS, payload, len, &m);
+    return layout::copy_payload(payload, len, Log::PAYLOAD_SIZE, Log::PAYLOAD_MAX, &m) && values_defined(m);
 }
 // Index of the first field outside its spec range, or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Log&) { return ALL_FIELDS_VALID; }  // no ranged field
