@@ -163,9 +163,8 @@ def _struct(m: Message) -> str:
         out.append(f"inline bool values_defined(const {n}&) {{ return true; }}\n")
     out.append("// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).\n")
     out.append(f"inline bool unpack(const uint8_t* payload, uint8_t len, {n}& m) {{\n")
-    out.append(
-        f"    return layout::copy_payload(payload, len, {n}::PAYLOAD_SIZE, {n}::PAYLOAD_MAX, &m) && values_defined(m);\n}}\n"
-    )
+    copy = f"layout::copy_payload(payload, len, {n}::PAYLOAD_SIZE, {n}::PAYLOAD_MAX, &m)"
+    out.append(f"    return {copy} && values_defined(m);\n}}\n")
     out.append("// Index of the first field outside its spec range, or ALL_FIELDS_VALID.\n")
     if _range_checks(m):
         out.append(f"uint8_t check_ranges(const {n}& m);\n\n")
@@ -445,11 +444,43 @@ def _check_functions(m: Message) -> str:
     ranges = _range_checks(m)
     if ranges:
         out.append(f"uint8_t check_ranges(const {n}& m) {{\n")
-        for i, f, test, note in ranges:
-            out.append(f"    // {f.name}: {note}\n")
-            out.append(_each(f, f"if ({test}) return {i};"))
+        for run in _runs(ranges):
+            i, f, test, note = run[0]
+            if len(run) < _RUN_MIN:
+                for i, f, test, note in run:
+                    out.append(f"    // {f.name}: {note}\n")
+                    out.append(_each(f, f"if ({test}) return {i};"))
+                continue
+            # Adjacent fields with the same check: one loop over their bytes (one copy of the test).
+            names = ", ".join(g[1].name for g in run)
+            out.append(f"    // {names}: {note}\n")
+            out.append(f"    for (uint8_t i = 0; i < {len(run)}; ++i) {{\n")
+            out.append(f"        {_ctype(f)} v;\n")
+            out.append(
+                f"        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof({n}, {f.name}) + i * sizeof v, "
+                "sizeof v);\n"
+            )
+            out.append(f"        if ({test}) return static_cast<uint8_t>({i} + i);\n    }}\n")
         out.append("    return ALL_FIELDS_VALID;\n}\n\n")
     return "".join(out)
+
+
+_RUN_MIN = 2  # adjacent fields with one check that become a loop (fewer: one test each is smaller)
+
+
+def _runs(ranges: list[tuple[int, Field, str, str]]) -> list[list[tuple[int, Field, str, str]]]:
+    """The range checks in runs of adjacent scalar fields of one type with the same test."""
+    runs: list[list[tuple[int, Field, str, str]]] = []
+    for c in ranges:
+        prev = runs[-1][-1] if runs else None
+        scalar = c[1].count is None and c[1].max_len is None
+        if prev is not None and scalar and prev[0] + 1 == c[0] and prev[1].prim == c[1].prim and prev[2] == c[2]:
+            prev_scalar = prev[1].count is None and prev[1].max_len is None
+            if prev_scalar:
+                runs[-1].append(c)
+                continue
+        runs.append([c])
+    return runs
 
 
 def _enum_test(e: Enum) -> str:

@@ -82,7 +82,7 @@ def test_generated_checks_on_a_probe_message(tmp_path: Path) -> None:
     flags = ["-std=c++11", "-Wall", "-Wextra", "-Werror", "-O1", "-g"]
     flags += ["-fsanitize=address,undefined", "-fno-sanitize-recover=all"]
     subprocess.run(["g++", *flags, f"-I{src}", *map(str, sources), "-o", str(exe)], check=True)
-    run = subprocess.run([str(exe)], capture_output=True, text=True, timeout=60)
+    run = subprocess.run([str(exe)], check=False, capture_output=True, text=True, timeout=60)
     print(run.stdout)
     assert run.returncode == 0, run.stdout + run.stderr
     counts = re.search(r"(\d+) passed, (\d+) failed", run.stdout)

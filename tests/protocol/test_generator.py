@@ -91,11 +91,23 @@ def test_cpp_checks_take_enum_values_as_a_range_or_a_switch_when_they_have_gaps(
 def test_cpp_range_checks_leave_out_the_bounds_of_the_type() -> None:
     source = render(spec())["arduino/RoverLink/src/generated/roverlink_protocol.cpp"]
     assert "if (m.watchdog_ms < 50u || m.watchdog_ms > 2000u) return 0;" in source
-    assert "if (m.accel_limit_mm_s2 < 1u) return 2;" in source  # 1..65535
+    assert "if (m.encoder_cpr < 1u) return 6;" in source  # 1..65535
     assert "if (m.max_effort_permille > 1000u) return 5;" in source  # 0..1000
     assert "if (m.steering_mrad < -1571 || m.steering_mrad > 1571) return 1;" in source
-    # 0.0..1000.0: from -0.0's key (0x7FFFFFFF) to 1000.0's (0x447A0000 with the sign bit set)
-    assert "if (!layout::f32_within(m.kp, 0x7FFFFFFFUL, 0xC47A0000UL)) return 1;" in source
+
+
+def test_cpp_range_checks_loop_over_adjacent_fields_with_the_same_check() -> None:
+    source = render(spec())["arduino/RoverLink/src/generated/roverlink_protocol.cpp"]
+    # SET_PID's gains, fields 1..4, 0.0..1000.0: from -0.0's key (0x7FFFFFFF) to 1000.0's
+    # (0x447A0000 with the sign bit set)
+    set_pid = source[source.index("uint8_t check_ranges(const SetPid& m) {") :]
+    set_pid = set_pid[: set_pid.index("\n}\n")]
+    assert "for (uint8_t i = 0; i < 4; ++i) {" in set_pid
+    assert "offsetof(SetPid, kp) + i * sizeof v" in set_pid
+    assert "if (!layout::f32_within(v, 0x7FFFFFFFUL, 0xC47A0000UL)) return static_cast<uint8_t>(1 + i);" in set_pid
+    # the accel and decel limits (fields 2, 3) share 1..65535; max_wheel_speed (4) has its own range
+    assert "if (v < 1u) return static_cast<uint8_t>(2 + i);" in source
+    assert "if (m.max_wheel_speed_mm_s < 1u || m.max_wheel_speed_mm_s > 20000u) return 4;" in source
 
 
 def test_crc_extra_follows_the_definition_not_the_prose() -> None:

@@ -67,25 +67,29 @@ FrameDecoder::Result FrameDecoder::finish_chunk() {
     }
     // COBS, in place: every decoded byte lands at or before the place of its encoded byte. A
     // block's implied zero is real only when another block follows. A chunk that ends inside a
-    // block is not COBS (a 0xFF block, the one kind without an implied zero, cannot fit).
+    // block is not COBS (a 0xFF block, the one kind without an implied zero, cannot fit). Pointers,
+    // not indexes: the copy is then a load and a store per byte on AVR.
     uint8_t* const b = buf_;
-    uint8_t in = 0;
-    uint8_t n = 0;
+    const uint8_t* in = b;
+    const uint8_t* const end = b + chunk;
+    uint8_t* out = b;
     uint32_t* counter = &stats_.cobs_errors;
     Result r = ERR_COBS;
-    while (in < chunk) {
-        uint8_t run = static_cast<uint8_t>(b[in++] - 1u);
-        if (run > chunk - in) {
+    for (;;) {
+        uint8_t run = *in++;  // the code byte: run - 1 data bytes follow (never 0: 0 ends chunks)
+        if (static_cast<uint8_t>(run - 1u) > static_cast<uint8_t>(end - in)) {
             goto rejected;
         }
-        while (run-- > 0) {
-            b[n++] = b[in++];
+        while (--run != 0) {
+            *out++ = *in++;
         }
-        if (in < chunk) {
-            b[n++] = 0;
+        if (in == end) {
+            break;
         }
+        *out++ = 0;
     }
     {
+        const uint8_t n = static_cast<uint8_t>(out - b);
         proto::MessageBounds bounds;
         counter = &stats_.length_errors;
         r = ERR_LENGTH;

@@ -262,14 +262,12 @@ uint8_t check_ranges(const Hello& m) {
 }
 
 uint8_t check_ranges(const SetPid& m) {
-    // kp: 0.0f..1000.0f, as order keys
-    if (!layout::f32_within(m.kp, 0x7FFFFFFFUL, 0xC47A0000UL)) return 1;
-    // ki: 0.0f..1000.0f, as order keys
-    if (!layout::f32_within(m.ki, 0x7FFFFFFFUL, 0xC47A0000UL)) return 2;
-    // kd: 0.0f..1000.0f, as order keys
-    if (!layout::f32_within(m.kd, 0x7FFFFFFFUL, 0xC47A0000UL)) return 3;
-    // kf: 0.0f..1000.0f, as order keys
-    if (!layout::f32_within(m.kf, 0x7FFFFFFFUL, 0xC47A0000UL)) return 4;
+    // kp, ki, kd, kf: 0.0f..1000.0f, as order keys
+    for (uint8_t i = 0; i < 4; ++i) {
+        float v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(SetPid, kp) + i * sizeof v, sizeof v);
+        if (!layout::f32_within(v, 0x7FFFFFFFUL, 0xC47A0000UL)) return static_cast<uint8_t>(1 + i);
+    }
     return ALL_FIELDS_VALID;
 }
 
@@ -282,40 +280,46 @@ bool values_defined(const SetConfig& m) {
 uint8_t check_ranges(const SetConfig& m) {
     // watchdog_ms: 50..2000
     if (m.watchdog_ms < 50u || m.watchdog_ms > 2000u) return 0;
-    // accel_limit_mm_s2: 1..65535
-    if (m.accel_limit_mm_s2 < 1u) return 2;
-    // decel_limit_mm_s2: 1..65535
-    if (m.decel_limit_mm_s2 < 1u) return 3;
+    // accel_limit_mm_s2, decel_limit_mm_s2: 1..65535
+    for (uint8_t i = 0; i < 2; ++i) {
+        uint16_t v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(SetConfig, accel_limit_mm_s2) + i * sizeof v, sizeof v);
+        if (v < 1u) return static_cast<uint8_t>(2 + i);
+    }
     // max_wheel_speed_mm_s: 1..20000
     if (m.max_wheel_speed_mm_s < 1u || m.max_wheel_speed_mm_s > 20000u) return 4;
     // max_effort_permille: 0..1000
     if (m.max_effort_permille > 1000u) return 5;
     // encoder_cpr: 1..65535
     if (m.encoder_cpr < 1u) return 6;
-    // encoder_invert: 0..3
-    if (m.encoder_invert > 3u) return 7;
-    // motor_invert: 0..3
-    if (m.motor_invert > 3u) return 8;
+    // encoder_invert, motor_invert: 0..3
+    for (uint8_t i = 0; i < 2; ++i) {
+        uint8_t v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(SetConfig, encoder_invert) + i * sizeof v, sizeof v);
+        if (v > 3u) return static_cast<uint8_t>(7 + i);
+    }
     // wheel_diameter_um: 1000..1000000
     if (m.wheel_diameter_um < 1000UL || m.wheel_diameter_um > 1000000UL) return 9;
-    // steering_center_cdeg: 0..18000
-    if (m.steering_center_cdeg > 18000u) return 10;
-    // steering_min_cdeg: 0..18000
-    if (m.steering_min_cdeg > 18000u) return 11;
-    // steering_max_cdeg: 0..18000
-    if (m.steering_max_cdeg > 18000u) return 12;
+    // steering_center_cdeg, steering_min_cdeg, steering_max_cdeg: 0..18000
+    for (uint8_t i = 0; i < 3; ++i) {
+        uint16_t v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(SetConfig, steering_center_cdeg) + i * sizeof v, sizeof v);
+        if (v > 18000u) return static_cast<uint8_t>(10 + i);
+    }
     // steering_step_cdeg: 0..9000
     if (m.steering_step_cdeg > 9000u) return 13;
-    // servo_min_us: 400..2600
-    if (m.servo_min_us < 400u || m.servo_min_us > 2600u) return 14;
-    // servo_max_us: 400..2600
-    if (m.servo_max_us < 400u || m.servo_max_us > 2600u) return 15;
-    // esc_min_us: 800..2200
-    if (m.esc_min_us < 800u || m.esc_min_us > 2200u) return 16;
-    // esc_neutral_us: 800..2200
-    if (m.esc_neutral_us < 800u || m.esc_neutral_us > 2200u) return 17;
-    // esc_max_us: 800..2200
-    if (m.esc_max_us < 800u || m.esc_max_us > 2200u) return 18;
+    // servo_min_us, servo_max_us: 400..2600
+    for (uint8_t i = 0; i < 2; ++i) {
+        uint16_t v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(SetConfig, servo_min_us) + i * sizeof v, sizeof v);
+        if (v < 400u || v > 2600u) return static_cast<uint8_t>(14 + i);
+    }
+    // esc_min_us, esc_neutral_us, esc_max_us: 800..2200
+    for (uint8_t i = 0; i < 3; ++i) {
+        uint16_t v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(SetConfig, esc_min_us) + i * sizeof v, sizeof v);
+        if (v < 800u || v > 2200u) return static_cast<uint8_t>(16 + i);
+    }
     // esc_arm_ms: 0..10000
     if (m.esc_arm_ms > 10000u) return 19;
     // feedback_hz: 1..100
@@ -353,14 +357,12 @@ bool values_defined(const Nack& m) {
 }
 
 uint8_t check_ranges(const Pid& m) {
-    // kp: 0.0f..1000.0f, as order keys
-    if (!layout::f32_within(m.kp, 0x7FFFFFFFUL, 0xC47A0000UL)) return 2;
-    // ki: 0.0f..1000.0f, as order keys
-    if (!layout::f32_within(m.ki, 0x7FFFFFFFUL, 0xC47A0000UL)) return 3;
-    // kd: 0.0f..1000.0f, as order keys
-    if (!layout::f32_within(m.kd, 0x7FFFFFFFUL, 0xC47A0000UL)) return 4;
-    // kf: 0.0f..1000.0f, as order keys
-    if (!layout::f32_within(m.kf, 0x7FFFFFFFUL, 0xC47A0000UL)) return 5;
+    // kp, ki, kd, kf: 0.0f..1000.0f, as order keys
+    for (uint8_t i = 0; i < 4; ++i) {
+        float v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(Pid, kp) + i * sizeof v, sizeof v);
+        if (!layout::f32_within(v, 0x7FFFFFFFUL, 0xC47A0000UL)) return static_cast<uint8_t>(2 + i);
+    }
     return ALL_FIELDS_VALID;
 }
 
@@ -373,40 +375,46 @@ bool values_defined(const Config& m) {
 uint8_t check_ranges(const Config& m) {
     // watchdog_ms: 50..2000
     if (m.watchdog_ms < 50u || m.watchdog_ms > 2000u) return 1;
-    // accel_limit_mm_s2: 1..65535
-    if (m.accel_limit_mm_s2 < 1u) return 3;
-    // decel_limit_mm_s2: 1..65535
-    if (m.decel_limit_mm_s2 < 1u) return 4;
+    // accel_limit_mm_s2, decel_limit_mm_s2: 1..65535
+    for (uint8_t i = 0; i < 2; ++i) {
+        uint16_t v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(Config, accel_limit_mm_s2) + i * sizeof v, sizeof v);
+        if (v < 1u) return static_cast<uint8_t>(3 + i);
+    }
     // max_wheel_speed_mm_s: 1..20000
     if (m.max_wheel_speed_mm_s < 1u || m.max_wheel_speed_mm_s > 20000u) return 5;
     // max_effort_permille: 0..1000
     if (m.max_effort_permille > 1000u) return 6;
     // encoder_cpr: 1..65535
     if (m.encoder_cpr < 1u) return 7;
-    // encoder_invert: 0..3
-    if (m.encoder_invert > 3u) return 8;
-    // motor_invert: 0..3
-    if (m.motor_invert > 3u) return 9;
+    // encoder_invert, motor_invert: 0..3
+    for (uint8_t i = 0; i < 2; ++i) {
+        uint8_t v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(Config, encoder_invert) + i * sizeof v, sizeof v);
+        if (v > 3u) return static_cast<uint8_t>(8 + i);
+    }
     // wheel_diameter_um: 1000..1000000
     if (m.wheel_diameter_um < 1000UL || m.wheel_diameter_um > 1000000UL) return 10;
-    // steering_center_cdeg: 0..18000
-    if (m.steering_center_cdeg > 18000u) return 11;
-    // steering_min_cdeg: 0..18000
-    if (m.steering_min_cdeg > 18000u) return 12;
-    // steering_max_cdeg: 0..18000
-    if (m.steering_max_cdeg > 18000u) return 13;
+    // steering_center_cdeg, steering_min_cdeg, steering_max_cdeg: 0..18000
+    for (uint8_t i = 0; i < 3; ++i) {
+        uint16_t v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(Config, steering_center_cdeg) + i * sizeof v, sizeof v);
+        if (v > 18000u) return static_cast<uint8_t>(11 + i);
+    }
     // steering_step_cdeg: 0..9000
     if (m.steering_step_cdeg > 9000u) return 14;
-    // servo_min_us: 400..2600
-    if (m.servo_min_us < 400u || m.servo_min_us > 2600u) return 15;
-    // servo_max_us: 400..2600
-    if (m.servo_max_us < 400u || m.servo_max_us > 2600u) return 16;
-    // esc_min_us: 800..2200
-    if (m.esc_min_us < 800u || m.esc_min_us > 2200u) return 17;
-    // esc_neutral_us: 800..2200
-    if (m.esc_neutral_us < 800u || m.esc_neutral_us > 2200u) return 18;
-    // esc_max_us: 800..2200
-    if (m.esc_max_us < 800u || m.esc_max_us > 2200u) return 19;
+    // servo_min_us, servo_max_us: 400..2600
+    for (uint8_t i = 0; i < 2; ++i) {
+        uint16_t v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(Config, servo_min_us) + i * sizeof v, sizeof v);
+        if (v < 400u || v > 2600u) return static_cast<uint8_t>(15 + i);
+    }
+    // esc_min_us, esc_neutral_us, esc_max_us: 800..2200
+    for (uint8_t i = 0; i < 3; ++i) {
+        uint16_t v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(Config, esc_min_us) + i * sizeof v, sizeof v);
+        if (v < 800u || v > 2200u) return static_cast<uint8_t>(17 + i);
+    }
     // esc_arm_ms: 0..10000
     if (m.esc_arm_ms > 10000u) return 20;
     // feedback_hz: 1..100
