@@ -196,7 +196,12 @@ def _dispatch(spec: Spec) -> str:
         out.append(f"// Unpacks a {direction} payload into the member of `m` that msg_id names (one table lookup,\n")
         out.append("// one copy and its checks): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.\n")
         out.append(
-            f"DispatchResult unpack_{direction}(uint8_t msg_id, const uint8_t* payload, uint8_t len, {union}& m);\n\n"
+            f"DispatchResult unpack_{direction}(uint8_t msg_id, const uint8_t* payload, uint8_t len, {union}& m);\n"
+        )
+        out.append("// The same with msg_id's bounds already looked up (FrameDecoder::bounds() after a FRAME).\n")
+        out.append(
+            f"DispatchResult unpack_{direction}(const MessageBounds& b, uint8_t msg_id, const uint8_t* payload, "
+            f"uint8_t len,\n{' ' * (len(direction) + 22)}{union}& m);\n\n"
         )
         out.append(f"// Decodes a payload and calls h.handle(const Msg&, seq) for {direction} messages ({who}).\n")
         out.append("template <class Handler>\n")
@@ -349,6 +354,11 @@ def _unpackers(spec: Spec) -> str:
         )
         out.append("    MessageBounds b;\n")
         out.append("    if (!message_bounds(msg_id, b)) {\n        return DISPATCH_UNKNOWN_ID;\n    }\n")
+        out.append(f"    return unpack_{direction}(b, msg_id, payload, len, m);\n}}\n\n")
+        out.append(
+            f"DispatchResult unpack_{direction}(const MessageBounds& b, uint8_t msg_id, const uint8_t* payload, "
+            f"uint8_t len,\n{' ' * (len(direction) + 22)}{union}& m) {{\n"
+        )
         other = "!b.host_to_mcu" if direction == "host_to_mcu" else "b.host_to_mcu"
         out.append(f"    if ({other}) {{\n        return DISPATCH_WRONG_DIRECTION;\n    }}\n")
         out.append("    if (!layout::copy_payload(payload, len, b.min_payload, b.max_payload, &m)) {\n")

@@ -90,7 +90,7 @@ FrameDecoder::Result FrameDecoder::finish_chunk() {
     }
     {
         const uint8_t n = static_cast<uint8_t>(out - b);
-        proto::MessageBounds bounds;
+        proto::MessageBounds& bounds = bounds_;
         counter = &stats_.length_errors;
         r = ERR_LENGTH;
         if (n < 4) {

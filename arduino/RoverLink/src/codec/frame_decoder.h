@@ -49,6 +49,8 @@ public:
     uint8_t seq() const { return buf_[1]; }
     const uint8_t* payload() const { return buf_ + 2; }
     uint8_t payload_len() const { return payload_len_; }
+    // msg_id's row of the message table, looked up once (for proto::unpack_host_to_mcu(b, ...)).
+    const proto::MessageBounds& bounds() const { return bounds_; }
 
     // Call right after push() returned FRAME when unpack()/dispatch refused the payload (a value
     // the spec does not allow): the frame is recounted as a value error and its bytes as
@@ -65,6 +67,7 @@ private:
     uint8_t len_;              // encoded bytes of the current chunk in buf_, or SKIPPING
     uint8_t payload_len_;
     uint8_t frame_chunk_len_;  // encoded length of the last FRAME, for reject_payload()
+    proto::MessageBounds bounds_;
     // The encoded chunk up to its delimiter, then decoded in place (the body starts at buf_[0]).
     uint8_t buf_[proto::MAX_BODY + 1];
     DecoderStats stats_;

@@ -222,7 +222,7 @@ void Session<App>::on_frame() {
     const uint8_t id = d.msg_id();
     const uint8_t seq = d.seq();
     proto::HostToMcu m;
-    const proto::DispatchResult r = proto::unpack_host_to_mcu(id, d.payload(), d.payload_len(), m);
+    const proto::DispatchResult r = proto::unpack_host_to_mcu(d.bounds(), id, d.payload(), d.payload_len(), m);
     if (r == proto::DISPATCH_BAD_PAYLOAD) {
         d.reject_payload();  // a value the spec does not allow: not a valid frame, no watchdog
         return;

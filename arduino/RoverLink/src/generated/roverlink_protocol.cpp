@@ -208,6 +208,11 @@ DispatchResult unpack_host_to_mcu(uint8_t msg_id, const uint8_t* payload, uint8_
     if (!message_bounds(msg_id, b)) {
         return DISPATCH_UNKNOWN_ID;
     }
+    return unpack_host_to_mcu(b, msg_id, payload, len, m);
+}
+
+DispatchResult unpack_host_to_mcu(const MessageBounds& b, uint8_t msg_id, const uint8_t* payload, uint8_t len,
+                                 HostToMcu& m) {
     if (!b.host_to_mcu) {
         return DISPATCH_WRONG_DIRECTION;
     }
@@ -228,6 +233,11 @@ DispatchResult unpack_mcu_to_host(uint8_t msg_id, const uint8_t* payload, uint8_
     if (!message_bounds(msg_id, b)) {
         return DISPATCH_UNKNOWN_ID;
     }
+    return unpack_mcu_to_host(b, msg_id, payload, len, m);
+}
+
+DispatchResult unpack_mcu_to_host(const MessageBounds& b, uint8_t msg_id, const uint8_t* payload, uint8_t len,
+                                 McuToHost& m) {
     if (b.host_to_mcu) {
         return DISPATCH_WRONG_DIRECTION;
     }

@@ -649,6 +649,9 @@ union HostToMcu {
 // Unpacks a host_to_mcu payload into the member of `m` that msg_id names (one table lookup,
 // one copy and its checks): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.
 DispatchResult unpack_host_to_mcu(uint8_t msg_id, const uint8_t* payload, uint8_t len, HostToMcu& m);
+// The same with msg_id's bounds already looked up (FrameDecoder::bounds() after a FRAME).
+DispatchResult unpack_host_to_mcu(const MessageBounds& b, uint8_t msg_id, const uint8_t* payload, uint8_t len,
+                                 HostToMcu& m);
 
 // Decodes a payload and calls h.handle(const Msg&, seq) for host_to_mcu messages (firmware).
 template <class Handler>
@@ -715,6 +718,9 @@ union McuToHost {
 // Unpacks a mcu_to_host payload into the member of `m` that msg_id names (one table lookup,
 // one copy and its checks): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.
 DispatchResult unpack_mcu_to_host(uint8_t msg_id, const uint8_t* payload, uint8_t len, McuToHost& m);
+// The same with msg_id's bounds already looked up (FrameDecoder::bounds() after a FRAME).
+DispatchResult unpack_mcu_to_host(const MessageBounds& b, uint8_t msg_id, const uint8_t* payload, uint8_t len,
+                                 McuToHost& m);
 
 // Decodes a payload and calls h.handle(const Msg&, seq) for mcu_to_host messages (host-side tools).
 template <class Handler>
