@@ -1,4 +1,4 @@
-"""Emit the Arduino library's generated C++11 (structs, checks tables, pack/unpack, dispatch, state table).
+"""Emit the Arduino library's generated C++11 (structs, checks, pack/unpack, dispatch, state table).
 
 Each message struct is the packed little-endian image of its payload, so pack() and unpack() copy
 bytes. The checks are code per message: values_defined() (enums, flag bits, ASCII: what unpack()
@@ -404,13 +404,13 @@ def _range_test(f: Field) -> tuple[str, str] | None:
     _, _, _, tlo, thi = PRIMITIVES[f.prim]
     lo = int(f.min) if f.min is not None else int(tlo or 0)
     hi = int(f.max) if f.max is not None else int(thi or 0)
-    unsigned = f.prim.startswith("u")
-    suffix = "u" if unsigned else ""
+    # An unsigned bound is written unsigned, so the compare is unsigned on every target.
+    suffix = "u" if f.prim in ("u8", "u16") else ""  # _int_lit() writes u32 as UL already
     tests = []
     if lo != tlo:
-        tests.append(f"v < {_int_lit(lo, f.prim)}{suffix if f.prim != 'u32' else ''}")
+        tests.append(f"v < {_int_lit(lo, f.prim)}{suffix}")
     if hi != thi:
-        tests.append(f"v > {_int_lit(hi, f.prim)}{suffix if f.prim != 'u32' else ''}")
+        tests.append(f"v > {_int_lit(hi, f.prim)}{suffix}")
     if not tests:
         return None
     return " || ".join(tests), f"{lo}..{hi}"
@@ -480,16 +480,24 @@ _RUN_MIN = 2  # adjacent fields with one check that become a loop (fewer: one te
 
 def _runs(ranges: list[tuple[int, Field, str, str]]) -> list[list[tuple[int, Field, str, str]]]:
     """The range checks in runs of adjacent scalar fields of one type with the same test."""
+
+    def scalar(f: Field) -> bool:
+        return f.count is None and f.max_len is None
+
     runs: list[list[tuple[int, Field, str, str]]] = []
     for c in ranges:
         prev = runs[-1][-1] if runs else None
-        scalar = c[1].count is None and c[1].max_len is None
-        if prev is not None and scalar and prev[0] + 1 == c[0] and prev[1].prim == c[1].prim and prev[2] == c[2]:
-            prev_scalar = prev[1].count is None and prev[1].max_len is None
-            if prev_scalar:
-                runs[-1].append(c)
-                continue
-        runs.append([c])
+        if (
+            prev is not None
+            and prev[0] + 1 == c[0]
+            and scalar(prev[1])
+            and scalar(c[1])
+            and prev[1].prim == c[1].prim
+            and prev[2] == c[2]
+        ):
+            runs[-1].append(c)
+        else:
+            runs.append([c])
     return runs
 
 
