@@ -29,13 +29,26 @@ void Sim::power_cycle() { boot(); }
 
 void Sim::advance_us(uint64_t us) {
     sync_clock();
-    fw->poll();
+    poll_now();
     const uint64_t step = poll_interval_us != 0 ? poll_interval_us : 1;
     while (us > 0) {
         const uint64_t d = us < step ? us : step;
         now_ += d;
         us -= d;
         sync_clock();
+        poll_now();
+    }
+}
+
+// Firmware::poll() handles at most one frame; on a board the next loop pass follows within
+// microseconds, so the frames already received are all handled at this instant.
+void Sim::poll_now() {
+    for (;;) {
+        const int before = port.available();
         fw->poll();
+        const int after = port.available();
+        if (after == 0 || after >= before) {
+            return;
+        }
     }
 }

@@ -26,8 +26,8 @@ public:
     void feed(const uint8_t* data, size_t size) { port.host_write(data, size); }
     size_t read(uint8_t* out, size_t cap) { return port.host_read(out, cap); }
 
-    // Polls once at the current time (handles bytes fed so far), then advances the clock in
-    // steps of poll_interval_us, polling after each step: ticks come on schedule from micros().
+    // Polls at the current time (handles the bytes fed so far), then advances the clock in steps
+    // of poll_interval_us, polling after each step: ticks come on schedule from micros().
     void advance_us(uint64_t us);
 
     uint64_t time_us() const { return now_; }
@@ -41,6 +41,7 @@ public:
 
 private:
     void boot();
+    void poll_now();  // Firmware::poll() until the bytes fed so far are all read
     void sync_clock() { board.set_micros(static_cast<uint32_t>(booted_micros_ + (now_ - boot_at_))); }
 
     uint64_t now_;

@@ -10,9 +10,11 @@
 // pin-level value. Nothing here runs in real time: everything happens inside rl_sim_advance_us().
 //
 // Time. The simulation clock starts at 0 at rl_sim_create(). The board's micros() is the time since
-// the last boot (plus rl_sim_set_boot_micros()). rl_sim_advance_us(h, us) first polls once at the
+// the last boot (plus rl_sim_set_boot_micros()). rl_sim_advance_us(h, us) first polls at the
 // current time (so bytes fed since the last call are handled "now"), then advances in steps of the
-// poll interval (default 1000 us), calling Firmware::poll() after each step. Control ticks follow
+// poll interval (default 1000 us), polling after each step. A poll calls Firmware::poll(), which
+// handles at most one frame, until the bytes received so far are all read (on a board the loop's
+// next pass follows within microseconds). Control ticks follow
 // micros() (every 10 000 us from boot), so with the default interval they happen exactly on time.
 //
 // Profiles. The three reference robots, from the examples' generated robot_profile.h:

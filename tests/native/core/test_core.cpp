@@ -713,6 +713,28 @@ static void test_ping() {
     CHECK_EQ(last_id(h), proto::Pong::ID);
 }
 
+static void test_one_frame_per_poll() {
+    CONTEXT("poll(): one frame per pass, so a host that keeps sending cannot hold the loop");
+    Sim s(TB6612, 16);
+    Host h(s);
+    h.run(1000);
+    h.frames.clear();
+    for (uint32_t i = 0; i < 5; ++i) {
+        proto::Ping p = {i};
+        h.send(p);
+    }
+    s.fw->poll();  // one pass of the sketch's loop()
+    h.pump();
+    CHECK_EQ(h.frames.size(), 1u);
+    proto::Pong pong;
+    CHECK(h.last(pong) && pong.host_time_us == 0u);
+    CHECK(s.port.available() > 0);  // the other four wait in the receive buffer, unread
+    h.run();                        // the next passes, at the same instant
+    CHECK_EQ(h.frames.size(), 5u);
+    CHECK(h.last(pong) && pong.host_time_us == 4u);
+    CHECK_EQ(s.port.available(), 0);
+}
+
 static void test_reset_new_boot_id() {
     CONTEXT("power cycle: new boot_id, new IDENTITY, old ARM refused");
     Sim s(TB6612, 16);
@@ -1850,6 +1872,7 @@ int main() {
     test_arm_and_setpoint_refusals();
     test_ackermann_refusals();
     test_ping();
+    test_one_frame_per_poll();
     test_reset_new_boot_id();
     test_duplicates();
     test_pid_requests();

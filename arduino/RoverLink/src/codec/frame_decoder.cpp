@@ -20,21 +20,39 @@ ROVERLINK_NOINLINE void add_count(uint32_t& counter, uint8_t n) { counter += n; 
 // All of the decoder is plain bytes and counters: one loop zeroes it.
 FrameDecoder::FrameDecoder() { memset(static_cast<void*>(this), 0, sizeof *this); }
 
-void FrameDecoder::reset() { len_ = 0; }
+void FrameDecoder::reset() {
+    len_ = 0;
+    left_ = 0;
+}
 
 void FrameDecoder::reset_stats() {
     memset(&stats_, 0, sizeof stats_);  // one loop, not a store per byte of every counter
 }
 
-// Per-byte hot path: a store, the work is done at the delimiter.
+// Per-byte hot path: COBS is undone as the bytes arrive. Every encoded byte after a chunk's first
+// decodes to exactly one byte, one place earlier: a data byte to itself, a code byte to the zero
+// its block implies (a 0xFF block, the one kind without, cannot fit in MAX_CHUNK). The frame
+// checks wait for the delimiter.
 FrameDecoder::Result FrameDecoder::push(uint8_t byte) {
     if (byte == 0) {
         return finish_chunk();
     }
-    if (len_ >= MAX_CHUNK) {  // also while SKIPPING
+    const uint8_t n = len_;
+    if (n >= MAX_CHUNK) {  // also while SKIPPING
         return drop_byte();
     }
-    buf_[len_++] = byte;
+    len_ = static_cast<uint8_t>(n + 1u);
+    const uint8_t left = left_;
+    if (left == 0) {  // a code byte: byte - 1 data bytes follow
+        left_ = static_cast<uint8_t>(byte - 1u);
+        if (n == 0) {
+            return NONE;
+        }
+        byte = 0;
+    } else {
+        left_ = static_cast<uint8_t>(left - 1u);
+    }
+    buf_[n - 1u] = byte;
     return NONE;
 }
 
@@ -61,35 +79,20 @@ void FrameDecoder::reject_payload() {
 
 FrameDecoder::Result FrameDecoder::finish_chunk() {
     const uint8_t chunk = len_;
+    const uint8_t left = left_;
     len_ = 0;
+    left_ = 0;
     if (chunk == 0 || chunk == SKIPPING) {  // empty, or an over-long one already counted
         return NONE;
     }
-    // COBS, in place: every decoded byte lands at or before the place of its encoded byte. A
-    // block's implied zero is real only when another block follows. A chunk that ends inside a
-    // block is not COBS (a 0xFF block, the one kind without an implied zero, cannot fit). Pointers,
-    // not indexes: the copy is then a load and a store per byte on AVR.
     uint8_t* const b = buf_;
-    const uint8_t* in = b;
-    const uint8_t* const end = b + chunk;
-    uint8_t* out = b;
     uint32_t* counter = &stats_.cobs_errors;
     Result r = ERR_COBS;
-    for (;;) {
-        uint8_t run = *in++;  // the code byte: run - 1 data bytes follow (never 0: 0 ends chunks)
-        if (static_cast<uint8_t>(run - 1u) > static_cast<uint8_t>(end - in)) {
-            goto rejected;
-        }
-        while (--run != 0) {
-            *out++ = *in++;
-        }
-        if (in == end) {
-            break;
-        }
-        *out++ = 0;
+    if (left != 0) {  // the chunk ends inside a block
+        goto rejected;
     }
     {
-        const uint8_t n = static_cast<uint8_t>(out - b);
+        const uint8_t n = static_cast<uint8_t>(chunk - 1u);  // the code byte that opened it decodes to nothing
         proto::MessageBounds& bounds = bounds_;
         counter = &stats_.length_errors;
         r = ERR_LENGTH;

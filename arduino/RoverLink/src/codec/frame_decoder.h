@@ -1,6 +1,6 @@
-// Byte-at-a-time frame decoder: feed it every byte read from the serial port. It keeps the
-// encoded chunk (at most one frame's worth) and decodes it at its delimiter: COBS in place, then
-// the length, the msg_id and the CRC.
+// Byte-at-a-time frame decoder: feed it every byte read from the serial port. It undoes COBS as
+// the bytes arrive (at most one frame's worth) and checks the frame at its delimiter: the COBS
+// blocks, the length, the msg_id and the CRC.
 #ifndef ROVERLINK_CODEC_FRAME_DECODER_H
 #define ROVERLINK_CODEC_FRAME_DECODER_H
 
@@ -64,12 +64,13 @@ private:
     Result finish_chunk();
     Result drop_byte();
 
-    uint8_t len_;              // encoded bytes of the current chunk in buf_, or SKIPPING
+    uint8_t len_;              // encoded bytes of the current chunk so far, or SKIPPING
+    uint8_t left_;             // data bytes still to come in the current COBS block
     uint8_t payload_len_;
     uint8_t frame_chunk_len_;  // encoded length of the last FRAME, for reject_payload()
     proto::MessageBounds bounds_;
-    // The encoded chunk up to its delimiter, then decoded in place (the body starts at buf_[0]).
-    uint8_t buf_[proto::MAX_BODY + 1];
+    // The decoded body of the current chunk (encoded byte k lands in buf_[k - 1]).
+    uint8_t buf_[proto::MAX_BODY];
     DecoderStats stats_;
 };
 

@@ -155,8 +155,9 @@ public:
         fire(proto::SessionEvent::INIT_DONE, 0, proto::FailsafeReason::NONE);
     }
 
-    // Handles the bytes already received (only those: a host that keeps sending cannot starve the
-    // control tick), dispatching every complete frame. Replies go out in the same pass.
+    // Handles the bytes received so far up to the end of the first complete frame, and dispatches
+    // that frame (its reply goes out in the same pass). One frame per call: a host that keeps
+    // sending cannot starve the control tick.
     void poll();
 
     // -- for the App's control tick ----------------------------------------------------------
@@ -204,13 +205,16 @@ private:
 template <class App>
 ROVERLINK_OUT_OF_LINE void Session<App>::poll() {
     FrameDecoder& decoder = link_.decoder();
-    for (int n = link_.port().available(); n > 0; --n) {
+    // read() until it has nothing (-1), so no available() call per byte, and at most one frame per
+    // call: a host that keeps sending cannot hold the loop.
+    for (;;) {
         const int c = link_.port().read();
         if (c < 0) {
-            break;
+            return;
         }
         if (decoder.push(static_cast<uint8_t>(c)) == FrameDecoder::FRAME) {
             on_frame();
+            return;
         }
     }
 }
