@@ -205,10 +205,11 @@ private:
 template <class App>
 ROVERLINK_OUT_OF_LINE void Session<App>::poll() {
     FrameDecoder& decoder = link_.decoder();
+    Stream& port = link_.port();
     // read() until it has nothing (-1), so no available() call per byte, and at most one frame per
     // call: a host that keeps sending cannot hold the loop.
     for (;;) {
-        const int c = link_.port().read();
+        const int c = port.read();
         if (c < 0) {
             return;
         }
