@@ -52,9 +52,17 @@ ARDUINO15_CORES = Path.home() / ".arduino15" / "packages" / "arduino" / "hardwar
 TOOLCHAIN_PACKAGES = "gcc-avr avr-libc binutils-avr arduino-core-avr"
 ARDUINO_VERSION = "10819"  # what the Arduino IDE 1.8.19 passes as -DARDUINO
 # Beyond the IDE's -Os, for flash (each measured on the reference firmware, avr-gcc 5.4): function
-# prologues and epilogues as calls to shared routines, and three loop/register passes off that
-# trade flash for speed on AVR. The linker also relaxes calls and jumps (-mrelax: call -> rcall).
-SIZE_FLAGS = ("-mcall-prologues", "-fno-move-loop-invariants", "-fno-split-wide-types", "-fno-tree-scev-cprop")
+# prologues and epilogues as calls to shared routines, X used only where it can address (AVR has no
+# X+offset load, so avr-gcc otherwise adjusts X before and after each access), and four passes off
+# that trade flash for speed on AVR. The linker also relaxes calls and jumps (-mrelax: call -> rcall).
+SIZE_FLAGS = (
+    "-mcall-prologues",
+    "-mstrict-X",
+    "-fno-move-loop-invariants",
+    "-fno-split-wide-types",
+    "-fno-tree-scev-cprop",
+    "-fno-tree-tail-merge",
+)
 F_CPU = "16000000L"
 
 
