@@ -80,8 +80,7 @@ void FrameDecoder::reject_payload() {
 FrameDecoder::Result FrameDecoder::finish_chunk() {
     const uint8_t chunk = len_;
     const uint8_t left = left_;
-    len_ = 0;
-    left_ = 0;
+    reset();  // the next byte opens a new chunk, whatever this one turns out to be
     if (chunk == 0 || chunk == SKIPPING) {  // empty, or an over-long one already counted
         return NONE;
     }
