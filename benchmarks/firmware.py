@@ -30,9 +30,9 @@ Figures:
   unpacking and range checks, the session rules (seq, watchdog, duplicate detection, state
   table), libgcc helpers called from there (prologues). Not counted: interrupt handlers (RX and TX
   of every byte, timers, encoders), the serial driver, control ticks (outside poll()). Every frame
-  must be answered (SET_PID: one ACK each) or the run is invalid. SET_PID (17-byte payload) is the
-  16-byte-payload frame; SET_WHEEL_SPEEDS / SET_ACKERMANN (4 bytes, sent 100 times a second, no
-  reply in STREAM mode) are reported too.
+  must be answered (SET_PID: one ACK each) or the run is invalid. No command has exactly the
+  budget's 16-byte payload: SET_PID (17 bytes, the next size up) is measured; SET_WHEEL_SPEEDS /
+  SET_ACKERMANN (4 bytes, sent 100 times a second, no reply in STREAM mode) are reported too.
 * Handling and reply per command frame (reported beside it, no budget): the cycles inside poll()
   spent in calls of the App's code (roverlink::Firmware::*: SET_PID's gains applied, the session's
   actions on the motors) and of the reply's sending (SessionCore::send_answer, Link::send_payload:
@@ -369,7 +369,8 @@ def problems(f: Figures) -> list[str]:
     if f.decode_dispatch_cycles_per_set_pid_frame > FRAME_CYCLES_BUDGET:
         cycles = f.decode_dispatch_cycles_per_set_pid_frame
         out.append(
-            f"{f.example}: {cycles:.0f} cycles to decode and dispatch a 16-byte-payload frame > {FRAME_CYCLES_BUDGET}"
+            f"{f.example}: {cycles:.0f} cycles to decode and dispatch a SET_PID frame (17-byte payload)"
+            f" > {FRAME_CYCLES_BUDGET}"
         )
     if f.control_cpu_share > CONTROL_SHARE_BUDGET:
         out.append(f"{f.example}: control loop uses {f.control_cpu_share:.1%} of the CPU > {CONTROL_SHARE_BUDGET:.0%}")

@@ -1,11 +1,11 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x163FE6FE
+# spec hash: 0x198EFDDA
 """Protocol constants."""
 
 from typing import Final
 
 PROTOCOL_VERSION: Final = 1
-SPEC_HASH: Final = 0x163FE6FE
+SPEC_HASH: Final = 0x198EFDDA
 MAX_PAYLOAD: Final = 64
 MAX_BODY: Final = 68
 """Longest decoded frame: msg_id, seq, payload, CRC."""

@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x163FE6FE
+# spec hash: 0x198EFDDA
 """Message classes: frozen, slotted dataclasses with pack() and unpack()."""
 
 from __future__ import annotations
@@ -1108,7 +1108,7 @@ class LinkStats(Message):
 
     MSG_ID: ClassVar[int] = 0x87
     NAME: ClassVar[str] = "LINK_STATS"
-    CRC_EXTRA: ClassVar[int] = 0x62
+    CRC_EXTRA: ClassVar[int] = 0xA1
     PAYLOAD_SIZE: ClassVar[int] = 45
     PAYLOAD_MAX: ClassVar[int] = 45
     DIRECTION: ClassVar[Direction] = Direction.MCU_TO_HOST
@@ -1121,11 +1121,11 @@ class LinkStats(Message):
         FieldInfo('length_errors', 'u32', 'int', 0, 4294967295),
         FieldInfo('unknown_ids', 'u32', 'int', 0, 4294967295),
         FieldInfo('value_errors', 'u32', 'int', 0, 4294967295),
-        FieldInfo('seq_gaps', 'u32', 'int', 0, 4294967295),
         FieldInfo('bytes_discarded', 'u32', 'int', 0, 4294967295),
-        FieldInfo('rx_overruns', 'u32', 'int', 0, 4294967295),
+        FieldInfo('seq_gaps', 'u32', 'int', 0, 4294967295),
         FieldInfo('duplicates', 'u32', 'int', 0, 4294967295),
         FieldInfo('frames_sent', 'u32', 'int', 0, 4294967295),
+        FieldInfo('rx_overruns', 'u32', 'int', 0, 4294967295),
     )
 
     req_seq: int
@@ -1142,21 +1142,21 @@ class LinkStats(Message):
     """Frames with an unknown msg_id."""
     value_errors: int
     """Frames with a good CRC but a value the spec does not allow (e.g. an unknown enum value)."""
-    seq_gaps: int
-    """Host frames missing according to seq."""
     bytes_discarded: int
     """Received bytes that were not part of a valid frame."""
-    rx_overruns: int
-    """Bytes lost because the receive buffer was full."""
+    seq_gaps: int
+    """Host frames missing according to seq."""
     duplicates: int
     """Reliable requests received again (answered, not re-applied)."""
     frames_sent: int
     """Frames sent."""
+    rx_overruns: int
+    """Bytes lost because the receive buffer was full."""
 
     def pack(self) -> bytes:
         try:
-            if bool not in set(map(type, (self.req_seq, self.frames_ok, self.crc_errors, self.cobs_errors, self.length_errors, self.unknown_ids, self.value_errors, self.seq_gaps, self.bytes_discarded, self.rx_overruns, self.duplicates, self.frames_sent,))):
-                return _S_LINK_STATS.pack(self.req_seq, self.frames_ok, self.crc_errors, self.cobs_errors, self.length_errors, self.unknown_ids, self.value_errors, self.seq_gaps, self.bytes_discarded, self.rx_overruns, self.duplicates, self.frames_sent)
+            if bool not in set(map(type, (self.req_seq, self.frames_ok, self.crc_errors, self.cobs_errors, self.length_errors, self.unknown_ids, self.value_errors, self.bytes_discarded, self.seq_gaps, self.duplicates, self.frames_sent, self.rx_overruns,))):
+                return _S_LINK_STATS.pack(self.req_seq, self.frames_ok, self.crc_errors, self.cobs_errors, self.length_errors, self.unknown_ids, self.value_errors, self.bytes_discarded, self.seq_gaps, self.duplicates, self.frames_sent, self.rx_overruns)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
         raise first_invalid(self)
@@ -1174,11 +1174,11 @@ class LinkStats(Message):
         _LINK_STATS_LENGTH_ERRORS(self, v[4])
         _LINK_STATS_UNKNOWN_IDS(self, v[5])
         _LINK_STATS_VALUE_ERRORS(self, v[6])
-        _LINK_STATS_SEQ_GAPS(self, v[7])
-        _LINK_STATS_BYTES_DISCARDED(self, v[8])
-        _LINK_STATS_RX_OVERRUNS(self, v[9])
-        _LINK_STATS_DUPLICATES(self, v[10])
-        _LINK_STATS_FRAMES_SENT(self, v[11])
+        _LINK_STATS_BYTES_DISCARDED(self, v[7])
+        _LINK_STATS_SEQ_GAPS(self, v[8])
+        _LINK_STATS_DUPLICATES(self, v[9])
+        _LINK_STATS_FRAMES_SENT(self, v[10])
+        _LINK_STATS_RX_OVERRUNS(self, v[11])
         return self
 
 
@@ -1189,11 +1189,11 @@ _LINK_STATS_COBS_ERRORS = slot_setter(LinkStats, "cobs_errors")
 _LINK_STATS_LENGTH_ERRORS = slot_setter(LinkStats, "length_errors")
 _LINK_STATS_UNKNOWN_IDS = slot_setter(LinkStats, "unknown_ids")
 _LINK_STATS_VALUE_ERRORS = slot_setter(LinkStats, "value_errors")
-_LINK_STATS_SEQ_GAPS = slot_setter(LinkStats, "seq_gaps")
 _LINK_STATS_BYTES_DISCARDED = slot_setter(LinkStats, "bytes_discarded")
-_LINK_STATS_RX_OVERRUNS = slot_setter(LinkStats, "rx_overruns")
+_LINK_STATS_SEQ_GAPS = slot_setter(LinkStats, "seq_gaps")
 _LINK_STATS_DUPLICATES = slot_setter(LinkStats, "duplicates")
 _LINK_STATS_FRAMES_SENT = slot_setter(LinkStats, "frames_sent")
+_LINK_STATS_RX_OVERRUNS = slot_setter(LinkStats, "rx_overruns")
 
 
 @dataclass(frozen=True, slots=True)

@@ -243,14 +243,6 @@ def test_link_and_session_alone_fit_their_sram_budget(
     assert sram <= LINK_SESSION_SRAM_MAX, f"link + session use {sram} B of SRAM > {LINK_SESSION_SRAM_MAX} B"
 
 
-# Known gap, kept visible: the session with every protocol feature and the sketch around it measure
-# about 4.2 KB on the Uno against the 4 KB budget. strict=True: the day it fits, this marker must go.
-@pytest.mark.xfail(
-    strict=True,
-    reason="link + session measure 4,202 B of flash against a 4,096 B budget: 3,588 B of library code and "
-    "tables, 174 B of libgcc and libc, 402 B of the sketch's do-nothing App and Board and its setup()/loop(), "
-    "38 B of the Arduino core (`pytest -s` prints the split)",
-)
 def test_link_and_session_alone_fit_their_flash_budget(
     link_session_size: tuple[int, int, Path],
     record_property: pytest.RecordProperty,

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x163FE6FE
+// spec hash: 0x198EFDDA
 // Test-only: text view of every message for tests/native/rl_codec.cpp. Not part of the library.
 #ifndef ROVERLINK_REFLECT_H
 #define ROVERLINK_REFLECT_H
@@ -831,16 +831,16 @@ inline void print_fields(FILE* f, const proto::LinkStats& m) {
     fprintf(f, "%lu", static_cast<unsigned long>(m.unknown_ids));
     fputs(" value_errors=", f);
     fprintf(f, "%lu", static_cast<unsigned long>(m.value_errors));
-    fputs(" seq_gaps=", f);
-    fprintf(f, "%lu", static_cast<unsigned long>(m.seq_gaps));
     fputs(" bytes_discarded=", f);
     fprintf(f, "%lu", static_cast<unsigned long>(m.bytes_discarded));
-    fputs(" rx_overruns=", f);
-    fprintf(f, "%lu", static_cast<unsigned long>(m.rx_overruns));
+    fputs(" seq_gaps=", f);
+    fprintf(f, "%lu", static_cast<unsigned long>(m.seq_gaps));
     fputs(" duplicates=", f);
     fprintf(f, "%lu", static_cast<unsigned long>(m.duplicates));
     fputs(" frames_sent=", f);
     fprintf(f, "%lu", static_cast<unsigned long>(m.frames_sent));
+    fputs(" rx_overruns=", f);
+    fprintf(f, "%lu", static_cast<unsigned long>(m.rx_overruns));
 }
 
 inline bool set_field(proto::LinkStats& m, const char* name, const char* value) {
@@ -879,19 +879,14 @@ inline bool set_field(proto::LinkStats& m, const char* name, const char* value) 
         m.value_errors = static_cast<uint32_t>(strtoul(v, NULL, 10));
         return true;
     }
-    if (strcmp(name, "seq_gaps") == 0) {
-        const char* v = value;
-        m.seq_gaps = static_cast<uint32_t>(strtoul(v, NULL, 10));
-        return true;
-    }
     if (strcmp(name, "bytes_discarded") == 0) {
         const char* v = value;
         m.bytes_discarded = static_cast<uint32_t>(strtoul(v, NULL, 10));
         return true;
     }
-    if (strcmp(name, "rx_overruns") == 0) {
+    if (strcmp(name, "seq_gaps") == 0) {
         const char* v = value;
-        m.rx_overruns = static_cast<uint32_t>(strtoul(v, NULL, 10));
+        m.seq_gaps = static_cast<uint32_t>(strtoul(v, NULL, 10));
         return true;
     }
     if (strcmp(name, "duplicates") == 0) {
@@ -902,6 +897,11 @@ inline bool set_field(proto::LinkStats& m, const char* name, const char* value) 
     if (strcmp(name, "frames_sent") == 0) {
         const char* v = value;
         m.frames_sent = static_cast<uint32_t>(strtoul(v, NULL, 10));
+        return true;
+    }
+    if (strcmp(name, "rx_overruns") == 0) {
+        const char* v = value;
+        m.rx_overruns = static_cast<uint32_t>(strtoul(v, NULL, 10));
         return true;
     }
     return false;

@@ -104,11 +104,14 @@ FrameDecoder::Result FrameDecoder::finish_chunk() {
             goto rejected;
         }
         const uint8_t payload_len = static_cast<uint8_t>(n - 4u);
-        uint16_t crc = crc16(b, static_cast<uint8_t>(n - 2u));
-        crc = crc16(&bounds.crc_extra, 1, crc);  // CRC_EXTRA: hashed, never sent
+        // The CRC's low byte, once read, makes room for CRC_EXTRA (hashed after the body, never
+        // sent): one pass over the buffer.
+        uint8_t* const tail = b + n - 2u;
+        const uint16_t sent = static_cast<uint16_t>(tail[0] | (tail[1] << 8));
+        tail[0] = bounds.crc_extra;
         counter = &stats_.crc_errors;
         r = ERR_CRC;
-        if (crc != static_cast<uint16_t>(b[n - 2] | (b[n - 1] << 8))) {
+        if (crc16(b, static_cast<uint8_t>(n - 1u)) != sent) {
             goto rejected;
         }
         counter = &stats_.length_errors;

@@ -18,8 +18,8 @@ size_t encode_frame(uint8_t msg_id, uint8_t seq, uint8_t crc_extra, const uint8_
     out[1] = msg_id;
     out[2] = seq;
     const uint8_t n = static_cast<uint8_t>(len + 4u);
-    uint16_t crc = crc16(out + 1, static_cast<uint8_t>(n - 2u));
-    crc = crc16(&crc_extra, 1, crc);  // CRC_EXTRA: hashed, never sent
+    out[n - 1] = crc_extra;  // hashed after the body, never sent: the CRC overwrites it
+    const uint16_t crc = crc16(out + 1, static_cast<uint8_t>(n - 1u));
     out[n - 1] = static_cast<uint8_t>(crc);
     out[n] = static_cast<uint8_t>(crc >> 8);
     uint8_t code = 0;  // where the open block's code byte goes

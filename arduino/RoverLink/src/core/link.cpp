@@ -14,13 +14,13 @@ ROVERLINK_NOINLINE void Link::send_payload(uint8_t msg_id, uint8_t crc_extra, ui
         return;  // cannot happen with a MAX_FRAME buffer; never send half a frame
     }
     port_.write(tx_.frame, n);
-    add_count(c_.frames_sent);
+    add_count(c_.counts.frames_sent);
     ++c_.tx_seq;
 }
 
 void Link::account_seq(uint8_t seq) {
     if (c_.have_last_seq && seq != c_.last_seq) {
-        add_count(c_.seq_gaps, static_cast<uint8_t>(seq - static_cast<uint8_t>(c_.last_seq + 1u)));
+        add_count(c_.counts.seq_gaps, static_cast<uint8_t>(seq - static_cast<uint8_t>(c_.last_seq + 1u)));
     }
     c_.last_seq = seq;
     c_.have_last_seq = true;

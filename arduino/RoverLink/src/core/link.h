@@ -51,14 +51,25 @@ public:
     void account_seq(uint8_t seq);
     void restart_seq() { c_.have_last_seq = false; }
 
-    uint32_t seq_gaps() const { return c_.seq_gaps; }
-    uint32_t frames_sent() const { return c_.frames_sent; }
+    // A reliable request received again (answered, not re-applied).
+    void count_duplicate() { add_count(c_.counts.duplicates); }
+
+    // The link's own LINK_STATS counters, in LINK_STATS order after the decoder's (bytes_discarded).
+    struct Counts {
+        uint32_t seq_gaps;
+        uint32_t duplicates;
+        uint32_t frames_sent;
+        uint32_t rx_overruns;  // stays 0: the Arduino core drops UART overruns without a trace
+    };
+    const Counts& counts() const { return c_.counts; }
+    uint32_t seq_gaps() const { return c_.counts.seq_gaps; }
+    uint32_t duplicates() const { return c_.counts.duplicates; }
+    uint32_t frames_sent() const { return c_.counts.frames_sent; }
     uint8_t next_tx_seq() const { return c_.tx_seq; }
 
 private:
     struct Counters {  // zeroed as one block by the constructor
-        uint32_t frames_sent;
-        uint32_t seq_gaps;
+        Counts counts;
         uint8_t tx_seq;
         uint8_t last_seq;
         bool have_last_seq;

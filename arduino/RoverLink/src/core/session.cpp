@@ -22,10 +22,14 @@ static_assert(static_cast<uint8_t>(proto::Guard::COMPATIBLE) != 0 &&
 
 // Four Feistel rounds over the halves of x: the high half, multiplied (16 x 16 -> 32 bits, folded
 // to 16), is XORed into the low one, and the halves swap. Every input bit affects every output bit,
-// and no 32-bit multiply routine is needed.
+// and no 32-bit multiply routine is needed. The halves are copied out and back, not shifted:
+// avr-gcc rebuilds a shifted 32-bit value byte by byte. (half[0] is the low half on AVR and x86;
+// on a big-endian CPU the roles swap, which mixes just as well.)
 uint32_t mix32(uint32_t x) {
-    uint16_t lo = static_cast<uint16_t>(x);
-    uint16_t hi = static_cast<uint16_t>(x >> 16);
+    uint16_t half[2];
+    memcpy(half, &x, sizeof x);
+    uint16_t lo = half[0];
+    uint16_t hi = half[1];
     for (uint8_t i = 0; i < 4; ++i) {
         const uint32_t p = static_cast<uint32_t>(hi) * 0x9E37u;
         const uint16_t t = static_cast<uint16_t>(lo ^ static_cast<uint16_t>(static_cast<uint16_t>(p >> 16) +
@@ -33,7 +37,10 @@ uint32_t mix32(uint32_t x) {
         lo = hi;
         hi = t;
     }
-    return (static_cast<uint32_t>(hi) << 16) | lo;
+    half[0] = lo;
+    half[1] = hi;
+    memcpy(&x, half, sizeof x);
+    return x;
 }
 
 // floor(us / 1000) without a division routine: us / 8 / 125 by shift and subtract, the quotient's
@@ -180,7 +187,7 @@ ROVERLINK_OUT_OF_LINE bool SessionCore::request(uint8_t msg_id, uint8_t seq) {
         return true;
     }
     if (v.dup_valid && v.dup_id == msg_id && v.dup_seq == seq) {
-        add_count(v.duplicates);
+        link_.count_duplicate();
         if (kind != QUERY) {
             send_answer(v.dup_reason, v.dup_detail);  // answered again, not applied again
             return false;
@@ -298,21 +305,23 @@ void SessionCore::send_pong(const proto::Ping& m) {
 }
 
 ROVERLINK_OUT_OF_LINE void SessionCore::send_link_stats() {
-    const DecoderStats& d = link_.decoder().stats();
-    static_assert(proto::LinkStats::PAYLOAD_SIZE == 45, "send_link_stats() writes LINK_STATS's fields one by one");
-    proto::LinkStats& s = link_.out().link_stats;
+    // The payload after req_seq is the decoder's seven counters, then the link's four: two copies.
+    typedef proto::LinkStats S;
+    static_assert(offsetof(S, bytes_discarded) - offsetof(S, frames_ok) == 6 * 4 &&
+                      offsetof(DecoderStats, bytes_discarded) - offsetof(DecoderStats, frames_ok) == 6 * 4 &&
+                      sizeof(DecoderStats) == 7 * 4,
+                  "LINK_STATS must start with DecoderStats's counters, in its order");
+    static_assert(offsetof(S, seq_gaps) == offsetof(S, frames_ok) + sizeof(DecoderStats) &&
+                      offsetof(S, duplicates) - offsetof(S, seq_gaps) == offsetof(Link::Counts, duplicates) &&
+                      offsetof(S, frames_sent) - offsetof(S, seq_gaps) == offsetof(Link::Counts, frames_sent) &&
+                      offsetof(S, rx_overruns) - offsetof(S, seq_gaps) == offsetof(Link::Counts, rx_overruns) &&
+                      S::PAYLOAD_SIZE == 1 + sizeof(DecoderStats) + sizeof(Link::Counts),
+                  "LINK_STATS must end with Link::Counts's counters, in its order");
+    S& s = link_.out().link_stats;
     s.req_seq = v_.req_seq;
-    // frames_ok .. value_errors: six counters in the same order in both structs, copied at once.
-    static_assert(offsetof(proto::LinkStats, value_errors) - offsetof(proto::LinkStats, frames_ok) == 5 * 4 &&
-                      offsetof(DecoderStats, value_errors) - offsetof(DecoderStats, frames_ok) == 5 * 4,
-                  "LINK_STATS and DecoderStats must list frames_ok..value_errors alike");
-    memcpy(&s.frames_ok, &d.frames_ok, 6 * sizeof(uint32_t));
-    s.seq_gaps = link_.seq_gaps();
-    s.bytes_discarded = d.bytes_discarded;
-    s.rx_overruns = 0;  // the Arduino core drops UART overruns silently: not observable here
-    s.duplicates = v_.duplicates;
-    s.frames_sent = link_.frames_sent();
-    link_.send_payload(proto::LinkStats::ID, proto::LinkStats::CRC_EXTRA, proto::LinkStats::PAYLOAD_SIZE);
+    memcpy(&s.frames_ok, &link_.decoder().stats(), sizeof(DecoderStats));
+    memcpy(&s.seq_gaps, &link_.counts(), sizeof(Link::Counts));
+    link_.send_payload(S::ID, S::CRC_EXTRA, S::PAYLOAD_SIZE);
 }
 
 uint8_t SessionCore::session_status() const {

@@ -57,7 +57,7 @@ public:
     uint32_t boot_id() const { return v_.boot_id; }
     proto::FailsafeReason failsafe_reason() const { return v_.reason; }
     uint16_t watchdog_ms() const { return v_.watchdog_ms; }  // granted by the last accepted HELLO
-    uint32_t duplicates() const { return v_.duplicates; }
+    uint32_t duplicates() const { return link_.duplicates(); }
     bool in_session() const { return v_.state > proto::SessionState::IDLE; }
     bool armed() const { return v_.state == proto::SessionState::ARMED; }
     const Link& link() const { return link_; }
@@ -105,7 +105,6 @@ protected:
         uint32_t last_micros;
         uint32_t last_valid_us;    // the watchdog's reference
         uint32_t boot_id;
-        uint32_t duplicates;
     };
 
     // begin(): state cleared, boot_id drawn, IDLE's watchdog and stream rate from the config.

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x163FE6FE
+// spec hash: 0x198EFDDA
 #include "roverlink_protocol.h"
 
 namespace roverlink {
@@ -136,11 +136,11 @@ static_assert(offsetof(LinkStats, cobs_errors) == 9, "LINK_STATS.cobs_errors is 
 static_assert(offsetof(LinkStats, length_errors) == 13, "LINK_STATS.length_errors is not at its wire offset");
 static_assert(offsetof(LinkStats, unknown_ids) == 17, "LINK_STATS.unknown_ids is not at its wire offset");
 static_assert(offsetof(LinkStats, value_errors) == 21, "LINK_STATS.value_errors is not at its wire offset");
-static_assert(offsetof(LinkStats, seq_gaps) == 25, "LINK_STATS.seq_gaps is not at its wire offset");
-static_assert(offsetof(LinkStats, bytes_discarded) == 29, "LINK_STATS.bytes_discarded is not at its wire offset");
-static_assert(offsetof(LinkStats, rx_overruns) == 33, "LINK_STATS.rx_overruns is not at its wire offset");
-static_assert(offsetof(LinkStats, duplicates) == 37, "LINK_STATS.duplicates is not at its wire offset");
-static_assert(offsetof(LinkStats, frames_sent) == 41, "LINK_STATS.frames_sent is not at its wire offset");
+static_assert(offsetof(LinkStats, bytes_discarded) == 25, "LINK_STATS.bytes_discarded is not at its wire offset");
+static_assert(offsetof(LinkStats, seq_gaps) == 29, "LINK_STATS.seq_gaps is not at its wire offset");
+static_assert(offsetof(LinkStats, duplicates) == 33, "LINK_STATS.duplicates is not at its wire offset");
+static_assert(offsetof(LinkStats, frames_sent) == 37, "LINK_STATS.frames_sent is not at its wire offset");
+static_assert(offsetof(LinkStats, rx_overruns) == 41, "LINK_STATS.rx_overruns is not at its wire offset");
 static_assert(sizeof(LinkStats) == LinkStats::PAYLOAD_MAX, "LINK_STATS is not its payload's image");
 static_assert(Feedback::PAYLOAD_MAX <= MAX_PAYLOAD, "FEEDBACK payload exceeds MAX_PAYLOAD");
 static_assert(offsetof(Feedback, boot_id) == 0, "FEEDBACK.boot_id is not at its wire offset");

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x163FE6FE
+// spec hash: 0x198EFDDA
 // RoverLink protocol: constants, enums, message structs (packed wire images) and their checks,
 // pack/unpack, dispatch, state table.
 #ifndef ROVERLINK_GENERATED_PROTOCOL_H
@@ -19,7 +19,7 @@ namespace roverlink {
 namespace proto {
 
 static const uint8_t PROTOCOL_VERSION = 1;
-static const uint32_t SPEC_HASH = 0x163FE6FEUL;
+static const uint32_t SPEC_HASH = 0x198EFDDAUL;
 static const uint8_t MAX_PAYLOAD = 64;
 static const uint8_t MAX_BODY = 68;  // msg_id + seq + payload + crc
 static const uint8_t MAX_FRAME = 70;  // COBS-encoded body + delimiter
@@ -546,7 +546,7 @@ uint8_t check_ranges(const Config& m);
 
 // LINK_STATS (0x87, mcu to host, reliable): Answer to GET_LINK_STATS: the firmware's receive and transmit counters since boot.
 struct ROVERLINK_PACKED LinkStats {
-    enum : uint8_t { ID = 0x87, CRC_EXTRA = 0x62, PAYLOAD_SIZE = 45, PAYLOAD_MAX = 45 };
+    enum : uint8_t { ID = 0x87, CRC_EXTRA = 0xA1, PAYLOAD_SIZE = 45, PAYLOAD_MAX = 45 };
     uint8_t req_seq;  // seq of the GET_LINK_STATS.
     uint32_t frames_ok;  // Valid frames received.
     uint32_t crc_errors;  // Frames with a bad CRC.
@@ -554,11 +554,11 @@ struct ROVERLINK_PACKED LinkStats {
     uint32_t length_errors;  // Frames whose length does not fit their msg_id.
     uint32_t unknown_ids;  // Frames with an unknown msg_id.
     uint32_t value_errors;  // Frames with a good CRC but a value the spec does not allow (e.g. an unknown enum value).
-    uint32_t seq_gaps;  // Host frames missing according to seq.
     uint32_t bytes_discarded;  // Received bytes that were not part of a valid frame.
-    uint32_t rx_overruns;  // Bytes lost because the receive buffer was full.
+    uint32_t seq_gaps;  // Host frames missing according to seq.
     uint32_t duplicates;  // Reliable requests received again (answered, not re-applied).
     uint32_t frames_sent;  // Frames sent.
+    uint32_t rx_overruns;  // Bytes lost because the receive buffer was full.
 };
 // Returns the payload length.
 inline uint8_t pack(const LinkStats& m, uint8_t* payload) {
