@@ -38,6 +38,10 @@ Figures:
   actions on the motors) and of the reply's sending (SessionCore::send_answer, Link::send_payload:
   packing, CRC and COBS of the ACK), which the harness keeps apart (its H command). Decode +
   dispatch + handling is what the whole frame costs inside poll().
+* The longest stretch (no budget): the longest single poll() call in the SET_PID flood, less the
+  cycles of its handlers. A call reads every byte waiting up to the end of one frame, so after a
+  control tick it takes most of a frame at once: this is how long decoding and dispatching hold the
+  loop in one go (the serial driver's reads and poll()'s entry and exit included).
 * Full cost per command frame (no budget; what a frame really costs the CPU): the main-loop work
   during the same floods less the work of ticks and FEEDBACK (measured over 1 s of driving),
   divided by the frames sent: decode and dispatch plus the RX interrupt of every byte, the serial
@@ -115,6 +119,9 @@ class Figures:
     full_cycles_per_set_pid_frame: float
     full_cycles_per_setpoint_frame: float
     poll_idle_call_cycles: int
+    longest_set_pid_poll_cycles: int
+    """The longest single poll() call in the SET_PID flood, handling and reply excluded: how long
+    decoding and dispatching hold the loop in one go (serial driver reads included)."""
     worst_loop_pass_cycles: int
     worst_rx_isr_latency_cycles: int
     rx_bytes: int
@@ -140,6 +147,8 @@ class Profile:
     calls: int
     cycles: int
     cheapest_call: int
+    longest_work: int
+    """The longest call less the cycles of its handlers (and their replies)."""
     per_pc: dict[int, int]
 
 
@@ -348,6 +357,7 @@ def measure(example: str, profile: str) -> Figures:
         full_cycles_per_set_pid_frame=full_pid,
         full_cycles_per_setpoint_frame=full_sp,
         poll_idle_call_cycles=idle.cheapest_call,
+        longest_set_pid_poll_cycles=prof_pid.longest_work,
         worst_loop_pass_cycles=max(flood_sp[3], flood_pid[3]),
         worst_rx_isr_latency_cycles=latency,
         rx_bytes=rx_bytes,
@@ -399,6 +409,8 @@ def report(f: Figures) -> str:
         f"    full cost (+ RX ISR per byte, serial driver, reply TX ISRs): "
         f"{f.full_cycles_per_set_pid_frame:.0f} cycles/SET_PID frame, "
         f"{f.full_cycles_per_setpoint_frame:.0f} cycles/setpoint frame\n"
+        f"    in one stretch: the longest poll() call in the SET_PID flood, less handling and reply: "
+        f"{f.longest_set_pid_poll_cycles} cycles (serial driver reads included)\n"
         f"    back to back: {f.rx_bytes:,} bytes received, {f.rx_overruns} overruns, RX ISR latency "
         f"{f.worst_rx_isr_latency_cycles} cycles (one byte: {CYCLES_PER_BYTE}), longest loop pass "
         f"{f.worst_loop_pass_cycles} cycles; {f.realtime_ratio:.1f}x real time"

@@ -379,11 +379,12 @@ class Harness:
         apart: `profile` reports them at PC + HANDLER_FLAG (0 clears every handler)."""
         self._ask(f"H {byte_address}")
 
-    def profile(self) -> tuple[int, int, int, dict[int, int]]:
-        """(calls, cycles, cheapest call, cycles per PC byte address) since the last call."""
+    def profile(self) -> tuple[int, int, int, int, dict[int, int]]:
+        """(calls, cycles, cheapest call, longest call less its handlers' cycles, cycles per PC byte
+        address) since the last call."""
         r = self._ask("D")
-        per_pc = {} if r[4] == "-" else {int(a, 16): int(c) for a, c in (t.split(":") for t in r[4:])}
-        return int(r[1]), int(r[2]), int(r[3]), per_pc
+        per_pc = {} if r[5] == "-" else {int(a, 16): int(c) for a, c in (t.split(":") for t in r[5:])}
+        return int(r[1]), int(r[2]), int(r[3]), int(r[4]), per_pc
 
     def close(self) -> None:
         if self._proc.poll() is None:

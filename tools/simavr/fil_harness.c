@@ -46,8 +46,9 @@
  *                                           tells decoding and dispatching from what the handlers
  *                                           and the replies cost. Reply: OK
  *   D                                       dump and reset the profile: calls, cycles, the cheapest
- *                                           call, then <byte address hex>:<cycles> per PC (or -).
- *                                           Reply: D <calls> <cycles> <min_call> <pc>:<cycles>...
+ *                                           call, the longest call less its handlers' cycles, then
+ *                                           <byte address hex>:<cycles> per PC (or -). Reply:
+ *                                           D <calls> <cycles> <min_call> <max_work> <pc>:<cycles>...
  *   Q                                       quit (reply: BYE)
  *
  * UART0 receive. simavr 1.6 queues input bytes in its own 64-byte FIFO at its own pace, so neither
@@ -333,6 +334,8 @@ static size_t prof_words, prof_touched_count;
 static int prof_in;
 static uint16_t prof_sp;
 static uint64_t prof_calls, prof_cycles, prof_call, prof_min = UINT64_MAX;
+/* The current call's cycles inside handlers, and the most any call spent outside them. */
+static uint64_t prof_call_handling, prof_max_work;
 /* Handler boundaries (H): one histogram slot per flash word beyond prof_words for their cycles. */
 #define PROF_HANDLER_FLAG 0x1000000u
 #define PROF_MAX_HANDLERS 16
@@ -351,7 +354,7 @@ static uint16_t sp(void) { return (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH
 
 static void prof_reset(void) {
     if (prof_hist != NULL) memset(prof_hist, 0, 2 * prof_words * sizeof *prof_hist);
-    prof_calls = prof_cycles = 0;
+    prof_calls = prof_cycles = prof_max_work = 0;
     prof_min = UINT64_MAX;
 }
 
@@ -375,6 +378,7 @@ static void prof_add(avr_flashaddr_t pc, uint64_t cycles) {
     if (prof_cur[w] == 0) prof_touched[prof_touched_count++] = w;
     prof_cur[w] += cycles;
     prof_call += cycles;
+    if (prof_in_handler) prof_call_handling += cycles;
 }
 
 static void prof_return(void) {
@@ -389,10 +393,12 @@ static void prof_return(void) {
     ++prof_calls;
     prof_cycles += prof_call;
     if (prof_call < prof_min) prof_min = prof_call;
+    if (prof_call - prof_call_handling > prof_max_work) prof_max_work = prof_call - prof_call_handling;
 }
 
 static void prof_dump(void) {
-    printf("D %" PRIu64 " %" PRIu64 " %" PRIu64, prof_calls, prof_cycles, prof_calls ? prof_min : 0);
+    printf("D %" PRIu64 " %" PRIu64 " %" PRIu64 " %" PRIu64, prof_calls, prof_cycles, prof_calls ? prof_min : 0,
+           prof_max_work);
     int any = 0;
     for (size_t w = 0; prof_hist != NULL && w < 2 * prof_words; ++w) {
         if (prof_hist[w] == 0) continue;
@@ -433,6 +439,7 @@ static int run_until(uint64_t end) {
             prof_in = 1;
             prof_sp = sp();
             prof_call = 0;
+            prof_call_handling = 0;
         } else if (prof_in && !prof_in_handler && !in_isr && prof_is_handler(pc)) {
             prof_in_handler = 1;
             prof_handler_sp = sp();
