@@ -190,7 +190,7 @@ void rl_sim_get_outputs(rl_sim* h, rl_sim_outputs* out) {
     out->boot_id = fw.boot_id();
     out->ticks_skipped = fw.ticks_skipped();
     out->duplicates = fw.duplicates();
-    out->frames_sent = fw.link().frames_sent();
+    out->frames_sent = fw.link().counts().frames_sent;
     for (uint8_t w = 0; w < 2; ++w) {
         out->motor_calls[w] = s.board.motor(w).calls;
         out->encoder[w] = s.board.encoder(w);

@@ -57,7 +57,7 @@ public:
     uint32_t boot_id() const { return v_.boot_id; }
     proto::FailsafeReason failsafe_reason() const { return v_.reason; }
     uint16_t watchdog_ms() const { return v_.watchdog_ms; }  // granted by the last accepted HELLO
-    uint32_t duplicates() const { return link_.duplicates(); }
+    uint32_t duplicates() const { return link_.counts().duplicates; }
     bool in_session() const { return v_.state > proto::SessionState::IDLE; }
     bool armed() const { return v_.state == proto::SessionState::ARMED; }
     const Link& link() const { return link_; }
