@@ -81,11 +81,12 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 from emulator.backends.simavr import HANDLER_FLAG, SimavrRobot  # noqa: E402
-from host_sdk import firmware, messages  # noqa: E402
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH  # noqa: E402
-from host_sdk._generated.enums import FeedbackMode, IdentityReason  # noqa: E402
-from host_sdk._generated.profiles import PROFILES  # noqa: E402
+from host_sdk import messages  # noqa: E402
 from host_sdk.framing import Frame, FrameDecoder, encode_frame  # noqa: E402
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH  # noqa: E402
+from protocol.generated.enums import FeedbackMode, IdentityReason  # noqa: E402
+from protocol.generated.profiles import PROFILES  # noqa: E402
+from roverlink import firmware  # noqa: E402
 
 CYCLES_PER_BYTE = 16_000_000 * 10 // 115_200  # 1388 (1388.9)
 FRAME_CYCLES_BUDGET = 1500

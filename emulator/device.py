@@ -32,6 +32,7 @@ from emulator.errors import EmulatorValueError
 from emulator.faults import FaultSpec
 from emulator.firmware.config import IMAGE_ADDR, Gains, encode_image
 from emulator.firmware.core import TICK_US, Firmware
+from emulator.firmware.statemachine import SessionEvent
 from emulator.injection import MAX_FAULT_LOG, FaultInjection, ResetKind, checked_board_options
 from emulator.line import SerialLink
 from emulator.plant.motor import DriveMode
@@ -39,8 +40,7 @@ from emulator.plant.plant import WHEEL_CHANNELS, Plant
 from emulator.profiles import EmulatorProfile, get_profile
 from emulator.rng import Streams
 from emulator.truth import FaultRecord, McuTruth, PlantTruth, Truth, WheelTruth
-from host_sdk.enums import Board as BoardId
-from host_sdk.statemachine import SessionEvent
+from protocol.generated.enums import Board as BoardId
 
 _U32 = 1 << 32
 __all__ = ["MAX_FAULT_LOG", "Emulator", "McuPhase", "ResetKind", "saved_eeprom_image"]

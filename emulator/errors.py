@@ -1,11 +1,11 @@
-"""Emulator errors, rooted in the SDK's single exception tree (`host_sdk.errors.RoverLinkError`).
+"""Emulator errors, rooted in RoverLink's single exception tree (`protocol.errors.RoverLinkError`).
 
 Each leaf also inherits the built-in it behaves like, so `except ValueError` keeps working.
 """
 
 from __future__ import annotations
 
-from host_sdk.errors import RoverLinkError
+from protocol.errors import RoverLinkError
 
 
 class EmulatorError(RoverLinkError):

@@ -1,7 +1,7 @@
 """Emulator profiles: the reference robots' firmware defaults plus plant parameters.
 
 Everything the firmware knows (dimensions, encoder cpr, config and PID defaults, capabilities,
-board, feedback mode) comes from `host_sdk._generated.profiles.PROFILES`, which is generated from
+board, feedback mode) comes from `protocol.generated.profiles.PROFILES`, which is generated from
 `protocol/spec/robots.toml` like the firmware examples' `robot_profile.h`. This module adds only
 what the firmware cannot know: the physics of the motors, ESC, servo and body, and board timing.
 
@@ -22,8 +22,8 @@ from emulator.plant.esc import EscParams
 from emulator.plant.motor import MotorParams
 from emulator.plant.servo import ServoParams
 from emulator.plant.vehicle import BodyParams
-from host_sdk._generated.enums import Capability
-from host_sdk._generated.profiles import PROFILES, RobotProfile
+from protocol.generated.enums import Capability
+from protocol.generated.profiles import PROFILES, RobotProfile
 
 
 @dataclass(frozen=True, slots=True)

@@ -12,11 +12,11 @@ from dataclasses import dataclass
 
 from emulator.firmware.config import Gains
 from emulator.firmware.link import LinkCounters
+from emulator.firmware.statemachine import SessionEvent, SessionState
 from emulator.plant.esc import EscState
 from emulator.plant.motor import DriveMode
-from host_sdk.enums import FailsafeReason, FeedbackMode, Status
-from host_sdk.messages import SetConfig
-from host_sdk.statemachine import SessionEvent, SessionState
+from protocol.generated.enums import FailsafeReason, FeedbackMode, Status
+from protocol.generated.messages import SetConfig
 
 
 @dataclass(frozen=True, slots=True)

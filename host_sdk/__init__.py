@@ -11,7 +11,6 @@ See docs/sdk.md.
 """
 
 from host_sdk import enums, messages
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
 from host_sdk.errors import (
     CodecError,
     CommandRangeError,
@@ -35,6 +34,7 @@ from host_sdk.odometry import Pose
 from host_sdk.profiles import PROFILES, kinematics_for
 from host_sdk.robot import Robot
 from host_sdk.session import FeedbackSample, LinkStatistics, PidGains, RobotConfig, RobotIdentity
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 
 __all__ = [
     "PROFILES",

@@ -1,4 +1,4 @@
-"""Frame-level codec: `encode_frame(msg, seq)` and the streaming `FrameDecoder`.
+"""Frame-level codec: `encode_frame(msg, seq)` and the streaming `FrameDecoder` (from protocol.framing).
 
 >>> from host_sdk import messages
 >>> from host_sdk.framing import FrameDecoder, encode_frame
@@ -8,6 +8,6 @@
 (SetWheelSpeeds(left_mm_s=120, right_mm_s=-80), 7)
 """
 
-from host_sdk.codec.frames import BadFrame, DecoderStats, Frame, FrameDecoder, FrameErrorKind, encode_frame
+from protocol.framing import BadFrame, DecoderStats, Frame, FrameDecoder, FrameErrorKind, encode_frame
 
 __all__ = ["BadFrame", "DecoderStats", "Frame", "FrameDecoder", "FrameErrorKind", "encode_frame"]

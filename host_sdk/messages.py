@@ -2,8 +2,8 @@
 
 Each is a frozen, slotted dataclass with MSG_ID, NAME, CRC_EXTRA, PAYLOAD_SIZE, PAYLOAD_MAX,
 DIRECTION, DELIVERY and FIELDS class attributes, `pack()` and `unpack()`. Their base class and
-field metadata live in host_sdk.codec.message.
+field metadata live in protocol.codec.message.
 """
 
-from host_sdk._generated.messages import *  # noqa: F403
-from host_sdk._generated.messages import __all__ as __all__  # noqa: PLC0414
+from protocol.generated.messages import *  # noqa: F403
+from protocol.generated.messages import __all__ as __all__  # noqa: PLC0414

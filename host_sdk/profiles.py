@@ -14,10 +14,10 @@ from __future__ import annotations
 
 import math
 
-from host_sdk._generated.messages import SetConfig
-from host_sdk._generated.profiles import PROFILES, RobotProfile
 from host_sdk.errors import CommandRangeError
 from host_sdk.kinematics import Ackermann, DiffDrive
+from protocol.generated.messages import SetConfig
+from protocol.generated.profiles import PROFILES, RobotProfile
 
 __all__ = ["PROFILES", "RobotProfile", "get_profile", "kinematics_for", "profile_for_example", "steering_limits"]
 

@@ -30,24 +30,6 @@ import time
 from collections.abc import Callable, Iterator
 from typing import Any, Literal, TypeVar
 
-from host_sdk._generated.constants import PID_ALL_WHEELS, WHEEL_COUNT
-from host_sdk._generated.enums import Capability, FailsafeReason, FeedbackMode, LogLevel
-from host_sdk._generated.messages import (
-    Arm,
-    Config,
-    Disarm,
-    GetConfig,
-    GetLinkStats,
-    GetPid,
-    LinkStats,
-    Pid,
-    SaveConfig,
-    SetAckermann,
-    SetConfig,
-    SetPid,
-    SetWheelSpeeds,
-)
-from host_sdk.codec.message import Message
 from host_sdk.errors import (
     CommandRangeError,
     ConnectTimeoutError,
@@ -83,7 +65,25 @@ from host_sdk.session import (
     Session,
     SessionOptions,
 )
-from host_sdk.transport import EmulatorTransport, Transport, open_transport
+from host_sdk.transport import Transport, open_transport
+from protocol.codec.message import Message
+from protocol.generated.constants import PID_ALL_WHEELS, WHEEL_COUNT
+from protocol.generated.enums import Capability, FailsafeReason, FeedbackMode, LogLevel
+from protocol.generated.messages import (
+    Arm,
+    Config,
+    Disarm,
+    GetConfig,
+    GetLinkStats,
+    GetPid,
+    LinkStats,
+    Pid,
+    SaveConfig,
+    SetAckermann,
+    SetConfig,
+    SetPid,
+    SetWheelSpeeds,
+)
 
 log = logging.getLogger("host_sdk")
 
@@ -287,8 +287,8 @@ class Robot:
             kin: DiffDrive | Ackermann | None = self._user_kinematics
         else:
             name = self._profile_name
-            if name is None and isinstance(self._transport, EmulatorTransport):
-                name = self._transport.emulator.profile.name
+            if name is None:
+                name = self._transport.profile
             prof = get_profile(name) if name is not None else profile_for_example(s.identity.robot_name)
             kin = kinematics_for(prof, s.config) if prof is not None else None
         if isinstance(kin, DiffDrive) and not caps & Capability.DIFF_DRIVE:
@@ -403,11 +403,11 @@ class Robot:
 
     @property
     def emulator(self) -> Any:
-        """The in-process `emulator.Emulator` behind an emu:// URL (None otherwise).
+        """The in-process emulator behind an emu:// URL (the transport's `device`; None otherwise).
 
         On the virtual clock use it freely; on the real clock an I/O thread drives it, so wrap
         access in `with robot.transport.locked() as emu:`."""
-        return self._transport.emulator if isinstance(self._transport, EmulatorTransport) else None
+        return self._transport.device
 
     @property
     def virtual_clock(self) -> bool:

@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from protocol import generate, loader
+from protocol.generator import generate, loader
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -29,7 +29,7 @@ ruff check .
 ruff format --check .
 
 echo "== mypy --strict"
-mypy --strict host_sdk protocol
+mypy --strict protocol host_sdk emulator roverlink
 
 echo "== pytest (hypothesis profile: ${HYPOTHESIS_PROFILE:=ci})"
 export HYPOTHESIS_PROFILE

@@ -27,16 +27,13 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
-import math
 import os
 import shutil
 import subprocess
-import sys
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import ClassVar, Protocol, TextIO
+from typing import ClassVar, Protocol
 
 from emulator.clock import VirtualClock
 from emulator.device import ResetKind, saved_eeprom_image
@@ -49,11 +46,10 @@ from emulator.plant.motor import DriveMode
 from emulator.plant.plant import WHEEL_CHANNELS, Plant
 from emulator.profiles import EmulatorProfile, get_profile
 from emulator.rng import Streams
-from emulator.transport.realtime import report_faults
 from emulator.truth import FaultRecord, LineTruth
-from host_sdk.codec.frames import Frame, FrameDecoder
-from host_sdk.enums import IdentityReason
-from host_sdk.messages import Identity
+from protocol.framing import Frame, FrameDecoder
+from protocol.generated.enums import IdentityReason
+from protocol.generated.messages import Identity
 
 ROOT = Path(__file__).resolve().parents[2]
 HARNESS_DIR = ROOT / "tools" / "simavr"
@@ -272,23 +268,20 @@ def build_harness() -> Path:
     return HARNESS
 
 
-def build_elf(example: str) -> Path:
-    """The example's ELF, built with the public build tool (cached by content). With the environment
-    variable ROVERLINK_SIMAVR_ELF_DIR set, <dir>/<example>/<example>.elf is used instead (an ELF
-    built elsewhere, e.g. from another checkout)."""
-    from host_sdk import firmware  # noqa: PLC0415 (the build tool only when building)
-
+def prebuilt_elf(example: str) -> Path:
+    """The example's ELF from the folder ROVERLINK_SIMAVR_ELF_DIR names (<dir>/<example>/<example>.elf),
+    for a SimavrRobot made without `elf=`. Building is the tools' job (`roverlink firmware build`,
+    roverlink.firmware.build_example): the emulator runs a firmware, it does not compile one."""
     prebuilt = os.environ.get("ROVERLINK_SIMAVR_ELF_DIR")
-    if prebuilt:
-        elf = Path(prebuilt) / example / f"{example}.elf"
-        if not elf.is_file():
-            raise SimavrError(f"ROVERLINK_SIMAVR_ELF_DIR={prebuilt}: no {elf}")
-        return elf
-
-    try:
-        return firmware.build_example(example, out_dir=BUILD_DIR / "elf" / example).elf
-    except firmware.FirmwareError as exc:
-        raise SimavrError(f"building {example} failed: {exc}") from exc
+    if not prebuilt:
+        raise SimavrError(
+            f"no ELF for {example}: pass elf= (e.g. roverlink.firmware.build_example({example!r}).elf) "
+            "or set ROVERLINK_SIMAVR_ELF_DIR to a folder holding <example>/<example>.elf"
+        )
+    elf = Path(prebuilt) / example / f"{example}.elf"
+    if not elf.is_file():
+        raise SimavrError(f"ROVERLINK_SIMAVR_ELF_DIR={prebuilt}: no {elf}")
+    return elf
 
 
 # -- the harness process -------------------------------------------------------------------------------
@@ -667,7 +660,7 @@ class SimavrRobot(PlantLoop):
             raise EmulatorValueError("eeprom", eeprom, "'blank' (a new board) or 'saved' (defaults saved)")
         checked_board_options(prof, latency_us, drift_ppm, bootloader_ms)  # before the harness gets them
         wiring = WIRING[prof.robot.example]
-        elf = elf if elf is not None else build_elf(wiring.example)
+        elf = elf if elf is not None else prebuilt_elf(wiring.example)
         adc0_mv, image = board_randomness(seed)
         if eeprom == "saved":
             address, saved = saved_eeprom_image(prof)
@@ -740,79 +733,3 @@ def elf_with_eeprom(elf: Path, eeprom: bytes) -> Path:
         raise SimavrError(f"avr-objcopy could not add the EEPROM image to {elf}: {result.stderr.strip()}")
     tmp.replace(out)
     return out
-
-
-# -- real time, behind a pseudo-terminal -------------------------------------------------------------------
-class Endpoint(Protocol):
-    name: str
-
-    def poll(self) -> tuple[bool, int]: ...
-
-    def on_connect(self) -> None: ...
-
-    def read(self) -> bytes: ...
-
-    def write(self, data: bytes) -> None: ...
-
-    def wait(self, timeout_s: float) -> None: ...
-
-
-def serve(
-    robot: PlantLoop,
-    endpoint: Endpoint,
-    stop: Callable[[], bool],
-    *,
-    dtr_reset_on_open: bool = True,
-    speed: float = 1.0,
-    log: TextIO | None = sys.stderr,
-) -> float:
-    """Keeps the robot's virtual time at wall time x `speed`; returns the achieved ratio of simulated
-    to wall time while busy (how much faster than real time the loop can run)."""
-    wall0 = time.monotonic()
-    virt0 = robot.now_us
-    connected = False
-    busy_s = 0.0
-    lag_warned = False
-    reported_faults = len(robot.faults)
-    reported_boots = 0
-    while not stop():
-        now_connected, opens = endpoint.poll()
-        if opens:
-            endpoint.on_connect()
-            robot.host_read()
-            _say(log, f"host connected to {endpoint.name}")
-            if dtr_reset_on_open:
-                robot.dtr_reset()
-        elif connected and not now_connected:
-            _say(log, f"host disconnected from {endpoint.name}")
-        connected = now_connected
-        if connected:
-            data = endpoint.read()
-            if data:
-                robot.host_write(data)
-        target = virt0 + int((time.monotonic() - wall0) * 1e6 * speed)
-        if target > robot.now_us:
-            t0 = time.monotonic()
-            robot.advance_to_us(target)
-            busy_s += time.monotonic() - t0
-            behind = (time.monotonic() - wall0) * 1e6 * speed - (robot.now_us - virt0)
-            if behind > 200_000 and not lag_warned:
-                lag_warned = True
-                _say(log, f"warning: {behind / 1000:.0f} ms behind real time (CPU too slow?)")
-        out = robot.host_read()
-        if connected and out:
-            endpoint.write(out)
-        if log is not None:
-            report_faults(robot.faults[reported_faults:], lambda text: _say(log, text))
-            reported_faults = len(robot.faults)
-            for boot_id in robot.boot_ids[reported_boots:]:
-                _say(log, f"t={robot.now_us / 1e6:.3f}s boot, boot_id 0x{boot_id:08X}")
-            reported_boots = len(robot.boot_ids)
-        endpoint.wait(0.001 if connected else 0.01)
-    simulated_s = (robot.now_us - virt0) / 1e6
-    return simulated_s / busy_s if busy_s > 0 else math.inf
-
-
-def _say(log: TextIO | None, text: str) -> None:
-    if log is not None:
-        print(f"[simavr] {text}", file=log, flush=True)

@@ -16,10 +16,10 @@ import math
 import struct
 from dataclasses import dataclass
 
-from host_sdk._generated.constants import PID_ALL_WHEELS, WHEEL_COUNT
-from host_sdk.codec.crc import crc16
-from host_sdk.codec.message import FieldInfo, Message
-from host_sdk.messages import SetConfig, SetPid
+from protocol.codec.crc import crc16
+from protocol.codec.message import FieldInfo, Message
+from protocol.generated.constants import PID_ALL_WHEELS, WHEEL_COUNT
+from protocol.generated.messages import SetConfig, SetPid
 
 BOOT_COUNTER_ADDR = 0x000
 IMAGE_ADDR = 0x010

@@ -28,9 +28,12 @@ from emulator.firmware.control import WheelPid, ramp_step, round_half_away
 from emulator.firmware.lights import BLINK_PERIOD_TICKS, light_mask
 from emulator.firmware.link import FirmwareLink
 from emulator.firmware.session import ACTION_ORDER, Session
+from emulator.firmware.statemachine import Action, Guard, SessionEvent, SessionState
 from emulator.plant.motor import DriveMode
 from emulator.truth import FirmwareTruth
-from host_sdk._generated.constants import (
+from protocol.codec.message import Direction, Message
+from protocol.framing import Frame
+from protocol.generated.constants import (
     CONTROL_RATE_HZ,
     FEEDBACK_HZ_MAX,
     PROTOCOL_VERSION,
@@ -39,12 +42,10 @@ from host_sdk._generated.constants import (
     WATCHDOG_MIN_MS,
     WHEEL_COUNT,
 )
-from host_sdk._generated.profiles import RobotProfile
-from host_sdk.codec.message import Direction, Message
-from host_sdk.enums import (
+from protocol.generated.enums import (
     Board as BoardId,
 )
-from host_sdk.enums import (
+from protocol.generated.enums import (
     Capability,
     FailsafeReason,
     FeedbackMode,
@@ -54,8 +55,7 @@ from host_sdk.enums import (
     SafeState,
     Status,
 )
-from host_sdk.framing import Frame
-from host_sdk.messages import (
+from protocol.generated.messages import (
     Ack,
     Arm,
     Config,
@@ -79,7 +79,7 @@ from host_sdk.messages import (
     SetPid,
     SetWheelSpeeds,
 )
-from host_sdk.statemachine import Action, Guard, SessionEvent, SessionState
+from protocol.generated.profiles import RobotProfile
 
 FIRMWARE_VERSION = (0, 1, 0)
 DT_S = 1.0 / CONTROL_RATE_HZ

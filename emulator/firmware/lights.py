@@ -17,7 +17,7 @@ and a blink counter that runs over BLINK_PERIOD_TICKS (66 ticks: 1.5 Hz, half on
 from __future__ import annotations
 
 from emulator.firmware.board import LIGHT_FRONT_LEFT, LIGHT_FRONT_RIGHT, LIGHT_REAR_LEFT, LIGHT_REAR_RIGHT
-from host_sdk.statemachine import SessionState
+from emulator.firmware.statemachine import SessionState
 
 BLINK_PERIOD_TICKS = 66
 LEFT = LIGHT_FRONT_LEFT | LIGHT_REAR_LEFT

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from host_sdk.codec.message import Message
-from host_sdk.framing import Frame, FrameDecoder, encode_frame
+from protocol.codec.message import Message
+from protocol.framing import Frame, FrameDecoder, encode_frame
 
 
 @dataclass(slots=True)

@@ -1,4 +1,4 @@
-"""The session state machine, driven only by the generated table (host_sdk.statemachine.step).
+"""The session state machine, driven only by the generated table (emulator.firmware.statemachine.step).
 
 No transition is written by hand: `fire()` asks the table for the row that fires and returns it;
 the firmware then performs the row's actions, in ACTION_ORDER (state changes before answers).
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from host_sdk.statemachine import INITIAL_STATE, Action, Guard, SessionEvent, SessionState, Transition, step
+from emulator.firmware.statemachine import INITIAL_STATE, Action, Guard, SessionEvent, SessionState, Transition, step
 
 ACTION_ORDER: tuple[Action, ...] = (
     Action.MOTORS_SAFE,

@@ -9,12 +9,12 @@ USB-serial adapter does.
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 from collections.abc import Callable, Sequence
 from typing import Protocol, TextIO
 
-from emulator.device import Emulator
 from emulator.truth import FaultRecord
 
 
@@ -40,58 +40,87 @@ class Endpoint(Protocol):
     def close(self) -> None: ...
 
 
+class ServedDevice(Protocol):
+    """What the loop serves: the Python emulator or the firmware in simavr (its PlantLoop)."""
+
+    @property
+    def now_us(self) -> int: ...
+
+    @property
+    def faults(self) -> Sequence[FaultRecord]: ...
+
+    @property
+    def boot_ids(self) -> Sequence[int]: ...
+
+    def advance_to_us(self, t_us: int) -> None: ...
+
+    def host_read(self) -> bytes: ...
+
+    def host_write(self, data: bytes) -> None: ...
+
+    def dtr_reset(self) -> None: ...
+
+
 def serve(
-    emu: Emulator,
+    device: ServedDevice,
     endpoint: Endpoint,
     stop: Callable[[], bool],
     *,
     dtr_reset_on_open: bool = True,
     speed: float = 1.0,
     log: TextIO | None = sys.stderr,
-) -> None:
+    tag: str = "emulator",
+) -> float:
+    """Serve until `stop()`; returns how much faster than real time the device ran while busy
+    (simulated seconds per wall second spent advancing it). Progress lines go to `log` as "[tag] ..."."""
     wall0 = time.monotonic()
-    virt0 = emu.now_us
+    virt0 = device.now_us
     connected = False
-    reported_faults = len(emu.faults)
+    busy_s = 0.0
+    reported_faults = len(device.faults)
     reported_boots = 0  # the power-on boot too
     lag_warned = False
+
+    def say(text: str) -> None:
+        if log is not None:
+            print(f"[{tag}] {text}", file=log, flush=True)
+
     while not stop():
         now_connected, opens = endpoint.poll()
         if opens:
             endpoint.on_connect()
-            emu.host_read()  # sent while nobody listened: gone
-            _say(log, f"host connected to {endpoint.name}")
+            device.host_read()  # sent while nobody listened: gone
+            say(f"host connected to {endpoint.name}")
             if dtr_reset_on_open:
-                emu.dtr_reset()
+                device.dtr_reset()
         elif connected and not now_connected:
-            _say(log, f"host disconnected from {endpoint.name}")
+            say(f"host disconnected from {endpoint.name}")
         connected = now_connected
-        target = virt0 + int((time.monotonic() - wall0) * 1e6 * speed)
-        if target > emu.now_us:
-            emu.advance_to_us(target)
-            behind = (time.monotonic() - wall0) * 1e6 * speed - (emu.now_us - virt0)
-            if behind > 200_000 and not lag_warned:
-                lag_warned = True
-                _say(log, f"warning: the emulator is {behind / 1000:.0f} ms behind real time (CPU too slow?)")
         if connected:
             data = endpoint.read()
             if data:
-                emu.host_write(data)
-        out = emu.host_read()
+                device.host_write(data)
+        target = virt0 + int((time.monotonic() - wall0) * 1e6 * speed)
+        if target > device.now_us:
+            t0 = time.monotonic()
+            device.advance_to_us(target)
+            busy_s += time.monotonic() - t0
+            behind = (time.monotonic() - wall0) * 1e6 * speed - (device.now_us - virt0)
+            if behind > 200_000 and not lag_warned:
+                lag_warned = True
+                say(f"warning: {behind / 1000:.0f} ms behind real time (CPU too slow?)")
+        out = device.host_read()
         if connected and out:
             endpoint.write(out)
         if log is not None:
-            report_faults(emu.faults[reported_faults:], lambda text: _say(log, text))
-            reported_faults = len(emu.faults)
-            for boot_id in emu.boot_ids[reported_boots:]:
-                _say(log, f"t={emu.now_us / 1e6:.3f}s boot, boot_id 0x{boot_id:08X}")
-            reported_boots = len(emu.boot_ids)
+            report_faults(device.faults[reported_faults:], say)
+            reported_faults = len(device.faults)
+            for boot_id in device.boot_ids[reported_boots:]:
+                say(f"t={device.now_us / 1e6:.3f}s boot, boot_id 0x{boot_id:08X}")
+            reported_boots = len(device.boot_ids)
         endpoint.wait(0.001 if connected else 0.01)
-
-
-def _say(log: TextIO | None, text: str) -> None:
-    if log is not None:
-        print(f"[emulator] {text}", file=log, flush=True)
+    simulated_s = (device.now_us - virt0) / 1e6
+    return simulated_s / busy_s if busy_s > 0 else math.inf
 
 
 def report_faults(records: Sequence[FaultRecord], say: Callable[[str], None]) -> None:

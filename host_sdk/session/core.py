@@ -41,9 +41,22 @@ import enum
 from collections import deque
 from dataclasses import dataclass, field
 
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
-from host_sdk._generated.enums import FailsafeReason, FeedbackMode, IdentityReason, LogLevel, NackReason, Status
-from host_sdk._generated.messages import (
+from host_sdk.errors import (
+    IncompatibleFirmwareError,
+    NackError,
+    RequestTimeoutError,
+    RoverLinkError,
+    SessionResetError,
+)
+from host_sdk.framing import Frame, FrameDecoder, encode_frame
+from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.odometry import Odometry, Pose
+from host_sdk.session.types import FeedbackSample, LinkStatistics, RobotIdentity, RttStats
+from host_sdk.timesync import ClockSync, Unwrapper
+from protocol.codec.message import Delivery, Message
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
+from protocol.generated.enums import FailsafeReason, FeedbackMode, IdentityReason, LogLevel, NackReason, Status
+from protocol.generated.messages import (
     BY_ID,
     Ack,
     Arm,
@@ -64,19 +77,6 @@ from host_sdk._generated.messages import (
     SetConfig,
     SetWheelSpeeds,
 )
-from host_sdk.codec.message import Delivery, Message
-from host_sdk.errors import (
-    IncompatibleFirmwareError,
-    NackError,
-    RequestTimeoutError,
-    RoverLinkError,
-    SessionResetError,
-)
-from host_sdk.framing import Frame, FrameDecoder, encode_frame
-from host_sdk.kinematics import Ackermann, DiffDrive
-from host_sdk.odometry import Odometry, Pose
-from host_sdk.session.types import FeedbackSample, LinkStatistics, RobotIdentity, RttStats
-from host_sdk.timesync import ClockSync, Unwrapper
 
 _I32 = 1 << 32
 _EPS = 1e-6  # timers fire this early rather than a poll late (float time)

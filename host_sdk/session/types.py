@@ -7,9 +7,9 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
 
-from host_sdk._generated.enums import Board, Capability, FailsafeReason, FeedbackMode, Status
-from host_sdk._generated.messages import Identity, SetConfig
 from host_sdk.odometry import Pose
+from protocol.generated.enums import Board, Capability, FailsafeReason, FeedbackMode, Status
+from protocol.generated.messages import Identity, SetConfig
 
 RobotConfig = SetConfig
 """The firmware's configuration: the fields of CONFIG / SET_CONFIG, typed and range-checked.

@@ -45,9 +45,9 @@ from typing import Any, NamedTuple, TypeVar, cast
 
 from hypothesis import strategies as st
 
-from host_sdk._generated.messages import ALL_MESSAGES
-from host_sdk.codec.message import FieldInfo, Message
 from host_sdk.framing import Frame, encode_frame
+from protocol.codec.message import FieldInfo, Message
+from protocol.generated.messages import ALL_MESSAGES
 
 __all__ = [
     "Stream",

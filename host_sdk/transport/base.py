@@ -13,6 +13,11 @@ class Transport(abc.ABC):
     """What was opened, for messages."""
     virtual: bool = False
     """True when `read()` drives a virtual clock (no I/O thread is needed, or wanted)."""
+    profile: str | None = None
+    """The reference robot this transport is known to reach (an emulator's profile), else None:
+    Robot.connect then takes the kinematics from the firmware's IDENTITY."""
+    device: object | None = None
+    """The in-process device behind the URL (an emulator: ground truth, fault injection), else None."""
 
     @abc.abstractmethod
     def read(self, timeout_s: float) -> bytes:

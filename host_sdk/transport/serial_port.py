@@ -10,7 +10,7 @@ import serial
 
 from host_sdk.errors import TransportError
 from host_sdk.transport.base import Transport
-from host_sdk.transport.emulated import EmulatorTransport
+from host_sdk.transport.plugins import open_plugin, schemes
 
 POLL_S = 0.01
 """pyserial's read timeout. Fixed, because changing it reconfigures a real port (a tcsetattr)."""
@@ -67,7 +67,15 @@ class SerialTransport(Transport):
 
 
 def open_transport(url: str, baud: int = 115200) -> Transport:
-    """The transport for `url`: `emu://...` builds an in-process emulator, anything else goes to pyserial."""
-    if url.startswith("emu:"):
-        return EmulatorTransport.from_url(url, baud)
+    """The transport for `url`: a scheme a plugin registered (`emu://` when the emulator is
+    installed) goes to that plugin, anything else to pyserial."""
+    transport = open_plugin(url, baud)
+    if transport is not None:
+        return transport
+    if url.startswith("emu:") and "emu" not in schemes():
+        raise TransportError(
+            f"{url}: no transport is registered for emu:// (the emulator package is not installed; "
+            "from a checkout: python3 -m pip install -e .)",
+            url,
+        )
     return SerialTransport(url, baud)

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from host_sdk._generated import oracle
-from host_sdk.codec.message import FieldInfo, Message
+from protocol.codec.message import FieldInfo, Message
+from protocol.generated import oracle
 
 
 def _exact(info: FieldInfo, value: Any) -> Any:

@@ -6,8 +6,8 @@ import crcmod.predefined
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from host_sdk.codec.cobs import cobs_decode, cobs_encode
-from host_sdk.codec.crc import crc16, frame_crc
+from protocol.codec.cobs import cobs_decode, cobs_encode
+from protocol.codec.crc import crc16, frame_crc
 
 _crcmod_ccitt_false = crcmod.predefined.mkCrcFun("crc-ccitt-false")
 

@@ -15,10 +15,10 @@ import pytest
 from codec_oracle import codec_values, oracle_values
 
 from host_sdk import messages
-from host_sdk._generated import oracle
-from host_sdk.codec.cobs import cobs_decode
-from host_sdk.codec.message import FieldInfo, Message
 from host_sdk.framing import Frame, FrameDecoder, encode_frame
+from protocol.codec.cobs import cobs_decode
+from protocol.codec.message import FieldInfo, Message
+from protocol.generated import oracle
 
 VECTOR_DIR = Path(__file__).resolve().parents[2] / "protocol" / "vectors"
 VECTOR_FILES = sorted(VECTOR_DIR.glob("*.json"))

@@ -27,14 +27,14 @@ from hypothesis import example, given, note, settings
 from hypothesis import strategies as st
 
 from host_sdk import messages
-from host_sdk._generated import oracle
-from host_sdk._generated.constants import MAX_FRAME, MAX_PAYLOAD
-from host_sdk.codec.cobs import cobs_decode, cobs_encode
-from host_sdk.codec.crc import frame_crc
-from host_sdk.codec.message import FieldInfo, Message
 from host_sdk.errors import EncodeError
 from host_sdk.framing import BadFrame, Frame, FrameDecoder, FrameErrorKind, encode_frame
 from host_sdk.testing import strategies as rls
+from protocol.codec.cobs import cobs_decode, cobs_encode
+from protocol.codec.crc import frame_crc
+from protocol.codec.message import FieldInfo, Message
+from protocol.generated import oracle
+from protocol.generated.constants import MAX_FRAME, MAX_PAYLOAD
 
 ALL: tuple[type[Message], ...] = messages.ALL_MESSAGES
 BY_ID: dict[int, type[Message]] = {cls.MSG_ID: cls for cls in ALL}

@@ -26,17 +26,17 @@ from pathlib import Path
 from typing import Protocol
 
 from emulator import Emulator
-from emulator.backends.simavr import WIRING, PinState, PlantLoop, SimavrRobot, build_elf, elf_with_eeprom
+from emulator.backends.simavr import PinState, PlantLoop, SimavrRobot, elf_with_eeprom
 from emulator.plant.motor import DriveMode
-from emulator.profiles import get_profile
 from host_sdk import messages
-from host_sdk._generated.enums import IdentityReason
-from host_sdk._generated.profiles import PROFILES
-from host_sdk.codec.message import Message
 from host_sdk.framing import Frame, FrameDecoder, encode_frame
+from protocol.codec.message import Message
+from protocol.generated.enums import IdentityReason
+from protocol.generated.profiles import PROFILES
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "firmware"))
 from native_sim import NativeSim
+from simavr_support import example_elf
 
 BACKENDS = ("python", "native", "simavr")
 
@@ -199,9 +199,9 @@ class SimavrBackend:
         del seed  # the ELF's boot_id comes from its EEPROM boot counter and ADC noise
         self.name = "simavr"
         self.profile = profile
-        elf = None
+        elf = example_elf(profile)
         if eeprom is not None:
-            elf = elf_with_eeprom(build_elf(WIRING[get_profile(profile).robot.example].example), eeprom)
+            elf = elf_with_eeprom(elf, eeprom)
         self.robot = SimavrRobot(profile, elf=elf)
 
     @property

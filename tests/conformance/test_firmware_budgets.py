@@ -14,7 +14,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 import firmware as bench
 
-from host_sdk._generated.profiles import PROFILES
+from protocol.generated.profiles import PROFILES
 
 EXAMPLES = sorted(p.example for p in PROFILES.values())
 

@@ -24,11 +24,11 @@ from conformance_backends import BACKENDS, Backend, Host, make_backend, wire
 
 from emulator.firmware.config import IMAGE_ADDR, Gains, encode_image
 from host_sdk import messages
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
-from host_sdk._generated.enums import FailsafeReason, FeedbackMode, IdentityReason, NackReason, Status
-from host_sdk._generated.profiles import PROFILES
-from host_sdk.codec.message import Message
 from host_sdk.framing import Frame, FrameDecoder
+from protocol.codec.message import Message
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
+from protocol.generated.enums import FailsafeReason, FeedbackMode, IdentityReason, NackReason, Status
+from protocol.generated.profiles import PROFILES
 
 TICK_MS = 10
 BOOT_TIMEOUT_MS = 2500

@@ -10,9 +10,9 @@ from typing import TypeVar
 
 from emulator import Emulator
 from host_sdk import enums, messages
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
-from host_sdk.codec.message import Message
 from host_sdk.framing import BadFrame, Frame, FrameDecoder, encode_frame
+from protocol.codec.message import Message
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 
 M = TypeVar("M", bound=Message)
 
@@ -136,8 +136,8 @@ class Host:
 
 def raw_frame(cls: type[Message], payload: bytes, seq: int) -> bytes:
     """A valid frame (good COBS and CRC) around any payload: for values pack() refuses to encode."""
-    from host_sdk.codec.cobs import cobs_encode
-    from host_sdk.codec.crc import frame_crc
+    from protocol.codec.cobs import cobs_encode
+    from protocol.codec.crc import frame_crc
 
     body = bytes((cls.MSG_ID, seq)) + payload
     return cobs_encode(body + frame_crc(body, cls.CRC_EXTRA).to_bytes(2, "little")) + b"\x00"

@@ -21,10 +21,10 @@ from emulator.firmware.control import WheelPid, ramp_step, round_half_away
 from emulator.firmware.core import Firmware
 from emulator.profiles import get_profile
 from host_sdk import messages
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
-from host_sdk._generated.profiles import PROFILES
 from host_sdk.framing import encode_frame
 from host_sdk.messages import SetConfig, SetPid
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
+from protocol.generated.profiles import PROFILES
 
 GAINS = Gains(kp=1.0, ki=6.0, kd=0.0, kf=1.5)
 
@@ -125,8 +125,8 @@ def test_eeprom_image_round_trip_and_corruption() -> None:
         # The header catches a flip in its 5 bytes, the CRC-16 every other single-bit error.
         assert result is (LoadResult.NO_IMAGE if i < 5 else LoadResult.BAD_CRC) and config is None
     assert decode_image(b"\xff" * IMAGE_SIZE)[0] is LoadResult.NO_IMAGE  # a blank EEPROM
-    from host_sdk.codec.crc import crc16
     from host_sdk.messages import SetConfig as Sc
+    from protocol.codec.crc import crc16
 
     bad = Sc(**{**robot.config.fields(), "esc_neutral_us": 2100})  # in range, inconsistent
     body = encode_image(bad, gains)[:-2]

@@ -7,8 +7,8 @@ from hypothesis import strategies as st
 
 from emulator import Emulator, Truth
 from host_sdk import enums, messages
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
 from host_sdk.framing import encode_frame
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 
 FAULTS = "bitflip=5e-4,drop=5e-4,insert=5e-4,noise@1.0-1.05,stall=0@1.5-1.7,reset@2.2,brownout=30@3.4"
 

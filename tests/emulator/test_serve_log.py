@@ -10,6 +10,7 @@ import time
 from collections.abc import Callable
 
 import pytest
+from simavr_support import simavr_robot
 
 from emulator.device import Emulator
 from emulator.transport.realtime import serve as serve_python
@@ -75,9 +76,9 @@ def test_python_emulator_logs_each_boot_id() -> None:
 def test_simavr_backend_logs_each_boot_id() -> None:
     simavr = pytest.importorskip("emulator.backends.simavr")
     try:
-        robot = simavr.SimavrRobot("picar", seed=4, bootloader_ms=100)
+        robot = simavr_robot("picar", seed=4, bootloader_ms=100)
     except simavr.SimavrError as exc:  # pragma: no cover
         pytest.fail(f"the simavr backend needs avr-gcc, the Arduino core and simavr (scripts/test.sh): {exc}")
     with robot:
-        boots = logged_boots(lambda endpoint, log, stop: simavr.serve(robot, endpoint, stop, log=log))
+        boots = logged_boots(lambda endpoint, log, stop: serve_python(robot, endpoint, stop, log=log, tag="simavr"))
         assert boots == list(robot.truth.boot_ids) and len(boots) == 2 and boots[0] != boots[1]

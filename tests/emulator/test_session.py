@@ -9,11 +9,11 @@ import pytest
 from hostlink import Host, raw_frame
 
 from emulator import Emulator
+from emulator.firmware.statemachine import SessionState
 from emulator.plant.motor import DriveMode
 from host_sdk import enums, messages
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
 from host_sdk.enums import FailsafeReason, IdentityReason, NackReason, Status
-from host_sdk.statemachine import SessionState
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 
 
 def _state(emu: Emulator) -> SessionState:

@@ -13,9 +13,9 @@ from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, ru
 
 from emulator import Emulator
 from host_sdk import enums, messages
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
-from host_sdk.codec.message import Message
 from host_sdk.enums import FailsafeReason, NackReason, Status
+from protocol.codec.message import Message
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 
 WATCHDOG_MS = 100
 ANSWER_MS = 20  # how long each request rule listens for its answer: the watchdog runs meanwhile

@@ -6,15 +6,16 @@ refuses. Builds the harness and the ELFs once (cached under build/simavr)."""
 from __future__ import annotations
 
 import pytest
+from simavr_support import simavr_robot
 
 from emulator.backends.simavr import SimavrError, SimavrRobot
-from emulator.cli import main
 from emulator.firmware.config import LoadResult
 from host_sdk import messages
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
-from host_sdk._generated.enums import FeedbackMode, IdentityReason
-from host_sdk.codec.message import Message
 from host_sdk.framing import Frame, FrameDecoder, encode_frame
+from protocol.codec.message import Message
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
+from protocol.generated.enums import FeedbackMode, IdentityReason
+from roverlink.cli import main as roverlink_main
 
 PROFILE = "diffdrive-tb6612"
 
@@ -51,13 +52,13 @@ class Reader:
 @pytest.fixture(scope="module")
 def built() -> None:
     try:
-        SimavrRobot(PROFILE).close()
+        simavr_robot(PROFILE).close()
     except SimavrError as exc:  # pragma: no cover
         pytest.fail(f"the simavr backend needs avr-gcc, the Arduino core and simavr (scripts/test.sh): {exc}")
 
 
 def first_boot_id(seed: int | None, profile: str = PROFILE) -> int:
-    with SimavrRobot(profile, seed=seed) as robot:
+    with simavr_robot(profile, seed=seed) as robot:
         return Reader(robot).run_until_boots(1)[0][1].boot_id
 
 
@@ -71,7 +72,7 @@ def test_seed_draws_the_boards_randomness() -> None:
 
 @pytest.mark.usefixtures("built")
 def test_eeprom_saved_boots_without_the_defaults_warning() -> None:
-    with SimavrRobot(PROFILE, seed=1) as blank, SimavrRobot(PROFILE, seed=1, eeprom="saved") as saved:
+    with simavr_robot(PROFILE, seed=1) as blank, simavr_robot(PROFILE, seed=1, eeprom="saved") as saved:
         readers = [Reader(blank), Reader(saved)]
         for r in readers:
             r.run_until_boots(1)
@@ -83,7 +84,7 @@ def test_eeprom_saved_boots_without_the_defaults_warning() -> None:
 
 @pytest.mark.usefixtures("built")
 def test_dtr_reset_bootloader_as_the_python_emulator_models_it() -> None:
-    with SimavrRobot(PROFILE, seed=2, bootloader_ms=300) as robot:
+    with simavr_robot(PROFILE, seed=2, bootloader_ms=300) as robot:
         r = Reader(robot)
         r.run_until_boots(1)
         robot.advance_us(100_000)
@@ -111,7 +112,7 @@ def test_dtr_reset_bootloader_as_the_python_emulator_models_it() -> None:
 
 @pytest.mark.usefixtures("built")
 def test_fault_spec_on_the_firmware() -> None:
-    with SimavrRobot("picar", seed=6, faults="bitflip.m2h=2e-3,reset@0.3", bootloader_ms=200) as robot:
+    with simavr_robot("picar", seed=6, faults="bitflip.m2h=2e-3,reset@0.3", bootloader_ms=200) as robot:
         r = Reader(robot)
         robot.advance_us(1_000_000)
         r.pump()
@@ -130,10 +131,10 @@ def test_fault_spec_on_the_firmware() -> None:
 
 @pytest.mark.usefixtures("built")
 def test_cli_refuses_what_simavr_cannot_do(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["--backend", "simavr", "--faults", "bitflip=1e-4,eeprom@1"]) == 2
+    assert roverlink_main(["emulate", "--backend", "simavr", "--faults", "bitflip=1e-4,eeprom@1"]) == 2
     err = capsys.readouterr().err
     assert "eeprom@1" in err and "simavr" in err and "EEPROM" in err
-    assert main(["--backend", "simavr", "--baud", "57600"]) == 2
+    assert roverlink_main(["emulate", "--backend", "simavr", "--baud", "57600"]) == 2
     err = capsys.readouterr().err
     assert "baud = 57600" in err and "Serial.begin(115200)" in err
 
@@ -143,7 +144,7 @@ def test_cli_refuses_what_simavr_cannot_do(capsys: pytest.CaptureFixture[str]) -
 def test_drift_keeps_the_hosts_byte_pace(drift_ppm: int) -> None:
     """A drifting MCU clock still receives the host's bytes at the host's pace: after a 2 s flood,
     the last answer comes one frame after the last byte, not after a backlog (1 % of 2 s = 20 ms)."""
-    with SimavrRobot(PROFILE, seed=1, drift_ppm=drift_ppm) as robot:
+    with simavr_robot(PROFILE, seed=1, drift_ppm=drift_ppm) as robot:
         r = Reader(robot)
         r.run_until_boots(1)
         pid = messages.SetPid(255, 1.0, 6.0, 0.0, 1.5)  # answered NACK(NO_SESSION) outside a session

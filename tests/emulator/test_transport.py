@@ -16,13 +16,13 @@ import pytest
 import serial
 
 from emulator import Emulator
-from emulator.cli import main as emulate_main
 from emulator.transport import MemorySerial
 from emulator.transport.memory import PortClosedError
 from host_sdk import enums, messages
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
-from host_sdk.codec.message import Message
 from host_sdk.framing import Frame, FrameDecoder, encode_frame
+from protocol.codec.message import Message
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
+from roverlink.cli import main as roverlink_main
 
 HELLO = messages.Hello(PROTOCOL_VERSION, SPEC_HASH, 0, enums.FeedbackMode.STREAM, 0)
 
@@ -88,7 +88,7 @@ def emulate() -> Iterator[Callable[..., tuple[subprocess.Popen[str], str]]]:
     def start(*args: str) -> tuple[subprocess.Popen[str], str]:
         env = {**os.environ, "PYTHONUNBUFFERED": "1"}
         proc = subprocess.Popen(
-            [sys.executable, "-m", "host_sdk.cli", "emulate", *args],
+            [sys.executable, "-m", "roverlink.cli", "emulate", *args],
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
             text=True,
@@ -176,17 +176,17 @@ def test_socket_endpoint_with_pyserial_url(emulate: Callable[..., tuple[Any, str
 
 
 def test_cli_errors_name_the_bad_value(capsys: pytest.CaptureFixture[str]) -> None:
-    assert emulate_main(["--faults", "cut@2,wobble=1"]) == 2
+    assert roverlink_main(["emulate", "--faults", "cut@2,wobble=1"]) == 2
     err = capsys.readouterr().err
     assert "wobble=1" in err and "known: bitflip" in err
     with pytest.raises(SystemExit) as exit_info:
-        emulate_main(["--profile", "tank"])
+        roverlink_main(["emulate", "--profile", "tank"])
     assert exit_info.value.code == 2
     assert "diffdrive-tb6612" in capsys.readouterr().err
 
 
 def test_roverlink_emulate_is_registered() -> None:
-    from host_sdk.cli import main
+    from roverlink.cli import main
 
     with pytest.raises(SystemExit) as exit_info:
         main(["emulate", "--help"])

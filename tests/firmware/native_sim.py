@@ -33,10 +33,10 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from types import TracebackType
 
-from host_sdk._generated.enums import FailsafeReason, FeedbackMode, Status
-from host_sdk._generated.state_machine import SessionState
-from host_sdk.codec.message import Message
 from host_sdk.framing import BadFrame, Frame, FrameDecoder, encode_frame
+from protocol.codec.message import Message
+from protocol.generated.enums import FailsafeReason, FeedbackMode, Status
+from protocol.generated.state_machine import SessionState
 
 ROOT = Path(__file__).resolve().parents[2]
 NATIVE_DIR = ROOT / "tests" / "native"

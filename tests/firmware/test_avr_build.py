@@ -1,6 +1,6 @@
 """The Arduino firmware, built with avr-gcc as a user builds it: budgets, build tool, hardware layer.
 
-Every example is compiled once per session for its board with `host_sdk.firmware` (the
+Every example is compiled once per session for its board with `roverlink.firmware` (the
 `roverlink firmware build` tool: Arduino core, library src/ and sketch with -Werror on our code,
 LTO, --gc-sections), and the figures are checked against the design brief's budgets (section 6):
 
@@ -27,10 +27,11 @@ from pathlib import Path
 
 import pytest
 
-from host_sdk import firmware, messages
-from host_sdk._generated.profiles import PROFILES
-from host_sdk.cli import main as cli_main
+from host_sdk import messages
 from host_sdk.framing import Frame, FrameDecoder
+from protocol.generated.profiles import PROFILES
+from roverlink import firmware
+from roverlink.cli import main as cli_main
 
 ROOT = Path(__file__).resolve().parents[2]
 LIBRARY = ROOT / "arduino" / "RoverLink"
@@ -461,7 +462,7 @@ def test_flash_dry_run_prints_the_avrdude_command(
 def test_missing_toolchain_says_what_to_install(tmp_path: Path) -> None:
     env = {"PATH": str(tmp_path), "PYTHONPATH": str(ROOT)}
     result = subprocess.run(
-        [sys.executable, "-m", "host_sdk.firmware", "build", "--example", "AckermannPiCar"],
+        [sys.executable, "-m", "roverlink", "firmware", "build", "--example", "AckermannPiCar"],
         capture_output=True,
         text=True,
         env=env,

@@ -26,8 +26,11 @@ from hypothesis import strategies as st
 from native_sim import HostLink, MotorMode, NativeSim
 
 from host_sdk import messages
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH, WATCHDOG_MIN_MS
-from host_sdk._generated.enums import (
+from host_sdk.framing import Frame
+from host_sdk.testing import strategies as rls
+from protocol.codec.message import Direction
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH, WATCHDOG_MIN_MS
+from protocol.generated.enums import (
     Capability,
     FailsafeReason,
     FeedbackMode,
@@ -36,11 +39,8 @@ from host_sdk._generated.enums import (
     NackReason,
     Status,
 )
-from host_sdk._generated.profiles import PROFILES
-from host_sdk._generated.state_machine import SessionState
-from host_sdk.codec.message import Direction
-from host_sdk.framing import Frame
-from host_sdk.testing import strategies as rls
+from protocol.generated.profiles import PROFILES
+from protocol.generated.state_machine import SessionState
 
 PROFILE_NAMES = sorted(PROFILES)
 TICK_US = 10_000

@@ -27,7 +27,7 @@ def emulate(*args: str) -> Iterator[str]:
         cmd = [
             sys.executable,
             "-c",
-            "import sys; from host_sdk.cli import main; sys.exit(main())",
+            "import sys; from roverlink.cli import main; sys.exit(main())",
             "emulate",
             "--quiet",
             *args,
@@ -80,7 +80,7 @@ def test_pty_with_dtr_reset_on_open_stream_mode() -> None:
 def test_pty_lockstep_and_roverlink_info() -> None:
     with emulate("--profile", "diffdrive-bts7960", "--no-dtr-reset") as port:
         info = subprocess.run(
-            [sys.executable, "-c", "import sys; from host_sdk.cli import main; sys.exit(main())", "info", port],
+            [sys.executable, "-c", "import sys; from roverlink.cli import main; sys.exit(main())", "info", port],
             capture_output=True,
             text=True,
             timeout=30,

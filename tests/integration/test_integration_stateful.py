@@ -28,6 +28,7 @@ from hypothesis import settings
 from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, rule
 
+from emulator.firmware.statemachine import SessionState
 from host_sdk import Robot
 from host_sdk.errors import (
     CommandRangeError,
@@ -38,7 +39,6 @@ from host_sdk.errors import (
     SessionResetError,
 )
 from host_sdk.profiles import PROFILES
-from host_sdk.statemachine import SessionState
 
 PROFILE_NAME = os.environ.get("HYPOTHESIS_PROFILE", "ci")  # the profiles are registered in tests/conftest.py
 

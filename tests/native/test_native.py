@@ -15,7 +15,7 @@ Covered here:
 * for byte streams with garbage, hand-built frames (any id, length and payload, a CRC that is
   usually right) and dropped / inserted / flipped bytes, both decoders report the same events
   in the same order and the same counters;
-* the session state machine: C++ `proto::step` == Python `host_sdk.statemachine.step` for every
+* the session state machine: C++ `proto::step` == Python `emulator.firmware.statemachine.step` for every
   state, event and combination of guards.
 
 Fields are compared in the text form of the generated test header tests/native/generated/
@@ -46,13 +46,13 @@ from hypothesis import event as label_example
 from hypothesis import example, given
 from hypothesis import strategies as st
 
+from emulator.firmware.statemachine import Guard, SessionEvent, SessionState, step
 from host_sdk import messages
-from host_sdk._generated.constants import MAX_PAYLOAD
-from host_sdk.codec.cobs import cobs_encode
-from host_sdk.codec.message import FieldInfo, Message
 from host_sdk.framing import BadFrame, Frame, FrameDecoder, encode_frame
-from host_sdk.statemachine import Guard, SessionEvent, SessionState, step
 from host_sdk.testing import strategies
+from protocol.codec.cobs import cobs_encode
+from protocol.codec.message import FieldInfo, Message
+from protocol.generated.constants import MAX_PAYLOAD
 
 ROOT = Path(__file__).resolve().parents[2]
 NATIVE_DIR = ROOT / "tests" / "native"

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from protocol import loader
-from protocol.emit import cpp
+from protocol.generator import loader
+from protocol.generator.emit import cpp
 
 ROOT = Path(__file__).resolve().parents[2]
 SPEC = ROOT / "protocol" / "spec" / "roverlink.toml"

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from protocol import generate, hashing, loader, robots
 from protocol.__main__ import main
-from protocol.model import Spec
+from protocol.generator import generate, hashing, loader, robots
+from protocol.generator.model import Spec
 
 ROOT = generate.ROOT
 GOOD = generate.SPEC.read_text(encoding="utf-8")
@@ -61,13 +61,13 @@ def test_check_names_each_stale_file_and_says_how_to_fix(tmp_path: Path, capsys:
     spec_file = tmp_path / "protocol" / "spec" / "roverlink.toml"
     assert main(["generate", "--spec", str(spec_file), "--root", str(tmp_path)]) == 0
     assert main(["check", "--spec", str(spec_file), "--root", str(tmp_path)]) == 0
-    edited = tmp_path / "host_sdk" / "_generated" / "constants.py"
+    edited = tmp_path / "protocol" / "generated" / "constants.py"
     edited.write_text(edited.read_text() + "# hand edit\n")
     (tmp_path / "docs" / "protocol.md").unlink()
     capsys.readouterr()
     assert main(["check", "--spec", str(spec_file), "--root", str(tmp_path)]) == 1
     err = capsys.readouterr().err
-    assert "stale: host_sdk/_generated/constants.py" in err
+    assert "stale: protocol/generated/constants.py" in err
     assert "stale: docs/protocol.md" in err
     assert "python -m protocol generate" in err
     # A spec change makes every file that embeds the hash stale.
@@ -139,7 +139,7 @@ def test_spec_hash_covers_behaviour_but_not_docs() -> None:
 
 
 def test_generated_python_state_table_is_the_spec_table() -> None:
-    from host_sdk.statemachine import INITIAL_STATE, TRANSITIONS
+    from emulator.firmware.statemachine import INITIAL_STATE, TRANSITIONS
 
     s = spec()
     rows = [

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from host_sdk._generated.profiles import PROFILES
-from protocol import generate, loader, robots
+from protocol.generated.profiles import PROFILES
+from protocol.generator import generate, loader, robots
 
 ROOT = generate.ROOT
 TEXT = (generate.SPEC.parent / "robots.toml").read_text(encoding="utf-8")

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from protocol import loader
-from protocol.generate import SPEC
+from protocol.generator import loader
+from protocol.generator.generate import SPEC
 
 GOOD = SPEC.read_text(encoding="utf-8")
 PATH = "protocol/spec/roverlink.toml"

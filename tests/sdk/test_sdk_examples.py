@@ -44,7 +44,7 @@ def test_the_plugin_fixtures_work_in_a_users_test_run(tmp_path: Path) -> None:
 
 
 def test_demo_command_reports_odometry_against_truth(capsys: pytest.CaptureFixture[str]) -> None:
-    from host_sdk.cli import main
+    from roverlink.cli import main
 
     assert main(["demo", "--fast", "--side", "0.5"]) == 0
     out = capsys.readouterr().out
@@ -53,7 +53,7 @@ def test_demo_command_reports_odometry_against_truth(capsys: pytest.CaptureFixtu
 
 def test_demo_plot(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     pytest.importorskip("matplotlib")
-    from host_sdk.cli import main
+    from roverlink.cli import main
 
     target = tmp_path / "square.png"
     assert main(["demo", "--fast", "--side", "0.5", "--plot", str(target)]) == 0

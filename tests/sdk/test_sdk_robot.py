@@ -1,6 +1,6 @@
 """The Robot API against the emulator on a virtual clock: validation, config, failsafe, resets, closing.
 
-Uses the `robot` and `emulator` fixtures of the roverlink pytest plugin (host_sdk.pytest_plugin).
+Uses the `robot` and `emulator` fixtures of the roverlink pytest plugin (host_sdk.testing.pytest_plugin).
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from typing import Any
 
 import pytest
 
+from emulator.firmware.statemachine import SessionState
 from host_sdk import Robot, enums, messages
-from host_sdk._generated.constants import PROTOCOL_VERSION
 from host_sdk.errors import (
     CommandRangeError,
     ConnectTimeoutError,
@@ -27,8 +27,8 @@ from host_sdk.errors import (
     UnsupportedError,
 )
 from host_sdk.framing import Frame, FrameDecoder, encode_frame
-from host_sdk.statemachine import SessionState
 from host_sdk.transport import Transport
+from protocol.generated.constants import PROTOCOL_VERSION
 
 TICK_S = 0.01
 

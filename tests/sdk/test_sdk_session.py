@@ -5,12 +5,12 @@ from __future__ import annotations
 import pytest
 
 from host_sdk import enums, messages
-from host_sdk._generated.constants import PROTOCOL_VERSION, SPEC_HASH
-from host_sdk.codec.message import Message
 from host_sdk.errors import IncompatibleFirmwareError, NackError, RequestTimeoutError, SessionResetError
 from host_sdk.framing import Frame, FrameDecoder, encode_frame
 from host_sdk.profiles import PROFILES
 from host_sdk.session import FailsafeEntered, LinkState, ResetDetected, Session, SessionOptions
+from protocol.codec.message import Message
+from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 
 CONFIG = PROFILES["diffdrive-tb6612"].config
 BOOT = 0x1234ABCD

@@ -1,7 +1,0 @@
-"""`python -m emulator`: the same as `roverlink emulate`."""
-
-import sys
-
-from emulator.cli import main
-
-sys.exit(main())

@@ -1,0 +1,215 @@
+"""The `emu://` URL: an in-process emulator as the SDK's transport (registered as a plugin).
+
+The SDK finds this module through the `roverlink.transports` entry point `emu` and calls
+`open_url(url, baud)`; nothing here imports the SDK (it adapts the returned object).
+
+    emu://                                  the diff-drive car (diffdrive-tb6612), wall-clock paced
+    emu://picar?seed=3                      the Ackermann PiCar, random streams seeded with 3
+    emu://diffdrive-bts7960?clock=virtual   virtual time: read() moves the emulator's clock
+    emu://diffdrive-tb6612?faults=bitflip%3D1e-4,cut%402-2.5&dtr=1
+
+Query parameters (all optional):
+
+| name | values | default | meaning |
+|---|---|---|---|
+| seed | integer | 0 | seed of every random stream in the emulator |
+| faults | fault spec (emulator.faults) | none | injected faults, URL-encoded (`=` as `%3D`, `@` as `%40`) |
+| clock | real, virtual | real | real: the emulator keeps pace with wall time; virtual: only `read()` moves time |
+| speed | number > 0 | 1 | real clock only: emulated seconds per wall second |
+| dtr | 0, 1 | 0 | 1: opening resets the board through DTR, as opening a real Arduino's port does |
+| latency_us | integer | 1000 | one-way latency of the emulated USB-serial adapter |
+| drift_ppm | number | 0 | the MCU crystal's error |
+| eeprom | blank, saved | saved | a board whose defaults were saved, or a new one (blank: it warns in a LOG) |
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import threading
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass
+from urllib.parse import parse_qs, unquote, urlsplit
+
+from emulator.device import Emulator
+from emulator.errors import EmulatorError, EmulatorValueError
+
+
+class LinkClosedError(EmulatorError, ConnectionError):
+    """A read or write on a closed emulator transport."""
+
+
+DEFAULT_PROFILE = "diffdrive-tb6612"
+STEP_US = 500
+"""Virtual clock: how far one step of `read()` moves time while waiting for bytes."""
+_PARAMS = ("seed", "faults", "clock", "speed", "dtr", "latency_us", "drift_ppm", "eeprom")
+
+
+@dataclass(frozen=True, slots=True)
+class EmulatorOptions:
+    """What an `emu://` URL asks for."""
+
+    profile: str = DEFAULT_PROFILE
+    seed: int = 0
+    faults: str = ""
+    clock: str = "real"
+    speed: float = 1.0
+    dtr: bool = False
+    latency_us: int = 1000
+    drift_ppm: float = 0.0
+    eeprom: str = "saved"
+
+
+def parse_emu_url(url: str) -> EmulatorOptions:
+    """Options of an `emu://PROFILE?k=v&...` URL; EmulatorValueError (a ValueError) names a bad parameter."""
+    parts = urlsplit(url)
+    if parts.scheme != "emu":
+        raise EmulatorValueError("url", url, "an emu://PROFILE[?options] URL")
+    profile = unquote(parts.netloc or parts.path.strip("/")) or DEFAULT_PROFILE
+    query = parse_qs(parts.query, keep_blank_values=True)
+    for key in query:
+        if key not in _PARAMS:
+            raise EmulatorValueError(f"url parameter {key!r}", url, f"one of {', '.join(_PARAMS)}")
+
+    def one(key: str) -> str | None:
+        values = query.get(key)
+        return values[-1] if values else None
+
+    def number(key: str, kind: type[int] | type[float], default: float, lo: float, hi: float) -> float:
+        text = one(key)
+        if text is None:
+            return default
+        try:
+            value = kind(text)
+        except ValueError:
+            raise EmulatorValueError(f"url parameter {key}", text, f"a number in {lo:g}..{hi:g}") from None
+        if not (math.isfinite(value) and lo <= value <= hi):
+            raise EmulatorValueError(f"url parameter {key}", text, f"a number in {lo:g}..{hi:g}")
+        return value
+
+    clock = one("clock") or "real"
+    if clock not in ("real", "virtual"):
+        raise EmulatorValueError("url parameter clock", clock, "real or virtual")
+    dtr = one("dtr") or "0"
+    if dtr not in ("0", "1", "true", "false"):
+        raise EmulatorValueError("url parameter dtr", dtr, "0 or 1")
+    eeprom = one("eeprom") or "saved"
+    if eeprom not in ("blank", "saved"):
+        raise EmulatorValueError("url parameter eeprom", eeprom, "blank or saved")
+    return EmulatorOptions(
+        profile=profile,
+        seed=int(number("seed", int, 0, 0, 2**63)),
+        faults=one("faults") or "",
+        clock=clock,
+        speed=number("speed", float, 1.0, 0.01, 1000.0),
+        dtr=dtr in ("1", "true"),
+        latency_us=int(number("latency_us", int, 1000, 0, 1_000_000)),
+        drift_ppm=number("drift_ppm", float, 0.0, -10_000, 10_000),
+        eeprom=eeprom,
+    )
+
+
+class EmulatorTransport:
+    """The host's end of an in-process emulator's serial line.
+
+    With `clock="virtual"`, `read(timeout_s)` runs the emulator forward (at most `timeout_s` of
+    virtual time, less if bytes arrive) and `clock()` is the emulator's time: deterministic, and
+    no thread is needed. With `clock="real"` the emulator is advanced to match wall time on every
+    call, so it behaves like a board on a cable; `lock` serialises access (use
+    `with transport.locked() as emu:` to inspect or fault it from another thread).
+    """
+
+    def __init__(self, emulator: Emulator, *, clock: str = "virtual", speed: float = 1.0, url: str = "") -> None:
+        if clock not in ("real", "virtual"):
+            raise EmulatorValueError("clock", clock, "'real' or 'virtual'")
+        self.emulator = emulator
+        self.device = emulator
+        self.profile = emulator.profile.name
+        self.url = url or f"emu://{emulator.profile.name}?seed={emulator.seed}&clock={clock}"
+        self.virtual = clock == "virtual"
+        self.speed = speed
+        self.lock = threading.RLock()
+        self._wall0 = time.monotonic()
+        self._virtual0_us = emulator.now_us
+        self._closed = False
+
+    @classmethod
+    def from_url(cls, url: str, baud: int = 115200) -> EmulatorTransport:
+        """The emulator an `emu://` URL describes; EmulatorError (e.g. an unknown profile) if it cannot start."""
+        options = parse_emu_url(url)
+        emu = Emulator(
+            options.profile,
+            seed=options.seed,
+            faults=options.faults or None,
+            baud=baud,
+            latency_us=options.latency_us,
+            drift_ppm=options.drift_ppm,
+            eeprom=options.eeprom,
+        )
+        if options.dtr:
+            emu.dtr_reset()
+        return cls(emu, clock=options.clock, speed=options.speed, url=url)
+
+    def clock(self) -> float:
+        if self.virtual:
+            return self.emulator.now_us / 1e6
+        return time.monotonic()
+
+    def _catch_up(self) -> None:
+        target = self._virtual0_us + int((time.monotonic() - self._wall0) * self.speed * 1e6)
+        if target > self.emulator.now_us:
+            self.emulator.advance_to_us(target)
+
+    def read(self, timeout_s: float) -> bytes:
+        self._check_open()
+        emu = self.emulator
+        if self.virtual:
+            end = emu.now_us + max(0, round(timeout_s * 1e6))
+            while True:
+                data = emu.host_read()
+                if data or emu.now_us >= end:
+                    return data
+                emu.advance_to_us(min(end, emu.now_us + STEP_US))
+        deadline = time.monotonic() + max(0.0, timeout_s)
+        while True:
+            with self.lock:
+                self._catch_up()
+                data = emu.host_read()
+            left = deadline - time.monotonic()
+            if data or left <= 0:
+                return data
+            time.sleep(min(0.001, left))
+
+    def write(self, data: bytes) -> None:
+        self._check_open()
+        with self.lock:
+            if not self.virtual:
+                self._catch_up()
+            self.emulator.host_write(data)
+
+    @contextlib.contextmanager
+    def locked(self) -> Iterator[Emulator]:
+        """The emulator, held still (real clock) while the block runs."""
+        with self.lock:
+            if not self.virtual and not self._closed:
+                self._catch_up()
+            yield self.emulator
+
+    def _check_open(self) -> None:
+        if self._closed:
+            raise LinkClosedError(f"{self.url} is closed")
+
+    def close(self) -> None:
+        self._closed = True
+
+    def __enter__(self) -> EmulatorTransport:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def open_url(url: str, baud: int = 115200) -> EmulatorTransport:
+    """The `roverlink.transports` entry point for `emu://`."""
+    return EmulatorTransport.from_url(url, baud)

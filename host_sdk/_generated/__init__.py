@@ -1,3 +1,0 @@
-# DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x198EFDDA
-"""Code generated from the RoverLink spec; import it through host_sdk."""

@@ -1,0 +1,92 @@
+# DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
+# spec hash: 0x198EFDDA
+"""Reference robot profiles: firmware defaults, kinematics and feedback mode, by name."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from protocol.generated.enums import Board, Capability, FeedbackMode, SafeState
+from protocol.generated.messages import SetConfig, SetPid
+
+
+@dataclass(frozen=True, slots=True)
+class RobotProfile:
+    """One reference robot. `config` and `pid` are the firmware example's defaults."""
+
+    name: str
+    """Profile name (emulator and SDK)."""
+    example: str
+    """Firmware example (sketch folder) with these defaults."""
+    doc: str
+    """What the robot is."""
+    board: Board
+    """Board the example targets."""
+    capabilities: Capability
+    """Capabilities the example reports."""
+    kinematics: str
+    """"diff" or "ackermann"."""
+    feedback_mode: FeedbackMode
+    """Feedback mode the robot is used with."""
+    track_m: float
+    """Distance between the left and right wheels."""
+    wheelbase_m: float
+    """Distance between the axles (Ackermann; 0 for diff-drive)."""
+    wheel_diameter_m: float
+    """Driven wheel diameter."""
+    encoder_cpr: int
+    """Encoder counts per wheel revolution."""
+    config: SetConfig
+    """Default configuration."""
+    pid: SetPid
+    """Default PID gains (all wheels)."""
+
+
+PROFILES: dict[str, RobotProfile] = {
+    "diffdrive-tb6612": RobotProfile(
+        name="diffdrive-tb6612",
+        example="DiffDriveTB6612",
+        doc='ros_arduino_bridge-style differential-drive car: Mega 2560, TB6612 (or L298N), two quadrature encoders, four turn-signal LEDs, stream feedback.',
+        board=Board.MEGA2560,
+        capabilities=Capability.DIFF_DRIVE | Capability.ENCODERS | Capability.EEPROM | Capability.TURN_SIGNALS | Capability.LOCKSTEP,
+        kinematics="diff",
+        feedback_mode=FeedbackMode.STREAM,
+        track_m=0.2,
+        wheelbase_m=0.0,
+        wheel_diameter_m=0.064,
+        encoder_cpr=1560,
+        config=SetConfig(watchdog_ms=250, safe_state=SafeState.BRAKE, accel_limit_mm_s2=1000, decel_limit_mm_s2=2000, max_wheel_speed_mm_s=600, max_effort_permille=1000, encoder_cpr=1560, encoder_invert=2, motor_invert=2, wheel_diameter_um=64000, steering_center_cdeg=9000, steering_min_cdeg=9000, steering_max_cdeg=9000, steering_step_cdeg=0, servo_min_us=500, servo_max_us=2500, esc_min_us=1000, esc_neutral_us=1500, esc_max_us=2000, esc_arm_ms=0, feedback_hz=50),
+        pid=SetPid(wheel=255, kp=1.0, ki=6.0, kd=0.0, kf=1.5),
+    ),
+    "diffdrive-bts7960": RobotProfile(
+        name="diffdrive-bts7960",
+        example="DiffDriveBTS7960",
+        doc='3D-printed SLAM robot: Mega 2560, two BTS7960 drivers (RPWM/LPWM), 19.2:1 gearmotors with 64 CPR encoders, lockstep command/feedback.',
+        board=Board.MEGA2560,
+        capabilities=Capability.DIFF_DRIVE | Capability.ENCODERS | Capability.EEPROM | Capability.LOCKSTEP,
+        kinematics="diff",
+        feedback_mode=FeedbackMode.LOCKSTEP,
+        track_m=0.25,
+        wheelbase_m=0.0,
+        wheel_diameter_m=0.09,
+        encoder_cpr=1216,
+        config=SetConfig(watchdog_ms=250, safe_state=SafeState.RAMP_DOWN, accel_limit_mm_s2=1500, decel_limit_mm_s2=3000, max_wheel_speed_mm_s=1000, max_effort_permille=1000, encoder_cpr=1216, encoder_invert=0, motor_invert=0, wheel_diameter_um=90000, steering_center_cdeg=9000, steering_min_cdeg=9000, steering_max_cdeg=9000, steering_step_cdeg=0, servo_min_us=500, servo_max_us=2500, esc_min_us=1000, esc_neutral_us=1500, esc_max_us=2000, esc_arm_ms=0, feedback_hz=100),
+        pid=SetPid(wheel=255, kp=0.6, ki=4.0, kd=0.0, kf=0.75),
+    ),
+    "picar": RobotProfile(
+        name="picar",
+        example="AckermannPiCar",
+        doc='Ackermann PiCar: Uno, brushless drive motor behind an ESC (calibrated at boot), one motor encoder, steering servo 65..125 degrees in 15 degree steps, stream feedback.',
+        board=Board.UNO,
+        capabilities=Capability.ACKERMANN | Capability.ENCODERS | Capability.STEERING_SERVO | Capability.ESC | Capability.EEPROM,
+        kinematics="ackermann",
+        feedback_mode=FeedbackMode.STREAM,
+        track_m=0.16,
+        wheelbase_m=0.26,
+        wheel_diameter_m=0.065,
+        encoder_cpr=720,
+        config=SetConfig(watchdog_ms=250, safe_state=SafeState.BRAKE, accel_limit_mm_s2=2000, decel_limit_mm_s2=4000, max_wheel_speed_mm_s=2000, max_effort_permille=600, encoder_cpr=720, encoder_invert=0, motor_invert=0, wheel_diameter_um=65000, steering_center_cdeg=9000, steering_min_cdeg=6500, steering_max_cdeg=12500, steering_step_cdeg=1500, servo_min_us=500, servo_max_us=2500, esc_min_us=1000, esc_neutral_us=1500, esc_max_us=2000, esc_arm_ms=3000, feedback_hz=50),
+        pid=SetPid(wheel=255, kp=0.3, ki=1.5, kd=0.0, kf=0.4),
+    ),
+}
+"""Reference robots by profile name."""

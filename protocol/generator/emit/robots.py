@@ -1,0 +1,150 @@
+"""Emit the reference robots: SDK/emulator profiles, firmware example defaults, docs/robots.md."""
+
+from __future__ import annotations
+
+import struct
+
+from protocol.generator.emit.common import GENERATOR, num
+from protocol.generator.model import PRIMITIVES, Spec
+from protocol.generator.robots import Robot
+
+ROBOTS_PATH = "protocol/spec/robots.toml"
+
+
+def _banner(spec: Spec, comment: str) -> str:
+    return (
+        f"{comment} DO NOT EDIT: generated from {ROBOTS_PATH} and {spec.path} by `{GENERATOR}`.\n"
+        f"{comment} spec hash: 0x{spec.spec_hash:08X}\n"
+    )
+
+
+def emit(spec: Spec, robots: tuple[Robot, ...]) -> dict[str, str]:
+    out = {"protocol/generated/profiles.py": _python(spec, robots), "docs/robots.md": _docs(spec, robots)}
+    for r in robots:
+        out[f"arduino/RoverLink/examples/{r.example}/robot_profile.h"] = _cpp(spec, r)
+    return out
+
+
+def _py_value(field_enum: str | None, value: object) -> str:
+    if field_enum is not None:
+        return f"{field_enum}.{value}"
+    return num(value)  # type: ignore[arg-type]
+
+
+def _python(spec: Spec, robots: tuple[Robot, ...]) -> str:
+    o = [_banner(spec, "#")]
+    o.append('"""Reference robot profiles: firmware defaults, kinematics and feedback mode, by name."""\n\n')
+    o.append("from __future__ import annotations\n\nfrom dataclasses import dataclass\n\n")
+    o.append("from protocol.generated.enums import Board, Capability, FeedbackMode, SafeState\n")
+    o.append("from protocol.generated.messages import SetConfig, SetPid\n\n\n")
+    o.append("@dataclass(frozen=True, slots=True)\nclass RobotProfile:\n")
+    o.append('    """One reference robot. `config` and `pid` are the firmware example\'s defaults."""\n\n')
+    for name, typ, doc in (
+        ("name", "str", "Profile name (emulator and SDK)."),
+        ("example", "str", "Firmware example (sketch folder) with these defaults."),
+        ("doc", "str", "What the robot is."),
+        ("board", "Board", "Board the example targets."),
+        ("capabilities", "Capability", "Capabilities the example reports."),
+        ("kinematics", "str", '"diff" or "ackermann".'),
+        ("feedback_mode", "FeedbackMode", "Feedback mode the robot is used with."),
+        ("track_m", "float", "Distance between the left and right wheels."),
+        ("wheelbase_m", "float", "Distance between the axles (Ackermann; 0 for diff-drive)."),
+        ("wheel_diameter_m", "float", "Driven wheel diameter."),
+        ("encoder_cpr", "int", "Encoder counts per wheel revolution."),
+        ("config", "SetConfig", "Default configuration."),
+        ("pid", "SetPid", "Default PID gains (all wheels)."),
+    ):
+        o.append(f'    {name}: {typ}\n    """{doc}"""\n')
+    o.append("\n\nPROFILES: dict[str, RobotProfile] = {\n")
+    for r in robots:
+        caps = " | ".join(f"Capability.{c}" for c in r.capabilities) or "Capability(0)"
+        cfg = ", ".join(f"{f.name}={_py_value(f.enum.name if f.enum else None, v)}" for f, v in r.config)
+        pid = ", ".join(f"{f.name}={num(v)}" for f, v in r.pid)
+        o.append(f'    "{r.name}": RobotProfile(\n')
+        o.append(f'        name="{r.name}",\n        example="{r.example}",\n        doc={r.doc!r},\n')
+        o.append(f"        board=Board.{r.board},\n        capabilities={caps},\n")
+        o.append(f'        kinematics="{r.kinematics}",\n        feedback_mode=FeedbackMode.{r.feedback_mode},\n')
+        o.append(f"        track_m={num(r.track_mm / 1000)},\n        wheelbase_m={num(r.wheelbase_mm / 1000)},\n")
+        o.append(f"        wheel_diameter_m={num(r.value('wheel_diameter_um') / 1e6)},\n")
+        o.append(f"        encoder_cpr={r.value('encoder_cpr')},\n")
+        o.append(f"        config=SetConfig({cfg}),\n")
+        o.append(f"        pid=SetPid(wheel=255, {pid}),\n    ),\n")
+    o.append("}\n")
+    o.append('"""Reference robots by profile name."""\n')
+    return "".join(o)
+
+
+def _cpp_value(field_enum: str | None, value: object, is_float: bool) -> str:
+    if field_enum is not None:
+        return f"roverlink::proto::{field_enum}::{value}"
+    if is_float:
+        return f"{float(value)!r}f"  # type: ignore[arg-type]
+    return str(value)
+
+
+def _cpp(spec: Spec, r: Robot) -> str:
+    o = [_banner(spec, "//")]
+    o.append(f"// Defaults of the {r.example} example ({r.name}): {r.doc}\n")
+    o.append("// Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.\n")
+    guard = f"ROVERLINK_EXAMPLE_{r.example.upper()}_PROFILE_H"
+    o.append(f"#ifndef {guard}\n#define {guard}\n\n#include <RoverLink.h>\n\nnamespace robot_profile {{\n\n")
+    o.append(f'static const char NAME[] = "{r.example}";\n')
+    o.append(f"static const roverlink::proto::Board BOARD = roverlink::proto::Board::{r.board};\n")
+    caps = " | ".join(f"roverlink::proto::Capability::{c}" for c in r.capabilities) or "0"
+    o.append(f"static const uint16_t CAPABILITIES = {caps};\n")
+    o.append(
+        "static const roverlink::proto::FeedbackMode FEEDBACK_MODE = "
+        f"roverlink::proto::FeedbackMode::{r.feedback_mode};\n\n"
+    )
+    o.append("// The configuration as a SET_CONFIG payload in flash, unpacked when asked for: a static struct\n")
+    o.append("// would cost SRAM for the whole run on AVR, and code setting each field more flash than this.\n")
+    o.append("// static: two profiles linked into one test program must not merge.\n")
+    o.append("static const uint8_t DEFAULT_CONFIG[] ROVERLINK_PROGMEM = {\n")
+    for f, v in r.config:
+        number = next(e.value for e in f.enum.values if e.name == v) if f.enum else v
+        data = struct.pack("<" + PRIMITIVES[f.prim][2], number)
+        o.append(f"    {', '.join(f'0x{b:02X}' for b in data)},  // {f.name} = {v}\n")
+    o.append("};\n")
+    o.append(
+        'static_assert(sizeof DEFAULT_CONFIG == roverlink::proto::SetConfig::PAYLOAD_SIZE, "a SET_CONFIG payload");\n\n'
+    )
+    o.append("static inline roverlink::proto::SetConfig default_config() {\n")
+    o.append("    uint8_t payload[sizeof DEFAULT_CONFIG];\n")
+    o.append("    for (uint8_t i = 0; i < sizeof payload; ++i) {\n")
+    o.append("        payload[i] = ROVERLINK_READ_BYTE(DEFAULT_CONFIG + i);\n    }\n")
+    o.append("    roverlink::proto::SetConfig c = roverlink::proto::SetConfig();\n")
+    o.append("    roverlink::proto::unpack(payload, sizeof payload, c);  // valid: robots.toml is checked\n")
+    o.append("    return c;\n}\n\n")
+    o.append("static inline roverlink::proto::SetPid default_pid() {\n    roverlink::proto::SetPid p;\n")
+    o.append("    p.wheel = roverlink::proto::PID_ALL_WHEELS;\n")
+    for f, v in r.pid:
+        o.append(f"    p.{f.name} = {_cpp_value(None, v, True)};\n")
+    o.append("    return p;\n}\n\n}  // namespace robot_profile\n\n")
+    o.append(f"#endif  // {guard}\n")
+    return "".join(o)
+
+
+def _docs(spec: Spec, robots: tuple[Robot, ...]) -> str:
+    o = [f"<!-- DO NOT EDIT: generated from {ROBOTS_PATH} and {spec.path} by `{GENERATOR}`. -->\n"]
+    o.append(f"<!-- spec hash: 0x{spec.spec_hash:08X} -->\n\n# Reference robots\n\n")
+    o.append("Each robot's defaults live once, in `protocol/spec/robots.toml`; the firmware example, the ")
+    o.append("emulator profile and the SDK's kinematics are generated from it.\n\n")
+    o.append("| | " + " | ".join(f"`{r.name}`" for r in robots) + " |\n|---|" + "---|" * len(robots) + "\n")
+    rows: list[tuple[str, list[str]]] = [
+        ("firmware example", [f"`{r.example}`" for r in robots]),
+        ("board", [r.board for r in robots]),
+        ("kinematics", [r.kinematics for r in robots]),
+        ("feedback mode", [r.feedback_mode for r in robots]),
+        ("capabilities", [", ".join(r.capabilities) for r in robots]),
+        ("track (mm)", [num(r.track_mm) for r in robots]),
+        ("wheelbase (mm)", [num(r.wheelbase_mm) for r in robots]),
+    ]
+    for f, _ in robots[0].config + robots[0].pid:
+        unit = f" ({f.unit})" if f.unit else ""
+        rows.append((f"`{f.name}`{unit}", [str(r.value(f.name)) for r in robots]))
+    for label, values in rows:
+        o.append(f"| {label} | " + " | ".join(values) + " |\n")
+    o.append("\n")
+    for r in robots:
+        o.append(f"- **{r.name}**: {r.doc}\n")
+    return "".join(o)

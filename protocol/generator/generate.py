@@ -1,0 +1,72 @@
+"""Render every generated file from the spec, write them, or check them for drift."""
+
+from __future__ import annotations
+
+import difflib
+import tempfile
+from pathlib import Path
+
+from protocol.generator import loader, robots
+from protocol.generator.emit import cpp, docs, python, vectors
+from protocol.generator.emit import robots as robot_outputs
+from protocol.generator.model import Spec
+from protocol.generator.robots import Robot
+
+ROOT = Path(__file__).resolve().parents[2]
+SPEC = ROOT / "protocol" / "spec" / "roverlink.toml"
+ROBOTS_FILE = "robots.toml"  # beside the spec
+
+
+def load(spec_path: Path, root: Path) -> tuple[Spec, tuple[Robot, ...]]:
+    """The spec and the reference robots in the same folder; SpecError if either is invalid."""
+    spec = loader.load(spec_path, root)
+    return spec, robots.load(spec_path.parent / ROBOTS_FILE, root, spec)
+
+
+def render(spec: Spec, robot_list: tuple[Robot, ...]) -> dict[str, str]:
+    """Every output: repository-relative path -> exact text."""
+    out: dict[str, str] = {}
+    for emitter in (python, cpp, docs, vectors):
+        out.update(emitter.emit(spec))
+    out.update(robot_outputs.emit(spec, robot_list))
+    return dict(sorted(out.items()))
+
+
+def write(outputs: dict[str, str], root: Path) -> list[str]:
+    """Write outputs under root; return the paths whose content changed."""
+    changed = []
+    for rel, text in outputs.items():
+        path = root / rel
+        if path.exists() and path.read_text(encoding="utf-8") == text:
+            continue
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8", newline="\n")
+        changed.append(rel)
+    return changed
+
+
+def stale(outputs: dict[str, str], root: Path) -> list[tuple[str, str]]:
+    """(path, short diff) for each output that differs from what is in `root`.
+
+    Rendering goes through a temporary folder first, so `check` compares real files byte for byte.
+    """
+    problems = []
+    with tempfile.TemporaryDirectory() as tmp:
+        write(outputs, Path(tmp))
+        for rel in outputs:
+            fresh = (Path(tmp) / rel).read_bytes()
+            current = root / rel
+            if not current.exists():
+                problems.append((rel, "missing"))
+                continue
+            if current.read_bytes() != fresh:
+                diff = difflib.unified_diff(
+                    current.read_text(encoding="utf-8").splitlines(),
+                    fresh.decode("utf-8").splitlines(),
+                    f"{rel} (committed)",
+                    f"{rel} (from spec)",
+                    n=0,
+                    lineterm="",
+                )
+                problems.append((rel, "\n".join(list(diff)[:12])))
+    return problems

@@ -1,0 +1,340 @@
+"""`roverlink demo`: connect, arm, drive a 1 m square, compare odometry with the truth.
+
+With no arguments it runs the in-process emulator of the diff-drive car on the wall clock, so it
+needs no hardware; `--url`/`--port` points it at a board (or a pty from `roverlink emulate`).
+An Ackermann robot cannot turn in place: it drives the square with quarter-circle corners at its
+tightest steering.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import math
+import sys
+from dataclasses import dataclass, field
+from typing import Literal, TextIO
+from urllib.parse import quote
+
+from host_sdk import PROFILES, Ackermann, DiffDrive, FeedbackSample, LinkStatistics, Pose, Robot, RoverLinkError
+from host_sdk.profiles import steering_limits
+
+_TURN_TOLERANCE_RAD = math.radians(1.0)
+
+
+@dataclass
+class Track:
+    """Odometry and (emulator only) ground truth, sampled while driving, in the start frame."""
+
+    odometry: list[tuple[float, float]] = field(default_factory=list)
+    truth: list[tuple[float, float]] = field(default_factory=list)
+
+
+@dataclass
+class DemoResult:
+    pose: Pose
+    truth: tuple[float, float, float] | None
+    """x, y, theta of the plant in the frame the square started in (emulator only)."""
+    stats: LinkStatistics
+    track: Track
+    duration_s: float
+
+    @property
+    def position_error_m(self) -> float | None:
+        if self.truth is None:
+            return None
+        return math.hypot(self.pose.x_m - self.truth[0], self.pose.y_m - self.truth[1])
+
+    @property
+    def heading_error_rad(self) -> float | None:
+        if self.truth is None:
+            return None
+        d = self.pose.theta_rad - self.truth[2]
+        return math.atan2(math.sin(d), math.cos(d))
+
+
+class _Truth:
+    """Ground truth of the emulator, expressed in the frame where the square started."""
+
+    def __init__(self, robot: Robot) -> None:
+        self.robot = robot
+        self.origin = self._raw()
+
+    def _raw(self) -> tuple[float, float, float] | None:
+        if self.robot.emulator is None:
+            return None
+        transport = self.robot.transport
+        locked = getattr(transport, "locked", None)
+        assert locked is not None
+        with locked() as emu:
+            p = emu.truth.plant
+            return (p.x_m, p.y_m, p.theta_rad)
+
+    def now(self) -> tuple[float, float, float] | None:
+        raw = self._raw()
+        if raw is None or self.origin is None:
+            return None
+        x0, y0, t0 = self.origin
+        dx, dy = raw[0] - x0, raw[1] - y0
+        c, s = math.cos(-t0), math.sin(-t0)
+        return (c * dx - s * dy, s * dx + c * dy, raw[2] - t0)
+
+
+class _Progress:
+    def __init__(self, out: TextIO, quiet: bool) -> None:
+        self.out = out
+        self.quiet = quiet
+        self.tty = out.isatty()
+        self._last = -1.0
+
+    def show(
+        self,
+        now: float,
+        *,
+        leg: int,
+        what: str,
+        pose: Pose,
+        truth: tuple[float, float, float] | None,
+        stats: LinkStatistics,
+    ) -> None:
+        if self.quiet or now - self._last < (0.1 if self.tty else 1.0):
+            return
+        self._last = now
+        line = f"leg {leg}/4 {what:<8} x={pose.x_m:+.3f} y={pose.y_m:+.3f} th={math.degrees(pose.theta_rad):+7.1f}deg"
+        if truth is not None:
+            line += f" | truth x={truth[0]:+.3f} y={truth[1]:+.3f}"
+        line += f" | rx {stats.frames_received} tx {stats.frames_sent} bad {_bad(stats)}"
+        if self.tty:
+            self.out.write("\r" + line[:150].ljust(150))
+        else:
+            self.out.write(line + "\n")
+        self.out.flush()
+
+    def done(self) -> None:
+        if self.tty and not self.quiet:
+            self.out.write("\n")
+
+
+def _bad(stats: LinkStatistics) -> int:
+    return stats.crc_errors + stats.cobs_errors + stats.length_errors + stats.unknown_ids + stats.value_errors
+
+
+def drive_square(
+    robot: Robot, side_m: float = 1.0, speed_m_s: float = 0.3, turn_rad_s: float = 1.2, out: TextIO | None = None
+) -> DemoResult:
+    """Drive a square (counter-clockwise) on odometry; returns the end pose, truth and statistics."""
+    out = out or sys.stdout
+    kin = robot.kinematics
+    if kin is None:
+        raise RoverLinkError("the demo needs the robot's kinematics: pass --profile")
+    progress = _Progress(out, quiet=False)
+    robot.odometry.reset()
+    truth = _Truth(robot)
+    track = Track()
+    start = robot.now()
+    limit = robot.config.max_wheel_speed_mm_s / 1000
+    speed = min(speed_m_s, 0.8 * limit)
+    accel = robot.config.decel_limit_mm_s2 / 1000
+
+    def step(leg: int, what: str, linear: float, angular: float, steering: float | None = None) -> FeedbackSample:
+        if steering is None:
+            robot.drive(linear, angular, clamp=True)
+        else:
+            robot.drive_ackermann(linear, steering, clamp=True)
+        sample = robot.wait_feedback(1.0)
+        pose = sample.pose
+        assert pose is not None
+        t = truth.now()
+        track.odometry.append((pose.x_m, pose.y_m))
+        if t is not None:
+            track.truth.append((t[0], t[1]))
+        progress.show(robot.now(), leg=leg, what=what, pose=pose, truth=t, stats=robot.stats)
+        return sample
+
+    heading = 0.0
+    for leg in range(1, 5):
+        # Straight: hold the heading, slow down so the ramp ends at the corner.
+        p0 = robot.odometry.pose
+        length = side_m
+        if isinstance(kin, Ackermann):
+            length = side_m - _ackermann_radius(robot, kin)
+        while True:
+            p = robot.odometry.pose
+            done = math.hypot(p.x_m - p0.x_m, p.y_m - p0.y_m)
+            left = length - done
+            if left <= 0.002:
+                break
+            v = min(speed, math.sqrt(2 * accel * 0.5 * left) + 0.02)
+            if isinstance(kin, DiffDrive):
+                step(leg, "straight", v, 3.0 * _wrap(heading - p.theta_rad))
+            else:
+                step(leg, "straight", v, 0.0, 0.0)
+        heading += math.pi / 2
+        # Corner.
+        if isinstance(kin, DiffDrive):
+            while True:
+                err = _wrap(heading - robot.odometry.pose.theta_rad)
+                if abs(err) < _TURN_TOLERANCE_RAD:
+                    break
+                w = math.copysign(min(turn_rad_s, 3.0 * abs(err) + 0.15), err)
+                step(leg, "turn", 0.0, w)
+        else:
+            steer = _ackermann_steer(robot)
+            while True:
+                err = _wrap(heading - robot.odometry.pose.theta_rad)
+                if err < _TURN_TOLERANCE_RAD:
+                    break
+                step(leg, "turn", min(speed, 0.25), 0.0, steer)
+    # Stop and let the robot come to rest before comparing.
+    for _ in range(25):
+        robot.stop()
+        robot.wait_feedback(1.0)
+    robot.disarm()
+    robot.sleep(0.3)
+    progress.done()
+    return DemoResult(robot.odometry.pose, truth.now(), robot.stats, track, robot.now() - start)
+
+
+def _ackermann_steer(robot: Robot) -> float:
+    _right, left = steering_limits(robot.config)
+    step = robot.config.steering_step_cdeg
+    if step > 0:  # the servo only takes centre + k * step: use the largest step within the limit
+        k = math.floor(math.degrees(left) * 100 / step + 1e-9)
+        return math.radians(k * step / 100) if k > 0 else left
+    return left
+
+
+def _ackermann_radius(robot: Robot, kin: Ackermann) -> float:
+    return kin.wheelbase_m / math.tan(_ackermann_steer(robot))
+
+
+def _wrap(a: float) -> float:
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+def format_report(result: DemoResult) -> str:
+    p, t = result.pose, result.truth
+    lines = ["", "Odometry against ground truth (start frame)" if t else "Odometry (no ground truth on hardware)"]
+    if t is not None:
+        lines.append(f"  {'':<14}{'odometry':>10}{'truth':>10}{'error':>12}")
+        lines.append(f"  {'x':<14}{p.x_m:>9.3f}m{t[0]:>9.3f}m{(p.x_m - t[0]) * 1000:>10.1f}mm")
+        lines.append(f"  {'y':<14}{p.y_m:>9.3f}m{t[1]:>9.3f}m{(p.y_m - t[1]) * 1000:>10.1f}mm")
+        th, tt = math.degrees(p.theta_rad), math.degrees(t[2])
+        lines.append(f"  {'heading':<14}{th:>8.2f}deg{tt:>7.2f}deg{th - tt:>9.2f}deg")
+        pe, he = result.position_error_m, result.heading_error_rad
+        assert pe is not None and he is not None
+        lines.append(f"  position error {pe * 1000:.1f} mm, heading error {math.degrees(abs(he)):.2f} deg")
+    else:
+        lines.append(f"  x {p.x_m:.3f} m, y {p.y_m:.3f} m, heading {math.degrees(p.theta_rad):.2f} deg")
+    s = result.stats
+    lines += ["", f"Link statistics ({result.duration_s:.1f} s of driving)"]
+    rows = [
+        ("frames sent / received", f"{s.frames_sent} / {s.frames_received}"),
+        ("bytes sent / received", f"{s.bytes_sent} / {s.bytes_received}"),
+        ("feedback frames", f"{s.feedback_received}"),
+        ("setpoints (keep-alives)", f"{s.setpoints_sent} ({s.keepalives_sent})"),
+        (
+            "CRC / COBS / length errors",
+            f"{s.crc_errors} / {s.cobs_errors} / {s.length_errors}",
+        ),
+        ("unknown ids / value errors", f"{s.unknown_ids} / {s.value_errors}"),
+        ("seq gaps (frames lost)", f"{s.seq_gaps}"),
+        ("requests / retries / timeouts", f"{s.requests_sent} / {s.retries} / {s.request_timeouts}"),
+        ("NACKs", ", ".join(f"{k} {v}" for k, v in sorted(s.nacks.items())) or "0"),
+        ("resets detected / reconnects", f"{s.resets_detected} / {s.reconnects}"),
+        ("connect to ready", f"{s.connect_time_s * 1000:.1f} ms" if s.connect_time_s is not None else "-"),
+    ]
+    if s.rtt is not None:
+        r = s.rtt
+        rows.append(
+            (
+                "round trip (PING/PONG)",
+                f"min {r.min_s * 1000:.2f} / mean {r.mean_s * 1000:.2f} / max {r.max_s * 1000:.2f} ms ({r.samples})",
+            )
+        )
+    if s.clock_offset_us is not None:
+        drift = f", drift {s.clock_drift_ppm:+.1f} ppm" if s.clock_drift_ppm is not None else ""
+        rows.append(("MCU clock offset", f"{s.clock_offset_us / 1000:+.3f} ms{drift}"))
+    width = max(len(k) for k, _ in rows)
+    lines += [f"  {k:<{width}}  {v}" for k, v in rows]
+    return "\n".join(lines)
+
+
+def plot(result: DemoResult, path: str) -> None:
+    try:
+        matplotlib = importlib.import_module("matplotlib")
+        matplotlib.use("Agg")
+        plt = importlib.import_module("matplotlib.pyplot")
+    except ImportError:
+        raise RoverLinkError("--plot needs matplotlib: pip install 'roverlink[plot]'") from None
+    fig, ax = plt.subplots(figsize=(6, 6))
+    if result.track.truth:
+        xs, ys = zip(*result.track.truth, strict=True)
+        ax.plot(xs, ys, label="ground truth (emulator)", linewidth=3, alpha=0.5)
+    if result.track.odometry:
+        xs, ys = zip(*result.track.odometry, strict=True)
+        ax.plot(xs, ys, label="odometry (SDK)", linestyle="--")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.grid(True)
+    title = "RoverLink demo: 1 m square"
+    if result.position_error_m is not None:
+        title += f"\nend error {result.position_error_m * 1000:.1f} mm"
+    ax.set_title(title)
+    ax.legend()
+    fig.savefig(path, dpi=100, bbox_inches="tight")
+    plt.close(fig)
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    p = sub.add_parser("demo", help="drive a 1 m square (in the emulator unless --url is given) and report")
+    p.add_argument("--profile", choices=sorted(PROFILES), default=None, help="robot (default: diffdrive-tb6612)")
+    p.add_argument("--url", "--port", dest="url", default=None, help="serial port or URL (default: the emulator)")
+    p.add_argument("--baud", type=int, default=115200)
+    p.add_argument("--mode", choices=("stream", "lockstep"), default=None, help="default: the profile's")
+    p.add_argument("--seed", type=int, default=0, help="emulator seed")
+    p.add_argument("--faults", default="", help="emulator fault spec, e.g. bitflip=1e-4,drop=1e-4")
+    p.add_argument("--fast", action="store_true", help="emulator on its virtual clock: as fast as the CPU allows")
+    p.add_argument("--side", type=float, default=1.0, help="side of the square in m")
+    p.add_argument("--speed", type=float, default=0.3, help="straight-line speed in m/s")
+    p.add_argument("--plot", metavar="FILE.png", default=None, help="draw odometry against truth (needs matplotlib)")
+    p.set_defaults(func=cmd_demo)
+
+
+def cmd_demo(args: argparse.Namespace) -> int:
+    profile = args.profile or "diffdrive-tb6612"
+    mode: Literal["stream", "lockstep"] = (
+        "lockstep" if (args.mode or PROFILES[profile].feedback_mode.name) in ("lockstep", "LOCKSTEP") else "stream"
+    )
+    if args.url is None:
+        query = f"seed={args.seed}&clock={'virtual' if args.fast else 'real'}"
+        if args.faults:
+            query += "&faults=" + quote(args.faults, safe=",")
+        url = f"emu://{profile}?{query}"
+    else:
+        url = args.url
+    print(f"RoverLink demo: {profile} on {url} ({mode} feedback)")
+    try:
+        with Robot.connect(url, profile=profile, baud=args.baud, mode=mode) as robot:
+            ident = robot.identity
+            s = robot.stats
+            ready = f"{s.connect_time_s * 1000:.1f} ms" if s.connect_time_s is not None else "?"
+            print(
+                f"connected to {ident.robot_name} firmware {ident.version} on {ident.board.name}, "
+                f"boot_id 0x{ident.boot_id:08X}, ready in {ready}; arming"
+            )
+            robot.arm()
+            result = drive_square(robot, args.side, args.speed)
+    except RoverLinkError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    print(format_report(result))
+    if args.plot:
+        try:
+            plot(result, args.plot)
+        except RoverLinkError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 1
+        print(f"\nplot written to {args.plot}")
+    return 0

@@ -1,0 +1,151 @@
+"""`roverlink emulate`: serve an emulated robot on a pseudo-terminal (or a TCP socket) in real time.
+
+The first line on stdout is the port to open (e.g. /dev/pts/7, or socket://127.0.0.1:PORT); the
+emulator then serves until SIGINT or SIGTERM and exits 0. Progress goes to stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+from collections.abc import Callable
+from typing import Any, TextIO
+
+from emulator.device import Emulator
+from emulator.errors import EmulatorError
+from emulator.profiles import PROFILE_NAMES, get_profile
+from emulator.transport.pty import PtyEndpoint
+from emulator.transport.realtime import Endpoint, serve
+from emulator.transport.socket import SocketEndpoint
+from roverlink import firmware
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--backend",
+        choices=("python", "simavr"),
+        default="python",
+        help="python: the firmware model (default); simavr: the example's compiled AVR firmware in simavr "
+        "with the same plant and serial line (needs avr-gcc and simavr; it supports every option but --baud "
+        "other than 115200, which the firmware's Serial.begin() fixes, and the eeprom@T fault)",
+    )
+    p.add_argument("--profile", default="diffdrive-tb6612", choices=PROFILE_NAMES, help="reference robot to emulate")
+    p.add_argument(
+        "--seed",
+        type=int,
+        default=0,
+        help="random seed: boot ids (on simavr: the ADC noise and the EEPROM boot counter the firmware mixes "
+        "into them), line faults, noise, bootloader garbage (default 0)",
+    )
+    p.add_argument(
+        "--faults",
+        default="",
+        metavar="SPEC",
+        help='faults to inject, e.g. "bitflip=1e-4,drop=1e-4,cut@2.0-3.5,reset@5.0,stall=0@4.0" (docs/emulator.md)',
+    )
+    p.add_argument("--baud", type=int, default=115200, help="line speed in bit/s (default 115200; simavr: 115200 only)")
+    p.add_argument("--latency-ms", type=float, default=1.0, help="one-way adapter latency in ms (default 1)")
+    p.add_argument("--drift-ppm", type=float, default=0.0, help="MCU crystal error in ppm (default 0)")
+    p.add_argument(
+        "--eeprom", choices=("blank", "saved"), default="blank", help="EEPROM at start: blank, or defaults saved"
+    )
+    p.add_argument("--bootloader-ms", type=int, default=None, help="bootloader time after a DTR or external reset")
+    p.add_argument("--socket", type=int, default=None, metavar="PORT", help="serve TCP on 127.0.0.1:PORT (0: any)")
+    p.add_argument("--no-dtr-reset", action="store_true", help="opening the port does not reset the board")
+    p.add_argument("--speed", type=float, default=1.0, help="virtual seconds per wall second (default 1)")
+    p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Register `emulate` on the `roverlink` command's subparsers."""
+    p: argparse.ArgumentParser = subparsers.add_parser(
+        "emulate", help="serve an emulated robot on a pseudo-terminal", description=__doc__
+    )
+    add_arguments(p)
+    p.set_defaults(func=cmd_emulate)
+    return p
+
+
+def cmd_emulate(args: argparse.Namespace) -> int:
+    if not args.speed > 0:
+        print(f"error: --speed = {args.speed} is not allowed: a number > 0", file=sys.stderr)
+        return 2
+    if getattr(args, "backend", "python") == "simavr":
+        return _cmd_emulate_simavr(args)
+    try:
+        emu = Emulator(args.profile, args.seed, **_board_options(args))
+    except EmulatorError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    endpoint, stopping, log = _open_endpoint(args)
+    if log is not None:
+        print(
+            f"[emulator] {args.profile}, seed {args.seed}, {args.baud} baud on {endpoint.name}; Ctrl-C to stop",
+            file=log,
+            flush=True,
+        )
+    try:
+        serve(emu, endpoint, stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log)
+    finally:
+        endpoint.close()
+    return 0
+
+
+def _board_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The line, fault and board options, as both backends take them (docs/emulator.md says which
+    the simavr backend refuses)."""
+    return {
+        "faults": args.faults,
+        "baud": args.baud,
+        "latency_us": round(args.latency_ms * 1000),
+        "drift_ppm": args.drift_ppm,
+        "eeprom": args.eeprom,
+        "bootloader_ms": args.bootloader_ms,
+    }
+
+
+def _open_endpoint(args: argparse.Namespace) -> tuple[Endpoint, Callable[[], bool], TextIO | None]:
+    """The pty (or socket) to serve, a stop flag raised by SIGINT/SIGTERM, and the log stream.
+
+    The device path goes to stdout as the first line, which is what callers wait for."""
+    endpoint: Endpoint = SocketEndpoint(args.socket) if args.socket is not None else PtyEndpoint()
+    stop_requested = [False]
+
+    def stop(_signum: int, _frame: object) -> None:
+        stop_requested[0] = True
+
+    signal.signal(signal.SIGINT, stop)
+    signal.signal(signal.SIGTERM, stop)
+    print(endpoint.name, flush=True)
+    return endpoint, lambda: stop_requested[0], None if args.quiet else sys.stderr
+
+
+def _cmd_emulate_simavr(args: argparse.Namespace) -> int:
+    from emulator.backends.simavr import SimavrError, SimavrRobot  # noqa: PLC0415 (optional backend)
+
+    try:
+        example = get_profile(args.profile).robot.example
+        elf = firmware.build_example(example, out_dir=firmware.BUILD_ROOT / "simavr" / example).elf
+        robot = SimavrRobot(args.profile, elf=elf, seed=args.seed, **_board_options(args))
+    except (SimavrError, EmulatorError, firmware.FirmwareError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    endpoint, stopping, log = _open_endpoint(args)
+    if log is not None:
+        print(
+            f"[simavr] {args.profile}: {robot.elf.name} on {robot.harness.wiring.mcu} at 16 MHz, seed {args.seed}, "
+            f"{args.baud} baud on {endpoint.name}; Ctrl-C to stop",
+            file=log,
+            flush=True,
+        )
+    try:
+        ratio = serve(
+            robot, endpoint, stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log, tag="simavr"
+        )
+    finally:
+        endpoint.close()
+        robot.close()
+    if log is not None:
+        print(f"[simavr] ran {ratio:.1f}x faster than real time while busy", file=log, flush=True)
+    return 0

@@ -1,0 +1,127 @@
+"""`roverlink firmware build | flash`: the Arduino firmware without the Arduino IDE (roverlink.firmware)."""
+
+from __future__ import annotations
+
+import argparse
+import shlex
+import shutil
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+from serial.tools import list_ports
+
+from roverlink.firmware import (
+    BOARDS,
+    BUILD_ROOT,
+    BoardSpec,
+    Builder,
+    CompileError,
+    FirmwareError,
+    ToolchainMissingError,
+    UnknownNameError,
+    avrdude_command,
+    board_spec,
+    example_board,
+    example_dir,
+    examples,
+)
+
+
+def _known_ports() -> list[str]:
+    return sorted(str(p.device) for p in list_ports.comports())
+
+
+def _targets(args: argparse.Namespace) -> list[tuple[Path, BoardSpec]]:
+    board = board_spec(args.board) if args.board else None
+    if args.sketch:
+        if board is None:
+            raise FirmwareError(f"--sketch needs --board (one of {', '.join(BOARDS)})")
+        return [(Path(args.sketch), board)]
+    if args.example:
+        return [(example_dir(args.example), board or example_board(args.example))]
+    # No example named: every example for its own board (or only those targeting --board).
+    targets = [(path, example_board(name)) for name, path in examples().items()]
+    if board is not None:
+        targets = [(path, spec) for path, spec in targets if spec == board]
+    return targets
+
+
+def cmd_build(args: argparse.Namespace) -> int:
+    """Compile examples (or a sketch) into ELF and HEX and print their flash and SRAM use."""
+    targets = _targets(args)
+    if args.out and len(targets) > 1:
+        raise FirmwareError("--out needs a single --example or --sketch")
+    for sketch, board in targets:
+        result = Builder(board, lto=not args.no_lto).build(sketch, Path(args.out) if args.out else None)
+        print(result.summary())
+        print(f"  {result.hex}")
+    return 0
+
+
+def cmd_flash(args: argparse.Namespace) -> int:
+    """Build an example (or sketch) and write it to a board through its bootloader with avrdude."""
+    ((sketch, board),) = _targets(args)
+    out = Path(args.out) if args.out else BUILD_ROOT / sketch.name / board.name
+    hex_file = out.resolve() / f"{sketch.name}.hex"
+    if args.dry_run:
+        which = f"--sketch {sketch}" if args.sketch else f"--example {sketch.name}"
+        print(f"# build first: roverlink firmware build {which} --board {board.name}")
+        print(shlex.join(avrdude_command(board, hex_file, args.port)))
+        return 0
+    avrdude = shutil.which("avrdude")
+    if avrdude is None:
+        raise ToolchainMissingError(
+            "avrdude not found on PATH: install the Debian package avrdude (sudo apt-get install avrdude)"
+        )
+    if not Path(args.port).exists() and "://" not in args.port:
+        ports = _known_ports()
+        raise UnknownNameError("port", args.port, ports)
+    result = Builder(board, lto=not args.no_lto).build(sketch, Path(args.out) if args.out else None)
+    print(result.summary())
+    cmd = avrdude_command(board, result.hex, args.port, avrdude)
+    print(shlex.join(cmd), flush=True)
+    return subprocess.run(cmd, check=False).returncode
+
+
+def _add_target_options(p: argparse.ArgumentParser, *, example_required: bool) -> None:
+    which = p.add_mutually_exclusive_group(required=example_required)
+    which.add_argument("--example", metavar="NAME", help="example sketch of the library (default: all)")
+    which.add_argument("--sketch", metavar="DIR", help="a sketch folder of your own (needs --board)")
+    p.add_argument(
+        "--board", choices=sorted(BOARDS), help="target board (default: the one the example's robot profile names)"
+    )
+    p.add_argument("--out", metavar="DIR", help="where the ELF and HEX go (default: build/firmware/<sketch>/<board>)")
+    p.add_argument("--no-lto", action="store_true", help="link without link-time optimisation")
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Registers `roverlink firmware build|flash` on the main CLI's subcommands."""
+    fw = sub.add_parser("firmware", help="build and flash the Arduino firmware (needs avr-gcc)")
+    fw_sub = fw.add_subparsers(dest="firmware_command", required=True)
+    build = fw_sub.add_parser("build", help=cmd_build.__doc__)
+    _add_target_options(build, example_required=False)
+    build.set_defaults(func=_guarded(cmd_build))
+    flash = fw_sub.add_parser("flash", help=cmd_flash.__doc__)
+    _add_target_options(flash, example_required=True)
+    flash.add_argument("--port", required=True, help="serial port of the board, e.g. /dev/ttyACM0")
+    flash.add_argument("--dry-run", action="store_true", help="print the avrdude command instead of running it")
+    flash.set_defaults(func=_guarded(cmd_flash))
+
+
+def _guarded(command: Callable[[argparse.Namespace], int]) -> Callable[[argparse.Namespace], int]:
+    """Turns a FirmwareError into one `error:` line and exit status 2 (1 for a failed compile)."""
+
+    def run(args: argparse.Namespace) -> int:
+        try:
+            return command(args)
+        except CompileError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 1
+        except FirmwareError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+
+    run.__doc__ = command.__doc__
+    return run

@@ -1,0 +1,52 @@
+"""`roverlink info URL`: a board's identity, configuration and PID gains."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from host_sdk import PROFILES, Robot, RoverLinkError
+
+
+def cmd_info(args: argparse.Namespace) -> int:
+    """Handshake with a board and print its identity, configuration and PID gains."""
+    try:
+        with Robot.connect(args.url, baud=args.baud, profile=args.profile, timeout_s=args.timeout) as robot:
+            ident = robot.identity
+            s = robot.stats
+            print(f"{robot.url}: {ident.robot_name or '(unnamed)'} firmware {ident.version} on {ident.board.name}")
+            print(f"  protocol v{ident.protocol_version}, spec hash 0x{ident.spec_hash:08X}")
+            print(f"  capabilities  {ident.capabilities!r}".replace("<Capability.", "").replace(">", ""))
+            print(f"  boot_id 0x{ident.boot_id:08X}, up {ident.uptime_ms / 1000:.1f} s")
+            print(
+                f"  session: watchdog {ident.watchdog_ms} ms, {ident.feedback_mode.name.lower()} feedback "
+                f"at {ident.feedback_hz} Hz"
+            )
+            if s.connect_time_s is not None:
+                print(f"  ready {s.connect_time_s * 1000:.1f} ms after the first HELLO")
+            print("configuration:")
+            for name, value in robot.config.fields().items():
+                shown = value.name if hasattr(value, "name") else value
+                print(f"  {name:<22} {shown}")
+            wheels = 2 if ident.capabilities & ident.capabilities.DIFF_DRIVE else 1
+            for wheel in range(wheels):
+                g = robot.pid(wheel)
+                print(f"PID wheel {wheel}: kp {g.kp:g}, ki {g.ki:g}, kd {g.kd:g}, kf {g.kf:g}")
+            rtt = robot.stats.rtt
+            if rtt is not None:
+                print(f"round trip {rtt.min_s * 1000:.2f} ms")
+    except RoverLinkError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    p = sub.add_parser("info", help=cmd_info.__doc__)
+    p.add_argument("url", help="serial port or URL, e.g. /dev/ttyACM0, socket://host:port, emu://picar")
+    p.add_argument("--baud", type=int, default=115200, help="line speed in bit/s (default 115200)")
+    p.add_argument(
+        "--profile", choices=sorted(PROFILES), default=None, help="reference robot (default: from the firmware)"
+    )
+    p.add_argument("--timeout", type=float, default=5.0, help="connect timeout in s (default 5)")
+    p.set_defaults(func=cmd_info)
