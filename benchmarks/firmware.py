@@ -19,7 +19,7 @@ Method. Two instruments in the harness (tools/simavr/fil_harness.c):
 
 Figures:
 
-* Decode and dispatch cycles per command frame (the DESIGN.md budget): the cycles inside
+* Decode and dispatch cycles per command frame (docs/budgets.md): the cycles inside
   Session::poll while the host sends frames back to back at 115200 baud for 1 s, less the
   instructions whose source is the Arduino core's serial driver (HardwareSerial*.cpp/.h, Print,
   Stream, and what is inlined into their functions, e.g. ATOMIC_BLOCK: reading the ring buffer,
@@ -58,7 +58,7 @@ Figures:
   buffer holds 5.5 ms of bytes at 115200 baud).
 * Flash and SRAM per example: avr-size of the ELF (`host_sdk.firmware`).
 
-Budgets (DESIGN.md section 6): <= 1500 cycles to decode and dispatch one 16-byte-payload command
+Budgets (docs/budgets.md): <= 1500 cycles to decode and dispatch one 16-byte-payload command
 frame; a reference firmware on the Uno leaves >= 50 % of flash and SRAM free. The control-loop
 share has no numeric budget there; it is gated at 50 % of the CPU.
 """

@@ -1,4 +1,4 @@
-"""DESIGN.md section 6 budgets measured on the real binaries in simavr (benchmarks/firmware.py).
+"""The firmware budgets of docs/budgets.md measured on the real binaries in simavr (benchmarks/firmware.py).
 
 `pytest -s` prints the figures and where the decode and dispatch cycles go. About 10 s for the
 three examples.

@@ -157,7 +157,7 @@ def test_core_builds_for_avr() -> None:
     sizes = {m[0]: int(m[1]) for m in re.findall(r"^sizeof_(\w+) on atmega328p: (\d+) bytes$", out, re.M)}
     assert set(sizes) >= {"Link", "Session", "Firmware", "FrameDecoder"}, out
     # The session's state (link buffers included) in the design's SRAM budget for link + session
-    # (DESIGN.md section 6: <= 400 B), and so is all of the core's (session, control, config).
+    # (docs/budgets.md: <= 400 B), and so is all of the core's (session, control, config).
     assert sizes["Session"] <= sizes["Firmware"] <= 400, sizes
 
 

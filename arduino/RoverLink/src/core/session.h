@@ -1,7 +1,7 @@
 // The session of the firmware: link (frames in and out) and every session rule of
 // docs/control.md sections 1-3 and 6-7, over an App that owns the rest of the robot (control law,
 // configuration, outputs). It is the part the design's "protocol + session" budget measures
-// (DESIGN.md section 6), and links without the control law, PID or EEPROM code.
+// (docs/budgets.md), and links without the control law, PID or EEPROM code.
 //
 //   handshake and IDENTITY, the state machine (every state change through proto::step() on the
 //   generated table), the watchdog, reliable requests with duplicate detection, ACK/NACK,
