@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 from emulator.firmware.board import Board
 from emulator.firmware.config import (
@@ -66,7 +66,6 @@ from protocol.generated.messages import (
     GetPid,
     Hello,
     Identity,
-    LinkStats,
     Log,
     Nack,
     Pid,
@@ -263,7 +262,7 @@ class Firmware:
         (a fresh reply for GET_*, else the same ACK/NACK) and not applied again."""
         key = (msg.MSG_ID, seq)
         if self._dup is not None and self._dup[0] == key:
-            self.link.duplicates += 1
+            self.link.counts.duplicates += 1
             answer = self._dup[1]
             if answer is None:
                 apply()  # GET_*: a fresh reply with the current values; reading changes nothing
@@ -383,10 +382,7 @@ class Firmware:
             refused = self._needs_session(msg, seq)
             if refused is not None:
                 return refused
-            counters = asdict(self.link.counters())
-            names = [f.name for f in LinkStats.FIELDS]
-            values = {name: counters.get(name, 0) & 0xFFFFFFFF for name in names if name != "req_seq"}
-            reply = LinkStats(req_seq=seq, **values)
+            reply = self.link.stats(seq)
             self._send(reply)
             return reply
 
@@ -763,7 +759,7 @@ class Firmware:
             steering_cdeg=self.servo_cdeg,
             esc_hold=self._esc_hold(self.board.micros()),
             last_valid_frame_us=self.last_valid_us,
-            link=self.link.counters(),
+            link=self.link.stats(),
             transitions=tuple(self.session.history),
         )
 

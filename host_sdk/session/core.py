@@ -77,6 +77,7 @@ from protocol.generated.messages import (
     SetConfig,
     SetWheelSpeeds,
 )
+from protocol.generated.structs import DECODER_COUNTERS
 
 _I32 = 1 << 32
 _EPS = 1e-6  # timers fire this early rather than a poll late (float time)
@@ -452,16 +453,10 @@ class Session:
             rtt = RttStats(rtts[-1], min(rtts), sum(rtts) / len(rtts), max(rtts), n.rtt_count)
         synced = self.clock.synced
         return LinkStatistics(
+            **{name: getattr(d, name) for name in DECODER_COUNTERS},
             frames_sent=n.frames_sent,
             bytes_sent=n.bytes_sent,
-            frames_received=d.frames_ok,
             bytes_received=d.bytes_received,
-            crc_errors=d.crc_errors,
-            cobs_errors=d.cobs_errors,
-            length_errors=d.length_errors,
-            unknown_ids=d.unknown_ids,
-            value_errors=d.value_errors,
-            bytes_discarded=d.bytes_discarded,
             seq_gaps=n.seq_gaps,
             feedback_received=n.feedback_received,
             setpoints_sent=n.setpoints_sent,
@@ -500,7 +495,7 @@ class Session:
         hello = Hello(
             protocol_version=PROTOCOL_VERSION,
             spec_hash=SPEC_HASH,
-            watchdog_ms=max(0, min(60000, round(o.watchdog_s * 1000))),
+            watchdog_ms=max(0, min(Hello.WATCHDOG_MS_MAX, round(o.watchdog_s * 1000))),
             feedback_mode=o.feedback_mode,
             feedback_hz=max(0, min(255, o.feedback_hz)),
         )

@@ -173,3 +173,53 @@ def test_vectors_cover_every_message_and_the_required_cases() -> None:
         and any(isinstance(x, int) and x < 0 for x in json.dumps(v["fields"]) and v["fields"].values())
     ]
     assert negatives, "min vectors hold negative values"
+
+
+def test_a_bound_may_name_a_constant_and_means_its_value() -> None:
+    s = spec()
+    consts = {c.name: c.value for c in s.constants}
+    watchdog = next(f for f in s.message("SET_CONFIG").fields if f.name == "watchdog_ms")
+    assert (watchdog.min, watchdog.max) == (consts["WATCHDOG_MIN_MS"], consts["WATCHDOG_MAX_MS"])
+    as_numbers = f"min = {consts['WATCHDOG_MIN_MS']}, max = {consts['WATCHDOG_MAX_MS']}"
+    assert spec(GOOD.replace('min = "WATCHDOG_MIN_MS", max = "WATCHDOG_MAX_MS"', as_numbers)).spec_hash == s.spec_hash
+
+
+def test_every_explicit_integer_bound_has_a_name_on_both_sides() -> None:
+    from protocol.generated.messages import BY_ID
+
+    header = (ROOT / "arduino/RoverLink/src/generated/roverlink_protocol.h").read_text(encoding="utf-8")
+    named = 0
+    for m in spec().messages:
+        cls = BY_ID[m.id]
+        for f in m.fields:
+            if f.is_float or f.enum is not None or f.max_len is not None:
+                continue
+            for suffix, bound in (("MIN", f.min), ("MAX", f.max)):
+                name = f"{f.name.upper()}_{suffix}"
+                if bound is None:
+                    assert not hasattr(cls, name)
+                    continue
+                assert getattr(cls, name) == bound, (m.name, name)
+                assert re.search(rf"\b{name} = {int(bound)}(UL)?\b", header), (m.name, name)
+                named += 1
+    assert named > 20  # SET_CONFIG alone has more
+
+
+def test_link_stats_is_its_two_counter_sets_and_the_cpp_checks_where_they_sit() -> None:
+    from protocol.generated.messages import LinkStats
+    from protocol.generated.structs import DECODER_COUNTERS, LINK_COUNTERS, DecoderCounters, LinkCountersSnapshot
+
+    assert [f.name for f in LinkStats.FIELDS] == ["req_seq", *DECODER_COUNTERS, *LINK_COUNTERS]
+    assert tuple(DecoderCounters.__dataclass_fields__) == DECODER_COUNTERS
+    assert tuple(LinkCountersSnapshot.__dataclass_fields__) == LINK_COUNTERS
+    source = render(spec())["arduino/RoverLink/src/generated/roverlink_protocol.cpp"]
+    for name in DECODER_COUNTERS[1:]:
+        assert (
+            f"offsetof(LinkStats, {name}) - offsetof(LinkStats, frames_ok) == offsetof(DecoderCounters, {name})"
+            in source
+        )
+    for name in LINK_COUNTERS[1:]:
+        assert (
+            f"offsetof(LinkStats, {name}) - offsetof(LinkStats, seq_gaps) == offsetof(LinkCounters, {name})" in source
+        )
+    assert 'static_assert(sizeof(DecoderCounters) == 28, "DecoderCounters must have no padding");' in source

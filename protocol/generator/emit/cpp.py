@@ -16,7 +16,7 @@ import re
 import struct
 
 from protocol.generator.emit.common import banner
-from protocol.generator.model import PRIMITIVES, Enum, Field, Message, Spec
+from protocol.generator.model import PRIMITIVES, Enum, Field, FieldSet, Message, Spec
 
 LIB = "arduino/RoverLink/src/generated"
 API_VERSION = 4
@@ -103,6 +103,8 @@ def _header(spec: Spec) -> str:
             out.append("};\n")
             out.append(f"inline bool is_valid_{e.name}({ctype} value) {{\n    {_enum_test(e)}\n}}\n\n")
 
+    for fs in spec.structs:
+        out.append(_field_set_struct(fs))
     out.append("// Length rule of a msg_id: payload of min_payload..max_payload bytes; and its direction.\n")
     out.append(
         "struct MessageBounds {\n    uint8_t crc_extra;\n    uint8_t min_payload;\n    uint8_t max_payload;\n"
@@ -121,6 +123,33 @@ def _header(spec: Spec) -> str:
     return "".join(out)
 
 
+def _field_set_struct(fs: FieldSet) -> str:
+    """A field set that is a type of its own: its fields in wire order, no padding (checked in the
+    .cpp, with the offsets of every message that includes it)."""
+    out = [f"// {fs.name}: {fs.doc}\n", f"struct {fs.struct} {{\n"]
+    for f in fs.fields:
+        out.append(f"    {_ctype(f)} {f.name};  // {f.doc}\n")
+    out.append("};\n\n")
+    return "".join(out)
+
+
+def _bounds(m: Message) -> str:
+    """Every explicit bound of an integer field as a named constant (an enum: no storage, no ODR
+    definition needed), e.g. SetAckermann::STEERING_MRAD_MAX."""
+    out = []
+    for f in m.fields:
+        if f.is_float or f.enum is not None or f.max_len is not None:
+            continue
+        items = [
+            f"{f.name.upper()}_{suffix} = {_int_lit(int(value), f.prim)}"
+            for suffix, value in (("MIN", f.min), ("MAX", f.max))
+            if value is not None
+        ]
+        if items:
+            out.append(f"    enum : {_CTYPE[f.prim]} {{ {', '.join(items)} }};\n")
+    return "".join(out)
+
+
 def _struct(m: Message) -> str:
     out = [f"// {m.name} (0x{m.id:02X}, {m.direction.replace('_', ' ')}, {m.delivery}): {m.doc}\n"]
     out.append(f"struct ROVERLINK_PACKED {m.class_name} {{\n")
@@ -128,6 +157,7 @@ def _struct(m: Message) -> str:
         f"    enum : uint8_t {{ ID = 0x{m.id:02X}, CRC_EXTRA = 0x{m.crc_extra:02X}, "
         f"PAYLOAD_SIZE = {m.payload_size}, PAYLOAD_MAX = {m.payload_max} }};\n"
     )
+    out.append(_bounds(m))
     for f in m.fields:
         unit = f" [{f.unit}]" if f.unit else ""
         if f.max_len is not None:
@@ -290,6 +320,9 @@ def _source(spec: Spec) -> str:
             )
         size = f"{n}::PAYLOAD_MAX + 1" if tail is not None else f"{n}::PAYLOAD_MAX"
         out.append(f'static_assert(sizeof({n}) == {size}, "{m.name} is not its payload\'s image");\n')
+        out.append(_included_structs(spec, m))
+    for fs in spec.structs:
+        out.append(f'static_assert(sizeof({fs.struct}) == {fs.size}, "{fs.struct} must have no padding");\n')
     out.append("\n")
     ordered = _by_direction(spec)
     inbound = sum(1 for m in ordered if m.direction == "host_to_mcu")
@@ -337,6 +370,23 @@ def _source(spec: Spec) -> str:
     out.append("const uint8_t EVENT_ROWS[EVENT_COUNT + 1] ROVERLINK_PROGMEM = {")
     out.append(", ".join(str(x) for x in starts))
     out.append("};\n\n}  // namespace proto\n}  // namespace roverlink\n")
+    return "".join(out)
+
+
+def _included_structs(spec: Spec, m: Message) -> str:
+    """A struct field set inside a message is its image: one memcpy moves the whole set."""
+    out = []
+    n = m.class_name
+    for name in m.includes:
+        fs = spec.field_set(name)
+        if fs.struct is None:
+            continue
+        base = f"offsetof({n}, {fs.fields[0].name})"
+        for f in fs.fields[1:]:
+            out.append(
+                f"static_assert(offsetof({n}, {f.name}) - {base} == offsetof({fs.struct}, {f.name}), "
+                f'"{m.name}.{f.name} is not where {fs.struct} keeps it");\n'
+            )
     return "".join(out)
 
 
@@ -614,6 +664,12 @@ def _reflect(spec: Spec) -> str:
                     out.append(f"        const char* v = value;\n        m.{fld.name} = {conv};\n")
             out.append("        return true;\n    }\n")
         out.append("    return false;\n}\n\n")
+    for fs in spec.structs:
+        out.append(f'// A {fs.struct}\'s fields only (no name), e.g. " {fs.fields[0].name}=0 ...".\n')
+        out.append(f"inline void print_fields(FILE* f, const proto::{fs.struct}& s) {{\n")
+        for fld in fs.fields:
+            out.append(f'    fprintf(f, " {fld.name}=%lu", static_cast<unsigned long>(s.{fld.name}));\n')
+        out.append("}\n\n")
     out.append("// Calls fn(msg) with a zeroed message of type `msg_id`; false for an unknown id.\n")
     out.append("template <class Fn>\nbool with_message(uint8_t msg_id, Fn& fn) {\n    switch (msg_id) {\n")
     for m in spec.messages:

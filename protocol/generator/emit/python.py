@@ -16,6 +16,7 @@ def emit(spec: Spec) -> dict[str, str]:
         f"{PKG}/messages.py": _messages(spec),
         f"{PKG}/state_machine.py": _state_machine(spec),
         f"{PKG}/oracle.py": _oracle(spec),
+        f"{PKG}/structs.py": _structs(spec),
     }
 
 
@@ -43,6 +44,43 @@ def _constants(spec: Spec) -> str:
         out.append(f"{c.name}: Final = {c.value}\n")
         out.append(_doc(c.doc))
     return "".join(out)
+
+
+def _structs(spec: Spec) -> str:
+    """The field sets that are types of their own: a mutable dataclass to count or keep the values
+    in, a frozen one to hand them out, and the tuple of field names (the order of the messages)."""
+    out = [banner(spec, "#"), _doc("Field sets the spec declares as structs (see [[field_sets]] in the spec).")]
+    out.append("\nfrom __future__ import annotations\n\nfrom dataclasses import dataclass\nfrom typing import Final\n")
+    for fs in spec.structs:
+        listed = "".join(f'    "{f.name}",\n' for f in fs.fields)
+        out.append(f"\n{fs.name.upper()}: Final[tuple[str, ...]] = (\n{listed})\n")
+        out.append(_doc(f"Field names of {fs.struct}, in wire order."))
+        for cls, frozen, what in (
+            (fs.struct, False, "Kept (and counted) in place."),
+            (f"{fs.struct}Snapshot", True, f"The values of a {fs.struct} at one moment."),
+        ):
+            deco = "@dataclass(frozen=True, slots=True)" if frozen else "@dataclass(slots=True)"
+            out.append(f"\n\n{deco}\nclass {cls}:\n")
+            out.append(_doc(f"{fs.doc} {what}", "    "))
+            out.append("\n")
+            for f in fs.fields:
+                out.append(f"    {f.name}: int = 0\n")
+                out.append(_doc(f.doc, "    "))
+    exported = [n for fs in spec.structs for n in (fs.name.upper(), str(fs.struct), f"{fs.struct}Snapshot")]
+    out.append("\n\n__all__ = [\n" + "".join(f'    "{n}",\n' for n in exported) + "]\n")
+    return "".join(out)
+
+
+def _bound_constants(m: Message) -> list[tuple[str, int]]:
+    """(NAME_MIN / NAME_MAX, value) of every explicit bound of an integer field, spec order."""
+    out = []
+    for f in m.fields:
+        if f.is_float or f.enum is not None or f.max_len is not None:
+            continue
+        for suffix, value in (("MIN", f.min), ("MAX", f.max)):
+            if value is not None:
+                out.append((f"{f.name.upper()}_{suffix}", int(value)))
+    return out
 
 
 def _enums(spec: Spec) -> str:
@@ -144,6 +182,8 @@ def _message(m: Message) -> str:
     out.append(f"    PAYLOAD_MAX: ClassVar[int] = {m.payload_max}\n")
     out.append(f"    DIRECTION: ClassVar[Direction] = Direction.{m.direction.upper()}\n")
     out.append(f"    DELIVERY: ClassVar[Delivery] = Delivery.{m.delivery.upper()}\n")
+    for name, value in _bound_constants(m):
+        out.append(f"    {name}: ClassVar[int] = {value}\n")
     infos = "".join(f"        {_field_info(f)},\n" for f in m.fields)
     out.append(
         f"    FIELDS: ClassVar[tuple[FieldInfo, ...]] = (\n{infos}    )\n"
