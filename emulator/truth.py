@@ -13,8 +13,8 @@ from dataclasses import dataclass
 from emulator.firmware.config import Gains
 from emulator.firmware.statemachine import SessionEvent, SessionState
 from emulator.plant.esc import EscState
-from emulator.plant.motor import DriveMode
 from protocol.generated.enums import FailsafeReason, FeedbackMode, Status
+from protocol.generated.hardware import MotorMode
 from protocol.generated.messages import LinkStats, SetConfig
 
 
@@ -75,7 +75,7 @@ class WheelTruth:
     revolutions: float
     duty: float
     """Bridge duty commanded (-1..1; for the ESC robot, the ESC's throttle)."""
-    mode: DriveMode
+    mode: MotorMode
     voltage_v: float
     current_a: float
     torque_nm: float

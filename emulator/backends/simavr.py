@@ -42,13 +42,13 @@ from emulator.faults import FaultSpec
 from emulator.firmware.config import BOOT_COUNTER_ADDR
 from emulator.injection import FaultInjection, checked_board_options
 from emulator.line import SerialLink
-from emulator.plant.motor import DriveMode
 from emulator.plant.plant import WHEEL_CHANNELS, Plant
 from emulator.profiles import EmulatorProfile, get_profile
 from emulator.rng import Streams
 from emulator.truth import FaultRecord, LineTruth
 from protocol.framing import Frame, FrameDecoder
 from protocol.generated.enums import IdentityReason
+from protocol.generated.hardware import MotorMode
 from protocol.generated.messages import Identity
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -201,7 +201,7 @@ class PinState:
 
     duty: tuple[float, ...]
     """Signed duty per DC motor channel, -1..1 (PWM duty in the driven direction)."""
-    mode: tuple[DriveMode, ...]
+    mode: tuple[MotorMode, ...]
     esc_us: int
     """0: no pulses."""
     servo_us: int
@@ -227,29 +227,29 @@ def decode_pins(wiring: BoardWiring, regs: dict[int, int]) -> PinState:
         return (regs[p.ocr] | regs[p.ocr + 1] << 8) + 1 >> 1
 
     duty: list[float] = []
-    mode: list[DriveMode] = []
+    mode: list[MotorMode] = []
     for ch in wiring.tb6612:
         in1, in2, d = bit(ch.in1), bit(ch.in2), pwm(ch.pwm)
         if not bit(ch.standby) or (not in1 and not in2):
             duty.append(0.0)
-            mode.append(DriveMode.COAST)
+            mode.append(MotorMode.COAST)
         elif in1 and in2:
             duty.append(0.0)
-            mode.append(DriveMode.BRAKE)
+            mode.append(MotorMode.BRAKE)
         else:
             duty.append(d if in1 else -d)
-            mode.append(DriveMode.DRIVE)
+            mode.append(MotorMode.DRIVE)
     for b in wiring.bts7960:
         r, left = pwm(b.rpwm), pwm(b.lpwm)
         if not (bit(b.r_en) and bit(b.l_en)):
             duty.append(0.0)
-            mode.append(DriveMode.COAST)
+            mode.append(MotorMode.COAST)
         elif r == 0.0 and left == 0.0:
             duty.append(0.0)
-            mode.append(DriveMode.BRAKE)
+            mode.append(MotorMode.BRAKE)
         else:
             duty.append(r - left)
-            mode.append(DriveMode.DRIVE)
+            mode.append(MotorMode.DRIVE)
     leds = 0
     for i, led in enumerate(wiring.leds):
         if bit(led):
@@ -444,7 +444,7 @@ class _SimavrMCU:
         self.harness.reset()
 
 
-_RELEASED = PinState((0.0, 0.0), (DriveMode.COAST, DriveMode.COAST), 0, 0, 0)
+_RELEASED = PinState((0.0, 0.0), (MotorMode.COAST, MotorMode.COAST), 0, 0, 0)
 
 
 class PlantLoop(FaultInjection):

@@ -29,7 +29,6 @@ from emulator.firmware.lights import BLINK_PERIOD_TICKS, light_mask
 from emulator.firmware.link import FirmwareLink
 from emulator.firmware.session import ACTION_ORDER, Session
 from emulator.firmware.statemachine import Action, Guard, SessionEvent, SessionState
-from emulator.plant.motor import DriveMode
 from emulator.truth import FirmwareTruth
 from protocol.codec.message import Direction, Message
 from protocol.framing import Frame
@@ -55,6 +54,7 @@ from protocol.generated.enums import (
     SafeState,
     Status,
 )
+from protocol.generated.hardware import MotorMode
 from protocol.generated.messages import (
     Ack,
     Arm,
@@ -574,11 +574,11 @@ class Firmware:
                 pulse = c.esc_neutral_us + round_half_away(u / 1000 * (c.esc_neutral_us - c.esc_min_us))
             board.esc_pulse(pulse)
         else:
-            hold = DriveMode.BRAKE if c.safe_state is SafeState.BRAKE else DriveMode.COAST
+            hold = MotorMode.BRAKE if c.safe_state is SafeState.BRAKE else MotorMode.COAST
             for w in range(self.wheels):
                 if driving:
                     u = -self.efforts[w] if c.motor_invert >> w & 1 else self.efforts[w]
-                    board.drive(w, u, DriveMode.DRIVE)
+                    board.drive(w, u, MotorMode.DRIVE)
                 else:
                     board.drive(w, 0, hold)
         if self.caps & Capability.STEERING_SERVO:

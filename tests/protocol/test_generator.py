@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from protocol.__main__ import main
-from protocol.generator import generate, hashing, loader, robots
+from protocol.generator import generate, hardware, hashing, loader, robots
 from protocol.generator.model import Spec
 
 ROOT = generate.ROOT
@@ -22,12 +22,15 @@ def spec(text: str = GOOD) -> Spec:
 
 
 def render(s: Spec) -> dict[str, str]:
-    return generate.render(s, robots.load(generate.SPEC.parent / "robots.toml", ROOT, s))
+    folder = generate.SPEC.parent
+    return generate.render(
+        s, robots.load(folder / "robots.toml", ROOT, s), hardware.load(folder / "hardware.toml", ROOT, s)
+    )
 
 
 def copy_spec(root: Path) -> None:
     (root / "protocol" / "spec").mkdir(parents=True)
-    for name in ("roverlink.toml", "robots.toml"):
+    for name in ("roverlink.toml", "robots.toml", "hardware.toml"):
         shutil.copy(generate.SPEC.parent / name, root / "protocol" / "spec" / name)
 
 
@@ -49,7 +52,8 @@ def test_every_output_starts_with_do_not_edit_naming_the_spec_and_hash() -> None
     for rel, text in render(s).items():
         first, second = [*text.splitlines(), ""][:2]
         assert "DO NOT EDIT" in first and "protocol/spec/" in first, rel
-        assert f"0x{s.spec_hash:08X}" in first + second, rel
+        if "generated from protocol/spec/hardware.toml by" not in first:  # the contract is not wire
+            assert f"0x{s.spec_hash:08X}" in first + second, rel
 
 
 def test_committed_outputs_match_the_spec() -> None:
@@ -223,3 +227,23 @@ def test_link_stats_is_its_two_counter_sets_and_the_cpp_checks_where_they_sit() 
             f"offsetof(LinkStats, {name}) - offsetof(LinkStats, seq_gaps) == offsetof(LinkCounters, {name})" in source
         )
     assert 'static_assert(sizeof(DecoderCounters) == 28, "DecoderCounters must have no padding");' in source
+
+
+def test_the_hardware_contract_is_one_definition_for_the_hal_the_emulator_and_the_tests() -> None:
+    from protocol.generated.hardware import Lights, MotorMode
+
+    contract = hardware.load(generate.SPEC.parent / "hardware.toml", ROOT, spec())
+    by_name = {e.name: {v.name: v.value for v in e.values} for e in contract.enums}
+    assert by_name["MotorMode"] == {m.name: m.value for m in MotorMode}
+    assert by_name["Lights"] == {str(m.name): m.value for m in Lights}
+    header = (ROOT / "arduino/RoverLink/src/generated/roverlink_hardware.h").read_text(encoding="utf-8")
+    for name, value in by_name["MotorMode"].items():
+        assert f"    {name} = {value}," in header
+    board = (ROOT / "arduino/RoverLink/src/hal/board.h").read_text(encoding="utf-8")
+    assert '#include "../generated/roverlink_hardware.h"' in board and "enum class MotorMode" not in board
+
+
+def test_a_hardware_enum_may_not_take_a_name_of_the_spec() -> None:
+    text = (generate.SPEC.parent / "hardware.toml").read_text(encoding="utf-8")
+    with pytest.raises(loader.SpecError, match=r"enums\[1\] Status: 'Status' is already a name in protocol/spec/"):
+        hardware.parse(text.replace('name = "Lights"', 'name = "Status"'), "protocol/spec/hardware.toml", spec())

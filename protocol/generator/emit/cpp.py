@@ -68,6 +68,24 @@ def _float_lit(value: float) -> str:
 
 
 # -- header ------------------------------------------------------------------------------------
+def enum_decl(e: Enum) -> str:
+    """A flags enum as a struct of bits with its MASK; a plain one as an enum class with is_valid_X()."""
+    out = [_comment(e.doc)]
+    ctype = _CTYPE[e.base]
+    if e.flags:
+        out.append(f"struct {e.name} {{\n    enum : {ctype} {{\n")
+        for v in e.values:
+            out.append(f"        {v.name} = 0x{v.value:X},  // {v.doc}\n")
+        out.append(f"    }};\n    static const {ctype} MASK = 0x{e.mask:X};\n}};\n\n")
+    else:
+        out.append(f"enum class {e.name} : {ctype} {{\n")
+        for v in e.values:
+            out.append(f"    {v.name} = {v.value},  // {v.doc}\n")
+        out.append("};\n")
+        out.append(f"inline bool is_valid_{e.name}({ctype} value) {{\n    {_enum_test(e)}\n}}\n\n")
+    return "".join(out)
+
+
 def _header(spec: Spec) -> str:
     out = [banner(spec, "//")]
     out.append("// RoverLink protocol: constants, enums, message structs (packed wire images) and their checks,\n")
@@ -88,20 +106,7 @@ def _header(spec: Spec) -> str:
         out.append(_comment(c.doc))
         out.append(f"static const {_CTYPE[c.type]} {c.name} = {_int_lit(c.value, c.type)};\n")
     out.append("\n")
-    for e in spec.enums:
-        out.append(_comment(e.doc))
-        ctype = _CTYPE[e.base]
-        if e.flags:
-            out.append(f"struct {e.name} {{\n    enum : {ctype} {{\n")
-            for v in e.values:
-                out.append(f"        {v.name} = 0x{v.value:X},  // {v.doc}\n")
-            out.append(f"    }};\n    static const {ctype} MASK = 0x{e.mask:X};\n}};\n\n")
-        else:
-            out.append(f"enum class {e.name} : {ctype} {{\n")
-            for v in e.values:
-                out.append(f"    {v.name} = {v.value},  // {v.doc}\n")
-            out.append("};\n")
-            out.append(f"inline bool is_valid_{e.name}({ctype} value) {{\n    {_enum_test(e)}\n}}\n\n")
+    out.extend(enum_decl(e) for e in spec.enums)
 
     for fs in spec.structs:
         out.append(_field_set_struct(fs))
