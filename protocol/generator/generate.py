@@ -24,8 +24,8 @@ def load(spec_path: Path, root: Path) -> tuple[Spec, tuple[Robot, ...], Hardware
     """The spec, and the reference robots and the hardware contract in the same folder; SpecError
     if any is invalid."""
     spec = loader.load(spec_path, root)
-    robot_list = robots.load(spec_path.parent / ROBOTS_FILE, root, spec)
-    return spec, robot_list, hardware.load(spec_path.parent / HARDWARE_FILE, root, spec)
+    contract = hardware.load(spec_path.parent / HARDWARE_FILE, root, spec)
+    return spec, robots.load(spec_path.parent / ROBOTS_FILE, root, spec, contract), contract
 
 
 def render(spec: Spec, robot_list: tuple[Robot, ...], contract: Hardware) -> dict[str, str]:

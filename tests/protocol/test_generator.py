@@ -23,9 +23,8 @@ def spec(text: str = GOOD) -> Spec:
 
 def render(s: Spec) -> dict[str, str]:
     folder = generate.SPEC.parent
-    return generate.render(
-        s, robots.load(folder / "robots.toml", ROOT, s), hardware.load(folder / "hardware.toml", ROOT, s)
-    )
+    contract = hardware.load(folder / "hardware.toml", ROOT, s)
+    return generate.render(s, robots.load(folder / "robots.toml", ROOT, s, contract), contract)
 
 
 def copy_spec(root: Path) -> None:

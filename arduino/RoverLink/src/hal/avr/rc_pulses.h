@@ -45,6 +45,14 @@ enum class PulseChannel : uint8_t { A = 0, B = 1, C = 2 };
         static uint8_t pin(PulseChannel ch) {                                                    \
             return ch == PulseChannel::A ? (PIN_A) : ch == PulseChannel::B ? (PIN_B) : (PIN_C);  \
         }                                                                                        \
+        /* The channel that drives Arduino pin `p` (sketches take the pin from robot_profile.h), \
+           resolved at compile time; has_pin(p) says whether one does. */                       \
+        static constexpr bool has_pin(uint8_t p) {                                               \
+            return p != NO_PULSE_PIN && (p == (PIN_A) || p == (PIN_B) || p == (PIN_C));          \
+        }                                                                                        \
+        static constexpr PulseChannel channel_of(uint8_t p) {                                    \
+            return p == (PIN_A) ? PulseChannel::A : p == (PIN_B) ? PulseChannel::B : PulseChannel::C; \
+        }                                                                                        \
     };
 
 static const uint8_t NO_PULSE_PIN = 0xFF;
