@@ -438,7 +438,7 @@ class Firmware:
         if not self.caps & Capability.STEERING_SERVO:
             return 0
         mrad = round_half_away((self.servo_cdeg - self.config.steering_center_cdeg) * 1000 * math.pi / 18000)
-        return _clamp(mrad, -1571, 1571)
+        return _clamp(mrad, Feedback.STEERING_MRAD_MIN, Feedback.STEERING_MRAD_MAX)
 
     # == the control tick (4) ======================================================================
     def tick(self, periods: int = 1) -> None:

@@ -9,9 +9,10 @@ from emulator.plant.motor import DcMotor
 from emulator.plant.servo import SteeringServo
 from emulator.plant.vehicle import DriveUnit, Vehicle
 from emulator.profiles import EmulatorProfile
+from protocol.generated.constants import WHEEL_COUNT
 from protocol.generated.hardware import MotorMode
 
-WHEEL_CHANNELS = 2
+WHEEL_CHANNELS = WHEEL_COUNT
 """Wheel channels the firmware addresses (a single-motor robot uses channel 0)."""
 
 

@@ -54,7 +54,7 @@ from host_sdk.odometry import Odometry, Pose
 from host_sdk.session.types import FeedbackSample, LinkStatistics, RobotIdentity, RttStats
 from host_sdk.timesync import ClockSync, Unwrapper
 from protocol.codec.message import Delivery, Message
-from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
+from protocol.generated.constants import FEEDBACK_HZ_DEFAULT, PROTOCOL_VERSION, SPEC_HASH, WATCHDOG_DEFAULT_MS
 from protocol.generated.enums import FailsafeReason, FeedbackMode, IdentityReason, LogLevel, NackReason, Status
 from protocol.generated.messages import (
     BY_ID,
@@ -100,9 +100,9 @@ class LinkState(enum.Enum):
 class SessionOptions:
     """Timing and mode of a session. Seconds everywhere."""
 
-    watchdog_s: float = 0.25
+    watchdog_s: float = WATCHDOG_DEFAULT_MS / 1000
     feedback_mode: FeedbackMode = FeedbackMode.STREAM
-    feedback_hz: int = 50
+    feedback_hz: int = FEEDBACK_HZ_DEFAULT
     """Requested stream rate; 0 asks for the board's configured default."""
     hello_interval_s: float = 0.1
     request_timeout_s: float = 0.25

@@ -23,6 +23,7 @@
 #include <Arduino.h>
 #include <util/atomic.h>
 
+#include "../../generated/roverlink_protocol.h"
 #include "mcu.h"
 
 namespace roverlink {
@@ -74,9 +75,10 @@ template <class Timer>
 class PulseTimer {
 public:
     static const uint16_t PERIOD_US = 20000;
-    // Widths outside what any servo or ESC accepts (and than SET_CONFIG allows) are clamped.
-    static const uint16_t MIN_PULSE_US = 400;
-    static const uint16_t MAX_PULSE_US = 2600;
+    // Widths outside what SET_CONFIG allows for a servo (wider than any servo or ESC accepts) are
+    // clamped.
+    static const uint16_t MIN_PULSE_US = proto::SetConfig::SERVO_MIN_US_MIN;
+    static const uint16_t MAX_PULSE_US = proto::SetConfig::SERVO_MAX_US_MAX;
 
     // Takes the timer over (whatever the Arduino core's init() configured), all channels off.
     static void begin() {
