@@ -31,8 +31,9 @@ from emulator.clock import PRIORITY_PHYSICS, PRIORITY_RX, PRIORITY_TICK, Timer, 
 from emulator.errors import EmulatorValueError
 from emulator.faults import FaultSpec
 from emulator.firmware.config import IMAGE_ADDR, Gains, encode_image
-from emulator.firmware.core import TICK_US, Firmware
+from emulator.firmware.core import Firmware
 from emulator.firmware.statemachine import SessionEvent
+from emulator.firmware.tick import TICK_US
 from emulator.injection import MAX_FAULT_LOG, FaultInjection, ResetKind, checked_board_options
 from emulator.line import SerialLink
 from emulator.plant.plant import WHEEL_CHANNELS, Plant
