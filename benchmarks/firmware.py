@@ -56,7 +56,7 @@ Figures:
   it from UDR0 (gated at two byte times, 2 x 1389 cycles) and the longest main-loop pass (a byte
   that arrives just after poll() emptied the buffer waits one pass; the Arduino core's 64-byte ring
   buffer holds 5.5 ms of bytes at 115200 baud).
-* Flash and SRAM per example: avr-size of the ELF (`host_sdk.firmware`).
+* Flash and SRAM per example: avr-size of the ELF (`roverlink.firmware`).
 
 Budgets (docs/budgets.md): <= 1500 cycles to decode and dispatch one 16-byte-payload command
 frame; a reference firmware on the Uno leaves >= 50 % of flash and SRAM free. The control-loop
