@@ -112,6 +112,14 @@ def _bounds(m: Message) -> str:
     return "".join(out)
 
 
+def _field_indices(m: Message) -> str:
+    """A request's field indices, the `detail` of NACK(OUT_OF_RANGE / INVALID_CONFIG)."""
+    if m.direction != "host_to_mcu" or not range_checks(m):
+        return ""
+    items = "".join(f"        FIELD_{f.name.upper()} = {i},\n" for i, f in enumerate(m.fields))
+    return f"    enum : uint8_t {{  // field indices (NACK detail)\n{items}    }};\n"
+
+
 def _struct(m: Message) -> str:
     out = [f"// {m.name} (0x{m.id:02X}, {m.direction.replace('_', ' ')}, {m.delivery}): {m.doc}\n"]
     out.append(f"struct ROVERLINK_PACKED {m.class_name} {{\n")
@@ -120,6 +128,7 @@ def _struct(m: Message) -> str:
         f"PAYLOAD_SIZE = {m.payload_size}, PAYLOAD_MAX = {m.payload_max} }};\n"
     )
     out.append(_bounds(m))
+    out.append(_field_indices(m))
     for f in m.fields:
         unit = f" [{f.unit}]" if f.unit else ""
         if f.max_len is not None:

@@ -188,6 +188,13 @@ static const uint8_t ALL_FIELDS_VALID = 0xFF;
 struct ROVERLINK_PACKED Hello {
     enum : uint8_t { ID = 0x01, CRC_EXTRA = 0x77, PAYLOAD_SIZE = 9, PAYLOAD_MAX = 9 };
     enum : uint16_t { WATCHDOG_MS_MAX = 60000 };
+    enum : uint8_t {  // field indices (NACK detail)
+        FIELD_PROTOCOL_VERSION = 0,
+        FIELD_SPEC_HASH = 1,
+        FIELD_WATCHDOG_MS = 2,
+        FIELD_FEEDBACK_MODE = 3,
+        FIELD_FEEDBACK_HZ = 4,
+    };
     uint8_t protocol_version;  // Protocol version the host was built for.
     uint32_t spec_hash;  // Spec hash the host was built from.
     uint16_t watchdog_ms;  // Requested watchdog period; 0 = stored default. The firmware clamps it to WATCHDOG_MIN_MS..WATCHDOG_MAX_MS. [ms]
@@ -257,6 +264,13 @@ inline uint8_t check_ranges(const Disarm&) { return ALL_FIELDS_VALID; }
 // SET_PID (0x12, host to mcu, reliable): Sets the velocity PID gains of one wheel (or all). Takes effect at the next control tick; the integrator is reset.
 struct ROVERLINK_PACKED SetPid {
     enum : uint8_t { ID = 0x12, CRC_EXTRA = 0xCA, PAYLOAD_SIZE = 17, PAYLOAD_MAX = 17 };
+    enum : uint8_t {  // field indices (NACK detail)
+        FIELD_WHEEL = 0,
+        FIELD_KP = 1,
+        FIELD_KI = 2,
+        FIELD_KD = 3,
+        FIELD_KF = 4,
+    };
     uint8_t wheel;  // Wheel index (0..WHEEL_COUNT-1) or PID_ALL_WHEELS.
     float kp;  // Proportional gain. [permille/(mm/s)]
     float ki;  // Integral gain (per second of error). [permille/mm]
@@ -319,6 +333,29 @@ struct ROVERLINK_PACKED SetConfig {
     enum : uint16_t { ESC_MAX_US_MIN = 800, ESC_MAX_US_MAX = 2200 };
     enum : uint16_t { ESC_ARM_MS_MAX = 10000 };
     enum : uint8_t { FEEDBACK_HZ_MIN = 1, FEEDBACK_HZ_MAX = 100 };
+    enum : uint8_t {  // field indices (NACK detail)
+        FIELD_WATCHDOG_MS = 0,
+        FIELD_SAFE_STATE = 1,
+        FIELD_ACCEL_LIMIT_MM_S2 = 2,
+        FIELD_DECEL_LIMIT_MM_S2 = 3,
+        FIELD_MAX_WHEEL_SPEED_MM_S = 4,
+        FIELD_MAX_EFFORT_PERMILLE = 5,
+        FIELD_ENCODER_CPR = 6,
+        FIELD_ENCODER_INVERT = 7,
+        FIELD_MOTOR_INVERT = 8,
+        FIELD_WHEEL_DIAMETER_UM = 9,
+        FIELD_STEERING_CENTER_CDEG = 10,
+        FIELD_STEERING_MIN_CDEG = 11,
+        FIELD_STEERING_MAX_CDEG = 12,
+        FIELD_STEERING_STEP_CDEG = 13,
+        FIELD_SERVO_MIN_US = 14,
+        FIELD_SERVO_MAX_US = 15,
+        FIELD_ESC_MIN_US = 16,
+        FIELD_ESC_NEUTRAL_US = 17,
+        FIELD_ESC_MAX_US = 18,
+        FIELD_ESC_ARM_MS = 19,
+        FIELD_FEEDBACK_HZ = 20,
+    };
     uint16_t watchdog_ms;  // Default watchdog period (a HELLO may ask for another). [ms]
     SafeState safe_state;  // Motor behaviour in FAILSAFE and when disarmed.
     uint16_t accel_limit_mm_s2;  // Largest setpoint increase per second. [mm/s^2]
@@ -411,6 +448,10 @@ inline uint8_t check_ranges(const SetWheelSpeeds&) { return ALL_FIELDS_VALID; } 
 struct ROVERLINK_PACKED SetAckermann {
     enum : uint8_t { ID = 0x21, CRC_EXTRA = 0x5D, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
     enum : int16_t { STEERING_MRAD_MIN = -1571, STEERING_MRAD_MAX = 1571 };
+    enum : uint8_t {  // field indices (NACK detail)
+        FIELD_SPEED_MM_S = 0,
+        FIELD_STEERING_MRAD = 1,
+    };
     int16_t speed_mm_s;  // Target speed at the rear axle, positive forward. [mm/s]
     int16_t steering_mrad;  // Front-wheel angle, positive turns left. [mrad]
 };
