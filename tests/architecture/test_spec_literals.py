@@ -173,6 +173,7 @@ def scan_python(path: Path, rel: str) -> list[Finding]:
             if value in bound.values + bound.python_only and re.search(bound.subject, text):
                 line = getattr(number_node, "lineno", 0)
                 found.append(Finding(rel, line, value, bound.name, source.splitlines()[line - 1]))
+                break  # one finding per number, under the first bound it matches
     return found
 
 
@@ -205,6 +206,7 @@ def scan_cpp(path: Path, rel: str) -> list[Finding]:
             for bound in BOUNDS:
                 if value in bound.values and re.search(bound.subject, line_text):
                     found.append(Finding(rel, number, value, bound.name, line_text))
+                    break
     return found
 
 
@@ -275,8 +277,10 @@ def test_a_copy_in_a_real_module_is_found(tmp_path: Path) -> None:
     """The whole-tree scan over a copy of a package with one bound pasted back in."""
     for pkg in PY_PACKAGES:
         (tmp_path / pkg).mkdir()
-    target = tmp_path / "emulator" / "core.py"
-    original = (ROOT / "emulator/firmware/core.py").read_text(encoding="utf-8")
+    target = tmp_path / "emulator" / "tick.py"
+    original = (ROOT / "emulator/firmware/tick.py").read_text(encoding="utf-8")
+    assert "Feedback.STEERING_MRAD_MIN" in original
     target.write_text(original.replace("Feedback.STEERING_MRAD_MIN", "-1571", 1))
+    assert scan_python(ROOT / "emulator/firmware/tick.py", "tick.py") == []
     found = scan(tmp_path)
-    assert [(f.path, f.value) for f in found] == [("emulator/core.py", -1571.0)] * len(found) and found
+    assert [(f.path, f.line, f.value) for f in found] == [("emulator/tick.py", found[0].line, -1571.0)]
