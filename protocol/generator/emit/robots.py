@@ -38,26 +38,8 @@ def _python(spec: Spec, robots: tuple[Robot, ...]) -> str:
     o.append("from __future__ import annotations\n\nfrom dataclasses import dataclass\n\n")
     o.append("from protocol.generated.enums import Board, Capability, FeedbackMode, SafeState\n")
     o.append("from protocol.generated.messages import SetConfig, SetPid\n\n\n")
-    o.append(_PY_WIRING_CLASSES)
-    o.append("@dataclass(frozen=True, slots=True)\nclass RobotProfile:\n")
-    o.append('    """One reference robot. `config` and `pid` are the firmware example\'s defaults."""\n\n')
-    for name, typ, doc in (
-        ("name", "str", "Profile name (emulator and SDK)."),
-        ("example", "str", "Firmware example (sketch folder) with these defaults."),
-        ("doc", "str", "What the robot is."),
-        ("board", "Board", "Board the example targets."),
-        ("capabilities", "Capability", "Capabilities the example reports."),
-        ("kinematics", "str", '"diff" or "ackermann".'),
-        ("feedback_mode", "FeedbackMode", "Feedback mode the robot is used with."),
-        ("track_m", "float", "Distance between the left and right wheels."),
-        ("wheelbase_m", "float", "Distance between the axles (Ackermann; 0 for diff-drive)."),
-        ("wheel_diameter_m", "float", "Driven wheel diameter."),
-        ("encoder_cpr", "int", "Encoder counts per wheel revolution."),
-        ("config", "SetConfig", "Default configuration."),
-        ("pid", "SetPid", "Default PID gains (all wheels)."),
-        ("wiring", "Wiring", "Which Arduino pin serves which part."),
-    ):
-        o.append(f'    {name}: {typ}\n    """{doc}"""\n')
+    o.extend(_py_class(*c) for c in _PY_CLASSES)
+    o[-1] = o[-1].rstrip("\n") + "\n"
     o.append("\n\nPROFILES: dict[str, RobotProfile] = {\n")
     for r in robots:
         caps = " | ".join(f"Capability.{c}" for c in r.capabilities) or "Capability(0)"
@@ -78,38 +60,66 @@ def _python(spec: Spec, robots: tuple[Robot, ...]) -> str:
     return "".join(o)
 
 
-_PY_WIRING_CLASSES = '''@dataclass(frozen=True, slots=True)
-class WiredPart:
-    """A DC motor driver channel or an encoder, and the Arduino pins it is wired to."""
+_PY_CLASSES: tuple[tuple[str, str, tuple[tuple[str, str, str], ...], str], ...] = (
+    (
+        "WiredPart",
+        "A DC motor driver channel or an encoder, and the Arduino pins it is wired to.",
+        (
+            ("kind", "str", 'The motor\'s driver (TB6612, L298N, BTS7960) or "encoder".'),
+            (
+                "pins",
+                "tuple[tuple[str, int], ...]",
+                "(role, Arduino pin): pwm, in1, in2, standby / rpwm, lpwm, r_en, l_en / a, b.",
+            ),
+        ),
+        "\n    def pin(self, role: str) -> int:\n        return dict(self.pins)[role]\n",
+    ),
+    (
+        "Wiring",
+        "Which Arduino pin serves which part (robots.toml, [robots.wiring]).",
+        (
+            (
+                "motors",
+                "tuple[WiredPart, ...]",
+                "DC motor driver channels, in wheel-channel order (none behind an ESC).",
+            ),
+            ("encoders", "tuple[WiredPart, ...]", "Quadrature encoders, in wheel-channel order."),
+            ("esc_pin", "int | None", "ESC signal."),
+            ("servo_pin", "int | None", "Steering servo signal."),
+            ("led_pins", "tuple[int, ...]", "One per Lights bit, in bit order (none without turn signals)."),
+            ("entropy_pin", "int", "Analog pin left open: its noise seeds the boot_id."),
+        ),
+        "",
+    ),
+    (
+        "RobotProfile",
+        "One reference robot. `config` and `pid` are the firmware example's defaults.",
+        (
+            ("name", "str", "Profile name (emulator and SDK)."),
+            ("example", "str", "Firmware example (sketch folder) with these defaults."),
+            ("doc", "str", "What the robot is."),
+            ("board", "Board", "Board the example targets."),
+            ("capabilities", "Capability", "Capabilities the example reports."),
+            ("kinematics", "str", '"diff" or "ackermann".'),
+            ("feedback_mode", "FeedbackMode", "Feedback mode the robot is used with."),
+            ("track_m", "float", "Distance between the left and right wheels."),
+            ("wheelbase_m", "float", "Distance between the axles (Ackermann; 0 for diff-drive)."),
+            ("wheel_diameter_m", "float", "Driven wheel diameter."),
+            ("encoder_cpr", "int", "Encoder counts per wheel revolution."),
+            ("config", "SetConfig", "Default configuration."),
+            ("pid", "SetPid", "Default PID gains (all wheels)."),
+            ("wiring", "Wiring", "Which Arduino pin serves which part."),
+        ),
+        "",
+    ),
+)
+"""The generated profile module's classes: (name, doc, fields as (name, type, doc), extra body)."""
 
-    kind: str
-    """The motor's driver (TB6612, L298N, BTS7960) or "encoder"."""
-    pins: tuple[tuple[str, int], ...]
-    """(role, Arduino pin): pwm, in1, in2, standby / rpwm, lpwm, r_en, l_en / a, b."""
 
-    def pin(self, role: str) -> int:
-        return dict(self.pins)[role]
-
-
-@dataclass(frozen=True, slots=True)
-class Wiring:
-    """Which Arduino pin serves which part (robots.toml, [robots.wiring])."""
-
-    motors: tuple[WiredPart, ...]
-    """DC motor driver channels, in wheel-channel order (none behind an ESC)."""
-    encoders: tuple[WiredPart, ...]
-    """Quadrature encoders, in wheel-channel order."""
-    esc_pin: int | None
-    """ESC signal."""
-    servo_pin: int | None
-    """Steering servo signal."""
-    led_pins: tuple[int, ...]
-    """One per Lights bit, in bit order (none without turn signals)."""
-    entropy_pin: int
-    """Analog pin left open: its noise seeds the boot_id."""
-
-
-'''
+def _py_class(name: str, doc: str, fields: tuple[tuple[str, str, str], ...], extra: str) -> str:
+    o = [f'@dataclass(frozen=True, slots=True)\nclass {name}:\n    """{doc}"""\n\n']
+    o.extend(f'    {field}: {typ}\n    """{text}"""\n' for field, typ, text in fields)
+    return "".join(o) + extra + "\n\n"
 
 
 def _py_part(p: Part) -> str:
