@@ -32,58 +32,32 @@ from typing import Any, Literal
 from host_sdk import checks
 from host_sdk.callbacks import Callbacks, FailsafeCallback, FeedbackCallback, LogCallback, ResetCallback
 from host_sdk.errors import (
-    CommandRangeError,
-    EncodeError,
     FeedbackTimeoutError,
     RequestTimeoutError,
     RobotClosedError,
     RoverLinkError,
     UnsupportedError,
 )
-from host_sdk.kinematics import MAX_RATE, Ackermann, DiffDrive, KinematicsError
-from host_sdk.limits import DriveLimits, Setpoint
+from host_sdk.kinematics import Ackermann, DiffDrive, KinematicsError
+from host_sdk.limits import DriveLimits
 from host_sdk.odometry import MAX_POSITION_M, Pose
 from host_sdk.options import check_connect
 from host_sdk.profiles import get_profile, kinematics_for, profile_for_example
+from host_sdk.robot_config import ConfigCalls
+from host_sdk.robot_drive import DriveCalls
 from host_sdk.runner import runner_for
 from host_sdk.session import (
     FeedbackSample,
     LinkState,
     LinkStatistics,
-    PidGains,
     RobotConfig,
     RobotIdentity,
     Session,
     SessionOptions,
 )
 from host_sdk.transport import Transport, open_transport
-from protocol.codec.message import Message
-from protocol.generated.constants import PID_ALL_WHEELS
 from protocol.generated.enums import Capability, FailsafeReason, FeedbackMode
-from protocol.generated.messages import (
-    Arm,
-    Config,
-    Disarm,
-    GetConfig,
-    GetLinkStats,
-    GetPid,
-    LinkStats,
-    Pid,
-    SaveConfig,
-    SetConfig,
-    SetPid,
-)
-
-CONFIG_FIELDS = tuple(f.name for f in SetConfig.FIELDS)
-_GAINS = {f.name: f for f in SetPid.FIELDS if f.name != "wheel"}
-_ROBOT_KINDS = {
-    Capability.DIFF_DRIVE: "a differential-drive robot",
-    Capability.ACKERMANN: "an Ackermann (steered) robot",
-}
-
-
-def _speed(name: str, value: object) -> float:
-    return checks.number(name, value, -MAX_RATE, MAX_RATE, unit="m/s")
+from protocol.generated.messages import Arm, Disarm
 
 
 class OdometryView:
@@ -128,7 +102,7 @@ class OdometryView:
 _POSE = ("x_m", "y_m", "theta_rad")
 
 
-class Robot:
+class Robot(DriveCalls, ConfigCalls):
     """A connected RoverLink robot. Make one with `Robot.connect(url, ...)`; see the module docstring."""
 
     # == connecting ===============================================================================
@@ -424,109 +398,6 @@ class Robot:
             self._session.release()
         self._request(Disarm())
 
-    # == driving ===================================================================================
-    def drive(
-        self, linear_m_s: float, angular_rad_s: float, *, clamp: bool | None = None, hold_s: float | None = None
-    ) -> None:
-        """Drive with a body twist: forward speed (m/s) and turn rate (rad/s, counter-clockwise).
-
-        Differential drive: wheel speeds from the track width. Ackermann: the steering angle that
-        gives this turn rate at this speed. Beyond the limits raises CommandRangeError, or with
-        clamp=True scales both wheels down together (the path's curvature is kept).
-        The command stays live for `hold_s` (default command_timeout_s): renew it before then.
-        """
-        linear = _speed("linear_m_s", linear_m_s)
-        angular = checks.number("angular_rad_s", angular_rad_s, -MAX_RATE, MAX_RATE, unit="rad/s")
-
-        def setpoint(limits: DriveLimits, clamp: bool) -> Setpoint:
-            kin = self._session.kinematics
-            if kin is None:
-                raise UnsupportedError(
-                    "drive() needs the robot's kinematics: pass profile=... or kinematics=... to Robot.connect, "
-                    "or use set_wheel_speeds()/drive_ackermann()"
-                )
-            return limits.twist_setpoint(kin, linear, angular, clamp)
-
-        self._command(setpoint, clamp, hold_s)
-
-    def set_wheel_speeds(
-        self, left_m_s: float, right_m_s: float, *, clamp: bool | None = None, hold_s: float | None = None
-    ) -> None:
-        """Differential drive: each wheel's rim speed (m/s, positive forward)."""
-        left, right = _speed("left_m_s", left_m_s), _speed("right_m_s", right_m_s)
-
-        def setpoint(limits: DriveLimits, clamp: bool) -> Setpoint:
-            self._require(Capability.DIFF_DRIVE, "set_wheel_speeds", "drive_ackermann() or drive()")
-            return limits.wheel_setpoint(left, right, clamp)
-
-        self._command(setpoint, clamp, hold_s)
-
-    def drive_ackermann(
-        self, speed_m_s: float, steering_rad: float, *, clamp: bool | None = None, hold_s: float | None = None
-    ) -> None:
-        """Ackermann: rear-axle speed (m/s) and front-wheel angle (rad, positive turns left)."""
-        speed = _speed("speed_m_s", speed_m_s)
-        steer = checks.number("steering_rad", steering_rad, -math.pi, math.pi, unit="rad")
-
-        def setpoint(limits: DriveLimits, clamp: bool) -> Setpoint:
-            self._require(Capability.ACKERMANN, "drive_ackermann", "set_wheel_speeds() or drive()")
-            return limits.ackermann_setpoint(speed, steer, clamp)
-
-        self._command(setpoint, clamp, hold_s)
-
-    def stop(self) -> None:
-        """Zero speed (steering centred). Does nothing when the robot is not armed: it is stopped already."""
-        with self._lock:
-            self._runner.check()
-            seq = self._session.stop(self._transport.clock())
-            if seq is not None:
-                self._last_command_seq = seq
-                self._runner.flush()
-
-    def _command(
-        self, setpoint: Callable[[DriveLimits, bool], Setpoint], clamp: bool | None, hold_s: float | None
-    ) -> None:
-        """Check the call, build its setpoint within the limits, send it and keep it live for `hold_s`."""
-        clamp_ = self._clamp if clamp is None else checks.flag("clamp", clamp)
-        hold = checks.optional(checks.seconds, "hold_s", hold_s)
-        runner, s = self._runner, self._session
-        with self._lock:
-            runner.check()
-            msg = setpoint(self._drive_limits(), clamp_)
-            error = s.take_command_error()
-            if error is not None:
-                raise error
-        if self._options.auto_rearm and s.wants_rearm():
-            self.arm()
-        with self._lock:
-            runner.check()
-            error = s.take_command_error()
-            if error is not None:
-                raise error
-            if not s.armed:
-                raise s.not_armed_error()
-            self._last_command_seq = s.command(msg, self._transport.clock(), hold)
-            runner.flush()
-
-    def _drive_limits(self) -> DriveLimits:
-        """The limits of the current configuration (lock held), built once per configuration."""
-        config = self._session.config
-        assert config is not None
-        cached_for, limits = self._limits
-        if cached_for is not config or limits is None:
-            limits = DriveLimits.of(config)
-            self._limits = (config, limits)
-        return limits
-
-    def _require(self, capability: Capability, what: str, instead: str) -> None:
-        identity = self._session.identity
-        if identity is not None and not identity.capabilities & capability:
-            raise UnsupportedError(
-                f"{what}() needs {_ROBOT_KINDS.get(capability, capability.name)}; "
-                f"{identity.robot_name or 'this robot'} is not one: use {instead}",
-                capability,
-            )
-
     # == feedback ==================================================================================
     def wait_feedback(self, timeout_s: float = 1.0) -> FeedbackSample:
         """The next FEEDBACK. In lockstep mode: the one answering the latest drive command.
@@ -593,92 +464,6 @@ class Robot:
             self._check_open()
         self._runner.wait(lambda: self._runner.closed, duration)
 
-    # == configuration =============================================================================
-    def read_config(self) -> RobotConfig:
-        """Fetch the configuration from the board (GET_CONFIG)."""
-        reply = self._request(GetConfig())
-        assert isinstance(reply, Config)
-        return self.config
-
-    def set_config(self, **changes: Any) -> RobotConfig:
-        """Change configuration fields (names as in docs/protocol.md CONFIG), e.g.
-        `robot.set_config(max_wheel_speed_mm_s=400, safe_state=SafeState.RAMP_DOWN)`.
-
-        Reads the configuration, replaces the fields, sends SET_CONFIG (reliable: applied once) and
-        reads it back, as one step: a concurrent set_config or set_pid waits for it. Raises
-        CommandRangeError for an unknown field or a value outside its range, NackError when the
-        board refuses (its `field` names the field)."""
-        for key, value in changes.items():
-            if key not in CONFIG_FIELDS:
-                raise CommandRangeError(key, value, f"a CONFIG field: one of {', '.join(CONFIG_FIELDS)}")
-        _config_with(self.config, changes)  # every value checked before anything is sent
-        with self._rmw:
-            wanted = _config_with(self.read_config(), changes)
-            self._request(SetConfig(**wanted.fields()))
-            after = self.read_config()
-            if after != wanted:
-                raise RoverLinkError(f"the board's configuration read back differs from what was set: {after}")
-            self._refresh_kinematics()
-        return after
-
-    def _refresh_kinematics(self) -> None:
-        with self._lock:
-            if self._user_kinematics is None and self._session.kinematics is not None:
-                self._session.set_kinematics(self._resolve_kinematics())
-
-    def _wheels(self) -> int:
-        identity = self.identity
-        return 2 if identity.capabilities & Capability.DIFF_DRIVE else 1
-
-    def pid(self, wheel: int = 0) -> PidGains:
-        """The velocity PID gains of one wheel (GET_PID)."""
-        checks.integer("wheel", wheel, 0, self._wheels() - 1, what="a wheel index")
-        reply = self._request(GetPid(wheel=wheel))
-        assert isinstance(reply, Pid)
-        return PidGains(reply.kp, reply.ki, reply.kd, reply.kf)
-
-    def set_pid(
-        self,
-        *,
-        kp: float | None = None,
-        ki: float | None = None,
-        kd: float | None = None,
-        kf: float | None = None,
-        wheel: int | None = None,
-    ) -> PidGains:
-        """Change PID gains of one wheel, or every wheel (wheel=None); unnamed gains keep each wheel's
-        value. Takes effect at the board's next tick (its integrator is reset). Returns the gains
-        read back (of `wheel`, or wheel 0). Like set_config, one read-modify-write at a time."""
-        wheels = self._wheels()
-        checks.optional(checks.integer, "wheel", wheel, 0, wheels - 1, what="a wheel index (None: every wheel)")
-        named = {"kp": kp, "ki": ki, "kd": kd, "kf": kf}
-        given = {
-            name: checks.number(name, value, _GAINS[name].lo, _GAINS[name].hi, unit=_GAINS[name].unit)
-            for name, value in named.items()
-            if value is not None
-        }
-        with self._rmw:
-            if wheel is None and len(given) == len(_GAINS):
-                self._request(SetPid(wheel=PID_ALL_WHEELS, **given))
-            else:
-                for w in range(wheels) if wheel is None else (wheel,):
-                    gains = dataclasses.replace(self.pid(w), **given)
-                    self._request(SetPid(wheel=w, **dataclasses.asdict(gains)))
-            return self.pid(wheel or 0)
-
-    def save_config(self) -> None:
-        """Write configuration and PID gains to the board's EEPROM (refused while armed: disarm first)."""
-        self._request(SaveConfig())
-
-    def board_link_stats(self) -> LinkStats:
-        """The firmware's own link counters (GET_LINK_STATS): what the board received and sent."""
-        reply = self._request(GetLinkStats())
-        assert isinstance(reply, LinkStats)
-        return reply
-
-    def _request(self, msg: Message) -> Message:
-        return self._runner.request(msg)
-
     def _check_open(self) -> None:
         if self._runner.closed:
             raise RobotClosedError(self.url)
@@ -719,16 +504,6 @@ class Robot:
 
     def __repr__(self) -> str:
         return f"<Robot {self.url} {self.state}>"
-
-
-def _config_with(config: RobotConfig, changes: dict[str, Any]) -> RobotConfig:
-    """`config` with `changes`; CommandRangeError names a value outside its field's range."""
-    wanted = dataclasses.replace(config, **changes)
-    try:
-        wanted.pack()
-    except EncodeError as exc:
-        raise CommandRangeError(exc.field, exc.value, exc.allowed) from None
-    return wanted
 
 
 __all__ = ["KinematicsError", "OdometryView", "Robot"]

@@ -37,22 +37,14 @@ What it does (docs/sdk.md has the full semantics):
 
 from __future__ import annotations
 
-from collections import deque
-from dataclasses import dataclass, field
-
 from host_sdk.errors import (
-    ConnectTimeoutError,
-    FailsafeError,
     IncompatibleFirmwareError,
     NackError,
-    NotArmedError,
-    RequestTimeoutError,
     RoverLinkError,
     SessionResetError,
 )
-from host_sdk.framing import Frame, FrameDecoder, encode_frame
+from host_sdk.framing import Frame
 from host_sdk.kinematics import Ackermann, DiffDrive
-from host_sdk.odometry import Pose
 from host_sdk.session.events import (
     Event,
     Failed,
@@ -62,113 +54,31 @@ from host_sdk.session.events import (
     LogReceived,
     Opened,
     Ready,
-    RequestFinished,
     ResetDetected,
-    SessionOptions,
 )
-from host_sdk.session.feedback import FeedbackTracker
-from host_sdk.session.requests import REPLY_TYPES, Request
-from host_sdk.session.types import FeedbackSample, LinkStatistics, RobotIdentity, RttStats
-from host_sdk.timesync import ClockSync
+from host_sdk.session.output import EPS
+from host_sdk.session.requests import Request, Requests, config_of
+from host_sdk.session.types import LinkStatistics, RobotIdentity, RttStats
 from protocol.codec.message import Delivery, Message
 from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
-from protocol.generated.enums import Capability, FailsafeReason, FeedbackMode, IdentityReason, NackReason, Status
+from protocol.generated.enums import Capability, FailsafeReason, IdentityReason, NackReason, Status
 from protocol.generated.messages import (
     BY_ID,
-    Ack,
     Arm,
     Config,
-    Disarm,
     Feedback,
     GetConfig,
-    Hello,
     Identity,
     Log,
     Nack,
-    Ping,
     Pong,
-    SaveConfig,
     SetAckermann,
-    SetConfig,
     SetWheelSpeeds,
 )
 
-_EPS = 1e-6  # timers fire this early rather than a poll late (float time)
-CONFIG_FIELDS = tuple(f.name for f in SetConfig.FIELDS)
-_HELLO_WATCHDOG = next(f for f in Hello.FIELDS if f.name == "watchdog_ms")
-_HELLO_RATE = next(f for f in Hello.FIELDS if f.name == "feedback_hz")
 
-
-@dataclass(slots=True)
-class _Counters:
-    frames_sent: int = 0
-    bytes_sent: int = 0
-    seq_gaps: int = 0
-    feedback_received: int = 0
-    setpoints_sent: int = 0
-    keepalives_sent: int = 0
-    hellos_sent: int = 0
-    requests_sent: int = 0
-    retries: int = 0
-    request_timeouts: int = 0
-    pings_sent: int = 0
-    pongs_received: int = 0
-    resets_detected: int = 0
-    reconnects: int = 0
-    nacks: dict[str, int] = field(default_factory=dict)
-    rtts: deque[float] = field(default_factory=lambda: deque(maxlen=64))
-    rtt_count: int = 0
-
-
-class Session:
+class Session(Requests):
     """The host side of one link (it outlives board resets: each reset opens a new firmware session)."""
-
-    def __init__(self, options: SessionOptions, kinematics: DiffDrive | Ackermann | None = None) -> None:
-        self.options = options
-        self._state = LinkState.CONNECTING
-        self._identity: RobotIdentity | None = None
-        self._config: SetConfig | None = None
-        self._armed = False
-        self._failsafe: FailsafeReason | None = None
-        """Latched FAILSAFE the board reported (or the host predicted); None when not in failsafe."""
-        self._failsafe_predicted = False
-        self._error: RoverLinkError | None = None
-        """Why the session cannot go on (incompatible firmware)."""
-        self._setpoint_error: NackError | None = None
-        """A setpoint the board refused (out of range, unsupported): raised on the user's next command."""
-        self._latest: FeedbackSample | None = None
-        self.clock = ClockSync()
-        self._feedback = FeedbackTracker(kinematics)
-        self.decoder = FrameDecoder()
-        self.started_s: float | None = None
-        self.ready_s: float | None = None
-        self._opened_s: float | None = None
-        self._last_rx_s: float | None = None
-        self._last_feedback_s: float | None = None
-        self._identities_seen = 0
-        self._n = _Counters()
-        self._out: list[bytes] = []
-        self._events: list[Event] = []
-        self._tx_seq = 0
-        self._rx_seq: int | None = None
-        self._next_hello = 0.0
-        self._hello_seqs: dict[int, int] = {}  # HELLO seq -> the GET_CONFIG seq sent right behind it
-        self._handshake_config_seqs: set[int] = set()
-        self._opened_once = False
-        self._queue: deque[Request] = deque()
-        self._inflight: Request | None = None
-        self._last_reliable_key: tuple[int, int] | None = None
-        self._setpoint: Message | None = None
-        self._setpoint_seq = -1
-        self._setpoint_expires = 0.0
-        self._setpoint_sent = 0.0
-        self._last_tx = 0.0
-        self._pings: dict[int, float] = {}
-        self._next_ping = 0.0
-        self._reset_pending: tuple[int, int | None, str] | None = None
-        self._rearm_after_open = False
-        self._config_fresh = False
-        self._ready_announced = False
 
     # == inputs ===================================================================================
     def start(self, now: float) -> None:
@@ -190,7 +100,7 @@ class Session:
     def poll(self, now: float) -> None:
         """Run the timers: HELLO repeats, request retries, keep-alives, PINGs."""
         if self._state is LinkState.CONNECTING:
-            if now >= self._next_hello - _EPS:
+            if now >= self._next_hello - EPS:
                 self._send_hello(now)
             self._expire_inflight(now)
             return
@@ -201,7 +111,7 @@ class Session:
         self._pump_queue(now)
         self._keepalive(now)
         self._predict_failsafe(now)
-        if now >= self._next_ping - _EPS:
+        if now >= self._next_ping - EPS:
             if self._quiet(now):
                 self._next_ping = now + self.options.ping_interval_s / 4
             else:
@@ -223,26 +133,6 @@ class Session:
         return min(times)
 
     # == user operations ===========================================================================
-    def submit(self, msg: Message, now: float, *, tries: int | None = None, timeout_s: float | None = None) -> Request:
-        """Queue a reliable request; it is sent when the session is open and none is in flight."""
-        if timeout_s is None:
-            timeout_s = self.options.save_timeout_s if isinstance(msg, SaveConfig) else self.options.request_timeout_s
-        req = Request(msg, tries or self.options.request_tries, timeout_s, self.boot_id, internal=False)
-        self._queue.append(req)
-        if self._state is LinkState.OPEN:
-            self._pump_queue(now)
-        return req
-
-    def cancel(self, req: Request) -> None:
-        """Give up on a request (its answer, if it comes, is ignored)."""
-        if req in self._queue:
-            self._queue.remove(req)
-        if self._inflight is req:
-            self._inflight = None
-        if not req.done:
-            req.done = True
-            req.error = RequestTimeoutError(req.name, max(req.sent, 1), req.timeout_s)
-
     def command(self, msg: SetWheelSpeeds | SetAckermann, now: float, hold_s: float | None = None) -> int:
         """Send a setpoint now and keep it live for `hold_s` (default: command_timeout). Returns its seq."""
         self._setpoint = msg
@@ -252,24 +142,6 @@ class Session:
     def release(self) -> None:
         """Stop repeating the current setpoint (the board keeps it until the watchdog)."""
         self._setpoint = None
-
-    @property
-    def setpoint_live(self) -> bool:
-        return self._setpoint is not None
-
-    @property
-    def last_setpoint_seq(self) -> int:
-        return self._setpoint_seq
-
-    def take_reset(self) -> SessionResetError | None:
-        """The SessionResetError to raise on the user's next command (once), if a reset happened."""
-        pending, self._reset_pending = self._reset_pending, None
-        if pending is None:
-            return None
-        old, new, why = pending
-        if new is None and self._identity is not None and self._identity.boot_id != old:
-            new = self._identity.boot_id
-        return SessionResetError(old, new, why)
 
     def close(self) -> None:
         """The robot is closed: nothing more is sent; pending requests fail."""
@@ -296,33 +168,6 @@ class Session:
         self._queue.clear()
         self._inflight = None
 
-    # == what the robot asks ========================================================================
-    def take_command_error(self) -> RoverLinkError | None:
-        """What the user's next drive command must raise, once: a reset not yet reported, or a
-        setpoint the board refused."""
-        error: RoverLinkError | None = self.take_reset()
-        if error is None:
-            error, self._setpoint_error = self._setpoint_error, None
-        return error
-
-    def not_armed_error(self) -> NotArmedError:
-        """The error for a drive command while not armed, saying why and what to do."""
-        if self._failsafe is not None:
-            hint = ""
-            if self._failsafe is FailsafeReason.COMM_TIMEOUT:
-                hint = (
-                    f"no command reached the board for its {self.watchdog_s:g} s watchdog: drive commands expire "
-                    f"{self.options.command_timeout:g} s after they are given, so renew them in a loop"
-                )
-            return FailsafeError(self._failsafe, hint)
-        if self._state is LinkState.CONNECTING:
-            return NotArmedError("the session is re-opening after a reset; call robot.arm() when ready", "connecting")
-        return NotArmedError("the robot is not armed: call robot.arm() first", "disarmed")
-
-    def wants_rearm(self) -> bool:
-        """Not armed, and nothing but a reset or a watchdog failsafe keeps it so (auto_rearm's cue)."""
-        return not self._armed and self._failsafe in (None, FailsafeReason.COMM_TIMEOUT)
-
     def stop(self, now: float) -> int | None:
         """Zero speed (steering centred) while armed; else only stop repeating the last setpoint.
         Returns the stop setpoint's seq, if one was sent."""
@@ -332,44 +177,6 @@ class Session:
         caps = self._identity.capabilities if self._identity is not None else Capability(0)
         zero = SetWheelSpeeds(0, 0) if caps & Capability.DIFF_DRIVE else SetAckermann(0, 0)
         return self.command(zero, now)
-
-    def connect_timeout_error(self, timeout_s: float) -> ConnectTimeoutError:
-        """Why no session opened within `timeout_s`, from what was heard."""
-        d = self.decoder.stats
-        o = self.options
-        return ConnectTimeoutError(
-            o.url,
-            o.baud,
-            timeout_s,
-            bytes_received=d.bytes_received,
-            frames_ok=d.frames_ok,
-            identity_seen=self._identities_seen > 0,
-        )
-
-    def esc_window_left(self, now: float) -> float:
-        """Seconds until an ESC robot's power-up arming window ends (0 without an ESC)."""
-        ident, config = self._identity, self._config
-        if ident is None or config is None or not ident.capabilities & Capability.ESC:
-            return 0.0
-        uptime_s = ident.uptime_ms / 1000 + (now - ident.received_s)
-        return max(0.0, config.esc_arm_ms / 1000 - uptime_s + 0.02)
-
-    def pose(self) -> Pose | None:
-        """The odometry's pose (None without kinematics)."""
-        odo = self._feedback.odometry
-        return odo.pose if odo is not None else None
-
-    def reset_pose(self, x_m: float, y_m: float, theta_rad: float) -> bool:
-        """Set the pose (counting goes on from the next sample); False without kinematics."""
-        odo = self._feedback.odometry
-        if odo is None:
-            return False
-        odo.reset(x_m, y_m, theta_rad)
-        return True
-
-    def mcu_to_host_s(self, mcu_time_us: float) -> float:
-        """Host time of an unwrapped MCU timestamp (PING/PONG time sync)."""
-        return self.clock.to_host_s(mcu_time_us)
 
     # == outputs ===================================================================================
     def outgoing(self) -> bytes:
@@ -383,66 +190,6 @@ class Session:
     def take_events(self) -> list[Event]:
         events, self._events = self._events, []
         return events
-
-    # == state (read-only: the session changes it, nothing else) ===================================
-    @property
-    def state(self) -> LinkState:
-        return self._state
-
-    @property
-    def identity(self) -> RobotIdentity | None:
-        """The IDENTITY that opened the current session."""
-        return self._identity
-
-    @property
-    def config(self) -> SetConfig | None:
-        """The board's configuration as last read or written."""
-        return self._config
-
-    @property
-    def armed(self) -> bool:
-        return self._armed
-
-    @property
-    def failsafe(self) -> FailsafeReason | None:
-        """Latched FAILSAFE the board reported (or the host predicted); None when not in failsafe."""
-        return self._failsafe
-
-    @property
-    def error(self) -> RoverLinkError | None:
-        """Why the session cannot go on (incompatible firmware, a broken link)."""
-        return self._error
-
-    @property
-    def latest(self) -> FeedbackSample | None:
-        """The latest FEEDBACK."""
-        return self._latest
-
-    @property
-    def last_feedback_s(self) -> float | None:
-        return self._last_feedback_s
-
-    @property
-    def kinematics(self) -> DiffDrive | Ackermann | None:
-        return self._feedback.kinematics
-
-    @property
-    def ready(self) -> bool:
-        return self._state is LinkState.OPEN and self._config_fresh
-
-    @property
-    def boot_id(self) -> int | None:
-        return self._identity.boot_id if self._identity is not None else None
-
-    @property
-    def watchdog_s(self) -> float:
-        if self._identity is not None and self._identity.watchdog_ms:
-            return self._identity.watchdog_ms / 1000
-        return self.options.watchdog_s
-
-    @property
-    def feedback_mode(self) -> FeedbackMode:
-        return self._identity.feedback_mode if self._identity is not None else self.options.feedback_mode
 
     def set_kinematics(self, kinematics: DiffDrive | Ackermann | None) -> None:
         """The robot's kinematics for odometry (None: no odometry); a pose already integrated is kept."""
@@ -487,152 +234,6 @@ class Session:
             else None,
         )
 
-    # == sending ===================================================================================
-    def _send(self, msg: Message, now: float, seq: int | None = None) -> int:
-        if seq is None:
-            seq = self._tx_seq
-            self._tx_seq = (self._tx_seq + 1) & 0xFF
-        wire = encode_frame(msg, seq)
-        self._out.append(wire)
-        self._n.frames_sent += 1
-        self._n.bytes_sent += len(wire)
-        self._last_tx = now
-        return seq
-
-    def _send_hello(self, now: float) -> None:
-        o = self.options
-        hello = Hello(
-            protocol_version=PROTOCOL_VERSION,
-            spec_hash=SPEC_HASH,
-            watchdog_ms=max(int(_HELLO_WATCHDOG.lo), min(int(_HELLO_WATCHDOG.hi), round(o.watchdog_s * 1000))),
-            feedback_mode=o.feedback_mode,
-            feedback_hz=max(int(_HELLO_RATE.lo), min(int(_HELLO_RATE.hi), o.feedback_hz)),
-        )
-        hello_seq = self._send(hello, now)
-        config_seq = self._send(GetConfig(), now)
-        self._last_reliable_key = (GetConfig.MSG_ID, config_seq)
-        self._hello_seqs[hello_seq] = config_seq
-        self._handshake_config_seqs.add(config_seq)
-        if len(self._hello_seqs) > 32:
-            oldest = next(iter(self._hello_seqs))
-            self._handshake_config_seqs.discard(self._hello_seqs.pop(oldest))
-        self._n.hellos_sent += 1
-        self._next_hello = now + o.hello_interval_s
-
-    def _send_ping(self, now: float) -> None:
-        stamp = round(now * 1e6) & 0xFFFFFFFF
-        self._pings[stamp] = now
-        if len(self._pings) > 16:
-            del self._pings[next(iter(self._pings))]
-        self._send(Ping(host_time_us=stamp), now)
-        self._n.pings_sent += 1
-        early = self.clock.samples < 8
-        self._next_ping = now + (min(0.2, self.options.ping_interval_s) if early else self.options.ping_interval_s)
-
-    def _send_setpoint(self, now: float, keepalive: bool) -> int:
-        assert self._setpoint is not None
-        seq = self._send(self._setpoint, now)
-        self._setpoint_seq = seq
-        self._setpoint_sent = now
-        self._n.setpoints_sent += 1
-        if keepalive:
-            self._n.keepalives_sent += 1
-        return seq
-
-    def _keepalive(self, now: float) -> None:
-        if self._setpoint is None:
-            return
-        if now >= self._setpoint_expires - _EPS:
-            self._setpoint = None  # the user stopped commanding: go quiet, let the watchdog act
-            return
-        if self._armed and now - self._setpoint_sent >= self.options.keepalive - _EPS:
-            self._send_setpoint(now, keepalive=True)
-
-    def _quiet(self, now: float) -> bool:
-        """Armed with no live command: send nothing that would feed the board's watchdog."""
-        return self._armed and self._setpoint is None
-
-    def _predict_failsafe(self, now: float) -> None:
-        # Nothing sent for a watchdog period (plus two ticks) while armed: the board has failed
-        # safe by now, whether or not its FEEDBACK saying so gets through (lockstep sends none).
-        if self._armed and now - self._last_tx > self.watchdog_s + 0.02:
-            self._armed = False
-            self._failsafe = FailsafeReason.COMM_TIMEOUT
-            self._failsafe_predicted = True
-            self._events.append(FailsafeEntered(FailsafeReason.COMM_TIMEOUT, predicted=True))
-
-    # -- reliable requests ---------------------------------------------------------------------------
-    def _pump_queue(self, now: float) -> None:
-        while self._inflight is None and self._queue and self._state is LinkState.OPEN:
-            req = self._queue.popleft()
-            if req.done:
-                continue
-            if req.boot_id is not None and req.boot_id != self.boot_id and not req.internal:
-                # Queued for a session that a reset ended: never apply it to the new one.
-                self._finish(req, None, SessionResetError(req.boot_id, self.boot_id, "before it was sent"))
-                continue
-            if (req.msg.MSG_ID, self._tx_seq) == self._last_reliable_key:
-                # The firmware would take this as a duplicate of the last request: burn the seq.
-                self._send_ping(now)
-            req.seq = self._send(req.msg, now)
-            self._last_reliable_key = (req.msg.MSG_ID, req.seq)
-            req.sent = 1
-            req.deadline = now + req.timeout_s
-            self._inflight = req
-            self._n.requests_sent += 1
-
-    def _expire_inflight(self, now: float) -> None:
-        req = self._inflight
-        if req is None or now < req.deadline - _EPS:
-            return
-        if req.sent >= req.tries or self._state is not LinkState.OPEN:
-            self._n.request_timeouts += 1
-            self._inflight = None
-            self._finish(req, None, RequestTimeoutError(req.name, req.sent, req.timeout_s))
-            self._pump_queue(now)
-            return
-        assert req.seq is not None
-        self._send(req.msg, now, seq=req.seq)  # a retry carries the same seq: applied once
-        req.sent += 1
-        req.deadline = now + req.timeout_s
-        self._n.retries += 1
-
-    def _finish(self, req: Request, reply: Message | None, error: RoverLinkError | None) -> None:
-        req.done = True
-        req.reply = reply
-        req.error = error
-        if error is None and reply is not None:
-            self._apply_reply(req, reply)
-        self._events.append(RequestFinished(req))
-
-    def _apply_reply(self, req: Request, reply: Message) -> None:
-        msg = req.msg
-        if isinstance(reply, Config):
-            self._config = _config_of(reply)
-            self._config_fresh = True
-        elif isinstance(msg, SetConfig):
-            self._config = msg
-        elif isinstance(msg, Arm):
-            self._armed = True
-            self._failsafe = None
-            self._failsafe_predicted = False
-        elif isinstance(msg, Disarm):
-            self._armed = False
-            self._failsafe = None
-            self._failsafe_predicted = False
-            self._setpoint = None
-
-    def _match(self, reply: Message) -> Request | None:
-        req = self._inflight
-        if req is None or req.seq is None:
-            return None
-        if isinstance(reply, (Ack, Nack)):
-            return req if reply.req_id == req.msg.MSG_ID and reply.req_seq == req.seq else None
-        expected = REPLY_TYPES.get(req.msg.NAME)
-        if expected is not None and isinstance(reply, expected) and getattr(reply, "req_seq", -1) == req.seq:
-            return req
-        return None
-
     # == receiving =================================================================================
     def _on_frame(self, msg: Message, seq: int, now: float) -> None:
         if isinstance(msg, Identity):
@@ -661,7 +262,7 @@ class Session:
         if isinstance(msg, Config) and msg.req_seq in self._handshake_config_seqs:
             if self._state is LinkState.OPEN:
                 self._handshake_config_seqs.discard(msg.req_seq)
-                self._config = _config_of(msg)
+                self._config = config_of(msg)
                 self._config_fresh = True
                 self._check_ready(now)
             return
@@ -882,10 +483,6 @@ class Session:
         sample = self._feedback.sample(msg, now, self.clock)
         self._latest = sample
         self._events.append(FeedbackReceived(sample))
-
-
-def _config_of(msg: Config) -> SetConfig:
-    return SetConfig(**{name: getattr(msg, name) for name in CONFIG_FIELDS})
 
 
 def _nack_error(request: Message, nack: Nack) -> NackError:
