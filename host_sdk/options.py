@@ -40,7 +40,7 @@ def check_connect(
     else:
         checks.instance("transport", transport, Transport, "a host_sdk.transport.Transport, or None")
     if profile is not None:
-        get_profile(profile)  # type: ignore[arg-type]  # checks it
+        get_profile(profile, argument="profile")  # type: ignore[arg-type]  # checks it
     checks.optional(
         checks.instance, "kinematics", kinematics, (DiffDrive, Ackermann), "a DiffDrive, an Ackermann or None"
     )

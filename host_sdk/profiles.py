@@ -23,14 +23,15 @@ from protocol.generated.profiles import PROFILES, RobotProfile
 __all__ = ["PROFILES", "RobotProfile", "get_profile", "kinematics_for", "profile_for_example", "steering_limits"]
 
 
-def get_profile(name: str) -> RobotProfile:
-    """The reference robot called `name`; CommandRangeError lists the names."""
+def get_profile(name: str, *, argument: str = "name") -> RobotProfile:
+    """The reference robot called `name`; CommandRangeError lists the names (and calls the bad
+    value `argument`: the caller's name for it)."""
     allowed = f"one of {', '.join(PROFILES)}"
     if not isinstance(name, str):
-        raise ArgumentTypeError("profile", name, allowed)
+        raise ArgumentTypeError(argument, name, allowed)
     profile = PROFILES.get(name)
     if profile is None:
-        raise CommandRangeError("profile", name, allowed)
+        raise CommandRangeError(argument, name, allowed)
     return profile
 
 
@@ -53,7 +54,7 @@ def steering_limits(config: SetConfig) -> tuple[float, float]:
 
 def kinematics_for(profile: str | RobotProfile, config: SetConfig | None = None) -> DiffDrive | Ackermann:
     """DiffDrive or Ackermann for a reference robot, with the board's `config` if given."""
-    prof = profile if isinstance(profile, RobotProfile) else get_profile(profile)
+    prof = profile if isinstance(profile, RobotProfile) else get_profile(profile, argument="profile")
     if config is not None:
         checks.instance("config", config, SetConfig, "a RobotConfig (robot.config), or None for the profile's")
     cfg = config or prof.config

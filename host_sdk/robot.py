@@ -221,7 +221,11 @@ class Robot(DriveCalls, ConfigCalls):
             kin: DiffDrive | Ackermann | None = self._user_kinematics
         else:
             name = self._profile_name or self._transport.profile
-            prof = get_profile(name) if name is not None else profile_for_example(s.identity.robot_name)
+            prof = (
+                get_profile(name, argument="profile")
+                if name is not None
+                else profile_for_example(s.identity.robot_name)
+            )
             kin = kinematics_for(prof, s.config) if prof is not None else None
         if isinstance(kin, DiffDrive) and not caps & Capability.DIFF_DRIVE:
             raise UnsupportedError(
@@ -359,8 +363,9 @@ class Robot(DriveCalls, ConfigCalls):
 
     def mcu_to_host_s(self, mcu_time_us: int) -> float:
         """Host time of an (unwrapped) MCU timestamp, from PING/PONG time sync."""
+        us = checks.number("mcu_time_us", mcu_time_us, 0, 1e18, unit="us")
         with self._lock:
-            return self._session.mcu_to_host_s(mcu_time_us)
+            return self._session.mcu_to_host_s(us)
 
     # == arming ====================================================================================
     def arm(self, timeout_s: float = 2.0, *, wait_esc: bool = True) -> None:
