@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import contextlib
+import os
+import stat
 import threading
 import time
 
@@ -29,8 +31,9 @@ class SerialTransport(Transport):
         try:
             self._port = serial.serial_for_url(url, **kwargs)
         except (serial.SerialException, OSError, ValueError) as exc:
+            why = _not_a_port(url) or str(exc)
             raise TransportError(
-                f"could not open {url} at {baud} baud: {exc} (`roverlink ports` lists the serial ports)", url, exc
+                f"could not open {url} at {baud} baud: {why} (`roverlink ports` lists the serial ports)", url, exc
             ) from exc
         self._closed = False
 
@@ -64,6 +67,30 @@ class SerialTransport(Transport):
         self._closed = True
         with contextlib.suppress(serial.SerialException, OSError):
             self._port.close()
+
+
+def _not_a_port(url: str) -> str | None:
+    """Why a path cannot be a serial port, in words, or None (a URL, or a device that may be one)."""
+    if "://" in url:
+        return None
+    try:
+        mode = os.stat(url).st_mode
+    except FileNotFoundError:
+        return "there is no such device"
+    except OSError:
+        return None
+    if stat.S_ISDIR(mode):
+        return "it is a directory, not a serial port"
+    if not stat.S_ISCHR(mode):
+        return "it is a file, not a serial port"
+    try:
+        fd = os.open(url, os.O_RDONLY | os.O_NONBLOCK | os.O_NOCTTY)
+    except OSError:
+        return None
+    try:
+        return None if os.isatty(fd) else "it is a device, but not a serial port"
+    finally:
+        os.close(fd)
 
 
 def open_transport(url: str, baud: int = 115200) -> Transport:
