@@ -52,7 +52,6 @@ def test_demo_command_reports_odometry_against_truth(capsys: pytest.CaptureFixtu
 
 
 def test_demo_plot(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    pytest.importorskip("matplotlib")
     from roverlink.cli import main
 
     target = tmp_path / "square.png"
