@@ -101,11 +101,15 @@ class DiffDrive:
         return self.arc_of(_counts("left_counts", left_counts), _counts("right_counts", right_counts))
 
     def arc_of(self, left_counts: int, right_counts: int) -> Arc:
-        """`arc` without the checks (odometry's per-sample path)."""
+        """`arc` without the checks."""
+        return Arc(*self.motion(left_counts, right_counts))
+
+    def motion(self, left_counts: int, right_counts: int) -> tuple[float, float]:
+        """(distance, heading change) for count increments, unchecked: odometry's per-sample path."""
         mpc = self.metres_per_count
         dl = left_counts * mpc
         dr = right_counts * mpc
-        return Arc((dl + dr) / 2, (dr - dl) / self.track_m)
+        return (dl + dr) / 2, (dr - dl) / self.track_m
 
 
 @dataclass(frozen=True, slots=True)
@@ -180,9 +184,13 @@ class Ackermann:
         return self.arc_of(_counts("counts", counts), self._steering(steering_rad))
 
     def arc_of(self, counts: int, steering_rad: float) -> Arc:
-        """`arc` without the checks (odometry's per-sample path)."""
+        """`arc` without the checks."""
+        return Arc(*self.motion(counts, steering_rad))
+
+    def motion(self, counts: int, steering_rad: float) -> tuple[float, float]:
+        """(distance, heading change) for a count increment, unchecked: odometry's per-sample path."""
         distance = counts * self.metres_per_count
-        return Arc(distance, distance * math.tan(steering_rad) / self.wheelbase_m)
+        return distance, distance * math.tan(steering_rad) / self.wheelbase_m
 
     @staticmethod
     def _steering(value: object) -> float:

@@ -110,10 +110,9 @@ class Odometry:
             return
         kin = self.kinematics
         if isinstance(kin, DiffDrive):
-            arc = kin.arc_of(counts[0] - last[0], counts[1] - last[1])
+            ds, dth = kin.motion(counts[0] - last[0], counts[1] - last[1])
         else:
-            arc = kin.arc_of(counts[0] - last[0], steering_rad)
-        ds, dth = arc.distance_m, arc.dtheta_rad
+            ds, dth = kin.motion(counts[0] - last[0], steering_rad)
         if ds or dth:
             self._x, self._y, self._theta = _integrate(self._x, self._y, self._theta, ds, dth)
         dt_us = mcu_time_us - last_us

@@ -181,18 +181,20 @@ class ThreadedRunner(Runner):
         self._deliver()
 
     def _loop(self) -> None:
+        # One wake-up per burst of bytes: read, then under the lock feed the session, run its
+        # timers, write, and work out how long the next read may sleep.
         transport, session, lock = self.transport, self.session, self.lock
+        with lock:
+            now = transport.clock()
+            timeout = min(IO_POLL_S, max(0.0005, session.next_deadline(now) - now))
         while True:
+            data = transport.read(timeout)
             with lock:
                 if self.closed or session.error is not None:
                     return
+                self._step(data)
                 now = transport.clock()
                 timeout = min(IO_POLL_S, max(0.0005, session.next_deadline(now) - now))
-            data = transport.read(timeout)
-            with lock:
-                if self.closed:
-                    return
-                self._step(data)
             if self._pending:
                 self._deliver()
 
