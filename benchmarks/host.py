@@ -28,6 +28,7 @@ import json
 import math
 import multiprocessing as mp
 import os
+import random
 import resource
 import select
 import statistics
@@ -40,6 +41,7 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from codec import _mavlink_module, _mavlink_wire_fields, _rand_scalar, choose_mavlink_message
+from pymavlink import mavutil
 
 from host_sdk import Robot
 from host_sdk.framing import Frame, FrameDecoder, encode_frame
@@ -148,8 +150,6 @@ def roverlink_feeder(master: int, rate: float, stop: Any) -> None:
 
 def mavlink_feeder(master: int, rate: float, stop: Any) -> None:
     """A MAVLink 2 stream on the pty's master end: one message of FEEDBACK's size per period."""
-    import random
-
     mod = _mavlink_module()
     cls = choose_mavlink_message(mod, messages.Feedback.PAYLOAD_SIZE, len(messages.Feedback.FIELDS), None)
     mav = mod.MAVLink(None, srcSystem=1, srcComponent=1)
@@ -302,8 +302,6 @@ def measure_sdk(rate: float, seconds: float, *, drive_hz: float = 0.0, with_hog:
 
 
 def measure_mavutil(rate: float, seconds: float) -> Row:
-    from pymavlink import mavutil
-
     with feeding(mavlink_feeder, rate) as path, _pinned(0):
         conn = mavutil.mavlink_connection(path, baud=115200)
         try:
@@ -341,9 +339,8 @@ def main(argv: list[str] | None = None) -> int:
     for rate in rates:
         for row in (measure_sdk(rate, seconds), measure_mavutil(rate, seconds)):
             rows.append(row)
-            print(
-                f"{rate:>5g}Hz {row.stack:<10} {row.frames:>7} {row.cpu_us_per_frame:>13.1f} {row.wakeups_per_frame:>15.2f}"
-            )
+            cpu, wakeups = f"{row.cpu_us_per_frame:>13.1f}", f"{row.wakeups_per_frame:>15.2f}"
+            print(f"{rate:>5g}Hz {row.stack:<10} {row.frames:>7} {cpu} {wakeups}")
         sdk, mav = rows[-2], rows[-1]
         print(
             f"{'':>6} {'ratio':<10} {'':>7} {sdk.cpu_us_per_frame / mav.cpu_us_per_frame:>12.2f}x "
