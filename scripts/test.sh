@@ -43,3 +43,6 @@ python -m pytest "$@"
 
 echo "== codec benchmark (smoke run; full run: .venv/bin/python benchmarks/codec.py)"
 python benchmarks/codec.py --quick --require-roverlink
+
+echo "== host receive-path benchmark (smoke run; full run: .venv/bin/python benchmarks/host.py)"
+python benchmarks/host.py --quick --rates 100
