@@ -131,7 +131,7 @@ class Robot(DriveCalls, ConfigCalls):
             spy:///dev/ttyUSB0), or an in-process emulator emu://PROFILE?seed=N&faults=...&clock=real|virtual.
         profile: reference robot name (host_sdk.profiles.PROFILES) for the kinematics; by default the
             firmware's example name (or the emu:// profile) picks it. kinematics: your own DiffDrive/Ackermann.
-        watchdog_s: firmware watchdog requested in HELLO (the firmware's range, 0.05..2 s).
+        watchdog_s: firmware watchdog requested in HELLO, within the firmware's range (WATCHDOG_MIN_MS..MAX_MS).
         mode: "stream" (FEEDBACK at feedback_hz) or "lockstep" (one FEEDBACK per setpoint).
         clamp: scale/clamp commands beyond the limits instead of raising CommandRangeError.
         auto_rearm: after a board reset (or a watchdog failsafe), re-arm by itself instead of

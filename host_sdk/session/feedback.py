@@ -17,6 +17,15 @@ from protocol.generated.messages import Feedback
 _PER_MILLE = (1000).__rtruediv__  # x -> x / 1000, as map() takes it
 
 
+def _bits(name: str) -> int:
+    """The width of a FEEDBACK counter on the wire (it wraps there)."""
+    info = next(f for f in Feedback.FIELDS if f.name == name)
+    return int(info.hi - info.lo + 1).bit_length() - 1
+
+
+_COUNT_BITS, _TICK_BITS = _bits("encoder_counts"), _bits("tick")
+
+
 class FeedbackTracker:
     """Unwraps counts, MCU time and tick of consecutive FEEDBACK frames of one boot, and keeps the
     odometry. The encoder counts are unwrapped here and nowhere else (odometry takes them unwrapped)."""
@@ -28,13 +37,13 @@ class FeedbackTracker:
         self.odometry: Odometry | None = Odometry(kinematics) if kinematics is not None else None
         self._index = 0
         self._prev_steering = 0.0
-        self._counts = [Unwrapper(32) for _ in range(WHEEL_COUNT)]
-        self._tick = Unwrapper(16)
+        self._counts = [Unwrapper(_COUNT_BITS) for _ in range(WHEEL_COUNT)]
+        self._tick = Unwrapper(_TICK_BITS)
 
     def new_boot(self) -> None:
         """The board rebooted: its counters start again; the pose is kept and the counts re-anchored."""
-        self._counts = [Unwrapper(32) for _ in range(WHEEL_COUNT)]
-        self._tick = Unwrapper(16)
+        self._counts = [Unwrapper(_COUNT_BITS) for _ in range(WHEEL_COUNT)]
+        self._tick = Unwrapper(_TICK_BITS)
         if self.odometry is not None:
             p = self.odometry.pose
             self.odometry.reset(p.x_m, p.y_m, p.theta_rad)
