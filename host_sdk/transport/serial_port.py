@@ -135,7 +135,7 @@ def open_transport(url: str, baud: int = 115200) -> Transport:
     if url.startswith("emu:") and "emu" not in schemes():
         raise TransportError(
             f"{url}: no transport is registered for emu:// (the emulator package is not installed; "
-            "from a checkout: python3 -m pip install -e .)",
+            "from a checkout, use the checkout's .venv, which `bash scripts/demo.sh` makes: .venv/bin/python)",
             url,
         )
     return SerialTransport(url, baud)

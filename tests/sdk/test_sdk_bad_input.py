@@ -11,7 +11,7 @@ from typing import Any
 import pytest
 
 from host_sdk import Ackermann, DiffDrive, Robot
-from host_sdk.errors import ArgumentError, ArgumentTypeError, RobotClosedError, UnsupportedError
+from host_sdk.errors import ArgumentError, ArgumentTypeError, RobotClosedError, TransportError, UnsupportedError
 
 URL = "emu://diffdrive-tb6612?clock=virtual"
 
@@ -105,3 +105,15 @@ def test_capability_messages_name_the_kind_of_robot(robot: Robot) -> None:
     with pytest.raises(UnsupportedError) as err:
         robot.drive_ackermann(0.2, 0.1)
     assert "needs an Ackermann (steered) robot" in str(err.value) and "a ACKERMANN" not in str(err.value)
+
+
+def test_messages_say_what_is_wrong_in_the_users_terms() -> None:
+    with pytest.raises(ArgumentError) as err:
+        Robot.connect("emu://?bogus=1")
+    assert err.value.argument == "url" and "'bogus' = '1'" in str(err.value)
+    assert "'bogus' = 'emu://" not in str(err.value)  # the parameter's value, not the whole URL
+    with pytest.raises(ArgumentError) as err:
+        Robot.connect("emu://?seed=-1")
+    assert "0..9223372036854775808" in str(err.value) and "e+18" not in str(err.value)
+    with pytest.raises(TransportError, match="it is a file, not a serial port"):
+        Robot.connect(__file__)
