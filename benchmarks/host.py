@@ -200,13 +200,21 @@ def feeding(feeder: Callable[[int, float, Any], None], rate: float) -> Iterator[
         os.close(slave)
 
 
+def _normal_priority() -> None:
+    """A child process leaves the real-time class the measuring process may be in (--rt)."""
+    if os.sched_getscheduler(0) != os.SCHED_OTHER:
+        os.sched_setscheduler(0, os.SCHED_OTHER, os.sched_param(0))
+
+
 def _feed_on_core_1(feeder: Callable[[int, float, Any], None], master: int, rate: float, stop: Any) -> None:
     # The feeder plays the board: it runs beside the hog on core 1, leaving core 0 to the host.
+    _normal_priority()
     with _pinned(1):
         feeder(master, rate, stop)
 
 
 def _hog(stop: Any) -> None:
+    _normal_priority()
     with _pinned(1):
         while not stop.is_set():
             pass
@@ -333,10 +341,23 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seconds", type=float, default=5.0, help="measured time per case (default 5)")
     parser.add_argument("--quick", action="store_true", help="1 s per case (a smoke run)")
     parser.add_argument("--json", metavar="FILE", help="also write the figures as JSON")
+    parser.add_argument(
+        "--rt",
+        action="store_true",
+        help="run the receiving process under SCHED_FIFO (as a robot's control process would be, "
+        "e.g. with chrt): other processes on its core no longer preempt it (needs root)",
+    )
     args = parser.parse_args(argv)
+    if args.rt:
+        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(10))
     seconds = 1.0 if args.quick else args.seconds
     rates = [float(r) for r in args.rates.split(",")]
-    print(f"host receive path: {os.cpu_count()} cores, Python {sys.version.split()[0]}, {seconds:g} s per case")
+    load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
+    policy = "SCHED_FIFO" if args.rt else "normal priority"
+    print(
+        f"host receive path: {os.cpu_count()} cores (load average {load}), Python {sys.version.split()[0]}, "
+        f"{seconds:g} s per case, receiver at {policy}"
+    )
     print(
         f"peer: pymavlink mavutil, MAVLink 2 {mavlink_message_name()}; RoverLink FEEDBACK "
         f"({messages.Feedback.PAYLOAD_SIZE} B payload)\n"
