@@ -68,9 +68,9 @@ def parse_emu_url(url: str) -> EmulatorOptions:
         raise EmulatorValueError("url", url, "an emu://PROFILE[?options] URL")
     profile = unquote(parts.netloc or parts.path.strip("/")) or DEFAULT_PROFILE
     query = parse_qs(parts.query, keep_blank_values=True)
-    for key in query:
+    for key, values in query.items():
         if key not in _PARAMS:
-            raise EmulatorValueError(f"url parameter {key!r}", url, f"one of {', '.join(_PARAMS)}")
+            raise EmulatorValueError(f"url parameter {key!r}", values[-1], f"a known parameter: {', '.join(_PARAMS)}")
 
     def one(key: str) -> str | None:
         values = query.get(key)
@@ -80,12 +80,13 @@ def parse_emu_url(url: str) -> EmulatorOptions:
         text = one(key)
         if text is None:
             return default
+        what = f"an integer in {int(lo)}..{int(hi)}" if kind is int else f"a number in {lo:g}..{hi:g}"
         try:
             value = kind(text)
         except ValueError:
-            raise EmulatorValueError(f"url parameter {key}", text, f"a number in {lo:g}..{hi:g}") from None
+            raise EmulatorValueError(f"url parameter {key}", text, what) from None
         if not (math.isfinite(value) and lo <= value <= hi):
-            raise EmulatorValueError(f"url parameter {key}", text, f"a number in {lo:g}..{hi:g}")
+            raise EmulatorValueError(f"url parameter {key}", text, what)
         return value
 
     clock = one("clock") or "real"

@@ -18,7 +18,7 @@ from emulator.profiles import PROFILE_NAMES, get_profile
 from emulator.transport.pty import PtyEndpoint
 from emulator.transport.realtime import Endpoint, serve
 from emulator.transport.socket import SocketEndpoint
-from roverlink import firmware
+from roverlink import argtypes, firmware
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -33,7 +33,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--profile", default="diffdrive-tb6612", choices=PROFILE_NAMES, help="reference robot to emulate")
     p.add_argument(
         "--seed",
-        type=int,
+        type=argtypes.SEED,
         default=0,
         help="random seed: boot ids (on simavr: the ADC noise and the EEPROM boot counter the firmware mixes "
         "into them), line faults, noise, bootloader garbage (default 0)",
@@ -44,16 +44,44 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         metavar="SPEC",
         help='faults to inject, e.g. "bitflip=1e-4,drop=1e-4,cut@2.0-3.5,reset@5.0,stall=0@4.0" (docs/emulator.md)',
     )
-    p.add_argument("--baud", type=int, default=115200, help="line speed in bit/s (default 115200; simavr: 115200 only)")
-    p.add_argument("--latency-ms", type=float, default=1.0, help="one-way adapter latency in ms (default 1)")
-    p.add_argument("--drift-ppm", type=float, default=0.0, help="MCU crystal error in ppm (default 0)")
+    p.add_argument(
+        "--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200; simavr: 115200 only)"
+    )
+    p.add_argument(
+        "--latency-ms",
+        type=argtypes.number(0, 1000, "ms"),
+        default=1.0,
+        help="one-way adapter latency in ms (default 1)",
+    )
+    p.add_argument(
+        "--drift-ppm",
+        type=argtypes.number(-10_000, 10_000, "ppm"),
+        default=0.0,
+        help="MCU crystal error in ppm (default 0)",
+    )
     p.add_argument(
         "--eeprom", choices=("blank", "saved"), default="blank", help="EEPROM at start: blank, or defaults saved"
     )
-    p.add_argument("--bootloader-ms", type=int, default=None, help="bootloader time after a DTR or external reset")
-    p.add_argument("--socket", type=int, default=None, metavar="PORT", help="serve TCP on 127.0.0.1:PORT (0: any)")
+    p.add_argument(
+        "--bootloader-ms",
+        type=argtypes.integer(0, 60_000, "ms"),
+        default=None,
+        help="bootloader time after a DTR or external reset in ms (default: the profile's board)",
+    )
+    p.add_argument(
+        "--socket",
+        type=argtypes.integer(0, 65_535),
+        default=None,
+        metavar="PORT",
+        help="serve TCP on 127.0.0.1:PORT instead of a pty (0: any free port)",
+    )
     p.add_argument("--no-dtr-reset", action="store_true", help="opening the port does not reset the board")
-    p.add_argument("--speed", type=float, default=1.0, help="virtual seconds per wall second (default 1)")
+    p.add_argument(
+        "--speed",
+        type=argtypes.number(0.01, 1000),
+        default=1.0,
+        help="virtual seconds per wall second, 0.01..1000 (default 1)",
+    )
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
 
 
@@ -68,9 +96,6 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def cmd_emulate(args: argparse.Namespace) -> int:
-    if not args.speed > 0:
-        print(f"error: --speed = {args.speed} is not allowed: a number > 0", file=sys.stderr)
-        return 2
     if getattr(args, "backend", "python") == "simavr":
         return _cmd_emulate_simavr(args)
     try:
@@ -78,7 +103,11 @@ def cmd_emulate(args: argparse.Namespace) -> int:
     except EmulatorError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    endpoint, stopping, log = _open_endpoint(args)
+    try:
+        endpoint, stopping, log = _open_endpoint(args)
+    except EndpointError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
     if log is not None:
         print(
             f"[emulator] {args.profile}, seed {args.seed}, {args.baud} baud on {endpoint.name}; Ctrl-C to stop",
@@ -105,11 +134,19 @@ def _board_options(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
+class EndpointError(Exception):
+    """The pty or socket to serve on could not be opened."""
+
+
 def _open_endpoint(args: argparse.Namespace) -> tuple[Endpoint, Callable[[], bool], TextIO | None]:
     """The pty (or socket) to serve, a stop flag raised by SIGINT/SIGTERM, and the log stream.
 
     The device path goes to stdout as the first line, which is what callers wait for."""
-    endpoint: Endpoint = SocketEndpoint(args.socket) if args.socket is not None else PtyEndpoint()
+    try:
+        endpoint: Endpoint = SocketEndpoint(args.socket) if args.socket is not None else PtyEndpoint()
+    except OSError as exc:
+        where = f"TCP port {args.socket} of 127.0.0.1" if args.socket is not None else "a pseudo-terminal"
+        raise EndpointError(f"cannot serve on {where}: {exc.strerror or exc}") from exc
     stop_requested = [False]
 
     def stop(_signum: int, _frame: object) -> None:
@@ -131,7 +168,12 @@ def _cmd_emulate_simavr(args: argparse.Namespace) -> int:
     except (SimavrError, EmulatorError, firmware.FirmwareError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    endpoint, stopping, log = _open_endpoint(args)
+    try:
+        endpoint, stopping, log = _open_endpoint(args)
+    except EndpointError as exc:
+        robot.close()
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
     if log is not None:
         print(
             f"[simavr] {args.profile}: {robot.elf.name} on {robot.harness.wiring.mcu} at 16 MHz, seed {args.seed}, "
