@@ -15,6 +15,7 @@ from emulator.firmware.link import LinkCounters
 from emulator.firmware.statemachine import SessionEvent, SessionState
 from emulator.plant.esc import EscState
 from emulator.plant.motor import DriveMode
+from emulator.world.world import WorldTruth
 from protocol.generated.enums import FailsafeReason, FeedbackMode, Status
 from protocol.generated.messages import SetConfig
 
@@ -152,6 +153,8 @@ class Truth:
     host_to_mcu: LineTruth
     mcu_to_host: LineTruth
     faults: tuple[FaultRecord, ...]
+    world: WorldTruth | None = None
+    """The robot in its world (pose, target, collisions) when one is attached, else None."""
 
     @property
     def status(self) -> Status:

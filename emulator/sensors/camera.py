@@ -1,0 +1,181 @@
+"""A pinhole camera rendering the 2D scene (numpy + OpenCV), one image column per ray.
+
+Every obstacle is a vertical surface standing on the floor, so a column of the image is a ray in
+the plane: the surfaces it crosses, nearest first, each fill the rows between their foot and their
+top (`h_cam` above the floor at perpendicular depth z projects to row `cy + fy * h_cam / z`, height
+h to `cy - fy * (h - h_cam) / z`). Layers are painted far to near over a chequered floor (0.5 m
+tiles, useful texture for optical flow) and a plain upper background. Surfaces are shaded by their
+incidence and painted with their pattern (bricks on walls; the target's stripes), then the camera's
+optional effects apply: exposure gain, motion blur along the image rows from the yaw rate during the
+exposure (cv2.blur), and sensor noise (seeded, so one seed gives one image).
+
+The Pi Camera v2's field of view (62.2 x 48.8 degrees) gives fx ~ fy: square pixels at 4:3.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from emulator.world.raycast import cast
+from emulator.world.scene import PATTERNS, Scene
+from protocol.sensors import CameraSpec, Mount
+
+LAYERS = 4
+"""Surfaces painted per column (the nearest four; a fifth is almost never visible)."""
+SKY = (205, 190, 175)
+FLOOR = ((96, 104, 110), (128, 136, 142))
+TILE_M = 0.5
+
+
+@dataclass(frozen=True, slots=True)
+class CameraOptions:
+    width: int = 320
+    height: int = 240
+    fps: float = 30.0
+    noise: float = 2.0
+    """Standard deviation of the sensor noise, grey levels (0: none)."""
+    exposure: float = 1.0
+    """Gain on the image (1: as rendered)."""
+    exposure_s: float = 0.01
+    """Exposure time, for the motion blur (0: none)."""
+
+
+class Renderer:
+    def __init__(self, spec: CameraSpec, mount: Mount, options: CameraOptions) -> None:
+        self.spec = spec
+        self.mount = mount
+        self.options = options
+        w, h = options.width, options.height
+        self.fx = (w / 2) / math.tan(math.radians(spec.hfov_deg) / 2)
+        self.fy = (h / 2) / math.tan(math.radians(spec.vfov_deg) / 2)
+        self.cx, self.cy = (w - 1) / 2, (h - 1) / 2
+        self.col_angle = np.arctan((self.cx - np.arange(w)) / self.fx)
+        self.col_cos = np.cos(self.col_angle)
+        self.rows = np.arange(h, dtype=np.float64)[:, None]
+        self.col_index = np.arange(w, dtype=np.int32)[None, :]
+        below = self.rows[:, 0] > self.cy + 0.5
+        self.floor_rows = np.nonzero(below)[0]
+        self.floor_z = mount.z_m * self.fy / (self.floor_rows - self.cy)
+        self.floor_z32 = self.floor_z.astype(np.float32)[:, None]
+        self.floor_lateral = ((self.cx - np.arange(w)) / self.fx).astype(np.float32)[None, :]
+        self._noise_bank: NDArray[np.float32] | None = None
+        fade = (1.0 / (1.0 + 0.04 * self.floor_z))[:, None, None]
+        sky = np.array(SKY, dtype=np.float64)
+        self.floor_a = (np.array(FLOOR[0]) * fade + sky * (1 - fade)).astype(np.float32)
+        self.floor_b = (np.array(FLOOR[1]) * fade + sky * (1 - fade)).astype(np.float32)
+        self.background = np.empty((h, w, 3), dtype=np.float32)
+        self.background[:] = np.array(SKY, dtype=np.float32)
+
+    def render(self, scene: Scene, pose: tuple[float, float, float], yaw_rate: float,
+               rng: np.random.Generator) -> NDArray[np.uint8]:  # fmt: skip
+        """The BGR image the camera sees from the robot pose (x, y, heading) in the world."""
+        import cv2  # noqa: PLC0415 (OpenCV is the vision extra)
+
+        x, y, th = pose
+        m = self.mount
+        cam_x = x + math.cos(th) * m.x_m - math.sin(th) * m.y_m
+        cam_y = y + math.sin(th) * m.x_m + math.cos(th) * m.y_m
+        heading = th + m.yaw_rad
+        img = self.background.copy()
+        self._floor(img, cam_x, cam_y, heading)
+        self._surfaces(img, scene, cam_x, cam_y, heading)
+        opts = self.options
+        if opts.exposure != 1.0:
+            img *= opts.exposure
+        blur = abs(yaw_rate) * opts.exposure_s * self.fx
+        if blur >= 1.5:
+            img = np.asarray(cv2.blur(img, (round(blur), 1)), dtype=np.float32)
+        if opts.noise > 0:
+            img += self._noise(rng)
+        return np.clip(img, 0, 255).astype(np.uint8)
+
+    def _noise(self, rng: np.random.Generator) -> NDArray[np.float32]:
+        """Luminance noise for one frame: a random window of a bank drawn once (4 frames of
+        Gaussian noise), shifted by a random offset per frame, so noise costs no draw per pixel."""
+        h, w = self.options.height, self.options.width
+        if self._noise_bank is None:
+            bank = rng.standard_normal((4 * h, 2 * w), dtype=np.float32) * np.float32(self.options.noise)
+            self._noise_bank = bank
+        r0, c0 = int(rng.integers(0, 3 * h)), int(rng.integers(0, w))
+        return self._noise_bank[r0 : r0 + h, c0 : c0 + w, None]
+
+    def _floor(self, img: NDArray[np.float32], cam_x: float, cam_y: float, heading: float) -> None:
+        z = self.floor_z32
+        lateral = self.floor_lateral * z
+        c, s = np.float32(math.cos(heading) / TILE_M), np.float32(math.sin(heading) / TILE_M)
+        tx = np.floor(np.float32(cam_x / TILE_M) + c * z - s * lateral)
+        ty = np.floor(np.float32(cam_y / TILE_M) + s * z + c * lateral)
+        odd = ((tx + ty).astype(np.int32) & 1).astype(bool)
+        img[self.floor_rows] = np.where(odd[..., None], self.floor_b, self.floor_a)
+
+    def _surfaces(self, img: NDArray[np.float32], scene: Scene, cam_x: float, cam_y: float, heading: float) -> None:
+        angles = heading + self.col_angle
+        w = angles.shape[0]
+        origins = np.tile([cam_x, cam_y], (w, 1))
+        hits = cast(scene, origins, np.column_stack([np.cos(angles), np.sin(angles)]))
+        if hits.t.shape[1] == 0:
+            return
+        k = min(LAYERS, hits.t.shape[1])
+        order = np.argsort(hits.t, axis=1)[:, :k]
+        cols = np.arange(w)[:, None]
+        t = hits.t[cols, order]
+        finite = np.isfinite(t)
+        z = np.where(finite, t, 1.0) * self.col_cos[:, None]  # (W, k) perpendicular depth
+        shape = hits.shape[order]
+        h_cam = self.mount.z_m
+        top = np.where(finite, self.cy - self.fy * (scene.heights[shape] - h_cam) / z, np.inf)
+        bottom = np.where(finite, self.cy + self.fy * h_cam / z, -np.inf)
+        # Which layer each pixel shows: painted far to near, as indices (cheap), coloured once from
+        # per-(column, layer) tables, so the per-pixel work is one gather.
+        layer = np.full(img.shape[:2], -1, dtype=np.int32)
+        rows = self.rows
+        for j in range(k - 1, -1, -1):
+            if finite[:, j].any():
+                layer[(rows >= top[:, j]) & (rows <= bottom[:, j])] = j
+        valid = layer >= 0
+        cell = self.col_index * k + np.maximum(layer, 0)  # (H, W) index into the (W * k) tables
+        shade = (0.55 + 0.45 * hits.cos_incidence[cols, order]).astype(np.float32)[..., None]
+        table = (self.colour_of(scene)[shape] * shade).reshape(-1, 3)
+        pattern = self.pattern_of(scene)[shape].reshape(-1)
+        painted = np.take(table, cell, axis=0)
+        patterned = valid & (pattern[cell] > 0)
+        if patterned.any():
+            ys, xs = np.nonzero(patterned)
+            c = cell[ys, xs]
+            height = h_cam + (self.cy - ys) * z.reshape(-1)[c] / self.fy
+            alt = _pattern(pattern[c], hits.u[cols, order].reshape(-1)[c], height)
+            table2 = (self.colour2_of(scene)[shape] * shade).reshape(-1, 3)
+            painted[ys[alt], xs[alt]] = table2[c[alt]]
+        np.copyto(img, painted, where=valid[..., None])
+
+    def pattern_of(self, scene: Scene) -> NDArray[np.int64]:
+        return np.array([PATTERNS.index(s.pattern) for s in scene.shapes], dtype=np.int64)
+
+    def colour_of(self, scene: Scene) -> NDArray[np.float32]:
+        return np.array([s.colour for s in scene.shapes], dtype=np.float32)
+
+    def colour2_of(self, scene: Scene) -> NDArray[np.float32]:
+        return np.array([s.colour2 for s in scene.shapes], dtype=np.float32)
+
+
+def _pattern(kind: NDArray[np.int64], u: NDArray[np.float64], height: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Where a pixel takes the second colour: bricks' mortar, stripes' other band, checker squares
+    (pixels given as flat arrays; each pattern is evaluated only where it is used)."""
+    alt = np.zeros(kind.shape, dtype=bool)
+    for code in np.unique(kind):
+        if code == 0:
+            continue
+        at = kind == code
+        hh, uu = height[at], u[at]
+        course = np.floor(hh / 0.08)
+        if code == 1:
+            alt[at] = (np.mod(hh, 0.08) < 0.012) | (np.mod(uu + 0.12 * (course % 2), 0.24) < 0.015)
+        elif code == 2:
+            alt[at] = (course % 2) == 1
+        else:
+            alt[at] = ((np.floor(uu / 0.06) + np.floor(hh / 0.06)) % 2) == 1
+    return alt
