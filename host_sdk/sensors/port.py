@@ -63,9 +63,11 @@ class SensorPort:
             raise TransportError(f"writing {self.url} failed: {exc}", self.url, exc) from exc
 
     def set_dtr(self, level: bool) -> None:
-        """Drive the adapter's DTR line (the RPLIDAR A1's adapter switches its motor with it)."""
+        """Drive the adapter's DTR line (the RPLIDAR A1's adapter switches its motor with it); a port
+        without modem lines (a pty, a socket) ignores it."""
         if self._serial is not None:
-            self._serial.dtr = level
+            with contextlib.suppress(serial.SerialException, OSError):
+                self._serial.dtr = level
 
     def set_baud(self, baud: int) -> None:
         self.baud = baud
