@@ -87,6 +87,7 @@ class Lidar:
             self.port.set_dtr(False)
         self._queue.clear()
         self._request(rplidar.SCAN if self.is_rplidar else ydlidar.START_SCAN)
+        self.parser.expect_scan()
 
     def stop(self) -> None:
         self._request(rplidar.STOP if self.is_rplidar else ydlidar.STOP_SCAN)

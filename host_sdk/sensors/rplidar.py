@@ -95,6 +95,10 @@ class RPLidarParser:
         """True after a SCAN descriptor: nodes are expected."""
         return self._streaming
 
+    def expect_scan(self) -> None:
+        """The host just asked for a scan: take nodes even if the answer's descriptor is lost."""
+        self._streaming = True
+
     def reset(self) -> None:
         """Forget the stream (call after STOP or RESET, before the next request)."""
         self._buf.clear()
@@ -113,8 +117,12 @@ class RPLidarParser:
                 self._single(type_, bytes(buf[:length]))
                 del buf[:length]
                 self._answer = None
-            elif self._streaming and self._nodes(t):
-                continue
+            elif self._streaming:
+                progress = self._nodes(t)
+                if progress is None:
+                    return
+                if not progress and not self._descriptor():
+                    return
             elif not self._descriptor():
                 return
 
@@ -166,18 +174,18 @@ class RPLidarParser:
             self._events.append(SampleRate(std, exp))
 
     # -- the node stream ----------------------------------------------------------------------------
-    def _nodes(self, t: float) -> bool:
-        """Decode the valid nodes at the head of the buffer (vectorised). False: need more bytes, or
-        the head is not a node (then the caller looks for a descriptor)."""
+    def _nodes(self, t: float) -> bool | None:
+        """Decode the valid nodes at the head of the buffer (vectorised). None: need more bytes;
+        False: the head is a new descriptor (the caller reads it)."""
         buf = self._buf
         whole = len(buf) // 5
         if whole == 0:
-            return False
+            return False if buf[:2] == b"\xa5\x5a" and len(buf) >= 2 else None
         raw = np.frombuffer(bytes(buf[: whole * 5]), dtype=np.uint8).reshape(whole, 5)
         ok = (((raw[:, 0] ^ (raw[:, 0] >> 1)) & 1) == 1) & ((raw[:, 1] & 1) == 1)
         good = whole if ok.all() else int(np.argmin(ok))
         if good == 0:
-            if buf[0] == SYNC and (len(buf) < 2 or buf[1] == 0x5A):
+            if buf[0] == SYNC and buf[1] == 0x5A:
                 return False  # a new descriptor: let the caller read it
             self.counters.framing_errors += 1
             self._discard(1)

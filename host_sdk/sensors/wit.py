@@ -242,9 +242,9 @@ class WitParser:
             packet = decode(type_, bytes(buf[2:10]), t)
             del buf[:11]
             self.counters.packets += 1
-            self._events.append(packet)
             if type_ != 0x5F:
-                self._grouped(type_, packet)
+                self._grouped(type_, packet)  # may close the previous period first
+            self._events.append(packet)
 
     def _grouped(self, type_: int, packet: Packet) -> None:
         if type_ <= self._last_type and self._group:

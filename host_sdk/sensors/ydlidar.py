@@ -71,6 +71,10 @@ class YDLidarParser:
     def scanning(self) -> bool:
         return self._streaming
 
+    def expect_scan(self) -> None:
+        """The host just asked for a scan: take nodes even if the answer's descriptor is lost."""
+        self._streaming = True
+
     def reset(self) -> None:
         self._buf.clear()
         self._answer = None

@@ -1,0 +1,149 @@
+"""Golden bytes written from the public protocol documents (docs/sensors.md names them), checked
+against both sides: the emulator's encoders produce them, the SDK's parsers decode them."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from emulator.sensors import rplidar as emu_rplidar
+from emulator.sensors import wit as emu_wit
+from emulator.sensors import ydlidar as emu_ydlidar
+from emulator.sensors.lidar import LidarSamples
+from emulator.sensors.mjpeg import Frame
+from host_sdk.sensors import rplidar, wit, ydlidar
+from host_sdk.sensors.mjpeg import MjpegParser
+
+# -- RPLIDAR (Slamtec interface protocol, A1/A2) ------------------------------------------------------
+DESCRIPTORS = {
+    "scan": bytes.fromhex("a55a0500004081"),
+    "info": bytes.fromhex("a55a1400000004"),
+    "health": bytes.fromhex("a55a0300000006"),
+    "samplerate": bytes.fromhex("a55a0400000015"),
+}
+# quality 15, start of a revolution, 90.000 deg (q6 5760), 1000 mm (q2 4000)
+NODE_START = bytes.fromhex("3d012da00f")
+# quality 20, not a start, 90.5 deg (q6 5792), 0 mm (no return)
+NODE_NO_RETURN = bytes.fromhex("52412d0000")
+
+
+def test_rplidar_requests_and_descriptors_match_the_protocol() -> None:
+    assert rplidar.request(rplidar.SCAN) == b"\xa5\x20"
+    assert rplidar.request(rplidar.GET_HEALTH) == b"\xa5\x52"
+    # EXPRESS_SCAN with its 5-byte payload: A5 82 05 00 00 00 00 00 22 (checksum = XOR of all)
+    assert rplidar.request(0x02, bytes(5)) == bytes.fromhex("a58205000000000022")
+    assert emu_rplidar.descriptor(5, 1, 0x81) == DESCRIPTORS["scan"]
+    assert emu_rplidar.descriptor(20, 0, 0x04) == DESCRIPTORS["info"]
+    assert emu_rplidar.descriptor(3, 0, 0x06) == DESCRIPTORS["health"]
+    assert emu_rplidar.descriptor(4, 0, 0x15) == DESCRIPTORS["samplerate"]
+
+
+def test_rplidar_node_bytes_both_ways() -> None:
+    samples = LidarSamples(
+        time_us=np.array([0, 500], dtype=np.int64),
+        angle_deg=np.array([90.0, 90.5]),
+        range_m=np.array([1.0, 0.0]),
+        quality=np.array([15, 20], dtype=np.int64),
+        start=np.array([True, False]),
+        true_range_m=np.array([1.0, np.inf]),
+    )
+    assert emu_rplidar.encode_nodes(samples) == [NODE_START, NODE_NO_RETURN]
+    parser = rplidar.RPLidarParser()
+    parser.receive_data(DESCRIPTORS["scan"] + NODE_START + NODE_NO_RETURN + NODE_START, t=1.0)
+    (scan,) = parser.events()
+    assert scan.angles_rad.tolist() == pytest.approx([-math.pi / 2, -math.radians(90.5)])  # clockwise -> CCW
+    assert scan.ranges_m[0] == pytest.approx(1.0)
+    assert math.isnan(scan.ranges_m[1])
+    assert scan.qualities.tolist() == [15, 20]
+    # Three nodes arrived together at t = 1.0, 0.5 ms apart (the A1's standard sample duration).
+    assert scan.times_s.tolist() == pytest.approx([0.999, 0.9995])
+
+
+def test_rplidar_single_answers() -> None:
+    parser = rplidar.RPLidarParser()
+    info = DESCRIPTORS["info"] + bytes([0x18, 29, 1, 7]) + bytes(range(16))
+    health = DESCRIPTORS["health"] + bytes([2, 0x34, 0x12])
+    rate = DESCRIPTORS["samplerate"] + (508).to_bytes(2, "little") + (254).to_bytes(2, "little")
+    parser.receive_data(info + health + rate)
+    got = parser.events()
+    assert got[0] == rplidar.DeviceInfo(0x18, (1, 29), 7, bytes(range(16)).hex().upper())
+    assert got[1] == rplidar.DeviceHealth(2, 0x1234) and got[1].name == "error"
+    assert got[2] == rplidar.SampleRate(508, 254)
+    assert parser.sample_period_s == pytest.approx(508e-6)
+
+
+# -- YDLIDAR (YDLidar-SDK communication protocol) -----------------------------------------------------
+ZERO_PACKET = bytes.fromhex("aa55010153ae53aeab540000")  # the protocol document's example
+
+
+def test_ydlidar_zero_packet_of_the_protocol_document() -> None:
+    angle = (0xAE53 >> 1) / 64
+    assert emu_ydlidar.encode_packet(1, np.array([angle]), np.array([0.0])) == ZERO_PACKET
+    parser = ydlidar.YDLidarParser()
+    parser.receive_data(DESCRIPTORS["scan"] + ZERO_PACKET)
+    assert parser.counters.checksum_errors == 0 and parser.counters.points == 1
+
+
+def test_ydlidar_distance_and_angle_correction_of_the_protocol_document() -> None:
+    assert int.from_bytes(bytes.fromhex("e56f"), "little") / 4 == 7161.25
+    # FSA 0x6FE5 -> 223.78 deg, LSA 0x79BD -> 243.47 deg; a 1000 mm sample is corrected by -6.7622 deg.
+    assert pytest.approx(223.78, abs=0.01) == (0x6FE5 >> 1) / 64
+    assert pytest.approx(243.47, abs=0.01) == (0x79BD >> 1) / 64
+    corr = emu_ydlidar.angle_correction_deg(np.array([1000.0, 8000.0, 0.0]))
+    assert corr.tolist() == pytest.approx([-6.7622, -7.8374, 0.0], abs=1e-3)
+
+
+def test_ydlidar_packet_round_trip_with_the_correction() -> None:
+    angles = 100.0 + 0.72 * np.arange(40)
+    ranges = np.linspace(0.5, 3.0, 40)
+    packet = emu_ydlidar.encode_packet(0, angles, ranges)
+    assert len(packet) == 10 + 80
+    parser = ydlidar.YDLidarParser()
+    parser.receive_data(DESCRIPTORS["scan"] + ZERO_PACKET + packet + ZERO_PACKET, t=2.0)
+    (scan,) = parser.events()
+    expect = angles[:] + emu_ydlidar.angle_correction_deg(np.rint(ranges * 4000) / 4)
+    got = np.degrees(-scan.angles_rad[1:]) % 360
+    assert got == pytest.approx(expect, abs=0.02)
+    assert scan.ranges_m[1:] == pytest.approx(ranges, abs=0.00025)
+
+
+# -- WIT standard protocol --------------------------------------------------------------------------
+ACC_1G = bytes.fromhex("55510000000000080000ae")  # az = 2048/32768*16 g = 1 g
+ANGLE_YAW_90 = bytes.fromhex("55530000000000400000e8")  # yaw = 16384/32768*180 = 90 deg
+
+
+def test_wit_packets_of_the_protocol_formulas() -> None:
+    assert emu_wit.packet(0x51, bytes.fromhex("0000000000080000")) == ACC_1G
+    parser = wit.WitParser()
+    parser.receive_data(ACC_1G + ANGLE_YAW_90 + ACC_1G)
+    events = parser.events()
+    acc, angle, sample = events[0], events[1], events[2]
+    assert isinstance(acc, wit.Acceleration) and acc.xyz == pytest.approx((0.0, 0.0, wit.G))
+    assert isinstance(angle, wit.Angle) and angle.yaw == pytest.approx(math.pi / 2)
+    assert isinstance(sample, wit.ImuSample) and sample.angle == pytest.approx((0.0, 0.0, math.pi / 2))
+
+
+def test_wit_configuration_commands() -> None:
+    assert wit.unlock() == bytes.fromhex("ffaa6988b5")
+    assert wit.save() == bytes.fromhex("ffaa000000")
+    assert wit.set_rate(200) == bytes.fromhex("ffaa030b00")
+    assert wit.set_baud(115200) == bytes.fromhex("ffaa040600")
+    assert wit.set_outputs("acc", "gyro", "angle", "mag", "quat") == bytes.fromhex("ffaa021e02")
+    assert wit.calibrate("heading_zero") == bytes.fromhex("ffaa010400")
+    assert wit.read_registers(0x3D) == bytes.fromhex("ffaa273d00")
+    with pytest.raises(ValueError, match="rate_hz = 300 is not allowed"):
+        wit.set_rate(300)
+
+
+def test_mjpeg_part_round_trip() -> None:
+    jpeg = b"\xff\xd8" + b"--not a boundary--" + b"\xff\xd9"
+    parser = MjpegParser()
+    data = b"HTTP/1.0 200 OK\r\n\r\n" + Frame(7, 1_500_000, jpeg).part() + Frame(9, 1_566_667, jpeg).part()
+    for i in range(0, len(data), 5):
+        parser.receive_data(data[i : i + 5], t=3.0)
+    parts = parser.parts()
+    assert [p.jpeg for p in parts] == [jpeg, jpeg]
+    assert [p.frame for p in parts] == [7, 9]
+    assert parts[0].timestamp == pytest.approx(1.5)
