@@ -3,6 +3,8 @@ exception on garbage, garbage counted, and whole scans again once the stream is 
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
@@ -17,7 +19,7 @@ LIDARS = {"rplidar-a1": rplidar.RPLidarParser, "ydlidar-f4": ydlidar.YDLidarPars
 def _feed(parser: object, data: bytes, cuts: list[int]) -> list[object]:
     events: list[object] = []
     bounds = sorted({0, len(data), *(c % (len(data) + 1) for c in cuts)})
-    for lo, hi in zip(bounds[:-1], bounds[1:], strict=True):
+    for lo, hi in itertools.pairwise(bounds):
         parser.receive_data(data[lo:hi], 1.0)  # type: ignore[attr-defined]
         events.extend(parser.events())  # type: ignore[attr-defined]
     return events
@@ -69,7 +71,7 @@ def test_lidar_garbage_before_a_clean_stream_is_counted(model: str, junk: bytes)
 def test_every_parser_survives_pure_noise(noise: bytes, cuts: list[int]) -> None:
     for parser in (rplidar.RPLidarParser(), ydlidar.YDLidarParser(), wit.WitParser(), MjpegParser()):
         bounds = sorted({0, len(noise), *(c % (len(noise) + 1) for c in cuts)})
-        for lo, hi in zip(bounds[:-1], bounds[1:], strict=True):
+        for lo, hi in itertools.pairwise(bounds):
             parser.receive_data(noise[lo:hi], 0.0)
 
 
