@@ -24,7 +24,7 @@ def test_the_example_scenario_loads() -> None:
     # Straight ahead of the start: the target (r 0.12 m at x = 3.8) at t = 0, the far wall once it left.
     ahead = (np.array([[1.0, 2.0]]), np.array([[1.0, 0.0]]))
     t, shape, cos = nearest(scene, *ahead)
-    assert scene.shapes[shape[0]].kind == "target" and t[0] == pytest.approx(2.8 - 0.12) and cos[0] == 1.0
+    assert scene.shapes[shape[0]].kind == "target" and t[0] == pytest.approx(2.68) and cos[0] == pytest.approx(1.0)
     scene.set_time(3.0)
     t, shape, _ = nearest(scene, *ahead)
     assert scene.shapes[shape[0]].name == "outer walls" and t[0] == pytest.approx(4.0)
