@@ -70,7 +70,7 @@ def test_the_target_moves_along_its_path_at_its_speed() -> None:
 
 def test_driving_into_a_wall_is_a_collision_and_the_bumper_stops_the_robot(tmp_path: Path) -> None:
     world = tmp_path / "corridor.toml"
-    world.write_text('[world]\nsize_m = [3.0, 1.0]\n[start]\nx_m = 0.5\ny_m = 0.5\n', encoding="utf-8")
+    world.write_text("[world]\nsize_m = [3.0, 1.0]\n[start]\nx_m = 0.5\ny_m = 0.5\n", encoding="utf-8")
     with Robot.connect(f"emu://diffdrive-tb6612?clock=virtual&world={world}") as robot:
         robot.arm()
         emu = robot.emulator

@@ -1,0 +1,111 @@
+"""The SDK's drivers read the emulated devices in-process (emu:// + emudev://, virtual clock) and
+agree with the ground truth; one seed gives the same bytes from every device."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from emulator import Emulator
+from emulator.sensors import attach
+from host_sdk.sensors import CameraSource, Jy901, Lidar
+from host_sdk.transport import open_transport
+from tests.sensors.truth import agreement
+
+ROOM = Path(__file__).resolve().parents[2] / "examples" / "worlds" / "room.toml"
+
+
+def _wrap(a: float) -> float:
+    return (a + math.pi) % (2 * math.pi) - math.pi
+
+
+@pytest.mark.parametrize(("profile", "model"), [("diffdrive-bts7960", "rplidar-a1"), ("picar", "ydlidar-f4")])
+def test_scan_ranges_agree_with_the_scene(profile: str, model: str) -> None:
+    transport = open_transport(f"emu://{profile}?clock=virtual&seed=2&world={ROOM}&lidar={model}", 115200)
+    with Lidar.open(transport.endpoints["lidar"], model) as lidar:
+        assert lidar.health().ok
+        lidar.start()
+        scans = [lidar.read_scan() for _ in range(3)]
+    emu = transport.device
+    rig = emu.sensors
+    mount = rig.devices["lidar"].model.mount
+    spec = rig.devices["lidar"].spec
+    for scan in scans:
+        assert len(scan) == pytest.approx(spec.sample_rate_hz / spec.scan_hz, rel=0.03)
+        assert np.isfinite(scan.ranges_m).mean() > 0.9  # a closed room: few dropouts
+        # The target moves: compare each revolution with the scene at its own time.
+        rig.world.scene.set_time(scan.time_s + scan.duration_s / 2)
+        assert agreement(scan, rig.world.scene, rig.world.scene.start, mount) > 0.97
+        assert scan.times_s[-1] - scan.times_s[0] == pytest.approx(1 / spec.scan_hz, rel=0.05)
+    assert lidar.counters.framing_errors == lidar.counters.checksum_errors == 0
+    transport.close()
+
+
+def test_imu_yaw_follows_the_true_heading_within_its_bias_model() -> None:
+    transport = open_transport(f"emu://diffdrive-tb6612?clock=virtual&seed=4&world={ROOM}&imu=jy901", 115200)
+    emu = transport.device
+    with Jy901.open(transport.endpoints["imu"]) as imu:
+        sample = imu.read()
+        heading = emu.truth.world.theta_rad
+        assert sample.accel is not None and sample.accel[2] == pytest.approx(9.81, abs=0.3)
+        assert sample.gyro is not None and abs(sample.gyro[2]) < math.radians(0.5)
+        assert sample.angle is not None
+        # An uncalibrated compass: a hard-iron heading error of a few degrees (5 % of the field).
+        assert abs(_wrap(sample.angle[2] - heading)) < 0.2
+        imu.calibrate("mag")
+        imu.calibrate("normal")
+        for _ in range(2000):  # 10 s at 200 Hz: the filter (2 s) settles on the corrected compass
+            sample = imu.read()
+        assert sample.angle is not None and abs(_wrap(sample.angle[2] - heading)) < math.radians(1.0)
+        assert imu.counters.checksum_errors == 0 and emu.sensors.devices["imu"].packets_dropped == 0
+        assert sample.t == pytest.approx(transport.clock(), abs=0.02)
+    transport.close()
+
+
+def test_camera_sees_the_target_ahead(tmp_path: Path) -> None:
+    world = tmp_path / "target.toml"
+    world.write_text(
+        "[world]\nsize_m = [6.0, 4.0]\n[start]\nx_m = 1.0\ny_m = 2.0\n[target]\npath = [[2.5, 2.0]]\nradius_m = 0.15\n",
+        encoding="utf-8",
+    )
+    transport = open_transport(f"emu://picar?clock=virtual&world={world}&camera=320x240", 115200)
+    with CameraSource(transport.endpoints["camera"]) as cam:
+        frames = [cam.read() for _ in range(3)]
+    image = frames[-1].image
+    assert image.shape == (240, 320, 3)
+    b, g, r = (image[..., i].astype(int) for i in range(3))
+    magenta = (b > 150) & (r > 150) & (g < 90)
+    cols = np.flatnonzero(magenta.any(axis=0))
+    assert magenta.sum() > 300
+    assert abs((cols.min() + cols.max()) / 2 - 160) < 8  # straight ahead: centred
+    assert [f.seq for f in frames] == [1, 2, 3] and cam.dropped == 0
+    t0, t1 = frames[0].device_time_s, frames[1].device_time_s
+    assert t0 is not None and t1 is not None and t1 - t0 == pytest.approx(1 / 30, abs=1e-5)
+    # Taken off the pipe within one sensor batch (5 ms) of the exposure.
+    assert all(0 <= f.time_s - (f.device_time_s or 0) <= 0.0051 for f in frames)
+    transport.close()
+
+
+def _device_bytes(seed: int) -> dict[str, bytes]:
+    emu = Emulator("picar", seed=seed)
+    rig = attach(emu, f"random:{seed}", lidar="rplidar-a1", imu="jy901", camera=True)
+    frames: list[bytes] = []
+    rig.devices["camera"].listeners.append(lambda f: frames.append(f.jpeg))
+    rig.devices["lidar"].host_write(b"\xa5\x20", emu.now_us)
+    emu.advance(0.5)
+    return {
+        "lidar": rig.devices["lidar"].host_read(emu.now_us),
+        "imu": rig.devices["imu"].host_read(emu.now_us),
+        "camera": b"".join(frames),
+    }
+
+
+def test_the_same_seed_gives_the_same_bytes_from_every_device() -> None:
+    a, b, c = _device_bytes(7), _device_bytes(7), _device_bytes(8)
+    for kind in ("lidar", "imu", "camera"):
+        assert len(a[kind]) > 1000
+        assert a[kind] == b[kind], kind
+        assert a[kind] != c[kind], kind
