@@ -24,6 +24,8 @@ import gc
 import time
 from collections.abc import Callable
 
+import cv2
+
 from emulator import Emulator
 from emulator.sensors import attach
 from emulator.sensors.camera import CameraOptions
@@ -77,8 +79,6 @@ def lidar_parse(model: str, seconds: float, repeat: int) -> tuple[float, int]:
 
 
 def camera_fps(width: int, height: int, frames: int, repeat: int) -> float:
-    import cv2
-
     emu = Emulator("picar", seed=0)
     rig = attach(emu, "random:0", camera=CameraOptions(width=width, height=height))
     cam = rig.devices["camera"]
