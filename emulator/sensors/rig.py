@@ -90,6 +90,7 @@ class SensorRig:
     def _tick(self) -> None:
         now = self.emu.now_us
         scene = self.world.scene
+        scene.set_time(now / 1e6)  # the target where it is now (the world moves it lazily)
         for dev in self.devices.values():
             dev.update(scene, now, self.world.pose_at)
         self.emu.clock.call_at(now + BATCH_US, self._tick, PRIORITY_OTHER)

@@ -65,7 +65,8 @@ class World:
         self.body = sensors or ROBOT_SENSORS[profile]
         self.collisions: list[Collision] = []
         self.in_contact = False
-        self._gap = math.inf
+        self._gap = -math.inf  # unknown until the first check
+        self._checked = (0.0, 0.0, 0)  # where and when the footprint's gap was last measured
         self._saved: tuple[float, ...] = ()
         # The robot's world pose after each physics step (a ring), for sensors that sample
         # between steps: `pose_at`.
@@ -111,9 +112,17 @@ class World:
         return np.interp(t, h[:, 0], h[:, 1]), np.interp(t, h[:, 0], h[:, 2]), np.interp(t, h[:, 0], h[:, 3])
 
     def _collide(self, plant: Plant, now_us: int) -> None:
-        self.scene.set_time(now_us / 1e6)
         x, y, th = self.robot_pose(plant)
         fx, fy = self.footprint(x, y, th)
+        # Far from everything: no surface can be nearer than the last gap less how far the
+        # footprint and the target moved since it was measured, so the exact check can wait.
+        cx, cy, ct = self._checked
+        target = self.scene.target
+        target_moved = target.path.speed_m_s * (now_us - ct) / 1e6 if target is not None else 0.0
+        if not self.in_contact and math.hypot(fx - cx, fy - cy) + target_moved < self._gap - CONTACT_M:
+            return
+        self.scene.set_time(now_us / 1e6)
+        self._checked = (fx, fy, now_us)
         radius = self.body.footprint_radius_m
         gap, shape = clearance(self.scene, fx, fy, radius)
         if gap >= CONTACT_M:
@@ -123,12 +132,14 @@ class World:
         speed = self._saved[4] if self._saved else plant.vehicle.v_m_s
         if not self.in_contact:
             self._record(now_us, fx, fy, radius=radius, speed=speed, shape=shape)
-        if self._saved and gap < 0 and gap < min(self._gap, 0.0) - _SLACK_M:
+        before = self._gap if math.isfinite(self._gap) else 0.0
+        if self._saved and gap < 0 and gap < min(before, 0.0) - _SLACK_M:
             self._stop(plant)
             x, y, th = self.robot_pose(plant)
             gap, _ = clearance(self.scene, *self.footprint(x, y, th), radius)
         self.in_contact = True
         self._gap = gap
+        self._checked = (*self.footprint(*self.robot_pose(plant)), now_us)
 
     def _record(self, now_us: int, fx: float, fy: float, *, radius: float, speed: float, shape: int) -> None:
         # Contact point: the footprint's edge towards the obstacle, found by probing 16 directions.

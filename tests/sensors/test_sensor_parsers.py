@@ -8,10 +8,10 @@ import itertools
 import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
+from sensor_streams import recorded
 
 from host_sdk.sensors import rplidar, wit, ydlidar
 from host_sdk.sensors.mjpeg import MjpegParser
-from tests.sensors.conftest import recorded
 
 LIDARS = {"rplidar-a1": rplidar.RPLidarParser, "ydlidar-f4": ydlidar.YDLidarParser}
 

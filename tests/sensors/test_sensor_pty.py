@@ -12,11 +12,11 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from sensor_truth import agreement
 
 from emulator.world import load_world
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 from protocol.sensors import ROBOT_SENSORS
-from tests.sensors.truth import agreement
 
 ROOM = Path(__file__).resolve().parents[2] / "examples" / "worlds" / "room.toml"
 

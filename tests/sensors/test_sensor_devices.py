@@ -8,12 +8,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from sensor_truth import agreement
 
 from emulator import Emulator
 from emulator.sensors import attach
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 from host_sdk.transport import open_transport
-from tests.sensors.truth import agreement
 
 ROOM = Path(__file__).resolve().parents[2] / "examples" / "worlds" / "room.toml"
 
