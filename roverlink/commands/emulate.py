@@ -93,6 +93,9 @@ def cmd_emulate(args: argparse.Namespace) -> int:
     if not args.speed > 0:
         print(f"error: --speed = {args.speed} is not allowed: a number > 0", file=sys.stderr)
         return 2
+    if not 0 <= getattr(args, "camera_port", 0) <= 65535:
+        print(f"error: --camera-port = {args.camera_port} is not allowed: a TCP port 0..65535", file=sys.stderr)
+        return 2
     values = {k: getattr(args, k, None) for k in SENSOR_PARAMS}
     values["lidar_hz"] = None if values["lidar_hz"] is None else str(values["lidar_hz"])
     if getattr(args, "backend", "python") == "simavr":

@@ -109,3 +109,23 @@ def test_the_same_seed_gives_the_same_bytes_from_every_device() -> None:
         assert len(a[kind]) > 1000
         assert a[kind] == b[kind], kind
         assert a[kind] != c[kind], kind
+
+
+def test_any_device_goes_on_any_profile() -> None:
+    emu = Emulator("picar", seed=1)  # the PiCar carries no IMU and a YDLIDAR, not an RPLIDAR
+    rig = attach(emu, "random:1", lidar="rplidar-a1", imu="jy901")
+    assert rig.devices["lidar"].model.mount.z_m > 0  # where the PiCar carries its lidar
+    assert rig.devices["imu"].spec.name == "jy901"
+    rig.devices["lidar"].host_write(b"\xa5\x20", emu.now_us)
+    emu.advance(0.5)
+    assert len(rig.devices["lidar"].host_read(emu.now_us)) > 3000
+    assert len(rig.devices["imu"].host_read(emu.now_us)) > 5000
+
+
+def test_bad_sensor_options_are_named() -> None:
+    with pytest.raises(ValueError, match="lidar = 'sick-lms' is not allowed: rplidar-a1 or ydlidar-f4"):
+        open_transport("emu://picar?clock=virtual&lidar=sick-lms", 115200)
+    with pytest.raises(ValueError, match=r"lidar scan_hz = 20.0 is not allowed: 1\.\.10 Hz"):
+        open_transport("emu://picar?clock=virtual&lidar=rplidar-a1&lidar_hz=20", 115200)
+    with pytest.raises(ValueError, match="camera size = '100x100' is not allowed: 320x240 or 640x480"):
+        open_transport("emu://picar?clock=virtual&camera=100x100", 115200)
