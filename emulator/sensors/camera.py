@@ -57,6 +57,7 @@ class Renderer:
         self.col_cos = np.cos(self.col_angle)
         self.rows = np.arange(h, dtype=np.float64)[:, None]
         self.col_index = np.arange(w, dtype=np.int32)[None, :]
+        self.rows32 = (self.cy - np.arange(h)).astype(np.float32)[:, None]
         below = self.rows[:, 0] > self.cy + 0.5
         self.floor_rows = np.nonzero(below)[0]
         self.floor_z = mount.z_m * self.fy / (self.floor_rows - self.cy)
@@ -129,27 +130,31 @@ class Renderer:
         h_cam = self.mount.z_m
         top = np.where(finite, self.cy - self.fy * (scene.heights[shape] - h_cam) / z, np.inf)
         bottom = np.where(finite, self.cy + self.fy * h_cam / z, -np.inf)
-        # Which layer each pixel shows: painted far to near, as indices (cheap), coloured once from
-        # per-(column, layer) tables, so the per-pixel work is one gather.
-        layer = np.full(img.shape[:2], -1, dtype=np.int32)
-        rows = self.rows
-        for j in range(k - 1, -1, -1):
-            if finite[:, j].any():
-                layer[(rows >= top[:, j]) & (rows <= bottom[:, j])] = j
+        # Which layer each pixel shows, the nearest covering it: each layer's rows set its bit in a
+        # per-pixel mask (a difference array summed down the columns), the lowest bit wins. Then
+        # the pixels are coloured from per-(column, layer) tables: one gather per pixel.
+        h = img.shape[0]
+        r0 = np.clip(np.ceil(top), 0, h).astype(np.int64)
+        r1 = np.clip(np.floor(bottom) + 1, 0, h).astype(np.int64)
+        span = finite & (r1 > r0)
+        bits = np.zeros((h + 1, w), dtype=np.int16)
+        cj, jj = np.nonzero(span)
+        np.add.at(bits, (r0[cj, jj], cj), (1 << jj).astype(np.int16))
+        np.add.at(bits, (r1[cj, jj], cj), -(1 << jj).astype(np.int16))
+        layer = _LOWEST_BIT[np.cumsum(bits[:h], axis=0, dtype=np.int16)]
         valid = layer >= 0
-        cell = self.col_index * k + np.maximum(layer, 0)  # (H, W) index into the (W * k) tables
-        shade = (0.55 + 0.45 * hits.cos_incidence[cols, order]).astype(np.float32)[..., None]
-        table = (self.colour_of(scene)[shape] * shade).reshape(-1, 3)
-        pattern = self.pattern_of(scene)[shape].reshape(-1)
-        painted = np.take(table, cell, axis=0)
-        patterned = valid & (pattern[cell] > 0)
-        if patterned.any():
-            ys, xs = np.nonzero(patterned)
-            c = cell[ys, xs]
-            height = h_cam + (self.cy - ys) * z.reshape(-1)[c] / self.fy
-            alt = _pattern(pattern[c], hits.u[cols, order].reshape(-1)[c], height)
-            table2 = (self.colour2_of(scene)[shape] * shade).reshape(-1, 3)
-            painted[ys[alt], xs[alt]] = table2[c[alt]]
+        cell = (self.col_index * k + np.maximum(layer, 0)).reshape(-1)  # index into (W * k) tables
+        # Patterns from 1 cm texture tiles: the pixel's height above the floor and its position
+        # along the surface pick a cell; the table holds both colours of every (column, layer).
+        zc = np.take((z / self.fy).astype(np.float32).reshape(-1), cell).reshape(layer.shape)
+        height = np.float32(h_cam) + self.rows32 * zc
+        iv = (height * 100).astype(np.int32) % TILE
+        iu = (np.take(hits.u[cols, order].astype(np.float32).reshape(-1), cell) * 100).astype(np.int32) % TILE
+        pattern = np.take(self.pattern_of(scene)[shape].reshape(-1), cell)
+        alt = TILES[pattern, iv.reshape(-1), iu]
+        shade = (0.55 + 0.45 * hits.cos_incidence[cols, order]).astype(np.float32)[..., None, None]
+        both = np.stack([self.colour_of(scene)[shape], self.colour2_of(scene)[shape]], axis=2) * shade
+        painted = np.take(both.reshape(-1, 3), cell * 2 + alt, axis=0).reshape(img.shape)
         np.copyto(img, painted, where=valid[..., None])
 
     def pattern_of(self, scene: Scene) -> NDArray[np.int64]:
@@ -162,20 +167,24 @@ class Renderer:
         return np.array([s.colour2 for s in scene.shapes], dtype=np.float32)
 
 
-def _pattern(kind: NDArray[np.int64], u: NDArray[np.float64], height: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """Where a pixel takes the second colour: bricks' mortar, stripes' other band, checker squares
-    (pixels given as flat arrays; each pattern is evaluated only where it is used)."""
-    alt = np.zeros(kind.shape, dtype=bool)
-    for code in np.unique(kind):
-        if code == 0:
-            continue
-        at = kind == code
-        hh, uu = height[at], u[at]
-        course = np.floor(hh / 0.08)
-        if code == 1:
-            alt[at] = (np.mod(hh, 0.08) < 0.012) | (np.mod(uu + 0.12 * (course % 2), 0.24) < 0.015)
-        elif code == 2:
-            alt[at] = (course % 2) == 1
-        else:
-            alt[at] = ((np.floor(uu / 0.06) + np.floor(hh / 0.06)) % 2) == 1
-    return alt
+_LOWEST_BIT = np.array([-1] + [(i & -i).bit_length() - 1 for i in range(1, 1 << LAYERS)], dtype=np.int32)
+"""The nearest layer (lowest set bit) of each 4-bit coverage mask; -1: no layer."""
+
+
+def _tiles() -> NDArray[np.int32]:
+    """1 cm texture tiles, TILE x TILE (rows: height, columns: along the surface), per pattern:
+    1 where a pixel takes the second colour. plain: never; bricks: 8 x 24 cm bricks, 1.2 cm
+    mortar, courses offset by half a brick; stripes: 8 cm horizontal bands; checker: 6 cm squares."""
+    v = np.arange(TILE)[:, None]
+    u = np.arange(TILE)[None, :]
+    course = v // 8
+    bricks = (v % 8 < 1) | ((u + 12 * (course % 2)) % 24 < 2)
+    stripes = (course % 2 == 1) & (u >= 0)
+    checker = (v // 6 + u // 6) % 2 == 1
+    plain = np.zeros((TILE, TILE), dtype=bool)
+    return np.stack([plain, bricks, stripes, checker]).astype(np.int32)
+
+
+TILE = 48
+TILES = _tiles()
+"""Indexed by the pattern's number in PATTERNS."""
