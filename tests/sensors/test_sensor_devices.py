@@ -129,3 +129,16 @@ def test_bad_sensor_options_are_named() -> None:
         open_transport("emu://picar?clock=virtual&lidar=rplidar-a1&lidar_hz=20", 115200)
     with pytest.raises(ValueError, match="camera size = '100x100' is not allowed: 320x240 or 640x480"):
         open_transport("emu://picar?clock=virtual&camera=100x100", 115200)
+
+
+def test_devices_on_the_wall_clock_in_process() -> None:
+    transport = open_transport(f"emu://diffdrive-bts7960?clock=real&world={ROOM}&lidar=rplidar-a1", 115200)
+    try:
+        with Lidar.open(transport.endpoints["lidar"], "rplidar-a1") as lidar:
+            lidar.start()
+            scan = lidar.read_scan(timeout_s=3.0)
+        assert len(scan) > 300
+        # Stamped with the host's monotonic clock, as a real port is.
+        assert abs(scan.times_s[-1] - transport.clock()) < 1.0
+    finally:
+        transport.close()
