@@ -18,7 +18,7 @@ from host_sdk.sensors.camera import CameraFrame, CameraSource, gstreamer_pipelin
 from host_sdk.sensors.errors import SensorClosedError, SensorTimeoutError
 from host_sdk.sensors.imu import Jy901
 from host_sdk.sensors.lidar import Lidar
-from host_sdk.sensors.scan import LidarCounters, LidarScan
+from host_sdk.sensors.scan import LidarCounters, LidarScan, RegularScan
 from host_sdk.sensors.wit import ImuSample
 
 __all__ = [
@@ -29,6 +29,7 @@ __all__ = [
     "Lidar",
     "LidarCounters",
     "LidarScan",
+    "RegularScan",
     "SensorClosedError",
     "SensorTimeoutError",
     "gstreamer_pipeline",

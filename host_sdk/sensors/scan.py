@@ -21,6 +21,26 @@ F64 = NDArray[np.float64]
 
 
 @dataclass(frozen=True, slots=True, eq=False)
+class RegularScan:
+    """A scan on evenly spaced angles, the shape of a ROS `sensor_msgs/LaserScan`."""
+
+    angle_min: float
+    angle_increment: float
+    """Radians between bins (counter-clockwise); bin i is at angle_min + i * angle_increment."""
+    ranges_m: F64
+    """The nearest return in each bin; NaN where the bin has none."""
+    intensities: F64
+    time_s: float
+    """Time of the first measurement."""
+    scan_time_s: float
+    time_increment_s: float
+    """Time between consecutive bins as measured (negative: the device turns clockwise, so
+    increasing angles were measured earlier)."""
+    range_min_m: float
+    range_max_m: float
+
+
+@dataclass(frozen=True, slots=True, eq=False)
 class LidarScan:
     device: str
     """rplidar-a1 or ydlidar-f4."""
@@ -51,6 +71,32 @@ class LidarScan:
     @property
     def valid(self) -> NDArray[np.bool_]:
         return np.isfinite(self.ranges_m)
+
+    def regular(self, bins: int = 360) -> RegularScan:
+        """The scan binned on `bins` evenly spaced angles from -pi (for a LaserScan message)."""
+        if bins < 1:
+            raise ValueError(f"bins = {bins} is not allowed: a whole number >= 1")
+        inc = 2 * math.pi / bins
+        idx = np.floor((self.angles_rad + math.pi) / inc).astype(np.int64) % bins
+        ranges = np.full(bins, np.inf)
+        ok = self.valid
+        np.minimum.at(ranges, idx[ok], self.ranges_m[ok])
+        intensities = np.zeros(bins)
+        np.maximum.at(intensities, idx[ok], self.qualities[ok].astype(np.float64))
+        duration = self.duration_s * len(self) / max(1, len(self) - 1)
+        turning = float(np.mean(np.angle(np.exp(1j * np.diff(self.angles_rad))))) if len(self) > 1 else 0.0
+        step = duration / bins
+        return RegularScan(
+            angle_min=-math.pi,
+            angle_increment=inc,
+            ranges_m=np.where(np.isfinite(ranges), ranges, np.nan),
+            intensities=intensities,
+            time_s=self.time_s,
+            scan_time_s=duration,
+            time_increment_s=-step if turning < 0 else step,
+            range_min_m=self.range_min_m,
+            range_max_m=self.range_max_m,
+        )
 
     def points_xy(self) -> tuple[F64, F64]:
         """Cartesian points (x forward, y left) of the valid returns, in the sensor frame."""

@@ -41,6 +41,14 @@ def test_scan_ranges_agree_with_the_scene(profile: str, model: str) -> None:
         assert agreement(scan, rig.world.scene, rig.world.scene.start, mount) > 0.97
         assert scan.times_s[-1] - scan.times_s[0] == pytest.approx(1 / spec.scan_hz, rel=0.05)
     assert lidar.counters.framing_errors == lidar.counters.checksum_errors == 0
+    regular = scans[-1].regular(360)  # what a LaserScan message carries
+    assert regular.ranges_m.shape == (360,) and regular.angle_increment == pytest.approx(math.pi / 180)
+    assert np.isfinite(regular.ranges_m).mean() > 0.85
+    assert regular.time_increment_s == pytest.approx(-1 / spec.scan_hz / 360, rel=0.05)  # clockwise devices
+    last = scans[-1]
+    bins = np.floor((last.angles_rad + math.pi) / regular.angle_increment).astype(int) % 360
+    for b in np.flatnonzero(np.isfinite(regular.ranges_m))[::37]:  # each bin: its nearest return
+        assert regular.ranges_m[b] == np.nanmin(np.where(bins == b, last.ranges_m, np.nan))
     transport.close()
 
 
