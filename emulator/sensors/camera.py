@@ -64,6 +64,9 @@ class Renderer:
         self.floor_z32 = self.floor_z.astype(np.float32)[:, None]
         self.floor_lateral = ((self.cx - np.arange(w)) / self.fx).astype(np.float32)[None, :]
         self._noise_bank: NDArray[np.float32] | None = None
+        self.target_bbox: tuple[int, int, int, int] | None = None
+        """Ground truth of the last render: the target's visible pixels as (x0, y0, x1, y1), x1 and
+        y1 exclusive; None when it was hidden or out of view."""
         fade = (1.0 / (1.0 + 0.04 * self.floor_z))[:, None, None]
         sky = np.array(SKY, dtype=np.float64)
         self.floor_a = (np.array(FLOOR[0]) * fade + sky * (1 - fade)).astype(np.float32)
@@ -156,6 +159,12 @@ class Renderer:
         both = np.stack([self.colour_of(scene)[shape], self.colour2_of(scene)[shape]], axis=2) * shade
         painted = np.take(both.reshape(-1, 3), cell * 2 + alt, axis=0).reshape(img.shape)
         np.copyto(img, painted, where=valid[..., None])
+        self.target_bbox = None
+        if scene.target_index is not None:
+            seen = valid & (np.take(shape.reshape(-1), cell).reshape(layer.shape) == scene.target_index)
+            rows, cols_seen = np.flatnonzero(seen.any(axis=1)), np.flatnonzero(seen.any(axis=0))
+            if rows.size:
+                self.target_bbox = (int(cols_seen[0]), int(rows[0]), int(cols_seen[-1]) + 1, int(rows[-1]) + 1)
 
     def pattern_of(self, scene: Scene) -> NDArray[np.int64]:
         return np.array([PATTERNS.index(s.pattern) for s in scene.shapes], dtype=np.int64)

@@ -17,6 +17,7 @@ the same parts go through a byte pipe (`emudev://`), and the SDK's camera source
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -31,6 +32,24 @@ from protocol.sensors import CameraSpec, Mount
 BOUNDARY = "roverlinkframe"
 CONTENT_TYPE = f"multipart/x-mixed-replace; boundary={BOUNDARY}"
 JPEG_QUALITY = 85
+
+
+@dataclass(frozen=True, slots=True)
+class FrameTruth:
+    """What one rendered frame showed, for scoring a tracker."""
+
+    seq: int
+    time_us: int
+    pose: tuple[float, float, float]
+    """The robot's world pose at the exposure."""
+    target_bbox: tuple[int, int, int, int] | None
+    """The target's visible pixels (x0, y0, x1, y1; x1, y1 exclusive), or None if not seen."""
+    target_distance_m: float | None
+    """From the camera to the target's centre."""
+
+
+TRUTH_FRAMES = 256
+"""Frames whose FrameTruth a CameraDevice keeps."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -67,6 +86,19 @@ class CameraDevice:
         self.frames_rendered = 0
         self._index = 0
         self.last_image: np.ndarray | None = None
+        self.truth: dict[int, FrameTruth] = {}
+        """Ground truth of the last TRUTH_FRAMES frames, by frame number (X-Frame)."""
+
+    def _record_truth(self, scene: Scene, t: int, pose: tuple[float, float, float]) -> None:
+        target = scene.target_pose()
+        distance = None
+        if target is not None:
+            m = self.renderer.mount
+            cx = pose[0] + math.cos(pose[2]) * m.x_m - math.sin(pose[2]) * m.y_m
+            cy = pose[1] + math.sin(pose[2]) * m.x_m + math.cos(pose[2]) * m.y_m
+            distance = math.hypot(target[0] - cx, target[1] - cy)
+        self.truth[self.seq] = FrameTruth(self.seq, t, pose, self.renderer.target_bbox, distance)
+        self.truth.pop(self.seq - TRUTH_FRAMES, None)
 
     def frame_time_us(self, index: int) -> int:
         return round(index * 1e6 / self.options.fps)
@@ -87,6 +119,7 @@ class CameraDevice:
                 continue
             self.seq += 1
             self.frames_rendered += 1
+            self._record_truth(scene, t, (float(x[0]), float(y[0]), float(th[0])))
             frame = Frame(self.seq, t, jpeg.tobytes())
             for listener in list(self.listeners):
                 listener(frame)

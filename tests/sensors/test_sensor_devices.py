@@ -89,6 +89,11 @@ def test_camera_sees_the_target_ahead(tmp_path: Path) -> None:
     cols = np.flatnonzero(magenta.any(axis=0))
     assert magenta.sum() > 300
     assert abs((cols.min() + cols.max()) / 2 - 160) < 8  # straight ahead: centred
+    truth = transport.device.sensors.devices["camera"].truth[3]  # the ground truth of that frame
+    assert truth.target_bbox is not None and truth.target_distance_m == pytest.approx(2.5 - 1.0 - 0.30)
+    x0, y0, x1, y1 = truth.target_bbox
+    ys, xs = np.nonzero(magenta)
+    assert x0 <= xs.min() and xs.max() < x1 and y0 <= ys.min() and ys.max() < y1
     assert [f.seq for f in frames] == [1, 2, 3] and cam.dropped == 0
     t0, t1 = frames[0].device_time_s, frames[1].device_time_s
     assert t0 is not None and t1 is not None and t1 - t0 == pytest.approx(1 / 30, abs=1e-5)
