@@ -155,3 +155,19 @@ def test_devices_on_the_wall_clock_in_process() -> None:
         assert abs(scan.times_s[-1] - transport.clock()) < 1.0
     finally:
         transport.close()
+
+
+@pytest.mark.parametrize("model", ["rplidar-a1", "ydlidar-f4"])
+def test_a_noisy_lidar_line_costs_points_not_scans(model: str) -> None:
+    transport = open_transport(f"emu://picar?clock=virtual&seed=6&world={ROOM}&lidar={model}", 115200)
+    line = transport.device.sensors.devices["lidar"].tx
+    with Lidar.open(transport.endpoints["lidar"], model) as lidar:
+        lidar.start()
+        lidar.read_scan()
+        line.bitflip = 2e-4  # about one flipped bit in 600 bytes
+        scans = [lidar.read_scan() for _ in range(5)]
+        c = lidar.counters
+        assert line.stats.bits_flipped > 0
+        assert c.framing_errors + c.checksum_errors + c.bytes_discarded > 0
+        assert all(len(s) > 300 for s in scans)
+    transport.close()
