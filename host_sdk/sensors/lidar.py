@@ -41,10 +41,13 @@ class Lidar:
 
     @classmethod
     def open(cls, url: str, model: str = "rplidar-a1", baud: int | None = None) -> Lidar:
-        """Open the lidar on `url` (a serial device, a pyserial URL, or an emudev:// endpoint)."""
+        """Open the lidar on `url` (a serial device, a pyserial URL, or an emudev:// endpoint). A
+        lidar left scanning by an earlier program is stopped first: what it still sends is skipped."""
         spec = device(model, "lidar")
         assert isinstance(spec, LidarSpec)
-        return cls(SensorPort(url, baud or spec.baud), model)
+        lidar = cls(SensorPort(url, baud or spec.baud), model)
+        lidar.stop()
+        return lidar
 
     @property
     def counters(self) -> LidarCounters:
