@@ -62,14 +62,15 @@ class LidarModel:
         self,
         spec: LidarSpec,
         mount: Mount,
-        rng: np.random.Generator,
+        rng: np.random.Generator | None,
         *,
         scan_hz: float | None = None,
         beam_offset: Callable[[F64], F64] | None = None,
     ) -> None:
         self.spec = spec
         self.mount = mount
-        self.rng = rng
+        self.rng = rng if rng is not None else np.random.default_rng(0)
+        """The noise stream (the device gives the model its own seeded one)."""
         self.scan_hz = scan_hz or spec.scan_hz
         self.sample_us = round(1e6 / spec.sample_rate_hz)
         self.rotor_deg = 0.0

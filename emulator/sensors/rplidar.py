@@ -26,9 +26,8 @@ from collections.abc import Callable
 import numpy as np
 
 from emulator.rng import Streams
-from emulator.sensors.lidar import LidarModel, LidarSamples, PoseAt
-from emulator.sensors.serial import SerialSensor
-from emulator.world.scene import Scene
+from emulator.sensors.lidar import LidarModel, LidarSamples
+from emulator.sensors.serial import LidarDevice
 from protocol.sensors import LidarSpec, Mount
 
 SYNC = 0xA5
@@ -53,17 +52,10 @@ def encode_nodes(samples: LidarSamples) -> list[bytes]:
     return [row.tobytes() for row in raw]
 
 
-class RPLidarA1(SerialSensor):
-    kind = "lidar"
-
+class RPLidarA1(LidarDevice):
     def __init__(self, spec: LidarSpec, mount: Mount, streams: Streams, log: Callable[[int, str, str], None]) -> None:
-        super().__init__("lidar", spec.baud, streams, log)
-        self.spec = spec
-        self.model = LidarModel(spec, mount, self.rng)
-        self.scanning = False
-        self._rx = bytearray()
+        super().__init__(spec, LidarModel(spec, mount, None), streams, log)
         self.serial_number = bytes(self.rng.integers(0, 256, 16, dtype=np.uint8))
-        self.last_samples: LidarSamples | None = None
 
     def on_bytes(self, data: bytes, now_us: int) -> None:
         rx = self._rx
@@ -112,10 +104,6 @@ class RPLidarA1(SerialSensor):
         else:
             self.unknown_commands += 1
 
-    def update(self, scene: Scene, until_us: int, pose_at: PoseAt) -> None:
-        samples = self.model.sample(scene, until_us, pose_at)
-        if samples is None:
-            return
-        self.last_samples = samples
+    def emit(self, samples: LidarSamples) -> None:
         for t, node in zip(samples.time_us.tolist(), encode_nodes(samples), strict=True):
             self.send(node, t)

@@ -14,8 +14,9 @@ import numpy as np
 
 from emulator.line import Line
 from emulator.rng import Streams
-from emulator.sensors.lidar import PoseAt
+from emulator.sensors.lidar import LidarModel, LidarSamples, PoseAt
 from emulator.world.scene import Scene
+from protocol.sensors import LidarSpec
 
 LATENCY_US = 1000
 """USB-serial adapter latency of the sensor ports (as the board's default)."""
@@ -51,4 +52,31 @@ class SerialSensor:
 
     def update(self, scene: Scene, until_us: int, pose_at: PoseAt) -> None:
         """Produce everything due before `until_us` (called every few ms of virtual time)."""
+        raise NotImplementedError
+
+
+class LidarDevice(SerialSensor):
+    """A lidar on its port: the model, the scanning state, and the last batch (ground truth)."""
+
+    kind = "lidar"
+
+    def __init__(self, spec: LidarSpec, model: LidarModel, streams: Streams,
+                 log: Callable[[int, str, str], None]) -> None:  # fmt: skip
+        super().__init__("lidar", spec.baud, streams, log)
+        self.spec = spec
+        self.model = model
+        model.rng = self.rng
+        self.scanning = False
+        self._rx = bytearray()
+        self.last_samples: LidarSamples | None = None
+        """The last batch of samples, with each one's noise-free range."""
+
+    def update(self, scene: Scene, until_us: int, pose_at: PoseAt) -> None:
+        samples = self.model.sample(scene, until_us, pose_at)
+        if samples is not None:
+            self.last_samples = samples
+            self.emit(samples)
+
+    def emit(self, samples: LidarSamples) -> None:
+        """Put a batch of samples on the wire."""
         raise NotImplementedError

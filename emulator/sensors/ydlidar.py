@@ -29,10 +29,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from emulator.rng import Streams
-from emulator.sensors.lidar import LidarModel, LidarSamples, PoseAt
+from emulator.sensors.lidar import LidarModel, LidarSamples
 from emulator.sensors.rplidar import descriptor
-from emulator.sensors.serial import SerialSensor
-from emulator.world.scene import Scene
+from emulator.sensors.serial import LidarDevice
 from protocol.sensors import LidarSpec, Mount
 
 PACKET_SAMPLES = 40
@@ -59,18 +58,11 @@ def encode_packet(ct: int, angles_deg: NDArray[np.float64], range_m: NDArray[np.
     return head + cs.to_bytes(2, "little") + si.astype("<u2").tobytes()
 
 
-class YDLidarF4(SerialSensor):
-    kind = "lidar"
-
+class YDLidarF4(LidarDevice):
     def __init__(self, spec: LidarSpec, mount: Mount, streams: Streams, log: Callable[[int, str, str], None]) -> None:
-        super().__init__("lidar", spec.baud, streams, log)
-        self.spec = spec
-        self.model = LidarModel(spec, mount, self.rng, beam_offset=angle_correction_deg)
-        self.scanning = False
-        self._rx = bytearray()
+        super().__init__(spec, LidarModel(spec, mount, None, beam_offset=angle_correction_deg), streams, log)
         self._pending: list[tuple[int, float, float]] = []  # (time, angle, range) not yet sent
         self.serial_number = bytes(int(d) for d in self.rng.integers(0, 10, 16))
-        self.last_samples: LidarSamples | None = None
 
     def on_bytes(self, data: bytes, now_us: int) -> None:
         rx = self._rx
@@ -111,11 +103,7 @@ class YDLidarF4(SerialSensor):
         else:
             self.unknown_commands += 1
 
-    def update(self, scene: Scene, until_us: int, pose_at: PoseAt) -> None:
-        samples = self.model.sample(scene, until_us, pose_at)
-        if samples is None:
-            return
-        self.last_samples = samples
+    def emit(self, samples: LidarSamples) -> None:
         pending = self._pending
         rows = zip(samples.time_us.tolist(), samples.angle_deg.tolist(), samples.range_m.tolist(), strict=True)
         for (t, a, r), first in zip(rows, samples.start.tolist(), strict=True):

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from host_sdk.sensors.scan import LidarCounters, LidarScan, ScanAssembler, point_times
+from host_sdk.sensors.scan import LidarParserBase, LidarScan, point_times
 from protocol.sensors import LidarSpec, device
 
 SYNC = 0xA5
@@ -75,35 +75,12 @@ class SampleRate:
 Event = DeviceInfo | DeviceHealth | SampleRate | LidarScan
 
 
-class RPLidarParser:
-    """Bytes in, events out. `receive_data(data, t)`: `t` is when `data` finished arriving."""
+class RPLidarParser(LidarParserBase):
+    """Bytes in, events out. `receive_data(data, t)`: `t` is when `data` finished arriving. The
+    node period comes from GET_SAMPLERATE once answered."""
 
     def __init__(self, spec: LidarSpec | None = None) -> None:
-        spec = spec or _spec("rplidar-a1")
-        self.spec = spec
-        self.counters = LidarCounters()
-        self.sample_period_s = 1.0 / spec.sample_rate_hz
-        """Time between nodes (from GET_SAMPLERATE once answered; the datasheet's until then)."""
-        self._buf = bytearray()
-        self._answer: tuple[int, int] | None = None  # (type, length) of a single answer being read
-        self._streaming = False
-        self._events: list[Event] = []
-        self._scans = ScanAssembler("rplidar-a1", spec.clockwise, spec.range_min_m, spec.range_max_m)
-
-    @property
-    def scanning(self) -> bool:
-        """True after a SCAN descriptor: nodes are expected."""
-        return self._streaming
-
-    def expect_scan(self) -> None:
-        """The host just asked for a scan: take nodes even if the answer's descriptor is lost."""
-        self._streaming = True
-
-    def reset(self) -> None:
-        """Forget the stream (call after STOP or RESET, before the next request)."""
-        self._buf.clear()
-        self._answer = None
-        self._streaming = False
+        super().__init__(spec or _spec("rplidar-a1"))
 
     def receive_data(self, data: bytes, t: float = 0.0) -> None:
         self.counters.bytes_received += len(data)
@@ -125,14 +102,6 @@ class RPLidarParser:
                     return
             elif not self._descriptor():
                 return
-
-    def events(self) -> list[Event]:
-        """The events parsed so far (each returned once)."""
-        out, self._events = self._events, []
-        return out
-
-    def next_event(self) -> Event | None:
-        return self._events.pop(0) if self._events else None
 
     # -- descriptors and single answers ---------------------------------------------------------
     def _descriptor(self) -> bool:
@@ -192,23 +161,13 @@ class RPLidarParser:
             return True
         nodes = raw[:good].astype(np.int64)
         del buf[: good * 5]
-        self.counters.points += good
         # Nodes still in the buffer arrived at t as well: each decoded node is that much earlier.
         later = len(buf) // 5
         times = point_times(t, good + later, self.sample_period_s)[:good]
         angle = ((nodes[:, 1] >> 1) | (nodes[:, 2] << 7)) / 64.0
         dist = (nodes[:, 3] | (nodes[:, 4] << 8)) / 4.0
-        start = (nodes[:, 0] & 1).astype(bool)
-        scans = self._scans.add(angle, dist, nodes[:, 0] >> 2, times, start)
-        self.counters.scans += len(scans)
-        self.counters.partial_scans = self._scans.partial
-        self._events.extend(scans)
+        self._points(angle, dist, nodes[:, 0] >> 2, times, (nodes[:, 0] & 1).astype(bool))
         return True
-
-    def _discard(self, n: int) -> None:
-        if n > 0:
-            del self._buf[:n]
-            self.counters.bytes_discarded += n
 
 
 def _spec(name: str) -> LidarSpec:

@@ -13,9 +13,12 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+
+from protocol.sensors import LidarSpec
 
 F64 = NDArray[np.float64]
 
@@ -185,3 +188,55 @@ class ScanAssembler:
 def point_times(t_s: float, count: int, period_s: float) -> F64:
     """Times of `count` points that finished arriving at `t_s`, measured `period_s` apart."""
     return t_s - period_s * np.arange(count - 1, -1, -1, dtype=np.float64)
+
+
+class LidarParserBase:
+    """What the RPLIDAR and YDLIDAR parsers share: the buffer, the answer being read, whether a
+    scan stream is on, the counters, the events, and the revolutions being assembled."""
+
+    def __init__(self, spec: LidarSpec) -> None:
+        self.spec = spec
+        self.counters = LidarCounters()
+        self.sample_period_s = 1.0 / spec.sample_rate_hz
+        """Time between samples (the datasheet's, until the device says otherwise)."""
+        self._buf = bytearray()
+        self._answer: tuple[int, int] | None = None  # (type, length) of a single answer being read
+        self._streaming = False
+        self._events: list[Any] = []
+        self._scans = ScanAssembler(spec.name, spec.clockwise, spec.range_min_m, spec.range_max_m)
+
+    @property
+    def scanning(self) -> bool:
+        """True once a scan's answer arrived (or `expect_scan()`): samples are expected."""
+        return self._streaming
+
+    def expect_scan(self) -> None:
+        """The host just asked for a scan: take samples even if the answer's descriptor is lost."""
+        self._streaming = True
+
+    def reset(self) -> None:
+        """Forget the stream (after a stop or a reset, before the next request)."""
+        self._buf.clear()
+        self._answer = None
+        self._streaming = False
+
+    def events(self) -> list[Any]:
+        """The events parsed so far (each returned once)."""
+        out, self._events = self._events, []
+        return out
+
+    def next_event(self) -> Any:
+        return self._events.pop(0) if self._events else None
+
+    def _points(self, angle: F64, dist_mm: F64, quality: NDArray[np.int64], times: F64,
+                start: NDArray[np.bool_]) -> None:  # fmt: skip
+        self.counters.points += angle.shape[0]
+        scans = self._scans.add(angle, dist_mm, quality, times, start)
+        self.counters.scans += len(scans)
+        self.counters.partial_scans = self._scans.partial
+        self._events.extend(scans)
+
+    def _discard(self, n: int) -> None:
+        if n > 0:
+            del self._buf[:n]
+            self.counters.bytes_discarded += n

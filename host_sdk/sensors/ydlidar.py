@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from host_sdk.sensors.rplidar import DeviceHealth, _spec
-from host_sdk.sensors.scan import LidarCounters, LidarScan, ScanAssembler, point_times
+from host_sdk.sensors.scan import LidarParserBase, LidarScan, point_times
 from protocol.sensors import LidarSpec
 
 START_SCAN, STOP_SCAN, GET_INFO, GET_HEALTH, RESTART = 0x60, 0x65, 0x90, 0x92, 0x80
@@ -52,37 +52,12 @@ class ScanFrequency:
 Event = DeviceInfo | DeviceHealth | ScanFrequency | LidarScan
 
 
-class YDLidarParser:
+class YDLidarParser(LidarParserBase):
     def __init__(self, spec: LidarSpec | None = None, *, angle_correction: bool = True) -> None:
-        spec = spec or _spec("ydlidar-f4")
-        self.spec = spec
+        super().__init__(spec or _spec("ydlidar-f4"))
         self.angle_correction = angle_correction
-        self.counters = LidarCounters()
-        self.sample_period_s = 1.0 / spec.sample_rate_hz
         self.scan_hz: float | None = None
         """The scan frequency the last zero packet reported (None until one does)."""
-        self._buf = bytearray()
-        self._answer: tuple[int, int] | None = None
-        self._streaming = False
-        self._events: list[Event] = []
-        self._scans = ScanAssembler("ydlidar-f4", spec.clockwise, spec.range_min_m, spec.range_max_m)
-
-    @property
-    def scanning(self) -> bool:
-        return self._streaming
-
-    def expect_scan(self) -> None:
-        """The host just asked for a scan: take nodes even if the answer's descriptor is lost."""
-        self._streaming = True
-
-    def reset(self) -> None:
-        self._buf.clear()
-        self._answer = None
-        self._streaming = False
-
-    def events(self) -> list[Event]:
-        out, self._events = self._events, []
-        return out
 
     def receive_data(self, data: bytes, t: float = 0.0) -> None:
         self.counters.bytes_received += len(data)
@@ -176,17 +151,8 @@ class YDLidarParser:
                 self.scan_hz = (ct >> 1) / 10
         later = self._pending_samples()
         times = point_times(t, lsn + later, self.sample_period_s)[:lsn]
-        self.counters.points += lsn
-        scans = self._scans.add(angle, dist, np.zeros(lsn, dtype=np.int64), times, start)
-        self.counters.scans += len(scans)
-        self.counters.partial_scans = self._scans.partial
-        self._events.extend(scans)
+        self._points(angle, dist, np.zeros(lsn, dtype=np.int64), times, start)
 
     def _pending_samples(self) -> int:
         """Samples of whole packets still in the buffer (they arrived at the same t)."""
         return max(0, (len(self._buf) - 10) // 2) if len(self._buf) > 10 else 0
-
-    def _discard(self, n: int) -> None:
-        if n > 0:
-            del self._buf[:n]
-            self.counters.bytes_discarded += n
