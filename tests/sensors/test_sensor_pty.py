@@ -84,3 +84,23 @@ def test_cv2_videocapture_opens_the_camera_url_unchanged(served: dict[str, list[
     with CameraSource(url) as cam:
         frame = cam.read()
     assert frame.image.shape == (240, 320, 3) and frame.seq == 1
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--lidar", "rplidar-a1", "--lidar-hz", "25"], "lidar scan_hz = 25.0 is not allowed: 1..10 Hz"),
+        (["--world", "/nonexistent/room.toml"], "world = '/nonexistent/room.toml' is not allowed"),
+        (["--world", "random:x"], "random:SEED with SEED a whole number"),
+        (["--camera", "100x100"], "camera size = '100x100' is not allowed: 320x240 or 640x480"),
+        (["--camera-port", "70000"], "--camera-port = 70000 is not allowed"),
+        (["--backend", "simavr", "--imu", "jy901"], "need --backend python"),
+    ],
+)
+def test_bad_sensor_options_exit_2_and_say_why(args: list[str], message: str) -> None:
+    out = subprocess.run(
+        [sys.executable, "-m", "roverlink", "emulate", *args], check=False, capture_output=True, text=True, timeout=60
+    )
+    assert out.returncode == 2
+    assert message in out.stderr
+    assert out.stdout == ""
