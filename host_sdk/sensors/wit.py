@@ -3,7 +3,8 @@
     parser = WitParser()
     parser.receive_data(port.read(), t=clock())
     for event in parser.events():      # Acceleration, AngularVelocity, Angle, Magnetic, Quaternion,
-        ...                            # TimePacket, PortStatus, Registers, and ImuSample
+        ...                            # TimePacket, PortStatus, Pressure, GpsPosition, GpsVelocity,
+                                       # GpsAccuracy, Registers, and ImuSample
 
 Packets are 11 bytes: `55 TYPE d0..d7 SUM`, SUM the low byte of the sum of the ten before it, the
 data four little-endian int16. A packet with a wrong sum or an unknown type is counted and the parser
@@ -140,6 +141,38 @@ class Quaternion:
 
 
 @dataclass(frozen=True, slots=True)
+class Pressure:
+    t: float
+    pascal: int
+    height_m: float
+
+
+@dataclass(frozen=True, slots=True)
+class GpsPosition:
+    t: float
+    longitude_deg: float
+    latitude_deg: float
+    """Decimal degrees, from the module's ddmm.mmmmm integers."""
+
+
+@dataclass(frozen=True, slots=True)
+class GpsVelocity:
+    t: float
+    height_m: float
+    heading_deg: float
+    speed_km_h: float
+
+
+@dataclass(frozen=True, slots=True)
+class GpsAccuracy:
+    t: float
+    satellites: int
+    pdop: float
+    hdop: float
+    vdop: float
+
+
+@dataclass(frozen=True, slots=True)
 class PortStatus:
     t: float
     d: tuple[int, int, int, int]
@@ -162,7 +195,19 @@ class OtherPacket:
 
 
 Packet = (
-    TimePacket | Acceleration | AngularVelocity | Angle | Magnetic | Quaternion | PortStatus | Registers | OtherPacket
+    TimePacket
+    | Acceleration
+    | AngularVelocity
+    | Angle
+    | Magnetic
+    | Quaternion
+    | PortStatus
+    | Registers
+    | Pressure
+    | GpsPosition
+    | GpsVelocity
+    | GpsAccuracy
+    | OtherPacket
 )
 
 
@@ -206,11 +251,29 @@ def decode(type_: int, data: bytes, t: float) -> Packet:
         return Magnetic(t, (a, b, c), d / 100)
     if type_ == 0x55:
         return PortStatus(t, (a, b, c, d))
+    if type_ == 0x56:
+        pa, cm = struct.unpack("<2i", data)
+        return Pressure(t, pa, cm / 100)
+    if type_ == 0x57:
+        lon, lat = struct.unpack("<2i", data)
+        return GpsPosition(t, _ddmm(lon), _ddmm(lat))
+    if type_ == 0x58:
+        height, heading, speed = struct.unpack("<2hi", data)
+        return GpsVelocity(t, height / 10, heading / 100, speed / 1000)
+    if type_ == 0x5A:
+        return GpsAccuracy(t, a, b / 100, c / 100, d / 100)
     if type_ == 0x59:
         return Quaternion(t, (a / 32768, b / 32768, c / 32768, d / 32768))
     if type_ == 0x5F:
         return Registers(t, struct.unpack("<4H", data))
     return OtherPacket(t, type_, data)
+
+
+def _ddmm(value: int) -> float:
+    """ddmm.mmmmm as the module sends it (degrees * 10^7 + minutes * 10^5) in decimal degrees."""
+    sign = -1 if value < 0 else 1
+    v = abs(value)
+    return sign * (v // 10_000_000 + (v % 10_000_000) / 100_000 / 60)
 
 
 class WitParser:

@@ -147,3 +147,37 @@ def test_mjpeg_part_round_trip() -> None:
     assert [p.jpeg for p in parts] == [jpeg, jpeg]
     assert [p.frame for p in parts] == [7, 9]
     assert parts[0].timestamp == pytest.approx(1.5)
+
+
+def test_wit_every_packet_type_decodes() -> None:
+    import struct
+
+    packets = [
+        emu_wit.packet(0x50, bytes([25, 11, 25, 10, 30, 5]) + struct.pack("<H", 250)),
+        emu_wit.packet(0x52, struct.pack("<4h", 0, 0, 16384, 2512)),  # 1000 deg/s about z, 25.12 C
+        emu_wit.packet(0x54, struct.pack("<4h", 360, 105, 122, 2500)),
+        emu_wit.packet(0x55, struct.pack("<4h", 1, 0, 1023, 0)),
+        emu_wit.packet(0x56, struct.pack("<2i", 101325, 1234)),
+        emu_wit.packet(0x57, struct.pack("<2i", 1134567890, 223012345)),  # 113 deg 45.6789', 22 deg 30.12345'
+        emu_wit.packet(0x58, struct.pack("<2hi", 123, 9000, 36500)),
+        emu_wit.packet(0x5A, struct.pack("<4h", 9, 150, 90, 120)),
+        emu_wit.packet(0x59, struct.pack("<4h", 32767, 0, 0, 0)),
+    ]
+    parser = wit.WitParser()
+    parser.receive_data(b"".join(packets), 5.0)
+    events = [e for e in parser.events() if not isinstance(e, wit.ImuSample)]
+    assert parser.counters.checksum_errors == 0 and len(events) == len(packets)
+    time, gyro, mag, port, pressure, position, velocity, accuracy, quat = events
+    assert isinstance(time, wit.TimePacket) and (time.year, time.hour, time.millisecond) == (2025, 10, 250)
+    assert isinstance(gyro, wit.AngularVelocity) and gyro.xyz[2] == pytest.approx(math.radians(1000))
+    assert gyro.temperature_c == pytest.approx(25.12)
+    assert isinstance(mag, wit.Magnetic) and mag.xyz == (360, 105, 122)
+    assert isinstance(port, wit.PortStatus) and port.d == (1, 0, 1023, 0)
+    assert isinstance(pressure, wit.Pressure) and (pressure.pascal, pressure.height_m) == (101325, 12.34)
+    assert isinstance(position, wit.GpsPosition)
+    assert position.longitude_deg == pytest.approx(113 + 45.6789 / 60)
+    assert position.latitude_deg == pytest.approx(22 + 30.12345 / 60)
+    assert isinstance(velocity, wit.GpsVelocity) and (velocity.height_m, velocity.heading_deg) == (12.3, 90.0)
+    assert velocity.speed_km_h == pytest.approx(36.5)
+    assert isinstance(accuracy, wit.GpsAccuracy) and (accuracy.satellites, accuracy.hdop) == (9, 0.9)
+    assert isinstance(quat, wit.Quaternion) and quat.wxyz[0] == pytest.approx(1.0, abs=1e-4)
