@@ -12,6 +12,7 @@ hands back their events. Waiting is bounded by deadlines on that clock; no fixed
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from typing import Any
 
@@ -38,6 +39,7 @@ class Lidar:
             self.parser = ydlidar.YDLidarParser(spec)
         self._queue: deque[Any] = deque()
         self._closed = False
+        self._quiet_until = -math.inf
 
     @classmethod
     def open(cls, url: str, model: str = "rplidar-a1", baud: int | None = None) -> Lidar:
@@ -60,7 +62,13 @@ class Lidar:
     # -- requests -------------------------------------------------------------------------------------
     def _request(self, code: int) -> None:
         self._check_open()
+        # The RPLIDAR protocol asks for 1 ms after STOP (2 ms after RESET) before the next request:
+        # read (and skip) what is still arriving until then.
+        while (left := self._quiet_until - self.port.clock()) > 0:
+            self._pump(left)
         self.port.write(rplidar.request(code) if self.is_rplidar else ydlidar.command(code))
+        if code in (rplidar.STOP, rplidar.RESET) and self.is_rplidar:
+            self._quiet_until = self.port.clock() + (0.002 if code == rplidar.STOP else 0.003)
 
     def _ask(self, code: int, kind: type, what: str, timeout_s: float) -> Any:
         if self.parser.scanning:

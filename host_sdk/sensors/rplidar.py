@@ -9,9 +9,12 @@
 Answers start with a descriptor `A5 5A len(30 bits LE) | mode << 30, type`; a SCAN answer (type
 0x81) is followed by 5-byte nodes for as long as the device scans. Each node carries fixed bits (S
 and its inverse; a check bit), which is how the parser tells nodes from garbage: a node that breaks
-them is counted as a framing error and the parser slides one byte until nodes line up again (or a
-new descriptor starts). Anything else unexpected, e.g. the text the A1 prints after RESET, is
-skipped and counted in `counters.bytes_discarded`. Nothing here raises on input.
+them is counted as a framing error and the parser slides one byte until three valid nodes in a row
+line up again (or a new descriptor starts). Those checks are few bits, and a flipped distance bit
+passes them all, so a start-of-revolution flag is believed only on a node just past 0 degrees and
+at most once per 50 nodes: a corrupted node cannot cut a revolution short. Anything else
+unexpected, e.g. the text the A1 prints after RESET, is skipped and counted in
+`counters.bytes_discarded`. Nothing here raises on input.
 """
 
 from __future__ import annotations
@@ -28,6 +31,12 @@ STOP, RESET, SCAN, FORCE_SCAN = 0x25, 0x40, 0x20, 0x21
 GET_INFO, GET_HEALTH, GET_SAMPLERATE = 0x50, 0x52, 0x59
 TYPE_INFO, TYPE_HEALTH, TYPE_SAMPLERATE, TYPE_SCAN = 0x04, 0x06, 0x15, 0x81
 HEALTH_STATUS = {0: "good", 1: "warning", 2: "error"}
+START_WITHIN_DEG = 10.0
+"""A start-of-revolution node is believed only this close after 0 degrees..."""
+MIN_REVOLUTION_NODES = 50
+"""... and this many nodes after the last one (a revolution at 10 Hz has 200)."""
+RESYNC_NODES = 3
+"""Valid nodes in a row that end a resynchronisation after a framing error."""
 
 
 def request(cmd: int, payload: bytes = b"") -> bytes:
@@ -81,6 +90,9 @@ class RPLidarParser(LidarParserBase):
 
     def __init__(self, spec: LidarSpec | None = None) -> None:
         super().__init__(spec or _spec("rplidar-a1"))
+        self._resyncing = False
+        self._node_count = 0
+        self._last_start = -MIN_REVOLUTION_NODES
 
     def receive_data(self, data: bytes, t: float = 0.0) -> None:
         self.counters.bytes_received += len(data)
@@ -145,20 +157,29 @@ class RPLidarParser(LidarParserBase):
     # -- the node stream ----------------------------------------------------------------------------
     def _nodes(self, t: float) -> bool | None:
         """Decode the valid nodes at the head of the buffer (vectorised). None: need more bytes;
-        False: the head is a new descriptor (the caller reads it)."""
+        False: the head is a new descriptor (the caller reads it).
+
+        A node is valid when S and not-S differ, the check bit is set and the angle is under 360
+        degrees. Those are few bits, so after a framing error the parser takes nodes again only
+        where RESYNC_NODES valid ones follow each other (a byte off, a node passes by chance)."""
         buf = self._buf
         whole = len(buf) // 5
-        if whole == 0:
+        need = RESYNC_NODES if self._resyncing else 1
+        if whole < need:
             return False if buf[:2] == b"\xa5\x5a" and len(buf) >= 2 else None
         raw = np.frombuffer(bytes(buf[: whole * 5]), dtype=np.uint8).reshape(whole, 5)
-        ok = (((raw[:, 0] ^ (raw[:, 0] >> 1)) & 1) == 1) & ((raw[:, 1] & 1) == 1)
+        angle_q6 = (raw[:, 1].astype(np.int64) >> 1) | (raw[:, 2].astype(np.int64) << 7)
+        ok = (((raw[:, 0] ^ (raw[:, 0] >> 1)) & 1) == 1) & ((raw[:, 1] & 1) == 1) & (angle_q6 < 360 * 64)
         good = whole if ok.all() else int(np.argmin(ok))
-        if good == 0:
+        if good < need:
             if buf[0] == SYNC and buf[1] == 0x5A:
                 return False  # a new descriptor: let the caller read it
-            self.counters.framing_errors += 1
+            if not self._resyncing:
+                self.counters.framing_errors += 1
+                self._resyncing = True
             self._discard(1)
             return True
+        self._resyncing = False
         nodes = raw[:good].astype(np.int64)
         del buf[: good * 5]
         # Nodes still in the buffer arrived at t as well: each decoded node is that much earlier.
@@ -166,7 +187,18 @@ class RPLidarParser(LidarParserBase):
         times = point_times(t, good + later, self.sample_period_s)[:good]
         angle = ((nodes[:, 1] >> 1) | (nodes[:, 2] << 7)) / 64.0
         dist = (nodes[:, 3] | (nodes[:, 4] << 8)) / 4.0
-        self._points(angle, dist, nodes[:, 0] >> 2, times, (nodes[:, 0] & 1).astype(bool))
+        # A revolution starts just past 0 degrees (nodes are under 2 degrees apart at any scan rate),
+        # at most once per MIN_REVOLUTION_NODES: a start flag elsewhere is a corrupted node's.
+        start = (nodes[:, 0] & 1).astype(bool)
+        for i in np.flatnonzero(start).tolist():
+            index = self._node_count + i
+            if angle[i] < START_WITHIN_DEG and index - self._last_start >= MIN_REVOLUTION_NODES:
+                self._last_start = index
+            else:
+                start[i] = False
+                self.counters.framing_errors += 1
+        self._node_count += good
+        self._points(angle, dist, nodes[:, 0] >> 2, times, start)
         return True
 
 

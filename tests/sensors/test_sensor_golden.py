@@ -23,10 +23,10 @@ DESCRIPTORS = {
     "health": bytes.fromhex("a55a0300000006"),
     "samplerate": bytes.fromhex("a55a0400000015"),
 }
-# quality 15, start of a revolution, 90.000 deg (q6 5760), 1000 mm (q2 4000)
-NODE_START = bytes.fromhex("3d012da00f")
-# quality 20, not a start, 90.5 deg (q6 5792), 0 mm (no return)
-NODE_NO_RETURN = bytes.fromhex("52412d0000")
+# quality 15, start of a revolution, 0.5 deg (q6 32), 1000 mm (q2 4000)
+NODE_START = bytes.fromhex("3d4100a00f")
+# quality 20, not a start, 359.5 deg (q6 23008), 0 mm (no return)
+NODE_NO_RETURN = bytes.fromhex("52c1b30000")
 
 
 def test_rplidar_requests_and_descriptors_match_the_protocol() -> None:
@@ -43,7 +43,7 @@ def test_rplidar_requests_and_descriptors_match_the_protocol() -> None:
 def test_rplidar_node_bytes_both_ways() -> None:
     samples = LidarSamples(
         time_us=np.array([0, 500], dtype=np.int64),
-        angle_deg=np.array([90.0, 90.5]),
+        angle_deg=np.array([0.5, 359.5]),
         range_m=np.array([1.0, 0.0]),
         quality=np.array([15, 20], dtype=np.int64),
         start=np.array([True, False]),
@@ -51,14 +51,15 @@ def test_rplidar_node_bytes_both_ways() -> None:
     )
     assert emu_rplidar.encode_nodes(samples) == [NODE_START, NODE_NO_RETURN]
     parser = rplidar.RPLidarParser()
-    parser.receive_data(DESCRIPTORS["scan"] + NODE_START + NODE_NO_RETURN + NODE_START, t=1.0)
+    filler = NODE_NO_RETURN * 60  # a start flag is believed once per 50 nodes or more
+    parser.receive_data(DESCRIPTORS["scan"] + NODE_START + NODE_NO_RETURN + filler + NODE_START, t=1.0)
     (scan,) = parser.events()
-    assert scan.angles_rad.tolist() == pytest.approx([-math.pi / 2, -math.radians(90.5)])  # clockwise -> CCW
+    assert scan.angles_rad[:2].tolist() == pytest.approx([-math.radians(0.5), math.radians(0.5)])  # CW -> CCW
     assert scan.ranges_m[0] == pytest.approx(1.0)
     assert math.isnan(scan.ranges_m[1])
-    assert scan.qualities.tolist() == [15, 20]
-    # Three nodes arrived together at t = 1.0, 0.5 ms apart (the A1's standard sample duration).
-    assert scan.times_s.tolist() == pytest.approx([0.999, 0.9995])
+    assert scan.qualities[:2].tolist() == [15, 20]
+    # 63 nodes arrived together at t = 1.0, 0.5 ms apart (the A1's standard sample duration).
+    assert scan.times_s[:2].tolist() == pytest.approx([1.0 - 62 * 0.0005, 1.0 - 61 * 0.0005])
 
 
 def test_rplidar_single_answers() -> None:
