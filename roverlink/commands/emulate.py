@@ -1,7 +1,15 @@
 """`roverlink emulate`: serve an emulated robot on a pseudo-terminal (or a TCP socket) in real time.
 
-The first line on stdout is the port to open (e.g. /dev/pts/7, or socket://127.0.0.1:PORT); the
-emulator then serves until SIGINT or SIGTERM and exits 0. Progress goes to stderr.
+The first line on stdout is the port to open (e.g. /dev/pts/7, or socket://127.0.0.1:PORT); then
+one line per sensor asked for (`--lidar`, `--imu`, `--camera`), whose first word names it and whose
+last word is its pty or URL:
+
+    /dev/pts/7
+    lidar ydlidar-f4 /dev/pts/8
+    imu jy901 /dev/pts/9
+    camera pi-camera-v2 http://127.0.0.1:41234/stream.mjpg
+
+The emulator then serves until SIGINT or SIGTERM and exits 0. Progress goes to stderr.
 """
 
 from __future__ import annotations
@@ -15,9 +23,14 @@ from typing import Any, TextIO
 from emulator.device import Emulator
 from emulator.errors import EmulatorError
 from emulator.profiles import PROFILE_NAMES, get_profile
+from emulator.sensors.mjpeg import CameraDevice
+from emulator.sensors.rig import IMUS, LIDARS
+from emulator.transport.devices import SENSOR_PARAMS, sensor_options
+from emulator.transport.http_camera import MjpegServer
 from emulator.transport.pty import PtyEndpoint
-from emulator.transport.realtime import Endpoint, serve
+from emulator.transport.realtime import Endpoint, SerialPeripheral, serve
 from emulator.transport.socket import SocketEndpoint
+from protocol.sensors import SensorSpecError
 from roverlink import argtypes, firmware
 
 
@@ -83,6 +96,23 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="virtual seconds per wall second, 0.01..1000 (default 1)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    g = p.add_argument_group("world and sensors (docs/sensors.md; python backend)")
+    g.add_argument("--world", metavar="FILE|random:SEED", help="the surroundings: a scenario file or random:SEED")
+    g.add_argument("--lidar", choices=LIDARS, help="serve a lidar on its own pty")
+    g.add_argument(
+        "--lidar-hz", type=argtypes.number(0.1, 100), metavar="HZ", help="the lidar's scan rate (default: the device's)"
+    )
+    g.add_argument("--imu", choices=IMUS, help="serve the IMU on its own pty")
+    g.add_argument(
+        "--camera", nargs="?", const="320x240", metavar="WxH", help="serve the camera as MJPEG over HTTP (320x240)"
+    )
+    g.add_argument(
+        "--camera-port",
+        type=argtypes.integer(0, 65_535),
+        default=0,
+        metavar="PORT",
+        help="the camera's TCP port (0: any)",
+    )
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -96,11 +126,19 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def cmd_emulate(args: argparse.Namespace) -> int:
+    values = {k: getattr(args, k, None) for k in SENSOR_PARAMS}
+    values["lidar_hz"] = None if values["lidar_hz"] is None else str(values["lidar_hz"])
     if getattr(args, "backend", "python") == "simavr":
+        if any(values.values()):
+            print("error: --world, --lidar, --imu and --camera need --backend python", file=sys.stderr)
+            return 2
         return _cmd_emulate_simavr(args)
     try:
         emu = Emulator(args.profile, args.seed, **_board_options(args))
-    except EmulatorError as exc:
+        sensors = sensor_options(values)
+        if sensors is not None:
+            sensors.attach(emu, seed=args.seed)
+    except (EmulatorError, SensorSpecError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     try:
@@ -108,6 +146,7 @@ def cmd_emulate(args: argparse.Namespace) -> int:
     except EndpointError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
+    extras, closers = _serve_sensors(emu, args.camera_port)
     if log is not None:
         print(
             f"[emulator] {args.profile}, seed {args.seed}, {args.baud} baud on {endpoint.name}; Ctrl-C to stop",
@@ -115,10 +154,36 @@ def cmd_emulate(args: argparse.Namespace) -> int:
             flush=True,
         )
     try:
-        serve(emu, endpoint, stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log)
+        serve(
+            emu, endpoint, stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log, extras=extras
+        )
     finally:
         endpoint.close()
+        for close in closers:
+            close()
     return 0
+
+
+def _serve_sensors(
+    emu: Emulator, camera_port: int
+) -> tuple[list[tuple[Endpoint, SerialPeripheral]], list[Callable[[], None]]]:
+    """A pty per serial sensor and the camera's HTTP server; prints one stdout line for each."""
+    rig = emu.sensors
+    extras: list[tuple[Endpoint, SerialPeripheral]] = []
+    closers: list[Callable[[], None]] = []
+    if rig is None:
+        return extras, closers
+    for kind, dev in rig.devices.items():
+        if isinstance(dev, CameraDevice):
+            server = MjpegServer(dev, camera_port)
+            closers.append(server.close)
+            print(f"{kind} {dev.spec.name} {server.url}", flush=True)
+        else:
+            pty = PtyEndpoint()
+            extras.append((pty, dev))
+            closers.append(pty.close)
+            print(f"{kind} {dev.spec.name} {pty.name}", flush=True)
+    return extras, closers
 
 
 def _board_options(args: argparse.Namespace) -> dict[str, Any]:
