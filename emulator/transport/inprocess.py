@@ -20,6 +20,11 @@ Query parameters (all optional):
 | latency_us | integer | 1000 | one-way latency of the emulated USB-serial adapter |
 | drift_ppm | number | 0 | the MCU crystal's error |
 | eeprom | blank, saved | saved | a board whose defaults were saved, or a new one (blank: it warns in a LOG) |
+| stand | 0, 1 | 0 | 1: the robot starts on a stand (wheels in the air); `Emulator.set_stand()` changes it |
+| physical | nominal, miscalibrated | nominal | how the robot is really built (emulator.physical) |
+| cpr_scale, wheel_scale, track_scale, steering_ratio | number | 1 | true / configured cpr, wheel, track, linkage |
+| motor_flip, encoder_flip | 0..3 | 0 | wheel bit mask: mounted the other way than motor_invert / encoder_invert say |
+| steering_trim_deg | number | 0 | servo angle past the configured centre at which the wheels point straight |
 """
 
 from __future__ import annotations
@@ -34,6 +39,7 @@ from urllib.parse import parse_qs, unquote, urlsplit
 
 from emulator.device import Emulator
 from emulator.errors import EmulatorError, EmulatorValueError
+from emulator.physical import FIELD_NAMES, NOMINAL, Physical, physical_from
 
 
 class LinkClosedError(EmulatorError, ConnectionError):
@@ -43,7 +49,19 @@ class LinkClosedError(EmulatorError, ConnectionError):
 DEFAULT_PROFILE = "diffdrive-tb6612"
 STEP_US = 500
 """Virtual clock: how far one step of `read()` moves time while waiting for bytes."""
-_PARAMS = ("seed", "faults", "clock", "speed", "dtr", "latency_us", "drift_ppm", "eeprom")
+_PARAMS = (
+    "seed",
+    "faults",
+    "clock",
+    "speed",
+    "dtr",
+    "latency_us",
+    "drift_ppm",
+    "eeprom",
+    "stand",
+    "physical",
+    *FIELD_NAMES,
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -59,6 +77,8 @@ class EmulatorOptions:
     latency_us: int = 1000
     drift_ppm: float = 0.0
     eeprom: str = "saved"
+    stand: bool = False
+    physical: Physical = NOMINAL
 
 
 def parse_emu_url(url: str) -> EmulatorOptions:
@@ -91,9 +111,14 @@ def parse_emu_url(url: str) -> EmulatorOptions:
     clock = one("clock") or "real"
     if clock not in ("real", "virtual"):
         raise EmulatorValueError("url parameter clock", clock, "real or virtual")
-    dtr = one("dtr") or "0"
-    if dtr not in ("0", "1", "true", "false"):
-        raise EmulatorValueError("url parameter dtr", dtr, "0 or 1")
+    flags: dict[str, bool] = {}
+    for key in ("dtr", "stand"):
+        flag = one(key) or "0"
+        if flag not in ("0", "1", "true", "false"):
+            raise EmulatorValueError(f"url parameter {key}", flag, "0 or 1")
+        flags[key] = flag in ("1", "true")
+    overrides = {key: value for key in FIELD_NAMES if (value := one(key)) is not None}
+    physical = physical_from(one("physical"), overrides)
     eeprom = one("eeprom") or "saved"
     if eeprom not in ("blank", "saved"):
         raise EmulatorValueError("url parameter eeprom", eeprom, "blank or saved")
@@ -103,10 +128,12 @@ def parse_emu_url(url: str) -> EmulatorOptions:
         faults=one("faults") or "",
         clock=clock,
         speed=number("speed", float, 1.0, 0.01, 1000.0),
-        dtr=dtr in ("1", "true"),
+        dtr=flags["dtr"],
         latency_us=int(number("latency_us", int, 1000, 0, 1_000_000)),
         drift_ppm=number("drift_ppm", float, 0.0, -10_000, 10_000),
         eeprom=eeprom,
+        stand=flags["stand"],
+        physical=physical,
     )
 
 
@@ -146,6 +173,8 @@ class EmulatorTransport:
             latency_us=options.latency_us,
             drift_ppm=options.drift_ppm,
             eeprom=options.eeprom,
+            physical=options.physical,
+            stand=options.stand,
         )
         if options.dtr:
             emu.dtr_reset()
