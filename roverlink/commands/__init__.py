@@ -7,6 +7,18 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from roverlink.commands import decode, demo, emulate, firmware, info, ports, record, roundtrip, spec, tune
+from roverlink.commands import calibrate, decode, demo, emulate, firmware, info, ports, record, roundtrip, spec, tune
 
-COMMANDS: tuple[ModuleType, ...] = (demo, info, ports, emulate, firmware, tune, record, roundtrip, decode, spec)
+COMMANDS: tuple[ModuleType, ...] = (
+    demo,
+    info,
+    ports,
+    emulate,
+    firmware,
+    calibrate,
+    tune,
+    record,
+    roundtrip,
+    decode,
+    spec,
+)
