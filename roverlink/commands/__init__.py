@@ -7,7 +7,21 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from roverlink.commands import calibrate, decode, demo, emulate, firmware, info, ports, record, roundtrip, spec, tune
+from roverlink.commands import (
+    calibrate,
+    decode,
+    demo,
+    emulate,
+    firmware,
+    info,
+    monitor,
+    ports,
+    record,
+    roundtrip,
+    spec,
+    teleop,
+    tune,
+)
 
 COMMANDS: tuple[ModuleType, ...] = (
     demo,
@@ -15,6 +29,8 @@ COMMANDS: tuple[ModuleType, ...] = (
     ports,
     emulate,
     firmware,
+    monitor,
+    teleop,
     calibrate,
     tune,
     record,
