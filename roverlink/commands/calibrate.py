@@ -83,7 +83,8 @@ def run_calibration(robot: Robot, args: argparse.Namespace, prompter: Prompter) 
         summary.append("board configuration saved to EEPROM")
         if args.output:
             path = save_file(args.output, result, name)
-            summary.append(f"kinematics (with the track width, which the board does not store) written to {path}")
+            kept = "" if result.ackermann else " (with the track width, which the board does not store)"
+            summary.append(f"kinematics{kept} written to {path}")
     else:
         restore(robot, result.config_before)
         summary.append("the board's configuration was put back as it was")

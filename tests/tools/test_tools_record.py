@@ -153,3 +153,13 @@ def test_live_view_serves_decodable_messages() -> None:
     assert feedback[-1]["status_flags"] == ["SESSION", "ARMED"]
     odom = client.received[TOPIC_ODOMETRY][-1][1]
     assert odom.frame_id == "odom" and odom.pose.position.x > 0
+
+
+def test_shipped_layout_is_current_and_names_recorded_topics() -> None:
+    from roverlink.recording.layout import layout_json
+
+    shipped = Path(__file__).resolve().parents[2] / "docs" / "foxglove-layout.json"
+    assert shipped.read_text(encoding="utf-8") == layout_json(), "regenerate: python -m roverlink.recording.layout"
+    text = shipped.read_text(encoding="utf-8")
+    for topic in (TOPIC_ODOMETRY, TOPIC_PATH, TOPIC_WHEELS, TOPIC_LINK, TOPIC_LOG, TOPIC_FEEDBACK):
+        assert f'"{topic}' in text
