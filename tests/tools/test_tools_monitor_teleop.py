@@ -11,7 +11,7 @@ import pytest
 from pty_emulator import pty_board
 
 from emulator.firmware.statemachine import SessionState
-from host_sdk import Robot
+from host_sdk import FeedbackSample, Robot
 from roverlink.cli import main
 from roverlink.commands.monitor import plain
 from roverlink.dashboard import Dashboard, lines
@@ -81,45 +81,47 @@ def test_textual_monitor_headless() -> None:
         assert not robot.armed
 
 
-def test_teleop_drives_while_keys_arrive_and_stops_when_they_stop() -> None:
-    with pty_board("diffdrive-tb6612") as port, Robot.connect(port) as robot:
+@pytest.mark.parametrize("profile", PROFILES)
+def test_teleop_drives_while_keys_arrive_and_stops_when_they_stop(profile: str) -> None:
+    ackermann = profile == "picar"
+    with pty_board(profile) as port, Robot.connect(port) as robot:
         controller = TeleopController(robot, key_timeout_s=0.4)
         app = TeleopApp(Dashboard(robot), controller)
 
-        async def run() -> dict[str, float]:
-            seen: dict[str, float] = {}
+        async def hold(pilot: object, *keys: str, times: int = 10) -> list[FeedbackSample]:
+            """Press keys the way a held key repeats; the FEEDBACK seen meanwhile."""
+            seen: list[FeedbackSample] = []
+            unsubscribe = robot.on_feedback(seen.append)
+            for _ in range(times):
+                await pilot.press(*keys)  # type: ignore[attr-defined]
+                await pilot.pause(0.05)  # type: ignore[attr-defined]
+            unsubscribe()
+            return seen
+
+        async def run() -> None:
             async with app.run_test() as pilot:
                 await pilot.press("enter")
-                assert await _until(lambda: robot.armed, pilot)
-                # Holding "up": the terminal repeats the key; the robot drives forward.
-                for _ in range(20):
-                    await pilot.press("up")
-                    await pilot.pause(0.05)
-                fb = robot.feedback
-                assert fb is not None
-                seen["driving"] = min(fb.wheel_speeds_m_s)
+                assert await _until(lambda: robot.armed, pilot)  # the PiCar's ESC window first
+                driving = await hold(pilot, "up", times=20)
+                assert max(min(s.wheel_speeds_m_s[: 1 if ackermann else 2]) for s in driving) > 0.05
                 assert controller.setpoint is not None and controller.setpoint.linear_m_s > 0
                 # Released: within the key timeout the target drops to zero and the robot stops, still armed.
                 assert await _until(lambda: max(abs(v) for v in robot.feedback.wheel_speeds_m_s) < 0.01, pilot)
-                seen["armed_after"] = float(robot.armed)
-                # A faster step, and turning left in place: the right wheel forward, the left back.
-                turning: list[tuple[float, ...]] = []
-                unsubscribe = robot.on_feedback(lambda s: turning.append(s.wheel_speeds_m_s))
+                assert robot.armed and robot.failsafe is None
                 await pilot.press("plus")
-                for _ in range(10):
-                    await pilot.press("left")
-                    await pilot.pause(0.05)
-                unsubscribe()
-                assert max(v[1] for v in turning) > 0.05 and min(v[0] for v in turning) < -0.05
+                if ackermann:  # forward and left together: the servo steers left
+                    turning = await hold(pilot, "up", "left")
+                    assert max(s.steering_rad for s in turning) > 0.2
+                else:  # left in place: the right wheel forward, the left back
+                    turning = await hold(pilot, "left")
+                    assert max(s.wheel_speeds_m_s[1] for s in turning) > 0.05
+                    assert min(s.wheel_speeds_m_s[0] for s in turning) < -0.05
                 await pilot.press("space")
                 await pilot.press("x")
                 assert await _until(lambda: not robot.armed, pilot)
                 await pilot.press("q")
-            return seen
 
-        seen = asyncio.run(run())
-        assert seen["driving"] > 0.05
-        assert seen["armed_after"] == 1.0
+        asyncio.run(run())
         assert robot.failsafe is None
 
 

@@ -11,14 +11,18 @@ from mcap_support import LiveClient, open_live, read_mcap
 from host_sdk import FeedbackSample, Robot
 from host_sdk.enums import LogLevel
 from roverlink.cli import main
-from roverlink.recording import Recorder
+from roverlink.recording import Publisher, Recorder
 from roverlink.recording.schemas import (
     FEEDBACK_SCHEMA,
+    IMU_SCHEMA,
     TOPIC_FEEDBACK,
+    TOPIC_IMAGE,
+    TOPIC_IMU,
     TOPIC_LINK,
     TOPIC_LOG,
     TOPIC_ODOMETRY,
     TOPIC_PATH,
+    TOPIC_SCAN,
     TOPIC_TF,
     TOPIC_WHEELS,
     feedback_message,
@@ -163,3 +167,56 @@ def test_shipped_layout_is_current_and_names_recorded_topics() -> None:
     text = shipped.read_text(encoding="utf-8")
     for topic in (TOPIC_ODOMETRY, TOPIC_PATH, TOPIC_WHEELS, TOPIC_LINK, TOPIC_LOG, TOPIC_FEEDBACK):
         assert f'"{topic}' in text
+
+
+class _FakeSensors:
+    """A source shaped like the sensor drivers will be: a scan, a JPEG and an IMU sample per poll."""
+
+    name = "sensors"
+
+    def __init__(self) -> None:
+        self.out: Publisher | None = None
+        self.polls = 0
+
+    def start(self, out: Publisher) -> None:
+        self.out = out
+
+    def poll(self, now_s: float) -> None:
+        assert self.out is not None
+        self.polls += 1
+        ranges = [1.0 + 0.01 * i for i in range(360)]
+        self.out.laser_scan(
+            TOPIC_SCAN, now_s, frame_id="laser", start_angle=0.0, end_angle=2 * math.pi, ranges=ranges, intensities=[]
+        )
+        self.out.compressed_image(TOPIC_IMAGE, now_s, frame_id="camera", fmt="jpeg", data=b"\xff\xd8fake\xff\xd9")
+        imu = {
+            "frame_id": "imu",
+            "orientation": [0, 0, 0, 1],
+            "angular_velocity": [0, 0, 0.1],
+            "linear_acceleration": [0, 0, 9.81],
+        }
+        self.out.json(TOPIC_IMU, IMU_SCHEMA, imu, now_s)
+
+    def stop(self) -> None:
+        self.out = None
+
+
+def test_sensor_sources_record_with_foxglove_schemas(tmp_path: Path) -> None:
+    path = tmp_path / "sensors.mcap"
+    sensors = _FakeSensors()
+    with (
+        Robot.connect("emu://picar?clock=virtual") as robot,
+        Recorder.attach(robot, mcap_path=path, sources=[sensors], board_stats=False) as recorder,
+    ):
+        for _ in range(5):
+            robot.sleep(0.1)
+            recorder.poll()
+    rec = read_mcap(path)
+    assert rec.schemas[TOPIC_SCAN] == ("foxglove.LaserScan", "protobuf")
+    assert rec.schemas[TOPIC_IMAGE] == ("foxglove.CompressedImage", "protobuf")
+    assert rec.schemas[TOPIC_IMU] == ("roverlink.Imu", "jsonschema")
+    assert rec.counts[TOPIC_SCAN] == rec.counts[TOPIC_IMAGE] == rec.counts[TOPIC_IMU] == sensors.polls == 5
+    scan = rec.messages[TOPIC_SCAN][-1][1]
+    assert scan.frame_id == "laser" and len(scan.ranges) == 360 and scan.ranges[10] == pytest.approx(1.1)
+    assert rec.messages[TOPIC_IMAGE][0][1].data == b"\xff\xd8fake\xff\xd9"
+    assert rec.messages[TOPIC_IMU][0][1]["linear_acceleration"] == [0, 0, 9.81]
