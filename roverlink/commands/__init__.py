@@ -7,6 +7,34 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from roverlink.commands import decode, demo, emulate, firmware, info, ports, roundtrip, spec
+from roverlink.commands import (
+    calibrate,
+    decode,
+    demo,
+    emulate,
+    firmware,
+    info,
+    monitor,
+    ports,
+    record,
+    roundtrip,
+    spec,
+    teleop,
+    tune,
+)
 
-COMMANDS: tuple[ModuleType, ...] = (demo, info, ports, emulate, firmware, roundtrip, decode, spec)
+COMMANDS: tuple[ModuleType, ...] = (
+    demo,
+    info,
+    ports,
+    emulate,
+    firmware,
+    monitor,
+    teleop,
+    calibrate,
+    tune,
+    record,
+    roundtrip,
+    decode,
+    spec,
+)
