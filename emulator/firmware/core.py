@@ -26,7 +26,7 @@ from emulator.firmware.config import (
 )
 from emulator.firmware.control import WheelPid, ramp_step, round_half_away
 from emulator.firmware.lights import BLINK_PERIOD_TICKS, light_mask
-from emulator.firmware.link import FirmwareLink
+from emulator.firmware.link import BadValue, FirmwareLink
 from emulator.firmware.session import ACTION_ORDER, Session
 from emulator.firmware.statemachine import Action, Guard, SessionEvent, SessionState
 from emulator.plant.motor import DriveMode
@@ -215,8 +215,11 @@ class Firmware:
 
     # == frames (1) ================================================================================
     def on_bytes(self, data: bytes) -> None:
-        for frame in self.link.feed(data):
-            self._on_frame(frame)
+        for event in self.link.feed(data):
+            if isinstance(event, BadValue):
+                self._on_bad_value(event)
+            else:
+                self._on_frame(event)
 
     def _on_frame(self, frame: Frame) -> None:
         msg, seq = frame
@@ -227,6 +230,18 @@ class Firmware:
         handler = self._handlers.get(type(msg))
         if handler is not None:
             handler(msg, seq)
+
+    def _on_bad_value(self, bad: BadValue) -> None:
+        """1.4: a reliable request holding a value its type does not define is a valid frame whose
+        field is out of range: the request's rules, then NACK(OUT_OF_RANGE, detail = the field)."""
+        self.link.account_seq(bad.seq)
+        self._fire(SessionEvent.VALID_FRAME)
+
+        def apply() -> Message | None:
+            refused = self._needs_session(bad.request, bad.seq)
+            return refused or self._nack(bad.request, bad.seq, NackReason.OUT_OF_RANGE, bad.field)
+
+        self._reliable(bad.request, bad.seq, apply)
 
     def _on_hello(self, msg: Message, seq: int) -> None:
         assert isinstance(msg, Hello)
@@ -258,7 +273,9 @@ class Firmware:
         self._reliable(msg, seq, apply)
 
     # == reliable requests (2) =====================================================================
-    def _reliable(self, msg: Message, seq: int, apply: Callable[[], Message | None], fresh: bool = False) -> None:
+    def _reliable(
+        self, msg: Message | type[Message], seq: int, apply: Callable[[], Message | None], fresh: bool = False
+    ) -> None:
         """Duplicate rule: the same (msg_id, seq) as the last reliable request is answered again
         (a fresh reply for GET_*, else the same ACK/NACK) and not applied again."""
         key = (msg.MSG_ID, seq)
@@ -274,7 +291,7 @@ class Firmware:
         keep = None if fresh and not isinstance(reply, (Ack, Nack)) else reply
         self._dup = (key, keep)
 
-    def _needs_session(self, msg: Message, seq: int) -> Nack | None:
+    def _needs_session(self, msg: Message | type[Message], seq: int) -> Nack | None:
         if self.session.state is SessionState.IDLE or self.session.state is SessionState.BOOT:
             return self._nack(msg, seq, NackReason.NO_SESSION)
         return None
@@ -722,12 +739,12 @@ class Firmware:
             robot_name=self.robot.example[:24],
         )
 
-    def _ack(self, msg: Message, seq: int) -> Ack:
+    def _ack(self, msg: Message | type[Message], seq: int) -> Ack:
         reply = Ack(req_id=msg.MSG_ID, req_seq=seq)
         self._send(reply)
         return reply
 
-    def _nack(self, msg: Message, seq: int, reason: NackReason, detail: int = 0) -> Nack:
+    def _nack(self, msg: Message | type[Message], seq: int, reason: NackReason, detail: int = 0) -> Nack:
         reply = Nack(req_id=msg.MSG_ID, req_seq=seq, reason=reason, detail=detail & 0xFF)
         self._send(reply)
         return reply

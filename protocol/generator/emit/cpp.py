@@ -165,7 +165,8 @@ def _struct(m: Message) -> str:
     out.append(f"inline bool unpack(const uint8_t* payload, uint8_t len, {n}& m) {{\n")
     copy = f"layout::copy_payload(payload, len, {n}::PAYLOAD_SIZE, {n}::PAYLOAD_MAX, &m)"
     out.append(f"    return {copy} && values_defined(m);\n}}\n")
-    out.append("// Index of the first field outside its spec range, or ALL_FIELDS_VALID.\n")
+    out.append("// Index of the first field outside its spec range (an undefined enum value or flag bit included),\n")
+    out.append("// or ALL_FIELDS_VALID.\n")
     if _range_checks(m):
         out.append(f"uint8_t check_ranges(const {n}& m);\n\n")
     else:
@@ -195,6 +196,11 @@ def _dispatch(spec: Spec) -> str:
         out.append("};\n")
         out.append(f"// Unpacks a {direction} payload into the member of `m` that msg_id names (one table lookup,\n")
         out.append("// one copy and its checks): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.\n")
+        if direction == "host_to_mcu":
+            out.append(
+                "// A reliable request's values (enum, flag bit, ASCII) are left to its check_ranges(): the\n"
+                "// firmware answers a value the spec does not define with NACK(OUT_OF_RANGE, the field).\n"
+            )
         out.append(
             f"DispatchResult unpack_{direction}(uint8_t msg_id, const uint8_t* payload, uint8_t len, {union}& m);\n"
         )
@@ -363,7 +369,7 @@ def _unpackers(spec: Spec) -> str:
         out.append(f"    if ({other}) {{\n        return DISPATCH_WRONG_DIRECTION;\n    }}\n")
         out.append("    if (!layout::copy_payload(payload, len, b.min_payload, b.max_payload, &m)) {\n")
         out.append("        return DISPATCH_BAD_PAYLOAD;\n    }\n")
-        checked = [m for m in spec.messages if m.direction == direction and _value_checks(m)]
+        checked = [m for m in spec.messages if m.direction == direction and _value_checks(m) and not _answers_values(m)]
         out.append("    bool ok = true;\n")
         for i, m in enumerate(checked):
             out.append(f"{'    } else ' if i else '    '}if (msg_id == {m.class_name}::ID) {{\n")
@@ -378,22 +384,39 @@ def _value_checks(m: Message) -> list[tuple[Field, str, str]]:
     """(field, C++ test of one element `v` that is true for an undefined value, comment) per checked field."""
     out = []
     for f in m.fields:
-        ctype = _CTYPE[f.prim]
-        if f.enum is not None and f.enum.flags:
-            width = PRIMITIVES[f.prim][0]
-            undefined = ~f.enum.mask & ((1 << (8 * width)) - 1)
-            out.append((f, f"(v & 0x{undefined:X}u) != 0", f"{f.enum.name} bits 0x{f.enum.mask:X}"))
-        elif f.enum is not None:
-            out.append((f, f"!is_valid_{f.enum.name}(static_cast<{ctype}>(v))", f.enum.name))
-        elif f.prim == "char":
-            out.append((f, "static_cast<uint8_t>(v) > 0x7F", "ASCII"))
+        test = _undefined_test(f)
+        if test is not None:
+            out.append((f, *test))
     return out
 
 
+def _undefined_test(f: Field) -> tuple[str, str] | None:
+    """(C++ test of one element `v` that is true for a value the field's type does not define: an
+    enum value, a flag bit, a non-ASCII char; comment), or None for a field of no such type."""
+    if f.enum is not None and f.enum.flags:
+        width = PRIMITIVES[f.prim][0]
+        undefined = ~f.enum.mask & ((1 << (8 * width)) - 1)
+        return f"(v & 0x{undefined:X}u) != 0", f"{f.enum.name} bits 0x{f.enum.mask:X}"
+    if f.enum is not None:
+        return f"!is_valid_{f.enum.name}(static_cast<{_CTYPE[f.prim]}>(v))", f.enum.name
+    if f.prim == "char":
+        return "static_cast<uint8_t>(v) > 0x7F", "ASCII"
+    return None
+
+
+def _answers_values(m: Message) -> bool:
+    """A reliable request: its receiver answers a value the spec does not define with NACK(OUT_OF_RANGE,
+    the field), so its direction's dispatcher leaves the values to check_ranges()."""
+    return m.direction == "host_to_mcu" and m.delivery == "reliable"
+
+
 def _range_test(f: Field) -> tuple[str, str] | None:
-    """(C++ test of one element `v` that is true when it is OUT of range, comment), or None."""
-    if f.enum is not None or f.prim == "char" or f.max_len is not None:
-        return None
+    """(C++ test of one element `v` that is true when it is OUT of range, comment), or None. The
+    values a type does not define are out of range too (enum, flag bit, ASCII), so check_ranges()
+    alone vets a message whose values nothing has checked."""
+    undefined = _undefined_test(f)
+    if undefined is not None or f.max_len is not None:
+        return undefined
     if f.is_float:  # always: a float field without a spec range still refuses NaN and infinity
         # Both zeros compare equal in the spec (and in Python): widen a bound at zero to take both.
         lo_bits = 0x80000000 if f.lo == 0 else _f32_bits(f.lo)
