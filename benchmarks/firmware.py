@@ -70,7 +70,7 @@ Figures (docs/budgets.md states the budgets and why they are per byte):
   it from UDR0 (gated at two byte times, 2 x 1389 cycles) and the longest main-loop pass (a byte
   that arrives just after poll() emptied the buffer waits one pass; the Arduino core's 64-byte ring
   buffer holds 5.5 ms of bytes at 115200 baud).
-* Flash and SRAM per example: avr-size of the ELF (`host_sdk.firmware`); a reference firmware on
+* Flash and SRAM per example: avr-size of the ELF (`roverlink.firmware`); a reference firmware on
   the Uno leaves >= 50 % of flash and SRAM free.
 * Line use (budget <= 40 % of either direction): 100 Hz setpoints and 100 Hz FEEDBACK at 115200
   baud, from the frames' sizes (line_use.py; no simulation needed).
