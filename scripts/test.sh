@@ -1,22 +1,13 @@
 #!/usr/bin/env bash
 # Installs what the tests need (Debian and Python packages) and runs the whole suite:
 # generated-code drift, lint, types, native C++ tests (plain, sanitizers, avr-g++), pytest,
-# and a quick benchmark smoke run. Usage: bash scripts/test.sh [extra pytest args]
+# a quick benchmark smoke run and fuzzing (scripts/fuzz.sh). Usage: bash scripts/test.sh [extra pytest args]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-DEBIAN_PACKAGES=(g++ make gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev libelf-dev)
-
-missing=()
-for pkg in "${DEBIAN_PACKAGES[@]}"; do
-    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
-done
-if ((${#missing[@]})); then
-    echo "== installing Debian packages: ${missing[*]}"
-    if [[ $(id -u) -eq 0 ]]; then sudo=(); else sudo=(sudo); fi
-    "${sudo[@]}" apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq "${missing[@]}" >/dev/null
-fi
+source scripts/debian-packages.sh
+install_debian_packages g++ make gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev libelf-dev \
+    clang-14 libfuzzer-14-dev libclang-rt-14-dev llvm-14
 
 echo "== installing Python packages"
 python3 -m pip install -q --disable-pip-version-check -e ".[dev]"
@@ -37,3 +28,6 @@ python3 -m pytest "$@"
 
 echo "== codec benchmark (smoke run; full run: python3 benchmarks/codec.py)"
 python3 benchmarks/codec.py --quick --require-roverlink
+
+echo "== fuzzing (tests/fuzz: ${FUZZ_SECONDS:=60} s per target; SECURITY.md)"
+bash scripts/fuzz.sh --seconds "$FUZZ_SECONDS"
