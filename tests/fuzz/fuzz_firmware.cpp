@@ -7,8 +7,9 @@
 // After every poll() the invariants of docs/control.md are checked (FUZZ_CHECK aborts):
 //   - out of ARMED the motors are safe: no target, no drive effort, ESC neutral, except for a
 //     RAMP_DOWN still ramping, whose ramped speeds only shrink;
-//   - ARMED is entered only by an ACKed ARM; FAILSAFE is left only by an ACKed ARM or DISARM, an
-//     accepted or rejected HELLO, or a reboot, and always carries its reason;
+//   - ARMED is entered only by an ACKed ARM, and lasts at most the watchdog period and one tick
+//     after the last valid frame; FAILSAFE is left only by an ACKed ARM or DISARM, an accepted or
+//     rejected HELLO, or a reboot, and always carries its reason;
 //   - the configuration in force and the PID gains are within their spec ranges and consistent;
 //   - every counter (decoder, link, ticks, duplicates) only grows within a boot;
 //   - everything the firmware sends is a valid frame of a known MCU-to-host message whose values
@@ -194,6 +195,14 @@ private:
         // Counters only grow.
         Counters c;
         snapshot(c);
+        // The watchdog: ARMED lasts no longer than the granted period after the last valid frame,
+        // plus the one control tick that notices (a frame refused for its values is not valid).
+        if (c.decoder.frames_ok != counters_.decoder.frames_ok) {
+            last_valid_us_ = now_;
+        }
+        if (now == SessionState::ARMED) {
+            FUZZ_CHECK(now_ - last_valid_us_ < fw.watchdog_ms() * 1000u + control::TICK_US + STEP_US);
+        }
         FUZZ_CHECK(grew(&counters_.decoder.frames_ok, &c.decoder.frames_ok, sizeof c.decoder / 4));
         FUZZ_CHECK(grew(&counters_.link.seq_gaps, &c.link.seq_gaps, sizeof c.link / 4));
         // The 16-bit tick counter wraps after 655 s of ticks; an input can simulate longer than that.
@@ -260,6 +269,7 @@ private:
     float last_ramp_[proto::WHEEL_COUNT];
     proto::SetConfig last_cfg_ = proto::SetConfig();
     uint16_t cfg_tick_ = 0;
+    uint32_t last_valid_us_ = 0;
 };
 
 // A frame of a host-to-MCU message (or any id) with a payload taken from the input.
