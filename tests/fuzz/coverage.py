@@ -6,7 +6,7 @@ Each target's coverage build has its own profile (BUILD_DIR/cov/<target>.profdat
 export -format=lcov` gives each one's line counts, and a line counts as covered when any target ran
 it. (Merging the profiles of three binaries into one would drop the counts of functions that the
 binaries compile differently, such as each target's entry point.) Prints one row per source file
-of src/codec and src/core, then the totals of each folder.
+of src/codec and src/core, then the totals of each folder (all files, and its .cpp files only).
 """
 
 from __future__ import annotations
@@ -54,7 +54,8 @@ def main(build: Path, targets: list[str]) -> None:
         for path, lines in line_hits(build / "cov" / f"fuzz_{target}", build / "cov" / f"{target}.profdata").items():
             for number, count in lines.items():
                 union[path][number] = union[path].get(number, 0) + count
-    totals: dict[str, list[int]] = {folder: [0, 0] for folder in FOLDERS}
+    totals: dict[str, list[int]] = {f"src/{folder} (all files)": [0, 0] for folder in FOLDERS}
+    totals |= {f"src/{folder}/*.cpp": [0, 0] for folder in FOLDERS}
     print(f"{'file':32} {'lines':>6} {'covered':>8}")
     for path in sorted(union):
         rel = Path(path).resolve().relative_to(SRC) if Path(path).resolve().is_relative_to(SRC) else None
@@ -62,11 +63,13 @@ def main(build: Path, targets: list[str]) -> None:
             continue
         lines = union[path]
         covered = sum(1 for c in lines.values() if c > 0)
-        totals[rel.parts[0]][0] += len(lines)
-        totals[rel.parts[0]][1] += covered
+        for key in (f"src/{rel.parts[0]} (all files)", f"src/{rel.parts[0]}/*.cpp"):
+            if key.endswith("(all files)") or rel.suffix == ".cpp":
+                totals[key][0] += len(lines)
+                totals[key][1] += covered
         print(f"{rel!s:32} {len(lines):6} {covered / len(lines):8.1%}")
-    for folder, (n, covered) in totals.items():
-        print(f"{'src/' + folder + ' (all files)':32} {n:6} {covered / max(1, n):8.1%}")
+    for name, (n, covered) in totals.items():
+        print(f"{name:32} {n:6} {covered / max(1, n):8.1%}")
 
 
 if __name__ == "__main__":
