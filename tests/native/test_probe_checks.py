@@ -57,6 +57,18 @@ fields = [
   { name = "flags", type = "ProbeBits", doc = "." },
   { name = "text", type = "char[..4]", doc = "." },
 ]
+
+[[messages]]
+id = 0x3F
+name = "PROBE_REQUEST"
+direction = "host_to_mcu"
+delivery = "reliable"
+doc = "A reliable request: its values are left to check_ranges(), which the firmware answers."
+fields = [
+  { name = "n", type = "u8", max = 9, doc = "." },
+  { name = "e", type = "ProbeKind", doc = "." },
+  { name = "flags", type = "ProbeBits", doc = "." },
+]
 """
 
 
