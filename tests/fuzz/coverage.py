@@ -6,7 +6,7 @@ Each target's coverage build has its own profile (BUILD_DIR/cov/<target>.profdat
 export -format=lcov` gives each one's line counts, and a line counts as covered when any target ran
 it. (Merging the profiles of three binaries into one would drop the counts of functions that the
 binaries compile differently, such as each target's entry point.) Prints one row per source file
-of src/codec and src/core, then the totals of each folder (all files, and its .cpp files only).
+of src/wire, src/codec and src/core, then the totals of each folder (all files, and its .cpp files only).
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 SRC = ROOT / "arduino" / "RoverLink" / "src"
-FOLDERS = ("codec", "core")
+FOLDERS = ("wire", "codec", "core")
 
 
 def llvm_cov() -> str:

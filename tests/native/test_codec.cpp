@@ -1,4 +1,4 @@
-// Native unit tests for the RoverLink codec runtime (arduino/RoverLink/src/codec).
+// Native unit tests for the RoverLink codec runtime (arduino/RoverLink/src/wire and src/codec).
 // Plain C++: CHECK counts results and the last line reads "N passed, M failed".
 // Built against the generated protocol; frame tests find the message ids through
 // proto::message_bounds(), and per-message tests go through the generated dispatchers, so spec

@@ -1,6 +1,6 @@
 """The generated C++ checks of each message: values_defined() (enums, flag bits, ASCII: what unpack()
 refuses) and check_ranges() (the spec ranges: the first field outside its range). Integers compare
-as integers; a float compares by its order key (src/codec/layout.h), so no floating-point code is
+as integers; a float compares by its order key (src/wire/layout.h), so no floating-point code is
 needed."""
 
 from __future__ import annotations
@@ -175,7 +175,7 @@ def _f32_bits(value: float) -> int:
 
 
 def _key(value: int, prim: str) -> int:
-    """The order key of an element (codec/layout.h): unsigned order = the numbers' order."""
+    """The order key of an element (wire/layout.h): unsigned order = the numbers' order."""
     width = PRIMITIVES[prim][0]
     bits = value & ((1 << (8 * width)) - 1)
     if prim == "f32":

@@ -10,9 +10,9 @@
 #include <string.h>
 
 // The runtime's copy_payload() and f32 order keys, ROVERLINK_PACKED and ROVERLINK_PROGMEM.
-#include "../codec/layout.h"
+#include "../wire/layout.h"
 
-// The runtime in src/codec/ refuses to compile against another API version (see codec.h).
+// The codec in src/codec/ refuses to compile against another API version (see codec.h).
 #define ROVERLINK_GENERATED_API_VERSION 4
 
 namespace roverlink {

@@ -1,7 +1,7 @@
 // Consistent Overhead Byte Stuffing over whole buffers (no delimiter is written or expected).
 // For tools and tests: the frame encoder and decoder each do their own single-pass COBS.
-#ifndef ROVERLINK_CODEC_COBS_H
-#define ROVERLINK_CODEC_COBS_H
+#ifndef ROVERLINK_WIRE_COBS_H
+#define ROVERLINK_WIRE_COBS_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -21,4 +21,4 @@ bool cobs_decode(const uint8_t* in, size_t len, uint8_t* out, size_t cap, size_t
 
 }  // namespace roverlink
 
-#endif  // ROVERLINK_CODEC_COBS_H
+#endif  // ROVERLINK_WIRE_COBS_H

@@ -1,6 +1,6 @@
 // CRC-16/CCITT-FALSE: poly 0x1021, init 0xFFFF, no reflection, xorout 0 ("123456789" -> 0x29B1).
-#ifndef ROVERLINK_CODEC_CRC16_H
-#define ROVERLINK_CODEC_CRC16_H
+#ifndef ROVERLINK_WIRE_CRC16_H
+#define ROVERLINK_WIRE_CRC16_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -58,4 +58,4 @@ uint16_t crc16(const uint8_t* data, size_t len, uint16_t crc = CRC16_INIT);
 
 }  // namespace roverlink
 
-#endif  // ROVERLINK_CODEC_CRC16_H
+#endif  // ROVERLINK_WIRE_CRC16_H

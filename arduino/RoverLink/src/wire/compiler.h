@@ -2,8 +2,8 @@
 // per-byte path wants inlining forced, rare paths want it prevented, because avr-gcc -Os decides the
 // other way round in both cases; constant tables live in flash (PROGMEM) on AVR, where reading them
 // takes pgm_read_byte() / pgm_read_word().
-#ifndef ROVERLINK_CODEC_COMPILER_H
-#define ROVERLINK_CODEC_COMPILER_H
+#ifndef ROVERLINK_WIRE_COMPILER_H
+#define ROVERLINK_WIRE_COMPILER_H
 
 // ROVERLINK_OUT_OF_LINE also keeps GCC from cloning the function for a constant argument (with
 // LTO, a copy for the one global object, whose members it then addresses absolutely: four bytes
@@ -36,4 +36,4 @@
 #define ROVERLINK_READ_PTR(p) (*(p))
 #endif
 
-#endif  // ROVERLINK_CODEC_COMPILER_H
+#endif  // ROVERLINK_WIRE_COMPILER_H

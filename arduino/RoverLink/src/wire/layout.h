@@ -9,8 +9,8 @@
 // positive, every bit inverted when negative. NaNs come out beyond -inf and +inf, so they fail every
 // range, and the generator writes a float range starting or ending at 0.0 with -0.0 at the low end
 // and 0.0 at the high end, so both zeros pass as the spec's comparison does.
-#ifndef ROVERLINK_CODEC_LAYOUT_H
-#define ROVERLINK_CODEC_LAYOUT_H
+#ifndef ROVERLINK_WIRE_LAYOUT_H
+#define ROVERLINK_WIRE_LAYOUT_H
 
 #include <stdint.h>
 
@@ -41,4 +41,4 @@ uint8_t pack_tail(const void* msg, uint8_t fixed, uint8_t tail_len, uint8_t tail
 }  // namespace layout
 }  // namespace roverlink
 
-#endif  // ROVERLINK_CODEC_LAYOUT_H
+#endif  // ROVERLINK_WIRE_LAYOUT_H
