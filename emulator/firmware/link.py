@@ -6,9 +6,8 @@ from dataclasses import asdict, dataclass
 
 from emulator.firmware.config import first_refused_field
 from protocol.codec.cobs import cobs_decode
-from protocol.codec.frames import BadFrame, FrameErrorKind
 from protocol.codec.message import Delivery, Direction, Message
-from protocol.framing import Frame, FrameDecoder, encode_frame
+from protocol.framing import BadFrame, Frame, FrameDecoder, FrameErrorKind, encode_frame
 from protocol.generated.messages import BY_ID, LinkStats
 from protocol.generated.structs import DECODER_COUNTERS, LinkCounters
 

@@ -112,3 +112,18 @@ def test_firmware_library_includes_run_one_way() -> None:
                 if top not in allowed and resolved.exists():
                     bad.append(f"{path.relative_to(src)} includes {target}")
     assert bad == []
+
+
+def test_protocol_layers_run_one_way() -> None:
+    """Inside protocol: codec (COBS, CRC, message base) <- generated <- framing; the codec imports
+    neither the generated messages nor the frame codec, the generated code not the frame codec."""
+    below = {"codec": ("protocol.generated", "protocol.framing"), "generated": ("protocol.framing",)}
+    bad = []
+    for folder, forbidden in below.items():
+        for path in sorted((ROOT / "protocol" / folder).rglob("*.py")):
+            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+                names = [a.name for a in node.names] if isinstance(node, ast.Import) else []
+                if isinstance(node, ast.ImportFrom) and node.module:
+                    names = [node.module, *(f"{node.module}.{a.name}" for a in node.names)]
+                bad += [f"{path.relative_to(ROOT)} imports {n}" for n in names if n.startswith(forbidden)]
+    assert bad == []
