@@ -23,6 +23,39 @@ from protocol.sensors import LidarSpec
 F64 = NDArray[np.float64]
 
 
+HEALTH_STATUS = {0: "good", 1: "warning", 2: "error"}
+
+
+@dataclass(frozen=True, slots=True)
+class DeviceInfo:
+    """Both lidars' answer to GET_INFO."""
+
+    model: int
+    """The device's model number (1 for the YDLIDAR F4)."""
+    firmware: tuple[int, int]
+    """major, minor."""
+    hardware: int
+    serial: str
+    """Hex digits."""
+
+
+@dataclass(frozen=True, slots=True)
+class DeviceHealth:
+    """Both lidars' answer to GET_HEALTH."""
+
+    status: int
+    """0 good, 1 warning, 2 error."""
+    error_code: int
+
+    @property
+    def ok(self) -> bool:
+        return self.status == 0
+
+    @property
+    def name(self) -> str:
+        return HEALTH_STATUS.get(self.status, f"unknown ({self.status})")
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class RegularScan:
     """A scan on evenly spaced angles, the shape of a ROS `sensor_msgs/LaserScan`."""
