@@ -74,12 +74,8 @@ class RPLidarParser(LidarParserBase):
         buf = self._buf
         while buf:
             if self._answer is not None:
-                type_, length = self._answer
-                if len(buf) < length:
+                if not self._take_answer():
                     return
-                self._single(type_, bytes(buf[:length]))
-                del buf[:length]
-                self._answer = None
             elif self._streaming:
                 progress = self._nodes(t)
                 if progress is None:

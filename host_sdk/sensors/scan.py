@@ -261,6 +261,22 @@ class LidarParserBase:
     def next_event(self) -> Any:
         return self._events.pop(0) if self._events else None
 
+    def _take_answer(self) -> bool:
+        """The single answer being read, handed to `_single` once all its bytes are in (False until
+        they are)."""
+        assert self._answer is not None
+        type_, length = self._answer
+        if len(self._buf) < length:
+            return False
+        self._single(type_, bytes(self._buf[:length]))
+        del self._buf[:length]
+        self._answer = None
+        return True
+
+    def _single(self, type_: int, body: bytes) -> None:
+        """A single answer (device info, health...) of the device's protocol: its events."""
+        raise NotImplementedError
+
     def _points(self, angle: F64, dist_mm: F64, quality: NDArray[np.int64], times: F64,
                 start: NDArray[np.bool_]) -> None:  # fmt: skip
         self.counters.points += angle.shape[0]

@@ -56,12 +56,8 @@ class YDLidarParser(LidarParserBase):
         buf += data
         while buf:
             if self._answer is not None:
-                type_, length = self._answer
-                if len(buf) < length:
+                if not self._take_answer():
                     return
-                self._single(type_, bytes(buf[:length]))
-                del buf[:length]
-                self._answer = None
                 continue
             at_packet = buf.find(b"\xaa\x55") if self._streaming else -1
             at_desc = buf.find(b"\xa5\x5a")
