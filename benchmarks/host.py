@@ -41,8 +41,7 @@ from contextlib import contextmanager
 from dataclasses import asdict, dataclass
 from typing import Any
 
-from codec_peers.common import rand_scalar
-from codec_peers.mavlink import choose_mavlink_message, mavlink_module, mavlink_wire_fields
+from codec_peers.mavlink import choose_mavlink_message, mavlink_module, random_field_values
 from pymavlink import mavutil
 
 from host_sdk import Robot
@@ -156,18 +155,12 @@ def mavlink_feeder(master: int, rate: float, stop: Any) -> None:
     cls = choose_mavlink_message(mod, messages.Feedback.PAYLOAD_SIZE, len(messages.Feedback.FIELDS), None)
     mav = mod.MAVLink(None, srcSystem=1, srcComponent=1)
     rng = random.Random(1)
-    fields = mavlink_wire_fields(cls)
-    by_name = {name: (fmt, alen) for name, fmt, alen in fields}
     period = 1.0 / rate
     next_t = time.monotonic()
     while not stop.is_set():
         next_t += period
-        values = []
-        for name in cls.fieldnames:
-            fmt, alen = by_name[name]
-            values.append([rand_scalar(fmt, rng) for _ in range(alen)] if alen else rand_scalar(fmt, rng))
         try:
-            os.write(master, cls(*values).pack(mav))
+            os.write(master, cls(*random_field_values(cls, rng)).pack(mav))
         except OSError:
             return
         delay = next_t - time.monotonic()

@@ -67,6 +67,19 @@ def choose_mavlink_message(mod: Any, size: int, n_fields: int | None, name: str 
     )
 
 
+def random_field_values(cls: Any, rng: random.Random) -> list[Any]:
+    """Random non-zero values for every field of a MAVLink message, in constructor order."""
+    fmt_by_name = {name: (fmt, alen) for name, fmt, alen in mavlink_wire_fields(cls)}
+    out: list[Any] = []
+    for name in cls.fieldnames:  # constructor order
+        fmt, alen = fmt_by_name[name]
+        if alen:
+            out.append([rand_scalar(fmt, rng) for _ in range(alen)])
+        else:
+            out.append(rand_scalar(fmt, rng))
+    return out
+
+
 def build_pymavlink(n: int, size: int, n_fields: int | None, args: argparse.Namespace) -> Stack:
     mod = mavlink_module()
     cls = choose_mavlink_message(mod, size, n_fields, args.mavlink_message)
@@ -95,22 +108,10 @@ def _reference_frames(cls: Any, n: int, rng: random.Random, probe: Any) -> tuple
     """N frames' field values and their stream. A frame whose trailing payload bytes are zero is
     drawn again (MAVLink 2 would truncate it and the frame would be shorter)."""
     frame_len = cls.unpacker.size + MAVLINK2_OVERHEAD
-    fmt_by_name = {name: (fmt, alen) for name, fmt, alen in mavlink_wire_fields(cls)}
-
-    def random_values() -> list[Any]:
-        out: list[Any] = []
-        for name in cls.fieldnames:  # constructor order
-            fmt, alen = fmt_by_name[name]
-            if alen:
-                out.append([rand_scalar(fmt, rng) for _ in range(alen)])
-            else:
-                out.append(rand_scalar(fmt, rng))
-        return out
-
     values: list[list[Any]] = []
     frames: list[bytes] = []
     while len(values) < n:
-        vals = random_values()
+        vals = random_field_values(cls, rng)
         probe.seq = len(values) & 0xFF
         frame = cls(*vals).pack(probe)
         if len(frame) == frame_len:
