@@ -30,6 +30,13 @@ def cmd_ros2(args: argparse.Namespace) -> int:
     return run(args.ros_args or [], overrides)
 
 
+def main(argv: list[str] | None = None) -> int:
+    """`roverlink ros2` as its own program (a console script for `ros2 run`; docs/ros2.md)."""
+    from roverlink import cli  # noqa: PLC0415 (cli imports this module)
+
+    return cli.main(["ros2", *(sys.argv[1:] if argv is None else argv)])
+
+
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser("ros2", help=cmd_ros2.__doc__, description=__doc__.split("\n\n")[1])
     p.add_argument("--url", default=None, help="serial port or URL (default: the url parameter, /dev/ttyACM0)")

@@ -8,8 +8,9 @@ clock; the tests drive it against the emulator on its virtual clock.
   board's watchdog and the board fails safe by itself.
 - After the timeout, `on_timeout="stop"` holds zero speed (the robot stays armed, as ros2_control's
   diff_drive_controller does); `"release"` sends nothing, and the board's watchdog fails it safe.
-- In lockstep mode the board answers each setpoint with one FEEDBACK, so `tick()` re-sends the
-  current setpoint every period: that paces odometry at the node's rate.
+- In lockstep mode the board answers each setpoint with one FEEDBACK, so the setpoints go out from
+  `tick()` only, one per period (a cmd_vel waits at most one period): that paces odometry at the
+  node's rate, evenly, whatever the rate of cmd_vel.
 """
 
 from __future__ import annotations
@@ -92,7 +93,6 @@ class Driver:
         self.latest: Command | None = None
         self.hold_off: str | None = None
         """Why commands are refused regardless of the robot (e.g. disarmed through ~/disarm)."""
-        self._sent_s = -1e9
         self._zero_s = -1e9
 
     def command(self, linear: float, angular: float, now: float) -> None:
@@ -100,8 +100,8 @@ class Driver:
         self.latest = Command(linear, angular, now)
         if self.hold_off is not None:
             self.refusals.refused("hold_off", self.hold_off)
-            return
-        self._send(linear, angular, self.timeout_s, now)
+        elif not self.lockstep:
+            self._send(linear, angular, self.timeout_s)
 
     def clear(self) -> None:
         """Forget the current command (on arm and disarm: an old command never resumes)."""
@@ -116,17 +116,16 @@ class Driver:
             return
         cmd = self.latest
         if cmd is not None and self.fresh(now):
-            if self.lockstep and now - self._sent_s >= 0.75 * self.period_s:
-                self._send(cmd.linear, cmd.angular, cmd.received_s + self.timeout_s - now, now)
+            if self.lockstep:
+                self._send(cmd.linear, cmd.angular, cmd.received_s + self.timeout_s - now)
             return
         if self.on_timeout != "stop" or not self.robot.armed:
             return  # never arm the robot (auto_arm) just to hold it still
-        due = self.period_s * 0.75 if self.lockstep else ZERO_RESEND_S
-        if now - self._zero_s >= due:
+        if self.lockstep or now - self._zero_s >= ZERO_RESEND_S:
             self._zero_s = now
-            self._send(0.0, 0.0, ZERO_HOLD_S, now, quiet=True)
+            self._send(0.0, 0.0, ZERO_HOLD_S, quiet=True)
 
-    def _send(self, linear: float, angular: float, hold_s: float, now: float, quiet: bool = False) -> None:
+    def _send(self, linear: float, angular: float, hold_s: float, quiet: bool = False) -> None:
         try:
             self.robot.drive(linear, angular, clamp=self.clamp, hold_s=max(hold_s, 1e-3))
         except CommandRangeError as exc:
@@ -142,6 +141,5 @@ class Driver:
             if not quiet:
                 self.refusals.refused(type(exc).__name__, str(exc))
         else:
-            self._sent_s = now
             if not quiet:
                 self.refusals.accepted()

@@ -99,7 +99,9 @@ def site_packages(prefix: Path) -> Path:
 
 
 def _fingerprint(package: InterfacePackage) -> str:
-    text = json.dumps([package.name, package.version, package.messages, package.depends, _CMAKE], sort_keys=True)
+    # The interpreter too: the build links against the ROS wheels of one environment.
+    inputs = [package.name, package.version, package.messages, package.depends, _CMAKE, sys.executable]
+    text = json.dumps(inputs, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
