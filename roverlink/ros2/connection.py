@@ -1,9 +1,9 @@
 """The node's link to the board: connect, watch, and reconnect with backoff when the port is lost.
 
 One thread owns the Robot's lifetime. It connects (retrying with a doubling delay while the port
-is missing or silent), hands the robot to the node, then waits on its feedback, which raises
-TransportError as soon as the port fails (a pulled USB cable); it also fetches the board's link
-counters for diagnostics. Errors that another try cannot fix (incompatible firmware, a bad
+is missing or silent), hands the robot to the node, then checks it ten times a second (a check
+raises TransportError once the port has failed, e.g. a pulled USB cable); it also fetches the
+board's link counters for diagnostics. Errors that another try cannot fix (incompatible firmware, a bad
 profile) end the thread and are reported as fatal.
 """
 
@@ -28,6 +28,8 @@ from protocol.generated.messages import LinkStats
 log = logging.getLogger("roverlink.ros2")
 
 Connect = Callable[[], Robot]
+HEALTH_PERIOD_S = 0.1
+"""How often the connection thread checks the port: how soon a lost port is noticed."""
 
 
 class Connection:
@@ -130,17 +132,20 @@ class Connection:
                 robot.close()
 
     def _watch(self, robot: Robot) -> str | None:
-        """Wait until the link breaks (returns why) or stop() (returns None)."""
+        """Check the robot every HEALTH_PERIOD_S until the link breaks (returns why) or stop() (None).
+
+        Waiting on this thread's own event, not on the robot's feedback, keeps it asleep between
+        checks; a check that waits 1 ms for FEEDBACK raises at once when the port has failed."""
         next_stats = time.monotonic()
-        while not self._stop.is_set():
+        while not self._stop.wait(HEALTH_PERIOD_S):
             try:
-                robot.wait_feedback(0.5)
+                robot.wait_feedback(0.001)
             except FeedbackTimeoutError:
                 pass
             except RoverLinkError as exc:  # the port failed, or the session did (a reconnect tells which)
                 return str(exc)
             now = time.monotonic()
-            if now >= next_stats and not self._stop.is_set() and self._may_poll_board():
+            if now >= next_stats and self._may_poll_board():
                 next_stats = now + self.stats_period_s
                 try:
                     self.board = (robot.board_link_stats(), time.monotonic())

@@ -29,6 +29,7 @@ from std_srvs.srv import Trigger
 
 from host_sdk import FeedbackSample, Pose, Robot, RoverLinkError, SessionResetError
 from host_sdk.profiles import get_profile
+from host_sdk.transport import Transport
 from protocol.generated.enums import FailsafeReason, FeedbackMode
 from roverlink.ros2 import convert
 from roverlink.ros2.connection import Connection
@@ -38,6 +39,7 @@ from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for
 
 NODE_NAME = "roverlink"
 TF_QOS_DEPTH = 100  # what tf2_ros's TransformBroadcaster uses
+STREAM_TICK_S = 0.05
 
 
 def tf_message_type() -> Any:
@@ -80,7 +82,7 @@ class _RosLogHandler(logging.Handler):
 
 
 class BridgeNode(Node):
-    def __init__(self, overrides: dict[str, Any] | None = None, *, connect: Any = None) -> None:
+    def __init__(self, overrides: dict[str, Any] | None = None) -> None:
         super().__init__(
             NODE_NAME,
             parameter_overrides=[Parameter(k, value=v) for k, v in (overrides or {}).items()],
@@ -93,6 +95,8 @@ class BridgeNode(Node):
             logging.getLogger(name).addHandler(self._log_handler)
             logging.getLogger(name).setLevel(logging.INFO)
         self.mode = mode_for(p, self._profile_mode())
+        self._pose_covariance = convert.covariance(p.pose_covariance_diagonal)
+        self._twist_covariance = convert.covariance(p.twist_covariance_diagonal)
         self.lockstep = self.mode == "lockstep"
         self._events: deque[Event] = deque(maxlen=20)
         self._failsafes = 0
@@ -130,7 +134,7 @@ class BridgeNode(Node):
         self._driver_lock = threading.Lock()
         self.diagnostics = DiagnosticsBuilder(self.get_fully_qualified_name().lstrip("/"))
         self.connection = Connection(
-            connect or self._connect,
+            self._connect,
             on_connected=self._on_connected,
             on_lost=self._on_lost,
             delay_s=p.reconnect_delay,
@@ -138,7 +142,9 @@ class BridgeNode(Node):
             stats_period_s=1.0 / p.diagnostics_rate,
             may_poll_board=self._may_poll_board,
         )
-        period = 1.0 / p.odom_rate if self.lockstep else min(1.0 / p.odom_rate, 0.05)
+        # Lockstep: the tick sends every setpoint. Stream: it only notices an expired cmd_vel and
+        # renews the zero-speed hold, so 20 Hz is enough (the SDK repeats live setpoints itself).
+        period = 1.0 / p.odom_rate if self.lockstep else STREAM_TICK_S
         self._period = period
         self.create_timer(period, self._tick)
         self.create_timer(1.0 / p.diagnostics_rate, self._publish_diagnostics)
@@ -165,10 +171,12 @@ class BridgeNode(Node):
             return None  # Robot.connect says what is wrong with the name
         return "lockstep" if mode is FeedbackMode.LOCKSTEP else "stream"
 
-    def _connect(self) -> Robot:
+    def _connect(self, transport: Transport | None = None) -> Robot:
+        """Open the port (or use `transport`, e.g. a benchmark's tap on it) and hand it to the SDK."""
         p = self.params
         return Robot.connect(
             p.url,
+            transport=transport,
             profile=p.profile or None,
             baud=p.baud,
             watchdog_s=p.watchdog,
@@ -258,8 +266,8 @@ class BridgeNode(Node):
             base_frame=p.base_frame,
             pose=pose,
             twist=convert.body_twist(kin, sample),
-            pose_covariance=convert.covariance(p.pose_covariance_diagonal),
-            twist_covariance=convert.covariance(p.twist_covariance_diagonal),
+            pose_covariance=self._pose_covariance,
+            twist_covariance=self._twist_covariance,
         )
         self.odom_pub.publish(odom)
         if self.tf_pub is not None:

@@ -43,6 +43,8 @@ def stamp_s(stamp: Any) -> float:
 class Received:
     at: float
     """time.monotonic() when the probe got it."""
+    ros_s: float
+    """ROS time when the probe got it."""
     msg: Any
 
 
@@ -115,8 +117,9 @@ class Probe:
         self.received[key] = []
 
         def record(msg: Any) -> None:
+            ros_s = self.node.get_clock().now().nanoseconds * 1e-9
             with self._lock:
-                self.received[key].append(Received(time.monotonic(), msg))
+                self.received[key].append(Received(time.monotonic(), ros_s, msg))
 
         self.node.create_subscription(msg_type, topic, record, qos)
 

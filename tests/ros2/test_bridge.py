@@ -138,6 +138,11 @@ def test_odom_joint_states_and_diagnostics_arrive_at_their_rates(bridge: Bridge)
         assert all(g > 0 for g in gaps), f"{key} stamps go back"
         assert statistics.median(gaps) == pytest.approx(1 / 50, rel=0.1), f"{key} is not at 50 Hz"
         assert len(msgs) >= 0.6 * 50 * 2.0
+        # Stamped when the board sampled, before the FEEDBACK crossed the 115200 baud line (3.5 ms
+        # for its 40 bytes, plus the adapter's 1 ms; 5-6 ms measured), not when it was read
+        # (DDS delivery alone takes well under a millisecond here).
+        ages = [r.ros_s - stamp_s(r.msg.header.stamp) for r in probe.since(key, t0)]
+        assert statistics.median(ages) > 0.003, f"{key} is stamped when read, not when sampled"
     odom = probe.last("odom")
     assert (odom.header.frame_id, odom.child_frame_id) == ("odom", "base_link")
     assert len(odom.pose.covariance) == 36 and odom.pose.covariance[0] == pytest.approx(0.001)
