@@ -31,16 +31,17 @@ from emulator.clock import PRIORITY_PHYSICS, PRIORITY_RX, PRIORITY_TICK, Timer, 
 from emulator.errors import EmulatorValueError
 from emulator.faults import FaultSpec
 from emulator.firmware.config import IMAGE_ADDR, Gains, encode_image
-from emulator.firmware.core import TICK_US, Firmware
+from emulator.firmware.core import Firmware
 from emulator.firmware.statemachine import SessionEvent
+from emulator.firmware.tick import TICK_US
 from emulator.injection import MAX_FAULT_LOG, FaultInjection, ResetKind, checked_board_options
 from emulator.line import SerialLink
-from emulator.plant.motor import DriveMode
 from emulator.plant.plant import WHEEL_CHANNELS, Plant
 from emulator.profiles import EmulatorProfile, get_profile
 from emulator.rng import Streams
 from emulator.truth import FaultRecord, McuTruth, PlantTruth, Truth, WheelTruth
 from protocol.generated.enums import Board as BoardId
+from protocol.generated.hardware import MotorMode
 
 _U32 = 1 << 32
 __all__ = ["MAX_FAULT_LOG", "Emulator", "McuPhase", "ResetKind", "saved_eeprom_image"]
@@ -75,7 +76,7 @@ class _McuBoard:
     def zero_encoders(self) -> None:
         self._encoder_base = self._emu.plant.encoder_counts()
 
-    def drive(self, wheel: int, effort_permille: int, mode: DriveMode) -> None:
+    def drive(self, wheel: int, effort_permille: int, mode: MotorMode) -> None:
         self._emu.plant.drive(wheel, effort_permille, mode)
 
     def esc_pulse(self, pulse_us: int) -> None:

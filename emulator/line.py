@@ -17,7 +17,7 @@ Each fault is counted in `stats` and reported through `log(kind, detail)` with i
 
 `SerialLink` is both directions together, plus what the USB-serial adapter shows the host around an
 MCU reset (the bootloader's garbage, the break when the sketch's UART starts). The Python emulator
-and the firmware-in-the-loop backends (emulator/backends/simavr.py) share it, so a fault spec or a
+and the firmware-in-the-loop backends (emulator/backends/simavr/) share it, so a fault spec or a
 DTR reset looks the same to the host on either.
 """
 

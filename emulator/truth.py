@@ -11,12 +11,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from emulator.firmware.config import Gains
-from emulator.firmware.link import LinkCounters
 from emulator.firmware.statemachine import SessionEvent, SessionState
 from emulator.plant.esc import EscState
-from emulator.plant.motor import DriveMode
 from protocol.generated.enums import FailsafeReason, FeedbackMode, Status
-from protocol.generated.messages import SetConfig
+from protocol.generated.hardware import MotorMode
+from protocol.generated.messages import LinkStats, SetConfig
 
 
 @dataclass(frozen=True, slots=True)
@@ -60,7 +59,8 @@ class FirmwareTruth:
     esc_hold: bool
     """Still inside the ESC arming window after boot (drive held at neutral)."""
     last_valid_frame_us: int
-    link: LinkCounters
+    link: LinkStats
+    """The link counters: LINK_STATS as the firmware would answer GET_LINK_STATS now (req_seq 0)."""
     transitions: tuple[tuple[SessionState, SessionEvent, SessionState], ...]
     """Session transitions that fired since boot (VALID_FRAME/SETPOINT self-loops left out)."""
 
@@ -75,7 +75,7 @@ class WheelTruth:
     revolutions: float
     duty: float
     """Bridge duty commanded (-1..1; for the ESC robot, the ESC's throttle)."""
-    mode: DriveMode
+    mode: MotorMode
     voltage_v: float
     current_a: float
     torque_nm: float

@@ -18,11 +18,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--root", type=Path, default=generate.ROOT, help="repository root the outputs live under")
     args = parser.parse_args(argv)
     try:
-        spec, robot_list = generate.load(args.spec, args.root)
+        spec, robot_list, contract = generate.load(args.spec, args.root)
     except loader.SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    outputs = generate.render(spec, robot_list)
+    outputs = generate.render(spec, robot_list, contract)
     if args.command == "hash":
         print(f"0x{spec.spec_hash:08X}")
         return 0

@@ -2,18 +2,15 @@
 
 The firmware owns every decision (session, PID, limits, pulse widths, light patterns); a Board
 only moves pins, counts edges, keeps time and stores bytes. The emulator's board drives the plant.
+The values it is handed (MotorMode, the Lights bits) are the hardware contract both sides share,
+protocol/spec/hardware.toml (generated: protocol.generated.hardware).
 """
 
 from __future__ import annotations
 
 from typing import Protocol
 
-from emulator.plant.motor import DriveMode
-
-LIGHT_FRONT_LEFT = 1 << 0
-LIGHT_FRONT_RIGHT = 1 << 1
-LIGHT_REAR_LEFT = 1 << 2
-LIGHT_REAR_RIGHT = 1 << 3
+from protocol.generated.hardware import MotorMode
 
 
 class Board(Protocol):
@@ -30,7 +27,7 @@ class Board(Protocol):
 
     def zero_encoders(self) -> None: ...
 
-    def drive(self, wheel: int, effort_permille: int, mode: DriveMode) -> None:
+    def drive(self, wheel: int, effort_permille: int, mode: MotorMode) -> None:
         """DC motor of `wheel`: signed effort (already corrected for motor_invert) and mode."""
         ...
 
@@ -38,7 +35,9 @@ class Board(Protocol):
 
     def steering_pulse(self, pulse_us: int) -> None: ...
 
-    def lights(self, mask: int) -> None: ...
+    def lights(self, mask: int) -> None:
+        """Lights bits."""
+        ...
 
     def eeprom_read(self, address: int, length: int) -> bytes: ...
 

@@ -16,14 +16,14 @@ and a blink counter that runs over BLINK_PERIOD_TICKS (66 ticks: 1.5 Hz, half on
 
 from __future__ import annotations
 
-from emulator.firmware.board import LIGHT_FRONT_LEFT, LIGHT_FRONT_RIGHT, LIGHT_REAR_LEFT, LIGHT_REAR_RIGHT
 from emulator.firmware.statemachine import SessionState
+from protocol.generated.hardware import Lights
 
 BLINK_PERIOD_TICKS = 66
-LEFT = LIGHT_FRONT_LEFT | LIGHT_REAR_LEFT
-RIGHT = LIGHT_FRONT_RIGHT | LIGHT_REAR_RIGHT
-FRONT = LIGHT_FRONT_LEFT | LIGHT_FRONT_RIGHT
-REAR = LIGHT_REAR_LEFT | LIGHT_REAR_RIGHT
+LEFT = int(Lights.FRONT_LEFT | Lights.REAR_LEFT)
+RIGHT = int(Lights.FRONT_RIGHT | Lights.REAR_RIGHT)
+FRONT = int(Lights.FRONT_LEFT | Lights.FRONT_RIGHT)
+REAR = int(Lights.REAR_LEFT | Lights.REAR_RIGHT)
 ALL = LEFT | RIGHT
 
 

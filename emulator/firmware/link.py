@@ -2,36 +2,23 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict
 
 from protocol.codec.message import Message
 from protocol.framing import Frame, FrameDecoder, encode_frame
+from protocol.generated.messages import LinkStats
+from protocol.generated.structs import DECODER_COUNTERS, LinkCounters
 
-
-@dataclass(slots=True)
-class LinkCounters:
-    """What LINK_STATS reports: the decoder's counters plus the firmware's own."""
-
-    frames_ok: int = 0
-    crc_errors: int = 0
-    cobs_errors: int = 0
-    length_errors: int = 0
-    unknown_ids: int = 0
-    value_errors: int = 0
-    seq_gaps: int = 0
-    bytes_discarded: int = 0
-    rx_overruns: int = 0
-    duplicates: int = 0
-    frames_sent: int = 0
+_U32 = 0xFFFFFFFF
 
 
 class FirmwareLink:
+    """The decoder keeps the spec's decoder counters, `counts` the link's own (LinkCounters), as
+    the C++ link does; LINK_STATS carries the two sets in that order."""
+
     def __init__(self) -> None:
         self.decoder = FrameDecoder()
-        self.rx_overruns = 0
-        self.seq_gaps = 0
-        self.duplicates = 0
-        self.frames_sent = 0
+        self.counts = LinkCounters()
         self._tx_seq = 0
         self._last_seq: int | None = None
 
@@ -43,7 +30,7 @@ class FirmwareLink:
         """docs/control.md 1.2.1: a retry (same seq) counts nothing, a jump counts the gap."""
         last = self._last_seq
         if last is not None and seq != last:
-            self.seq_gaps += (seq - (last + 1)) % 256
+            self.counts.seq_gaps += (seq - (last + 1)) % 256
         self._last_seq = seq
 
     def restart_seq_accounting(self) -> None:
@@ -53,21 +40,12 @@ class FirmwareLink:
     def encode(self, msg: Message) -> bytes:
         wire = encode_frame(msg, self._tx_seq)
         self._tx_seq = (self._tx_seq + 1) & 0xFF
-        self.frames_sent += 1
+        self.counts.frames_sent += 1
         return wire
 
-    def counters(self) -> LinkCounters:
-        s = self.decoder.stats
-        return LinkCounters(
-            frames_ok=s.frames_ok,
-            crc_errors=s.crc_errors,
-            cobs_errors=s.cobs_errors,
-            length_errors=s.length_errors,
-            unknown_ids=s.unknown_ids,
-            value_errors=s.value_errors,
-            seq_gaps=self.seq_gaps,
-            bytes_discarded=s.bytes_discarded,
-            rx_overruns=self.rx_overruns,
-            duplicates=self.duplicates,
-            frames_sent=self.frames_sent,
-        )
+    def stats(self, req_seq: int = 0) -> LinkStats:
+        """LINK_STATS as the firmware would answer now (u32 counters wrap as on the MCU)."""
+        decoder = self.decoder.stats
+        values = {name: getattr(decoder, name) & _U32 for name in DECODER_COUNTERS}
+        values.update({name: value & _U32 for name, value in asdict(self.counts).items()})
+        return LinkStats(req_seq=req_seq, **values)

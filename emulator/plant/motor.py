@@ -12,20 +12,10 @@ with constant V and w, so the winding time constant L/R can be far shorter than 
 
 from __future__ import annotations
 
-import enum
 import math
 from dataclasses import dataclass
 
-
-class DriveMode(enum.IntEnum):
-    """How the bridge holds the motor (mirrors the firmware HAL's MotorMode)."""
-
-    DRIVE = 0
-    """PWM duty in the effort's direction."""
-    COAST = 1
-    """Outputs off: no current flows, the wheel turns freely."""
-    BRAKE = 2
-    """Terminals shorted: back-EMF drives a braking current."""
+from protocol.generated.hardware import MotorMode
 
 
 @dataclass(frozen=True, slots=True)
@@ -81,15 +71,15 @@ class DcMotor:
         self.params = params
         self.polarity = polarity
         self.duty = 0.0
-        self.mode = DriveMode.COAST
+        self.mode = MotorMode.COAST
         self.current_a = 0.0
         self.voltage_v = 0.0
         self._dt = dt_s
         self._decay = math.exp(-dt_s / params.electrical_time_constant_s)
 
-    def command(self, duty: float, mode: DriveMode) -> None:
+    def command(self, duty: float, mode: MotorMode) -> None:
         """Bridge input: signed duty -1..1 (used in DRIVE) and mode."""
-        self.duty = max(-1.0, min(1.0, duty)) if mode is DriveMode.DRIVE else 0.0
+        self.duty = max(-1.0, min(1.0, duty)) if mode is MotorMode.DRIVE else 0.0
         self.mode = mode
 
     def effective_duty(self) -> float:
@@ -103,13 +93,13 @@ class DcMotor:
         """Advance the winding current by one step at wheel speed `wheel_rad_s` (robot-forward
         positive); returns the motor torque at the wheel (robot-forward positive)."""
         p = self.params
-        if self.mode is DriveMode.COAST:
+        if self.mode is MotorMode.COAST:
             # Bridge off: the flyback diodes clamp the winding and the current dies within
             # microseconds, far below the step, so it is simply zero.
             self.current_a = 0.0
             self.voltage_v = 0.0
             return 0.0
-        volts = p.supply_v * self.effective_duty() if self.mode is DriveMode.DRIVE else 0.0
+        volts = p.supply_v * self.effective_duty() if self.mode is MotorMode.DRIVE else 0.0
         self.voltage_v = volts
         # Motor-frame quantities: a mirrored motor turns the other way for the same wheel motion.
         shaft = self.polarity * wheel_rad_s * p.gear_ratio

@@ -5,12 +5,14 @@ from __future__ import annotations
 from emulator.plant.encoder import QuadratureEncoder
 from emulator.plant.esc import Esc, EscState
 from emulator.plant.leds import LedBank
-from emulator.plant.motor import DcMotor, DriveMode
+from emulator.plant.motor import DcMotor
 from emulator.plant.servo import SteeringServo
 from emulator.plant.vehicle import DriveUnit, Vehicle
 from emulator.profiles import EmulatorProfile
+from protocol.generated.constants import WHEEL_COUNT
+from protocol.generated.hardware import MotorMode
 
-WHEEL_CHANNELS = 2
+WHEEL_CHANNELS = WHEEL_COUNT
 """Wheel channels the firmware addresses (a single-motor robot uses channel 0)."""
 
 
@@ -35,7 +37,7 @@ class Plant:
         self.leds = LedBank()
 
     # -- what the MCU's pins do (called through the firmware's Board) ---------------------------
-    def drive(self, wheel: int, effort_permille: int, mode: DriveMode) -> None:
+    def drive(self, wheel: int, effort_permille: int, mode: MotorMode) -> None:
         if self.esc is None and 0 <= wheel < len(self.units):
             self.units[wheel].motor.command(effort_permille / 1000, mode)
 
@@ -61,7 +63,7 @@ class Plant:
     def pins_released(self) -> None:
         """MCU in reset: every pin is an input, so bridges are off, no servo or ESC pulses, LEDs dark."""
         for unit in self.units:
-            unit.motor.command(0.0, DriveMode.COAST)
+            unit.motor.command(0.0, MotorMode.COAST)
         self.esc_pulse(0)
         self.steering_pulse(0)
         self.leds.set(0)
@@ -76,9 +78,9 @@ class Plant:
         esc = self.esc
         if esc is not None:
             throttle = esc.step(now_us)
-            mode = DriveMode.DRIVE if throttle != 0.0 and esc.state is EscState.READY else DriveMode.COAST
-            if mode is DriveMode.COAST and esc.params.drag_brake > 0 and esc.state is EscState.READY:
-                mode = DriveMode.BRAKE
+            mode = MotorMode.DRIVE if throttle != 0.0 and esc.state is EscState.READY else MotorMode.COAST
+            if mode is MotorMode.COAST and esc.params.drag_brake > 0 and esc.state is EscState.READY:
+                mode = MotorMode.BRAKE
             self.units[0].motor.command(throttle, mode)
         steer = 0.0
         if self.servo is not None:

@@ -54,7 +54,7 @@ from host_sdk.odometry import Odometry, Pose
 from host_sdk.session.types import FeedbackSample, LinkStatistics, RobotIdentity, RttStats
 from host_sdk.timesync import ClockSync, Unwrapper
 from protocol.codec.message import Delivery, Message
-from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
+from protocol.generated.constants import FEEDBACK_HZ_DEFAULT, PROTOCOL_VERSION, SPEC_HASH, WATCHDOG_DEFAULT_MS
 from protocol.generated.enums import FailsafeReason, FeedbackMode, IdentityReason, LogLevel, NackReason, Status
 from protocol.generated.messages import (
     BY_ID,
@@ -77,6 +77,7 @@ from protocol.generated.messages import (
     SetConfig,
     SetWheelSpeeds,
 )
+from protocol.generated.structs import DECODER_COUNTERS
 
 _I32 = 1 << 32
 _EPS = 1e-6  # timers fire this early rather than a poll late (float time)
@@ -99,9 +100,9 @@ class LinkState(enum.Enum):
 class SessionOptions:
     """Timing and mode of a session. Seconds everywhere."""
 
-    watchdog_s: float = 0.25
+    watchdog_s: float = WATCHDOG_DEFAULT_MS / 1000
     feedback_mode: FeedbackMode = FeedbackMode.STREAM
-    feedback_hz: int = 50
+    feedback_hz: int = FEEDBACK_HZ_DEFAULT
     """Requested stream rate; 0 asks for the board's configured default."""
     hello_interval_s: float = 0.1
     request_timeout_s: float = 0.25
@@ -452,16 +453,10 @@ class Session:
             rtt = RttStats(rtts[-1], min(rtts), sum(rtts) / len(rtts), max(rtts), n.rtt_count)
         synced = self.clock.synced
         return LinkStatistics(
+            **{name: getattr(d, name) for name in DECODER_COUNTERS},
             frames_sent=n.frames_sent,
             bytes_sent=n.bytes_sent,
-            frames_received=d.frames_ok,
             bytes_received=d.bytes_received,
-            crc_errors=d.crc_errors,
-            cobs_errors=d.cobs_errors,
-            length_errors=d.length_errors,
-            unknown_ids=d.unknown_ids,
-            value_errors=d.value_errors,
-            bytes_discarded=d.bytes_discarded,
             seq_gaps=n.seq_gaps,
             feedback_received=n.feedback_received,
             setpoints_sent=n.setpoints_sent,
@@ -500,7 +495,7 @@ class Session:
         hello = Hello(
             protocol_version=PROTOCOL_VERSION,
             spec_hash=SPEC_HASH,
-            watchdog_ms=max(0, min(60000, round(o.watchdog_s * 1000))),
+            watchdog_ms=max(0, min(Hello.WATCHDOG_MS_MAX, round(o.watchdog_s * 1000))),
             feedback_mode=o.feedback_mode,
             feedback_hz=max(0, min(255, o.feedback_hz)),
         )

@@ -10,6 +10,7 @@ from dataclasses import asdict, dataclass, field
 from host_sdk.odometry import Pose
 from protocol.generated.enums import Board, Capability, FailsafeReason, FeedbackMode, Status
 from protocol.generated.messages import Identity, SetConfig
+from protocol.generated.structs import DecoderCountersSnapshot
 
 RobotConfig = SetConfig
 """The firmware's configuration: the fields of CONFIG / SET_CONFIG, typed and range-checked.
@@ -127,20 +128,17 @@ class RttStats:
 
 
 @dataclass(frozen=True, slots=True)
-class LinkStatistics:
-    """The host side of the link, counted since the robot object was created."""
+class LinkStatistics(DecoderCountersSnapshot):
+    """The host side of the link, counted since the robot object was created.
+
+    The receive counters (frames_ok, crc_errors, cobs_errors, length_errors, unknown_ids,
+    value_errors, bytes_discarded) are the spec's decoder counter set, the same the firmware
+    reports in LINK_STATS; the rest are the host's own.
+    """
 
     frames_sent: int = 0
     bytes_sent: int = 0
-    frames_received: int = 0
-    """Valid frames received."""
     bytes_received: int = 0
-    crc_errors: int = 0
-    cobs_errors: int = 0
-    length_errors: int = 0
-    unknown_ids: int = 0
-    value_errors: int = 0
-    bytes_discarded: int = 0
     seq_gaps: int = 0
     """Board frames missing according to their seq (lost or corrupted on the way)."""
     feedback_received: int = 0
@@ -167,6 +165,11 @@ class LinkStatistics:
     """Sessions re-opened after a reset."""
     connect_time_s: float | None = None
     """From the first HELLO to the session being ready (identity and config)."""
+
+    @property
+    def frames_received(self) -> int:
+        """Valid frames received (frames_ok)."""
+        return self.frames_ok
 
     def as_dict(self) -> dict[str, object]:
         return asdict(self)

@@ -4,7 +4,8 @@ Wire format: COBS(msg_id | seq | payload | crc16_le) followed by 0x00, where the
 msg_id, seq, payload and then the message's CRC_EXTRA byte (see docs/protocol.md).
 
 The decoder is given the messages it knows as a `MessageTable`; protocol.framing binds it to the
-generated messages, so this module depends on the message base class only.
+generated messages, so this module depends on the message base class and the generated counter
+set only (protocol/generated/structs.py, which imports nothing).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from cobs import cobs as _cobs
 from protocol.codec.cobs import cobs_encode
 from protocol.codec.message import Message
 from protocol.errors import EncodeError
+from protocol.generated.structs import DecoderCounters  # imports nothing: no cycle with the messages
 
 _DELIM = b"\x00"
 
@@ -95,17 +97,14 @@ class BadFrame:
 
 
 @dataclass(slots=True)
-class DecoderStats:
-    """Counters of everything the decoder has seen. Every received byte is accounted for."""
+class DecoderStats(DecoderCounters):
+    """Counters of everything the decoder has seen. Every received byte is accounted for.
+
+    The counters the spec names (DecoderCounters: the ones the firmware reports in LINK_STATS, in
+    the same order), plus the bytes fed in.
+    """
 
     bytes_received: int = 0
-    frames_ok: int = 0
-    crc_errors: int = 0
-    cobs_errors: int = 0
-    length_errors: int = 0
-    unknown_ids: int = 0
-    value_errors: int = 0
-    bytes_discarded: int = 0
 
     def as_dict(self) -> dict[str, int]:
         return asdict(self)

@@ -11,6 +11,37 @@ from protocol.generated.messages import SetConfig, SetPid
 
 
 @dataclass(frozen=True, slots=True)
+class WiredPart:
+    """A DC motor driver channel or an encoder, and the Arduino pins it is wired to."""
+
+    kind: str
+    """The motor's driver (TB6612, L298N, BTS7960) or "encoder"."""
+    pins: tuple[tuple[str, int], ...]
+    """(role, Arduino pin): pwm, in1, in2, standby / rpwm, lpwm, r_en, l_en / a, b."""
+
+    def pin(self, role: str) -> int:
+        return dict(self.pins)[role]
+
+
+@dataclass(frozen=True, slots=True)
+class Wiring:
+    """Which Arduino pin serves which part (robots.toml, [robots.wiring])."""
+
+    motors: tuple[WiredPart, ...]
+    """DC motor driver channels, in wheel-channel order (none behind an ESC)."""
+    encoders: tuple[WiredPart, ...]
+    """Quadrature encoders, in wheel-channel order."""
+    esc_pin: int | None
+    """ESC signal."""
+    servo_pin: int | None
+    """Steering servo signal."""
+    led_pins: tuple[int, ...]
+    """One per Lights bit, in bit order (none without turn signals)."""
+    entropy_pin: int
+    """Analog pin left open: its noise seeds the boot_id."""
+
+
+@dataclass(frozen=True, slots=True)
 class RobotProfile:
     """One reference robot. `config` and `pid` are the firmware example's defaults."""
 
@@ -40,6 +71,8 @@ class RobotProfile:
     """Default configuration."""
     pid: SetPid
     """Default PID gains (all wheels)."""
+    wiring: Wiring
+    """Which Arduino pin serves which part."""
 
 
 PROFILES: dict[str, RobotProfile] = {
@@ -57,6 +90,14 @@ PROFILES: dict[str, RobotProfile] = {
         encoder_cpr=1560,
         config=SetConfig(watchdog_ms=250, safe_state=SafeState.BRAKE, accel_limit_mm_s2=1000, decel_limit_mm_s2=2000, max_wheel_speed_mm_s=600, max_effort_permille=1000, encoder_cpr=1560, encoder_invert=2, motor_invert=2, wheel_diameter_um=64000, steering_center_cdeg=9000, steering_min_cdeg=9000, steering_max_cdeg=9000, steering_step_cdeg=0, servo_min_us=500, servo_max_us=2500, esc_min_us=1000, esc_neutral_us=1500, esc_max_us=2000, esc_arm_ms=0, feedback_hz=50),
         pid=SetPid(wheel=255, kp=1.0, ki=6.0, kd=0.0, kf=1.5),
+        wiring=Wiring(
+            motors=(WiredPart("TB6612", (("pwm", 6), ("in1", 22), ("in2", 23), ("standby", 26),)), WiredPart("TB6612", (("pwm", 7), ("in1", 24), ("in2", 25), ("standby", 26),)),),
+            encoders=(WiredPart("encoder", (("a", 2), ("b", 3),)), WiredPart("encoder", (("a", 18), ("b", 19),)),),
+            esc_pin=None,
+            servo_pin=None,
+            led_pins=(30, 31, 32, 33,),
+            entropy_pin=54,
+        ),
     ),
     "diffdrive-bts7960": RobotProfile(
         name="diffdrive-bts7960",
@@ -72,6 +113,14 @@ PROFILES: dict[str, RobotProfile] = {
         encoder_cpr=1216,
         config=SetConfig(watchdog_ms=250, safe_state=SafeState.RAMP_DOWN, accel_limit_mm_s2=1500, decel_limit_mm_s2=3000, max_wheel_speed_mm_s=1000, max_effort_permille=1000, encoder_cpr=1216, encoder_invert=0, motor_invert=0, wheel_diameter_um=90000, steering_center_cdeg=9000, steering_min_cdeg=9000, steering_max_cdeg=9000, steering_step_cdeg=0, servo_min_us=500, servo_max_us=2500, esc_min_us=1000, esc_neutral_us=1500, esc_max_us=2000, esc_arm_ms=0, feedback_hz=100),
         pid=SetPid(wheel=255, kp=0.6, ki=4.0, kd=0.0, kf=0.75),
+        wiring=Wiring(
+            motors=(WiredPart("BTS7960", (("rpwm", 2), ("lpwm", 3), ("r_en", 22), ("l_en", 23),)), WiredPart("BTS7960", (("rpwm", 6), ("lpwm", 7), ("r_en", 24), ("l_en", 25),)),),
+            encoders=(WiredPart("encoder", (("a", 62), ("b", 63),)), WiredPart("encoder", (("a", 64), ("b", 65),)),),
+            esc_pin=None,
+            servo_pin=None,
+            led_pins=(),
+            entropy_pin=54,
+        ),
     ),
     "picar": RobotProfile(
         name="picar",
@@ -87,6 +136,14 @@ PROFILES: dict[str, RobotProfile] = {
         encoder_cpr=720,
         config=SetConfig(watchdog_ms=250, safe_state=SafeState.BRAKE, accel_limit_mm_s2=2000, decel_limit_mm_s2=4000, max_wheel_speed_mm_s=2000, max_effort_permille=600, encoder_cpr=720, encoder_invert=0, motor_invert=0, wheel_diameter_um=65000, steering_center_cdeg=9000, steering_min_cdeg=6500, steering_max_cdeg=12500, steering_step_cdeg=1500, servo_min_us=500, servo_max_us=2500, esc_min_us=1000, esc_neutral_us=1500, esc_max_us=2000, esc_arm_ms=3000, feedback_hz=50),
         pid=SetPid(wheel=255, kp=0.3, ki=1.5, kd=0.0, kf=0.4),
+        wiring=Wiring(
+            motors=(),
+            encoders=(WiredPart("encoder", (("a", 2), ("b", 3),)),),
+            esc_pin=9,
+            servo_pin=10,
+            led_pins=(),
+            entropy_pin=14,
+        ),
     ),
 }
 """Reference robots by profile name."""

@@ -6,29 +6,35 @@ import difflib
 import tempfile
 from pathlib import Path
 
-from protocol.generator import loader, robots
+from protocol.generator import hardware, loader, robots
 from protocol.generator.emit import cpp, docs, python, vectors
+from protocol.generator.emit import hardware as hardware_outputs
 from protocol.generator.emit import robots as robot_outputs
+from protocol.generator.hardware import Hardware
 from protocol.generator.model import Spec
 from protocol.generator.robots import Robot
 
 ROOT = Path(__file__).resolve().parents[2]
 SPEC = ROOT / "protocol" / "spec" / "roverlink.toml"
 ROBOTS_FILE = "robots.toml"  # beside the spec
+HARDWARE_FILE = "hardware.toml"  # beside the spec
 
 
-def load(spec_path: Path, root: Path) -> tuple[Spec, tuple[Robot, ...]]:
-    """The spec and the reference robots in the same folder; SpecError if either is invalid."""
+def load(spec_path: Path, root: Path) -> tuple[Spec, tuple[Robot, ...], Hardware]:
+    """The spec, and the reference robots and the hardware contract in the same folder; SpecError
+    if any is invalid."""
     spec = loader.load(spec_path, root)
-    return spec, robots.load(spec_path.parent / ROBOTS_FILE, root, spec)
+    contract = hardware.load(spec_path.parent / HARDWARE_FILE, root, spec)
+    return spec, robots.load(spec_path.parent / ROBOTS_FILE, root, spec, contract), contract
 
 
-def render(spec: Spec, robot_list: tuple[Robot, ...]) -> dict[str, str]:
+def render(spec: Spec, robot_list: tuple[Robot, ...], contract: Hardware) -> dict[str, str]:
     """Every output: repository-relative path -> exact text."""
     out: dict[str, str] = {}
     for emitter in (python, cpp, docs, vectors):
         out.update(emitter.emit(spec))
     out.update(robot_outputs.emit(spec, robot_list))
+    out.update(hardware_outputs.emit(contract))
     return dict(sorted(out.items()))
 
 

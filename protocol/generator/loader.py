@@ -24,6 +24,7 @@ from protocol.generator.model import (
     Enum,
     EnumValue,
     Field,
+    FieldSet,
     Message,
     Named,
     Spec,
@@ -51,6 +52,7 @@ class _Loader:
     def __init__(self, path: str, data: dict[str, Any]) -> None:
         self.path = path
         self.data = data
+        self.constant_values: dict[str, int] = {}  # for min/max written as a constant's name
 
     def fail(self, entry: str, problem: str) -> SpecError:
         return SpecError(self.path, entry, problem)
@@ -119,11 +121,12 @@ class _Loader:
             )
 
         constants = self.constants(top["constants"])
+        self.constant_values = {c.name: c.value for c in constants}
         enums = self.enums(top["enums"])
-        field_sets = self.field_sets(top.get("field_sets", []))
+        field_sets = self.field_sets(top.get("field_sets", []), enums)
         messages = self.messages(top["messages"], enums, field_sets, max_payload)
         sm = self.state_machine(top["state_machine"])
-        self.cross_names(constants, enums, messages)
+        self.cross_names(constants, enums, messages, field_sets)
 
         canonical = {
             "protocol": {"name": proto["name"], "version": version, "max_payload": max_payload},
@@ -162,6 +165,7 @@ class _Loader:
             state_machine=sm,
             spec_hash=hashing.spec_hash(canonical),
             doc=str(proto.get("doc", "")),
+            field_sets=field_sets,
         )
 
     def constants(self, raw: Any) -> tuple[Constant, ...]:
@@ -214,16 +218,26 @@ class _Loader:
         self.unique(out, lambda e: e.name, "enum name", "enums")
         return tuple(out)
 
-    def field_sets(self, raw: Any) -> dict[str, list[Any]]:
-        out: dict[str, list[Any]] = {}
+    def field_sets(self, raw: Any, enums: tuple[Enum, ...]) -> tuple[FieldSet, ...]:
+        out: list[FieldSet] = []
         for i, s in enumerate(self.typed(raw, list, "field_sets", "field_sets")):
             entry = f"field_sets[{i}]"
-            s = self.keys(s, entry, {"name", "fields"}, {"doc"})
-            name = self.typed(s["name"], str, entry, "name")
-            if name in out:
+            s = self.keys(s, entry, {"name", "fields"}, {"doc", "struct"})
+            name = self.name(s["name"], SNAKE, entry, "snake_case")
+            if any(f.name == name for f in out):
                 raise self.fail(entry, f"duplicate field set name {name!r}")
-            out[name] = self.typed(s["fields"], list, entry, "fields")
-        return out
+            entry = f"field_sets[{i}] {name}"
+            raw_fields = self.typed(s["fields"], list, entry, "fields")
+            fields = tuple(self.field(f, f"{entry} > fields[{j}]", enums) for j, f in enumerate(raw_fields))
+            self.unique(list(fields), lambda f: f.name, "field name", f"{entry} > fields")
+            struct = s.get("struct")
+            if struct is not None:
+                struct = self.name(struct, CAMEL, entry, "CamelCase")
+                for f in fields:
+                    if f.enum is not None or f.is_float or f.count is not None or f.max_len is not None:
+                        raise self.fail(f"{entry} > {f.name}", "a struct field set holds scalar integer fields only")
+            out.append(FieldSet(name, struct, fields, str(s.get("doc", ""))))
+        return tuple(out)
 
     def field(self, raw: Any, entry: str, enums: tuple[Enum, ...]) -> Field:
         f = self.keys(raw, entry, {"name", "type", "doc"}, {"min", "max", "unit"})
@@ -254,8 +268,8 @@ class _Loader:
                 raise self.fail(entry, "arrays of enums or flags are not supported")
         elif base == "char":
             raise self.fail(entry, "char is only allowed as a variable-length array, e.g. char[..16]")
-        lo = f.get("min")
-        hi = f.get("max")
+        lo = self.bound(f.get("min"), entry, "min")
+        hi = self.bound(f.get("max"), entry, "max")
         if (lo is not None or hi is not None) and (enum is not None or base == "char" or max_len is not None):
             raise self.fail(entry, "min/max apply to numeric fields only")
         _, _, _, tlo, thi = PRIMITIVES[prim]
@@ -281,9 +295,19 @@ class _Loader:
             doc=str(f["doc"]),
         )
 
+    def bound(self, value: Any, entry: str, key: str) -> Any:
+        """A field's min or max: a number, or the name of a constant (written once, used twice)."""
+        if not isinstance(value, str):
+            return value
+        if value not in self.constant_values:
+            known = ", ".join(self.constant_values) or "none"
+            raise self.fail(entry, f"{key} {value!r} is not a constant (constants: {known})")
+        return self.constant_values[value]
+
     def messages(
-        self, raw: Any, enums: tuple[Enum, ...], field_sets: dict[str, list[Any]], max_payload: int
+        self, raw: Any, enums: tuple[Enum, ...], field_sets: tuple[FieldSet, ...], max_payload: int
     ) -> tuple[Message, ...]:
+        sets = {s.name: s for s in field_sets}
         out = []
         for i, m in enumerate(self.typed(raw, list, "messages", "messages")):
             entry = f"messages[{i}]"
@@ -304,25 +328,33 @@ class _Loader:
                 raise self.fail(entry, f"delivery {m['delivery']!r} must be one of {', '.join(DELIVERY_CLASSES)}")
             if direction == "mcu_to_host" and m["delivery"] == "setpoint":
                 raise self.fail(entry, "setpoints go from host to MCU")
-            raw_fields: list[tuple[str, Any]] = []
+            where: list[str] = []
+            fields_in: list[Field] = []
+            includes: list[str] = []
             for j, f in enumerate(self.typed(m["fields"], list, entry, "fields")):
                 if isinstance(f, dict) and "include" in f:
                     self.keys(f, f"{entry} > fields[{j}]", {"include"}, set())
-                    if f["include"] not in field_sets:
+                    if f["include"] not in sets:
                         raise self.fail(f"{entry} > fields[{j}]", f"unknown field set {f['include']!r}")
-                    for k, g in enumerate(field_sets[f["include"]]):
-                        raw_fields.append((f"{entry} > fields[{j}] (field set {f['include']}[{k}])", g))
+                    included = sets[f["include"]]
+                    includes.append(included.name)
+                    for k, g in enumerate(included.fields):
+                        where.append(f"{entry} > fields[{j}] (field set {included.name}[{k}])")
+                        fields_in.append(g)
                 else:
-                    raw_fields.append((f"{entry} > fields[{j}]", f))
-            fields = tuple(self.field(f, fe, enums) for fe, f in raw_fields)
+                    where.append(f"{entry} > fields[{j}]")
+                    fields_in.append(self.field(f, where[-1], enums))
+            fields = tuple(fields_in)
             self.unique(list(fields), lambda f: f.name, "field name", f"{entry} > fields")
-            for fe_f, (fe, _) in zip(fields[:-1], raw_fields[:-1], strict=True):
+            for fe, fe_f in zip(where[:-1], fields[:-1], strict=True):
                 if fe_f.max_len is not None:
                     raise self.fail(f"{fe} {fe_f.name}", "a variable-length array must be the last field")
             sig = hashing.signature(
                 name, [((f"{f.prim}:{f.enum.name}" if f.enum else f.prim) + _suffix(f), f.name) for f in fields]
             )
-            msg = Message(msg_id, name, direction, m["delivery"], fields, str(m["doc"]), hashing.crc_extra(sig))
+            msg = Message(
+                msg_id, name, direction, m["delivery"], fields, str(m["doc"]), hashing.crc_extra(sig), tuple(includes)
+            )
             if msg.payload_max > max_payload:
                 raise self.fail(entry, f"payload of up to {msg.payload_max} bytes exceeds max_payload {max_payload}")
             out.append(msg)
@@ -416,7 +448,11 @@ class _Loader:
                 raise self.fail(f"{sec}.states", f"state {state.name} is unreachable from {sm.initial}")
 
     def cross_names(
-        self, constants: tuple[Constant, ...], enums: tuple[Enum, ...], messages: tuple[Message, ...]
+        self,
+        constants: tuple[Constant, ...],
+        enums: tuple[Enum, ...],
+        messages: tuple[Message, ...],
+        field_sets: tuple[FieldSet, ...],
     ) -> None:
         """Python and C++ share one namespace per module: an enum and a message class may not collide."""
         owners: dict[str, str] = {}
@@ -424,6 +460,8 @@ class _Loader:
             ("constant", [c.name for c in constants]),
             ("enum", [e.name for e in enums]),
             ("message class", [m.class_name for m in messages]),
+            ("field set struct", [s.struct for s in field_sets if s.struct is not None]),
+            ("field set name tuple", [s.name.upper() for s in field_sets if s.struct is not None]),
         ):
             for n in names:
                 if n in owners:

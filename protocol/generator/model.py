@@ -117,6 +117,25 @@ class Field:
 
 
 @dataclass(frozen=True)
+class FieldSet:
+    """Fields several messages share, spliced in with `{ include = NAME }`.
+
+    A set that names a `struct` is also a type of its own on both sides (C++ struct, Python
+    dataclass): code that keeps those values (the decoder's counters, the link's) keeps them in
+    it, and a message that includes the set carries them in the same order (checked in C++).
+    """
+
+    name: str
+    struct: str | None
+    fields: tuple[Field, ...]
+    doc: str
+
+    @property
+    def size(self) -> int:
+        return sum(f.size for f in self.fields)
+
+
+@dataclass(frozen=True)
 class Message:
     id: int
     name: str
@@ -125,6 +144,8 @@ class Message:
     fields: tuple[Field, ...]
     doc: str
     crc_extra: int
+    includes: tuple[str, ...] = ()
+    """Names of the field sets spliced in, in order."""
 
     @property
     def class_name(self) -> str:
@@ -200,6 +221,12 @@ class Spec:
     state_machine: StateMachine
     spec_hash: int
     doc: str
+    field_sets: tuple[FieldSet, ...] = ()
+
+    @property
+    def structs(self) -> tuple[FieldSet, ...]:
+        """The field sets that are types of their own, in spec order."""
+        return tuple(s for s in self.field_sets if s.struct is not None)
 
     @property
     def max_body(self) -> int:
@@ -215,6 +242,9 @@ class Spec:
 
     def message(self, name: str) -> Message:
         return next(m for m in self.messages if m.name == name)
+
+    def field_set(self, name: str) -> FieldSet:
+        return next(s for s in self.field_sets if s.name == name)
 
 
 SNAKE = re.compile(r"^[a-z][a-z0-9_]*$")

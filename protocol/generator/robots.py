@@ -7,8 +7,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from protocol.generator import wiring
+from protocol.generator.hardware import Hardware
 from protocol.generator.loader import SpecError
 from protocol.generator.model import Field, Spec
+from protocol.generator.wiring import Wiring
 
 KINEMATICS = ("diff", "ackermann")
 
@@ -26,6 +29,7 @@ class Robot:
     wheelbase_mm: float
     config: tuple[tuple[Field, Any], ...]  # SET_CONFIG fields in wire order, with values
     pid: tuple[tuple[Field, Any], ...]  # SET_PID gains in wire order (wheel excluded)
+    wiring: Wiring
 
     def value(self, name: str) -> Any:
         return next(v for f, v in self.config + self.pid if f.name == name)
@@ -55,7 +59,7 @@ def _values(path: str, entry: str, table: Any, fields: tuple[Field, ...]) -> tup
     return tuple(out)
 
 
-def parse(text: str, path: str, spec: Spec) -> tuple[Robot, ...]:
+def parse(text: str, path: str, spec: Spec, contract: Hardware) -> tuple[Robot, ...]:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -67,7 +71,8 @@ def parse(text: str, path: str, spec: Spec) -> tuple[Robot, ...]:
     modes = [v.name for v in spec.enum("FeedbackMode").values]
     robots = []
     keys = {"name", "example", "doc", "board", "capabilities", "kinematics", "feedback_mode", "track_mm"}
-    keys |= {"wheelbase_mm", "config", "pid"}
+    keys |= {"wheelbase_mm", "config", "pid", "wiring"}
+    lights = tuple(v.name for v in next(e for e in contract.enums if e.name == "Lights").values)
     for i, r in enumerate(data.get("robots", [])):
         entry = f"robots[{i}]"
         if set(r) != keys:
@@ -97,6 +102,14 @@ def parse(text: str, path: str, spec: Spec) -> tuple[Robot, ...]:
                 wheelbase_mm=float(r["wheelbase_mm"]),
                 config=_values(path, f"{entry}.config", r["config"], config_fields),
                 pid=_values(path, f"{entry}.pid", r["pid"], pid_fields),
+                wiring=wiring.parse(
+                    path,
+                    f"{entry}.wiring",
+                    r["wiring"],
+                    board=r["board"],
+                    capabilities=tuple(r["capabilities"]),
+                    lights=lights,
+                ),
             )
         )
     for attr in ("name", "example"):
@@ -107,5 +120,6 @@ def parse(text: str, path: str, spec: Spec) -> tuple[Robot, ...]:
     return tuple(robots)
 
 
-def load(path: Path, root: Path, spec: Spec) -> tuple[Robot, ...]:
-    return parse(path.read_text(encoding="utf-8"), path.resolve().relative_to(root.resolve()).as_posix(), spec)
+def load(path: Path, root: Path, spec: Spec, contract: Hardware) -> tuple[Robot, ...]:
+    rel = path.resolve().relative_to(root.resolve()).as_posix()
+    return parse(path.read_text(encoding="utf-8"), rel, spec, contract)

@@ -27,11 +27,11 @@ from typing import Protocol
 
 from emulator import Emulator
 from emulator.backends.simavr import PinState, PlantLoop, SimavrRobot, elf_with_eeprom
-from emulator.plant.motor import DriveMode
 from host_sdk import messages
 from host_sdk.framing import Frame, FrameDecoder, encode_frame
 from protocol.codec.message import Message
 from protocol.generated.enums import IdentityReason
+from protocol.generated.hardware import MotorMode
 from protocol.generated.profiles import PROFILES
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "firmware"))
@@ -144,7 +144,7 @@ class _NativeMCU:
         self.sim.advance_us(us)
         out = self.sim.outputs()
         duty = tuple(e / 1000 for e in out.motor_effort)
-        mode = tuple(DriveMode(int(m)) for m in out.motor_mode)
+        mode = tuple(MotorMode(int(m)) for m in out.motor_mode)
         return PinState(duty, mode, out.esc_us, out.steering_us, int(out.lights)), self.sim.read()
 
     def reset(self) -> None:

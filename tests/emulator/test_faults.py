@@ -11,10 +11,10 @@ from hostlink import Host
 from emulator import Emulator, FaultSpecError, UnknownProfileError, parse_faults
 from emulator.errors import EmulatorValueError
 from emulator.plant.esc import EscState
-from emulator.plant.motor import DriveMode
 from host_sdk import messages
 from host_sdk.enums import FailsafeReason, NackReason, Status
 from host_sdk.framing import FrameErrorKind
+from protocol.generated.hardware import MotorMode
 
 PING_FRAME_BYTES = 10
 
@@ -136,7 +136,7 @@ def test_mcu_reset_gives_a_new_boot_and_refuses_the_old_session() -> None:
     _drive(host, 300, 300, 0.5)
     emu.reset_mcu()
     assert emu.truth.mcu.phase == "bootloader" and emu.truth.firmware is None
-    assert all(w.mode is DriveMode.COAST for w in emu.truth.plant.wheels)  # pins released
+    assert all(w.mode is MotorMode.COAST for w in emu.truth.plant.wheels)  # pins released
     boot = host.boot()
     assert boot.boot_id != old and emu.truth.mcu.resets == 1 and emu.truth.mcu.boot_ids == (old, boot.boot_id)
     # A host that missed the IDENTITY still sees it: FEEDBACK carries the new boot_id.

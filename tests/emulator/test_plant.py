@@ -9,10 +9,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from emulator.plant.esc import Esc, EscParams, EscState
-from emulator.plant.motor import DriveMode
 from emulator.plant.plant import Plant
 from emulator.plant.servo import ServoParams, SteeringServo
 from emulator.profiles import PROFILE_NAMES, get_profile
+from protocol.generated.hardware import MotorMode
 
 DT = 0.001
 
@@ -24,7 +24,7 @@ def _plant(name: str, mu: float = math.inf) -> Plant:
     return plant
 
 
-def _drive(plant: Plant, duty: float, mode: DriveMode = DriveMode.DRIVE) -> None:
+def _drive(plant: Plant, duty: float, mode: MotorMode = MotorMode.DRIVE) -> None:
     """Same robot-forward duty on every wheel (undoing the mirrored mounting, as motor_invert does)."""
     for w, unit in enumerate(plant.units):
         unit.motor.command(duty * plant.profile.motor_polarity(w), mode)
@@ -86,14 +86,14 @@ def test_speed_step_response_time_constant(name: str) -> None:
 
 def test_brake_stops_faster_than_coast() -> None:
     stops = {}
-    for mode in (DriveMode.BRAKE, DriveMode.COAST):
+    for mode in (MotorMode.BRAKE, MotorMode.COAST):
         plant = _plant("diffdrive-tb6612")
         _drive(plant, 0.8)
         _run(plant, 1.0)
         _drive(plant, 0.0, mode)
         trace = _run(plant, 3.0)
         stops[mode] = next(k for k, v in enumerate(trace) if v == 0.0) * DT
-    assert stops[DriveMode.BRAKE] < stops[DriveMode.COAST] / 2
+    assert stops[MotorMode.BRAKE] < stops[MotorMode.COAST] / 2
 
 
 @settings(max_examples=25, deadline=None)

@@ -8,7 +8,7 @@ from __future__ import annotations
 import pytest
 
 from emulator import Emulator
-from emulator.backends.simavr import _RELEASED, PHYSICS_US, PinState, PlantLoop
+from emulator.backends.simavr import PHYSICS_US, RELEASED, PinState, PlantLoop
 from emulator.errors import EmulatorValueError, FaultSpecError
 
 PROFILE = "diffdrive-tb6612"
@@ -25,7 +25,7 @@ class EchoMCU:
 
     def step(self, us: int, counts: list[int], rx: bytes) -> tuple[PinState, bytes]:
         self.steps.append(us)
-        return _RELEASED, rx if self.echo else b""
+        return RELEASED, rx if self.echo else b""
 
     def reset(self) -> None:
         assert self.loop is not None

@@ -10,10 +10,10 @@ from hostlink import Host, raw_frame
 
 from emulator import Emulator
 from emulator.firmware.statemachine import SessionState
-from emulator.plant.motor import DriveMode
 from host_sdk import enums, messages
 from host_sdk.enums import FailsafeReason, IdentityReason, NackReason, Status
 from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
+from protocol.generated.hardware import MotorMode
 
 
 def _state(emu: Emulator) -> SessionState:
@@ -112,7 +112,7 @@ def test_failsafe_in_the_first_tick_at_or_after_watchdog_expiry_and_latched(host
     assert fs.mcu_time_us - last_valid < 100_000 + 10_000  # within one tick of expiry
     assert fs.effort_permille == (0, 0) and before.effort_permille != (0, 0)
     # The safe state is applied at the driver (diffdrive-tb6612: BRAKE) in that very tick.
-    assert all(w.mode is DriveMode.BRAKE and w.duty == 0 for w in emu.truth.plant.wheels)
+    assert all(w.mode is MotorMode.BRAKE and w.duty == 0 for w in emu.truth.plant.wheels)
     # Latched: frames resume, the state stays, setpoints are refused with the reason.
     host.send(messages.Ping(1))
     host.wait_for(messages.Pong, 0.1)
@@ -369,7 +369,7 @@ def test_disarm_with_ramp_down_safe_state_decelerates_then_coasts() -> None:
     steps = [a - b for a, b in itertools.pairwise(ramped) if a > 0]
     assert steps and max(steps) == pytest.approx(decel / 100)  # ramped down at the decel limit
     assert ramped[-1] == 0.0
-    assert all(w.mode is DriveMode.COAST for w in emu.truth.plant.wheels)
+    assert all(w.mode is MotorMode.COAST for w in emu.truth.plant.wheels)
     assert _state(emu) is SessionState.DISARMED
 
 

@@ -24,7 +24,6 @@ abort, so undefined behaviour in the core kills the test process instead of pass
 from __future__ import annotations
 
 import ctypes
-import enum
 import functools
 import os
 import subprocess
@@ -36,6 +35,7 @@ from types import TracebackType
 from host_sdk.framing import BadFrame, Frame, FrameDecoder, encode_frame
 from protocol.codec.message import Message
 from protocol.generated.enums import FailsafeReason, FeedbackMode, Status
+from protocol.generated.hardware import Lights, MotorMode
 from protocol.generated.state_machine import SessionState
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -48,23 +48,6 @@ MAKE_TIMEOUT_S = 600
 
 class SimError(RuntimeError):
     """The simulator library could not be built or loaded, or was asked for something it lacks."""
-
-
-class MotorMode(enum.IntEnum):
-    """roverlink::MotorMode (src/hal/board.h)."""
-
-    DRIVE = 0
-    COAST = 1
-    BRAKE = 2
-
-
-class Lights(enum.IntFlag):
-    """roverlink::Lights bits (src/hal/board.h)."""
-
-    FRONT_LEFT = 1
-    FRONT_RIGHT = 2
-    REAR_LEFT = 4
-    REAR_RIGHT = 8
 
 
 class _RawOutputs(ctypes.Structure):

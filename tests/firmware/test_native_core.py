@@ -23,7 +23,7 @@ import native_sim
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from native_sim import HostLink, MotorMode, NativeSim
+from native_sim import HostLink, NativeSim
 
 from host_sdk import messages
 from host_sdk.framing import Frame
@@ -39,6 +39,7 @@ from protocol.generated.enums import (
     NackReason,
     Status,
 )
+from protocol.generated.hardware import MotorMode
 from protocol.generated.profiles import PROFILES
 from protocol.generated.state_machine import SessionState
 

@@ -9,8 +9,8 @@
 //              over-long skip, the counters) from one DS line to the next.
 //   R          Replace the streaming decoder by a fresh one (state and counters).   -> OK
 //      Both decode commands answer
-//              EVENTS <item> <item> ... STATS frames_ok=N crc_errors=N cobs_errors=N
-//                     length_errors=N unknown_ids=N bytes_discarded=N
+//              EVENTS <item> <item> ... STATS frames_ok=N crc_errors=N cobs_errors=N ...
+//                     (the decoder's counters: print_fields of proto::DecoderCounters)
 //      with one item per push() result other than NONE, in order:
 //              F:<NAME>:<seq>:<fields>   a good frame whose payload unpack() accepts; <fields> is
 //                                        print_fields() without the leading NAME, its separating
@@ -205,16 +205,7 @@ void decode(FrameDecoder& decoder, const std::string& hex) {
         }
         out += fi.item;
     }
-    const DecoderStats& s = decoder.stats();
-    char stats[200];
-    snprintf(stats, sizeof stats,
-             " STATS frames_ok=%lu crc_errors=%lu cobs_errors=%lu length_errors=%lu unknown_ids=%lu"
-             " value_errors=%lu bytes_discarded=%lu",
-             static_cast<unsigned long>(s.frames_ok), static_cast<unsigned long>(s.crc_errors),
-             static_cast<unsigned long>(s.cobs_errors), static_cast<unsigned long>(s.length_errors),
-             static_cast<unsigned long>(s.unknown_ids), static_cast<unsigned long>(s.value_errors),
-             static_cast<unsigned long>(s.bytes_discarded));
-    out += stats;
+    out += " STATS" + print_to_string(decoder.stats());
     answer(out);
 }
 

@@ -53,6 +53,7 @@ from host_sdk.testing import strategies
 from protocol.codec.cobs import cobs_encode
 from protocol.codec.message import FieldInfo, Message
 from protocol.generated.constants import MAX_PAYLOAD
+from protocol.generated.structs import DECODER_COUNTERS
 
 ROOT = Path(__file__).resolve().parents[2]
 NATIVE_DIR = ROOT / "tests" / "native"
@@ -64,15 +65,7 @@ MAKE_TIMEOUT_S = 600
 ANSWER_TIMEOUT_S = 30.0
 
 BY_NAME: dict[str, type[Message]] = {cls.NAME: cls for cls in messages.ALL_MESSAGES}
-STAT_NAMES = (
-    "frames_ok",
-    "crc_errors",
-    "cobs_errors",
-    "length_errors",
-    "unknown_ids",
-    "value_errors",
-    "bytes_discarded",
-)
+STAT_NAMES = DECODER_COUNTERS
 
 
 # -- the text form of print_fields ----------------------------------------------------------------

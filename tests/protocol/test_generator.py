@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from protocol.__main__ import main
-from protocol.generator import generate, hashing, loader, robots
+from protocol.generator import generate, hardware, hashing, loader, robots
 from protocol.generator.model import Spec
 
 ROOT = generate.ROOT
@@ -22,12 +22,14 @@ def spec(text: str = GOOD) -> Spec:
 
 
 def render(s: Spec) -> dict[str, str]:
-    return generate.render(s, robots.load(generate.SPEC.parent / "robots.toml", ROOT, s))
+    folder = generate.SPEC.parent
+    contract = hardware.load(folder / "hardware.toml", ROOT, s)
+    return generate.render(s, robots.load(folder / "robots.toml", ROOT, s, contract), contract)
 
 
 def copy_spec(root: Path) -> None:
     (root / "protocol" / "spec").mkdir(parents=True)
-    for name in ("roverlink.toml", "robots.toml"):
+    for name in ("roverlink.toml", "robots.toml", "hardware.toml"):
         shutil.copy(generate.SPEC.parent / name, root / "protocol" / "spec" / name)
 
 
@@ -49,7 +51,8 @@ def test_every_output_starts_with_do_not_edit_naming_the_spec_and_hash() -> None
     for rel, text in render(s).items():
         first, second = [*text.splitlines(), ""][:2]
         assert "DO NOT EDIT" in first and "protocol/spec/" in first, rel
-        assert f"0x{s.spec_hash:08X}" in first + second, rel
+        if "generated from protocol/spec/hardware.toml by" not in first:  # the contract is not wire
+            assert f"0x{s.spec_hash:08X}" in first + second, rel
 
 
 def test_committed_outputs_match_the_spec() -> None:
@@ -173,3 +176,73 @@ def test_vectors_cover_every_message_and_the_required_cases() -> None:
         and any(isinstance(x, int) and x < 0 for x in json.dumps(v["fields"]) and v["fields"].values())
     ]
     assert negatives, "min vectors hold negative values"
+
+
+def test_a_bound_may_name_a_constant_and_means_its_value() -> None:
+    s = spec()
+    consts = {c.name: c.value for c in s.constants}
+    watchdog = next(f for f in s.message("SET_CONFIG").fields if f.name == "watchdog_ms")
+    assert (watchdog.min, watchdog.max) == (consts["WATCHDOG_MIN_MS"], consts["WATCHDOG_MAX_MS"])
+    as_numbers = f"min = {consts['WATCHDOG_MIN_MS']}, max = {consts['WATCHDOG_MAX_MS']}"
+    assert spec(GOOD.replace('min = "WATCHDOG_MIN_MS", max = "WATCHDOG_MAX_MS"', as_numbers)).spec_hash == s.spec_hash
+
+
+def test_every_explicit_integer_bound_has_a_name_on_both_sides() -> None:
+    from protocol.generated.messages import BY_ID
+
+    header = (ROOT / "arduino/RoverLink/src/generated/roverlink_protocol.h").read_text(encoding="utf-8")
+    named = 0
+    for m in spec().messages:
+        cls = BY_ID[m.id]
+        for f in m.fields:
+            if f.is_float or f.enum is not None or f.max_len is not None:
+                continue
+            for suffix, bound in (("MIN", f.min), ("MAX", f.max)):
+                name = f"{f.name.upper()}_{suffix}"
+                if bound is None:
+                    assert not hasattr(cls, name)
+                    continue
+                assert getattr(cls, name) == bound, (m.name, name)
+                assert re.search(rf"\b{name} = {int(bound)}(UL)?\b", header), (m.name, name)
+                named += 1
+    assert named > 20  # SET_CONFIG alone has more
+
+
+def test_link_stats_is_its_two_counter_sets_and_the_cpp_checks_where_they_sit() -> None:
+    from protocol.generated.messages import LinkStats
+    from protocol.generated.structs import DECODER_COUNTERS, LINK_COUNTERS, DecoderCounters, LinkCountersSnapshot
+
+    assert [f.name for f in LinkStats.FIELDS] == ["req_seq", *DECODER_COUNTERS, *LINK_COUNTERS]
+    assert tuple(DecoderCounters.__dataclass_fields__) == DECODER_COUNTERS
+    assert tuple(LinkCountersSnapshot.__dataclass_fields__) == LINK_COUNTERS
+    source = render(spec())["arduino/RoverLink/src/generated/roverlink_protocol.cpp"]
+    for name in DECODER_COUNTERS[1:]:
+        assert (
+            f"offsetof(LinkStats, {name}) - offsetof(LinkStats, frames_ok) == offsetof(DecoderCounters, {name})"
+            in source
+        )
+    for name in LINK_COUNTERS[1:]:
+        assert (
+            f"offsetof(LinkStats, {name}) - offsetof(LinkStats, seq_gaps) == offsetof(LinkCounters, {name})" in source
+        )
+    assert 'static_assert(sizeof(DecoderCounters) == 28, "DecoderCounters must have no padding");' in source
+
+
+def test_the_hardware_contract_is_one_definition_for_the_hal_the_emulator_and_the_tests() -> None:
+    from protocol.generated.hardware import Lights, MotorMode
+
+    contract = hardware.load(generate.SPEC.parent / "hardware.toml", ROOT, spec())
+    by_name = {e.name: {v.name: v.value for v in e.values} for e in contract.enums}
+    assert by_name["MotorMode"] == {m.name: m.value for m in MotorMode}
+    assert by_name["Lights"] == {str(m.name): m.value for m in Lights}
+    header = (ROOT / "arduino/RoverLink/src/generated/roverlink_hardware.h").read_text(encoding="utf-8")
+    for name, value in by_name["MotorMode"].items():
+        assert f"    {name} = {value}," in header
+    board = (ROOT / "arduino/RoverLink/src/hal/board.h").read_text(encoding="utf-8")
+    assert '#include "../generated/roverlink_hardware.h"' in board and "enum class MotorMode" not in board
+
+
+def test_a_hardware_enum_may_not_take_a_name_of_the_spec() -> None:
+    text = (generate.SPEC.parent / "hardware.toml").read_text(encoding="utf-8")
+    with pytest.raises(loader.SpecError, match=r"enums\[1\] Status: 'Status' is already a name in protocol/spec/"):
+        hardware.parse(text.replace('name = "Lights"', 'name = "Status"'), "protocol/spec/hardware.toml", spec())

@@ -2,21 +2,23 @@
 
 from __future__ import annotations
 
+import re
 import subprocess
 from pathlib import Path
 
 import pytest
 
 from protocol.generated.profiles import PROFILES
-from protocol.generator import generate, loader, robots
+from protocol.generator import generate, hardware, loader, robots
 
 ROOT = generate.ROOT
 TEXT = (generate.SPEC.parent / "robots.toml").read_text(encoding="utf-8")
 SPEC = loader.load(generate.SPEC, ROOT)
+CONTRACT = hardware.load(generate.SPEC.parent / "hardware.toml", ROOT, SPEC)
 
 
 def parse(text: str) -> tuple[robots.Robot, ...]:
-    return robots.parse(text, "protocol/spec/robots.toml", SPEC)
+    return robots.parse(text, "protocol/spec/robots.toml", SPEC, CONTRACT)
 
 
 def test_three_reference_robots_with_the_design_parameters() -> None:
@@ -48,6 +50,26 @@ def test_three_reference_robots_with_the_design_parameters() -> None:
         ("feedback_hz = 50\n", "", "missing: feedback_hz"),
         ('board = "MEGA2560"', 'board = "TEENSY"', "board 'TEENSY' is not one of"),
         ('kinematics = "diff"', 'kinematics = "tank"', "kinematics must be one of"),
+        (
+            "{ a = 18, b = 19 }",
+            "{ a = 18, b = 99 }",
+            "encoders[1].b: 99 is not a pin of the MEGA2560 (0..69 or A0..A15)",
+        ),
+        ('{ a = "A10", b = "A11" }', '{ a = "A10", b = "A16" }', "'A16' is not a pin of the MEGA2560"),
+        ("pwm = 6, in1 = 22", "pwm = 1, in1 = 22", "motors[0].pwm: pin 1 is the serial port's"),
+        (
+            "in1 = 22, in2 = 23",
+            "in1 = 22, in2 = 22",
+            "motors[0].in2: pin 22 already serves motors[0].in1",
+        ),
+        ("leds = { front_left = 30,", "leds = { front_centre = 30,", "one pin per Lights bit: front_left"),
+        ("servo = 10\n", "", "wiring.servo: needed exactly when the robot has the STEERING_SERVO capability"),
+        ('driver = "TB6612", pwm = 7', 'driver = "DRV8833", pwm = 7', "driver 'DRV8833' is not one of"),
+        (
+            "encoders = [{ a = 2, b = 3 }, { a = 18, b = 19 }]",
+            "encoders = [{ a = 2, b = 3 }]",
+            "1 listed, the capabilities ask for 2",
+        ),
     ],
 )
 def test_bad_robot_entries_are_refused(old: str, new: str, problem: str) -> None:
@@ -69,3 +91,23 @@ def test_firmware_profile_header_compiles(example: str, tmp_path: Path) -> None:
     cmd += [f"-I{ROOT / 'arduino/RoverLink/src'}", f"-I{ROOT / 'arduino/RoverLink/examples' / example}", str(src)]
     result = subprocess.run(cmd, capture_output=True, text=True, check=False)
     assert result.returncode == 0, result.stderr
+
+
+def test_robots_may_share_only_what_the_hardware_shares() -> None:
+    """One STBY for both TB6612 channels is fine (the reference car does it), and so is one
+    enable pin for R_EN and L_EN of a BTS7960; one pin for two enables of two boards is not."""
+    parse(TEXT.replace("r_en = 22, l_en = 23", "r_en = 22, l_en = 22"))
+    with pytest.raises(loader.SpecError, match=r"motors\[1\]\.r_en: pin 22 already serves motors\[0\]\.r_en"):
+        parse(TEXT.replace("r_en = 24, l_en = 25", "r_en = 22, l_en = 25"))
+
+
+def test_the_examples_take_every_pin_from_the_generated_profile() -> None:
+    """No sketch writes a pin number of its own: they all come from robots.toml."""
+    own_pin = re.compile(r"const\s+uint8_t\s+\w+\s*=\s*(?:\d+|A\d+)\s*;|PulseChannel::[ABC]\b")
+    for profile in PROFILES.values():
+        sketch = ROOT / "arduino/RoverLink/examples" / profile.example / f"{profile.example}.ino"
+        text = sketch.read_text(encoding="utf-8")
+        assert not own_pin.findall(text), sketch
+        header = (sketch.parent / "robot_profile.h").read_text(encoding="utf-8")
+        for part in profile.wiring.encoders:
+            assert f"= {part.pin('a')};" in header and f"= {part.pin('b')};" in header

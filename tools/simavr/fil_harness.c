@@ -10,7 +10,7 @@
  * clock runs N parts per billion fast against the host's (the driver's --drift-ppm), so a received
  * bit, paced by the host, lasts 1 + N/1e9 times the nominal 1250/9 cycles.
  *
- * The driver (emulator/backends/simavr.py) owns the plant and the clock and sends one command per
+ * The driver (emulator/backends/simavr/) owns the plant and the clock and sends one command per
  * line on stdin; each gets one reply line on stdout:
  *
  *   S <us> <count0> ... <countN-1> <hex|->  queue host bytes on UART0's line (sent back to back at

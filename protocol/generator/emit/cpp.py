@@ -1,73 +1,48 @@
 """Emit the Arduino library's generated C++11 (structs, checks, pack/unpack, dispatch, state table).
 
 Each message struct is the packed little-endian image of its payload, so pack() and unpack() copy
-bytes. The checks are code per message: values_defined() (enums, flag bits, ASCII: what unpack()
-refuses) and check_ranges() (the spec ranges: the first field outside its range). Integers compare
-as integers; a float compares by its order key (src/codec/layout.h), so no floating-point code is
-needed. Only the messages a side receives are linked into its firmware.
-
-Also emits tests/native/generated/roverlink_reflect.h: a test-only text interface (print fields,
-set fields by name) that lets the Python tests drive the C++ codec field by field.
+bytes; each has its checks (cpp_checks.py). Only the messages a side receives are linked into its
+firmware. Also emits the native tests' reflect header (cpp_reflect.py).
 """
 
 from __future__ import annotations
 
-import re
-import struct
-
 from protocol.generator.emit.common import banner
-from protocol.generator.model import PRIMITIVES, Enum, Field, Message, Spec
+from protocol.generator.emit.cpp_checks import check_functions, enum_test, range_checks, value_checks
+from protocol.generator.emit.cpp_reflect import reflect
+from protocol.generator.emit.cpp_types import CTYPE, comment, ctype, int_lit
+from protocol.generator.model import Enum, FieldSet, Message, Spec
 
 LIB = "arduino/RoverLink/src/generated"
 API_VERSION = 4
-
-_CTYPE = {
-    "u8": "uint8_t",
-    "i8": "int8_t",
-    "u16": "uint16_t",
-    "i16": "int16_t",
-    "u32": "uint32_t",
-    "i32": "int32_t",
-    "f32": "float",
-    "char": "char",
-}
 
 
 def emit(spec: Spec) -> dict[str, str]:
     return {
         f"{LIB}/roverlink_protocol.h": _header(spec),
         f"{LIB}/roverlink_protocol.cpp": _source(spec),
-        "tests/native/generated/roverlink_reflect.h": _reflect(spec),
+        "tests/native/generated/roverlink_reflect.h": reflect(spec),
     }
 
 
-def _comment(text: str, indent: str = "") -> str:
-    return f"{indent}// {text}\n"
+def enum_decl(e: Enum) -> str:
+    """A flags enum as a struct of bits with its MASK; a plain one as an enum class with is_valid_X()."""
+    out = [comment(e.doc)]
+    ctype = CTYPE[e.base]
+    if e.flags:
+        out.append(f"struct {e.name} {{\n    enum : {ctype} {{\n")
+        for v in e.values:
+            out.append(f"        {v.name} = 0x{v.value:X},  // {v.doc}\n")
+        out.append(f"    }};\n    static const {ctype} MASK = 0x{e.mask:X};\n}};\n\n")
+    else:
+        out.append(f"enum class {e.name} : {ctype} {{\n")
+        for v in e.values:
+            out.append(f"    {v.name} = {v.value},  // {v.doc}\n")
+        out.append("};\n")
+        out.append(f"inline bool is_valid_{e.name}({ctype} value) {{\n    {enum_test(e)}\n}}\n\n")
+    return "".join(out)
 
 
-def _ctype(f: Field) -> str:
-    if f.enum is not None and not f.enum.flags:
-        return f.enum.name
-    return _CTYPE[f.prim]
-
-
-def _int_lit(value: int, prim: str) -> str:
-    if prim == "u32":
-        return f"{value}UL"
-    if prim == "i32":
-        # INT32_MIN cannot be written as a literal without overflow warnings.
-        return "(-2147483647L - 1)" if value == -(2**31) else f"{value}L"
-    return str(value)
-
-
-def _float_lit(value: float) -> str:
-    text = repr(float(value))
-    if "e" not in text and "." not in text:
-        text += ".0"
-    return text + "f"
-
-
-# -- header ------------------------------------------------------------------------------------
 def _header(spec: Spec) -> str:
     out = [banner(spec, "//")]
     out.append("// RoverLink protocol: constants, enums, message structs (packed wire images) and their checks,\n")
@@ -85,24 +60,13 @@ def _header(spec: Spec) -> str:
     out.append(f"static const uint8_t MAX_BODY = {spec.max_body};  // msg_id + seq + payload + crc\n")
     out.append(f"static const uint8_t MAX_FRAME = {spec.max_frame};  // COBS-encoded body + delimiter\n\n")
     for c in spec.constants:
-        out.append(_comment(c.doc))
-        out.append(f"static const {_CTYPE[c.type]} {c.name} = {_int_lit(c.value, c.type)};\n")
+        out.append(comment(c.doc))
+        out.append(f"static const {CTYPE[c.type]} {c.name} = {int_lit(c.value, c.type)};\n")
     out.append("\n")
-    for e in spec.enums:
-        out.append(_comment(e.doc))
-        ctype = _CTYPE[e.base]
-        if e.flags:
-            out.append(f"struct {e.name} {{\n    enum : {ctype} {{\n")
-            for v in e.values:
-                out.append(f"        {v.name} = 0x{v.value:X},  // {v.doc}\n")
-            out.append(f"    }};\n    static const {ctype} MASK = 0x{e.mask:X};\n}};\n\n")
-        else:
-            out.append(f"enum class {e.name} : {ctype} {{\n")
-            for v in e.values:
-                out.append(f"    {v.name} = {v.value},  // {v.doc}\n")
-            out.append("};\n")
-            out.append(f"inline bool is_valid_{e.name}({ctype} value) {{\n    {_enum_test(e)}\n}}\n\n")
+    out.extend(enum_decl(e) for e in spec.enums)
 
+    for fs in spec.structs:
+        out.append(_field_set_struct(fs))
     out.append("// Length rule of a msg_id: payload of min_payload..max_payload bytes; and its direction.\n")
     out.append(
         "struct MessageBounds {\n    uint8_t crc_extra;\n    uint8_t min_payload;\n    uint8_t max_payload;\n"
@@ -121,6 +85,41 @@ def _header(spec: Spec) -> str:
     return "".join(out)
 
 
+def _field_set_struct(fs: FieldSet) -> str:
+    """A field set that is a type of its own: its fields in wire order, no padding (checked in the
+    .cpp, with the offsets of every message that includes it)."""
+    out = [f"// {fs.name}: {fs.doc}\n", f"struct {fs.struct} {{\n"]
+    for f in fs.fields:
+        out.append(f"    {ctype(f)} {f.name};  // {f.doc}\n")
+    out.append("};\n\n")
+    return "".join(out)
+
+
+def _bounds(m: Message) -> str:
+    """Every explicit bound of an integer field as a named constant (an enum: no storage, no ODR
+    definition needed), e.g. SetAckermann::STEERING_MRAD_MAX."""
+    out = []
+    for f in m.fields:
+        if f.is_float or f.enum is not None or f.max_len is not None:
+            continue
+        items = [
+            f"{f.name.upper()}_{suffix} = {int_lit(int(value), f.prim)}"
+            for suffix, value in (("MIN", f.min), ("MAX", f.max))
+            if value is not None
+        ]
+        if items:
+            out.append(f"    enum : {CTYPE[f.prim]} {{ {', '.join(items)} }};\n")
+    return "".join(out)
+
+
+def _field_indices(m: Message) -> str:
+    """A request's field indices, the `detail` of NACK(OUT_OF_RANGE / INVALID_CONFIG)."""
+    if m.direction != "host_to_mcu" or not range_checks(m):
+        return ""
+    items = "".join(f"        FIELD_{f.name.upper()} = {i},\n" for i, f in enumerate(m.fields))
+    return f"    enum : uint8_t {{  // field indices (NACK detail)\n{items}    }};\n"
+
+
 def _struct(m: Message) -> str:
     out = [f"// {m.name} (0x{m.id:02X}, {m.direction.replace('_', ' ')}, {m.delivery}): {m.doc}\n"]
     out.append(f"struct ROVERLINK_PACKED {m.class_name} {{\n")
@@ -128,15 +127,17 @@ def _struct(m: Message) -> str:
         f"    enum : uint8_t {{ ID = 0x{m.id:02X}, CRC_EXTRA = 0x{m.crc_extra:02X}, "
         f"PAYLOAD_SIZE = {m.payload_size}, PAYLOAD_MAX = {m.payload_max} }};\n"
     )
+    out.append(_bounds(m))
+    out.append(_field_indices(m))
     for f in m.fields:
         unit = f" [{f.unit}]" if f.unit else ""
         if f.max_len is not None:
-            out.append(f"    {_CTYPE[f.prim]} {f.name}[{f.max_len}];  // {f.doc}{unit}\n")
+            out.append(f"    {CTYPE[f.prim]} {f.name}[{f.max_len}];  // {f.doc}{unit}\n")
             out.append(f"    uint8_t {f.name}_len;  // bytes used in {f.name}\n")
         elif f.count is not None:
-            out.append(f"    {_ctype(f)} {f.name}[{f.count}];  // {f.doc}{unit}\n")
+            out.append(f"    {ctype(f)} {f.name}[{f.count}];  // {f.doc}{unit}\n")
         else:
-            out.append(f"    {_ctype(f)} {f.name};  // {f.doc}{unit}\n")
+            out.append(f"    {ctype(f)} {f.name};  // {f.doc}{unit}\n")
     out.append("};\n")
     n = m.class_name
     if not m.fields:
@@ -157,7 +158,7 @@ def _struct(m: Message) -> str:
             f"    return layout::pack_tail(&m, {n}::PAYLOAD_SIZE, m.{tail.name}_len, {tail.max_len}, payload);\n}}\n"
         )
     out.append("// Whether every enum, flags and char field holds a value the spec defines.\n")
-    if _value_checks(m):
+    if value_checks(m):
         out.append(f"bool values_defined(const {n}& m);\n")
     else:
         out.append(f"inline bool values_defined(const {n}&) {{ return true; }}\n")
@@ -166,7 +167,7 @@ def _struct(m: Message) -> str:
     copy = f"layout::copy_payload(payload, len, {n}::PAYLOAD_SIZE, {n}::PAYLOAD_MAX, &m)"
     out.append(f"    return {copy} && values_defined(m);\n}}\n")
     out.append("// Index of the first field outside its spec range, or ALL_FIELDS_VALID.\n")
-    if _range_checks(m):
+    if range_checks(m):
         out.append(f"uint8_t check_ranges(const {n}& m);\n\n")
     else:
         out.append(f"inline uint8_t check_ranges(const {n}&) {{ return ALL_FIELDS_VALID; }}  // no ranged field\n\n")
@@ -290,6 +291,9 @@ def _source(spec: Spec) -> str:
             )
         size = f"{n}::PAYLOAD_MAX + 1" if tail is not None else f"{n}::PAYLOAD_MAX"
         out.append(f'static_assert(sizeof({n}) == {size}, "{m.name} is not its payload\'s image");\n')
+        out.append(_included_structs(spec, m))
+    for fs in spec.structs:
+        out.append(f'static_assert(sizeof({fs.struct}) == {fs.size}, "{fs.struct} must have no padding");\n')
     out.append("\n")
     ordered = _by_direction(spec)
     inbound = sum(1 for m in ordered if m.direction == "host_to_mcu")
@@ -312,7 +316,7 @@ def _source(spec: Spec) -> str:
     out.append("            return true;\n        }\n    }\n    return false;\n}\n\n")
     out.append(_unpackers(spec))
     for m in spec.messages:
-        out.append(_check_functions(m))
+        out.append(check_functions(m))
     sm = spec.state_machine
     if len(sm.states) > 8:
         raise ValueError("the C++ state table keeps the source states of a row in one byte: at most 8 states")
@@ -340,6 +344,23 @@ def _source(spec: Spec) -> str:
     return "".join(out)
 
 
+def _included_structs(spec: Spec, m: Message) -> str:
+    """A struct field set inside a message is its image: one memcpy moves the whole set."""
+    out = []
+    n = m.class_name
+    for name in m.includes:
+        fs = spec.field_set(name)
+        if fs.struct is None:
+            continue
+        base = f"offsetof({n}, {fs.fields[0].name})"
+        for f in fs.fields[1:]:
+            out.append(
+                f"static_assert(offsetof({n}, {f.name}) - {base} == offsetof({fs.struct}, {f.name}), "
+                f'"{m.name}.{f.name} is not where {fs.struct} keeps it");\n'
+            )
+    return "".join(out)
+
+
 def _by_direction(spec: Spec) -> list[Message]:
     """The messages, host to mcu first (spec order within a direction)."""
     return [m for d, _, _ in _DIRECTIONS for m in spec.messages if m.direction == d]
@@ -363,7 +384,7 @@ def _unpackers(spec: Spec) -> str:
         out.append(f"    if ({other}) {{\n        return DISPATCH_WRONG_DIRECTION;\n    }}\n")
         out.append("    if (!layout::copy_payload(payload, len, b.min_payload, b.max_payload, &m)) {\n")
         out.append("        return DISPATCH_BAD_PAYLOAD;\n    }\n")
-        checked = [m for m in spec.messages if m.direction == direction and _value_checks(m)]
+        checked = [m for m in spec.messages if m.direction == direction and value_checks(m)]
         out.append("    bool ok = true;\n")
         for i, m in enumerate(checked):
             out.append(f"{'    } else ' if i else '    '}if (msg_id == {m.class_name}::ID) {{\n")
@@ -371,259 +392,4 @@ def _unpackers(spec: Spec) -> str:
         if checked:
             out.append("    }\n")
         out.append("    return ok ? DISPATCH_OK : DISPATCH_BAD_PAYLOAD;\n}\n\n")
-    return "".join(out)
-
-
-def _value_checks(m: Message) -> list[tuple[Field, str, str]]:
-    """(field, C++ test of one element `v` that is true for an undefined value, comment) per checked field."""
-    out = []
-    for f in m.fields:
-        ctype = _CTYPE[f.prim]
-        if f.enum is not None and f.enum.flags:
-            width = PRIMITIVES[f.prim][0]
-            undefined = ~f.enum.mask & ((1 << (8 * width)) - 1)
-            out.append((f, f"(v & 0x{undefined:X}u) != 0", f"{f.enum.name} bits 0x{f.enum.mask:X}"))
-        elif f.enum is not None:
-            out.append((f, f"!is_valid_{f.enum.name}(static_cast<{ctype}>(v))", f.enum.name))
-        elif f.prim == "char":
-            out.append((f, "static_cast<uint8_t>(v) > 0x7F", "ASCII"))
-    return out
-
-
-def _range_test(f: Field) -> tuple[str, str] | None:
-    """(C++ test of one element `v` that is true when it is OUT of range, comment), or None."""
-    if f.enum is not None or f.prim == "char" or f.max_len is not None:
-        return None
-    if f.is_float:  # always: a float field without a spec range still refuses NaN and infinity
-        # Both zeros compare equal in the spec (and in Python): widen a bound at zero to take both.
-        lo_bits = 0x80000000 if f.lo == 0 else _f32_bits(f.lo)
-        hi_bits = 0x00000000 if f.hi == 0 else _f32_bits(f.hi)
-        lo_key, hi_key = _key(lo_bits, "f32"), _key(hi_bits, "f32")
-        test = f"!layout::f32_within(v, 0x{lo_key:08X}UL, 0x{hi_key:08X}UL)"
-        return test, f"{_float_lit(f.lo)}..{_float_lit(f.hi)}, as order keys"
-    _, _, _, tlo, thi = PRIMITIVES[f.prim]
-    lo = int(f.min) if f.min is not None else int(tlo or 0)
-    hi = int(f.max) if f.max is not None else int(thi or 0)
-    # An unsigned bound is written unsigned, so the compare is unsigned on every target.
-    suffix = "u" if f.prim in ("u8", "u16") else ""  # _int_lit() writes u32 as UL already
-    tests = []
-    if lo != tlo:
-        tests.append(f"v < {_int_lit(lo, f.prim)}{suffix}")
-    if hi != thi:
-        tests.append(f"v > {_int_lit(hi, f.prim)}{suffix}")
-    if not tests:
-        return None
-    return " || ".join(tests), f"{lo}..{hi}"
-
-
-def _range_checks(m: Message) -> list[tuple[int, Field, str, str]]:
-    """(field index, field, out-of-range test of `v`, comment) of every ranged field, spec order."""
-    out = []
-    for i, f in enumerate(m.fields):
-        r = _range_test(f)
-        if r is not None:
-            out.append((i, f, *r))
-    return out
-
-
-_ELEMENT = re.compile(r"\bv\b")
-
-
-def _each(f: Field, body: str, indent: str = "    ") -> str:
-    """`body` (a statement about `v`) for the field's element, or for each element of an array."""
-    if f.count is None and f.max_len is None:
-        return indent + _ELEMENT.sub(f"m.{f.name}", body) + "\n"
-    count = str(f.count) if f.count is not None else f"m.{f.name}_len"
-    return (
-        f"{indent}for (uint8_t i = 0; i < {count}; ++i) {{\n"
-        f"{indent}    const {_ctype(f)} v = m.{f.name}[i];\n{indent}    {body}\n{indent}}}\n"
-    )
-
-
-def _check_functions(m: Message) -> str:
-    """The message's values_defined() and check_ranges(), when it has something to check."""
-    n = m.class_name
-    out = []
-    values = _value_checks(m)
-    if values:
-        out.append(f"bool values_defined(const {n}& m) {{\n")
-        for f, test, note in values:
-            out.append(f"    // {f.name}: {note}\n")
-            out.append(_each(f, f"if ({test}) return false;"))
-        out.append("    return true;\n}\n\n")
-    ranges = _range_checks(m)
-    if ranges:
-        out.append(f"uint8_t check_ranges(const {n}& m) {{\n")
-        for run in _runs(ranges):
-            i, f, test, note = run[0]
-            if len(run) < _RUN_MIN:
-                for i, f, test, note in run:
-                    out.append(f"    // {f.name}: {note}\n")
-                    out.append(_each(f, f"if ({test}) return {i};"))
-                continue
-            # Adjacent fields with the same check: one loop over their bytes (one copy of the test).
-            names = ", ".join(g[1].name for g in run)
-            out.append(f"    // {names}: {note}\n")
-            out.append(f"    for (uint8_t i = 0; i < {len(run)}; ++i) {{\n")
-            out.append(f"        {_ctype(f)} v;\n")
-            out.append(
-                f"        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof({n}, {f.name}) + i * sizeof v, "
-                "sizeof v);\n"
-            )
-            out.append(f"        if ({test}) return static_cast<uint8_t>({i} + i);\n    }}\n")
-        out.append("    return ALL_FIELDS_VALID;\n}\n\n")
-    return "".join(out)
-
-
-_RUN_MIN = 2  # adjacent fields with one check that become a loop (fewer: one test each is smaller)
-
-
-def _runs(ranges: list[tuple[int, Field, str, str]]) -> list[list[tuple[int, Field, str, str]]]:
-    """The range checks in runs of adjacent scalar fields of one type with the same test."""
-
-    def scalar(f: Field) -> bool:
-        return f.count is None and f.max_len is None
-
-    runs: list[list[tuple[int, Field, str, str]]] = []
-    for c in ranges:
-        prev = runs[-1][-1] if runs else None
-        if (
-            prev is not None
-            and prev[0] + 1 == c[0]
-            and scalar(prev[1])
-            and scalar(c[1])
-            and prev[1].prim == c[1].prim
-            and prev[2] == c[2]
-        ):
-            runs[-1].append(c)
-        else:
-            runs.append([c])
-    return runs
-
-
-def _enum_test(e: Enum) -> str:
-    """The body of is_valid_<Enum>(value): a range when the values are contiguous, else a switch."""
-    values = sorted(v.value for v in e.values)
-    lo, hi = values[0], values[-1]
-    if values == list(range(lo, hi + 1)):
-        return f"return value <= {hi};" if lo == 0 else f"return value >= {lo} && value <= {hi};"
-    cases = " ".join(f"case {v}:" for v in values)
-    return f"switch (value) {{ {cases} return true; default: return false; }}"
-
-
-def _f32_bits(value: float) -> int:
-    """IEEE-754 single-precision bits of `value`, rounded to nearest as a C float literal is."""
-    try:
-        return int.from_bytes(struct.pack("<f", value), "little")
-    except OverflowError:
-        return 0xFF800000 if value < 0 else 0x7F800000
-
-
-def _key(value: int, prim: str) -> int:
-    """The order key of an element (codec/layout.h): unsigned order = the numbers' order."""
-    width = PRIMITIVES[prim][0]
-    bits = value & ((1 << (8 * width)) - 1)
-    if prim == "f32":
-        return bits ^ 0xFFFFFFFF if bits & 0x80000000 else bits | 0x80000000
-    if prim.startswith("i"):
-        return bits ^ (1 << (8 * width - 1))
-    return bits
-
-
-def _reflect(spec: Spec) -> str:
-    """print_fields()/set_field() per message, for the native cross-check tool.
-
-    Text form of a field value: integers in decimal (enums and flags as their number), f32 as the
-    hex of its IEEE-754 bits (exact), arrays comma-separated, byte/char arrays as hex.
-    """
-    out = [banner(spec, "//")]
-    out.append("// Test-only: text view of every message for tests/native/rl_codec.cpp. Not part of the library.\n")
-    out.append("#ifndef ROVERLINK_REFLECT_H\n#define ROVERLINK_REFLECT_H\n\n")
-    out.append(
-        '#include <stdio.h>\n#include <stdlib.h>\n#include <string.h>\n\n#include "generated/roverlink_protocol.h"\n\n'
-    )
-    out.append("namespace roverlink {\nnamespace reflect {\n\n")
-    out.append(
-        "inline void print_f32(FILE* f, float v) {\n    uint32_t bits;\n    memcpy(&bits, &v, 4);\n"
-        '    fprintf(f, "0x%08lX", static_cast<unsigned long>(bits));\n}\n'
-        "inline float parse_f32(const char* s) {\n    uint32_t bits = static_cast<uint32_t>(strtoul(s, NULL, 16));\n"
-        "    float v;\n    memcpy(&v, &bits, 4);\n    return v;\n}\n"
-        "inline void print_hex(FILE* f, const uint8_t* p, uint8_t n) {\n"
-        '    for (uint8_t i = 0; i < n; ++i) fprintf(f, "%02x", p[i]);\n}\n'
-        "inline uint8_t parse_hex(const char* s, uint8_t* out, uint8_t cap) {\n    uint8_t n = 0;\n"
-        "    while (s[0] && s[1] && n < cap) {\n        char b[3] = {s[0], s[1], 0};\n"
-        "        out[n++] = static_cast<uint8_t>(strtoul(b, NULL, 16));\n        s += 2;\n    }\n    return n;\n}\n\n"
-    )
-    for m in spec.messages:
-        n = m.class_name
-        arg = "m" if m.fields else "/*m*/"
-        out.append(f"inline void print_fields(FILE* f, const proto::{n}& {arg}) {{\n")
-        out.append(f'    fputs("{m.name}", f);\n')
-        for fld in m.fields:
-            out.append(f'    fputs(" {fld.name}=", f);\n')
-            if fld.max_len is not None:
-                out.append(f"    print_hex(f, reinterpret_cast<const uint8_t*>(m.{fld.name}), m.{fld.name}_len);\n")
-                continue
-            idx = "[k]" if fld.count else ""
-            value = f"m.{fld.name}{idx}"
-            if fld.is_float:
-                line = f"print_f32(f, {value});"
-            elif fld.prim in ("u32",):
-                line = f'fprintf(f, "%lu", static_cast<unsigned long>({value}));'
-            elif fld.prim in ("i32",):
-                line = f'fprintf(f, "%ld", static_cast<long>({value}));'
-            else:
-                line = f'fprintf(f, "%ld", static_cast<long>({value}));'
-            if fld.count:
-                out.append(f"    for (uint8_t k = 0; k < {fld.count}; ++k) {{\n")
-                out.append(f"        if (k) fputc(',', f);\n        {line}\n    }}\n")
-            else:
-                out.append(f"    {line}\n")
-        out.append("}\n\n")
-        out.append(f"inline bool set_field(proto::{n}& {arg}, const char* name, const char* value) {{\n")
-        if not m.fields:
-            out.append("    (void)name;\n    (void)value;\n    return false;\n}\n\n")
-            continue
-        for fld in m.fields:
-            out.append(f'    if (strcmp(name, "{fld.name}") == 0) {{\n')
-            if fld.max_len is not None:
-                out.append(
-                    f"        m.{fld.name}_len = parse_hex(value, reinterpret_cast<uint8_t*>(m.{fld.name}), "
-                    f"{fld.max_len});\n"
-                )
-            else:
-                ctype = _ctype(fld)
-                if fld.enum is not None and not fld.enum.flags:
-                    ctype = f"proto::{ctype}"
-                if fld.is_float:
-                    conv = "parse_f32(v)"
-                elif fld.prim == "u32":
-                    conv = f"static_cast<{ctype}>(strtoul(v, NULL, 10))"
-                else:
-                    conv = f"static_cast<{ctype}>(strtol(v, NULL, 10))"
-                if fld.count:
-                    out.append(
-                        f"        const char* v = value;\n        for (uint8_t k = 0; k < {fld.count}; ++k) {{\n"
-                    )
-                    out.append(f"            m.{fld.name}[k] = {conv};\n")
-                    out.append(
-                        "            v = strchr(v, ',');\n            if (!v) return k == " + str(fld.count - 1) + ";\n"
-                    )
-                    out.append("            ++v;\n        }\n")
-                else:
-                    out.append(f"        const char* v = value;\n        m.{fld.name} = {conv};\n")
-            out.append("        return true;\n    }\n")
-        out.append("    return false;\n}\n\n")
-    out.append("// Calls fn(msg) with a zeroed message of type `msg_id`; false for an unknown id.\n")
-    out.append("template <class Fn>\nbool with_message(uint8_t msg_id, Fn& fn) {\n    switch (msg_id) {\n")
-    for m in spec.messages:
-        out.append(f"    case proto::{m.class_name}::ID: {{\n        proto::{m.class_name} m;\n")
-        out.append("        memset(&m, 0, sizeof m);\n        fn(m);\n        return true;\n    }\n")
-    out.append("    default:\n        return false;\n    }\n}\n\n")
-    out.append("// msg_id of a message NAME, or -1.\ninline int id_of(const char* name) {\n")
-    for m in spec.messages:
-        out.append(f'    if (strcmp(name, "{m.name}") == 0) return proto::{m.class_name}::ID;\n')
-    out.append(
-        "    return -1;\n}\n\n}  // namespace reflect\n}  // namespace roverlink\n\n#endif  // ROVERLINK_REFLECT_H\n"
-    )
     return "".join(out)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from protocol.generator.emit.common import banner, num
-from protocol.generator.model import PRIMITIVES, Field, Message, Spec
+from protocol.generator.model import PRIMITIVES, Enum, Field, Message, Spec
 
 PKG = "protocol/generated"
 
@@ -16,22 +16,23 @@ def emit(spec: Spec) -> dict[str, str]:
         f"{PKG}/messages.py": _messages(spec),
         f"{PKG}/state_machine.py": _state_machine(spec),
         f"{PKG}/oracle.py": _oracle(spec),
+        f"{PKG}/structs.py": _structs(spec),
     }
 
 
-def _doc(text: str, indent: str = "") -> str:
+def doc(text: str, indent: str = "") -> str:
     text = text.replace("\\", "\\\\").replace('"""', '\\"\\"\\"')
     return f'{indent}"""{text}"""\n'
 
 
 def _init(spec: Spec) -> str:
-    return banner(spec, "#") + _doc(
+    return banner(spec, "#") + doc(
         "Code generated from the RoverLink spec: constants, enums, messages, the session table, the construct oracle."
     )
 
 
 def _constants(spec: Spec) -> str:
-    out = [banner(spec, "#"), _doc("Protocol constants."), "\nfrom typing import Final\n\n"]
+    out = [banner(spec, "#"), doc("Protocol constants."), "\nfrom typing import Final\n\n"]
     out.append(f"PROTOCOL_VERSION: Final = {spec.version}\n")
     out.append(f"SPEC_HASH: Final = 0x{spec.spec_hash:08X}\n")
     out.append(f"MAX_PAYLOAD: Final = {spec.max_payload}\n")
@@ -41,23 +42,65 @@ def _constants(spec: Spec) -> str:
     out.append('"""Longest frame on the wire, delimiter included."""\n')
     for c in spec.constants:
         out.append(f"{c.name}: Final = {c.value}\n")
-        out.append(_doc(c.doc))
+        out.append(doc(c.doc))
     return "".join(out)
 
 
-def _enums(spec: Spec) -> str:
-    out = [banner(spec, "#"), _doc("Enumerations and bit flags."), "\nimport enum\n"]
-    for e in spec.enums:
+def _structs(spec: Spec) -> str:
+    """The field sets that are types of their own: a mutable dataclass to count or keep the values
+    in, a frozen one to hand them out, and the tuple of field names (the order of the messages)."""
+    out = [banner(spec, "#"), doc("Field sets the spec declares as structs (see [[field_sets]] in the spec).")]
+    out.append("\nfrom __future__ import annotations\n\nfrom dataclasses import dataclass\nfrom typing import Final\n")
+    for fs in spec.structs:
+        listed = "".join(f'    "{f.name}",\n' for f in fs.fields)
+        out.append(f"\n{fs.name.upper()}: Final[tuple[str, ...]] = (\n{listed})\n")
+        out.append(doc(f"Field names of {fs.struct}, in wire order."))
+        for cls, frozen, what in (
+            (fs.struct, False, "Kept (and counted) in place."),
+            (f"{fs.struct}Snapshot", True, f"The values of a {fs.struct} at one moment."),
+        ):
+            deco = "@dataclass(frozen=True, slots=True)" if frozen else "@dataclass(slots=True)"
+            out.append(f"\n\n{deco}\nclass {cls}:\n")
+            out.append(doc(f"{fs.doc} {what}", "    "))
+            out.append("\n")
+            for f in fs.fields:
+                out.append(f"    {f.name}: int = 0\n")
+                out.append(doc(f.doc, "    "))
+    exported = [n for fs in spec.structs for n in (fs.name.upper(), str(fs.struct), f"{fs.struct}Snapshot")]
+    out.append("\n\n__all__ = [\n" + "".join(f'    "{n}",\n' for n in exported) + "]\n")
+    return "".join(out)
+
+
+def _bound_constants(m: Message) -> list[tuple[str, int]]:
+    """(NAME_MIN / NAME_MAX, value) of every explicit bound of an integer field, spec order."""
+    out = []
+    for f in m.fields:
+        if f.is_float or f.enum is not None or f.max_len is not None:
+            continue
+        for suffix, value in (("MIN", f.min), ("MAX", f.max)):
+            if value is not None:
+                out.append((f"{f.name.upper()}_{suffix}", int(value)))
+    return out
+
+
+def enum_classes(enums: tuple[Enum, ...]) -> str:
+    """`import enum` and one IntEnum / IntFlag per enum, then __all__."""
+    out = ["\nimport enum\n"]
+    for e in enums:
         base = "IntFlag" if e.flags else "IntEnum"
         out.append(f"\n\nclass {e.name}(enum.{base}):\n")
-        out.append(_doc(e.doc, "    "))
+        out.append(doc(e.doc, "    "))
         out.append("\n")
         for v in e.values:
             lit = f"0x{v.value:X}" if e.flags else str(v.value)
             out.append(f"    {v.name} = {lit}\n")
-            out.append(_doc(v.doc, "    "))
-    out.append("\n\n__all__ = [" + ", ".join(f'"{e.name}"' for e in spec.enums) + "]\n")
+            out.append(doc(v.doc, "    "))
+    out.append("\n\n__all__ = [" + ", ".join(f'"{e.name}"' for e in enums) + "]\n")
     return "".join(out)
+
+
+def _enums(spec: Spec) -> str:
+    return banner(spec, "#") + doc("Enumerations and bit flags.") + enum_classes(spec.enums)
 
 
 def _struct_format(m: Message) -> str:
@@ -135,7 +178,7 @@ def _unpack_expr(f: Field, idx: int) -> tuple[str, int]:
 def _message(m: Message) -> str:
     cls = m.class_name
     out = ["\n\n@dataclass(frozen=True, slots=True)\n", f"class {cls}(Message):\n"]
-    out.append(_doc(f"{m.name} (0x{m.id:02X}, {m.direction.replace('_', ' ')}, {m.delivery}): {m.doc}", "    "))
+    out.append(doc(f"{m.name} (0x{m.id:02X}, {m.direction.replace('_', ' ')}, {m.delivery}): {m.doc}", "    "))
     out.append("\n")
     out.append(f"    MSG_ID: ClassVar[int] = 0x{m.id:02X}\n")
     out.append(f'    NAME: ClassVar[str] = "{m.name}"\n')
@@ -144,6 +187,8 @@ def _message(m: Message) -> str:
     out.append(f"    PAYLOAD_MAX: ClassVar[int] = {m.payload_max}\n")
     out.append(f"    DIRECTION: ClassVar[Direction] = Direction.{m.direction.upper()}\n")
     out.append(f"    DELIVERY: ClassVar[Delivery] = Delivery.{m.delivery.upper()}\n")
+    for name, value in _bound_constants(m):
+        out.append(f"    {name}: ClassVar[int] = {value}\n")
     infos = "".join(f"        {_field_info(f)},\n" for f in m.fields)
     out.append(
         f"    FIELDS: ClassVar[tuple[FieldInfo, ...]] = (\n{infos}    )\n"
@@ -155,7 +200,7 @@ def _message(m: Message) -> str:
     for f in m.fields:
         out.append(f"    {f.name}: {_py_type(f)}\n")
         unit = f" [{f.unit}]" if f.unit else ""
-        out.append(_doc(f.doc + unit, "    "))
+        out.append(doc(f.doc + unit, "    "))
 
     # pack(): a fast path of inline checks plus struct's own; any failure is diagnosed slowly and
     # precisely by first_invalid(), which walks FIELDS.
@@ -248,7 +293,7 @@ def _setters(m: Message) -> str:
 
 def _messages(spec: Spec) -> str:
     enums_used = sorted({f.enum.name for m in spec.messages for f in m.fields if f.enum is not None})
-    out = [banner(spec, "#"), _doc("Message classes: frozen, slotted dataclasses with pack() and unpack()."), "\n"]
+    out = [banner(spec, "#"), doc("Message classes: frozen, slotted dataclasses with pack() and unpack()."), "\n"]
     out.append("from __future__ import annotations\n\n")
     out.append("import struct\nfrom dataclasses import dataclass\nfrom typing import ClassVar\n\n")
     out.append(f"from protocol.generated.enums import {', '.join(enums_used)}\n")
@@ -283,7 +328,7 @@ def _messages(spec: Spec) -> str:
 
 def _state_machine(spec: Spec) -> str:
     sm = spec.state_machine
-    out = [banner(spec, "#"), _doc(f"Session state machine table. {sm.doc}"), "\n"]
+    out = [banner(spec, "#"), doc(f"Session state machine table. {sm.doc}"), "\n"]
     out.append("from __future__ import annotations\n\nimport enum\nfrom dataclasses import dataclass\n")
     # Guards count from 1 so that no guard is ever falsy; C++ uses the same numbers.
     for cls, items, flag, first in (
@@ -297,7 +342,7 @@ def _state_machine(spec: Spec) -> str:
         for i, n in enumerate(items, first):
             value = f"1 << {i}" if flag else str(i)
             out.append(f"    {n.name.upper()} = {value}\n")
-            out.append(_doc(n.doc, "    "))
+            out.append(doc(n.doc, "    "))
     out.append(
         "\n\n@dataclass(frozen=True, slots=True)\nclass Transition:\n"
         '    """One row: in `source`, on `event`, if `guard` holds (is false when `negated`):\n'
@@ -332,7 +377,7 @@ _CONSTRUCT = {
 def _oracle(spec: Spec) -> str:
     out = [banner(spec, "#")]
     out.append(
-        _doc(
+        doc(
             "construct declarations of every payload: an independent oracle for the codec in tests,\n"
             "and the field-by-field view behind `roverlink decode`."
         )

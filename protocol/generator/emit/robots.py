@@ -7,6 +7,7 @@ import struct
 from protocol.generator.emit.common import GENERATOR, num
 from protocol.generator.model import PRIMITIVES, Spec
 from protocol.generator.robots import Robot
+from protocol.generator.wiring import Part, Pin, Wiring
 
 ROBOTS_PATH = "protocol/spec/robots.toml"
 
@@ -37,24 +38,8 @@ def _python(spec: Spec, robots: tuple[Robot, ...]) -> str:
     o.append("from __future__ import annotations\n\nfrom dataclasses import dataclass\n\n")
     o.append("from protocol.generated.enums import Board, Capability, FeedbackMode, SafeState\n")
     o.append("from protocol.generated.messages import SetConfig, SetPid\n\n\n")
-    o.append("@dataclass(frozen=True, slots=True)\nclass RobotProfile:\n")
-    o.append('    """One reference robot. `config` and `pid` are the firmware example\'s defaults."""\n\n')
-    for name, typ, doc in (
-        ("name", "str", "Profile name (emulator and SDK)."),
-        ("example", "str", "Firmware example (sketch folder) with these defaults."),
-        ("doc", "str", "What the robot is."),
-        ("board", "Board", "Board the example targets."),
-        ("capabilities", "Capability", "Capabilities the example reports."),
-        ("kinematics", "str", '"diff" or "ackermann".'),
-        ("feedback_mode", "FeedbackMode", "Feedback mode the robot is used with."),
-        ("track_m", "float", "Distance between the left and right wheels."),
-        ("wheelbase_m", "float", "Distance between the axles (Ackermann; 0 for diff-drive)."),
-        ("wheel_diameter_m", "float", "Driven wheel diameter."),
-        ("encoder_cpr", "int", "Encoder counts per wheel revolution."),
-        ("config", "SetConfig", "Default configuration."),
-        ("pid", "SetPid", "Default PID gains (all wheels)."),
-    ):
-        o.append(f'    {name}: {typ}\n    """{doc}"""\n')
+    o.extend(_py_class(*c) for c in _PY_CLASSES)
+    o[-1] = o[-1].rstrip("\n") + "\n"
     o.append("\n\nPROFILES: dict[str, RobotProfile] = {\n")
     for r in robots:
         caps = " | ".join(f"Capability.{c}" for c in r.capabilities) or "Capability(0)"
@@ -68,10 +53,126 @@ def _python(spec: Spec, robots: tuple[Robot, ...]) -> str:
         o.append(f"        wheel_diameter_m={num(r.value('wheel_diameter_um') / 1e6)},\n")
         o.append(f"        encoder_cpr={r.value('encoder_cpr')},\n")
         o.append(f"        config=SetConfig({cfg}),\n")
-        o.append(f"        pid=SetPid(wheel=255, {pid}),\n    ),\n")
+        o.append(f"        pid=SetPid(wheel=255, {pid}),\n")
+        o.append(f"        wiring={_py_wiring(r.wiring)},\n    ),\n")
     o.append("}\n")
     o.append('"""Reference robots by profile name."""\n')
     return "".join(o)
+
+
+_PY_CLASSES: tuple[tuple[str, str, tuple[tuple[str, str, str], ...], str], ...] = (
+    (
+        "WiredPart",
+        "A DC motor driver channel or an encoder, and the Arduino pins it is wired to.",
+        (
+            ("kind", "str", 'The motor\'s driver (TB6612, L298N, BTS7960) or "encoder".'),
+            (
+                "pins",
+                "tuple[tuple[str, int], ...]",
+                "(role, Arduino pin): pwm, in1, in2, standby / rpwm, lpwm, r_en, l_en / a, b.",
+            ),
+        ),
+        "\n    def pin(self, role: str) -> int:\n        return dict(self.pins)[role]\n",
+    ),
+    (
+        "Wiring",
+        "Which Arduino pin serves which part (robots.toml, [robots.wiring]).",
+        (
+            (
+                "motors",
+                "tuple[WiredPart, ...]",
+                "DC motor driver channels, in wheel-channel order (none behind an ESC).",
+            ),
+            ("encoders", "tuple[WiredPart, ...]", "Quadrature encoders, in wheel-channel order."),
+            ("esc_pin", "int | None", "ESC signal."),
+            ("servo_pin", "int | None", "Steering servo signal."),
+            ("led_pins", "tuple[int, ...]", "One per Lights bit, in bit order (none without turn signals)."),
+            ("entropy_pin", "int", "Analog pin left open: its noise seeds the boot_id."),
+        ),
+        "",
+    ),
+    (
+        "RobotProfile",
+        "One reference robot. `config` and `pid` are the firmware example's defaults.",
+        (
+            ("name", "str", "Profile name (emulator and SDK)."),
+            ("example", "str", "Firmware example (sketch folder) with these defaults."),
+            ("doc", "str", "What the robot is."),
+            ("board", "Board", "Board the example targets."),
+            ("capabilities", "Capability", "Capabilities the example reports."),
+            ("kinematics", "str", '"diff" or "ackermann".'),
+            ("feedback_mode", "FeedbackMode", "Feedback mode the robot is used with."),
+            ("track_m", "float", "Distance between the left and right wheels."),
+            ("wheelbase_m", "float", "Distance between the axles (Ackermann; 0 for diff-drive)."),
+            ("wheel_diameter_m", "float", "Driven wheel diameter."),
+            ("encoder_cpr", "int", "Encoder counts per wheel revolution."),
+            ("config", "SetConfig", "Default configuration."),
+            ("pid", "SetPid", "Default PID gains (all wheels)."),
+            ("wiring", "Wiring", "Which Arduino pin serves which part."),
+        ),
+        "",
+    ),
+)
+"""The generated profile module's classes: (name, doc, fields as (name, type, doc), extra body)."""
+
+
+def _py_class(name: str, doc: str, fields: tuple[tuple[str, str, str], ...], extra: str) -> str:
+    o = [f'@dataclass(frozen=True, slots=True)\nclass {name}:\n    """{doc}"""\n\n']
+    o.extend(f'    {field}: {typ}\n    """{text}"""\n' for field, typ, text in fields)
+    return "".join(o) + extra + "\n\n"
+
+
+def _py_part(p: Part) -> str:
+    pins = ", ".join(f'("{role}", {pin.number})' for role, pin in p.pins)
+    return f'WiredPart("{p.kind}", ({pins},))'
+
+
+def _py_wiring(w: Wiring) -> str:
+    motors = "".join(f"{_py_part(p)}, " for p in w.motors)
+    encoders = "".join(f"{_py_part(p)}, " for p in w.encoders)
+    leds = "".join(f"{pin.number}, " for _, pin in w.leds)
+    esc = w.esc.number if w.esc else None
+    servo = w.servo.number if w.servo else None
+    return (
+        f"Wiring(\n            motors=({motors.rstrip()}),\n            encoders=({encoders.rstrip()}),\n"
+        f"            esc_pin={esc},\n            servo_pin={servo},\n            led_pins=({leds.rstrip()}),\n"
+        f"            entropy_pin={w.entropy.number},\n        )"
+    )
+
+
+def pin_constants(w: Wiring) -> list[tuple[str, str, str]]:
+    """(C++ constant name, pin as written, what it serves) for every wired pin, in robots.toml order."""
+    out: list[tuple[str, str, str]] = []
+    names = w.channel_names()
+    for i, motor in enumerate(w.motors):
+        for role, pin in motor.pins:
+            out.append((f"{names[i].upper()}_{role.upper()}", pin.label, f"{names[i]} motor, {motor.kind} {role}"))
+    for i, enc in enumerate(w.encoders):
+        for role, pin in enc.pins:
+            out.append((f"{names[i].upper()}_ENC_{role.upper()}", pin.label, f"{names[i]} encoder, channel {role}"))
+    for name, pin in w.leds:
+        out.append((f"LED_{name.upper()}", pin.label, f"LED {name.replace('_', ' ')}"))
+    if w.esc is not None:
+        out.append(("ESC_PIN", w.esc.label, "ESC signal"))
+    if w.servo is not None:
+        out.append(("STEERING_PIN", w.servo.label, "steering servo signal"))
+    out.append(("ENTROPY_PIN", w.entropy.label, "entropy, leave unconnected: its ADC noise seeds the boot_id"))
+    return out
+
+
+def _cpp_pins(w: Wiring) -> str:
+    numbers = {p.label: p.number for p in _all_pins(w)}
+    o = ["// Wiring (robots.toml, [robots.wiring]): Arduino pin numbers (A<n> as its number on this board).\n"]
+    for name, label, what in pin_constants(w):
+        analog = f" ({label})" if label.startswith("A") else ""
+        o.append(f"static const uint8_t {name} = {numbers[label]};  // {what}{analog}\n")
+    return "".join(o) + "\n"
+
+
+def _all_pins(w: Wiring) -> list[Pin]:
+    parts = [pin for p in (*w.motors, *w.encoders) for _, pin in p.pins]
+    singles = [p for p in (w.esc, w.servo) if p is not None]
+    return [*parts, *singles, *(pin for _, pin in w.leds), w.entropy]
 
 
 def _cpp_value(field_enum: str | None, value: object, is_float: bool) -> str:
@@ -96,6 +197,7 @@ def _cpp(spec: Spec, r: Robot) -> str:
         "static const roverlink::proto::FeedbackMode FEEDBACK_MODE = "
         f"roverlink::proto::FeedbackMode::{r.feedback_mode};\n\n"
     )
+    o.append(_cpp_pins(r.wiring))
     o.append("// The configuration as a SET_CONFIG payload in flash, unpacked when asked for: a static struct\n")
     o.append("// would cost SRAM for the whole run on AVR, and code setting each field more flash than this.\n")
     o.append("// static: two profiles linked into one test program must not merge.\n")
@@ -147,4 +249,11 @@ def _docs(spec: Spec, robots: tuple[Robot, ...]) -> str:
     o.append("\n")
     for r in robots:
         o.append(f"- **{r.name}**: {r.doc}\n")
+    o.append("\n## Wiring\n\nArduino pins as the examples use them (`robot_profile.h` holds them as constants; the ")
+    o.append("simavr backend maps them to the MCU's registers). Timers, interrupts and power: docs/firmware.md, ")
+    o.append('"Boards, wiring and flashing".\n')
+    for r in robots:
+        o.append(f"\n### {r.example} (`{r.name}`, {r.board})\n\n| pin | serves | constant |\n|---|---|---|\n")
+        for name, label, what in pin_constants(r.wiring):
+            o.append(f"| {label} | {what} | `{name}` |\n")
     return "".join(o)

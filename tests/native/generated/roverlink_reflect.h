@@ -1037,6 +1037,25 @@ inline bool set_field(proto::Log& m, const char* name, const char* value) {
     return false;
 }
 
+// A DecoderCounters's fields only (no name), e.g. " frames_ok=0 ...".
+inline void print_fields(FILE* f, const proto::DecoderCounters& s) {
+    fprintf(f, " frames_ok=%lu", static_cast<unsigned long>(s.frames_ok));
+    fprintf(f, " crc_errors=%lu", static_cast<unsigned long>(s.crc_errors));
+    fprintf(f, " cobs_errors=%lu", static_cast<unsigned long>(s.cobs_errors));
+    fprintf(f, " length_errors=%lu", static_cast<unsigned long>(s.length_errors));
+    fprintf(f, " unknown_ids=%lu", static_cast<unsigned long>(s.unknown_ids));
+    fprintf(f, " value_errors=%lu", static_cast<unsigned long>(s.value_errors));
+    fprintf(f, " bytes_discarded=%lu", static_cast<unsigned long>(s.bytes_discarded));
+}
+
+// A LinkCounters's fields only (no name), e.g. " seq_gaps=0 ...".
+inline void print_fields(FILE* f, const proto::LinkCounters& s) {
+    fprintf(f, " seq_gaps=%lu", static_cast<unsigned long>(s.seq_gaps));
+    fprintf(f, " duplicates=%lu", static_cast<unsigned long>(s.duplicates));
+    fprintf(f, " frames_sent=%lu", static_cast<unsigned long>(s.frames_sent));
+    fprintf(f, " rx_overruns=%lu", static_cast<unsigned long>(s.rx_overruns));
+}
+
 // Calls fn(msg) with a zeroed message of type `msg_id`; false for an unknown id.
 template <class Fn>
 bool with_message(uint8_t msg_id, Fn& fn) {

@@ -14,20 +14,21 @@
 
 namespace rl = roverlink::avr;
 
-// ESC and servo pulses are made by Timer1 in hardware (50 Hz, 0.5 us steps): pins 9 and 10 only.
-const rl::PulseChannel ESC = rl::PulseChannel::A;       // pin 9, OC1A
-const rl::PulseChannel STEERING = rl::PulseChannel::B;  // pin 10, OC1B
+// Pins: robot_profile.h, generated from robots.toml (docs/robots.md, "Wiring").
+// ESC and servo pulses are made by Timer1 in hardware (50 Hz, 0.5 us steps): on the Uno, pins 9
+// (OC1A) and 10 (OC1B) only.
+static_assert(rl::Timer1::has_pin(robot_profile::ESC_PIN) && rl::Timer1::has_pin(robot_profile::STEERING_PIN),
+              "the ESC and the steering servo must be on Timer1's pins (Uno: 9 and 10)");
+const rl::PulseChannel ESC = rl::Timer1::channel_of(robot_profile::ESC_PIN);
+const rl::PulseChannel STEERING = rl::Timer1::channel_of(robot_profile::STEERING_PIN);
 
 // Motor encoder on INT0 and INT1.
-const uint8_t ENC_A = 2;
-const uint8_t ENC_B = 3;
-static_assert(digitalPinToInterrupt(ENC_A) != NOT_AN_INTERRUPT && digitalPinToInterrupt(ENC_B) != NOT_AN_INTERRUPT,
+static_assert(digitalPinToInterrupt(robot_profile::MOTOR_ENC_A) != NOT_AN_INTERRUPT &&
+                  digitalPinToInterrupt(robot_profile::MOTOR_ENC_B) != NOT_AN_INTERRUPT,
               "encoder pins must be external interrupt pins (Uno: 2 and 3)");
 
-const uint8_t UNCONNECTED_ANALOG = A0;  // noise for the per-boot random boot_id: leave it open
-
-rl::QuadratureEncoder motor_encoder(ENC_A, ENC_B);
-rl::AckermannBoard<rl::Timer1> board(motor_encoder, ESC, STEERING, UNCONNECTED_ANALOG);
+rl::QuadratureEncoder motor_encoder(robot_profile::MOTOR_ENC_A, robot_profile::MOTOR_ENC_B);
+rl::AckermannBoard<rl::Timer1> board(motor_encoder, ESC, STEERING, robot_profile::ENTROPY_PIN);
 
 static const roverlink::Robot ROBOT = {robot_profile::NAME,          robot_profile::BOARD,
                                        robot_profile::CAPABILITIES,  robot_profile::FEEDBACK_MODE,

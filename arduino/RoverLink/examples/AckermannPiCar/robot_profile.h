@@ -14,6 +14,13 @@ static const roverlink::proto::Board BOARD = roverlink::proto::Board::UNO;
 static const uint16_t CAPABILITIES = roverlink::proto::Capability::ACKERMANN | roverlink::proto::Capability::ENCODERS | roverlink::proto::Capability::STEERING_SERVO | roverlink::proto::Capability::ESC | roverlink::proto::Capability::EEPROM;
 static const roverlink::proto::FeedbackMode FEEDBACK_MODE = roverlink::proto::FeedbackMode::STREAM;
 
+// Wiring (robots.toml, [robots.wiring]): Arduino pin numbers (A<n> as its number on this board).
+static const uint8_t MOTOR_ENC_A = 2;  // motor encoder, channel a
+static const uint8_t MOTOR_ENC_B = 3;  // motor encoder, channel b
+static const uint8_t ESC_PIN = 9;  // ESC signal
+static const uint8_t STEERING_PIN = 10;  // steering servo signal
+static const uint8_t ENTROPY_PIN = 14;  // entropy, leave unconnected: its ADC noise seeds the boot_id (A0)
+
 // The configuration as a SET_CONFIG payload in flash, unpacked when asked for: a static struct
 // would cost SRAM for the whole run on AVR, and code setting each field more flash than this.
 // static: two profiles linked into one test program must not merge.

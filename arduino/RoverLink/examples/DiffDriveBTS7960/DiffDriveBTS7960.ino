@@ -11,32 +11,19 @@
 
 namespace rl = roverlink::avr;
 
-// BTS7960 boards. PWM stays at the Arduino default (490 Hz on Timer3 and Timer4): the BTS7960 is
-// specified up to 25 kHz only, so the 31.4 kHz of pwm_ultrasonic() would be out of spec.
-const uint8_t LEFT_RPWM = 2;    // forward, Timer3 OC3B
-const uint8_t LEFT_LPWM = 3;    // reverse, Timer3 OC3C
-const uint8_t LEFT_R_EN = 22;
-const uint8_t LEFT_L_EN = 23;
-const uint8_t RIGHT_RPWM = 6;   // forward, Timer4 OC4A
-const uint8_t RIGHT_LPWM = 7;   // reverse, Timer4 OC4B
-const uint8_t RIGHT_R_EN = 24;
-const uint8_t RIGHT_L_EN = 25;
+// Pins: robot_profile.h, generated from robots.toml (docs/robots.md, "Wiring"). PWM stays at the
+// Arduino default (490 Hz on Timer3 and Timer4): the BTS7960 is specified up to 25 kHz only, so
+// the 31.4 kHz of pwm_ultrasonic() would be out of spec. The encoders are on port K's pin-change
+// interrupt (PCINT16..19, one vector: PCINT2_vect).
+namespace pins = robot_profile;
 
-// Encoders on port K's pin-change interrupt (PCINT16..19, one vector: PCINT2_vect).
-const uint8_t LEFT_ENC_A = A8;
-const uint8_t LEFT_ENC_B = A9;
-const uint8_t RIGHT_ENC_A = A10;
-const uint8_t RIGHT_ENC_B = A11;
-
-const uint8_t UNCONNECTED_ANALOG = A0;  // noise for the per-boot random boot_id: leave it open
-
-rl::Bts7960Motor left_motor(LEFT_RPWM, LEFT_LPWM, LEFT_R_EN, LEFT_L_EN);
-rl::Bts7960Motor right_motor(RIGHT_RPWM, RIGHT_LPWM, RIGHT_R_EN, RIGHT_L_EN);
-rl::QuadratureEncoder left_encoder(LEFT_ENC_A, LEFT_ENC_B);
-rl::QuadratureEncoder right_encoder(RIGHT_ENC_A, RIGHT_ENC_B);
+rl::Bts7960Motor left_motor(pins::LEFT_RPWM, pins::LEFT_LPWM, pins::LEFT_R_EN, pins::LEFT_L_EN);
+rl::Bts7960Motor right_motor(pins::RIGHT_RPWM, pins::RIGHT_LPWM, pins::RIGHT_R_EN, pins::RIGHT_L_EN);
+rl::QuadratureEncoder left_encoder(pins::LEFT_ENC_A, pins::LEFT_ENC_B);
+rl::QuadratureEncoder right_encoder(pins::RIGHT_ENC_A, pins::RIGHT_ENC_B);
 rl::NoLights no_lights;
 rl::DiffDriveBoard<rl::Bts7960Motor> board(left_motor, right_motor, left_encoder, right_encoder, no_lights,
-                                           UNCONNECTED_ANALOG);
+                                           pins::ENTROPY_PIN);
 
 static const roverlink::Robot ROBOT = {robot_profile::NAME,          robot_profile::BOARD,
                                        robot_profile::CAPABILITIES,  robot_profile::FEEDBACK_MODE,

@@ -14,6 +14,21 @@ static const roverlink::proto::Board BOARD = roverlink::proto::Board::MEGA2560;
 static const uint16_t CAPABILITIES = roverlink::proto::Capability::DIFF_DRIVE | roverlink::proto::Capability::ENCODERS | roverlink::proto::Capability::EEPROM | roverlink::proto::Capability::LOCKSTEP;
 static const roverlink::proto::FeedbackMode FEEDBACK_MODE = roverlink::proto::FeedbackMode::LOCKSTEP;
 
+// Wiring (robots.toml, [robots.wiring]): Arduino pin numbers (A<n> as its number on this board).
+static const uint8_t LEFT_RPWM = 2;  // left motor, BTS7960 rpwm
+static const uint8_t LEFT_LPWM = 3;  // left motor, BTS7960 lpwm
+static const uint8_t LEFT_R_EN = 22;  // left motor, BTS7960 r_en
+static const uint8_t LEFT_L_EN = 23;  // left motor, BTS7960 l_en
+static const uint8_t RIGHT_RPWM = 6;  // right motor, BTS7960 rpwm
+static const uint8_t RIGHT_LPWM = 7;  // right motor, BTS7960 lpwm
+static const uint8_t RIGHT_R_EN = 24;  // right motor, BTS7960 r_en
+static const uint8_t RIGHT_L_EN = 25;  // right motor, BTS7960 l_en
+static const uint8_t LEFT_ENC_A = 62;  // left encoder, channel a (A8)
+static const uint8_t LEFT_ENC_B = 63;  // left encoder, channel b (A9)
+static const uint8_t RIGHT_ENC_A = 64;  // right encoder, channel a (A10)
+static const uint8_t RIGHT_ENC_B = 65;  // right encoder, channel b (A11)
+static const uint8_t ENTROPY_PIN = 54;  // entropy, leave unconnected: its ADC noise seeds the boot_id (A0)
+
 // The configuration as a SET_CONFIG payload in flash, unpacked when asked for: a static struct
 // would cost SRAM for the whole run on AVR, and code setting each field more flash than this.
 // static: two profiles linked into one test program must not merge.

@@ -14,6 +14,25 @@ static const roverlink::proto::Board BOARD = roverlink::proto::Board::MEGA2560;
 static const uint16_t CAPABILITIES = roverlink::proto::Capability::DIFF_DRIVE | roverlink::proto::Capability::ENCODERS | roverlink::proto::Capability::EEPROM | roverlink::proto::Capability::TURN_SIGNALS | roverlink::proto::Capability::LOCKSTEP;
 static const roverlink::proto::FeedbackMode FEEDBACK_MODE = roverlink::proto::FeedbackMode::STREAM;
 
+// Wiring (robots.toml, [robots.wiring]): Arduino pin numbers (A<n> as its number on this board).
+static const uint8_t LEFT_PWM = 6;  // left motor, TB6612 pwm
+static const uint8_t LEFT_IN1 = 22;  // left motor, TB6612 in1
+static const uint8_t LEFT_IN2 = 23;  // left motor, TB6612 in2
+static const uint8_t LEFT_STANDBY = 26;  // left motor, TB6612 standby
+static const uint8_t RIGHT_PWM = 7;  // right motor, TB6612 pwm
+static const uint8_t RIGHT_IN1 = 24;  // right motor, TB6612 in1
+static const uint8_t RIGHT_IN2 = 25;  // right motor, TB6612 in2
+static const uint8_t RIGHT_STANDBY = 26;  // right motor, TB6612 standby
+static const uint8_t LEFT_ENC_A = 2;  // left encoder, channel a
+static const uint8_t LEFT_ENC_B = 3;  // left encoder, channel b
+static const uint8_t RIGHT_ENC_A = 18;  // right encoder, channel a
+static const uint8_t RIGHT_ENC_B = 19;  // right encoder, channel b
+static const uint8_t LED_FRONT_LEFT = 30;  // LED front left
+static const uint8_t LED_FRONT_RIGHT = 31;  // LED front right
+static const uint8_t LED_REAR_LEFT = 32;  // LED rear left
+static const uint8_t LED_REAR_RIGHT = 33;  // LED rear right
+static const uint8_t ENTROPY_PIN = 54;  // entropy, leave unconnected: its ADC noise seeds the boot_id (A0)
+
 // The configuration as a SET_CONFIG payload in flash, unpacked when asked for: a static struct
 // would cost SRAM for the whole run on AVR, and code setting each field more flash than this.
 // static: two profiles linked into one test program must not merge.

@@ -11,15 +11,11 @@
 
 namespace roverlink {
 
-struct DecoderStats {
-    uint32_t frames_ok;
-    uint32_t crc_errors;
-    uint32_t cobs_errors;    // includes chunks dropped for being over-long
-    uint32_t length_errors;
-    uint32_t unknown_ids;
-    uint32_t value_errors;     // frames whose payload the generated unpack() refused (see reject_payload)
-    uint32_t bytes_discarded;  // encoded bytes of rejected chunks (delimiters not counted)
-};
+// The decoder's counters: the spec's decoder_counters field set (LINK_STATS carries them in this
+// order). cobs_errors includes chunks dropped for being over-long, value_errors the frames whose
+// payload the generated unpack() refused (see reject_payload), bytes_discarded the encoded bytes
+// of rejected chunks (delimiters not counted).
+typedef proto::DecoderCounters DecoderStats;
 
 // counter += n. Out of line on purpose: a 32-bit add inlined at every counter costs ~40 bytes of
 // AVR flash each (the decoder's, the link's and the session's counters all use it).

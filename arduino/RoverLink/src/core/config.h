@@ -31,12 +31,11 @@ static const uint8_t IMAGE_FIRST_CHUNK = IMAGE_HEADER + proto::SetConfig::PAYLOA
 static const uint16_t IMAGE_SIZE =
     IMAGE_FIRST_CHUNK + proto::WHEEL_COUNT * proto::SetPid::PAYLOAD_SIZE + 2;
 
-// SET_CONFIG field indices named by the consistency rules (NACK(INVALID_CONFIG).detail); the
-// native tests check them against the generated check_ranges().
-static const uint8_t FIELD_STEERING_CENTER = 10;
-static const uint8_t FIELD_SERVO_MIN = 14;
-static const uint8_t FIELD_ESC_MIN = 16;
-static const uint8_t FIELD_ESC_NEUTRAL = 17;
+// SET_CONFIG field indices named by the consistency rules (NACK(INVALID_CONFIG).detail).
+static const uint8_t FIELD_STEERING_CENTER = proto::SetConfig::FIELD_STEERING_CENTER_CDEG;
+static const uint8_t FIELD_SERVO_MIN = proto::SetConfig::FIELD_SERVO_MIN_US;
+static const uint8_t FIELD_ESC_MIN = proto::SetConfig::FIELD_ESC_MIN_US;
+static const uint8_t FIELD_ESC_NEUTRAL = proto::SetConfig::FIELD_ESC_NEUTRAL_US;
 
 // Checks ranges (generated check_ranges: OUT_OF_RANGE, detail = field index) and consistency
 // (INVALID_CONFIG, detail = the first field, in message order, of the first rule broken):

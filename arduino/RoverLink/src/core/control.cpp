@@ -97,11 +97,12 @@ static uint16_t magnitude(int16_t x) {
 static int16_t clamp16(int16_t x, int16_t lo, int16_t hi) { return x < lo ? lo : (x > hi ? hi : x); }
 
 uint16_t steering_cdeg(int16_t mrad, const proto::SetConfig& c) {
-    // mrad is within +-1571 (check_ranges) and the angles within 0..18000, so int16 holds it all.
+    // mrad is within SET_ACKERMANN's range (check_ranges) and the angles within 0..180 degrees, so
+    // int16 holds it all.
     const int16_t center = static_cast<int16_t>(c.steering_center_cdeg);
     const int16_t lo = static_cast<int16_t>(c.steering_min_cdeg);
     const int16_t hi = static_cast<int16_t>(c.steering_max_cdeg);
-    const int16_t m = clamp16(mrad, -1571, 1571);
+    const int16_t m = clamp16(mrad, proto::SetAckermann::STEERING_MRAD_MIN, proto::SetAckermann::STEERING_MRAD_MAX);
     int16_t s = clamp16(static_cast<int16_t>(center + signed_mul_round(m, 5, CDEG_PER_MRAD_FRAC)), lo, hi);
     const int16_t step = static_cast<int16_t>(c.steering_step_cdeg);
     if (step > 0) {

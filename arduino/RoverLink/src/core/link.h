@@ -54,14 +54,10 @@ public:
     // A reliable request received again (answered, not re-applied).
     void count_duplicate() { add_count(c_.counts.duplicates); }
 
-    // The link's own LINK_STATS counters, in LINK_STATS order after the decoder's (bytes_discarded).
-    struct Counts {
-        uint32_t seq_gaps;
-        uint32_t duplicates;
-        uint32_t frames_sent;
-        uint32_t rx_overruns;  // stays 0 (the Arduino core drops UART overruns without a trace);
-                               // kept here so LINK_STATS's tail is one copy
-    };
+    // The link's own LINK_STATS counters: the spec's link_counters field set, which LINK_STATS
+    // carries after the decoder's. rx_overruns stays 0 (the Arduino core drops UART overruns
+    // without a trace); it is kept so that LINK_STATS's tail is one copy.
+    typedef proto::LinkCounters Counts;
     const Counts& counts() const { return c_.counts; }
     uint8_t next_tx_seq() const { return c_.tx_seq; }
 

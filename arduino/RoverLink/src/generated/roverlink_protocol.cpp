@@ -142,6 +142,15 @@ static_assert(offsetof(LinkStats, duplicates) == 33, "LINK_STATS.duplicates is n
 static_assert(offsetof(LinkStats, frames_sent) == 37, "LINK_STATS.frames_sent is not at its wire offset");
 static_assert(offsetof(LinkStats, rx_overruns) == 41, "LINK_STATS.rx_overruns is not at its wire offset");
 static_assert(sizeof(LinkStats) == LinkStats::PAYLOAD_MAX, "LINK_STATS is not its payload's image");
+static_assert(offsetof(LinkStats, crc_errors) - offsetof(LinkStats, frames_ok) == offsetof(DecoderCounters, crc_errors), "LINK_STATS.crc_errors is not where DecoderCounters keeps it");
+static_assert(offsetof(LinkStats, cobs_errors) - offsetof(LinkStats, frames_ok) == offsetof(DecoderCounters, cobs_errors), "LINK_STATS.cobs_errors is not where DecoderCounters keeps it");
+static_assert(offsetof(LinkStats, length_errors) - offsetof(LinkStats, frames_ok) == offsetof(DecoderCounters, length_errors), "LINK_STATS.length_errors is not where DecoderCounters keeps it");
+static_assert(offsetof(LinkStats, unknown_ids) - offsetof(LinkStats, frames_ok) == offsetof(DecoderCounters, unknown_ids), "LINK_STATS.unknown_ids is not where DecoderCounters keeps it");
+static_assert(offsetof(LinkStats, value_errors) - offsetof(LinkStats, frames_ok) == offsetof(DecoderCounters, value_errors), "LINK_STATS.value_errors is not where DecoderCounters keeps it");
+static_assert(offsetof(LinkStats, bytes_discarded) - offsetof(LinkStats, frames_ok) == offsetof(DecoderCounters, bytes_discarded), "LINK_STATS.bytes_discarded is not where DecoderCounters keeps it");
+static_assert(offsetof(LinkStats, duplicates) - offsetof(LinkStats, seq_gaps) == offsetof(LinkCounters, duplicates), "LINK_STATS.duplicates is not where LinkCounters keeps it");
+static_assert(offsetof(LinkStats, frames_sent) - offsetof(LinkStats, seq_gaps) == offsetof(LinkCounters, frames_sent), "LINK_STATS.frames_sent is not where LinkCounters keeps it");
+static_assert(offsetof(LinkStats, rx_overruns) - offsetof(LinkStats, seq_gaps) == offsetof(LinkCounters, rx_overruns), "LINK_STATS.rx_overruns is not where LinkCounters keeps it");
 static_assert(Feedback::PAYLOAD_MAX <= MAX_PAYLOAD, "FEEDBACK payload exceeds MAX_PAYLOAD");
 static_assert(offsetof(Feedback, boot_id) == 0, "FEEDBACK.boot_id is not at its wire offset");
 static_assert(offsetof(Feedback, mcu_time_us) == 4, "FEEDBACK.mcu_time_us is not at its wire offset");
@@ -160,6 +169,8 @@ static_assert(offsetof(Log, level) == 0, "LOG.level is not at its wire offset");
 static_assert(offsetof(Log, text) == 1, "LOG.text is not at its wire offset");
 static_assert(offsetof(Log, text_len) == Log::PAYLOAD_MAX, "LOG.text_len must follow the payload image");
 static_assert(sizeof(Log) == Log::PAYLOAD_MAX + 1, "LOG is not its payload's image");
+static_assert(sizeof(DecoderCounters) == 28, "DecoderCounters must have no padding");
+static_assert(sizeof(LinkCounters) == 16, "LinkCounters must have no padding");
 
 // msg_id, CRC_EXTRA, PAYLOAD_SIZE, PAYLOAD_MAX of every message: host to mcu first.
 static const uint8_t MESSAGE_COUNT = 22;

@@ -152,6 +152,25 @@ inline bool is_valid_LogLevel(uint8_t value) {
     return value <= 3;
 }
 
+// decoder_counters: What a frame decoder counts (the firmware's and the SDK's alike): every received byte ends up in a valid frame or in bytes_discarded.
+struct DecoderCounters {
+    uint32_t frames_ok;  // Valid frames received.
+    uint32_t crc_errors;  // Frames with a bad CRC.
+    uint32_t cobs_errors;  // Chunks that were not valid COBS or were over-long.
+    uint32_t length_errors;  // Frames whose length does not fit their msg_id.
+    uint32_t unknown_ids;  // Frames with an unknown msg_id.
+    uint32_t value_errors;  // Frames with a good CRC but a value the spec does not allow (e.g. an unknown enum value).
+    uint32_t bytes_discarded;  // Received bytes that were not part of a valid frame.
+};
+
+// link_counters: What the firmware's link layer counts besides its decoder.
+struct LinkCounters {
+    uint32_t seq_gaps;  // Host frames missing according to seq.
+    uint32_t duplicates;  // Reliable requests received again (answered, not re-applied).
+    uint32_t frames_sent;  // Frames sent.
+    uint32_t rx_overruns;  // Bytes lost because the receive buffer was full.
+};
+
 // Length rule of a msg_id: payload of min_payload..max_payload bytes; and its direction.
 struct MessageBounds {
     uint8_t crc_extra;
@@ -168,6 +187,14 @@ static const uint8_t ALL_FIELDS_VALID = 0xFF;
 // HELLO (0x01, host to mcu, session): Opens (or restarts) a session. Repeated every HELLO_INTERVAL_MS until IDENTITY arrives. Motors are disabled while the session restarts.
 struct ROVERLINK_PACKED Hello {
     enum : uint8_t { ID = 0x01, CRC_EXTRA = 0x77, PAYLOAD_SIZE = 9, PAYLOAD_MAX = 9 };
+    enum : uint16_t { WATCHDOG_MS_MAX = 60000 };
+    enum : uint8_t {  // field indices (NACK detail)
+        FIELD_PROTOCOL_VERSION = 0,
+        FIELD_SPEC_HASH = 1,
+        FIELD_WATCHDOG_MS = 2,
+        FIELD_FEEDBACK_MODE = 3,
+        FIELD_FEEDBACK_HZ = 4,
+    };
     uint8_t protocol_version;  // Protocol version the host was built for.
     uint32_t spec_hash;  // Spec hash the host was built from.
     uint16_t watchdog_ms;  // Requested watchdog period; 0 = stored default. The firmware clamps it to WATCHDOG_MIN_MS..WATCHDOG_MAX_MS. [ms]
@@ -237,6 +264,13 @@ inline uint8_t check_ranges(const Disarm&) { return ALL_FIELDS_VALID; }
 // SET_PID (0x12, host to mcu, reliable): Sets the velocity PID gains of one wheel (or all). Takes effect at the next control tick; the integrator is reset.
 struct ROVERLINK_PACKED SetPid {
     enum : uint8_t { ID = 0x12, CRC_EXTRA = 0xCA, PAYLOAD_SIZE = 17, PAYLOAD_MAX = 17 };
+    enum : uint8_t {  // field indices (NACK detail)
+        FIELD_WHEEL = 0,
+        FIELD_KP = 1,
+        FIELD_KI = 2,
+        FIELD_KD = 3,
+        FIELD_KF = 4,
+    };
     uint8_t wheel;  // Wheel index (0..WHEEL_COUNT-1) or PID_ALL_WHEELS.
     float kp;  // Proportional gain. [permille/(mm/s)]
     float ki;  // Integral gain (per second of error). [permille/mm]
@@ -279,6 +313,49 @@ inline uint8_t check_ranges(const GetPid&) { return ALL_FIELDS_VALID; }  // no r
 // SET_CONFIG (0x14, host to mcu, reliable): Replaces the whole configuration (read it with GET_CONFIG, change, send back). Validated as a whole: NACK(OUT_OF_RANGE or INVALID_CONFIG, detail = field index) leaves the old one in place.
 struct ROVERLINK_PACKED SetConfig {
     enum : uint8_t { ID = 0x14, CRC_EXTRA = 0xF8, PAYLOAD_SIZE = 40, PAYLOAD_MAX = 40 };
+    enum : uint16_t { WATCHDOG_MS_MIN = 50, WATCHDOG_MS_MAX = 2000 };
+    enum : uint16_t { ACCEL_LIMIT_MM_S2_MIN = 1 };
+    enum : uint16_t { DECEL_LIMIT_MM_S2_MIN = 1 };
+    enum : uint16_t { MAX_WHEEL_SPEED_MM_S_MIN = 1, MAX_WHEEL_SPEED_MM_S_MAX = 20000 };
+    enum : uint16_t { MAX_EFFORT_PERMILLE_MAX = 1000 };
+    enum : uint16_t { ENCODER_CPR_MIN = 1 };
+    enum : uint8_t { ENCODER_INVERT_MAX = 3 };
+    enum : uint8_t { MOTOR_INVERT_MAX = 3 };
+    enum : uint32_t { WHEEL_DIAMETER_UM_MIN = 1000UL, WHEEL_DIAMETER_UM_MAX = 1000000UL };
+    enum : uint16_t { STEERING_CENTER_CDEG_MAX = 18000 };
+    enum : uint16_t { STEERING_MIN_CDEG_MAX = 18000 };
+    enum : uint16_t { STEERING_MAX_CDEG_MAX = 18000 };
+    enum : uint16_t { STEERING_STEP_CDEG_MAX = 9000 };
+    enum : uint16_t { SERVO_MIN_US_MIN = 400, SERVO_MIN_US_MAX = 2600 };
+    enum : uint16_t { SERVO_MAX_US_MIN = 400, SERVO_MAX_US_MAX = 2600 };
+    enum : uint16_t { ESC_MIN_US_MIN = 800, ESC_MIN_US_MAX = 2200 };
+    enum : uint16_t { ESC_NEUTRAL_US_MIN = 800, ESC_NEUTRAL_US_MAX = 2200 };
+    enum : uint16_t { ESC_MAX_US_MIN = 800, ESC_MAX_US_MAX = 2200 };
+    enum : uint16_t { ESC_ARM_MS_MAX = 10000 };
+    enum : uint8_t { FEEDBACK_HZ_MIN = 1, FEEDBACK_HZ_MAX = 100 };
+    enum : uint8_t {  // field indices (NACK detail)
+        FIELD_WATCHDOG_MS = 0,
+        FIELD_SAFE_STATE = 1,
+        FIELD_ACCEL_LIMIT_MM_S2 = 2,
+        FIELD_DECEL_LIMIT_MM_S2 = 3,
+        FIELD_MAX_WHEEL_SPEED_MM_S = 4,
+        FIELD_MAX_EFFORT_PERMILLE = 5,
+        FIELD_ENCODER_CPR = 6,
+        FIELD_ENCODER_INVERT = 7,
+        FIELD_MOTOR_INVERT = 8,
+        FIELD_WHEEL_DIAMETER_UM = 9,
+        FIELD_STEERING_CENTER_CDEG = 10,
+        FIELD_STEERING_MIN_CDEG = 11,
+        FIELD_STEERING_MAX_CDEG = 12,
+        FIELD_STEERING_STEP_CDEG = 13,
+        FIELD_SERVO_MIN_US = 14,
+        FIELD_SERVO_MAX_US = 15,
+        FIELD_ESC_MIN_US = 16,
+        FIELD_ESC_NEUTRAL_US = 17,
+        FIELD_ESC_MAX_US = 18,
+        FIELD_ESC_ARM_MS = 19,
+        FIELD_FEEDBACK_HZ = 20,
+    };
     uint16_t watchdog_ms;  // Default watchdog period (a HELLO may ask for another). [ms]
     SafeState safe_state;  // Motor behaviour in FAILSAFE and when disarmed.
     uint16_t accel_limit_mm_s2;  // Largest setpoint increase per second. [mm/s^2]
@@ -370,6 +447,11 @@ inline uint8_t check_ranges(const SetWheelSpeeds&) { return ALL_FIELDS_VALID; } 
 // SET_ACKERMANN (0x21, host to mcu, setpoint): Ackermann setpoint: drive speed and front-wheel steering angle. Latest wins; applied at the next control tick.
 struct ROVERLINK_PACKED SetAckermann {
     enum : uint8_t { ID = 0x21, CRC_EXTRA = 0x5D, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
+    enum : int16_t { STEERING_MRAD_MIN = -1571, STEERING_MRAD_MAX = 1571 };
+    enum : uint8_t {  // field indices (NACK detail)
+        FIELD_SPEED_MM_S = 0,
+        FIELD_STEERING_MRAD = 1,
+    };
     int16_t speed_mm_s;  // Target speed at the rear axle, positive forward. [mm/s]
     int16_t steering_mrad;  // Front-wheel angle, positive turns left. [mrad]
 };
@@ -507,6 +589,26 @@ uint8_t check_ranges(const Pid& m);
 // CONFIG (0x86, mcu to host, reliable): Answer to GET_CONFIG.
 struct ROVERLINK_PACKED Config {
     enum : uint8_t { ID = 0x86, CRC_EXTRA = 0x18, PAYLOAD_SIZE = 41, PAYLOAD_MAX = 41 };
+    enum : uint16_t { WATCHDOG_MS_MIN = 50, WATCHDOG_MS_MAX = 2000 };
+    enum : uint16_t { ACCEL_LIMIT_MM_S2_MIN = 1 };
+    enum : uint16_t { DECEL_LIMIT_MM_S2_MIN = 1 };
+    enum : uint16_t { MAX_WHEEL_SPEED_MM_S_MIN = 1, MAX_WHEEL_SPEED_MM_S_MAX = 20000 };
+    enum : uint16_t { MAX_EFFORT_PERMILLE_MAX = 1000 };
+    enum : uint16_t { ENCODER_CPR_MIN = 1 };
+    enum : uint8_t { ENCODER_INVERT_MAX = 3 };
+    enum : uint8_t { MOTOR_INVERT_MAX = 3 };
+    enum : uint32_t { WHEEL_DIAMETER_UM_MIN = 1000UL, WHEEL_DIAMETER_UM_MAX = 1000000UL };
+    enum : uint16_t { STEERING_CENTER_CDEG_MAX = 18000 };
+    enum : uint16_t { STEERING_MIN_CDEG_MAX = 18000 };
+    enum : uint16_t { STEERING_MAX_CDEG_MAX = 18000 };
+    enum : uint16_t { STEERING_STEP_CDEG_MAX = 9000 };
+    enum : uint16_t { SERVO_MIN_US_MIN = 400, SERVO_MIN_US_MAX = 2600 };
+    enum : uint16_t { SERVO_MAX_US_MIN = 400, SERVO_MAX_US_MAX = 2600 };
+    enum : uint16_t { ESC_MIN_US_MIN = 800, ESC_MIN_US_MAX = 2200 };
+    enum : uint16_t { ESC_NEUTRAL_US_MIN = 800, ESC_NEUTRAL_US_MAX = 2200 };
+    enum : uint16_t { ESC_MAX_US_MIN = 800, ESC_MAX_US_MAX = 2200 };
+    enum : uint16_t { ESC_ARM_MS_MAX = 10000 };
+    enum : uint8_t { FEEDBACK_HZ_MIN = 1, FEEDBACK_HZ_MAX = 100 };
     uint8_t req_seq;  // seq of the GET_CONFIG.
     uint16_t watchdog_ms;  // Default watchdog period (a HELLO may ask for another). [ms]
     SafeState safe_state;  // Motor behaviour in FAILSAFE and when disarmed.
@@ -577,6 +679,8 @@ inline uint8_t check_ranges(const LinkStats&) { return ALL_FIELDS_VALID; }  // n
 // FEEDBACK (0x90, mcu to host, telemetry): Robot state at one control tick: in stream mode at the session rate, in lockstep mode once per applied setpoint.
 struct ROVERLINK_PACKED Feedback {
     enum : uint8_t { ID = 0x90, CRC_EXTRA = 0x3F, PAYLOAD_SIZE = 33, PAYLOAD_MAX = 33 };
+    enum : int16_t { EFFORT_PERMILLE_MIN = -1000, EFFORT_PERMILLE_MAX = 1000 };
+    enum : int16_t { STEERING_MRAD_MIN = -1571, STEERING_MRAD_MAX = 1571 };
     uint32_t boot_id;  // boot_id of the running boot: a change means the board was reset.
     uint32_t mcu_time_us;  // MCU clock at the tick (wraps every 71.6 min; the host unwraps it). [us]
     uint16_t tick;  // Control tick counter (wraps; the host unwraps it).

@@ -9,26 +9,13 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "../generated/roverlink_hardware.h"
 #include "../generated/roverlink_protocol.h"
 
 namespace roverlink {
 
-// How a DC motor driver holds a wheel.
-enum class MotorMode : uint8_t {
-    DRIVE = 0,  // PWM duty |effort| / 1000 in the effort's direction
-    COAST = 1,  // outputs off: the wheel turns freely
-    BRAKE = 2,  // short brake (TB6612/L298N both inputs high; BTS7960 both PWM 0, enables high)
-};
-
-// Turn-signal / status lights, one bit each (see docs/firmware.md for the patterns).
-struct Lights {
-    enum : uint8_t {
-        FRONT_LEFT = 1u << 0,
-        FRONT_RIGHT = 1u << 1,
-        REAR_LEFT = 1u << 2,
-        REAR_RIGHT = 1u << 3,
-    };
-};
+// MotorMode (how a DC motor driver holds a wheel) and the Lights bits come from the hardware
+// contract, protocol/spec/hardware.toml, which the emulator and the native tests share.
 
 class Board {
 public:

@@ -41,7 +41,7 @@ public:
 
     // Outputs safe (coasting, LEDs off), encoder pins read. Interrupts are the sketch's to enable.
     void begin() {
-        for (uint8_t w = 0; w < 2; ++w) {
+        for (uint8_t w = 0; w < WHEELS; ++w) {
             motors_[w]->begin();
             encoders_[w]->begin();
         }
@@ -64,7 +64,7 @@ public:
     }
 
     void drive(uint8_t wheel, int16_t effort_permille, MotorMode mode) override {
-        if (wheel < 2) {
+        if (wheel < WHEELS) {
             motors_[wheel]->drive(effort_permille, mode);
         }
     }
@@ -85,8 +85,9 @@ public:
     uint32_t entropy() override { return adc_entropy(entropy_pin_); }
 
 private:
-    Motor* const motors_[2];
-    QuadratureEncoder* const encoders_[2];
+    static const uint8_t WHEELS = 2;  // left and right: this board's own, whatever the protocol carries
+    Motor* const motors_[WHEELS];
+    QuadratureEncoder* const encoders_[WHEELS];
     Leds& leds_;
     const uint8_t entropy_pin_;  // an analog input with nothing connected
 };

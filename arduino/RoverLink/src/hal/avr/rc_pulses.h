@@ -23,6 +23,7 @@
 #include <Arduino.h>
 #include <util/atomic.h>
 
+#include "../../generated/roverlink_protocol.h"
 #include "mcu.h"
 
 namespace roverlink {
@@ -45,6 +46,14 @@ enum class PulseChannel : uint8_t { A = 0, B = 1, C = 2 };
         static uint8_t pin(PulseChannel ch) {                                                    \
             return ch == PulseChannel::A ? (PIN_A) : ch == PulseChannel::B ? (PIN_B) : (PIN_C);  \
         }                                                                                        \
+        /* The channel that drives Arduino pin `p` (sketches take the pin from robot_profile.h), \
+           resolved at compile time; has_pin(p) says whether one does. */                       \
+        static constexpr bool has_pin(uint8_t p) {                                               \
+            return p != NO_PULSE_PIN && (p == (PIN_A) || p == (PIN_B) || p == (PIN_C));          \
+        }                                                                                        \
+        static constexpr PulseChannel channel_of(uint8_t p) {                                    \
+            return p == (PIN_A) ? PulseChannel::A : p == (PIN_B) ? PulseChannel::B : PulseChannel::C; \
+        }                                                                                        \
     };
 
 static const uint8_t NO_PULSE_PIN = 0xFF;
@@ -66,9 +75,10 @@ template <class Timer>
 class PulseTimer {
 public:
     static const uint16_t PERIOD_US = 20000;
-    // Widths outside what any servo or ESC accepts (and than SET_CONFIG allows) are clamped.
-    static const uint16_t MIN_PULSE_US = 400;
-    static const uint16_t MAX_PULSE_US = 2600;
+    // Widths outside what SET_CONFIG allows for a servo (wider than any servo or ESC accepts) are
+    // clamped.
+    static const uint16_t MIN_PULSE_US = proto::SetConfig::SERVO_MIN_US_MIN;
+    static const uint16_t MAX_PULSE_US = proto::SetConfig::SERVO_MAX_US_MAX;
 
     // Takes the timer over (whatever the Arduino core's init() configured), all channels off.
     static void begin() {
