@@ -11,17 +11,22 @@ Two statuses per node, as rqt_robot_monitor and diagnostic_aggregator expect:
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from host_sdk import LinkStatistics, RobotIdentity
 from protocol.generated.enums import FailsafeReason
 from protocol.generated.messages import LinkStats
+from protocol.generated.structs import DecoderCountersSnapshot
 
 OK, WARN, ERROR, STALE = 0, 1, 2, 3
 """diagnostic_msgs/DiagnosticStatus levels."""
 
-HOST_ERRORS = ("crc_errors", "cobs_errors", "length_errors", "unknown_ids", "value_errors", "seq_gaps")
+# The error counters, by the spec's counter sets: the decoder's (both sides keep them) but its
+# good frames, and seq gaps; the board also counts bytes its full receive buffer lost.
+_DECODER_ERRORS = tuple(f.name for f in dataclasses.fields(DecoderCountersSnapshot) if f.name != "frames_ok")
+HOST_ERRORS = (*_DECODER_ERRORS, "seq_gaps")
 BOARD_ERRORS = (*HOST_ERRORS, "rx_overruns")
 
 FAILSAFE_HINTS = {

@@ -12,6 +12,13 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from host_sdk.errors import CommandRangeError
+from protocol.generated.constants import (
+    FEEDBACK_HZ_DEFAULT,
+    FEEDBACK_HZ_MAX,
+    WATCHDOG_DEFAULT_MS,
+    WATCHDOG_MAX_MS,
+    WATCHDOG_MIN_MS,
+)
 
 ParamValue = bool | int | float | str | list[float] | list[str]
 
@@ -54,7 +61,11 @@ SPECS: tuple[ParamSpec, ...] = (
         choices=("auto", "stream", "lockstep"),
     ),
     ParamSpec(
-        "watchdog", 0.25, "board watchdog in s: no valid frame for this long and the board fails safe", low=0.05, high=2
+        "watchdog",
+        WATCHDOG_DEFAULT_MS / 1000,
+        "board watchdog in s: no valid frame for this long and the board fails safe",
+        low=WATCHDOG_MIN_MS / 1000,
+        high=WATCHDOG_MAX_MS / 1000,
     ),
     ParamSpec("connect_timeout", 5.0, "seconds one connection attempt may take", low=0.5, high=60),
     ParamSpec("reconnect_delay", 0.5, "first wait in s before reconnecting after the link is lost", low=0.05, high=60),
@@ -64,7 +75,13 @@ SPECS: tuple[ParamSpec, ...] = (
     ParamSpec("odom_frame", "odom", "frame of the odometry pose"),
     ParamSpec("base_frame", "base_link", "the robot's body frame (child of odom_frame)"),
     ParamSpec("publish_tf", True, "publish odom_frame -> base_frame on /tf (off when an EKF publishes it)"),
-    ParamSpec("odom_rate", 50, "odom and joint_states rate in Hz (the board's feedback rate)", low=1, high=100),
+    ParamSpec(
+        "odom_rate",
+        FEEDBACK_HZ_DEFAULT,
+        "odom and joint_states rate in Hz (the board's feedback rate)",
+        low=1,
+        high=FEEDBACK_HZ_MAX,
+    ),
     ParamSpec("diagnostics_rate", 1.0, "diagnostics rate in Hz", low=0.1, high=10),
     ParamSpec(
         "odom_qos",

@@ -242,7 +242,7 @@ IDENTITY = RobotIdentity(
 
 def snap(t: float, **kw: Any) -> Snapshot:
     base: dict[str, Any] = {"url": "emu://", "connection": "connected", "identity": IDENTITY, "state": "armed"}
-    base["host"] = LinkStatistics(frames_received=100 * int(t), frames_sent=20 * int(t))
+    base["host"] = LinkStatistics(frames_ok=100 * int(t), frames_sent=20 * int(t))
     base.update(kw)
     return Snapshot(time_s=t, **base)
 
