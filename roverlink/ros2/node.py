@@ -100,6 +100,7 @@ class BridgeNode(Node):
         self.lockstep = self.mode == "lockstep"
         self._events: deque[Event] = deque(maxlen=20)
         self._failsafes = 0
+        self._resets = 0
         self._rearmed_since_reset = True
         self._last_pose: Pose | None = None
         self._joints: convert.JointTracker | None = None
@@ -240,6 +241,7 @@ class BridgeNode(Node):
 
     def _on_reset(self, error: SessionResetError) -> None:
         new = "unknown" if error.new_boot_id is None else f"0x{error.new_boot_id:08X}"
+        self._resets += 1
         self._event("reset", f"boot_id 0x{error.old_boot_id:08X} -> {new}")
         self._rearmed_since_reset = self.params.auto_arm
         self.get_logger().warning(f"board reset: {error}")
@@ -330,9 +332,9 @@ class BridgeNode(Node):
     def snapshot(self) -> Snapshot:
         c, robot = self.connection, self.connection.robot
         now = time.monotonic()
-        last = {e.kind: e for e in self._events}
-        resets = [e for e in self._events if e.kind == "reset"]
-        times = [t for t in self._feedback_times if t > now - 2.0]
+        # list() copies in one step under the GIL: the SDK's thread appends to these meanwhile.
+        last = {e.kind: e for e in list(self._events)}
+        times = [t for t in list(self._feedback_times) if t > now - 2.0]
         rate = (len(times) - 1) / (times[-1] - times[0]) if len(times) > 2 and times[-1] > times[0] else None
         tf = "off" if not self.params.publish_tf else ("published" if self.tf_pub else "not published: no tf2_msgs")
         snap = Snapshot(
@@ -344,7 +346,7 @@ class BridgeNode(Node):
             reconnects=c.reconnects,
             mode=self.mode,
             last_reset=last.get("reset"),
-            resets=len(resets),
+            resets=self._resets,
             failsafes=self._failsafes,
             last_failsafe=last.get("failsafe"),
             rearmed_since_reset=self._rearmed_since_reset,

@@ -10,6 +10,7 @@ from types import FrameType
 from typing import Any
 
 import rclpy
+from rclpy.exceptions import NameValidationException, ParameterException
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import try_shutdown
@@ -41,7 +42,8 @@ def run(ros_args: Sequence[str], overrides: dict[str, Any]) -> int:
             if node.connection.fatal is not None:
                 status = 1
                 break
-    except RoverLinkError as exc:
+    except (RoverLinkError, ParameterException, NameValidationException) as exc:
+        # A parameter out of its range or of the wrong type, a bad namespace or node name.
         print(f"roverlink ros2: {exc}", file=sys.stderr)
         status = 1
     finally:

@@ -52,11 +52,20 @@ class BridgeProcess:
     """`python -m roverlink ros2 ...` in its own namespace, logging to a file."""
 
     def __init__(
-        self, namespace: str, url: str, log_dir: Path, params: dict[str, Any] | None = None, extra: Sequence[str] = ()
+        self,
+        namespace: str,
+        url: str,
+        log_dir: Path,
+        *,
+        params: dict[str, Any] | None = None,
+        extra: Sequence[str] = (),
+        profile: str | None = None,
     ) -> None:
         self.namespace = namespace
         self.log_path = log_dir / f"{namespace.strip('/').replace('/', '_')}.log"
-        args = [sys.executable, "-m", "roverlink", "ros2", "--url", url, "--ros-args"]
+        args = [sys.executable, "-m", "roverlink", "ros2", "--url", url]
+        args += ["--profile", profile] if profile else []
+        args += ["--ros-args"]
         args += [
             "-r",
             f"__ns:={namespace}",

@@ -70,8 +70,10 @@ class Bridge:
 def bridge(request: pytest.FixtureRequest, ros: None, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Bridge]:
     case = CASES[request.param]
     ns = f"/{case.profile.replace('-', '_')}_{uuid.uuid4().hex[:6]}"
-    extra = ["--params-file", str(PARAMS_YAML)] if case.profile == "diffdrive-tb6612" else []
-    proc = BridgeProcess(ns, f"emu://{case.profile}?seed=1", tmp_path_factory.mktemp("ros2"), extra=extra)
+    # Every bridge loads the example parameters file; --url and --profile win over it.
+    extra = ["--params-file", str(PARAMS_YAML)]
+    url = f"emu://{case.profile}?seed=1"
+    proc = BridgeProcess(ns, url, tmp_path_factory.mktemp("ros2"), extra=extra, profile=case.profile)
     probe = Probe(ns)
     try:
         probe.wait_for("the bridge's services", lambda: probe.clients["arm"].wait_for_service(timeout_sec=0.1), 20)
@@ -274,8 +276,6 @@ def test_arm_and_disarm_services(bridge: Bridge) -> None:
 
 
 def test_parameters_file_is_applied(bridge: Bridge) -> None:
-    if bridge.case.profile != "diffdrive-tb6612":
-        pytest.skip("the parameters file is loaded by the diffdrive-tb6612 bridge")
     import yaml
 
     expected = yaml.safe_load(PARAMS_YAML.read_text())["/**/roverlink"]["ros__parameters"]
@@ -294,6 +294,8 @@ def test_parameters_file_is_applied(bridge: Bridge) -> None:
         want = expected[name]
         if name == "url":
             assert got[name].startswith("emu://")  # the command line's --url wins over the file
+        elif name == "profile":
+            assert got[name] == bridge.case.profile  # and so does --profile
         elif isinstance(want, list):
             assert list(got[name]) == pytest.approx(want)
         else:
