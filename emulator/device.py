@@ -26,6 +26,7 @@ from __future__ import annotations
 import enum
 import math
 from collections.abc import Callable
+from typing import Any
 
 from emulator.clock import PRIORITY_PHYSICS, PRIORITY_RX, PRIORITY_TICK, Timer, VirtualClock
 from emulator.errors import EmulatorValueError
@@ -40,6 +41,7 @@ from emulator.plant.plant import WHEEL_CHANNELS, Plant
 from emulator.profiles import EmulatorProfile, get_profile
 from emulator.rng import Streams
 from emulator.truth import FaultRecord, McuTruth, PlantTruth, Truth, WheelTruth
+from emulator.world.world import World
 from protocol.generated.enums import Board as BoardId
 from protocol.generated.hardware import MotorMode
 
@@ -185,6 +187,10 @@ class Emulator(FaultInjection):
         self._busy_until = 0
         self._busy_from = 0
         self._rx_deferred: Timer | None = None
+        self.world: World | None = None
+        """The robot's surroundings (emulator.sensors.attach): collisions stop the plant."""
+        self.sensors: Any = None
+        """The SensorRig attached with emulator.sensors.attach, else None."""
         self.clock.call_at(physics_dt_us, self._physics, PRIORITY_PHYSICS)
         self._begin_reset(ResetKind.POWER_ON, hold_us=0)
         self.apply_faults(faults or FaultSpec())
@@ -235,7 +241,12 @@ class Emulator(FaultInjection):
     # == physics ===================================================================================
     def _physics(self) -> None:
         now = self.clock.now_us
+        world = self.world
+        if world is not None:
+            world.before_step(self.plant)
         self.plant.step(now)
+        if world is not None:
+            world.after_step(self.plant, now)
         if self.pending_eeprom and self.pending_eeprom[0][0] <= now:
             self.pending_eeprom = [p for p in self.pending_eeprom if p[0] > now]
         self.clock.call_at(now + self.physics_dt_us, self._physics, PRIORITY_PHYSICS)
@@ -401,6 +412,7 @@ class Emulator(FaultInjection):
             host_to_mcu=self.h2m.truth(),
             mcu_to_host=self.m2h.truth(),
             faults=tuple(self.faults),
+            world=self.world.truth(self.plant) if self.world is not None else None,
         )
 
     def _plant_truth(self) -> PlantTruth:

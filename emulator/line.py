@@ -180,6 +180,10 @@ class Line:
     def pending(self) -> int:
         return len(self._queue) + len(self._noise)
 
+    def backlog_us(self, now_us: int) -> int:
+        """How long the transmitter is still busy with bytes already queued (0: idle)."""
+        return max(0, -(-self._tx_free // self.baud) - now_us)
+
     def set_cut(self, cut: bool, now_us: int) -> None:
         if cut and not self.cut:
             lost = sum(1 for arrival, _, _ in self._queue if arrival > now_us)

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from emulator.firmware.config import Gains
 from emulator.firmware.statemachine import SessionEvent, SessionState
 from emulator.plant.esc import EscState
+from emulator.world.world import WorldTruth
 from protocol.generated.enums import FailsafeReason, FeedbackMode, Status
 from protocol.generated.hardware import MotorMode
 from protocol.generated.messages import LinkStats, SetConfig
@@ -152,6 +153,8 @@ class Truth:
     host_to_mcu: LineTruth
     mcu_to_host: LineTruth
     faults: tuple[FaultRecord, ...]
+    world: WorldTruth | None = None
+    """The robot in its world (pose, target, collisions) when one is attached, else None."""
 
     @property
     def status(self) -> Status:

@@ -1,6 +1,9 @@
 """Print odometry and wheel feedback as the robot turns a slow circle, using a feedback callback.
 
-python examples/read_odometry.py [URL]
+python examples/read_odometry.py                                          # the emulated diff-drive car
+python examples/read_odometry.py "emu://diffdrive-bts7960?clock=virtual"  # the SLAM robot (lockstep)
+python examples/read_odometry.py "emu://picar?clock=virtual"              # the Ackermann PiCar
+python examples/read_odometry.py /dev/ttyACM0                             # a real board
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ def main(url: str = "emu://", seconds: float = 3.0) -> None:
         robot.arm()
         end = robot.now() + seconds
         while robot.now() < end:
-            robot.drive(0.2, 0.5)
+            robot.drive(0.2, 0.5, clamp=True)  # an Ackermann robot steers as close as it can
             fb = robot.wait_feedback()
             if fb.index % 10 == 0 and fb.pose is not None:
                 p = fb.pose

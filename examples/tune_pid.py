@@ -1,6 +1,11 @@
 """Read and change the velocity PID gains, and watch the step response change.
 
-python examples/tune_pid.py [URL]
+python examples/tune_pid.py                                          # the emulated diff-drive car
+python examples/tune_pid.py "emu://diffdrive-bts7960?clock=virtual"  # the SLAM robot (lockstep)
+python examples/tune_pid.py "emu://picar?clock=virtual"              # the Ackermann PiCar (one wheel: its ESC)
+python examples/tune_pid.py /dev/ttyACM0                             # a real board
+
+drive(speed, 0) works on every robot (set_wheel_speeds() is for differential drives only).
 """
 
 from __future__ import annotations
@@ -15,7 +20,7 @@ def step_response(robot: Robot, target_m_s: float = 0.3, seconds: float = 1.0) -
     errors = []
     end = robot.now() + seconds
     while robot.now() < end:
-        robot.set_wheel_speeds(target_m_s, target_m_s)
+        robot.drive(target_m_s, 0.0)
         errors.append(abs(robot.wait_feedback().wheel_speeds_m_s[0] - target_m_s))
     for _ in range(40):
         robot.stop()

@@ -12,6 +12,8 @@ See docs/sdk.md.
 
 from host_sdk import enums, messages
 from host_sdk.errors import (
+    ArgumentError,
+    ArgumentTypeError,
     CodecError,
     CommandRangeError,
     ConnectTimeoutError,
@@ -20,6 +22,8 @@ from host_sdk.errors import (
     FailsafeError,
     FeedbackTimeoutError,
     IncompatibleFirmwareError,
+    KinematicsError,
+    LinkBrokenError,
     NackError,
     NotArmedError,
     RequestTimeoutError,
@@ -41,6 +45,8 @@ __all__ = [
     "PROTOCOL_VERSION",
     "SPEC_HASH",
     "Ackermann",
+    "ArgumentError",
+    "ArgumentTypeError",
     "CodecError",
     "CommandRangeError",
     "ConnectTimeoutError",
@@ -51,6 +57,8 @@ __all__ = [
     "FeedbackSample",
     "FeedbackTimeoutError",
     "IncompatibleFirmwareError",
+    "KinematicsError",
+    "LinkBrokenError",
     "LinkStatistics",
     "NackError",
     "NotArmedError",

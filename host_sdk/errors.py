@@ -7,9 +7,11 @@ like, so `except ValueError` or `except TimeoutError` in user code keeps working
 
 from __future__ import annotations
 
-from protocol.errors import CodecError, DecodeError, EncodeError, RoverLinkError
+from protocol.errors import ArgumentError, ArgumentTypeError, CodecError, DecodeError, EncodeError, RoverLinkError
 
 __all__ = [
+    "ArgumentError",
+    "ArgumentTypeError",
     "CodecError",
     "CommandRangeError",
     "ConnectTimeoutError",
@@ -18,6 +20,8 @@ __all__ = [
     "FailsafeError",
     "FeedbackTimeoutError",
     "IncompatibleFirmwareError",
+    "KinematicsError",
+    "LinkBrokenError",
     "NackError",
     "NotArmedError",
     "RequestTimeoutError",
@@ -173,7 +177,29 @@ class FailsafeError(NotArmedError):
 
 
 class UnsupportedError(RoverLinkError, RuntimeError):
-    """This robot cannot do that (e.g. drive_ackermann on a differential drive)."""
+    """This robot cannot do that (e.g. drive_ackermann on a differential drive).
+
+    `capability` is the firmware capability (enums.Capability) that is missing, when one is.
+    """
+
+    def __init__(self, message: str, capability: object | None = None) -> None:
+        self.capability = capability
+        super().__init__(message)
+
+
+class LinkBrokenError(RoverLinkError, RuntimeError):
+    """The robot's link stopped for an unexpected reason (an error in a layer below, a failing
+    plugin transport): the robot is unusable. `cause` (also `__cause__`) is what went wrong; close
+    the robot and connect again."""
+
+    def __init__(self, url: str, cause: BaseException) -> None:
+        self.url = url
+        self.cause = cause
+        super().__init__(
+            f"the link to {url or 'the robot'} stopped: {type(cause).__name__}: {cause}; "
+            "the robot is unusable: close it and connect again"
+        )
+        self.__cause__ = cause
 
 
 class RobotClosedError(RoverLinkError, RuntimeError):
@@ -184,17 +210,16 @@ class RobotClosedError(RoverLinkError, RuntimeError):
         super().__init__(f"the robot on {url or 'this link'} is closed: connect again with Robot.connect()")
 
 
-class CommandRangeError(RoverLinkError, ValueError):
-    """A bad argument from user code: NaN, infinity, or beyond the robot's limits.
+class CommandRangeError(ArgumentError):
+    """A bad argument from user code: NaN, infinity, beyond the robot's limits, an unknown field.
 
-    Attributes: `argument`, `value`, `allowed` (human-readable range).
+    Attributes: `argument`, `value`, `allowed` (human-readable range). An argument of the wrong
+    type raises its sibling `ArgumentTypeError` (also a TypeError); `ArgumentError` catches both.
     """
 
-    def __init__(self, argument: str, value: object, allowed: str, hint: str = "") -> None:
-        self.argument = argument
-        self.value = value
-        self.allowed = allowed
-        super().__init__(f"{argument} = {value!r} is not allowed: {allowed}" + (f"; {hint}" if hint else ""))
+
+class KinematicsError(CommandRangeError):
+    """A kinematic request that cannot be met (e.g. a turn tighter than the steering allows)."""
 
 
 class FeedbackTimeoutError(RoverLinkError, TimeoutError):

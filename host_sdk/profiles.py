@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import math
 
-from host_sdk.errors import CommandRangeError
+from host_sdk import checks
+from host_sdk.errors import ArgumentTypeError, CommandRangeError
 from host_sdk.kinematics import Ackermann, DiffDrive
 from protocol.generated.messages import SetConfig
 from protocol.generated.profiles import PROFILES, RobotProfile
@@ -22,16 +23,21 @@ from protocol.generated.profiles import PROFILES, RobotProfile
 __all__ = ["PROFILES", "RobotProfile", "get_profile", "kinematics_for", "profile_for_example", "steering_limits"]
 
 
-def get_profile(name: str) -> RobotProfile:
-    """The reference robot called `name`; CommandRangeError lists the names."""
+def get_profile(name: str, *, argument: str = "name") -> RobotProfile:
+    """The reference robot called `name`; CommandRangeError lists the names (and calls the bad
+    value `argument`: the caller's name for it)."""
+    allowed = f"one of {', '.join(PROFILES)}"
+    if not isinstance(name, str):
+        raise ArgumentTypeError(argument, name, allowed)
     profile = PROFILES.get(name)
     if profile is None:
-        raise CommandRangeError("profile", name, f"one of {', '.join(PROFILES)}")
+        raise CommandRangeError(argument, name, allowed)
     return profile
 
 
 def profile_for_example(example: str) -> RobotProfile | None:
     """The profile whose firmware example is `example` (what IDENTITY.robot_name carries)."""
+    checks.instance("example", example, str, "a firmware example name (str)")
     for profile in PROFILES.values():
         if profile.example == example:
             return profile
@@ -40,6 +46,7 @@ def profile_for_example(example: str) -> RobotProfile | None:
 
 def steering_limits(config: SetConfig) -> tuple[float, float]:
     """(right, left) steering limits in radians, as positive numbers, from the servo config."""
+    checks.instance("config", config, SetConfig, "a RobotConfig (robot.config)")
     left = math.radians((config.steering_max_cdeg - config.steering_center_cdeg) / 100)
     right = math.radians((config.steering_center_cdeg - config.steering_min_cdeg) / 100)
     return max(0.0, right), max(0.0, left)
@@ -47,7 +54,9 @@ def steering_limits(config: SetConfig) -> tuple[float, float]:
 
 def kinematics_for(profile: str | RobotProfile, config: SetConfig | None = None) -> DiffDrive | Ackermann:
     """DiffDrive or Ackermann for a reference robot, with the board's `config` if given."""
-    prof = get_profile(profile) if isinstance(profile, str) else profile
+    prof = profile if isinstance(profile, RobotProfile) else get_profile(profile, argument="profile")
+    if config is not None:
+        checks.instance("config", config, SetConfig, "a RobotConfig (robot.config), or None for the profile's")
     cfg = config or prof.config
     radius = cfg.wheel_diameter_um / 2e6
     if prof.kinematics == "diff":
@@ -57,5 +66,5 @@ def kinematics_for(profile: str | RobotProfile, config: SetConfig | None = None)
         wheelbase_m=prof.wheelbase_m,
         wheel_radius_m=radius,
         counts_per_rev=cfg.encoder_cpr,
-        max_steering_rad=max(left, right) or math.radians(25),
+        max_steering_rad=min(max(left, right), math.radians(89)) or math.radians(25),  # the model needs < 90 deg
     )

@@ -38,3 +38,23 @@ class DecodeError(CodecError, ValueError):
         self.message = message
         self.problem = problem
         super().__init__(f"{message}: {problem}")
+
+
+class ArgumentError(RoverLinkError, ValueError):
+    """A bad argument to a public call: outside its range, NaN, infinite, or of the wrong kind.
+
+    Attributes: `argument` (its name), `value`, `allowed` (what would be accepted, in words).
+    """
+
+    def __init__(self, argument: str, value: object, allowed: str, hint: str = "") -> None:
+        self.argument = argument
+        self.value = value
+        self.allowed = allowed
+        shown = repr(value)
+        if len(shown) > 80:
+            shown = shown[:77] + "..."
+        super().__init__(f"{argument} = {shown} is not allowed: {allowed}" + (f"; {hint}" if hint else ""))
+
+
+class ArgumentTypeError(ArgumentError, TypeError):
+    """A bad argument of the wrong type (a str where a number goes, a bool where a count goes...)."""

@@ -1,7 +1,12 @@
 #!/usr/bin/env bash
-# Installs what the tests need (Debian and Python packages) and runs the whole suite:
-# generated-code drift, lint, types, native C++ tests (plain, sanitizers, avr-g++), pytest,
-# and a quick benchmark smoke run. Usage: bash scripts/test.sh [extra pytest args]
+# Installs what the tests need and runs the whole suite: generated-code drift, lint, types, native
+# C++ tests (plain, sanitizers, avr-g++), pytest, and a quick benchmark smoke run.
+# Usage: bash scripts/test.sh [extra pytest args]
+#
+# Everything Python runs in the checkout's own virtual environment (.venv, made by scripts/venv.sh
+# with the `dev` extra): the system's Python is never installed into. Debian packages the tests
+# need (the AVR toolchain, simavr, the Arduino core, python3-venv) are installed with apt-get when
+# missing (sudo when not root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -18,11 +23,12 @@ if ((${#missing[@]})); then
     DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
 
-echo "== installing Python packages"
-python3 -m pip install -q --disable-pip-version-check -e ".[dev]"
+# shellcheck source=scripts/venv.sh
+source scripts/venv.sh dev
+export PATH="$VENV/bin:$PATH"
 
 echo "== generated files match the spec"
-python3 -m protocol check
+python -m protocol check
 
 echo "== ruff"
 ruff check .
@@ -33,7 +39,10 @@ mypy --strict protocol host_sdk emulator roverlink
 
 echo "== pytest (hypothesis profile: ${HYPOTHESIS_PROFILE:=ci})"
 export HYPOTHESIS_PROFILE
-python3 -m pytest "$@"
+python -m pytest "$@"
 
-echo "== codec benchmark (smoke run; full run: python3 benchmarks/codec.py)"
-python3 benchmarks/codec.py --quick --require-roverlink
+echo "== codec benchmark (smoke run; full run: .venv/bin/python benchmarks/codec.py)"
+python benchmarks/codec.py --quick --require-roverlink
+
+echo "== host receive-path benchmark (smoke run; full run: .venv/bin/python benchmarks/host.py)"
+python benchmarks/host.py --quick --rates 100

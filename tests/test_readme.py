@@ -42,8 +42,12 @@ def test_readme_codec_example_runs_as_documented() -> None:
 
 def test_readme_commands_exist() -> None:
     text = README.read_text(encoding="utf-8")
-    assert "roverlink demo" in text
+    commands = re.search(r"## Two commands\n\n```sh\n(.*?)```", text, re.S)
+    assert commands
+    lines = [line.split("#")[0].strip() for line in commands.group(1).splitlines()]
+    assert lines == ["bash scripts/demo.sh", "bash scripts/test.sh"]
+    for script in ("demo.sh", "test.sh", "venv.sh"):
+        assert (README.parent / "scripts" / script).is_file()
     assert "roverlink roundtrip" in text
-    assert "bash scripts/test.sh" in text
     ci = (README.parent / ".ci" / "run").read_text(encoding="utf-8")
-    assert "bash scripts/test.sh" in ci
+    assert [ln for ln in ci.splitlines() if ln and not ln.startswith(("#", "set ", "cd "))] == ["bash scripts/test.sh"]

@@ -20,6 +20,15 @@ Query parameters (all optional):
 | latency_us | integer | 1000 | one-way latency of the emulated USB-serial adapter |
 | drift_ppm | number | 0 | the MCU crystal's error |
 | eeprom | blank, saved | saved | a board whose defaults were saved, or a new one (blank: it warns in a LOG) |
+| world | scenario path, random:SEED | random:`seed` | the surroundings (docs/sensors.md); alone: no sensors |
+| lidar | rplidar-a1, ydlidar-f4 | none | attach a lidar (its `emudev://` URL is in `endpoints["lidar"]`) |
+| lidar_hz | number | the device's | the lidar's scan rate |
+| imu | jy901 | none | attach the IMU (`endpoints["imu"]`) |
+| camera | 0, 1, WIDTHxHEIGHT | 0 | attach the camera (`endpoints["camera"]`: an MJPEG byte stream; 1 = 320x240) |
+
+With any of the last five, `transport.endpoints` maps `lidar`, `imu`, `camera` to the URLs the SDK's
+sensor drivers open (`host_sdk.sensors`), and `truth.world` has the robot's pose in the world, the
+target and every collision.
 """
 
 from __future__ import annotations
@@ -28,12 +37,13 @@ import contextlib
 import math
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from urllib.parse import parse_qs, unquote, urlsplit
 
 from emulator.device import Emulator
 from emulator.errors import EmulatorError, EmulatorValueError
+from emulator.transport.devices import SENSOR_PARAMS, SensorOptions, register, sensor_options, unregister
 
 
 class LinkClosedError(EmulatorError, ConnectionError):
@@ -43,7 +53,7 @@ class LinkClosedError(EmulatorError, ConnectionError):
 DEFAULT_PROFILE = "diffdrive-tb6612"
 STEP_US = 500
 """Virtual clock: how far one step of `read()` moves time while waiting for bytes."""
-_PARAMS = ("seed", "faults", "clock", "speed", "dtr", "latency_us", "drift_ppm", "eeprom")
+_PARAMS = ("seed", "faults", "clock", "speed", "dtr", "latency_us", "drift_ppm", "eeprom", *SENSOR_PARAMS)
 
 
 @dataclass(frozen=True, slots=True)
@@ -59,6 +69,7 @@ class EmulatorOptions:
     latency_us: int = 1000
     drift_ppm: float = 0.0
     eeprom: str = "saved"
+    sensors: SensorOptions | None = None
 
 
 def parse_emu_url(url: str) -> EmulatorOptions:
@@ -68,9 +79,9 @@ def parse_emu_url(url: str) -> EmulatorOptions:
         raise EmulatorValueError("url", url, "an emu://PROFILE[?options] URL")
     profile = unquote(parts.netloc or parts.path.strip("/")) or DEFAULT_PROFILE
     query = parse_qs(parts.query, keep_blank_values=True)
-    for key in query:
+    for key, values in query.items():
         if key not in _PARAMS:
-            raise EmulatorValueError(f"url parameter {key!r}", url, f"one of {', '.join(_PARAMS)}")
+            raise EmulatorValueError(f"url parameter {key!r}", values[-1], f"a known parameter: {', '.join(_PARAMS)}")
 
     def one(key: str) -> str | None:
         values = query.get(key)
@@ -80,12 +91,13 @@ def parse_emu_url(url: str) -> EmulatorOptions:
         text = one(key)
         if text is None:
             return default
+        what = f"an integer in {int(lo)}..{int(hi)}" if kind is int else f"a number in {lo:g}..{hi:g}"
         try:
             value = kind(text)
         except ValueError:
-            raise EmulatorValueError(f"url parameter {key}", text, f"a number in {lo:g}..{hi:g}") from None
+            raise EmulatorValueError(f"url parameter {key}", text, what) from None
         if not (math.isfinite(value) and lo <= value <= hi):
-            raise EmulatorValueError(f"url parameter {key}", text, f"a number in {lo:g}..{hi:g}")
+            raise EmulatorValueError(f"url parameter {key}", text, what)
         return value
 
     clock = one("clock") or "real"
@@ -107,6 +119,7 @@ def parse_emu_url(url: str) -> EmulatorOptions:
         latency_us=int(number("latency_us", int, 1000, 0, 1_000_000)),
         drift_ppm=number("drift_ppm", float, 0.0, -10_000, 10_000),
         eeprom=eeprom,
+        sensors=sensor_options({k: one(k) for k in SENSOR_PARAMS}),
     )
 
 
@@ -133,6 +146,8 @@ class EmulatorTransport:
         self._wall0 = time.monotonic()
         self._virtual0_us = emulator.now_us
         self._closed = False
+        self.endpoints: dict[str, str] = {}
+        """URLs of the attached sensors (`emudev://...`) by kind: lidar, imu, camera."""
 
     @classmethod
     def from_url(cls, url: str, baud: int = 115200) -> EmulatorTransport:
@@ -149,7 +164,11 @@ class EmulatorTransport:
         )
         if options.dtr:
             emu.dtr_reset()
-        return cls(emu, clock=options.clock, speed=options.speed, url=url)
+        transport = cls(emu, clock=options.clock, speed=options.speed, url=url)
+        if options.sensors is not None:
+            options.sensors.attach(emu, seed=options.seed)
+            transport.endpoints = register(transport)
+        return transport
 
     def clock(self) -> float:
         if self.virtual:
@@ -162,12 +181,17 @@ class EmulatorTransport:
             self.emulator.advance_to_us(target)
 
     def read(self, timeout_s: float) -> bytes:
+        return self.read_from(self.emulator.host_read, timeout_s)
+
+    def read_from(self, source: Callable[[], bytes], timeout_s: float) -> bytes:
+        """What `source()` yields, waiting up to `timeout_s` (virtual clock: running the emulator)
+        for the first byte: the board's line, or an attached sensor's."""
         self._check_open()
         emu = self.emulator
         if self.virtual:
             end = emu.now_us + max(0, round(timeout_s * 1e6))
             while True:
-                data = emu.host_read()
+                data = source()
                 if data or emu.now_us >= end:
                     return data
                 emu.advance_to_us(min(end, emu.now_us + STEP_US))
@@ -175,7 +199,7 @@ class EmulatorTransport:
         while True:
             with self.lock:
                 self._catch_up()
-                data = emu.host_read()
+                data = source()
             left = deadline - time.monotonic()
             if data or left <= 0:
                 return data
@@ -202,6 +226,7 @@ class EmulatorTransport:
 
     def close(self) -> None:
         self._closed = True
+        unregister(self)
 
     def __enter__(self) -> EmulatorTransport:
         return self

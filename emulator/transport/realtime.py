@@ -40,6 +40,14 @@ class Endpoint(Protocol):
     def close(self) -> None: ...
 
 
+class SerialPeripheral(Protocol):
+    """An emulated sensor on its own port (emulator.sensors): bytes in and out at virtual times."""
+
+    def host_write(self, data: bytes, now_us: int) -> None: ...
+
+    def host_read(self, now_us: int) -> bytes: ...
+
+
 class ServedDevice(Protocol):
     """What the loop serves: the Python emulator or the firmware in simavr (its PlantLoop)."""
 
@@ -70,9 +78,11 @@ def serve(
     speed: float = 1.0,
     log: TextIO | None = sys.stderr,
     tag: str = "emulator",
+    extras: Sequence[tuple[Endpoint, SerialPeripheral]] = (),
 ) -> float:
     """Serve until `stop()`; returns how much faster than real time the device ran while busy
-    (simulated seconds per wall second spent advancing it). Progress lines go to `log` as "[tag] ..."."""
+    (simulated seconds per wall second spent advancing it). Progress lines go to `log` as "[tag] ...".
+    `extras` are the sensors' own ports, pumped in the same pass (their clock is the device's)."""
     wall0 = time.monotonic()
     virt0 = device.now_us
     connected = False
@@ -112,6 +122,8 @@ def serve(
         out = device.host_read()
         if connected and out:
             endpoint.write(out)
+        for port, peripheral in extras:
+            _pump(port, peripheral, device.now_us, say)
         if log is not None:
             report_faults(device.faults[reported_faults:], say)
             reported_faults = len(device.faults)
@@ -121,6 +133,20 @@ def serve(
         endpoint.wait(0.001 if connected else 0.01)
     simulated_s = (device.now_us - virt0) / 1e6
     return simulated_s / busy_s if busy_s > 0 else math.inf
+
+
+def _pump(port: Endpoint, peripheral: SerialPeripheral, now_us: int, say: Callable[[str], None]) -> None:
+    attached, opens = port.poll()
+    if opens:
+        port.on_connect()
+        say(f"host connected to {port.name}")
+    if attached:
+        data = port.read()
+        if data:
+            peripheral.host_write(data, now_us)
+    out = peripheral.host_read(now_us)  # drained either way: an unread adapter loses its bytes
+    if attached and out:
+        port.write(out)
 
 
 def report_faults(records: Sequence[FaultRecord], say: Callable[[str], None]) -> None:

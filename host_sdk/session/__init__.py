@@ -1,6 +1,7 @@
 """The sans-I/O session (see core.py) and the snapshots it hands out."""
 
-from host_sdk.session.core import (
+from host_sdk.session.core import Session
+from host_sdk.session.events import (
     Event,
     Failed,
     FailsafeEntered,
@@ -9,12 +10,11 @@ from host_sdk.session.core import (
     LogReceived,
     Opened,
     Ready,
-    Request,
     RequestFinished,
     ResetDetected,
-    Session,
     SessionOptions,
 )
+from host_sdk.session.requests import Request
 from host_sdk.session.types import (
     FeedbackSample,
     LinkStatistics,

@@ -8,9 +8,9 @@ A package registers a scheme in the ``roverlink.transports`` entry point group:
 The target is called as ``open_url(url, baud)`` and returns an object with the Transport methods
 (`read(timeout_s)`, `write(data)`, `close()`, `clock()`) and attributes (`url`, `virtual`, and
 optionally `profile`, `device`, `locked()`). It need not import the SDK: `PluginTransport` adapts it,
-turning an OSError from its I/O into TransportError. Errors it raises while opening pass through
-when they are RoverLinkErrors (a bad URL parameter names itself); anything else becomes a
-TransportError.
+turning an OSError from its I/O into TransportError. A ValueError it raises while opening (a bad
+URL parameter, an unknown profile) becomes a CommandRangeError naming the `url` with the plugin's
+explanation; other RoverLinkErrors pass through; anything else becomes a TransportError.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import importlib.metadata
 from collections.abc import Callable
 from typing import Any, Protocol
 
-from host_sdk.errors import RoverLinkError, TransportError
+from host_sdk.errors import CommandRangeError, RoverLinkError, TransportError
 from host_sdk.transport.base import Transport
 
 GROUP = "roverlink.transports"
@@ -110,6 +110,8 @@ def open_plugin(url: str, baud: int) -> Transport | None:
         return None
     try:
         endpoint = open_url(url, baud)
+    except ValueError as exc:
+        raise CommandRangeError("url", url, str(exc)) from exc
     except RoverLinkError:
         raise
     except Exception as exc:

@@ -20,7 +20,7 @@ from cobs import cobs as _cobs
 
 from protocol.codec.cobs import cobs_encode
 from protocol.codec.message import Message
-from protocol.errors import EncodeError
+from protocol.errors import ArgumentTypeError, EncodeError
 from protocol.generated.structs import DecoderCounters  # imports nothing: no cycle with the messages
 
 _DELIM = b"\x00"
@@ -55,6 +55,8 @@ def encode_frame(msg: Message, seq: int) -> bytes:
 
     Raises EncodeError (a ValueError) naming the field if a value is outside the spec.
     """
+    if not isinstance(msg, Message):
+        raise ArgumentTypeError("msg", msg, "a RoverLink message (an instance of one of the generated messages)")
     if not (isinstance(seq, int) and not isinstance(seq, bool) and 0 <= seq <= 0xFF):
         raise EncodeError(msg.NAME, "seq", seq, "an integer in 0..255")
     body = bytes((msg.MSG_ID, seq)) + msg.pack()
@@ -121,6 +123,8 @@ class FrameDecoder:
     __slots__ = ("_max_chunk", "_max_frame", "_pending", "_rows", "_skipping", "stats")
 
     def __init__(self, table: MessageTable) -> None:
+        if not isinstance(table, MessageTable):
+            raise ArgumentTypeError("table", table, "a MessageTable")
         self._rows = table.rows
         self._max_frame = table.max_frame
         self._max_chunk = table.max_frame - 1  # longest COBS chunk, delimiter excluded
@@ -135,6 +139,11 @@ class FrameDecoder:
         self._skipping = False
 
     def feed(self, data: bytes) -> list[Frame | BadFrame]:
+        """Events for the frames `data` completes (bytes, bytearray or memoryview; any length)."""
+        if type(data) is not bytes:
+            if not isinstance(data, (bytes, bytearray, memoryview)):
+                raise ArgumentTypeError("data", data, "bytes (or a bytearray or memoryview)")
+            data = bytes(data)
         stats = self.stats
         stats.bytes_received += len(data)
         if self._skipping:

@@ -13,11 +13,24 @@ import importlib
 import math
 import sys
 from dataclasses import dataclass, field
-from typing import Literal, TextIO
+from pathlib import Path
+from typing import Any, Literal, TextIO
 from urllib.parse import quote
 
-from host_sdk import PROFILES, Ackermann, DiffDrive, FeedbackSample, LinkStatistics, Pose, Robot, RoverLinkError
+from host_sdk import (
+    PROFILES,
+    Ackermann,
+    DiffDrive,
+    FeedbackSample,
+    LinkStatistics,
+    Pose,
+    Robot,
+    RoverLinkError,
+    UnsupportedError,
+    enums,
+)
 from host_sdk.profiles import steering_limits
+from roverlink import argtypes
 
 _TURN_TOLERANCE_RAD = math.radians(1.0)
 
@@ -38,6 +51,8 @@ class DemoResult:
     stats: LinkStatistics
     track: Track
     duration_s: float
+    side_m: float = 1.0
+    """The side of the square driven."""
 
     @property
     def position_error_m(self) -> float | None:
@@ -135,8 +150,16 @@ def drive_square(
     limit = robot.config.max_wheel_speed_mm_s / 1000
     speed = min(speed_m_s, 0.8 * limit)
     accel = robot.config.decel_limit_mm_s2 / 1000
+    # However the robot behaves, the demo ends: four sides and four corners at a quarter of the
+    # speed asked for, and half a minute to spare.
+    budget_s = 4 * (side_m / speed + math.pi / 2 / min(turn_rad_s, 0.5)) * 4 + 30
 
     def step(leg: int, what: str, linear: float, angular: float, steering: float | None = None) -> FeedbackSample:
+        if robot.now() - start > budget_s:
+            raise RoverLinkError(
+                f"the square did not finish within {budget_s:.0f} s (stuck on leg {leg}, {what}): "
+                "is the robot blocked, or its encoders unplugged?"
+            )
         if steering is None:
             robot.drive(linear, angular, clamp=True)
         else:
@@ -192,7 +215,7 @@ def drive_square(
     robot.disarm()
     robot.sleep(0.3)
     progress.done()
-    return DemoResult(robot.odometry.pose, truth.now(), robot.stats, track, robot.now() - start)
+    return DemoResult(robot.odometry.pose, truth.now(), robot.stats, track, robot.now() - start, side_m)
 
 
 def _ackermann_steer(robot: Robot) -> float:
@@ -260,13 +283,28 @@ def format_report(result: DemoResult) -> str:
     return "\n".join(lines)
 
 
-def plot(result: DemoResult, path: str) -> None:
+def plot_module() -> Any:
+    """matplotlib.pyplot on the file backend; RoverLinkError with the install command if it is missing."""
     try:
         matplotlib = importlib.import_module("matplotlib")
         matplotlib.use("Agg")
-        plt = importlib.import_module("matplotlib.pyplot")
+        return importlib.import_module("matplotlib.pyplot")
     except ImportError:
-        raise RoverLinkError("--plot needs matplotlib: pip install 'roverlink[plot]'") from None
+        raise RoverLinkError(f"--plot needs matplotlib: install it with `{_install_hint('plot')}`") from None
+
+
+def _install_hint(extra: str) -> str:
+    """The command that installs an extra into the Python running this: from the checkout if this
+    is one (a venv made by scripts/demo.sh, say), else from the package index."""
+    root = Path(__file__).resolve().parents[2]
+    if (root / "pyproject.toml").is_file():
+        return f"{sys.executable} -m pip install -e '{root}[{extra}]'"
+    return f"{sys.executable} -m pip install 'roverlink[{extra}]'"
+
+
+def plot(result: DemoResult, path: str, course: str = "") -> None:
+    """Odometry against ground truth, as a PNG at `path`; `course` names what was driven (title)."""
+    plt = plot_module()
     fig, ax = plt.subplots(figsize=(6, 6))
     if result.track.truth:
         xs, ys = zip(*result.track.truth, strict=True)
@@ -278,7 +316,7 @@ def plot(result: DemoResult, path: str) -> None:
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.grid(True)
-    title = "RoverLink demo: 1 m square"
+    title = f"RoverLink demo: {course or f'{result.side_m:g} m square'}"
     if result.position_error_m is not None:
         title += f"\nend error {result.position_error_m * 1000:.1f} mm"
     ax.set_title(title)
@@ -288,16 +326,30 @@ def plot(result: DemoResult, path: str) -> None:
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    p = sub.add_parser("demo", help="drive a 1 m square (in the emulator unless --url is given) and report")
+    p = sub.add_parser(
+        "demo",
+        help="drive a 1 m square (in the emulator unless --url is given) and report",
+        description="Connect, arm and drive a square on odometry (an emulated robot unless --url is given), then "
+        "compare odometry with ground truth and show the link statistics.",
+    )
     p.add_argument("--profile", choices=sorted(PROFILES), default=None, help="robot (default: diffdrive-tb6612)")
     p.add_argument("--url", "--port", dest="url", default=None, help="serial port or URL (default: the emulator)")
-    p.add_argument("--baud", type=int, default=115200)
-    p.add_argument("--mode", choices=("stream", "lockstep"), default=None, help="default: the profile's")
-    p.add_argument("--seed", type=int, default=0, help="emulator seed")
+    p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
+    p.add_argument(
+        "--mode", choices=("stream", "lockstep"), default=None, help="feedback mode (default: the profile's)"
+    )
+    p.add_argument("--seed", type=argtypes.SEED, default=0, help="emulator seed (default 0)")
     p.add_argument("--faults", default="", help="emulator fault spec, e.g. bitflip=1e-4,drop=1e-4")
     p.add_argument("--fast", action="store_true", help="emulator on its virtual clock: as fast as the CPU allows")
-    p.add_argument("--side", type=float, default=1.0, help="side of the square in m")
-    p.add_argument("--speed", type=float, default=0.3, help="straight-line speed in m/s")
+    p.add_argument(
+        "--side", type=argtypes.number(0.1, 10, "m"), default=1.0, help="side of the square, 0.1..10 m (default 1)"
+    )
+    p.add_argument(
+        "--speed",
+        type=argtypes.number(0.05, 2, "m/s"),
+        default=0.3,
+        help="straight-line speed, 0.05..2 m/s, at most 80%% of the board's limit (default 0.3)",
+    )
     p.add_argument("--plot", metavar="FILE.png", default=None, help="draw odometry against truth (needs matplotlib)")
     p.set_defaults(func=cmd_demo)
 
@@ -307,6 +359,15 @@ def cmd_demo(args: argparse.Namespace) -> int:
     mode: Literal["stream", "lockstep"] = (
         "lockstep" if (args.mode or PROFILES[profile].feedback_mode.name) in ("lockstep", "LOCKSTEP") else "stream"
     )
+    if mode == "lockstep" and args.url is None and not PROFILES[profile].capabilities & enums.Capability.LOCKSTEP:
+        print(f"error: {profile} has no lockstep feedback: run the demo with --mode stream", file=sys.stderr)
+        return 2
+    if args.plot:  # before any driving: a missing matplotlib must not cost the whole course
+        try:
+            plot_module()
+        except RoverLinkError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 1
     if args.url is None:
         query = f"seed={args.seed}&clock={'virtual' if args.fast else 'real'}"
         if args.faults:
@@ -326,13 +387,21 @@ def cmd_demo(args: argparse.Namespace) -> int:
             )
             robot.arm()
             result = drive_square(robot, args.side, args.speed)
+    except UnsupportedError as exc:
+        if exc.capability is enums.Capability.LOCKSTEP:
+            print(
+                f"error: the board on {url} has no lockstep feedback: run the demo with --mode stream", file=sys.stderr
+            )
+        else:
+            print(f"error: {exc}", file=sys.stderr)
+        return 1
     except RoverLinkError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
     print(format_report(result))
     if args.plot:
         try:
-            plot(result, args.plot)
+            plot(result, args.plot, f"{profile}, {result.side_m:g} m square, {mode} feedback")
         except RoverLinkError as exc:
             print(f"error: {exc}", file=sys.stderr)
             return 1

@@ -1,7 +1,15 @@
 """`roverlink emulate`: serve an emulated robot on a pseudo-terminal (or a TCP socket) in real time.
 
-The first line on stdout is the port to open (e.g. /dev/pts/7, or socket://127.0.0.1:PORT); the
-emulator then serves until SIGINT or SIGTERM and exits 0. Progress goes to stderr.
+The first line on stdout is the port to open (e.g. /dev/pts/7, or socket://127.0.0.1:PORT); then
+one line per sensor asked for (`--lidar`, `--imu`, `--camera`), whose first word names it and whose
+last word is its pty or URL:
+
+    /dev/pts/7
+    lidar ydlidar-f4 /dev/pts/8
+    imu jy901 /dev/pts/9
+    camera pi-camera-v2 http://127.0.0.1:41234/stream.mjpg
+
+The emulator then serves until SIGINT or SIGTERM and exits 0. Progress goes to stderr.
 """
 
 from __future__ import annotations
@@ -15,10 +23,15 @@ from typing import Any, TextIO
 from emulator.device import Emulator
 from emulator.errors import EmulatorError
 from emulator.profiles import PROFILE_NAMES, get_profile
+from emulator.sensors.mjpeg import CameraDevice
+from emulator.sensors.rig import IMUS, LIDARS
+from emulator.transport.devices import SENSOR_PARAMS, sensor_options
+from emulator.transport.http_camera import MjpegServer
 from emulator.transport.pty import PtyEndpoint
-from emulator.transport.realtime import Endpoint, serve
+from emulator.transport.realtime import Endpoint, SerialPeripheral, serve
 from emulator.transport.socket import SocketEndpoint
-from roverlink import firmware
+from protocol.sensors import SensorSpecError
+from roverlink import argtypes, firmware
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -33,7 +46,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--profile", default="diffdrive-tb6612", choices=PROFILE_NAMES, help="reference robot to emulate")
     p.add_argument(
         "--seed",
-        type=int,
+        type=argtypes.SEED,
         default=0,
         help="random seed: boot ids (on simavr: the ADC noise and the EEPROM boot counter the firmware mixes "
         "into them), line faults, noise, bootloader garbage (default 0)",
@@ -44,17 +57,62 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         metavar="SPEC",
         help='faults to inject, e.g. "bitflip=1e-4,drop=1e-4,cut@2.0-3.5,reset@5.0,stall=0@4.0" (docs/emulator.md)',
     )
-    p.add_argument("--baud", type=int, default=115200, help="line speed in bit/s (default 115200; simavr: 115200 only)")
-    p.add_argument("--latency-ms", type=float, default=1.0, help="one-way adapter latency in ms (default 1)")
-    p.add_argument("--drift-ppm", type=float, default=0.0, help="MCU crystal error in ppm (default 0)")
+    p.add_argument(
+        "--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200; simavr: 115200 only)"
+    )
+    p.add_argument(
+        "--latency-ms",
+        type=argtypes.number(0, 1000, "ms"),
+        default=1.0,
+        help="one-way adapter latency in ms (default 1)",
+    )
+    p.add_argument(
+        "--drift-ppm",
+        type=argtypes.number(-10_000, 10_000, "ppm"),
+        default=0.0,
+        help="MCU crystal error in ppm (default 0)",
+    )
     p.add_argument(
         "--eeprom", choices=("blank", "saved"), default="blank", help="EEPROM at start: blank, or defaults saved"
     )
-    p.add_argument("--bootloader-ms", type=int, default=None, help="bootloader time after a DTR or external reset")
-    p.add_argument("--socket", type=int, default=None, metavar="PORT", help="serve TCP on 127.0.0.1:PORT (0: any)")
+    p.add_argument(
+        "--bootloader-ms",
+        type=argtypes.integer(0, 60_000, "ms"),
+        default=None,
+        help="bootloader time after a DTR or external reset in ms (default: the profile's board)",
+    )
+    p.add_argument(
+        "--socket",
+        type=argtypes.integer(0, 65_535),
+        default=None,
+        metavar="PORT",
+        help="serve TCP on 127.0.0.1:PORT instead of a pty (0: any free port)",
+    )
     p.add_argument("--no-dtr-reset", action="store_true", help="opening the port does not reset the board")
-    p.add_argument("--speed", type=float, default=1.0, help="virtual seconds per wall second (default 1)")
+    p.add_argument(
+        "--speed",
+        type=argtypes.number(0.01, 1000),
+        default=1.0,
+        help="virtual seconds per wall second, 0.01..1000 (default 1)",
+    )
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    g = p.add_argument_group("world and sensors (docs/sensors.md; python backend)")
+    g.add_argument("--world", metavar="FILE|random:SEED", help="the surroundings: a scenario file or random:SEED")
+    g.add_argument("--lidar", choices=LIDARS, help="serve a lidar on its own pty")
+    g.add_argument(
+        "--lidar-hz", type=argtypes.number(0.1, 100), metavar="HZ", help="the lidar's scan rate (default: the device's)"
+    )
+    g.add_argument("--imu", choices=IMUS, help="serve the IMU on its own pty")
+    g.add_argument(
+        "--camera", nargs="?", const="320x240", metavar="WxH", help="serve the camera as MJPEG over HTTP (320x240)"
+    )
+    g.add_argument(
+        "--camera-port",
+        type=argtypes.integer(0, 65_535),
+        default=0,
+        metavar="PORT",
+        help="the camera's TCP port (0: any)",
+    )
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -68,17 +126,27 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def cmd_emulate(args: argparse.Namespace) -> int:
-    if not args.speed > 0:
-        print(f"error: --speed = {args.speed} is not allowed: a number > 0", file=sys.stderr)
-        return 2
+    values = {k: getattr(args, k, None) for k in SENSOR_PARAMS}
+    values["lidar_hz"] = None if values["lidar_hz"] is None else str(values["lidar_hz"])
     if getattr(args, "backend", "python") == "simavr":
+        if any(values.values()):
+            print("error: --world, --lidar, --imu and --camera need --backend python", file=sys.stderr)
+            return 2
         return _cmd_emulate_simavr(args)
     try:
         emu = Emulator(args.profile, args.seed, **_board_options(args))
-    except EmulatorError as exc:
+        sensors = sensor_options(values)
+        if sensors is not None:
+            sensors.attach(emu, seed=args.seed)
+    except (EmulatorError, SensorSpecError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    endpoint, stopping, log = _open_endpoint(args)
+    try:
+        endpoint, stopping, log = _open_endpoint(args)
+    except EndpointError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    extras, closers = _serve_sensors(emu, args.camera_port)
     if log is not None:
         print(
             f"[emulator] {args.profile}, seed {args.seed}, {args.baud} baud on {endpoint.name}; Ctrl-C to stop",
@@ -86,10 +154,36 @@ def cmd_emulate(args: argparse.Namespace) -> int:
             flush=True,
         )
     try:
-        serve(emu, endpoint, stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log)
+        serve(
+            emu, endpoint, stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log, extras=extras
+        )
     finally:
         endpoint.close()
+        for close in closers:
+            close()
     return 0
+
+
+def _serve_sensors(
+    emu: Emulator, camera_port: int
+) -> tuple[list[tuple[Endpoint, SerialPeripheral]], list[Callable[[], None]]]:
+    """A pty per serial sensor and the camera's HTTP server; prints one stdout line for each."""
+    rig = emu.sensors
+    extras: list[tuple[Endpoint, SerialPeripheral]] = []
+    closers: list[Callable[[], None]] = []
+    if rig is None:
+        return extras, closers
+    for kind, dev in rig.devices.items():
+        if isinstance(dev, CameraDevice):
+            server = MjpegServer(dev, camera_port)
+            closers.append(server.close)
+            print(f"{kind} {dev.spec.name} {server.url}", flush=True)
+        else:
+            pty = PtyEndpoint()
+            extras.append((pty, dev))
+            closers.append(pty.close)
+            print(f"{kind} {dev.spec.name} {pty.name}", flush=True)
+    return extras, closers
 
 
 def _board_options(args: argparse.Namespace) -> dict[str, Any]:
@@ -105,11 +199,19 @@ def _board_options(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
+class EndpointError(Exception):
+    """The pty or socket to serve on could not be opened."""
+
+
 def _open_endpoint(args: argparse.Namespace) -> tuple[Endpoint, Callable[[], bool], TextIO | None]:
     """The pty (or socket) to serve, a stop flag raised by SIGINT/SIGTERM, and the log stream.
 
     The device path goes to stdout as the first line, which is what callers wait for."""
-    endpoint: Endpoint = SocketEndpoint(args.socket) if args.socket is not None else PtyEndpoint()
+    try:
+        endpoint: Endpoint = SocketEndpoint(args.socket) if args.socket is not None else PtyEndpoint()
+    except OSError as exc:
+        where = f"TCP port {args.socket} of 127.0.0.1" if args.socket is not None else "a pseudo-terminal"
+        raise EndpointError(f"cannot serve on {where}: {exc.strerror or exc}") from exc
     stop_requested = [False]
 
     def stop(_signum: int, _frame: object) -> None:
@@ -131,7 +233,12 @@ def _cmd_emulate_simavr(args: argparse.Namespace) -> int:
     except (SimavrError, EmulatorError, firmware.FirmwareError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    endpoint, stopping, log = _open_endpoint(args)
+    try:
+        endpoint, stopping, log = _open_endpoint(args)
+    except EndpointError as exc:
+        robot.close()
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
     if log is not None:
         print(
             f"[simavr] {args.profile}: {robot.elf.name} on {robot.harness.wiring.mcu} at 16 MHz, seed {args.seed}, "

@@ -87,7 +87,17 @@ def cmd_flash(args: argparse.Namespace) -> int:
 
 def _add_target_options(p: argparse.ArgumentParser, *, example_required: bool) -> None:
     which = p.add_mutually_exclusive_group(required=example_required)
-    which.add_argument("--example", metavar="NAME", help="example sketch of the library (default: all)")
+    try:
+        names = ", ".join(examples())
+    except FirmwareError:  # an installed package without the Arduino library
+        names = "a folder of the library's examples/"
+    which.add_argument(
+        "--example",
+        metavar="NAME",
+        help=f"example sketch of the library to flash: {names}"
+        if example_required
+        else f"example sketch of the library: {names} (default: every example)",
+    )
     which.add_argument("--sketch", metavar="DIR", help="a sketch folder of your own (needs --board)")
     p.add_argument(
         "--board", choices=sorted(BOARDS), help="target board (default: the one the example's robot profile names)"
@@ -98,12 +108,16 @@ def _add_target_options(p: argparse.ArgumentParser, *, example_required: bool) -
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Registers `roverlink firmware build|flash` on the main CLI's subcommands."""
-    fw = sub.add_parser("firmware", help="build and flash the Arduino firmware (needs avr-gcc)")
-    fw_sub = fw.add_subparsers(dest="firmware_command", required=True)
-    build = fw_sub.add_parser("build", help=cmd_build.__doc__)
+    fw = sub.add_parser(
+        "firmware",
+        help="build and flash the Arduino firmware (needs avr-gcc)",
+        description="Build the library's example sketches (or your own) with avr-gcc, and flash them with avrdude.",
+    )
+    fw_sub = fw.add_subparsers(dest="firmware_command", required=True, metavar="{build,flash}")
+    build = fw_sub.add_parser("build", help=cmd_build.__doc__, description=cmd_build.__doc__)
     _add_target_options(build, example_required=False)
     build.set_defaults(func=_guarded(cmd_build))
-    flash = fw_sub.add_parser("flash", help=cmd_flash.__doc__)
+    flash = fw_sub.add_parser("flash", help=cmd_flash.__doc__, description=cmd_flash.__doc__)
     _add_target_options(flash, example_required=True)
     flash.add_argument("--port", required=True, help="serial port of the board, e.g. /dev/ttyACM0")
     flash.add_argument("--dry-run", action="store_true", help="print the avrdude command instead of running it")

@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from host_sdk import PROFILES, Robot, RoverLinkError
+from roverlink import argtypes
 
 
 def cmd_info(args: argparse.Namespace) -> int:
@@ -42,11 +43,19 @@ def cmd_info(args: argparse.Namespace) -> int:
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    p = sub.add_parser("info", help=cmd_info.__doc__)
+    p = sub.add_parser("info", help=cmd_info.__doc__, description=cmd_info.__doc__)
     p.add_argument("url", help="serial port or URL, e.g. /dev/ttyACM0, socket://host:port, emu://picar")
-    p.add_argument("--baud", type=int, default=115200, help="line speed in bit/s (default 115200)")
+    p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
     p.add_argument(
-        "--profile", choices=sorted(PROFILES), default=None, help="reference robot (default: from the firmware)"
+        "--profile",
+        choices=sorted(PROFILES),
+        default=None,
+        help="reference robot, for its kinematics (default: the one the firmware names)",
     )
-    p.add_argument("--timeout", type=float, default=5.0, help="connect timeout in s (default 5)")
+    p.add_argument(
+        "--timeout",
+        type=argtypes.number(0, 600, "s", lo_open=True),
+        default=5.0,
+        help="how long to wait for the board, in s (default 5; an Arduino's bootloader takes ~2)",
+    )
     p.set_defaults(func=cmd_info)

@@ -23,4 +23,4 @@ def cmd_ports(_args: argparse.Namespace) -> int:
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    sub.add_parser("ports", help=cmd_ports.__doc__).set_defaults(func=cmd_ports)
+    sub.add_parser("ports", help=cmd_ports.__doc__, description=cmd_ports.__doc__).set_defaults(func=cmd_ports)

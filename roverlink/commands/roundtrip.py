@@ -57,4 +57,6 @@ def cmd_roundtrip(_args: argparse.Namespace) -> int:
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    sub.add_parser("roundtrip", help=cmd_roundtrip.__doc__).set_defaults(func=cmd_roundtrip)
+    sub.add_parser("roundtrip", help=cmd_roundtrip.__doc__, description=cmd_roundtrip.__doc__).set_defaults(
+        func=cmd_roundtrip
+    )

@@ -19,4 +19,8 @@ def cmd_spec(_args: argparse.Namespace) -> int:
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    sub.add_parser("spec", help="print the protocol version, spec hash and messages").set_defaults(func=cmd_spec)
+    sub.add_parser(
+        "spec",
+        help="print the protocol version, spec hash and messages",
+        description="The protocol version, the spec hash and every message: id, direction, delivery, payload size.",
+    ).set_defaults(func=cmd_spec)

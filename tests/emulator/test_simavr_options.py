@@ -159,3 +159,13 @@ def test_drift_keeps_the_hosts_byte_pace(drift_ppm: int) -> None:
 
         assert robot.run_until(lambda: len(answers()) == 1000, 3_000_000), f"{len(answers())} of 1000 answered"
         assert answers()[-1] - flood_end < 4_000
+
+
+@pytest.mark.usefixtures("built")
+def test_harness_outlives_a_signal_to_its_owners_process_group() -> None:
+    """Ctrl-C in a terminal, or systemd stopping a unit, signals every process of the group: the
+    harness runs in a session of its own, so only its owner stops it, in order (close())."""
+    import os
+
+    with simavr_robot(PROFILE) as robot:
+        assert os.getpgid(robot.harness.pid) != os.getpgrp()

@@ -9,15 +9,22 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from host_sdk.kinematics import Ackermann, Arc, DiffDrive, KinematicsError
-from host_sdk.odometry import Odometry, integrate_arc, wrap_delta_i32
+from host_sdk.odometry import Odometry, integrate_arc
+from host_sdk.session.feedback import FeedbackTracker
+from host_sdk.timesync import ClockSync, Unwrapper
+from protocol.generated import enums, messages
 
 ROBOT = DiffDrive(wheel_radius_m=0.032, track_m=0.2, counts_per_rev=1560)
 
 
-def test_wrap_delta_handles_i32_overflow_both_ways() -> None:
-    assert wrap_delta_i32(-(2**31) + 5, 2**31 - 5) == 10
-    assert wrap_delta_i32(2**31 - 5, -(2**31) + 5) == -10
-    assert wrap_delta_i32(100, 40) == 60
+def test_unwrapping_handles_i32_overflow_both_ways() -> None:
+    up = Unwrapper(32)
+    assert up(2**31 - 5) == 2**31 - 5
+    assert up(-(2**31) + 5) == 2**31 + 5  # 10 counts on, past the wrap
+    down = Unwrapper(32)
+    down(-(2**31) + 5)
+    assert down(2**31 - 5) == -(2**31) - 5  # 10 counts back
+    assert Unwrapper(32)(100) == 100
 
 
 @given(
@@ -57,22 +64,25 @@ def test_lost_feedback_frames_lose_no_ticks() -> None:
     assert sparse.pose.theta_rad == pytest.approx(full.pose.theta_rad, abs=1e-9)
 
 
-def test_counts_wrapping_past_i32_keep_the_pose_continuous() -> None:
-    odo = Odometry(ROBOT)
+def _feedback(counts: tuple[int, int], mcu_time_us: int) -> messages.Feedback:
+    return messages.Feedback(
+        1, mcu_time_us, 0, 0, 0, enums.Status.SESSION, enums.FailsafeReason.NONE, counts, (0, 0), (0, 0), 0
+    )
+
+
+def test_counts_and_time_wrapping_on_the_wire_keep_the_pose_continuous() -> None:
+    """The session's tracker unwraps the wire's i32 counts and u32 time; odometry sees plain ints."""
+    tracker, clock = FeedbackTracker(ROBOT), ClockSync()
     start = 2**31 - 100
-    odo.update((start, start), 0)
+    tracker.sample(_feedback((start, start), 2**32 - 50_000), 0.0, clock)
     wrapped = (start + 400 + 2**31) % 2**32 - 2**31  # 400 counts later, past the wrap
-    pose = odo.update((wrapped, wrapped), 100_000)
+    sample = tracker.sample(_feedback((wrapped, wrapped), 50_000), 0.1, clock)
+    assert sample.encoder_counts == (start + 400, start + 400)
+    assert sample.mcu_time_us == 2**32 + 50_000
+    pose = sample.pose
+    assert pose is not None and pose.mcu_time_us == 2**32 + 50_000
     assert pose.x_m == pytest.approx(400 * ROBOT.metres_per_count)
     assert pose.linear_m_s == pytest.approx(400 * ROBOT.metres_per_count / 0.1)
-
-
-def test_mcu_time_wraps_at_u32() -> None:
-    odo = Odometry(ROBOT)
-    odo.update((0, 0), 2**32 - 5_000)
-    pose = odo.update((100, 100), 5_000)
-    assert pose.mcu_time_us == 10_000
-    assert pose.linear_m_s == pytest.approx(100 * ROBOT.metres_per_count / 0.01)
 
 
 def test_turn_in_place_and_velocities() -> None:

@@ -78,14 +78,21 @@ class Harness:
             cmd += ["--adc0", str(adc0_mv)]
         if line_ppb:
             cmd += ["--line-ppb", str(line_ppb)]  # the host's bytes, in the drifting MCU's cycles
+        # A session of its own: Ctrl-C in a terminal signals the whole foreground process group,
+        # and the harness must outlive that signal so its owner can stop it in order (close()).
         self._proc = subprocess.Popen(
-            cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1, cwd=ROOT
+            cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1, cwd=ROOT, start_new_session=True
         )
         while True:
             line = self._readline()
             if line.startswith("READY"):
                 break
         self.cycle = 0
+
+    @property
+    def pid(self) -> int:
+        """The harness process's id."""
+        return self._proc.pid
 
     def _readline(self) -> str:
         assert self._proc.stdout is not None

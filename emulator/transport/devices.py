@@ -1,0 +1,158 @@
+"""`emudev://KEY/KIND`: the sensors of an in-process emulator, as byte pipes the SDK's drivers open.
+
+An `emu://...?lidar=rplidar-a1&imu=jy901&camera=1` transport registers its sensors here and lists
+their URLs in `transport.endpoints`; the SDK opens them through the `roverlink.transports` entry
+point `emudev` like any other port, so robot code is the same for a real robot and an emulated one.
+The endpoint shares the emulator's clock and lock with the board's transport: on the virtual clock,
+waiting for lidar bytes runs the emulator exactly as waiting for feedback does.
+
+A camera endpoint carries the camera's MJPEG parts (emulator.sensors.mjpeg). Frames wait in a
+buffer of BUFFERED_FRAMES, as in a V4L2 driver's queue: a reader that falls behind loses the oldest
+(it sees the gap in the frame counter).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, Protocol
+from urllib.parse import urlsplit
+
+from emulator.device import Emulator
+from emulator.errors import EmulatorValueError
+from emulator.sensors.mjpeg import CameraDevice, Frame
+from emulator.sensors.rig import IMUS, LIDARS, attach, camera_options
+
+SENSOR_PARAMS = ("world", "lidar", "lidar_hz", "imu", "camera")
+BUFFERED_FRAMES = 4
+
+
+class _Transport(Protocol):
+    emulator: Emulator
+    virtual: bool
+    endpoints: dict[str, str]
+
+    def read_from(self, source: Callable[[], bytes], timeout_s: float) -> bytes: ...
+
+    def locked(self) -> Any: ...
+
+    def clock(self) -> float: ...
+
+
+@dataclass(frozen=True, slots=True)
+class SensorOptions:
+    world: str | None = None
+    lidar: str | None = None
+    lidar_hz: float | None = None
+    imu: str | None = None
+    camera: str | None = None
+    """None, or WIDTHxHEIGHT."""
+
+    def attach(self, emu: Emulator, seed: int) -> None:
+        opts = camera_options(self.camera) if self.camera else False
+        attach(emu, self.world or f"random:{seed}", lidar=self.lidar, imu=self.imu, camera=opts,
+               lidar_hz=self.lidar_hz)  # fmt: skip
+
+
+def sensor_options(values: dict[str, str | None]) -> SensorOptions | None:
+    """SensorOptions from URL/command-line values (None when none is given)."""
+    if not any(values.get(k) for k in SENSOR_PARAMS):
+        return None
+    lidar, imu, camera = values.get("lidar"), values.get("imu"), values.get("camera")
+    if lidar and lidar not in LIDARS:
+        raise EmulatorValueError("lidar", lidar, " or ".join(LIDARS))
+    if imu and imu not in IMUS:
+        raise EmulatorValueError("imu", imu, " or ".join(IMUS))
+    hz_text = values.get("lidar_hz")
+    hz = None
+    if hz_text:
+        try:
+            hz = float(hz_text)
+        except ValueError:
+            hz = math.nan
+        if not math.isfinite(hz) or hz <= 0:
+            raise EmulatorValueError("lidar_hz", hz_text, "a scan rate in Hz > 0")
+    if camera in ("0", "false", ""):
+        camera = None
+    elif camera in ("1", "true"):
+        camera = "320x240"
+    if camera:
+        camera_options(camera)  # checks the size
+    return SensorOptions(values.get("world") or None, lidar or None, hz, imu or None, camera)
+
+
+_REGISTRY: dict[str, _Transport] = {}
+
+
+def register(transport: _Transport) -> dict[str, str]:
+    """Make the transport's sensors reachable; returns their URLs by kind."""
+    key = f"{id(transport):x}"
+    _REGISTRY[key] = transport
+    rig = transport.emulator.sensors
+    return {kind: f"emudev://{key}/{kind}" for kind in rig.devices}
+
+
+def unregister(transport: object) -> None:
+    for key, value in list(_REGISTRY.items()):
+        if value is transport:
+            del _REGISTRY[key]
+
+
+class DeviceEndpoint:
+    """One sensor's byte pipe (duck-typed for host_sdk.transport.plugins)."""
+
+    def __init__(self, url: str, transport: _Transport, kind: str) -> None:
+        self.url = url
+        self.virtual = transport.virtual
+        self.transport = transport
+        self.kind = kind
+        self.device = transport.emulator.sensors.devices[kind]
+        self._closed = False
+        self._frames: deque[bytes] = deque(maxlen=BUFFERED_FRAMES)
+        if isinstance(self.device, CameraDevice):
+            self.device.listeners.append(self._on_frame)
+
+    def _on_frame(self, frame: Frame) -> None:
+        self._frames.append(frame.part())
+
+    def _take(self) -> bytes:
+        if isinstance(self.device, CameraDevice):
+            out = b"".join(self._frames)
+            self._frames.clear()
+            return out
+        return bytes(self.device.host_read(self.transport.emulator.now_us))
+
+    def read(self, timeout_s: float) -> bytes:
+        if self._closed:
+            raise OSError(f"{self.url} is closed")
+        return self.transport.read_from(self._take, timeout_s)
+
+    def write(self, data: bytes) -> None:
+        if self._closed:
+            raise OSError(f"{self.url} is closed")
+        if isinstance(self.device, CameraDevice):
+            return
+        with self.transport.locked() as emu:
+            self.device.host_write(data, emu.now_us)
+
+    def clock(self) -> float:
+        return self.transport.clock()
+
+    def close(self) -> None:
+        if not self._closed and isinstance(self.device, CameraDevice):
+            self.device.listeners.remove(self._on_frame)
+        self._closed = True
+
+
+def open_url(url: str, baud: int = 0) -> DeviceEndpoint:
+    """The `roverlink.transports` entry point for `emudev://`."""
+    parts = urlsplit(url)
+    transport = _REGISTRY.get(parts.netloc)
+    kind = parts.path.strip("/")
+    if parts.scheme != "emudev" or transport is None:
+        raise EmulatorValueError("url", url, "the emudev:// URL of a sensor of an open emu:// transport")
+    if kind not in transport.emulator.sensors.devices:
+        raise EmulatorValueError("url", url, f"one of {', '.join(transport.endpoints.values())}")
+    return DeviceEndpoint(url, transport, kind)

@@ -1,0 +1,152 @@
+"""Robot's configuration calls: the board's CONFIG and PID gains, read, changed and saved.
+
+A change is a read-modify-write of the board's whole CONFIG (or one wheel's gains): the calls
+here do it as one step under a lock of their own, so concurrent changes to different fields all
+stick, and changes to one field end with one of the values written.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import threading
+from typing import Any
+
+from host_sdk import checks
+from host_sdk.errors import CommandRangeError, EncodeError, RoverLinkError
+from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.runner import Runner
+from host_sdk.session import PidGains, RobotConfig, RobotIdentity, Session
+from protocol.codec.message import Message
+from protocol.generated.constants import PID_ALL_WHEELS
+from protocol.generated.enums import Capability
+from protocol.generated.messages import (
+    Config,
+    GetConfig,
+    GetLinkStats,
+    GetPid,
+    LinkStats,
+    Pid,
+    SaveConfig,
+    SetConfig,
+    SetPid,
+)
+
+CONFIG_FIELDS = tuple(f.name for f in SetConfig.FIELDS)
+_GAINS = {f.name: f for f in SetPid.FIELDS if f.name != "wheel"}
+
+
+class ConfigCalls:
+    """The configuration half of `Robot` (a mixin: Robot provides the runner, session and lock)."""
+
+    _runner: Runner
+    _session: Session
+    _lock: threading.RLock
+    _rmw: threading.RLock
+    _user_kinematics: DiffDrive | Ackermann | None
+
+    @property
+    def identity(self) -> RobotIdentity:
+        raise NotImplementedError
+
+    @property
+    def config(self) -> RobotConfig:
+        raise NotImplementedError
+
+    def _resolve_kinematics(self) -> DiffDrive | Ackermann | None:
+        raise NotImplementedError
+
+    def _request(self, msg: Message) -> Message:
+        return self._runner.request(msg)
+
+    # == configuration =============================================================================
+    def read_config(self) -> RobotConfig:
+        """Fetch the configuration from the board (GET_CONFIG)."""
+        reply = self._request(GetConfig())
+        assert isinstance(reply, Config)
+        return self.config
+
+    def set_config(self, **changes: Any) -> RobotConfig:
+        """Change configuration fields (names as in docs/protocol.md CONFIG), e.g.
+        `robot.set_config(max_wheel_speed_mm_s=400, safe_state=SafeState.RAMP_DOWN)`.
+
+        Reads the configuration, replaces the fields, sends SET_CONFIG (reliable: applied once) and
+        reads it back, as one step: a concurrent set_config or set_pid waits for it. Raises
+        CommandRangeError for an unknown field or a value outside its range, NackError when the
+        board refuses (its `field` names the field)."""
+        for key, value in changes.items():
+            if key not in CONFIG_FIELDS:
+                raise CommandRangeError(key, value, f"a CONFIG field: one of {', '.join(CONFIG_FIELDS)}")
+        _config_with(self.config, changes)  # every value checked before anything is sent
+        with self._rmw:
+            wanted = _config_with(self.read_config(), changes)
+            self._request(SetConfig(**wanted.fields()))
+            after = self.read_config()
+            if after != wanted:
+                raise RoverLinkError(f"the board's configuration read back differs from what was set: {after}")
+            self._refresh_kinematics()
+        return after
+
+    def _refresh_kinematics(self) -> None:
+        with self._lock:
+            if self._user_kinematics is None and self._session.kinematics is not None:
+                self._session.set_kinematics(self._resolve_kinematics())
+
+    def _wheels(self) -> int:
+        identity = self.identity
+        return 2 if identity.capabilities & Capability.DIFF_DRIVE else 1
+
+    def pid(self, wheel: int = 0) -> PidGains:
+        """The velocity PID gains of one wheel (GET_PID)."""
+        checks.integer("wheel", wheel, 0, self._wheels() - 1, what="a wheel index")
+        reply = self._request(GetPid(wheel=wheel))
+        assert isinstance(reply, Pid)
+        return PidGains(reply.kp, reply.ki, reply.kd, reply.kf)
+
+    def set_pid(
+        self,
+        *,
+        kp: float | None = None,
+        ki: float | None = None,
+        kd: float | None = None,
+        kf: float | None = None,
+        wheel: int | None = None,
+    ) -> PidGains:
+        """Change PID gains of one wheel, or every wheel (wheel=None); unnamed gains keep each wheel's
+        value. Takes effect at the board's next tick (its integrator is reset). Returns the gains
+        read back (of `wheel`, or wheel 0). Like set_config, one read-modify-write at a time."""
+        wheels = self._wheels()
+        checks.optional(checks.integer, "wheel", wheel, 0, wheels - 1, what="a wheel index (None: every wheel)")
+        named = {"kp": kp, "ki": ki, "kd": kd, "kf": kf}
+        given = {
+            name: checks.number(name, value, _GAINS[name].lo, _GAINS[name].hi, unit=_GAINS[name].unit)
+            for name, value in named.items()
+            if value is not None
+        }
+        with self._rmw:
+            if wheel is None and len(given) == len(_GAINS):
+                self._request(SetPid(wheel=PID_ALL_WHEELS, **given))
+            else:
+                for w in range(wheels) if wheel is None else (wheel,):
+                    gains = dataclasses.replace(self.pid(w), **given)
+                    self._request(SetPid(wheel=w, **dataclasses.asdict(gains)))
+            return self.pid(wheel or 0)
+
+    def save_config(self) -> None:
+        """Write configuration and PID gains to the board's EEPROM (refused while armed: disarm first)."""
+        self._request(SaveConfig())
+
+    def board_link_stats(self) -> LinkStats:
+        """The firmware's own link counters (GET_LINK_STATS): what the board received and sent."""
+        reply = self._request(GetLinkStats())
+        assert isinstance(reply, LinkStats)
+        return reply
+
+
+def _config_with(config: RobotConfig, changes: dict[str, Any]) -> RobotConfig:
+    """`config` with `changes`; CommandRangeError names a value outside its field's range."""
+    wanted = dataclasses.replace(config, **changes)
+    try:
+        wanted.pack()
+    except EncodeError as exc:
+        raise CommandRangeError(exc.field, exc.value, exc.allowed) from None
+    return wanted

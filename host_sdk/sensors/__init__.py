@@ -1,0 +1,36 @@
+"""Drivers for the reference robots' host-side sensors (docs/sensors.md).
+
+Each protocol is a sans-I/O parser (`receive_data(bytes, t)`, then its events), with a thin class
+that owns the port:
+
+- `Lidar`: RPLIDAR A1 (`rplidar.RPLidarParser`) and YDLIDAR F4 (`ydlidar.YDLidarParser`), whole
+  revolutions as `LidarScan` with a time on every point;
+- `Jy901`: the WIT standard protocol (`wit.WitParser`), samples in SI units, configuration;
+- `CameraSource`: frames over OpenCV (V4L2, GStreamer, URLs; MJPEG byte streams via
+  `mjpeg.MjpegParser`), with capture times and dropped-frame counts.
+
+The same classes open real devices (`/dev/ttyUSB0`, `/dev/video0`) and an emulator's devices
+(the `emudev://` URLs an `emu://` robot lists in `transport.endpoints`). numpy is the only
+dependency here; OpenCV is imported by the camera source when it opens.
+"""
+
+from host_sdk.sensors.camera import CameraFrame, CameraSource, gstreamer_pipeline
+from host_sdk.sensors.errors import SensorClosedError, SensorTimeoutError
+from host_sdk.sensors.imu import Jy901
+from host_sdk.sensors.lidar import Lidar
+from host_sdk.sensors.scan import LidarCounters, LidarScan, RegularScan
+from host_sdk.sensors.wit import ImuSample
+
+__all__ = [
+    "CameraFrame",
+    "CameraSource",
+    "ImuSample",
+    "Jy901",
+    "Lidar",
+    "LidarCounters",
+    "LidarScan",
+    "RegularScan",
+    "SensorClosedError",
+    "SensorTimeoutError",
+    "gstreamer_pipeline",
+]

@@ -1,0 +1,86 @@
+"""FEEDBACK frames -> FeedbackSample: the wire's wrapping counters unwrapped, odometry advanced.
+
+This is the receive path's per-frame work on the host (the session calls `sample()` for every
+FEEDBACK of the open session), so it is written to be cheap: no argument checks (the values were
+decoded and range-checked by the codec), no allocation beyond the sample itself.
+"""
+
+from __future__ import annotations
+
+from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.odometry import Odometry, Pose
+from host_sdk.session.types import FeedbackSample
+from host_sdk.timesync import ClockSync, Unwrapper
+from protocol.generated.constants import WHEEL_COUNT
+from protocol.generated.messages import Feedback
+
+_PER_MILLE = (1000).__rtruediv__  # x -> x / 1000, as map() takes it
+
+
+def _bits(name: str) -> int:
+    """The width of a FEEDBACK counter on the wire (it wraps there)."""
+    info = next(f for f in Feedback.FIELDS if f.name == name)
+    return int(info.hi - info.lo + 1).bit_length() - 1
+
+
+_COUNT_BITS, _TICK_BITS = _bits("encoder_counts"), _bits("tick")
+
+
+class FeedbackTracker:
+    """Unwraps counts, MCU time and tick of consecutive FEEDBACK frames of one boot, and keeps the
+    odometry. The encoder counts are unwrapped here and nowhere else (odometry takes them unwrapped)."""
+
+    __slots__ = ("_counts", "_index", "_prev_steering", "_tick", "kinematics", "odometry")
+
+    def __init__(self, kinematics: DiffDrive | Ackermann | None = None) -> None:
+        self.kinematics = kinematics
+        self.odometry: Odometry | None = Odometry(kinematics) if kinematics is not None else None
+        self._index = 0
+        self._prev_steering = 0.0
+        self._counts = [Unwrapper(_COUNT_BITS) for _ in range(WHEEL_COUNT)]
+        self._tick = Unwrapper(_TICK_BITS)
+
+    def new_boot(self) -> None:
+        """The board rebooted: its counters start again; the pose is kept and the counts re-anchored."""
+        self._counts = [Unwrapper(_COUNT_BITS) for _ in range(WHEEL_COUNT)]
+        self._tick = Unwrapper(_TICK_BITS)
+        if self.odometry is not None:
+            p = self.odometry.pose
+            self.odometry.reset(p.x_m, p.y_m, p.theta_rad)
+
+    def set_kinematics(self, kinematics: DiffDrive | Ackermann | None) -> None:
+        """New kinematics (e.g. the configuration changed the wheel size); the pose is kept."""
+        pose = self.odometry.pose if self.odometry is not None else None
+        self.kinematics = kinematics
+        self.odometry = Odometry(kinematics) if kinematics is not None else None
+        if pose is not None and self.odometry is not None:
+            self.odometry.reset(pose.x_m, pose.y_m, pose.theta_rad)
+
+    def sample(self, msg: Feedback, now: float, clock: ClockSync) -> FeedbackSample:
+        """The FeedbackSample of one FEEDBACK, received at host time `now`."""
+        counts = tuple(map(Unwrapper.step, self._counts, msg.encoder_counts))
+        mcu_us = clock.unwrap_raw(msg.mcu_time_us)
+        steering = msg.steering_mrad / 1000
+        pose: Pose | None = None
+        odo = self.odometry
+        if odo is not None:
+            odo.advance(counts, mcu_us, self._prev_steering)
+            pose = odo.pose
+        self._prev_steering = steering
+        self._index += 1
+        return FeedbackSample(
+            self._index,
+            msg.boot_id,
+            now,
+            clock.host_s_of(mcu_us) if clock.synced else now,
+            mcu_us,
+            self._tick.step(msg.tick),
+            msg.status,
+            msg.failsafe_reason,
+            counts,
+            tuple(map(_PER_MILLE, msg.wheel_speed_mm_s)),  # mm/s -> m/s
+            tuple(map(_PER_MILLE, msg.effort_permille)),
+            steering,
+            msg.ack_seq,
+            pose,
+        )

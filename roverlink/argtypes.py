@@ -1,0 +1,54 @@
+"""argparse value checkers for the commands' numeric options.
+
+Each returns a `type=` callable: a bad value ends the command before any work starts, with
+argparse's own message (`error: argument --side: ...`) and exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+
+
+def _fmt(x: float) -> str:
+    return str(int(x)) if float(x).is_integer() else f"{x:g}"
+
+
+def number(lo: float, hi: float, unit: str = "", *, lo_open: bool = False) -> Callable[[str], float]:
+    """A finite number in lo..hi (lo excluded with `lo_open`)."""
+    u = f" {unit}" if unit else ""
+    allowed = f"a number > {_fmt(lo)} and <= {_fmt(hi)}{u}" if lo_open else f"a number in {_fmt(lo)}..{_fmt(hi)}{u}"
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number: {allowed}") from None
+        if not math.isfinite(value) or value < lo or value > hi or (lo_open and value == lo):
+            raise argparse.ArgumentTypeError(f"{text!r} is not allowed: {allowed}")
+        return value
+
+    return parse
+
+
+def integer(lo: int, hi: int, unit: str = "") -> Callable[[str], int]:
+    """An integer in lo..hi."""
+    allowed = f"an integer in {lo}..{hi}{' ' + unit if unit else ''}"
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text, 0)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer: {allowed}") from None
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"{text!r} is not allowed: {allowed}")
+        return value
+
+    return parse
+
+
+SEED = integer(0, 2**63, "")
+"""Emulator seeds (the range the emulator takes)."""
+BAUD = integer(50, 4_000_000, "bit/s")
+"""Line speeds a serial port may be opened at."""

@@ -1,0 +1,45 @@
+# Sourced by scripts/demo.sh and scripts/test.sh: makes sure the checkout has its own virtual
+# environment (.venv) with this package installed in it (editable, with the extras asked for),
+# so nothing is installed into the system's Python (Debian 12 / Raspberry Pi OS refuse that: PEP 668).
+#
+#   source scripts/venv.sh [EXTRA,...]     then: "$VENV/bin/python", "$VENV/bin/roverlink", ...
+#
+# The venv is made with `python3` from PATH (or $PYTHON). Debian's python3 needs its venv module,
+# the package python3-venv: installed with apt-get when missing (sudo when not root).
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+VENV="$ROOT/.venv"
+PYTHON="${PYTHON:-python3}"
+EXTRAS="${1:-}"
+
+as_root() {
+    if [[ $(id -u) -eq 0 ]]; then "$@"; else sudo "$@"; fi
+}
+
+apt_install() {
+    echo "== installing Debian packages: $*"
+    as_root apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq "$@" >/dev/null
+}
+
+if ! command -v "$PYTHON" >/dev/null; then
+    apt_install python3
+fi
+
+if [[ ! -x "$VENV/bin/python" ]] || ! "$VENV/bin/python" -m pip --version >/dev/null 2>&1; then
+    if ! "$PYTHON" -c 'import ensurepip, venv' >/dev/null 2>&1; then
+        version="$("$PYTHON" -c 'import sys; print("%d.%d" % sys.version_info[:2])')"
+        apt_install python3-venv "python${version}-venv"
+    fi
+    echo "== creating the virtual environment $VENV ($("$PYTHON" --version))"
+    rm -rf "$VENV"
+    "$PYTHON" -m venv "$VENV"
+fi
+
+# Install (again) when pyproject.toml is newer than the last install with these extras.
+stamp="$VENV/.installed${EXTRAS:+-$EXTRAS}"
+if [[ ! -f "$stamp" || "$ROOT/pyproject.toml" -nt "$stamp" ]]; then
+    echo "== installing roverlink${EXTRAS:+[$EXTRAS]} into $VENV"
+    "$VENV/bin/python" -m pip install -q --disable-pip-version-check -e "$ROOT${EXTRAS:+[$EXTRAS]}"
+    touch "$stamp"
+fi
