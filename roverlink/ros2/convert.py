@@ -1,4 +1,4 @@
-"""Robot state -> ROS message contents (REP-103 units and axes: m, rad, x forward, z up).
+"""Robot and sensor state -> ROS message contents (REP-103 units and axes: m, rad, x forward, z up).
 
 The arithmetic is plain functions on SDK values; the `fill_*` functions copy results into rclpy
 message objects, which they take duck-typed, so all of this is testable without ROS.
@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from host_sdk import Ackermann, DiffDrive, FeedbackSample, Pose
+from host_sdk.sensors import ImuSample, RegularScan
 
 _NS = 1_000_000_000
 
@@ -141,3 +142,57 @@ def fill_joint_state(msg: Any, *, ns: int, joints: JointSample) -> None:
     msg.name = list(joints.names)
     msg.position = list(joints.positions)
     msg.velocity = list(joints.velocities)
+
+
+def euler_quaternion(roll: float, pitch: float, yaw: float) -> tuple[float, float, float, float]:
+    """(x, y, z, w) of roll about x, then pitch about y, then yaw about z (fixed axes)."""
+    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
+    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    return (
+        sr * cp * cy - cr * sp * sy,
+        cr * sp * cy + sr * cp * sy,
+        cr * cp * sy - sr * sp * cy,
+        cr * cp * cy + sr * sp * sy,
+    )
+
+
+def fill_laser_scan(msg: Any, *, ns: int, frame: str, scan: RegularScan) -> None:
+    """sensor_msgs/LaserScan from a binned scan (NaN or +inf: no return in that bin)."""
+    set_stamp(msg.header.stamp, ns)
+    msg.header.frame_id = frame
+    n = len(scan.ranges_m)
+    msg.angle_min = scan.angle_min
+    msg.angle_max = scan.angle_min + (n - 1) * scan.angle_increment
+    msg.angle_increment = scan.angle_increment
+    msg.time_increment = scan.time_increment_s
+    msg.scan_time = scan.scan_time_s
+    msg.range_min, msg.range_max = scan.range_min_m, scan.range_max_m
+    msg.ranges = [float(r) for r in scan.ranges_m]
+    msg.intensities = [float(i) for i in scan.intensities]
+
+
+def fill_imu(msg: Any, *, ns: int, frame: str, sample: ImuSample) -> None:
+    """sensor_msgs/Imu from one JY901 output period. What the module was not set to send gets
+    covariance[0] = -1 (the message's "not provided"); the rest an unknown (zero) covariance."""
+    set_stamp(msg.header.stamp, ns)
+    msg.header.frame_id = frame
+    q: tuple[float, float, float, float] | None = None
+    if sample.quaternion is not None:
+        w, x, y, z = sample.quaternion
+        q = (x, y, z, w)
+    elif sample.angle is not None:
+        q = euler_quaternion(*sample.angle)
+    if q is None:
+        msg.orientation_covariance[0] = -1.0
+    else:
+        o = msg.orientation
+        o.x, o.y, o.z, o.w = q
+    for value, vector, cov in (
+        (sample.gyro, msg.angular_velocity, msg.angular_velocity_covariance),
+        (sample.accel, msg.linear_acceleration, msg.linear_acceleration_covariance),
+    ):
+        if value is None:
+            cov[0] = -1.0
+        else:
+            vector.x, vector.y, vector.z = value

@@ -48,6 +48,15 @@ class Event:
 
 
 @dataclass(frozen=True, slots=True)
+class Report:
+    level: int
+    name: str
+    message: str
+    hardware_id: str
+    values: tuple[tuple[str, str], ...] = field(default_factory=tuple)
+
+
+@dataclass(frozen=True, slots=True)
 class Snapshot:
     """Everything one report is made of, taken at `time_s` (host clock)."""
 
@@ -81,15 +90,8 @@ class Snapshot:
     last_refusal: str = ""
     tf: str = ""
     """What happens to /tf: published, off, or why it is not published."""
-
-
-@dataclass(frozen=True, slots=True)
-class Report:
-    level: int
-    name: str
-    message: str
-    hardware_id: str
-    values: tuple[tuple[str, str], ...] = field(default_factory=tuple)
+    extra: tuple[Report, ...] = ()
+    """Reports of the sensors (lidar, imu), added as they are."""
 
 
 def _errors(counters: object, names: Sequence[str]) -> dict[str, int]:
@@ -115,7 +117,7 @@ class DiagnosticsBuilder:
 
     def build(self, snap: Snapshot) -> list[Report]:
         prev, self._prev = self._prev, snap
-        return [self._link(snap, prev), self._robot(snap)]
+        return [self._link(snap, prev), self._robot(snap), *snap.extra]
 
     def _rising(self, snap: Snapshot, prev: Snapshot | None) -> list[str]:
         if prev is None:

@@ -36,6 +36,7 @@ from roverlink.ros2.connection import Connection
 from roverlink.ros2.diagnostics import DiagnosticsBuilder, Event, Snapshot
 from roverlink.ros2.driver import Driver, RefusalLog
 from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for
+from roverlink.ros2.sensors import ImuPublisher, LidarPublisher, SensorPublisher
 
 NODE_NAME = "roverlink"
 TF_QOS_DEPTH = 100  # what tf2_ros's TransformBroadcaster uses
@@ -107,7 +108,9 @@ class BridgeNode(Node):
         self._kinematics: Any = None
         self._feedback_times: deque[float] = deque(maxlen=200)
         self.extras: list[Any] = []
-        """Interfaces beside the robot's: the emulator's (ground truth, faults); sensors' (scan, imu)."""
+        """The emulator's interface (ground truth, faults), when the robot is emulated."""
+        self.sensors: list[SensorPublisher] = []
+        """scan and imu publishers, one thread each (roverlink.ros2.sensors)."""
 
         odom_qos = QoSProfile(depth=p.qos_depth, reliability=ReliabilityPolicy.RELIABLE)
         if p.odom_qos == "sensor_data":
@@ -149,18 +152,36 @@ class BridgeNode(Node):
         self._period = period
         self.create_timer(period, self._tick)
         self.create_timer(1.0 / p.diagnostics_rate, self._publish_diagnostics)
+        self._start_sensors({})  # those named by parameters; an emulated robot's when it connects
         self.connection.start()
         self.get_logger().info(f"connecting to {p.url} ({self.mode} feedback at {p.odom_rate} Hz)")
 
     # -- connecting ----------------------------------------------------------------------------
+    def _emu_options(self) -> Any:
+        """What an emu:// URL asks for (None for another port)."""
+        if not self.params.url.startswith("emu://"):
+            return None
+        from emulator.transport.inprocess import parse_emu_url  # noqa: PLC0415 (only for emu://)
+
+        return parse_emu_url(self.params.url)
+
     def _profile_name(self) -> str | None:
         if self.params.profile:
             return self.params.profile
-        if self.params.url.startswith("emu://"):
-            from emulator.transport.inprocess import parse_emu_url  # noqa: PLC0415 (only for emu://)
+        emu = self._emu_options()
+        return None if emu is None else str(emu.profile)
 
-            return parse_emu_url(self.params.url).profile
-        return None
+    def _start_sensors(self, endpoints: dict[str, str]) -> None:
+        """The lidar and IMU the parameters name, or else the emulated ones of an emu:// robot."""
+        p, started = self.params, {s.kind for s in self.sensors}
+        lidar_url = p.lidar_url or endpoints.get("lidar", "")
+        if lidar_url and "lidar" not in started:
+            emu = self._emu_options() if not p.lidar_url else None
+            model = emu.sensors.lidar if emu is not None and emu.sensors is not None else p.lidar_model
+            self.sensors.append(LidarPublisher(self, lidar_url, model, p.lidar_frame, p.scan_bins))
+        imu_url = p.imu_url or endpoints.get("imu", "")
+        if imu_url and "imu" not in started:
+            self.sensors.append(ImuPublisher(self, imu_url, p.imu_frame))
 
     def _profile_mode(self) -> str | None:
         name = self._profile_name()
@@ -219,6 +240,7 @@ class BridgeNode(Node):
             from roverlink.ros2.simulation import EmulatorInterface  # noqa: PLC0415 (only for emu://)
 
             self.extras.append(EmulatorInterface(self, self.connection, robot, p.odom_frame, p.base_frame))
+        self._start_sensors(getattr(robot.transport, "endpoints", None) or {})
         if p.auto_arm:
             robot.arm(wait_esc=False)
             self.get_logger().info("armed (auto_arm)")
@@ -354,6 +376,7 @@ class BridgeNode(Node):
             refused=self.refusals.total,
             last_refusal=self.refusals.last,
             tf=tf,
+            extra=tuple(s.report(self.diagnostics.node_name) for s in self.sensors),
         )
         if robot is None:
             return snap
@@ -393,6 +416,8 @@ class BridgeNode(Node):
     # -- shutting down -----------------------------------------------------------------------------
     def close(self) -> None:
         """Stop, disarm and close the robot (SIGINT, SIGTERM)."""
+        for sensor in self.sensors:
+            sensor.close()
         robot = self.connection.stop()
         with self._driver_lock:
             self.driver = None

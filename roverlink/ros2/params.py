@@ -19,8 +19,12 @@ from protocol.generated.constants import (
     WATCHDOG_MAX_MS,
     WATCHDOG_MIN_MS,
 )
+from protocol.sensors import DEVICES
 
 ParamValue = bool | int | float | str | list[float] | list[str]
+
+LIDARS = tuple(name for name, spec in DEVICES.items() if spec.kind == "lidar")
+"""The lidar models the drivers speak (protocol/spec/sensors.toml)."""
 
 DEFAULT_COVARIANCE = (0.001, 0.001, 0.001, 0.001, 0.001, 0.01)
 """Diagonal of pose and twist covariance (x, y, z, roll, pitch, yaw), as ros2_control's
@@ -112,6 +116,12 @@ SPECS: tuple[ParamSpec, ...] = (
     ParamSpec(
         "auto_arm", False, "arm at start, and again on the next cmd_vel after a board reset or a watchdog failsafe"
     ),
+    ParamSpec("lidar_url", "", "the lidar's port (empty: none, or the emulated one of an emu:// robot)"),
+    ParamSpec("lidar_model", LIDARS[0], f"the lidar: {' or '.join(LIDARS)}", choices=LIDARS),
+    ParamSpec("lidar_frame", "laser", "frame of scan (the lidar's mount, from your URDF)"),
+    ParamSpec("scan_bins", 360, "scan: the revolution binned on this many evenly spaced angles", low=8, high=8192),
+    ParamSpec("imu_url", "", "the JY901 IMU's port (empty: none, or the emulated one of an emu:// robot)"),
+    ParamSpec("imu_frame", "imu_link", "frame of imu (the IMU's mount, from your URDF)"),
 )
 
 BY_NAME = {spec.name: spec for spec in SPECS}
@@ -168,6 +178,12 @@ class BridgeParams:
     on_timeout: str
     limit_policy: str
     auto_arm: bool
+    lidar_url: str
+    lidar_model: str
+    lidar_frame: str
+    scan_bins: int
+    imu_url: str
+    imu_frame: str
 
     @classmethod
     def defaults(cls, **overrides: ParamValue) -> BridgeParams:
@@ -216,7 +232,7 @@ class BridgeParams:
                 params.reconnect_delay_max,
                 f">= reconnect_delay ({params.reconnect_delay:g})",
             )
-        for name in ("odom_frame", "base_frame"):
+        for name in ("odom_frame", "base_frame", "lidar_frame", "imu_frame"):
             if not getattr(params, name):
                 raise CommandRangeError(f"parameter {name}", "", "a frame id (not empty)")
         return params

@@ -12,12 +12,14 @@ import sys
 import threading
 from collections.abc import Iterator
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import pytest
 
 from host_sdk import CommandRangeError, FeedbackSample, LinkStatistics, Robot, TransportError
 from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.sensors import ImuSample
 from host_sdk.session.types import RobotIdentity
 from protocol.generated.enums import Board, Capability, FailsafeReason, FeedbackMode, Status
 from protocol.generated.messages import LinkStats
@@ -146,6 +148,53 @@ def test_ackermann_joints_include_the_steering() -> None:
     assert js.velocities[1] == pytest.approx(1.0)  # 0.1 rad in 0.1 s
     with pytest.raises(ValueError, match="wheel_joints"):
         convert.JointTracker(ack, ("a", "b"), "steer")
+
+
+def _vec() -> SimpleNamespace:
+    return SimpleNamespace(x=0.0, y=0.0, z=0.0, w=1.0)
+
+
+def test_imu_message_from_a_jy901_sample() -> None:
+    assert convert.euler_quaternion(0.0, 0.0, 0.7) == pytest.approx(convert.yaw_quaternion(0.7))
+    msg = SimpleNamespace(
+        header=SimpleNamespace(stamp=SimpleNamespace(), frame_id=""),
+        orientation=_vec(),
+        orientation_covariance=[0.0] * 9,
+        angular_velocity=_vec(),
+        angular_velocity_covariance=[0.0] * 9,
+        linear_acceleration=_vec(),
+        linear_acceleration_covariance=[0.0] * 9,
+    )
+    sample = ImuSample(
+        t=1.0,
+        accel=(0.1, 0.2, 9.8),
+        gyro=None,
+        angle=(0.0, 0.0, math.pi / 2),
+        mag=None,
+        quaternion=None,
+        temperature_c=None,
+    )
+    convert.fill_imu(msg, ns=1_500_000_000, frame="imu_link", sample=sample)
+    assert (msg.header.stamp.sec, msg.header.stamp.nanosec, msg.header.frame_id) == (1, 500_000_000, "imu_link")
+    q = msg.orientation
+    assert (q.x, q.y, q.z, q.w) == pytest.approx((0, 0, math.sqrt(0.5), math.sqrt(0.5)))  # from the angles
+    assert msg.angular_velocity_covariance[0] == -1.0  # the gyro was not sent: "not provided"
+    assert (msg.linear_acceleration.z, msg.linear_acceleration_covariance[0]) == (9.8, 0.0)
+
+
+def test_laser_scan_from_a_binned_scan() -> None:
+    import numpy as np
+
+    from host_sdk.sensors import RegularScan
+
+    scan = RegularScan(
+        -math.pi, math.pi / 2, np.array([1.0, np.inf, 2.0, np.nan]), np.zeros(4), 3.0, 0.1, -0.025, 0.12, 12.0
+    )
+    msg = SimpleNamespace(header=SimpleNamespace(stamp=SimpleNamespace(), frame_id=""))
+    convert.fill_laser_scan(msg, ns=3_000_000_000, frame="laser", scan=scan)
+    assert msg.angle_max == pytest.approx(math.pi / 2) and msg.time_increment == -0.025 and msg.scan_time == 0.1
+    assert msg.ranges[0] == 1.0 and math.isinf(msg.ranges[1]) and math.isnan(msg.ranges[3])
+    assert (msg.range_min, msg.range_max, msg.header.frame_id) == (0.12, 12.0, "laser")
 
 
 # -- the driver, against the emulator on its virtual clock --------------------------------------------
