@@ -17,38 +17,52 @@ Method. Two instruments in the harness (tools/simavr/fil_harness.c):
   float and prologue helpers, which LTO's line tables attribute to main) are named by avr-nm's
   symbol.
 
-Figures:
+Figures (docs/budgets.md states the budgets and why they are per byte):
 
-* Decode and dispatch cycles per command frame (docs/budgets.md): the cycles inside
-  Session::poll while the host sends frames back to back at 115200 baud for 1 s, less the
-  instructions whose source is the Arduino core's serial driver (HardwareSerial*.cpp/.h, Print,
-  Stream, and what is inlined into their functions, e.g. ATOMIC_BLOCK: reading the ring buffer,
-  writing the reply into the TX buffer), less `calls x the
+* Frame decoder cycles per byte (budget <= 86: at most 1/2.5 of SerialTransfer's parse(), 214.8
+  cycles per byte, measured in simavr on the Uno with the Arduino IDE's flags: 4,726 cycles for a
+  22-byte packet, the per-byte costs 169/191/191/197/202x15/210/514/224): the cycles inside
+  Session::poll() whose source is the decoder's (frame_decoder.cpp/.h, crc16.cpp/.h and the
+  generated proto::message_bounds(): COBS undone byte by byte, the length, id and CRC checks, the
+  decoder's counters) while SET_PID frames arrive back to back, divided by the bytes of those
+  frames. The ratio printed is 214.8 / that figure.
+* Read, decode and dispatch cycles per byte of frame (budget <= 120): the cycles inside
+  Session::poll while the host sends SET_PID frames (17-byte payload, 23 bytes on the wire, the
+  command nearest the 16-byte payload the anchor was measured with) back to back at 115200 baud
+  for 1 s, less the instructions whose source is the Arduino core's serial driver
+  (HardwareSerial*.cpp/.h, Print, Stream, and what is inlined into their functions, e.g.
+  ATOMIC_BLOCK: reading the ring buffer, writing the reply into the TX buffer), less `calls x the
   cheapest call` (poll() finding no byte: measured over 20 ms with no host bytes, where every call
-  takes that path, with the same source filter), less the handling (below), divided by the frames
+  takes that path, with the same source filter), less the handling (below), divided by the bytes
   sent. Counted: reading the bytes from the Stream, COBS decoding, CRC, length and id checks,
   unpacking and range checks, the session rules (seq, watchdog, duplicate detection, state
   table), libgcc helpers called from there (prologues). Not counted: interrupt handlers (RX and TX
   of every byte, timers, encoders), the serial driver, control ticks (outside poll()). Every frame
-  must be answered (SET_PID: one ACK each) or the run is invalid. No command has exactly the
-  budget's 16-byte payload: SET_PID (17 bytes, the next size up) is measured; SET_WHEEL_SPEEDS /
-  SET_ACKERMANN (4 bytes, sent 100 times a second, no reply in STREAM mode) are reported too.
+  must be answered (SET_PID: one ACK each) or the run is invalid. SET_WHEEL_SPEEDS /
+  SET_ACKERMANN (4-byte payload, sent 100 times a second, no reply in STREAM mode) are reported per
+  frame and per byte too: their fixed per-frame work is spread over 10 bytes.
 * Handling and reply per command frame (reported beside it, no budget): the cycles inside poll()
   spent in calls of the App's code (roverlink::Firmware::*: SET_PID's gains applied, the session's
   actions on the motors) and of the reply's sending (SessionCore::send_answer, Link::send_payload:
   packing, CRC and COBS of the ACK), which the harness keeps apart (its H command). Decode +
   dispatch + handling is what the whole frame costs inside poll().
-* The longest stretch (no budget): the longest single poll() call in the SET_PID flood, less the
-  cycles of its handlers. A call reads every byte waiting up to the end of one frame, so after a
-  control tick it takes most of a frame at once: this is how long decoding and dispatching hold the
-  loop in one go (the serial driver's reads and poll()'s entry and exit included).
+* The longest poll() (budget: POLL_SPAN_BUDGET_CYCLES, 5 % of the 10 ms control period): the
+  longest single call in the SET_PID flood from its entry to its return, handling, reply and
+  interrupts included (the harness's W command): the control tick is checked between poll() calls,
+  so this is the most one call delays a tick. A call reads every byte waiting up to the end of one
+  frame, so after a control tick it takes most of a frame at once. Why 5 %: ticks stay on a fixed
+  grid and the speed measurement divides by the nominal period, so a tick d late reads its wheel
+  speeds d/10 ms high and the next one as much low, nothing accumulating; 5 % is about one encoder
+  count per tick at 300 mm/s on the finest reference encoder (12.9 mm/s, 4.3 %), the
+  measurement's own resolution. The same call less its handlers (decoding and dispatching alone)
+  is reported too.
 * Full cost per command frame (no budget; what a frame really costs the CPU): the main-loop work
   during the same floods less the work of ticks and FEEDBACK (measured over 1 s of driving),
   divided by the frames sent: decode and dispatch plus the RX interrupt of every byte, the serial
   driver's reads, and the reply's TX interrupts.
 * CPU share of the 100 Hz control loop: work / cycles over 2 s with a session open, armed and
   driving (one setpoint per tick, FEEDBACK streaming at the configured rate), less the full cost
-  of the setpoint frames themselves.
+  of the setpoint frames themselves. Gated at 50 % of the CPU.
 * Receive overruns and latency while frames arrive back to back (both floods): the harness models
   the ATmega's receiver (a shift register and a 2-byte FIFO; a byte still in the shift register
   when the next start bit arrives is lost and DOR0 set), so an overrun here is one on the
@@ -56,20 +70,20 @@ Figures:
   it from UDR0 (gated at two byte times, 2 x 1389 cycles) and the longest main-loop pass (a byte
   that arrives just after poll() emptied the buffer waits one pass; the Arduino core's 64-byte ring
   buffer holds 5.5 ms of bytes at 115200 baud).
-* Flash and SRAM per example: avr-size of the ELF (`roverlink.firmware`).
+* Flash and SRAM per example: avr-size of the ELF (`roverlink.firmware`); a reference firmware on
+  the Uno leaves >= 50 % of flash and SRAM free.
+* Line use (budget <= 40 % of either direction): 100 Hz setpoints and 100 Hz FEEDBACK at 115200
+  baud, from the frames' sizes (line_use.py; no simulation needed).
 
-Budgets (docs/budgets.md): <= 1500 cycles to decode and dispatch one 16-byte-payload command
-frame; a reference firmware on the Uno leaves >= 50 % of flash and SRAM free. The control-loop
-share has no numeric budget there; it is gated at 50 % of the CPU.
+`python3 benchmarks/firmware.py` exits 0 when every budget holds, else 1 with one OVER BUDGET line
+per failure, naming it.
 """
 
 from __future__ import annotations
 
 import argparse
-import bisect
 import json
 import re
-import subprocess
 import sys
 import time
 from collections import defaultdict
@@ -80,16 +94,26 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
+import line_use  # noqa: E402
+from avr_sources import CLONE, Source, function_lines, short, sources, symbol, symbols  # noqa: E402
+
 from emulator.backends.simavr import HANDLER_FLAG, SimavrRobot  # noqa: E402
 from host_sdk import messages  # noqa: E402
 from host_sdk.framing import Frame, FrameDecoder, encode_frame  # noqa: E402
-from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH  # noqa: E402
+from protocol.generated.constants import CONTROL_RATE_HZ, PROTOCOL_VERSION, SPEC_HASH  # noqa: E402
 from protocol.generated.enums import FeedbackMode, IdentityReason  # noqa: E402
 from protocol.generated.profiles import PROFILES  # noqa: E402
 from roverlink import firmware  # noqa: E402
 
-CYCLES_PER_BYTE = 16_000_000 * 10 // 115_200  # 1388 (1388.9)
-FRAME_CYCLES_BUDGET = 1500
+CPU_HZ = 16_000_000
+CYCLES_PER_BYTE = CPU_HZ * 10 // 115_200  # 1388 (1388.9)
+SERIALTRANSFER_CYCLES_PER_BYTE = 4726 / 22  # 214.8: the anchor (docstring, docs/budgets.md)
+SERIALTRANSFER_PACKET_CYCLES_PER_BYTE = 302.8  # its whole packet: read, parse() and unpack
+DECODER_RATIO_BUDGET = 2.5
+DECODER_CYCLES_PER_BYTE_BUDGET = 86  # SERIALTRANSFER_CYCLES_PER_BYTE / DECODER_RATIO_BUDGET = 85.9
+FRAME_CYCLES_PER_BYTE_BUDGET = 120
+CONTROL_PERIOD_CYCLES = CPU_HZ // CONTROL_RATE_HZ
+POLL_SPAN_BUDGET_CYCLES = CONTROL_PERIOD_CYCLES * 5 // 100  # 8,000 cycles, 500 us
 CONTROL_SHARE_BUDGET = 0.50
 UNO_FREE_FRACTION = 0.50
 POLL_SYMBOL = "roverlink::Session<roverlink::Firmware>::poll()"
@@ -101,7 +125,10 @@ HANDLER_SYMBOLS = re.compile(
 )
 SERIAL_DRIVER_FILE = re.compile(r"^(HardwareSerial\w*|Print|Stream)\.(cpp|h)$")
 SERIAL_DRIVER_FUNCTION = re.compile(r"^(HardwareSerial|Print|Stream)::")
-NO_LINE_INFO = "(no line info)"
+# The frame decoder's code, by the innermost source of an instruction (LTO keeps the inlined
+# code's file and line, not its function): its files, and the generated msg_id lookup it calls.
+DECODER_FILES = re.compile(r"^(frame_decoder|crc16)\.(cpp|h)$")
+GENERATED_SOURCE = ROOT / "arduino" / "RoverLink" / "src" / "generated" / "roverlink_protocol.cpp"
 
 
 @dataclass
@@ -113,6 +140,10 @@ class Figures:
     sram_bytes: int
     sram_capacity: int
     control_cpu_share: float
+    set_pid_frame_bytes: int
+    setpoint_frame_bytes: int
+    decoder_cycles_per_byte: float
+    """The frame decoder's cycles (DECODER_FUNCTIONS) per byte of SET_PID frame."""
     decode_dispatch_cycles_per_set_pid_frame: float
     decode_dispatch_cycles_per_setpoint_frame: float
     handling_cycles_per_set_pid_frame: float
@@ -123,24 +154,19 @@ class Figures:
     longest_set_pid_poll_cycles: int
     """The longest single poll() call in the SET_PID flood, handling and reply excluded: how long
     decoding and dispatching hold the loop in one go (serial driver reads included)."""
+    longest_poll_span_cycles: int
+    """The longest poll() call in the SET_PID flood from entry to return, handling, reply and
+    interrupts included: the most one call delays a control tick."""
     worst_loop_pass_cycles: int
     worst_rx_isr_latency_cycles: int
     rx_bytes: int
     rx_overruns: int
     realtime_ratio: float
+    line: line_use.LineUse
     set_pid_breakdown: dict[str, dict[str, float]] = field(default_factory=dict)
     """Cycles per SET_PID frame inside poll() by "file", "function" and "line" (handling included)."""
     setpoint_breakdown: dict[str, dict[str, float]] = field(default_factory=dict)
     """The same per setpoint frame."""
-
-
-@dataclass(frozen=True)
-class Source:
-    file: str
-    """Base name of the instruction's source file (innermost inline frame), or NO_LINE_INFO."""
-    line: int
-    function: str
-    """The function the instruction belongs to (its symbol)."""
 
 
 @dataclass
@@ -153,74 +179,20 @@ class Profile:
     per_pc: dict[int, int]
 
 
-def _symbols(elf: Path) -> list[tuple[int, str]]:
-    """Code symbols, demangled, by address."""
-    out = subprocess.run(
-        ["avr-nm", "-n", "-C", "--defined-only", str(elf)], capture_output=True, text=True, check=True
-    ).stdout
-    syms = []
-    for line in out.splitlines():
-        parts = line.split(maxsplit=2)
-        if len(parts) == 3 and parts[1] in "tTwW":
-            syms.append((int(parts[0], 16), parts[2]))
-    return syms
-
-
-def _symbol(elf: Path, name: str) -> int:
-    for addr, sym in _symbols(elf):
-        if sym == name:
-            return addr
-    raise SystemExit(f"{elf}: no symbol {name}")
-
-
-_CLONE = re.compile(r" \[clone [^]]*\]")
-
-
-def sources(elf: Path, pcs: list[int]) -> dict[int, Source]:
-    """Source of each PC, from one avr-addr2line run over all of them. With LTO the line tables
-    give libgcc's and avr-libc's code (no debug information) to main: a PC whose outermost
-    addr2line function is not the symbol containing it is named by the symbol alone."""
-    syms = _symbols(elf)
-    starts = [a for a, _ in syms]
-    out = subprocess.run(
-        ["avr-addr2line", "-e", str(elf), "-a", "-f", "-C", "-i"],
-        input="\n".join(hex(pc) for pc in pcs),
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout
-    frames: dict[int, list[str]] = {}
-    current: list[str] = []
-    for line in out.splitlines():
-        if line.startswith("0x"):
-            current = frames.setdefault(int(line, 16), [])
-        else:
-            current.append(line)
-    result = {}
-    for pc in pcs:
-        i = bisect.bisect_right(starts, pc) - 1
-        symbol = _CLONE.sub("", syms[i][1]) if i >= 0 else "?"
-        lines = frames.get(pc, [])
-        if len(lines) >= 2 and _CLONE.sub("", lines[-2]) == symbol:
-            path, _, num = lines[1].partition(":")
-            digits = re.match(r"\d+", num)
-            result[pc] = Source(Path(path).name, int(digits.group()) if digits else 0, symbol)
-        else:
-            result[pc] = Source(NO_LINE_INFO, 0, symbol)
-    return result
-
-
 def decode_dispatch(
     flood: Profile, idle: Profile, frames: int, src: dict[int, Source]
-) -> tuple[float, float, dict[str, dict[str, float]]]:
+) -> tuple[float, float, float, dict[str, dict[str, float]]]:
     """Cycles per frame inside poll(), serial driver excluded, less `calls x the cheapest call`
-    (the idle window's per-call profile, filtered the same way): (decode and dispatch, handling),
-    and where both go. Handling is what ran inside the handler boundaries (HANDLER_SYMBOLS)."""
+    (the idle window's per-call profile, filtered the same way): (decode and dispatch, handling,
+    the frame decoder's share of decode and dispatch), and where they go. Handling is what ran
+    inside the handler boundaries (HANDLER_SYMBOLS)."""
     if idle.calls == 0 or idle.cycles != idle.calls * idle.cheapest_call:
         raise SystemExit(f"BENCHMARK INVALID: the idle window's poll() calls differ ({idle})")
     groups: dict[str, dict[str, float]] = {"file": defaultdict(float), "function": defaultdict(float)}
     groups["line"] = defaultdict(float)
     totals = [0.0, 0.0]
+    decoder = 0.0
+    lookup = function_lines(GENERATED_SOURCE, "bool message_bounds(")
     for key in flood.per_pc.keys() | idle.per_pc.keys():
         handling = key >= HANDLER_FLAG
         s = src[key - HANDLER_FLAG if handling else key]
@@ -228,25 +200,14 @@ def decode_dispatch(
             continue
         excess = (flood.per_pc.get(key, 0) - flood.calls * idle.per_pc.get(key, 0) / idle.calls) / frames
         totals[handling] += excess
+        if not handling and (DECODER_FILES.match(s.file) or (s.file == GENERATED_SOURCE.name and s.line in lookup)):
+            decoder += excess
         mark = " (handling)" if handling else ""
         groups["file"][s.file + mark] += excess
-        groups["function"][_short(s.function) + mark] += excess
-        groups["line"][(f"{s.file}:{s.line}" if s.line else _short(s.function)) + mark] += excess
+        groups["function"][short(s.function) + mark] += excess
+        groups["line"][(f"{s.file}:{s.line}" if s.line else short(s.function)) + mark] += excess
     ordered = {k: dict(sorted(v.items(), key=lambda kv: -kv[1])) for k, v in groups.items()}
-    return totals[0], totals[1], ordered
-
-
-def _short(name: str) -> str:
-    """A demangled name without its parameter list."""
-    name = name.removesuffix(" const")
-    if not name.endswith(")"):
-        return name
-    depth = 0
-    for i in range(len(name) - 1, -1, -1):
-        depth += {")": 1, "(": -1}.get(name[i], 0)
-        if depth == 0:
-            return name[:i]
-    return name
+    return totals[0], totals[1], decoder, ordered
 
 
 def _work(stats: tuple[int, int, int, int]) -> int:
@@ -288,10 +249,10 @@ def measure(example: str, profile: str) -> Figures:
                 run(10)
         send(messages.Arm(boot.boot_id))
         run(20)
-        h.set_loop_marker(_symbol(build.elf, "serialEventRun()"))
-        h.profile_function(_symbol(build.elf, POLL_SYMBOL))
-        for address, name in _symbols(build.elf):
-            if HANDLER_SYMBOLS.match(_CLONE.sub("", name)):
+        h.set_loop_marker(symbol(build.elf, "serialEventRun()"))
+        h.profile_function(symbol(build.elf, POLL_SYMBOL))
+        for address, name in symbols(build.elf):
+            if HANDLER_SYMBOLS.match(CLONE.sub("", name)):
                 h.profile_handler(address)
         # 0. No host bytes: every poll() call finds nothing.
         run(20)
@@ -313,6 +274,7 @@ def measure(example: str, profile: str) -> Figures:
         run(1010)
         flood_sp = h.loop_stats()
         prof_sp = profile_since()
+        h.longest_call()
         # 3. SET_PID frames back to back for 1 s (each answered by an ACK).
         pid = messages.SetPid(255, 1.0, 6.0, 0.0, 1.5)
         n_pid = 115_200 // 10 // len(encode_frame(pid, 0))
@@ -322,6 +284,7 @@ def measure(example: str, profile: str) -> Figures:
         run(1010)
         flood_pid = h.loop_stats()
         prof_pid = profile_since()
+        span_pid = h.longest_call()
         acks = sum(isinstance(f.message, messages.Ack) and f.message.req_id == messages.SetPid.MSG_ID for f in frames)
         if acks != n_pid:
             raise SystemExit(f"BENCHMARK INVALID: {example}: {acks} ACKs to {n_pid} SET_PID frames")
@@ -341,8 +304,9 @@ def measure(example: str, profile: str) -> Figures:
     wall = time.perf_counter() - wall0
     keys = idle.per_pc.keys() | prof_sp.per_pc.keys() | prof_pid.per_pc.keys()
     src = sources(build.elf, sorted({k - HANDLER_FLAG if k >= HANDLER_FLAG else k for k in keys}))
-    dd_sp, handling_sp, sp_breakdown = decode_dispatch(prof_sp, idle, n_sp, src)
-    dd_pid, handling_pid, breakdown = decode_dispatch(prof_pid, idle, n_pid, src)
+    dd_sp, handling_sp, _, sp_breakdown = decode_dispatch(prof_sp, idle, n_sp, src)
+    dd_pid, handling_pid, decoder_pid, breakdown = decode_dispatch(prof_pid, idle, n_pid, src)
+    pid_bytes = len(encode_frame(pid, 0))
     return Figures(
         example=example,
         board=build.board.name,
@@ -351,6 +315,9 @@ def measure(example: str, profile: str) -> Figures:
         sram_bytes=build.sram_used,
         sram_capacity=build.board.sram_bytes,
         control_cpu_share=control_share,
+        set_pid_frame_bytes=pid_bytes,
+        setpoint_frame_bytes=len(setpoint_frame),
+        decoder_cycles_per_byte=decoder_pid / pid_bytes,
         decode_dispatch_cycles_per_set_pid_frame=dd_pid,
         decode_dispatch_cycles_per_setpoint_frame=dd_sp,
         handling_cycles_per_set_pid_frame=handling_pid,
@@ -359,6 +326,7 @@ def measure(example: str, profile: str) -> Figures:
         full_cycles_per_setpoint_frame=full_sp,
         poll_idle_call_cycles=idle.cheapest_call,
         longest_set_pid_poll_cycles=prof_pid.longest_work,
+        longest_poll_span_cycles=span_pid,
         worst_loop_pass_cycles=max(flood_sp[3], flood_pid[3]),
         worst_rx_isr_latency_cycles=latency,
         rx_bytes=rx_bytes,
@@ -366,6 +334,7 @@ def measure(example: str, profile: str) -> Figures:
         realtime_ratio=sim_s / wall,
         set_pid_breakdown=breakdown,
         setpoint_breakdown=sp_breakdown,
+        line=line_use.line_use(type(_setpoint(profile, 0))),
     )
 
 
@@ -375,13 +344,28 @@ def _setpoint(profile: str, speed: int) -> messages.Message:
     return messages.SetWheelSpeeds(speed, speed)
 
 
+def frame_cycles_per_byte(f: Figures) -> float:
+    """Read, decode and dispatch cycles per byte of SET_PID frame (the budgeted figure)."""
+    return f.decode_dispatch_cycles_per_set_pid_frame / f.set_pid_frame_bytes
+
+
 def problems(f: Figures) -> list[str]:
+    """One line per budget the example breaks, naming it; empty when every budget holds."""
     out = []
-    if f.decode_dispatch_cycles_per_set_pid_frame > FRAME_CYCLES_BUDGET:
-        cycles = f.decode_dispatch_cycles_per_set_pid_frame
+    if f.decoder_cycles_per_byte > DECODER_CYCLES_PER_BYTE_BUDGET:
         out.append(
-            f"{f.example}: {cycles:.0f} cycles to decode and dispatch a SET_PID frame (17-byte payload)"
-            f" > {FRAME_CYCLES_BUDGET}"
+            f"{f.example}: frame decoder {f.decoder_cycles_per_byte:.1f} cycles/byte > {DECODER_CYCLES_PER_BYTE_BUDGET}"
+            f" (1/{DECODER_RATIO_BUDGET} of SerialTransfer's {SERIALTRANSFER_CYCLES_PER_BYTE:.1f})"
+        )
+    if frame_cycles_per_byte(f) > FRAME_CYCLES_PER_BYTE_BUDGET:
+        out.append(
+            f"{f.example}: read, decode and dispatch {frame_cycles_per_byte(f):.1f} cycles per byte of SET_PID frame"
+            f" > {FRAME_CYCLES_PER_BYTE_BUDGET}"
+        )
+    if f.longest_poll_span_cycles > POLL_SPAN_BUDGET_CYCLES:
+        out.append(
+            f"{f.example}: the longest poll() call takes {f.longest_poll_span_cycles} cycles"
+            f" > {POLL_SPAN_BUDGET_CYCLES} (5% of the control period: a control tick is delayed that long)"
         )
     if f.control_cpu_share > CONTROL_SHARE_BUDGET:
         out.append(f"{f.example}: control loop uses {f.control_cpu_share:.1%} of the CPU > {CONTROL_SHARE_BUDGET:.0%}")
@@ -394,27 +378,38 @@ def problems(f: Figures) -> list[str]:
             out.append(f"{f.example}: flash {f.flash_bytes} B > 50% of {f.flash_capacity} B")
         if f.sram_bytes > f.sram_capacity * UNO_FREE_FRACTION:
             out.append(f"{f.example}: SRAM {f.sram_bytes} B > 50% of {f.sram_capacity} B")
+    out += [f"{f.example}: {p}" for p in line_use.problems(f.line)]
     return out
 
 
 def report(f: Figures) -> str:
+    ratio = SERIALTRANSFER_CYCLES_PER_BYTE / f.decoder_cycles_per_byte
+    per_byte_sp = f.decode_dispatch_cycles_per_setpoint_frame / f.setpoint_frame_bytes
+    packet_ratio = SERIALTRANSFER_PACKET_CYCLES_PER_BYTE / frame_cycles_per_byte(f)
     return (
         f"{f.example} ({f.board}): flash {f.flash_bytes:,}/{f.flash_capacity:,} B, SRAM {f.sram_bytes:,}/"
         f"{f.sram_capacity:,} B; control loop {f.control_cpu_share:.1%} CPU\n"
-        f"    decode+dispatch (Session::poll up to the handler, no ISRs, no serial driver, less idle polls): "
-        f"{f.decode_dispatch_cycles_per_set_pid_frame:.0f} cycles/SET_PID frame (budget {FRAME_CYCLES_BUDGET}), "
-        f"{f.decode_dispatch_cycles_per_setpoint_frame:.0f} cycles/setpoint frame; idle poll() "
-        f"{f.poll_idle_call_cycles} cycles\n"
+        f"    frame decoder: {f.decoder_cycles_per_byte:.1f} cycles/byte (budget {DECODER_CYCLES_PER_BYTE_BUDGET}); "
+        f"SerialTransfer's parse() {SERIALTRANSFER_CYCLES_PER_BYTE:.1f}: {ratio:.2f}x fewer "
+        f"(budget {DECODER_RATIO_BUDGET}x)\n"
+        f"    read+decode+dispatch (Session::poll up to the handler, no ISRs, no serial driver, less idle polls): "
+        f"{frame_cycles_per_byte(f):.1f} cycles/byte of SET_PID frame (budget {FRAME_CYCLES_PER_BYTE_BUDGET}): "
+        f"{f.decode_dispatch_cycles_per_set_pid_frame:.0f} cycles/{f.set_pid_frame_bytes}-byte frame; setpoint "
+        f"{f.decode_dispatch_cycles_per_setpoint_frame:.0f} cycles/{f.setpoint_frame_bytes}-byte frame "
+        f"({per_byte_sp:.1f}/byte); idle poll() {f.poll_idle_call_cycles} cycles; SerialTransfer's whole packet "
+        f"{SERIALTRANSFER_PACKET_CYCLES_PER_BYTE}: {packet_ratio:.2f}x fewer\n"
         f"    + handling and reply (the App's code, the ACK): {f.handling_cycles_per_set_pid_frame:.0f} cycles/SET_PID "
         f"frame, {f.handling_cycles_per_setpoint_frame:.0f} cycles/setpoint frame\n"
         f"    full cost (+ RX ISR per byte, serial driver, reply TX ISRs): "
         f"{f.full_cycles_per_set_pid_frame:.0f} cycles/SET_PID frame, "
         f"{f.full_cycles_per_setpoint_frame:.0f} cycles/setpoint frame\n"
-        f"    in one stretch: the longest poll() call in the SET_PID flood, less handling and reply: "
-        f"{f.longest_set_pid_poll_cycles} cycles (serial driver reads included)\n"
+        f"    longest poll() in the SET_PID flood: {f.longest_poll_span_cycles} cycles entry to return "
+        f"({f.longest_poll_span_cycles / CPU_HZ * 1e6:.0f} us; budget {POLL_SPAN_BUDGET_CYCLES}, 5% of the control "
+        f"period), {f.longest_set_pid_poll_cycles} of them decoding and dispatching\n"
         f"    back to back: {f.rx_bytes:,} bytes received, {f.rx_overruns} overruns, RX ISR latency "
         f"{f.worst_rx_isr_latency_cycles} cycles (one byte: {CYCLES_PER_BYTE}), longest loop pass "
-        f"{f.worst_loop_pass_cycles} cycles; {f.realtime_ratio:.1f}x real time"
+        f"{f.worst_loop_pass_cycles} cycles; {f.realtime_ratio:.1f}x real time\n"
+        f"    {line_use.report(f.line)}"
     )
 
 

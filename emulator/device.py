@@ -37,6 +37,7 @@ from emulator.firmware.statemachine import SessionEvent
 from emulator.firmware.tick import TICK_US
 from emulator.injection import MAX_FAULT_LOG, FaultInjection, ResetKind, checked_board_options
 from emulator.line import SerialLink
+from emulator.physical import Physical
 from emulator.plant.plant import WHEEL_CHANNELS, Plant
 from emulator.profiles import EmulatorProfile, get_profile
 from emulator.rng import Streams
@@ -140,8 +141,12 @@ class Emulator(FaultInjection):
         eeprom: str = "blank",
         bootloader_ms: int | None = None,
         board_id: BoardId = BoardId.EMULATOR,
+        physical: Physical | None = None,
+        stand: bool = False,
     ) -> None:
         self.profile = get_profile(profile) if isinstance(profile, str) else profile
+        if physical is not None:
+            self.profile = self.profile.with_physical(physical)
         if not (isinstance(baud, int) and 300 <= baud <= 2_000_000):
             raise EmulatorValueError("baud", baud, "an integer in 300..2000000")
         self.bootloader_ms = checked_board_options(self.profile, latency_us, drift_ppm, bootloader_ms)
@@ -191,6 +196,8 @@ class Emulator(FaultInjection):
         """The robot's surroundings (emulator.sensors.attach): collisions stop the plant."""
         self.sensors: Any = None
         """The SensorRig attached with emulator.sensors.attach, else None."""
+        if stand:
+            self.plant.vehicle.set_lifted(True)
         self.clock.call_at(physics_dt_us, self._physics, PRIORITY_PHYSICS)
         self._begin_reset(ResetKind.POWER_ON, hold_us=0)
         self.apply_faults(faults or FaultSpec())
@@ -391,6 +398,11 @@ class Emulator(FaultInjection):
         self.eeprom_failing = failing
         self._log(self.clock.now_us, "eeprom_fail" if failing else "eeprom_ok", "")
 
+    def set_stand(self, on: bool = True) -> None:
+        """Lift the robot onto a stand (wheels in the air, the body held still) or put it back down."""
+        self.plant.vehicle.set_lifted(on)
+        self._log(self.clock.now_us, "stand", "lifted" if on else "on the ground")
+
     # == ground truth ==============================================================================
     @property
     def truth(self) -> Truth:
@@ -461,4 +473,5 @@ class Emulator(FaultInjection):
             leds=plant.leds.states(),
             led_toggles=tuple(plant.leds.toggles),
             traction_mu=v.mu,
+            on_stand=v.lifted,
         )

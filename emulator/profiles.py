@@ -14,10 +14,12 @@ set has its motor / encoder mounted mirrored, so the default config drives it th
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
 from emulator.errors import UnknownProfileError
+from emulator.physical import NOMINAL, Physical
 from emulator.plant.esc import EscParams
 from emulator.plant.motor import MotorParams
 from emulator.plant.servo import ServoParams
@@ -57,6 +59,8 @@ class EmulatorProfile:
     robot: RobotProfile
     """Firmware defaults, dimensions and capabilities from PROFILES."""
     plant: PlantParams
+    physical: Physical = NOMINAL
+    """How the robot is really built where it differs from its configuration (emulator.physical)."""
 
     @property
     def name(self) -> str:
@@ -68,7 +72,34 @@ class EmulatorProfile:
 
     @property
     def wheel_radius_m(self) -> float:
-        return self.robot.wheel_diameter_m / 2
+        """The plant's true wheel radius."""
+        return self.robot.wheel_diameter_m / 2 * self.physical.wheel_scale
+
+    @property
+    def track_m(self) -> float:
+        """The plant's true track width (0 for Ackermann: one drive unit on the axle's midpoint)."""
+        return self.robot.track_m * self.physical.track_scale
+
+    @property
+    def encoder_cpr(self) -> int:
+        """The plant's true encoder counts per wheel revolution."""
+        return round(self.robot.encoder_cpr * self.physical.cpr_scale)
+
+    @property
+    def servo(self) -> ServoParams | None:
+        """The steering servo and linkage as built (the true straight-ahead angle and ratio)."""
+        servo = self.plant.servo
+        if servo is None:
+            return None
+        phys = self.physical
+        return dataclasses.replace(
+            servo,
+            straight_deg=servo.straight_deg + phys.steering_trim_deg,
+            linkage_ratio=servo.linkage_ratio * phys.steering_ratio,
+        )
+
+    def with_physical(self, physical: Physical) -> EmulatorProfile:
+        return dataclasses.replace(self, physical=physical)
 
     @property
     def drive_units(self) -> int:
@@ -76,10 +107,12 @@ class EmulatorProfile:
         return 1 if self.ackermann else 2
 
     def motor_polarity(self, wheel: int) -> int:
-        return -1 if self.robot.config.motor_invert >> wheel & 1 else 1
+        mirrored = (self.robot.config.motor_invert ^ self.physical.motor_flip) >> wheel & 1
+        return -1 if mirrored else 1
 
     def encoder_polarity(self, wheel: int) -> int:
-        return -1 if self.robot.config.encoder_invert >> wheel & 1 else 1
+        mirrored = (self.robot.config.encoder_invert ^ self.physical.encoder_flip) >> wheel & 1
+        return -1 if mirrored else 1
 
     @property
     def has_esc(self) -> bool:

@@ -26,7 +26,7 @@ class FaultRecord:
     kind: str
     """bitflip, drop, insert, noise, cut, restore, reset, dtr_reset, bootloader_garbage, brownout,
     stall, unstall, encoder_disconnect, encoder_reconnect, eeprom_fail, eeprom_ok, traction,
-    bitflip_rate, drop_rate, insert_rate (a rate was set), rx_overrun (an effect: host bytes lost
+    bitflip_rate, drop_rate, insert_rate (a rate was set), stand, rx_overrun (an effect: host bytes lost
     in the MCU's full receive buffer)."""
     detail: str
 
@@ -108,6 +108,8 @@ class PlantTruth:
     leds: dict[str, bool]
     led_toggles: tuple[int, ...]
     traction_mu: float
+    on_stand: bool = False
+    """Lifted onto a stand: the wheels spin in the air and the body does not move."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what the tests need and runs the whole suite: generated-code drift, lint, types, native
-# C++ tests (plain, sanitizers, avr-g++), pytest, and a quick benchmark smoke run.
+# C++ tests (plain, sanitizers, avr-g++), pytest, quick benchmark smoke runs and fuzzing
+# (scripts/fuzz.sh: each libFuzzer target for FUZZ_SECONDS, default 60).
 # Usage: bash scripts/test.sh [extra pytest args]
 #
 # Everything Python runs in the checkout's own virtual environment (.venv, made by scripts/venv.sh
@@ -11,7 +12,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-bash scripts/ensure_debian_packages.sh g++ make gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev libelf-dev
+source scripts/debian-packages.sh
+install_debian_packages g++ make gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev libelf-dev \
+    clang-14 libfuzzer-14-dev libclang-rt-14-dev llvm-14
 
 # shellcheck source=scripts/venv.sh
 source scripts/venv.sh dev,ros2,ros2-build
@@ -40,3 +43,6 @@ python benchmarks/codec.py --quick --require-roverlink
 
 echo "== host receive-path benchmark (smoke run; full run: .venv/bin/python benchmarks/host.py)"
 python benchmarks/host.py --quick --rates 100
+
+echo "== fuzzing (tests/fuzz: ${FUZZ_SECONDS:=60} s per target; SECURITY.md)"
+bash scripts/fuzz.sh --seconds "$FUZZ_SECONDS"

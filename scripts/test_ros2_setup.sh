@@ -9,7 +9,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-bash scripts/ensure_debian_packages.sh cmake g++ make
+# shellcheck source=scripts/debian-packages.sh
+source scripts/debian-packages.sh
+install_debian_packages cmake g++ make
 
 # shellcheck source=scripts/venv.sh
 source scripts/venv.sh dev,ros2,ros2-build

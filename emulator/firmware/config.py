@@ -20,6 +20,7 @@ from protocol.codec.crc import crc16
 from protocol.codec.message import FieldInfo, Message
 from protocol.generated.constants import PID_ALL_WHEELS, WHEEL_COUNT
 from protocol.generated.messages import SetConfig, SetPid
+from protocol.generated.oracle import PAYLOADS
 
 BOOT_COUNTER_ADDR = 0x000
 IMAGE_ADDR = 0x010
@@ -63,6 +64,31 @@ def first_out_of_range(msg: Message) -> int | None:
         if not _in_range(info, getattr(msg, info.name)):
             return index
     return None
+
+
+def first_refused_field(cls: type[Message], payload: bytes) -> int | None:
+    """Index of the first field of a payload the decoder refused (a value its type does not
+    define) that is outside its spec range or undefined: what the firmware's check_ranges() names
+    for a reliable request whose values only it checks. None if every field is allowed."""
+    raw = PAYLOADS[cls.MSG_ID].parse(payload)
+    for index, info in enumerate(cls.FIELDS):
+        value = raw[info.name]
+        if info.kind == "str":
+            value = bytes(value)
+            ok = value.isascii()
+        elif info.kind in ("enum", "flags"):
+            ok = all(_defined(info, v) for v in (value if info.count is not None else [value]))
+        else:
+            ok = _in_range(info, list(value) if info.count is not None else value)
+        if not ok:
+            return index
+    return None
+
+
+def _defined(info: FieldInfo, value: int) -> bool:
+    if info.kind == "flags":
+        return not value & ~int(info.hi)
+    return info.enum is not None and value in {int(m) for m in info.enum}
 
 
 def _in_range(info: FieldInfo, value: object) -> bool:

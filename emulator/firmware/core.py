@@ -21,7 +21,7 @@ from emulator.firmware.config import (
     first_out_of_range,
 )
 from emulator.firmware.lights import light_mask
-from emulator.firmware.link import FirmwareLink
+from emulator.firmware.link import BadValue, FirmwareLink
 from emulator.firmware.requests import REQUESTS, ack, nack
 from emulator.firmware.session import ACTION_ORDER, Session
 from emulator.firmware.statemachine import Action, Guard, SessionEvent, SessionState
@@ -147,8 +147,11 @@ class Firmware(ControlTick):
 
     # == frames (1) ================================================================================
     def on_bytes(self, data: bytes) -> None:
-        for frame in self.link.feed(data):
-            self._on_frame(frame)
+        for event in self.link.feed(data):
+            if isinstance(event, BadValue):
+                self._on_bad_value(event)
+            else:
+                self._on_frame(event)
 
     def _on_frame(self, frame: Frame) -> None:
         msg, seq = frame
@@ -159,6 +162,22 @@ class Firmware(ControlTick):
         handler = self._handlers.get(type(msg))
         if handler is not None:
             handler(msg, seq)
+
+    def _on_bad_value(self, bad: BadValue) -> None:
+        """1.4: a reliable request holding a value its type does not define is a valid frame whose
+        field is out of range: the request's rules, then NACK(OUT_OF_RANGE, detail = the field)."""
+        self.link.account_seq(bad.seq)
+        self._fire(SessionEvent.VALID_FRAME)
+
+        def apply() -> Message | None:
+            if self.session.state is SessionState.IDLE or self.session.state is SessionState.BOOT:
+                reply = nack(bad.request, bad.seq, NackReason.NO_SESSION)
+            else:
+                reply = nack(bad.request, bad.seq, NackReason.OUT_OF_RANGE, bad.field)
+            self._send(reply)
+            return reply
+
+        self._reliable(bad.request, bad.seq, apply)
 
     def _on_hello(self, msg: Message, seq: int) -> None:
         assert isinstance(msg, Hello)
@@ -190,7 +209,9 @@ class Firmware(ControlTick):
         self._reliable(msg, seq, apply)
 
     # == reliable requests (2) =====================================================================
-    def _reliable(self, msg: Message, seq: int, apply: Callable[[], Message | None], fresh: bool = False) -> None:
+    def _reliable(
+        self, msg: Message | type[Message], seq: int, apply: Callable[[], Message | None], fresh: bool = False
+    ) -> None:
         """Duplicate rule: the same (msg_id, seq) as the last reliable request is answered again
         (a fresh reply for GET_*, else the same ACK/NACK) and not applied again."""
         key = (msg.MSG_ID, seq)
@@ -353,12 +374,12 @@ class Firmware(ControlTick):
             robot_name=self.robot.example[:24],
         )
 
-    def _ack(self, msg: Message, seq: int) -> Ack:
+    def _ack(self, msg: Message | type[Message], seq: int) -> Ack:
         reply = ack(msg, seq)
         self._send(reply)
         return reply
 
-    def _nack(self, msg: Message, seq: int, reason: NackReason, detail: int = 0) -> Nack:
+    def _nack(self, msg: Message | type[Message], seq: int, reason: NackReason, detail: int = 0) -> Nack:
         reply = nack(msg, seq, reason, detail)
         self._send(reply)
         return reply

@@ -42,11 +42,11 @@ if TYPE_CHECKING:
     from emulator.firmware.core import Firmware
 
 
-def ack(msg: Message, seq: int) -> Ack:
+def ack(msg: Message | type[Message], seq: int) -> Ack:
     return Ack(req_id=msg.MSG_ID, req_seq=seq)
 
 
-def nack(msg: Message, seq: int, reason: NackReason, detail: int = 0) -> Nack:
+def nack(msg: Message | type[Message], seq: int, reason: NackReason, detail: int = 0) -> Nack:
     return Nack(req_id=msg.MSG_ID, req_seq=seq, reason=reason, detail=detail & 0xFF)
 
 

@@ -27,13 +27,14 @@ class Plant:
         units: list[DriveUnit] = []
         for w in range(profile.drive_units):
             motor = DcMotor(params.motor, profile.motor_polarity(w), dt_s)
-            encoder = QuadratureEncoder(robot.encoder_cpr, profile.encoder_polarity(w), params.encoder_phase)
-            y = 0.0 if profile.ackermann else (robot.track_m / 2 if w == 0 else -robot.track_m / 2)
+            encoder = QuadratureEncoder(profile.encoder_cpr, profile.encoder_polarity(w), params.encoder_phase)
+            y = 0.0 if profile.ackermann else (profile.track_m / 2 if w == 0 else -profile.track_m / 2)
             units.append(DriveUnit(motor, encoder, y, reflected))
         self.units = units
         self.vehicle = Vehicle(params.body, units, radius, robot.kinematics, robot.wheelbase_m)
         self.esc = Esc(params.esc) if profile.has_esc and params.esc is not None else None
-        self.servo = SteeringServo(params.servo) if profile.has_servo and params.servo is not None else None
+        servo = profile.servo
+        self.servo = SteeringServo(servo) if profile.has_servo and servo is not None else None
         self.leds = LedBank()
 
     # -- what the MCU's pins do (called through the firmware's Board) ---------------------------

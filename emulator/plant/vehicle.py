@@ -100,10 +100,20 @@ class Vehicle:
         self.distance_m = 0.0
         """Path length travelled by the pose point (always increasing)."""
         self.mu = body.mu
+        self.lifted = False
+        """On a stand: no tyre touches the ground, the body stays where it is, the wheels spin free."""
         self._static = False
-        load = body.mass_kg * GRAVITY * body.drive_load_fraction / len(units)
+        self._load_n = body.mass_kg * GRAVITY * body.drive_load_fraction / len(units)
         for unit in units:
-            unit.normal_n = load
+            unit.normal_n = self._load_n
+
+    def set_lifted(self, lifted: bool) -> None:
+        """Put the robot on a stand (or back down): the body stops, the tyres carry no load."""
+        self.lifted = lifted
+        self.v_m_s = self.wz_rad_s = 0.0
+        for unit in self.units:
+            unit.normal_n = 0.0 if lifted else self._load_n
+            unit.slipping = False
 
     def step(self, dt: float, steer_rad: float) -> None:
         body = self.body
@@ -132,7 +142,11 @@ class Vehicle:
             iz_inv = 1.0 / body.yaw_inertia_kg_m2
             wz = self.wz_rad_s
         v = self.v_m_s
-        contact, dry = self._impulses(w_free, j_inv, v=v, wz=wz, m_inv=m_inv, iz_inv=iz_inv, dt=dt)
+        if self.lifted:
+            contact, dry = [0.0] * n, self._free_spin(w_free, j_inv, dt)
+            self._static = False
+        else:
+            contact, dry = self._impulses(w_free, j_inv, v=v, wz=wz, m_inv=m_inv, iz_inv=iz_inv, dt=dt)
         total = 0.0
         yaw = 0.0
         for i, u in enumerate(units):
@@ -210,6 +224,20 @@ class Vehicle:
             u.slipping = i in fixed
         self._static = not fixed
         return values[:n], values[n:]
+
+    def _free_spin(self, w: list[float], j_inv: list[float], dt: float) -> list[float]:
+        """Dry-friction impulses of wheels in the air: each stops its wheel if it can, else acts
+        at its bound against the motion (no contact, so the wheels do not couple)."""
+        dry = []
+        for i, u in enumerate(self.units):
+            bound = u.motor.params.coulomb_nm * dt
+            if u.stalled or j_inv[i] == 0.0:
+                dry.append(0.0)
+            elif abs(w[i]) <= j_inv[i] * bound:
+                dry.append(w[i] / j_inv[i])  # held: the wheel stops exactly
+            else:
+                dry.append(math.copysign(bound, w[i]))
+        return dry
 
     def _moving_and_gripping(
         self, rows: list[list[float]], rhs: list[float], bounds: list[float], w: list[float]

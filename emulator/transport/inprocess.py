@@ -20,6 +20,11 @@ Query parameters (all optional):
 | latency_us | integer | 1000 | one-way latency of the emulated USB-serial adapter |
 | drift_ppm | number | 0 | the MCU crystal's error |
 | eeprom | blank, saved | saved | a board whose defaults were saved, or a new one (blank: it warns in a LOG) |
+| stand | 0, 1 | 0 | 1: the robot starts on a stand (wheels in the air); `Emulator.set_stand()` changes it |
+| physical | nominal, miscalibrated | nominal | how the robot is really built (emulator.physical) |
+| cpr_scale, wheel_scale, track_scale, steering_ratio | number | 1 | true / configured cpr, wheel, track, linkage |
+| motor_flip, encoder_flip | 0..3 | 0 | wheel bit mask: mounted the other way than motor_invert / encoder_invert say |
+| steering_trim_deg | number | 0 | servo angle past the configured centre at which the wheels point straight |
 | world | scenario path, random:SEED | random:`seed` | the surroundings (docs/sensors.md); alone: no sensors |
 | lidar | rplidar-a1, ydlidar-f4 | none | attach a lidar (its `emudev://` URL is in `endpoints["lidar"]`) |
 | lidar_hz | number | the device's | the lidar's scan rate |
@@ -43,6 +48,7 @@ from urllib.parse import parse_qs, unquote, urlsplit
 
 from emulator.device import Emulator
 from emulator.errors import EmulatorError, EmulatorValueError
+from emulator.physical import FIELD_NAMES, NOMINAL, Physical, physical_from
 from emulator.transport.devices import SENSOR_PARAMS, SensorOptions, register, sensor_options, unregister
 
 
@@ -53,7 +59,20 @@ class LinkClosedError(EmulatorError, ConnectionError):
 DEFAULT_PROFILE = "diffdrive-tb6612"
 STEP_US = 500
 """Virtual clock: how far one step of `read()` moves time while waiting for bytes."""
-_PARAMS = ("seed", "faults", "clock", "speed", "dtr", "latency_us", "drift_ppm", "eeprom", *SENSOR_PARAMS)
+_PARAMS = (
+    "seed",
+    "faults",
+    "clock",
+    "speed",
+    "dtr",
+    "latency_us",
+    "drift_ppm",
+    "eeprom",
+    "stand",
+    "physical",
+    *FIELD_NAMES,
+    *SENSOR_PARAMS,
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -70,6 +89,8 @@ class EmulatorOptions:
     drift_ppm: float = 0.0
     eeprom: str = "saved"
     sensors: SensorOptions | None = None
+    stand: bool = False
+    physical: Physical = NOMINAL
 
 
 def parse_emu_url(url: str) -> EmulatorOptions:
@@ -103,9 +124,14 @@ def parse_emu_url(url: str) -> EmulatorOptions:
     clock = one("clock") or "real"
     if clock not in ("real", "virtual"):
         raise EmulatorValueError("url parameter clock", clock, "real or virtual")
-    dtr = one("dtr") or "0"
-    if dtr not in ("0", "1", "true", "false"):
-        raise EmulatorValueError("url parameter dtr", dtr, "0 or 1")
+    flags: dict[str, bool] = {}
+    for key in ("dtr", "stand"):
+        flag = one(key) or "0"
+        if flag not in ("0", "1", "true", "false"):
+            raise EmulatorValueError(f"url parameter {key}", flag, "0 or 1")
+        flags[key] = flag in ("1", "true")
+    overrides = {key: value for key in FIELD_NAMES if (value := one(key)) is not None}
+    physical = physical_from(one("physical"), overrides)
     eeprom = one("eeprom") or "saved"
     if eeprom not in ("blank", "saved"):
         raise EmulatorValueError("url parameter eeprom", eeprom, "blank or saved")
@@ -115,11 +141,13 @@ def parse_emu_url(url: str) -> EmulatorOptions:
         faults=one("faults") or "",
         clock=clock,
         speed=number("speed", float, 1.0, 0.01, 1000.0),
-        dtr=dtr in ("1", "true"),
+        dtr=flags["dtr"],
         latency_us=int(number("latency_us", int, 1000, 0, 1_000_000)),
         drift_ppm=number("drift_ppm", float, 0.0, -10_000, 10_000),
         eeprom=eeprom,
         sensors=sensor_options({k: one(k) for k in SENSOR_PARAMS}),
+        stand=flags["stand"],
+        physical=physical,
     )
 
 
@@ -161,6 +189,8 @@ class EmulatorTransport:
             latency_us=options.latency_us,
             drift_ppm=options.drift_ppm,
             eeprom=options.eeprom,
+            physical=options.physical,
+            stand=options.stand,
         )
         if options.dtr:
             emu.dtr_reset()

@@ -316,7 +316,7 @@ class Session(Requests):
             self._setpoint = None
         else:
             request = SetWheelSpeeds if msg.req_id == SetWheelSpeeds.MSG_ID else SetAckermann
-            self._setpoint_error = _nack_error(request(0, 0), msg)
+            self._setpoint_error = _nack_error(request, msg)  # setpoints are not kept: the value is unknown
             self._setpoint = None
 
     def _enter_failsafe(self, reason: FailsafeReason, predicted: bool) -> None:
@@ -487,12 +487,18 @@ class Session(Requests):
         self._events.append(FeedbackReceived(sample))
 
 
-def _nack_error(request: Message, nack: Nack) -> NackError:
+def _nack_error(request: Message | type[Message], nack: Nack) -> NackError:
+    """The NackError for a refused request: the field named by a field-index detail, and the value
+    sent in it when `request` is the message itself (a class: the value is not known)."""
     field_name: str | None = None
-    cls = BY_ID.get(nack.req_id, type(request))
+    cls = BY_ID.get(nack.req_id, request if isinstance(request, type) else type(request))
+    sent = ""
     if nack.reason in (NackReason.OUT_OF_RANGE, NackReason.INVALID_CONFIG) and nack.detail < len(cls.FIELDS):
         field_name = cls.FIELDS[nack.detail].name
+        if nack.reason is NackReason.OUT_OF_RANGE and isinstance(request, cls):
+            sent = f"sent {field_name} = {getattr(request, field_name)!r}"
     hints = {
+        NackReason.OUT_OF_RANGE: sent,
         NackReason.ARMED: "disarm first (robot.disarm())",
         NackReason.EEPROM_ERROR: "the board's EEPROM did not verify; it may be worn out",
         NackReason.UNSUPPORTED: "this firmware build cannot do that",

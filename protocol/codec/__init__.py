@@ -1,5 +1,5 @@
-"""The wire format's runtime, independent of any message: COBS, CRC-16 with CRC_EXTRA, the message
-base class with its field metadata, and the frame encoder/decoder over a table of messages.
+"""The wire format's runtime, independent of any message: COBS, CRC-16 with CRC_EXTRA, and the
+message base class with its field metadata.
 
-protocol.generated holds the messages; protocol.framing binds the decoder to them.
+protocol.generated holds the messages; protocol.framing is the frame encoder and decoder over them.
 """

@@ -7,6 +7,36 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from roverlink.commands import decode, demo, emulate, firmware, info, ports, ros2, roundtrip, spec
+from roverlink.commands import (
+    calibrate,
+    decode,
+    demo,
+    emulate,
+    firmware,
+    info,
+    monitor,
+    ports,
+    record,
+    ros2,
+    roundtrip,
+    spec,
+    teleop,
+    tune,
+)
 
-COMMANDS: tuple[ModuleType, ...] = (demo, info, ports, emulate, ros2, firmware, roundtrip, decode, spec)
+COMMANDS: tuple[ModuleType, ...] = (
+    demo,
+    info,
+    ports,
+    emulate,
+    firmware,
+    monitor,
+    teleop,
+    calibrate,
+    tune,
+    record,
+    ros2,
+    roundtrip,
+    decode,
+    spec,
+)

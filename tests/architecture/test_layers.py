@@ -82,3 +82,48 @@ def test_importing_the_sdk_loads_no_emulator_and_no_tools() -> None:
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
     assert out.stdout.strip() == ""
+
+
+def test_firmware_library_includes_run_one_way() -> None:
+    """The Arduino library's folders: wire <- generated <- codec <- core, and hal beside core's
+    foot; an #include never points up."""
+    import re
+
+    src = ROOT / "arduino" / "RoverLink" / "src"
+    may_include = {
+        "wire": {"wire"},
+        "generated": {"wire", "generated"},
+        "codec": {"wire", "generated", "codec"},
+        "hal": {"wire", "generated", "hal"},
+        "core": {"wire", "generated", "codec", "hal", "core"},
+    }
+    include = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
+    bad = []
+    for folder, allowed in may_include.items():
+        for path in sorted((src / folder).rglob("*")):
+            if path.suffix not in (".h", ".cpp"):
+                continue
+            for target in include.findall(path.read_text(encoding="utf-8")):
+                resolved = (path.parent / target).resolve()
+                try:
+                    top = resolved.relative_to(src).parts[0]
+                except ValueError:
+                    continue  # a system or Arduino header
+                if top not in allowed and resolved.exists():
+                    bad.append(f"{path.relative_to(src)} includes {target}")
+    assert bad == []
+
+
+def test_protocol_layers_run_one_way() -> None:
+    """Inside protocol: codec (COBS, CRC, message base) <- generated <- framing; the codec imports
+    neither the generated messages nor the frame codec, the generated code not the frame codec."""
+    below = {"codec": ("protocol.generated", "protocol.framing"), "generated": ("protocol.framing",)}
+    bad = []
+    for folder, forbidden in below.items():
+        for path in sorted((ROOT / "protocol" / folder).rglob("*.py")):
+            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+                names = [a.name for a in node.names] if isinstance(node, ast.Import) else []
+                if isinstance(node, ast.ImportFrom) and node.module:
+                    names = [node.module, *(f"{node.module}.{a.name}" for a in node.names)]
+                bad += [f"{path.relative_to(ROOT)} imports {n}" for n in names if n.startswith(forbidden)]
+    assert bad == []

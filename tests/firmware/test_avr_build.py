@@ -318,7 +318,7 @@ def _flash_by_source(elf: Path) -> dict[str, int]:
 
 AREAS = (
     ("roverlink::Session", "session (core/session.{h,cpp})"),
-    ("roverlink::layout::", "layout helpers (codec/layout.cpp)"),
+    ("roverlink::layout::", "layout helpers (wire/layout.cpp)"),
     ("roverlink::Firmware::", "control tick and the session's App (core/firmware.cpp)"),
     ("roverlink::control::", "control law (core/control.cpp)"),
     ("roverlink::config::", "configuration + EEPROM (core/config.cpp)"),

@@ -50,6 +50,29 @@ int main() {
     CHECK(proto::unpack_host_to_mcu(proto::Probe::ID, p, 13, u) == proto::DISPATCH_OK && u.probe.text_len == 4);
     CHECK(proto::unpack_mcu_to_host(proto::Probe::ID, p, 13, *reinterpret_cast<proto::McuToHost*>(&u)) ==
           proto::DISPATCH_WRONG_DIRECTION);
+    // check_ranges() names an undefined enum value, flag bit or char as out of range (field index).
+    CHECK(proto::unpack(p, 13, m) && proto::check_ranges(m) == proto::ALL_FIELDS_VALID);
+    m.e = static_cast<proto::ProbeKind>(4);
+    CHECK(proto::check_ranges(m) == 0);
+    m.e = proto::ProbeKind::TEN;
+    m.flags = 0x0002;
+    CHECK(proto::check_ranges(m) == 3);
+    m.flags = 0x0100;
+    m.text[2] = static_cast<char>(0x80);
+    CHECK(proto::check_ranges(m) == 4);
+    // A reliable request's dispatcher leaves its values to check_ranges() (the firmware NACKs them);
+    // unpack() of the message alone still refuses them.
+    const uint8_t req[4] = {2, 5, 0x02, 0x00};  // e = 5 (undefined), then flag bit 1 (undefined)
+    proto::ProbeRequest r;
+    CHECK(!proto::unpack(req, 4, r));
+    CHECK(proto::unpack_host_to_mcu(proto::ProbeRequest::ID, req, 4, u) == proto::DISPATCH_OK);
+    CHECK(proto::check_ranges(u.probe_request) == 1);
+    const uint8_t bad_n[4] = {10, 5, 0x02, 0x00};
+    CHECK(proto::unpack_host_to_mcu(proto::ProbeRequest::ID, bad_n, 4, u) == proto::DISPATCH_OK);
+    CHECK(proto::check_ranges(u.probe_request) == 0);  // the first field, in order
+    const uint8_t flags_only[4] = {2, 12, 0x02, 0x00};
+    CHECK(proto::unpack_host_to_mcu(proto::ProbeRequest::ID, flags_only, 4, u) == proto::DISPATCH_OK);
+    CHECK(proto::check_ranges(u.probe_request) == 2);
     // pack: the same bytes back.
     CHECK(proto::unpack(p, 12, m));
     uint8_t out[13];

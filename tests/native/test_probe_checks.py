@@ -57,6 +57,18 @@ fields = [
   { name = "flags", type = "ProbeBits", doc = "." },
   { name = "text", type = "char[..4]", doc = "." },
 ]
+
+[[messages]]
+id = 0x3F
+name = "PROBE_REQUEST"
+direction = "host_to_mcu"
+delivery = "reliable"
+doc = "A reliable request: its values are left to check_ranges(), which the firmware answers."
+fields = [
+  { name = "n", type = "u8", max = 9, doc = "." },
+  { name = "e", type = "ProbeKind", doc = "." },
+  { name = "flags", type = "ProbeBits", doc = "." },
+]
 """
 
 
@@ -72,12 +84,14 @@ def test_generated_checks_on_a_probe_message(tmp_path: Path) -> None:
     spec = loader.parse(_probe_spec_text(), "probe.toml")
     src = tmp_path / "src"
     (src / "generated").mkdir(parents=True)
-    (src / "codec").symlink_to(ROOT / "arduino" / "RoverLink" / "src" / "codec")
+    for runtime in ("wire", "codec"):
+        (src / runtime).symlink_to(ROOT / "arduino" / "RoverLink" / "src" / runtime)
     for name, text in cpp.emit(spec).items():
         if name.startswith(cpp.LIB):
             (src / "generated" / Path(name).name).write_text(text, encoding="utf-8")
     sources = [ROOT / "tests" / "native" / "probe_checks.cpp", src / "generated" / "roverlink_protocol.cpp"]
-    sources += sorted((ROOT / "arduino" / "RoverLink" / "src" / "codec").glob("*.cpp"))
+    for runtime in ("wire", "codec"):
+        sources += sorted((ROOT / "arduino" / "RoverLink" / "src" / runtime).glob("*.cpp"))
     exe = tmp_path / "probe_checks"
     flags = ["-std=c++11", "-Wall", "-Wextra", "-Werror", "-O1", "-g"]
     flags += ["-fsanitize=address,undefined", "-fno-sanitize-recover=all"]

@@ -178,6 +178,20 @@ def test_out_of_range_nack_names_the_field() -> None:
     assert req.error.field == "steering_min_cdeg" and "steering_min_cdeg" in str(req.error)
 
 
+def test_nack_for_a_value_the_board_does_not_define_names_the_field_and_the_value() -> None:
+    """A firmware answers a reliable request holding an undefined enum value (a host built from
+    another spec, or hand-made bytes) with NACK(OUT_OF_RANGE, field index): not a timeout."""
+    session, board = opened()
+    req = session.submit(messages.SetConfig(**CONFIG.fields()), 1.0)
+    seq = board.sent()[0][1]
+    safe_state = [f.name for f in messages.SetConfig.FIELDS].index("safe_state")
+    board.send(messages.Nack(messages.SetConfig.MSG_ID, seq, enums.NackReason.OUT_OF_RANGE, safe_state), 1.01)
+    assert isinstance(req.error, NackError) and req.error.reason is enums.NackReason.OUT_OF_RANGE
+    assert req.error.field == "safe_state"
+    assert f"field safe_state); sent safe_state = {CONFIG.safe_state!r}" in str(req.error)
+    assert session.stats(1.02).request_timeouts == 0
+
+
 def test_new_boot_id_in_feedback_ends_the_session_and_reopens() -> None:
     session, board = opened()
     session.submit(messages.Arm(BOOT), 1.0)

@@ -93,7 +93,7 @@ def test_cv2_videocapture_opens_the_camera_url_unchanged(served: dict[str, list[
         (["--world", "/nonexistent/room.toml"], "world = '/nonexistent/room.toml' is not allowed"),
         (["--world", "random:x"], "random:SEED with SEED a whole number"),
         (["--camera", "100x100"], "camera size = '100x100' is not allowed: 320x240 or 640x480"),
-        (["--camera-port", "70000"], "--camera-port = 70000 is not allowed"),
+        (["--camera-port", "70000"], "argument --camera-port: '70000' is not allowed: an integer in 0..65535"),
         (["--backend", "simavr", "--imu", "jy901"], "need --backend python"),
     ],
 )

@@ -49,6 +49,10 @@
  *                                           call, the longest call less its handlers' cycles, then
  *                                           <byte address hex>:<cycles> per PC (or -). Reply:
  *                                           D <calls> <cycles> <min_call> <max_work> <pc>:<cycles>...
+ *   W                                       the longest profiled call since the last W (or P), in
+ *                                           cycles from its entry to its return: interrupt handlers
+ *                                           and the H boundaries' calls included (how long the call
+ *                                           held the main loop). Reply: W <cycles>
  *   Q                                       quit (reply: BYE)
  *
  * UART0 receive. simavr 1.6 queues input bytes in its own 64-byte FIFO at its own pace, so neither
@@ -336,6 +340,8 @@ static uint16_t prof_sp;
 static uint64_t prof_calls, prof_cycles, prof_call, prof_min = UINT64_MAX;
 /* The current call's cycles inside handlers, and the most any call spent outside them. */
 static uint64_t prof_call_handling, prof_max_work;
+/* The current call's first cycle, and the longest call from entry to return (W). */
+static uint64_t prof_entry, prof_max_span;
 /* Handler boundaries (H): one histogram slot per flash word beyond prof_words for their cycles. */
 #define PROF_HANDLER_FLAG 0x1000000u
 #define PROF_MAX_HANDLERS 16
@@ -394,6 +400,7 @@ static void prof_return(void) {
     prof_cycles += prof_call;
     if (prof_call < prof_min) prof_min = prof_call;
     if (prof_call - prof_call_handling > prof_max_work) prof_max_work = prof_call - prof_call_handling;
+    if (avr->cycle - prof_entry > prof_max_span) prof_max_span = avr->cycle - prof_entry;
 }
 
 static void prof_dump(void) {
@@ -438,6 +445,7 @@ static int run_until(uint64_t end) {
         if (prof_func != 0 && !prof_in && pc == prof_func && !in_isr) {
             prof_in = 1;
             prof_sp = sp();
+            prof_entry = before;
             prof_call = 0;
             prof_call_handling = 0;
         } else if (prof_in && !prof_in_handler && !in_isr && prof_is_handler(pc)) {
@@ -671,6 +679,7 @@ int main(int argc, char** argv) {
                 prof_func = (avr_flashaddr_t)strtoul(line + 1, NULL, 0);
                 if (prof_in) prof_abandon();
                 prof_reset();
+                prof_max_span = 0;
                 printf("OK\n");
                 break;
             case 'H': {
@@ -688,6 +697,10 @@ int main(int argc, char** argv) {
             }
             case 'D':
                 prof_dump();
+                break;
+            case 'W':
+                printf("W %" PRIu64 "\n", prof_max_span);
+                prof_max_span = 0;
                 break;
             case 'Q':
                 printf("BYE\n");

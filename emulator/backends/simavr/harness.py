@@ -153,6 +153,11 @@ class Harness:
         per_pc = {} if r[5] == "-" else {int(a, 16): int(c) for a, c in (t.split(":") for t in r[5:])}
         return int(r[1]), int(r[2]), int(r[3]), int(r[4]), per_pc
 
+    def longest_call(self) -> int:
+        """The longest profiled call since the last call of this, in cycles from its entry to its
+        return (interrupts and handlers included: how long it held the main loop)."""
+        return int(self._ask("W")[1])
+
     def close(self) -> None:
         if self._proc.poll() is None:
             with contextlib.suppress(SimavrError, BrokenPipeError, OSError):

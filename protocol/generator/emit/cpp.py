@@ -8,7 +8,7 @@ firmware. Also emits the native tests' reflect header (cpp_reflect.py).
 from __future__ import annotations
 
 from protocol.generator.emit.common import banner
-from protocol.generator.emit.cpp_checks import check_functions, enum_test, range_checks, value_checks
+from protocol.generator.emit.cpp_checks import answers_values, check_functions, enum_test, range_checks, value_checks
 from protocol.generator.emit.cpp_reflect import reflect
 from protocol.generator.emit.cpp_types import CTYPE, comment, ctype, int_lit
 from protocol.generator.model import Enum, FieldSet, Message, Spec
@@ -50,8 +50,8 @@ def _header(spec: Spec) -> str:
     out.append("#ifndef ROVERLINK_GENERATED_PROTOCOL_H\n#define ROVERLINK_GENERATED_PROTOCOL_H\n\n")
     out.append("#include <stddef.h>\n#include <stdint.h>\n#include <string.h>\n\n")
     out.append("// The runtime's copy_payload() and f32 order keys, ROVERLINK_PACKED and ROVERLINK_PROGMEM.\n")
-    out.append('#include "../codec/layout.h"\n\n')
-    out.append("// The runtime in src/codec/ refuses to compile against another API version (see codec.h).\n")
+    out.append('#include "../wire/layout.h"\n\n')
+    out.append("// The codec in src/codec/ refuses to compile against another API version (see codec.h).\n")
     out.append(f"#define ROVERLINK_GENERATED_API_VERSION {API_VERSION}\n\n")
     out.append("namespace roverlink {\nnamespace proto {\n\n")
     out.append(f"static const uint8_t PROTOCOL_VERSION = {spec.version};\n")
@@ -166,7 +166,8 @@ def _struct(m: Message) -> str:
     out.append(f"inline bool unpack(const uint8_t* payload, uint8_t len, {n}& m) {{\n")
     copy = f"layout::copy_payload(payload, len, {n}::PAYLOAD_SIZE, {n}::PAYLOAD_MAX, &m)"
     out.append(f"    return {copy} && values_defined(m);\n}}\n")
-    out.append("// Index of the first field outside its spec range, or ALL_FIELDS_VALID.\n")
+    out.append("// Index of the first field outside its spec range (an undefined enum value or flag bit included),\n")
+    out.append("// or ALL_FIELDS_VALID.\n")
     if range_checks(m):
         out.append(f"uint8_t check_ranges(const {n}& m);\n\n")
     else:
@@ -196,6 +197,11 @@ def _dispatch(spec: Spec) -> str:
         out.append("};\n")
         out.append(f"// Unpacks a {direction} payload into the member of `m` that msg_id names (one table lookup,\n")
         out.append("// one copy and its checks): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.\n")
+        if direction == "host_to_mcu":
+            out.append(
+                "// A reliable request's values (enum, flag bit, ASCII) are left to its check_ranges(): the\n"
+                "// firmware answers a value the spec does not define with NACK(OUT_OF_RANGE, the field).\n"
+            )
         out.append(
             f"DispatchResult unpack_{direction}(uint8_t msg_id, const uint8_t* payload, uint8_t len, {union}& m);\n"
         )
@@ -384,7 +390,7 @@ def _unpackers(spec: Spec) -> str:
         out.append(f"    if ({other}) {{\n        return DISPATCH_WRONG_DIRECTION;\n    }}\n")
         out.append("    if (!layout::copy_payload(payload, len, b.min_payload, b.max_payload, &m)) {\n")
         out.append("        return DISPATCH_BAD_PAYLOAD;\n    }\n")
-        checked = [m for m in spec.messages if m.direction == direction and value_checks(m)]
+        checked = [m for m in spec.messages if m.direction == direction and value_checks(m) and not answers_values(m)]
         out.append("    bool ok = true;\n")
         for i, m in enumerate(checked):
             out.append(f"{'    } else ' if i else '    '}if (msg_id == {m.class_name}::ID) {{\n")

@@ -1,6 +1,6 @@
 """The generated C++ checks of each message: values_defined() (enums, flag bits, ASCII: what unpack()
 refuses) and check_ranges() (the spec ranges: the first field outside its range). Integers compare
-as integers; a float compares by its order key (src/codec/layout.h), so no floating-point code is
+as integers; a float compares by its order key (src/wire/layout.h), so no floating-point code is
 needed."""
 
 from __future__ import annotations
@@ -16,22 +16,39 @@ def value_checks(m: Message) -> list[tuple[Field, str, str]]:
     """(field, C++ test of one element `v` that is true for an undefined value, comment) per checked field."""
     out = []
     for f in m.fields:
-        ctype = CTYPE[f.prim]
-        if f.enum is not None and f.enum.flags:
-            width = PRIMITIVES[f.prim][0]
-            undefined = ~f.enum.mask & ((1 << (8 * width)) - 1)
-            out.append((f, f"(v & 0x{undefined:X}u) != 0", f"{f.enum.name} bits 0x{f.enum.mask:X}"))
-        elif f.enum is not None:
-            out.append((f, f"!is_valid_{f.enum.name}(static_cast<{ctype}>(v))", f.enum.name))
-        elif f.prim == "char":
-            out.append((f, "static_cast<uint8_t>(v) > 0x7F", "ASCII"))
+        test = undefined_test(f)
+        if test is not None:
+            out.append((f, *test))
     return out
 
 
+def undefined_test(f: Field) -> tuple[str, str] | None:
+    """(C++ test of one element `v` that is true for a value the field's type does not define: an
+    enum value, a flag bit, a non-ASCII char; comment), or None for a field of no such type."""
+    if f.enum is not None and f.enum.flags:
+        width = PRIMITIVES[f.prim][0]
+        undefined = ~f.enum.mask & ((1 << (8 * width)) - 1)
+        return f"(v & 0x{undefined:X}u) != 0", f"{f.enum.name} bits 0x{f.enum.mask:X}"
+    if f.enum is not None:
+        return f"!is_valid_{f.enum.name}(static_cast<{CTYPE[f.prim]}>(v))", f.enum.name
+    if f.prim == "char":
+        return "static_cast<uint8_t>(v) > 0x7F", "ASCII"
+    return None
+
+
+def answers_values(m: Message) -> bool:
+    """A reliable request: its receiver answers a value the spec does not define with NACK(OUT_OF_RANGE,
+    the field), so its direction's dispatcher leaves the values to check_ranges()."""
+    return m.direction == "host_to_mcu" and m.delivery == "reliable"
+
+
 def _range_test(f: Field) -> tuple[str, str] | None:
-    """(C++ test of one element `v` that is true when it is OUT of range, comment), or None."""
-    if f.enum is not None or f.prim == "char" or f.max_len is not None:
-        return None
+    """(C++ test of one element `v` that is true when it is OUT of range, comment), or None. The
+    values a type does not define are out of range too (enum, flag bit, ASCII), so check_ranges()
+    alone vets a message whose values nothing has checked."""
+    undefined = undefined_test(f)
+    if undefined is not None or f.max_len is not None:
+        return undefined
     if f.is_float:  # always: a float field without a spec range still refuses NaN and infinity
         # Both zeros compare equal in the spec (and in Python): widen a bound at zero to take both.
         lo_bits = 0x80000000 if f.lo == 0 else _f32_bits(f.lo)
@@ -158,7 +175,7 @@ def _f32_bits(value: float) -> int:
 
 
 def _key(value: int, prim: str) -> int:
-    """The order key of an element (codec/layout.h): unsigned order = the numbers' order."""
+    """The order key of an element (wire/layout.h): unsigned order = the numbers' order."""
     width = PRIMITIVES[prim][0]
     bits = value & ((1 << (8 * width)) - 1)
     if prim == "f32":

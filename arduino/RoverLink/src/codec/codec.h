@@ -20,9 +20,9 @@ static_assert(roverlink::proto::MAX_BODY < 254,
 static_assert(roverlink::proto::MAX_FRAME == roverlink::proto::MAX_BODY + 2,
               "MAX_FRAME must be an encoded MAX_BODY (MAX_BODY + 1) plus the delimiter");
 
-#include "cobs.h"
-#include "compiler.h"
-#include "crc16.h"
+#include "../wire/cobs.h"
+#include "../wire/compiler.h"
+#include "../wire/crc16.h"
 #include "frame_decoder.h"
 #include "frame_encoder.h"
 

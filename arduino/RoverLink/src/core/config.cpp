@@ -3,7 +3,7 @@
 #include <string.h>
 
 #include "../codec/codec.h"
-#include "../codec/wire.h"
+#include "../wire/wire.h"
 
 namespace roverlink {
 namespace config {

@@ -1,6 +1,6 @@
 #include "control.h"
 
-#include "../codec/compiler.h"
+#include "../wire/compiler.h"
 #include "../hal/board.h"
 
 namespace roverlink {

@@ -30,7 +30,7 @@ int16_t abs16(int16_t x) { return x < 0 ? static_cast<int16_t>(-x) : x; }
 
 }  // namespace
 
-// Several functions below are ROVERLINK_NOINLINE or ROVERLINK_OUT_OF_LINE (codec/compiler.h)
+// Several functions below are ROVERLINK_NOINLINE or ROVERLINK_OUT_OF_LINE (wire/compiler.h)
 // although they have one caller: inlined into the sketch's loop() (LTO), GCC addresses the global
 // firmware object's members absolutely (lds/sts, four bytes each on AVR) rather than through
 // `this` (two). Each mark stays where it measured smaller on the Uno; together they save ~1 KB.

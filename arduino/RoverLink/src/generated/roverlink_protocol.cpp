@@ -233,8 +233,6 @@ DispatchResult unpack_host_to_mcu(const MessageBounds& b, uint8_t msg_id, const 
     bool ok = true;
     if (msg_id == Hello::ID) {
         ok = values_defined(m.hello);
-    } else if (msg_id == SetConfig::ID) {
-        ok = values_defined(m.set_config);
     }
     return ok ? DISPATCH_OK : DISPATCH_BAD_PAYLOAD;
 }
@@ -279,6 +277,8 @@ bool values_defined(const Hello& m) {
 uint8_t check_ranges(const Hello& m) {
     // watchdog_ms: 0..60000
     if (m.watchdog_ms > 60000u) return 2;
+    // feedback_mode: FeedbackMode
+    if (!is_valid_FeedbackMode(static_cast<uint8_t>(m.feedback_mode))) return 3;
     return ALL_FIELDS_VALID;
 }
 
@@ -301,6 +301,8 @@ bool values_defined(const SetConfig& m) {
 uint8_t check_ranges(const SetConfig& m) {
     // watchdog_ms: 50..2000
     if (m.watchdog_ms < 50u || m.watchdog_ms > 2000u) return 0;
+    // safe_state: SafeState
+    if (!is_valid_SafeState(static_cast<uint8_t>(m.safe_state))) return 1;
     // accel_limit_mm_s2, decel_limit_mm_s2: 1..65535
     for (uint8_t i = 0; i < 2; ++i) {
         uint16_t v;
@@ -371,10 +373,33 @@ bool values_defined(const Identity& m) {
     return true;
 }
 
+uint8_t check_ranges(const Identity& m) {
+    // board: Board
+    if (!is_valid_Board(static_cast<uint8_t>(m.board))) return 3;
+    // capabilities: Capability bits 0xFF
+    if ((m.capabilities & 0xFF00u) != 0) return 4;
+    // reason: IdentityReason
+    if (!is_valid_IdentityReason(static_cast<uint8_t>(m.reason))) return 7;
+    // feedback_mode: FeedbackMode
+    if (!is_valid_FeedbackMode(static_cast<uint8_t>(m.feedback_mode))) return 10;
+    // robot_name: ASCII
+    for (uint8_t i = 0; i < m.robot_name_len; ++i) {
+        const char v = m.robot_name[i];
+        if (static_cast<uint8_t>(v) > 0x7F) return 12;
+    }
+    return ALL_FIELDS_VALID;
+}
+
 bool values_defined(const Nack& m) {
     // reason: NackReason
     if (!is_valid_NackReason(static_cast<uint8_t>(m.reason))) return false;
     return true;
+}
+
+uint8_t check_ranges(const Nack& m) {
+    // reason: NackReason
+    if (!is_valid_NackReason(static_cast<uint8_t>(m.reason))) return 2;
+    return ALL_FIELDS_VALID;
 }
 
 uint8_t check_ranges(const Pid& m) {
@@ -396,6 +421,8 @@ bool values_defined(const Config& m) {
 uint8_t check_ranges(const Config& m) {
     // watchdog_ms: 50..2000
     if (m.watchdog_ms < 50u || m.watchdog_ms > 2000u) return 1;
+    // safe_state: SafeState
+    if (!is_valid_SafeState(static_cast<uint8_t>(m.safe_state))) return 2;
     // accel_limit_mm_s2, decel_limit_mm_s2: 1..65535
     for (uint8_t i = 0; i < 2; ++i) {
         uint16_t v;
@@ -452,6 +479,10 @@ bool values_defined(const Feedback& m) {
 }
 
 uint8_t check_ranges(const Feedback& m) {
+    // status: Status bits 0x7F
+    if ((m.status & 0x80u) != 0) return 5;
+    // failsafe_reason: FailsafeReason
+    if (!is_valid_FailsafeReason(static_cast<uint8_t>(m.failsafe_reason))) return 6;
     // effort_permille: -1000..1000
     for (uint8_t i = 0; i < 2; ++i) {
         const int16_t v = m.effort_permille[i];
@@ -471,6 +502,17 @@ bool values_defined(const Log& m) {
         if (static_cast<uint8_t>(v) > 0x7F) return false;
     }
     return true;
+}
+
+uint8_t check_ranges(const Log& m) {
+    // level: LogLevel
+    if (!is_valid_LogLevel(static_cast<uint8_t>(m.level))) return 0;
+    // text: ASCII
+    for (uint8_t i = 0; i < m.text_len; ++i) {
+        const char v = m.text[i];
+        if (static_cast<uint8_t>(v) > 0x7F) return 1;
+    }
+    return ALL_FIELDS_VALID;
 }
 
 const uint8_t TRANSITIONS[TRANSITION_COUNT][5] ROVERLINK_PROGMEM = {

@@ -10,9 +10,9 @@
 #include <string.h>
 
 // The runtime's copy_payload() and f32 order keys, ROVERLINK_PACKED and ROVERLINK_PROGMEM.
-#include "../codec/layout.h"
+#include "../wire/layout.h"
 
-// The runtime in src/codec/ refuses to compile against another API version (see codec.h).
+// The codec in src/codec/ refuses to compile against another API version (see codec.h).
 #define ROVERLINK_GENERATED_API_VERSION 4
 
 namespace roverlink {
@@ -212,7 +212,8 @@ bool values_defined(const Hello& m);
 inline bool unpack(const uint8_t* payload, uint8_t len, Hello& m) {
     return layout::copy_payload(payload, len, Hello::PAYLOAD_SIZE, Hello::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 uint8_t check_ranges(const Hello& m);
 
 // PING (0x02, host to mcu, session): Time-sync probe; answered by PONG.
@@ -231,7 +232,8 @@ inline bool values_defined(const Ping&) { return true; }
 inline bool unpack(const uint8_t* payload, uint8_t len, Ping& m) {
     return layout::copy_payload(payload, len, Ping::PAYLOAD_SIZE, Ping::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Ping&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // ARM (0x10, host to mcu, reliable): Enables the motors and clears a latched FAILSAFE. Refused unless boot_id names the running boot, so an ARM from a previous session is never applied.
@@ -250,7 +252,8 @@ inline bool values_defined(const Arm&) { return true; }
 inline bool unpack(const uint8_t* payload, uint8_t len, Arm& m) {
     return layout::copy_payload(payload, len, Arm::PAYLOAD_SIZE, Arm::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Arm&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // DISARM (0x11, host to mcu, reliable): Disables the motors (safe state) and clears a latched FAILSAFE.
@@ -288,7 +291,8 @@ inline bool values_defined(const SetPid&) { return true; }
 inline bool unpack(const uint8_t* payload, uint8_t len, SetPid& m) {
     return layout::copy_payload(payload, len, SetPid::PAYLOAD_SIZE, SetPid::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 uint8_t check_ranges(const SetPid& m);
 
 // GET_PID (0x13, host to mcu, reliable): Asks for one wheel's PID gains; answered by PID.
@@ -307,7 +311,8 @@ inline bool values_defined(const GetPid&) { return true; }
 inline bool unpack(const uint8_t* payload, uint8_t len, GetPid& m) {
     return layout::copy_payload(payload, len, GetPid::PAYLOAD_SIZE, GetPid::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const GetPid&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // SET_CONFIG (0x14, host to mcu, reliable): Replaces the whole configuration (read it with GET_CONFIG, change, send back). Validated as a whole: NACK(OUT_OF_RANGE or INVALID_CONFIG, detail = field index) leaves the old one in place.
@@ -389,7 +394,8 @@ bool values_defined(const SetConfig& m);
 inline bool unpack(const uint8_t* payload, uint8_t len, SetConfig& m) {
     return layout::copy_payload(payload, len, SetConfig::PAYLOAD_SIZE, SetConfig::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 uint8_t check_ranges(const SetConfig& m);
 
 // GET_CONFIG (0x15, host to mcu, reliable): Asks for the configuration; answered by CONFIG.
@@ -441,7 +447,8 @@ inline bool values_defined(const SetWheelSpeeds&) { return true; }
 inline bool unpack(const uint8_t* payload, uint8_t len, SetWheelSpeeds& m) {
     return layout::copy_payload(payload, len, SetWheelSpeeds::PAYLOAD_SIZE, SetWheelSpeeds::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const SetWheelSpeeds&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // SET_ACKERMANN (0x21, host to mcu, setpoint): Ackermann setpoint: drive speed and front-wheel steering angle. Latest wins; applied at the next control tick.
@@ -466,7 +473,8 @@ inline bool values_defined(const SetAckermann&) { return true; }
 inline bool unpack(const uint8_t* payload, uint8_t len, SetAckermann& m) {
     return layout::copy_payload(payload, len, SetAckermann::PAYLOAD_SIZE, SetAckermann::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 uint8_t check_ranges(const SetAckermann& m);
 
 // IDENTITY (0x81, mcu to host, session): Boot announcement (sent once, unsolicited, after reset) and the answer to every HELLO.
@@ -497,8 +505,9 @@ bool values_defined(const Identity& m);
 inline bool unpack(const uint8_t* payload, uint8_t len, Identity& m) {
     return layout::copy_payload(payload, len, Identity::PAYLOAD_SIZE, Identity::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const Identity&) { return ALL_FIELDS_VALID; }  // no ranged field
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
+uint8_t check_ranges(const Identity& m);
 
 // PONG (0x82, mcu to host, session): Answer to PING.
 struct ROVERLINK_PACKED Pong {
@@ -517,7 +526,8 @@ inline bool values_defined(const Pong&) { return true; }
 inline bool unpack(const uint8_t* payload, uint8_t len, Pong& m) {
     return layout::copy_payload(payload, len, Pong::PAYLOAD_SIZE, Pong::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Pong&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // ACK (0x83, mcu to host, reliable): A reliable request was applied (or was a duplicate of one already applied).
@@ -537,7 +547,8 @@ inline bool values_defined(const Ack&) { return true; }
 inline bool unpack(const uint8_t* payload, uint8_t len, Ack& m) {
     return layout::copy_payload(payload, len, Ack::PAYLOAD_SIZE, Ack::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const Ack&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // NACK (0x84, mcu to host, reliable): A request was refused. Also answers setpoints that cannot be applied.
@@ -559,8 +570,9 @@ bool values_defined(const Nack& m);
 inline bool unpack(const uint8_t* payload, uint8_t len, Nack& m) {
     return layout::copy_payload(payload, len, Nack::PAYLOAD_SIZE, Nack::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const Nack&) { return ALL_FIELDS_VALID; }  // no ranged field
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
+uint8_t check_ranges(const Nack& m);
 
 // PID (0x85, mcu to host, reliable): Answer to GET_PID.
 struct ROVERLINK_PACKED Pid {
@@ -583,7 +595,8 @@ inline bool values_defined(const Pid&) { return true; }
 inline bool unpack(const uint8_t* payload, uint8_t len, Pid& m) {
     return layout::copy_payload(payload, len, Pid::PAYLOAD_SIZE, Pid::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 uint8_t check_ranges(const Pid& m);
 
 // CONFIG (0x86, mcu to host, reliable): Answer to GET_CONFIG.
@@ -643,7 +656,8 @@ bool values_defined(const Config& m);
 inline bool unpack(const uint8_t* payload, uint8_t len, Config& m) {
     return layout::copy_payload(payload, len, Config::PAYLOAD_SIZE, Config::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 uint8_t check_ranges(const Config& m);
 
 // LINK_STATS (0x87, mcu to host, reliable): Answer to GET_LINK_STATS: the firmware's receive and transmit counters since boot.
@@ -673,7 +687,8 @@ inline bool values_defined(const LinkStats&) { return true; }
 inline bool unpack(const uint8_t* payload, uint8_t len, LinkStats& m) {
     return layout::copy_payload(payload, len, LinkStats::PAYLOAD_SIZE, LinkStats::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const LinkStats&) { return ALL_FIELDS_VALID; }  // no ranged field
 
 // FEEDBACK (0x90, mcu to host, telemetry): Robot state at one control tick: in stream mode at the session rate, in lockstep mode once per applied setpoint.
@@ -704,7 +719,8 @@ bool values_defined(const Feedback& m);
 inline bool unpack(const uint8_t* payload, uint8_t len, Feedback& m) {
     return layout::copy_payload(payload, len, Feedback::PAYLOAD_SIZE, Feedback::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
 uint8_t check_ranges(const Feedback& m);
 
 // LOG (0x91, mcu to host, telemetry): A short text from the firmware. The firmware never prints text on the port; this is its only text channel.
@@ -724,8 +740,9 @@ bool values_defined(const Log& m);
 inline bool unpack(const uint8_t* payload, uint8_t len, Log& m) {
     return layout::copy_payload(payload, len, Log::PAYLOAD_SIZE, Log::PAYLOAD_MAX, &m) && values_defined(m);
 }
-// Index of the first field outside its spec range, or ALL_FIELDS_VALID.
-inline uint8_t check_ranges(const Log&) { return ALL_FIELDS_VALID; }  // no ranged field
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
+uint8_t check_ranges(const Log& m);
 
 enum DispatchResult : uint8_t {
     DISPATCH_OK = 0,
@@ -752,6 +769,8 @@ union HostToMcu {
 };
 // Unpacks a host_to_mcu payload into the member of `m` that msg_id names (one table lookup,
 // one copy and its checks): DISPATCH_OK, _BAD_PAYLOAD, _WRONG_DIRECTION or _UNKNOWN_ID.
+// A reliable request's values (enum, flag bit, ASCII) are left to its check_ranges(): the
+// firmware answers a value the spec does not define with NACK(OUT_OF_RANGE, the field).
 DispatchResult unpack_host_to_mcu(uint8_t msg_id, const uint8_t* payload, uint8_t len, HostToMcu& m);
 // The same with msg_id's bounds already looked up (FrameDecoder::bounds() after a FRAME).
 DispatchResult unpack_host_to_mcu(const MessageBounds& b, uint8_t msg_id, const uint8_t* payload, uint8_t len,

@@ -1,0 +1,23 @@
+"""Guided calibration: motor and encoder directions, counts per revolution, wheel diameter,
+track width or steering, each measured by an observer (a person, or the emulator's truth).
+
+See roverlink.calibration.procedure for the steps and `roverlink calibrate` for the command.
+"""
+
+from roverlink.calibration.observer import EmulatorObserver, Observer, PersonObserver, observer_for
+from roverlink.calibration.procedure import Calibration, CalibrationResult, Check, restore, verify
+from roverlink.calibration.store import load_kinematics, save_file
+
+__all__ = [
+    "Calibration",
+    "CalibrationResult",
+    "Check",
+    "EmulatorObserver",
+    "Observer",
+    "PersonObserver",
+    "load_kinematics",
+    "observer_for",
+    "restore",
+    "save_file",
+    "verify",
+]

@@ -1,0 +1,124 @@
+"""`roverlink calibrate URL`: a guided calibration over the link, no re-flash: motor and encoder
+directions, encoder counts per revolution, wheel diameter, track width (differential drive) or
+steering centre and angle per servo step (Ackermann); a check drive; the configuration before and
+after; saved to EEPROM after confirmation. On `emu://` the emulator's ground truth answers the
+questions a person with a tape measure would.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from host_sdk import Robot, RobotConfig, RoverLinkError
+from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
+from roverlink.calibration import (
+    Calibration,
+    CalibrationResult,
+    EmulatorObserver,
+    observer_for,
+    restore,
+    save_file,
+    verify,
+)
+from roverlink.console import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
+
+SHOWN = (
+    "motor_invert",
+    "encoder_invert",
+    "encoder_cpr",
+    "wheel_diameter_um",
+    "steering_center_cdeg",
+    "steering_min_cdeg",
+    "steering_max_cdeg",
+    "servo_min_us",
+    "servo_max_us",
+)
+
+
+def before_after(result: CalibrationResult) -> list[str]:
+    """The calibrated values, before and after, as a table."""
+    lines = [f"  {'value':<22} {'before':>10} {'after':>10}"]
+    changed = {name: (a, b) for name, a, b in result.changes()}
+    before: RobotConfig = result.config_before
+    after: RobotConfig = result.config_after
+    for name in SHOWN:
+        a, b = getattr(before, name), getattr(after, name)
+        if result.ackermann or not name.startswith(("steering", "servo")):
+            lines.append(f"  {name:<22} {a!s:>10} {b!s:>10}" + ("  *" if name in changed else ""))
+    if not result.ackermann:
+        mark = "  *" if "track_m (host)" in changed else ""
+        a_mm, b_mm = result.track_before_m * 1000, result.track_after_m * 1000
+        lines.append(f"  {'track_mm (host)':<22} {a_mm:>10.1f} {b_mm:>10.1f}{mark}")
+    return lines
+
+
+def run_calibration(robot: Robot, args: argparse.Namespace, prompter: Prompter) -> int:
+    observer = observer_for(robot, prompter)
+    if isinstance(observer, EmulatorObserver):
+        prompter.say("(emulator: its ground truth plays the person with the tape measure)")
+    progress = Progress()
+    cal = Calibration(
+        robot,
+        observer,
+        revolutions=args.revolutions,
+        distance_m=args.distance,
+        turns=args.turns,
+        say=prompter.say,
+        progress=lambda what, f: progress.update(f"{what:<28} {bar(f)}"),
+    )
+    try:
+        result = cal.run()
+        checks = verify(cal, result) if args.check else []
+    finally:
+        progress.done()
+    name = robot.identity.robot_name or "robot"
+    lines = ["findings:", *(f"  {f}" for f in result.findings), "configuration (* changed):", *before_after(result)]
+    if checks:
+        lines += ["check with the new values:", *(f"  {c.line()}" for c in checks)]
+    print("\n".join(lines))
+    summary = []
+    if prompter.confirm("Keep the new values and save them to the board's EEPROM?"):
+        robot.save_config()
+        summary.append("board configuration saved to EEPROM")
+        if args.output:
+            path = save_file(args.output, result, name)
+            kept = "" if result.ackermann else " (with the track width, which the board does not store)"
+            summary.append(f"kinematics{kept} written to {path}")
+    else:
+        restore(robot, result.config_before)
+        summary.append("the board's configuration was put back as it was")
+    worst = max((c.error for c in checks), default=None)
+    if worst is not None:
+        summary.append(f"odometry vs measured after calibration: worst {worst * 100:.2f} %")
+    print("\n".join(["summary:", *(f"  {s}" for s in summary)]))
+    return 0
+
+
+def cmd_calibrate(args: argparse.Namespace) -> int:
+    """Guided calibration: directions, counts per revolution, wheel diameter, track or steering."""
+    prompter = ConsolePrompter(assume_yes=args.yes)
+    try:
+        with connect(args, feedback_hz=FEEDBACK_HZ_DEFAULT) as robot:
+            return run_calibration(robot, args, prompter)
+    except (RoverLinkError, EOFError, ValueError, TimeoutError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("\nstopped: the robot was stopped; nothing was saved to EEPROM", file=sys.stderr)
+        return 130
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    p = sub.add_parser("calibrate", help=cmd_calibrate.__doc__, description=__doc__)
+    add_robot_args(p)
+    p.add_argument("--revolutions", type=float, default=5.0, help="wheel turns to count per wheel (default 5)")
+    p.add_argument("--distance", type=float, default=2.0, help="straight drive to measure, m (default 2)")
+    p.add_argument("--turns", type=float, default=1.0, help="in-place turns to measure (default 1)")
+    p.add_argument("--no-check", dest="check", action="store_false", help="skip the check drive at the end")
+    p.add_argument(
+        "-o", "--output", type=Path, default=Path("calibration.json"), help="host calibration file (kinematics)"
+    )
+    p.add_argument("--yes", action="store_true", help="keep and save the result without asking")
+    p.set_defaults(func=cmd_calibrate)

@@ -1,0 +1,79 @@
+"""`roverlink monitor URL`: a live, read-only view of a robot: identity, state (armed, failsafe and
+its reason), measured wheel speeds and efforts, steering, odometry, both sides' link statistics
+with rates, RTT and clock drift, and the firmware's LOG lines.
+
+It never arms or commands. It is the one program on the link: a serial port has one owner, and
+the monitor's own session (HELLO) would end any other program's (the board disarms on a new
+HELLO). To watch a robot that a program drives, record from that program (`--foxglove` on
+`follow`, or `Recorder.attach` in your code). On a terminal it is a Textual app (`tui` extra);
+when stdout is not a terminal it prints one line per period instead.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from host_sdk import Robot, RoverLinkError
+from roverlink.commands.record import add_foxglove_args, announce_live_view
+from roverlink.console import add_robot_args, connect
+from roverlink.dashboard import Dashboard, lines, one_line
+from roverlink.recording import Recorder
+
+
+def plain(robot: Robot, dashboard: Dashboard, period_s: float, duration_s: float | None, poll: object = None) -> int:
+    """Periodic lines until `duration_s` (None: Ctrl-C); the whole view at the end."""
+    start = robot.now()
+    samples = 0
+    try:
+        while duration_s is None or robot.now() - start < duration_s - 1e-9:
+            robot.sleep(period_s)
+            dashboard.poll()
+            if callable(poll):
+                poll()
+            samples += 1
+            print(f"{robot.now() - start:7.1f} s  {one_line(dashboard.snapshot())}", flush=True)
+    except KeyboardInterrupt:
+        pass
+    print("\n".join(lines(dashboard.snapshot())))
+    return samples
+
+
+def cmd_monitor(args: argparse.Namespace) -> int:
+    """Live read-only view: state, wheels, odometry, link statistics, LOG lines."""
+    tty = sys.stdout.isatty() and not args.plain
+    try:
+        with connect(args, feedback_hz=args.rate) as robot:
+            recorder = None
+            if args.foxglove:
+                recorder = Recorder.attach(robot, serve=True, port=args.foxglove_port, board_stats=False)
+                announce_live_view(recorder)
+            dashboard = Dashboard(robot)
+            poll = recorder.poll if recorder is not None else None
+            try:
+                if tty:
+                    from roverlink.tui import DashboardApp  # noqa: PLC0415 (Textual is an extra, loaded for the terminal view only)
+
+                    DashboardApp(dashboard, on_refresh=poll).run()
+                    print("\n".join(lines(dashboard.snapshot())))
+                else:
+                    plain(robot, dashboard, args.period, args.duration, poll)
+            finally:
+                dashboard.close()
+                if recorder is not None:
+                    print("\n".join(recorder.close().lines()))
+    except RoverLinkError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    p = sub.add_parser("monitor", help=cmd_monitor.__doc__, description=__doc__.split("\n\n")[0])
+    add_robot_args(p)
+    p.add_argument("--rate", type=int, default=50, metavar="HZ", help="feedback rate asked of the board (default 50)")
+    p.add_argument("--plain", action="store_true", help="periodic lines even on a terminal")
+    p.add_argument("--period", type=float, default=1.0, help="seconds between plain lines (default 1)")
+    p.add_argument("--duration", type=float, default=None, metavar="S", help="stop after S seconds (plain mode)")
+    add_foxglove_args(p)
+    p.set_defaults(func=cmd_monitor)

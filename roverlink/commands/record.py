@@ -1,0 +1,104 @@
+"""`roverlink record URL -o FILE.mcap [--duration S] [--foxglove]`: record a robot to MCAP, and
+optionally serve the same messages live to Foxglove on 127.0.0.1.
+
+Read-only, like `monitor`: it opens a session (which leaves the board disarmed) and never arms
+or commands; drive the robot from a program that records itself (`Recorder.attach` in
+roverlink.recording, or `follow --foxglove`) to record a drive.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import TextIO
+
+from host_sdk import Robot, RoverLinkError
+from roverlink.console import Progress, add_robot_args, bar, connect
+from roverlink.recording import Recorder, RecordingSummary
+
+LAYOUT_HINT = "docs/foxglove-layout.json"
+
+
+def add_foxglove_args(p: argparse.ArgumentParser) -> None:
+    """--foxglove and --foxglove-port, shared by record, monitor and follow."""
+    p.add_argument(
+        "--foxglove", action="store_true", help="serve a live Foxglove WebSocket view on 127.0.0.1 while running"
+    )
+    p.add_argument(
+        "--foxglove-port", type=int, default=8765, metavar="PORT", help="port of the live view (default 8765; 0: any)"
+    )
+
+
+def announce_live_view(recorder: Recorder, out: TextIO | None = None) -> None:
+    url = recorder.sink.url
+    if url is not None:
+        print(
+            f"live view: {url} (Foxglove: Open connection > Foxglove WebSocket; layout {LAYOUT_HINT})",
+            file=out or sys.stderr,
+            flush=True,
+        )
+
+
+def record(robot: Robot, recorder: Recorder, duration_s: float | None, progress: Progress) -> RecordingSummary:
+    """Record until `duration_s` of the robot's clock has passed (None: until Ctrl-C)."""
+    start = robot.now()
+    try:
+        while True:
+            elapsed = robot.now() - start
+            if duration_s is not None and elapsed >= duration_s:
+                break
+            robot.sleep(0.1 if duration_s is None else min(0.1, max(0.001, duration_s - elapsed)))
+            recorder.poll()
+            total = sum(recorder.sink.counts.values())
+            shown = f"{bar(elapsed / duration_s)} " if duration_s else ""
+            progress.update(f"recording {shown}{elapsed:6.1f} s  {total} messages")
+    except KeyboardInterrupt:
+        pass
+    finally:
+        progress.done()
+    return recorder.close()
+
+
+def cmd_record(args: argparse.Namespace) -> int:
+    """Record feedback, odometry, transforms, wheel series, link statistics and LOG lines to MCAP."""
+    path = Path(args.output)
+    if path.suffix != ".mcap":
+        print(f"error: -o {path}: the file name should end in .mcap", file=sys.stderr)
+        return 2
+    if path.exists() and not args.force:
+        print(f"error: {path} exists (pass --force to overwrite)", file=sys.stderr)
+        return 1
+    if args.duration is not None and args.duration <= 0:
+        print(f"error: --duration {args.duration:g}: a number of seconds > 0", file=sys.stderr)
+        return 2
+    try:
+        with connect(args, feedback_hz=args.rate) as robot:
+            recorder = Recorder.attach(
+                robot,
+                mcap_path=path,
+                overwrite=args.force,
+                serve=args.foxglove,
+                port=args.foxglove_port,
+            )
+            announce_live_view(recorder)
+            name = robot.identity.robot_name or "robot"
+            print(f"recording {name} on {robot.url} to {path}" + ("" if args.duration else " (Ctrl-C stops)"))
+            summary = record(robot, recorder, args.duration, Progress())
+    except (RoverLinkError, OSError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    print("\n".join(summary.lines()))
+    print(f"open {path} in Foxglove with the layout {LAYOUT_HINT}")
+    return 0
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    p = sub.add_parser("record", help=cmd_record.__doc__, description=__doc__.split("\n\n")[0])
+    add_robot_args(p)
+    p.add_argument("-o", "--output", required=True, metavar="FILE.mcap", help="MCAP file to write")
+    p.add_argument("--duration", type=float, default=None, metavar="S", help="stop after S seconds (default: Ctrl-C)")
+    p.add_argument("--rate", type=int, default=50, metavar="HZ", help="feedback rate asked of the board (default 50)")
+    p.add_argument("--force", action="store_true", help="overwrite FILE.mcap if it exists")
+    add_foxglove_args(p)
+    p.set_defaults(func=cmd_record)

@@ -1,0 +1,51 @@
+"""`roverlink teleop URL`: drive with the keyboard. Arrows or WASD drive while held (a key's
+repeats keep the command alive; when they stop the robot stops), +/- change the speed step,
+space stops, enter (or r) arms, x disarms, q quits. Speeds are fractions of the board's limit; the
+SDK's kinematics turn them into wheel speeds or steering. The dashboard shows the setpoint
+against the measured speeds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from host_sdk import RoverLinkError
+from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
+from roverlink.console import add_robot_args, connect
+from roverlink.dashboard import Dashboard, lines
+from roverlink.teleop import TeleopController
+
+
+def cmd_teleop(args: argparse.Namespace) -> int:
+    """Keyboard driving (arrows/WASD, +/- speed, space stop, enter arm, x disarm, q quit)."""
+    if not sys.stdin.isatty():
+        print("error: teleop reads the keyboard: run it in a terminal", file=sys.stderr)
+        return 2
+    from roverlink.tui import TeleopApp  # noqa: PLC0415 (Textual is an extra, loaded for the terminal view only)
+
+    try:
+        with connect(args, feedback_hz=FEEDBACK_HZ_DEFAULT) as robot:
+            dashboard = Dashboard(robot)
+            controller = TeleopController(robot, key_timeout_s=args.key_timeout)
+            try:
+                TeleopApp(dashboard, controller).run()
+            finally:
+                robot.stop()
+                dashboard.close()
+            stats = robot.stats
+            print("\n".join(lines(dashboard.snapshot())))
+            print(f"summary: {stats.setpoints_sent} setpoints sent, {stats.feedback_received} FEEDBACK received")
+    except RoverLinkError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    p = sub.add_parser("teleop", help=cmd_teleop.__doc__, description=__doc__.split("\n\n")[0])
+    add_robot_args(p)
+    p.add_argument(
+        "--key-timeout", type=float, default=0.6, help="s without a key repeat before the robot stops (default 0.6)"
+    )
+    p.set_defaults(func=cmd_teleop)

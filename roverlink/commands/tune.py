@@ -1,0 +1,190 @@
+"""`roverlink tune URL`: velocity step tests per wheel (robot on a stand), metrics, a plot comparing
+the current gains with candidates, and with `--auto` gains proposed from a fitted model, applied
+after confirmation, verified with a new step and saved to EEPROM if asked.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from host_sdk import PidGains, Robot, RoverLinkError
+from protocol.generated.constants import FEEDBACK_HZ_MAX
+from roverlink.console import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
+from roverlink.emulated import place_on_stand
+from roverlink.tuning.metrics import StepMetrics, StepResponse
+from roverlink.tuning.plot import plot_steps
+from roverlink.tuning.steps import wheel_count
+from roverlink.tuning.tuner import Tuner, WheelReport
+
+DEFAULT_SPEED_FRACTION = 0.4
+
+
+def parse_gains(text: str) -> PidGains:
+    """ "KP,KI,KD,KF" (or "kp=1,ki=6,kf=1.5"; unnamed gains 0) as PidGains."""
+    names = ("kp", "ki", "kd", "kf")
+    values = dict.fromkeys(names, 0.0)
+    parts = [p for p in text.replace(" ", "").split(",") if p]
+    try:
+        if all("=" in p for p in parts):
+            for part in parts:
+                key, value = part.split("=", 1)
+                if key not in values:
+                    raise ValueError(key)
+                values[key] = float(value)
+        elif len(parts) == 4:
+            values = dict(zip(names, (float(p) for p in parts), strict=True))
+        else:
+            raise ValueError(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: gains as KP,KI,KD,KF or kp=..,ki=..,kd=..,kf=..") from None
+    return PidGains(**values)
+
+
+def _stand(robot: Robot, prompter: Prompter, speed: float) -> bool:
+    prompter.say(
+        f"Put the robot on a stand: its wheels will spin, one at a time, at up to {speed:.2f} m/s "
+        "(and back to 0) for about 2 s per test."
+    )
+    if place_on_stand(robot, True):
+        prompter.say("  (emulator: the robot is now on its stand)")
+    return prompter.confirm("Are the wheels off the ground and free to spin?")
+
+
+def _print_trials(report: WheelReport, out: list[str]) -> None:
+    for trial in report.trials:
+        g = trial.response.gains
+        out.append(f"  {trial.response.label:<10} kp {g.kp:<7g} ki {g.ki:<7g} kd {g.kd:<5g} kf {g.kf:<7g}")
+        out.append(f"             {trial.metrics.row()}")
+
+
+def run_tune(robot: Robot, args: argparse.Namespace, prompter: Prompter) -> list[WheelReport]:
+    """The tests of one `tune` run (the robot is armed inside, disarmed after)."""
+    wheels = list(range(wheel_count(robot))) if args.wheel == "all" else [int(args.wheel)]
+    progress = Progress()
+
+    def told(text: str, fraction: float) -> None:
+        progress.update(f"{text:<28} {bar(fraction)}")
+
+    tuner = Tuner(robot, speed_m_s=args.speed, hold_s=args.hold, lift_ramp=not args.keep_ramp, progress=told)
+    reports = []
+    with tuner.session():
+        for wheel in wheels:
+            report = WheelReport(wheel)
+            current = tuner.measure(wheel, robot.pid(wheel), "current")
+            report.trials.append(current)
+            for n, gains in enumerate(args.try_gains or [], 1):
+                report.trials.append(tuner.measure(wheel, gains, f"try {n}"))
+            if args.auto:
+                report.auto = tuner.auto(wheel, current)
+                report.trials.extend(report.auto.tried)
+            reports.append(report)
+    progress.done()
+    return reports
+
+
+def apply_proposals(
+    robot: Robot, args: argparse.Namespace, reports: list[WheelReport], prompter: Prompter
+) -> list[str]:
+    """Apply the proposals (after confirmation), verify each with a new step; lines for the summary."""
+    lines: list[str] = []
+    proposals = [(r.wheel, r.auto.gains) for r in reports if r.auto is not None and r.auto.gains is not None]
+    if not proposals:
+        return ["no candidate settled faster than the gains in use: they stay"]
+    if not prompter.confirm("Apply the proposed gains?"):
+        return ["gains left as they were"]
+    for wheel, gains in proposals:
+        robot.set_pid(kp=gains.kp, ki=gains.ki, kd=gains.kd, kf=gains.kf, wheel=wheel)
+    tuner = Tuner(robot, speed_m_s=args.speed, hold_s=args.hold, lift_ramp=not args.keep_ramp)
+    with tuner.session():
+        for wheel, gains in proposals:
+            trial = tuner.measure(wheel, gains, "applied")
+            lines.append(f"wheel {wheel}: applied, verified: {trial.metrics.row()}")
+            next(r for r in reports if r.wheel == wheel).trials.append(trial)
+    if args.save or prompter.confirm("Save the new gains to the board's EEPROM?"):
+        robot.save_config()
+        lines.append("saved to EEPROM")
+    else:
+        lines.append("not saved: the board goes back to its EEPROM gains when it resets")
+    return lines
+
+
+def _auto_lines(report: WheelReport) -> list[str]:
+    auto = report.auto
+    assert auto is not None
+    lines = [
+        f"  model: {auto.model.describe()}",
+        f"  {auto.design.candidates} candidates ranked on the model (roverlink.tuning.design); "
+        f"the best {len(auto.tried)} stepped on the robot",
+    ]
+    g = auto.gains
+    if g is None:
+        lines.append("  proposal: keep the current gains (no candidate settled faster with < 10 % overshoot)")
+    else:
+        assert auto.chosen is not None
+        lines.append(f"  proposal: {auto.chosen.response.label}: kp {g.kp:g} ki {g.ki:g} kd {g.kd:g} kf {g.kf:g}")
+    return lines
+
+
+def _plot(reports: list[WheelReport], path: Path, title: str) -> str:
+    rows: list[list[tuple[StepResponse, StepMetrics]]] = [
+        [(t.response, t.metrics) for t in r.trials if t.response.label != "applied"] for r in reports
+    ]
+    plot_steps(rows, path, title)
+    return f"plot: {path}"
+
+
+def cmd_tune(args: argparse.Namespace) -> int:
+    """Step-test each wheel's speed loop; compare gains; --auto proposes, applies, verifies, saves."""
+    prompter = ConsolePrompter(assume_yes=args.yes)
+    try:
+        with connect(args, feedback_hz=FEEDBACK_HZ_MAX) as robot:  # every tick: the step's finest record
+            limit = robot.config.max_wheel_speed_mm_s / 1000
+            if args.speed is None:
+                args.speed = round(limit * DEFAULT_SPEED_FRACTION, 2)
+            if not 0 < args.speed <= limit:
+                print(
+                    f"error: --speed {args.speed:g}: 0 < speed <= {limit:g} m/s (max_wheel_speed_mm_s)", file=sys.stderr
+                )
+                return 2
+            if not _stand(robot, prompter, args.speed):
+                print("not tuned: the robot must be on a stand")
+                return 1
+            reports = run_tune(robot, args, prompter)
+            lines: list[str] = []
+            for report in reports:
+                lines.append(f"wheel {report.wheel} (step 0 -> {args.speed:g} m/s):")
+                _print_trials(report, lines)
+                if report.auto is not None:
+                    lines.extend(_auto_lines(report))
+            print("\n".join(lines))
+            if args.plot:
+                name = robot.identity.robot_name or "robot"
+                print(_plot(reports, Path(args.plot), f"{name}: velocity steps"))
+            summary = apply_proposals(robot, args, reports, prompter) if args.auto else []
+    except (RoverLinkError, EOFError, ValueError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("\ninterrupted: the robot was stopped and its gains and ramp put back", file=sys.stderr)
+        return 130
+    print("\n".join(["summary:", *(f"  {line}" for line in summary or ["gains unchanged"])]))
+    return 0
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    p = sub.add_parser("tune", help=cmd_tune.__doc__, description=__doc__)
+    add_robot_args(p)
+    p.add_argument("--wheel", choices=["0", "1", "all"], default="all", help="which wheel (default all)")
+    p.add_argument("--speed", type=float, default=None, help="step size in m/s (default 40 %% of the speed limit)")
+    p.add_argument("--hold", type=float, default=1.0, help="how long each step is held, s (default 1)")
+    p.add_argument(
+        "--try", dest="try_gains", type=parse_gains, action="append", metavar="KP,KI,KD,KF", help="candidate gains"
+    )
+    p.add_argument("--auto", action="store_true", help="identify a model, propose gains, apply them after asking")
+    p.add_argument("--plot", default="tune.png", metavar="FILE.png", help="plot file (default tune.png; '' for none)")
+    p.add_argument("--save", action="store_true", help="save applied gains to EEPROM without asking")
+    p.add_argument("--keep-ramp", action="store_true", help="keep the board's accel/decel limits during the steps")
+    p.add_argument("--yes", action="store_true", help="answer yes to every question (robot on a stand, apply)")
+    p.set_defaults(func=cmd_tune)

@@ -1,0 +1,118 @@
+"""What the interactive commands share: connection arguments, questions, a progress line.
+
+Questions go through a `Prompter` so a test (or the emulator playing the user) can answer them;
+`ConsolePrompter` asks on the terminal. Progress is a live line on a terminal and a line every few
+seconds otherwise, so logs of a long run stay readable.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from typing import Protocol, TextIO
+
+from host_sdk import PROFILES, Robot
+
+
+def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
+    """The URL and the connection options every robot command takes."""
+    p.add_argument("url", help="serial port or URL, e.g. /dev/ttyACM0, socket://host:port, emu://picar")
+    p.add_argument("--baud", type=int, default=115200, help="line speed in bit/s (default 115200)")
+    p.add_argument(
+        "--profile", choices=sorted(PROFILES), default=None, help="reference robot (default: from the firmware)"
+    )
+    p.add_argument("--timeout", type=float, default=timeout, help=f"connect timeout in s (default {timeout:g})")
+
+
+def connect(args: argparse.Namespace, **options: object) -> Robot:
+    """Robot.connect with the command's connection arguments."""
+    return Robot.connect(args.url, baud=args.baud, profile=args.profile, timeout_s=args.timeout, **options)  # type: ignore[arg-type]
+
+
+class Prompter(Protocol):
+    """Asks the user; `say` tells them something."""
+
+    def say(self, text: str) -> None: ...
+
+    def confirm(self, question: str, default: bool = False) -> bool: ...
+
+    def number(self, question: str, default: float | None = None) -> float: ...
+
+
+class ConsolePrompter:
+    """Asks on stdin/stdout. `assume_yes` answers every yes/no question with yes (`--yes`)."""
+
+    def __init__(self, assume_yes: bool = False, out: TextIO | None = None, inp: TextIO | None = None) -> None:
+        self.assume_yes = assume_yes
+        self.out = out or sys.stdout
+        self.inp = inp or sys.stdin
+
+    def say(self, text: str) -> None:
+        print(text, file=self.out, flush=True)
+
+    def _read(self, prompt: str) -> str:
+        print(prompt, end="", file=self.out, flush=True)
+        line = self.inp.readline()
+        if not line:
+            raise EOFError("no answer: standard input is closed (pass --yes to skip the questions that allow it)")
+        return line.strip()
+
+    def confirm(self, question: str, default: bool = False) -> bool:
+        if self.assume_yes:
+            self.say(f"{question} [yes: --yes]")
+            return True
+        hint = "[Y/n]" if default else "[y/N]"
+        while True:
+            answer = self._read(f"{question} {hint} ").lower()
+            if not answer:
+                return default
+            if answer in ("y", "yes"):
+                return True
+            if answer in ("n", "no"):
+                return False
+            self.say("please answer y or n")
+
+    def number(self, question: str, default: float | None = None) -> float:
+        hint = f" [{default:g}]" if default is not None else ""
+        while True:
+            answer = self._read(f"{question}{hint}: ")
+            if not answer and default is not None:
+                return default
+            try:
+                return float(answer)
+            except ValueError:
+                self.say(f"{answer!r} is not a number")
+
+
+class Progress:
+    """A live status line: rewritten in place on a terminal, printed every `every_s` otherwise."""
+
+    def __init__(self, out: TextIO | None = None, every_s: float = 5.0) -> None:
+        self.out = out or sys.stderr
+        self.tty = self.out.isatty()
+        self.every_s = every_s
+        self._last = -1e9
+        self._width = 0
+
+    def update(self, text: str) -> None:
+        if self.tty:
+            pad = max(0, self._width - len(text))
+            print("\r" + text + " " * pad, end="", file=self.out, flush=True)
+            self._width = len(text)
+            return
+        now = time.monotonic()
+        if now - self._last >= self.every_s:
+            self._last = now
+            print(text, file=self.out, flush=True)
+
+    def done(self) -> None:
+        if self.tty and self._width:
+            print(file=self.out, flush=True)
+            self._width = 0
+
+
+def bar(fraction: float, width: int = 20) -> str:
+    """A text progress bar: [#########-----------]."""
+    filled = max(0, min(width, round(fraction * width)))
+    return "[" + "#" * filled + "-" * (width - filled) + "]"

@@ -1,0 +1,44 @@
+"""The emulator behind an `emu://` robot, for the tools that let it play the user.
+
+On hardware a person puts the robot on a stand or reads a tape measure; on `emu://` the tools
+ask the emulator instead (its ground truth). On the wall clock the SDK's I/O thread drives the
+emulator, so it is held still (the transport's lock) while it is read or changed.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator
+from typing import Any
+
+from host_sdk import Robot
+
+
+@contextlib.contextmanager
+def emulator_of(robot: Robot) -> Iterator[Any]:
+    """The robot's `emulator.Emulator` (held still for the block), or None on hardware."""
+    emu = robot.emulator
+    if emu is None:
+        yield None
+        return
+    locked = getattr(robot.transport, "locked", None)
+    if robot.virtual_clock or locked is None:
+        yield emu
+        return
+    with locked() as held:
+        yield held
+
+
+def place_on_stand(robot: Robot, on: bool) -> bool:
+    """Lift an emulated robot onto its stand (or put it down); False on hardware (the user does it)."""
+    with emulator_of(robot) as emu:
+        if emu is None:
+            return False
+        emu.set_stand(on)
+        return True
+
+
+def on_stand(robot: Robot) -> bool | None:
+    """Whether an emulated robot is on its stand (None on hardware: only the user knows)."""
+    with emulator_of(robot) as emu:
+        return None if emu is None else bool(emu.truth.plant.on_stand)

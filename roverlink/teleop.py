@@ -1,0 +1,148 @@
+"""Keyboard driving, without the terminal: what each key does and when commands expire.
+
+A terminal sends no key-release, only repeats while a key is held (after an initial delay of up
+to half a second). So a direction key drives while its repeats keep arriving: each press renews
+that direction for `key_timeout_s`; when they stop, the target falls back to zero and the robot
+stops (the controller keeps sending zero, so the robot stays armed). If the program itself stops
+commanding, the SDK's command expiry and the board's watchdog put the robot in its safe state.
+
+Limits and kinematics are the SDK's: speeds are fractions of the board's max_wheel_speed_mm_s,
+`drive(..., clamp=True)` keeps a differential-drive turn's curvature, Ackermann steering goes
+to the servo's configured travel.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from dataclasses import dataclass
+
+from host_sdk import Ackermann, Robot, RoverLinkError
+from host_sdk.enums import Capability
+from host_sdk.profiles import steering_limits
+from roverlink.dashboard import Setpoint
+
+LEVELS = (0.1, 0.2, 0.35, 0.5, 0.75, 1.0)
+KEYS = {
+    "up": "forward",
+    "w": "forward",
+    "down": "back",
+    "s": "back",
+    "left": "left",
+    "a": "left",
+    "right": "right",
+    "d": "right",
+    "space": "stop",
+    "plus": "faster",
+    "equals_sign": "faster",
+    "+": "faster",
+    "=": "faster",
+    "minus": "slower",
+    "-": "slower",
+    "enter": "arm",
+    "r": "arm",
+    "x": "disarm",
+}
+HELP = "arrows/WASD drive (hold)  +/- speed  space stop  enter/r arm  x disarm  q quit"
+
+
+@dataclass
+class _Held:
+    value: int = 0
+    until: float = 0.0
+
+
+class TeleopController:
+    """Turns keys into drive commands; `tick()` sends the current one (call it at ~20 Hz)."""
+
+    def __init__(self, robot: Robot, *, key_timeout_s: float = 0.6, level: int = 1) -> None:
+        self.robot = robot
+        self.key_timeout_s = key_timeout_s
+        self.level = level
+        self.ackermann = not robot.identity.capabilities & Capability.DIFF_DRIVE
+        self._linear = _Held()
+        self._turn = _Held()
+        self.message = HELP
+        self.setpoint: Setpoint | None = None
+        self._busy = threading.Lock()
+
+    @property
+    def speed_m_s(self) -> float:
+        return self.robot.config.max_wheel_speed_mm_s / 1000 * LEVELS[self.level]
+
+    def key(self, name: str) -> str | None:
+        """Handle a key (Textual's key names); returns the action, or None for other keys."""
+        action = KEYS.get(name)
+        now = self.robot.now()
+        if action == "forward":
+            self._linear = _Held(1, now + self.key_timeout_s)
+        elif action == "back":
+            self._linear = _Held(-1, now + self.key_timeout_s)
+        elif action == "left":
+            self._turn = _Held(1, now + self.key_timeout_s)
+        elif action == "right":
+            self._turn = _Held(-1, now + self.key_timeout_s)
+        elif action == "stop":
+            self._linear = _Held()
+            self._turn = _Held()
+            self.robot.stop()
+            self.message = "stopped"
+        elif action in ("faster", "slower"):
+            step = 1 if action == "faster" else -1
+            self.level = max(0, min(len(LEVELS) - 1, self.level + step))
+            self.message = f"speed {self.speed_m_s:.2f} m/s ({LEVELS[self.level] * 100:.0f} % of the limit)"
+        elif action == "arm":
+            # Off the UI's thread: an ESC robot's arming waits out the ESC's power-up window.
+            self.message = "arming..."
+            threading.Thread(target=self.arm, name="teleop arm", daemon=True).start()
+        elif action == "disarm":
+            self._linear = _Held()
+            self._turn = _Held()
+            self._guarded(self.robot.disarm, "disarmed")
+        return action
+
+    def arm(self) -> None:
+        self._guarded(self.robot.arm, "armed: hold an arrow key to drive")
+
+    def _guarded(self, call: object, done: str) -> None:
+        try:
+            call()  # type: ignore[operator]
+            self.message = done
+        except RoverLinkError as exc:
+            self.message = f"error: {exc}"
+
+    def target(self, now: float) -> tuple[float, float]:
+        """(linear m/s, turn: rad/s for differential drive, steering rad for Ackermann)."""
+        linear = self._linear.value if now < self._linear.until else 0
+        turn = self._turn.value if now < self._turn.until else 0
+        v = linear * self.speed_m_s
+        if self.ackermann:
+            right, left = steering_limits(self.robot.config)
+            steer = left if turn > 0 else -right if turn < 0 else 0.0
+            return v, steer
+        kin = self.robot.kinematics
+        track = getattr(kin, "track_m", 0.2)
+        w = turn * 2 * self.speed_m_s / track
+        return v, w
+
+    def tick(self) -> None:
+        """Send the current target (zero once the keys stopped); nothing while disarmed."""
+        if not self.robot.armed or not self._busy.acquire(blocking=False):
+            return
+        try:
+            v, turn = self.target(self.robot.now())
+            if self.ackermann:
+                kin = self.robot.kinematics
+                steer = max(-math.pi / 2, min(math.pi / 2, turn))
+                self.robot.drive_ackermann(v, steer, clamp=True)
+                wheelbase = kin.wheelbase_m if isinstance(kin, Ackermann) else 1.0
+                self.setpoint = Setpoint((v,), v, v * math.tan(steer) / wheelbase)
+            else:
+                self.robot.drive(v, turn, clamp=True)
+                kin = self.robot.kinematics
+                half = turn * getattr(kin, "track_m", 0.2) / 2
+                self.setpoint = Setpoint((v - half, v + half), v, turn)
+        except RoverLinkError as exc:
+            self.message = f"error: {exc} (enter/r re-arms)"
+        finally:
+            self._busy.release()
