@@ -5,7 +5,8 @@
 # Usage: bash scripts/test.sh [extra pytest args]
 #
 # Everything Python runs in the checkout's own virtual environment (.venv, made by scripts/venv.sh
-# with the `dev` extra): the system's Python is never installed into. Debian packages the tests
+# with the `dev` extra, and the ROS 2 wheels of `ros2` and `ros2-build` for the bridge's tests):
+# the system's Python is never installed into. Debian packages the tests
 # need (the AVR toolchain, simavr, the Arduino core, python3-venv) are installed with apt-get when
 # missing (sudo when not root).
 set -euo pipefail
@@ -16,8 +17,12 @@ install_debian_packages g++ make gcc-avr avr-libc binutils-avr arduino-core-avr 
     clang-14 libfuzzer-14-dev libclang-rt-14-dev llvm-14
 
 # shellcheck source=scripts/venv.sh
-source scripts/venv.sh dev
+source scripts/venv.sh dev,ros2,ros2-build
 export PATH="$VENV/bin:$PATH"
+
+# The ROS 2 bridge's tests: cmake and tf2_msgs (built into build/ros2); they must not be skipped.
+bash scripts/test_ros2_setup.sh
+export ROVERLINK_REQUIRE_ROS2=1
 
 echo "== generated files match the spec"
 python -m protocol check

@@ -1,0 +1,52 @@
+"""`roverlink ros2 --url URL [--profile NAME] [--ros-args ...]`: the ROS 2 bridge node (docs/ros2.md).
+
+rclpy is imported only here, when the command runs: without it the command says how to install
+it, and every other command works without ROS.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+from host_sdk import PROFILES
+from roverlink.ros2 import INSTALL_HINT, missing_modules
+
+
+def cmd_ros2(args: argparse.Namespace) -> int:
+    """Run the ROS 2 bridge node: cmd_vel in; odom, tf, joint_states and diagnostics out."""
+    missing = missing_modules()
+    if missing:
+        print(f"roverlink ros2: cannot import {', '.join(missing)}; {INSTALL_HINT}", file=sys.stderr)
+        return 2
+    from roverlink.ros2.run import run  # noqa: PLC0415 (rclpy: only when the command runs)
+
+    overrides: dict[str, Any] = {}
+    if args.url is not None:
+        overrides["url"] = args.url
+    if args.profile is not None:
+        overrides["profile"] = args.profile
+    return run(args.ros_args or [], overrides)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """`roverlink ros2` as its own program (a console script for `ros2 run`; docs/ros2.md)."""
+    from roverlink import cli  # noqa: PLC0415 (cli imports this module)
+
+    return cli.main(["ros2", *(sys.argv[1:] if argv is None else argv)])
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    p = sub.add_parser("ros2", help=cmd_ros2.__doc__, description=__doc__.split("\n\n")[1])
+    p.add_argument("--url", default=None, help="serial port or URL (default: the url parameter, /dev/ttyACM0)")
+    p.add_argument(
+        "--profile", choices=sorted(PROFILES), default=None, help="reference robot (default: from the firmware)"
+    )
+    p.add_argument(
+        "--ros-args",
+        nargs=argparse.REMAINDER,
+        default=[],
+        help="ROS arguments, e.g. --ros-args -p publish_tf:=false --params-file roverlink.yaml -r __ns:=/robot1",
+    )
+    p.set_defaults(func=cmd_ros2)

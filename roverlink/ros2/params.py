@@ -1,0 +1,245 @@
+"""The bridge node's ROS parameters: names, defaults, allowed values and their meaning, in one table.
+
+The node declares exactly these (with their descriptions and ranges), `BridgeParams.from_values`
+checks a full set of values, and docs/ros2.md's parameter table is tested against this list. No
+ROS import here: the table and its checks are plain Python.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+from host_sdk.errors import CommandRangeError
+from protocol.generated.constants import (
+    FEEDBACK_HZ_DEFAULT,
+    FEEDBACK_HZ_MAX,
+    WATCHDOG_DEFAULT_MS,
+    WATCHDOG_MAX_MS,
+    WATCHDOG_MIN_MS,
+)
+from protocol.sensors import DEVICES
+
+ParamValue = bool | int | float | str | list[float] | list[str]
+
+LIDARS = tuple(name for name, spec in DEVICES.items() if spec.kind == "lidar")
+"""The lidar models the drivers speak (protocol/spec/sensors.toml)."""
+
+DEFAULT_COVARIANCE = (0.001, 0.001, 0.001, 0.001, 0.001, 0.01)
+"""Diagonal of pose and twist covariance (x, y, z, roll, pitch, yaw), as ros2_control's
+diff_drive_controller has it."""
+
+
+@dataclass(frozen=True, slots=True)
+class ParamSpec:
+    name: str
+    default: ParamValue
+    description: str
+    choices: tuple[str, ...] = ()
+    low: float | None = None
+    high: float | None = None
+
+    @property
+    def allowed(self) -> str:
+        if self.choices:
+            return " or ".join(repr(c) for c in self.choices)
+        if self.low is not None and self.high is not None:
+            return f"{self.low:g}..{self.high:g}"
+        if isinstance(self.default, bool):
+            return "true or false"
+        if isinstance(self.default, list):
+            return "a list of 6 numbers >= 0" if "covariance" in self.name else "a list of names"
+        return "a string"
+
+
+SPECS: tuple[ParamSpec, ...] = (
+    ParamSpec("url", "/dev/ttyACM0", "serial port or URL of the board (emu://PROFILE for the emulator)"),
+    ParamSpec("profile", "", "reference robot (empty: from the firmware's identity or the emu:// URL)"),
+    ParamSpec("baud", 115200, "line speed in bit/s", low=1200, high=2_000_000),
+    ParamSpec(
+        "mode",
+        "auto",
+        "feedback mode: auto (the profile's), stream (the board sends FEEDBACK at odom_rate) or lockstep "
+        "(one FEEDBACK per command; the node commands at odom_rate)",
+        choices=("auto", "stream", "lockstep"),
+    ),
+    ParamSpec(
+        "watchdog",
+        WATCHDOG_DEFAULT_MS / 1000,
+        "board watchdog in s: no valid frame for this long and the board fails safe",
+        low=WATCHDOG_MIN_MS / 1000,
+        high=WATCHDOG_MAX_MS / 1000,
+    ),
+    ParamSpec("connect_timeout", 5.0, "seconds one connection attempt may take", low=0.5, high=60),
+    ParamSpec("reconnect_delay", 0.5, "first wait in s before reconnecting after the link is lost", low=0.05, high=60),
+    ParamSpec(
+        "reconnect_delay_max", 5.0, "longest wait in s between reconnection attempts (doubling)", low=0.05, high=300
+    ),
+    ParamSpec("odom_frame", "odom", "frame of the odometry pose"),
+    ParamSpec("base_frame", "base_link", "the robot's body frame (child of odom_frame)"),
+    ParamSpec("publish_tf", True, "publish odom_frame -> base_frame on /tf (off when an EKF publishes it)"),
+    ParamSpec(
+        "odom_rate",
+        FEEDBACK_HZ_DEFAULT,
+        "odom and joint_states rate in Hz (the board's feedback rate)",
+        low=1,
+        high=FEEDBACK_HZ_MAX,
+    ),
+    ParamSpec("diagnostics_rate", 1.0, "diagnostics rate in Hz", low=0.1, high=10),
+    ParamSpec(
+        "odom_qos",
+        "reliable",
+        "QoS of odom and joint_states: reliable, or sensor_data (best effort)",
+        choices=("reliable", "sensor_data"),
+    ),
+    ParamSpec("qos_depth", 10, "history depth of the publishers and the cmd_vel subscription", low=1, high=1000),
+    ParamSpec("pose_covariance_diagonal", list(DEFAULT_COVARIANCE), "odom pose covariance: x, y, z, roll, pitch, yaw"),
+    ParamSpec("twist_covariance_diagonal", list(DEFAULT_COVARIANCE), "odom twist covariance: the same six axes"),
+    ParamSpec("wheel_joints", [], "joint names of the wheels (empty: left/right_wheel_joint, or rear_wheel_joint)"),
+    ParamSpec("steering_joint", "steering_joint", "joint name of the steering (Ackermann robots)"),
+    ParamSpec("use_stamped_vel", False, "cmd_vel is geometry_msgs/TwistStamped instead of Twist"),
+    ParamSpec("cmd_vel_timeout", 0.5, "a cmd_vel older than this in s no longer drives the robot", low=0.02, high=10),
+    ParamSpec(
+        "on_timeout",
+        "stop",
+        "after cmd_vel_timeout: stop (hold zero speed, stay armed) or release (send nothing: the board's "
+        "watchdog fails it safe, and it needs arming again)",
+        choices=("stop", "release"),
+    ),
+    ParamSpec(
+        "limit_policy",
+        "clamp",
+        "a cmd_vel beyond the board's limits: clamp (scale down, keeping the curvature) or refuse",
+        choices=("clamp", "refuse"),
+    ),
+    ParamSpec(
+        "auto_arm", False, "arm at start, and again on the next cmd_vel after a board reset or a watchdog failsafe"
+    ),
+    ParamSpec("lidar_url", "", "the lidar's port (empty: none, or the emulated one of an emu:// robot)"),
+    ParamSpec("lidar_model", LIDARS[0], f"the lidar: {' or '.join(LIDARS)}", choices=LIDARS),
+    ParamSpec("lidar_frame", "laser", "frame of scan (the lidar's mount, from your URDF)"),
+    ParamSpec("scan_bins", 360, "scan: the revolution binned on this many evenly spaced angles", low=8, high=8192),
+    ParamSpec("imu_url", "", "the JY901 IMU's port (empty: none, or the emulated one of an emu:// robot)"),
+    ParamSpec("imu_frame", "imu_link", "frame of imu (the IMU's mount, from your URDF)"),
+)
+
+BY_NAME = {spec.name: spec for spec in SPECS}
+
+
+def _bad(spec: ParamSpec, value: object) -> CommandRangeError:
+    return CommandRangeError(f"parameter {spec.name}", value, spec.allowed)
+
+
+def _number(spec: ParamSpec, value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise _bad(spec, value)
+    if spec.low is not None and spec.high is not None and not spec.low <= value <= spec.high:
+        raise _bad(spec, value)
+    return float(value)
+
+
+def _covariance(spec: ParamSpec, value: object) -> tuple[float, ...]:
+    if not isinstance(value, Sequence) or isinstance(value, str) or len(value) != 6:
+        raise _bad(spec, value)
+    out = []
+    for item in value:
+        if isinstance(item, bool) or not isinstance(item, (int, float)) or not (math.isfinite(item) and item >= 0):
+            raise _bad(spec, value)
+        out.append(float(item))
+    return tuple(out)
+
+
+@dataclass(frozen=True, slots=True)
+class BridgeParams:
+    """A checked set of the node's parameters (see SPECS for each one's meaning)."""
+
+    url: str
+    profile: str
+    baud: int
+    mode: str
+    watchdog: float
+    connect_timeout: float
+    reconnect_delay: float
+    reconnect_delay_max: float
+    odom_frame: str
+    base_frame: str
+    publish_tf: bool
+    odom_rate: int
+    diagnostics_rate: float
+    odom_qos: str
+    qos_depth: int
+    pose_covariance_diagonal: tuple[float, ...]
+    twist_covariance_diagonal: tuple[float, ...]
+    wheel_joints: tuple[str, ...]
+    steering_joint: str
+    use_stamped_vel: bool
+    cmd_vel_timeout: float
+    on_timeout: str
+    limit_policy: str
+    auto_arm: bool
+    lidar_url: str
+    lidar_model: str
+    lidar_frame: str
+    scan_bins: int
+    imu_url: str
+    imu_frame: str
+
+    @classmethod
+    def defaults(cls, **overrides: ParamValue) -> BridgeParams:
+        values: dict[str, object] = {spec.name: spec.default for spec in SPECS}
+        values.update(overrides)
+        return cls.from_values(values)
+
+    @classmethod
+    def from_values(cls, values: Mapping[str, object]) -> BridgeParams:
+        """Check every value; CommandRangeError (a ValueError) names the parameter and what it allows."""
+        unknown = sorted(set(values) - set(BY_NAME))
+        if unknown:
+            raise CommandRangeError("parameter", unknown[0], f"one of {', '.join(BY_NAME)}")
+        out: dict[str, object] = {}
+        for spec in SPECS:
+            value = values.get(spec.name, spec.default)
+            if spec.name.endswith("_covariance_diagonal"):
+                out[spec.name] = _covariance(spec, value)
+            elif spec.name == "wheel_joints":
+                if (
+                    not isinstance(value, Sequence)
+                    or isinstance(value, str)
+                    or not all(isinstance(v, str) for v in value)
+                ):
+                    raise _bad(spec, value)
+                out[spec.name] = tuple(value)
+            elif isinstance(spec.default, bool):
+                if not isinstance(value, bool):
+                    raise _bad(spec, value)
+                out[spec.name] = value
+            elif isinstance(spec.default, int):
+                number = _number(spec, value)
+                if not number.is_integer():
+                    raise _bad(spec, value)
+                out[spec.name] = int(number)
+            elif isinstance(spec.default, float):
+                out[spec.name] = _number(spec, value)
+            else:
+                if not isinstance(value, str) or (spec.choices and value not in spec.choices):
+                    raise _bad(spec, value)
+                out[spec.name] = value
+        params = cls(**out)  # type: ignore[arg-type]
+        if params.reconnect_delay_max < params.reconnect_delay:
+            raise CommandRangeError(
+                "parameter reconnect_delay_max",
+                params.reconnect_delay_max,
+                f">= reconnect_delay ({params.reconnect_delay:g})",
+            )
+        for name in ("odom_frame", "base_frame", "lidar_frame", "imu_frame"):
+            if not getattr(params, name):
+                raise CommandRangeError(f"parameter {name}", "", "a frame id (not empty)")
+        return params
+
+
+def mode_for(params: BridgeParams, profile_mode: str | None) -> str:
+    """The feedback mode to ask for: the parameter, or with "auto" the profile's (else stream)."""
+    if params.mode != "auto":
+        return params.mode
+    return profile_mode or "stream"

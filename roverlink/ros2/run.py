@@ -1,0 +1,56 @@
+"""Run the bridge node until SIGINT or SIGTERM, then stop, disarm and close the robot."""
+
+from __future__ import annotations
+
+import signal
+import sys
+import threading
+from collections.abc import Sequence
+from types import FrameType
+from typing import Any
+
+import rclpy
+from rclpy.exceptions import NameValidationException, ParameterException
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.signals import SignalHandlerOptions
+from rclpy.utilities import try_shutdown
+
+from host_sdk import RoverLinkError
+from roverlink.ros2.node import BridgeNode
+
+
+def run(ros_args: Sequence[str], overrides: dict[str, Any]) -> int:
+    """`ros_args`: what follows --ros-args; `overrides`: parameters set on the command line (they win
+    over a parameters file). Returns the exit status: 0 after a signal, 1 when connecting cannot
+    succeed (e.g. incompatible firmware) or a parameter is wrong."""
+    stop = threading.Event()
+
+    def on_signal(signum: int, frame: FrameType | None) -> None:
+        stop.set()
+
+    # The node handles the signals itself, so shutdown is ordered: robot first, then ROS.
+    rclpy.init(args=["roverlink", "--ros-args", *ros_args], signal_handler_options=SignalHandlerOptions.NO)
+    previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+    node: BridgeNode | None = None
+    status = 0
+    try:
+        node = BridgeNode(overrides)
+        executor = SingleThreadedExecutor()
+        executor.add_node(node)
+        while not stop.is_set():
+            executor.spin_once(timeout_sec=0.1)
+            if node.connection.fatal is not None:
+                status = 1
+                break
+    except (RoverLinkError, ParameterException, NameValidationException) as exc:
+        # A parameter out of its range or of the wrong type, a bad namespace or node name.
+        print(f"roverlink ros2: {exc}", file=sys.stderr)
+        status = 1
+    finally:
+        if node is not None:
+            node.close()
+            node.destroy_node()
+        try_shutdown()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+    return status

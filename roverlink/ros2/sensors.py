@@ -1,0 +1,148 @@
+"""The robot's lidar and IMU on the graph: `scan` (sensor_msgs/LaserScan) and `imu` (sensor_msgs/Imu).
+
+Each device runs on a thread of its own with its host_sdk.sensors driver (docs/sensors.md): open,
+start, read, publish; a device that fails or goes quiet is closed and opened again a second later,
+and says so in its own diagnostics status. Stamps are the driver's times (when the data arrived,
+spread over a revolution by the device's sample period for a lidar), mapped to ROS time like
+odometry's. Against `emu://...&lidar=MODEL&imu=jy901` the emulated devices are used unless a
+`lidar_url`/`imu_url` parameter names another port.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import threading
+import time
+from typing import Any
+
+from rclpy.node import Node
+from rclpy.qos import QoSProfile, qos_profile_sensor_data
+from sensor_msgs.msg import Imu, LaserScan
+
+from host_sdk import RoverLinkError
+from host_sdk.sensors import Jy901, Lidar
+from roverlink.ros2 import convert
+from roverlink.ros2.diagnostics import ERROR, OK, WARN, Report
+
+_BEST_EFFORT = qos_profile_sensor_data.reliability
+RETRY_S = 1.0
+QUIET_S = 2.0
+"""No data for this long: the device is reported as silent (ERROR)."""
+
+
+class SensorPublisher:
+    """A device on its own thread: subclasses open it, read one item and publish it."""
+
+    kind = ""
+
+    def __init__(self, node: Node, url: str, frame: str) -> None:
+        self.node = node
+        self.url = url
+        self.frame = frame
+        self.count = 0
+        self.opened = 0
+        self.error = ""
+        self.last_s: float | None = None
+        self._times: list[float] = []
+        self._device: Any = None
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name=f"roverlink-{self.kind}", daemon=True)
+        self._thread.start()
+
+    def _open(self) -> Any:
+        raise NotImplementedError
+
+    def _read_and_publish(self, device: Any) -> None:
+        raise NotImplementedError
+
+    def counters(self) -> dict[str, int]:
+        device = self._device
+        return {} if device is None else {k: int(v) for k, v in dataclasses.asdict(device.counters).items()}
+
+    def stamp_ns(self, device: Any, t: float) -> int:
+        return convert.stamp_ns(t, device.port.clock(), self.node.get_clock().now().nanoseconds)
+
+    def _run(self) -> None:
+        while not self._stop.is_set():
+            try:
+                self._device = self._open()
+                self.opened += 1
+                self.error = ""
+                while not self._stop.is_set():
+                    self._read_and_publish(self._device)
+                    now = time.monotonic()
+                    self.count += 1
+                    self.last_s = now
+                    self._times = [t for t in self._times[-50:] if t > now - 5.0] + [now]
+            except (RoverLinkError, OSError) as exc:
+                if not self._stop.is_set():
+                    if str(exc) != self.error:
+                        self.node.get_logger().warning(f"{self.kind} on {self.url}: {exc}; retrying")
+                    self.error = str(exc)
+            finally:
+                self._close()
+            self._stop.wait(RETRY_S)
+
+    def _close(self) -> None:
+        device, self._device = self._device, None
+        if device is not None:
+            with contextlib.suppress(RoverLinkError, OSError):
+                device.close()
+
+    def close(self) -> None:
+        self._stop.set()
+        self._thread.join(5.0)
+        self._close()
+
+    def report(self, node_name: str) -> Report:
+        now = time.monotonic()
+        times = [t for t in self._times if t > now - 5.0]
+        rate = (len(times) - 1) / (times[-1] - times[0]) if len(times) > 2 and times[-1] > times[0] else 0.0
+        values = [("url", self.url), ("frame", self.frame), (f"{self.kind} messages", str(self.count))]
+        values += [("rate (Hz)", f"{rate:.1f}"), ("opened", str(self.opened))]
+        values += [(k.replace("_", " "), str(v)) for k, v in self.counters().items()]
+        if self.error:
+            level, message = ERROR, self.error
+        elif self.last_s is None or now - self.last_s > QUIET_S:
+            level, message = (ERROR if self.opened else WARN), "no data"
+        else:
+            level, message = OK, f"{rate:.1f} Hz"
+        return Report(level, f"{node_name}: {self.kind}", message, self.url, tuple(values))
+
+
+class LidarPublisher(SensorPublisher):
+    kind = "lidar"
+
+    def __init__(self, node: Node, url: str, model: str, frame: str, bins: int) -> None:
+        self.model, self.bins = model, bins
+        self.pub = node.create_publisher(LaserScan, "scan", QoSProfile(depth=5, reliability=_BEST_EFFORT))
+        super().__init__(node, url, frame)
+
+    def _open(self) -> Lidar:
+        lidar = Lidar.open(self.url, self.model)
+        lidar.start()
+        return lidar
+
+    def _read_and_publish(self, lidar: Any) -> None:
+        scan = lidar.read_scan(timeout_s=QUIET_S).regular(self.bins)
+        msg = LaserScan()
+        convert.fill_laser_scan(msg, ns=self.stamp_ns(lidar, scan.time_s), frame=self.frame, scan=scan)
+        self.pub.publish(msg)
+
+
+class ImuPublisher(SensorPublisher):
+    kind = "imu"
+
+    def __init__(self, node: Node, url: str, frame: str) -> None:
+        self.pub = node.create_publisher(Imu, "imu", QoSProfile(depth=10, reliability=_BEST_EFFORT))
+        super().__init__(node, url, frame)
+
+    def _open(self) -> Jy901:
+        return Jy901.open(self.url)
+
+    def _read_and_publish(self, imu: Any) -> None:
+        sample = imu.read(timeout_s=QUIET_S)
+        msg = Imu()
+        convert.fill_imu(msg, ns=self.stamp_ns(imu, sample.t), frame=self.frame, sample=sample)
+        self.pub.publish(msg)

@@ -1,0 +1,88 @@
+"""`scan` and `imu`: the SLAM robot with its RPLIDAR A1 and a JY901 in an emulated room, through a
+real bridge process. The IMU's turn rate and heading change are checked against the odometry's
+while the robot spins in place."""
+
+from __future__ import annotations
+
+import itertools
+import math
+import statistics
+import time
+import uuid
+from collections.abc import Iterator
+
+import pytest
+from ros_env import require_ros
+
+require_ros()
+
+from bridge_harness import BridgeProcess, Probe, stamp_s, values, yaw  # noqa: E402
+from rclpy.qos import qos_profile_sensor_data  # noqa: E402
+from sensor_msgs.msg import Imu, LaserScan  # noqa: E402
+
+URL = "emu://diffdrive-bts7960?seed=2&world=random:2&lidar=rplidar-a1&imu=jy901"
+
+
+@pytest.fixture(scope="module")
+def sensed(ros: None, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Probe]:
+    ns = f"/sensors_{uuid.uuid4().hex[:6]}"
+    proc = BridgeProcess(ns, URL, tmp_path_factory.mktemp("ros2"))
+    probe = Probe(ns)
+    probe.subscribe("scan", LaserScan, "scan", qos_profile_sensor_data)
+    probe.subscribe("imu", Imu, "imu", qos_profile_sensor_data)
+    try:
+        probe.wait_status("lidar", lambda s: s.level == b"\x00", 20)
+        probe.wait_status("imu", lambda s: s.level == b"\x00", 5)
+        yield probe
+    except BaseException:
+        print(proc.log())
+        raise
+    finally:
+        probe.close()
+        assert proc.stop() == 0
+
+
+def test_scan_is_a_laserscan_of_the_room(sensed: Probe) -> None:
+    t0 = time.monotonic()
+    sensed.wait_for("4 scans", lambda: len(sensed.since("scan", t0)) >= 4, 5)
+    scans = [r.msg for r in sensed.since("scan", t0)]
+    scan = scans[-1]
+    assert scan.header.frame_id == "laser" and len(scan.ranges) == 360
+    assert scan.angle_min == pytest.approx(-math.pi) and scan.angle_increment == pytest.approx(2 * math.pi / 360)
+    walls = [r for r in scan.ranges if math.isfinite(r)]
+    assert len(walls) > 300, "a closed room: nearly every bearing sees a wall"
+    assert all(scan.range_min <= r <= scan.range_max for r in walls)
+    stamps = [stamp_s(m.header.stamp) for m in scans]
+    period = statistics.median(b - a for a, b in itertools.pairwise(stamps))
+    assert period == pytest.approx(scan.scan_time, rel=0.2)  # one message per revolution
+    status = values(sensed.status("lidar"))
+    assert status["framing errors"] == "0" and status["checksum errors"] == "0"
+
+
+def test_imu_agrees_with_odometry_while_turning(sensed: Probe) -> None:
+    imu = sensed.wait_message("imu")
+    assert imu.header.frame_id == "imu_link"
+    q = imu.orientation
+    assert math.sqrt(q.x**2 + q.y**2 + q.z**2 + q.w**2) == pytest.approx(1.0, abs=1e-3)
+    assert imu.linear_acceleration.z == pytest.approx(9.81, abs=0.5)  # gravity, the module lying flat
+    assert sensed.call("arm").success
+    sensed.drive(0.0, 1.0, 0.6)  # spin up
+    t0 = time.monotonic()
+    odom0, imu0 = sensed.last("odom"), sensed.last("imu")
+    sensed.drive(0.0, 1.0, 1.5)
+    odom1, imu1 = sensed.last("odom"), sensed.last("imu")
+    rates = [r.msg.angular_velocity.z for r in sensed.since("imu", t0)]
+    assert statistics.median(rates) == pytest.approx(1.0, abs=0.15)
+    turned_odom = math.remainder(yaw(odom1.pose.pose.orientation) - yaw(odom0.pose.pose.orientation), math.tau)
+    turned_imu = math.remainder(yaw(imu1.orientation) - yaw(imu0.orientation), math.tau)
+    assert turned_odom > 1.0
+    assert math.degrees(abs(turned_imu - turned_odom)) < 5.0
+    sensed.drive(0.0, 0.0, 0.3)
+
+
+def test_sensor_diagnostics(sensed: Probe) -> None:
+    for kind in ("lidar", "imu"):
+        status = sensed.status(kind)
+        assert status.level == b"\x00" and status.message.endswith("Hz")
+        v = values(status)
+        assert v["url"].startswith("emudev://") and int(v[f"{kind} messages"]) > 0
