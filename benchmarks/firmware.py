@@ -95,13 +95,11 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 import line_use  # noqa: E402
-from avr_sources import CLONE, Source, function_lines, short, sources, symbol, symbols  # noqa: E402
+from avr_sources import Source, function_lines, short, sources  # noqa: E402
+from firmware_run import LoopStats, Profile, Run, exercise, setpoint  # noqa: E402
 
 from emulator.backends.simavr import HANDLER_FLAG, SimavrRobot  # noqa: E402
-from host_sdk import messages  # noqa: E402
-from host_sdk.framing import Frame, FrameDecoder, encode_frame  # noqa: E402
-from protocol.generated.constants import CONTROL_RATE_HZ, PROTOCOL_VERSION, SPEC_HASH  # noqa: E402
-from protocol.generated.enums import FeedbackMode, IdentityReason  # noqa: E402
+from protocol.generated.constants import CONTROL_RATE_HZ  # noqa: E402
 from protocol.generated.profiles import PROFILES  # noqa: E402
 from roverlink import firmware  # noqa: E402
 
@@ -116,13 +114,6 @@ CONTROL_PERIOD_CYCLES = CPU_HZ // CONTROL_RATE_HZ
 POLL_SPAN_BUDGET_CYCLES = CONTROL_PERIOD_CYCLES * 5 // 100  # 8,000 cycles, 500 us
 CONTROL_SHARE_BUDGET = 0.50
 UNO_FREE_FRACTION = 0.50
-POLL_SYMBOL = "roverlink::Session<roverlink::Firmware>::poll()"
-# Where decoding and dispatching end: the App's code (the handlers: SET_PID's gains applied, a
-# setpoint stored, the session's actions on the motors) and sending a reply (packing and framing an
-# ACK/NACK or an answer). Their cycles inside poll() are reported apart, as handling.
-HANDLER_SYMBOLS = re.compile(
-    r"^(roverlink::Firmware::\w+|roverlink::SessionCore::send_answer|roverlink::Link::send_payload)\("
-)
 SERIAL_DRIVER_FILE = re.compile(r"^(HardwareSerial\w*|Print|Stream)\.(cpp|h)$")
 SERIAL_DRIVER_FUNCTION = re.compile(r"^(HardwareSerial|Print|Stream)::")
 # The frame decoder's code, by the innermost source of an instruction (LTO keeps the inlined
@@ -169,23 +160,13 @@ class Figures:
     """The same per setpoint frame."""
 
 
-@dataclass
-class Profile:
-    calls: int
-    cycles: int
-    cheapest_call: int
-    longest_work: int
-    """The longest call less the cycles of its handlers (and their replies)."""
-    per_pc: dict[int, int]
-
-
 def decode_dispatch(
     flood: Profile, idle: Profile, frames: int, src: dict[int, Source]
 ) -> tuple[float, float, float, dict[str, dict[str, float]]]:
     """Cycles per frame inside poll(), serial driver excluded, less `calls x the cheapest call`
     (the idle window's per-call profile, filtered the same way): (decode and dispatch, handling,
     the frame decoder's share of decode and dispatch), and where they go. Handling is what ran
-    inside the handler boundaries (HANDLER_SYMBOLS)."""
+    inside the handler boundaries (firmware_run.HANDLER_SYMBOLS)."""
     if idle.calls == 0 or idle.cycles != idle.calls * idle.cheapest_call:
         raise SystemExit(f"BENCHMARK INVALID: the idle window's poll() calls differ ({idle})")
     groups: dict[str, dict[str, float]] = {"file": defaultdict(float), "function": defaultdict(float)}
@@ -210,7 +191,7 @@ def decode_dispatch(
     return totals[0], totals[1], decoder, ordered
 
 
-def _work(stats: tuple[int, int, int, int]) -> int:
+def _work(stats: LoopStats) -> int:
     passes, cycles, shortest, _ = stats
     return cycles - passes * shortest
 
@@ -220,93 +201,22 @@ def measure(example: str, profile: str) -> Figures:
     wall0 = time.perf_counter()
     robot = SimavrRobot(profile, elf=build.elf)
     try:
-        h = robot.harness
-        decoder = FrameDecoder()
-        frames: list[Frame] = []
-
-        def run(ms: int) -> None:
-            robot.advance_us(ms * 1000)
-            frames.extend(e for e in decoder.feed(robot.host_read()) if isinstance(e, Frame))
-
-        def profile_since() -> Profile:
-            return Profile(*h.profile())
-
-        run(300)
-        boot = next(f.message for f in frames if isinstance(f.message, messages.Identity))
-        assert isinstance(boot, messages.Identity) and boot.reason == IdentityReason.BOOT
-        seq = 0
-
-        def send(msg: messages.Message) -> None:
-            nonlocal seq
-            robot.host_write(encode_frame(msg, seq))
-            seq = (seq + 1) & 0xFF
-
-        send(messages.Hello(PROTOCOL_VERSION, SPEC_HASH, 0, FeedbackMode.STREAM, 0))
-        run(20)
-        if PROFILES[profile].config.esc_arm_ms:
-            for _ in range(PROFILES[profile].config.esc_arm_ms // 10):
-                send(_setpoint(profile, 0))
-                run(10)
-        send(messages.Arm(boot.boot_id))
-        run(20)
-        h.set_loop_marker(symbol(build.elf, "serialEventRun()"))
-        h.profile_function(symbol(build.elf, POLL_SYMBOL))
-        for address, name in symbols(build.elf):
-            if HANDLER_SYMBOLS.match(CLONE.sub("", name)):
-                h.profile_handler(address)
-        # 0. No host bytes: every poll() call finds nothing.
-        run(20)
-        idle = profile_since()
-        h.loop_stats()
-        # 1. Driving: one setpoint per tick, FEEDBACK streaming.
-        ticks = 200
-        for _ in range(ticks):
-            send(_setpoint(profile, 200))
-            run(10)
-        driving = h.loop_stats()
-        profile_since()
-        h.rx_stats()
-        # 2. Setpoint frames back to back for 1 s (the line's capacity).
-        setpoint_frame = encode_frame(_setpoint(profile, 200), 0)
-        n_sp = 115_200 // 10 // len(setpoint_frame)
-        for _ in range(n_sp):
-            send(_setpoint(profile, 200))
-        run(1010)
-        flood_sp = h.loop_stats()
-        prof_sp = profile_since()
-        h.longest_call()
-        # 3. SET_PID frames back to back for 1 s (each answered by an ACK).
-        pid = messages.SetPid(255, 1.0, 6.0, 0.0, 1.5)
-        n_pid = 115_200 // 10 // len(encode_frame(pid, 0))
-        frames.clear()
-        for _ in range(n_pid):
-            send(pid)
-        run(1010)
-        flood_pid = h.loop_stats()
-        prof_pid = profile_since()
-        span_pid = h.longest_call()
-        acks = sum(isinstance(f.message, messages.Ack) and f.message.req_id == messages.SetPid.MSG_ID for f in frames)
-        if acks != n_pid:
-            raise SystemExit(f"BENCHMARK INVALID: {example}: {acks} ACKs to {n_pid} SET_PID frames")
-        latency, rx_bytes, overruns = h.rx_stats()
-        # 4. Idle baseline with the session open (ticks and FEEDBACK only) for the per-ms rate.
-        for _ in range(100):
-            send(_setpoint(profile, 200))
-            run(10)
-        base = h.loop_stats()
-        per_cycle_tick_work = _work(base) / max(1, base[1])
-        full_sp = (_work(flood_sp) - per_cycle_tick_work * flood_sp[1]) / n_sp
-        full_pid = (_work(flood_pid) - per_cycle_tick_work * flood_pid[1]) / n_pid
-        control_share = (_work(driving) - ticks * full_sp) / max(1, driving[1])
-        sim_s = robot.now_us / 1e6
+        run = exercise(robot, build.elf, example, profile)
     finally:
         robot.close()
-    wall = time.perf_counter() - wall0
-    keys = idle.per_pc.keys() | prof_sp.per_pc.keys() | prof_pid.per_pc.keys()
+    return _figures(example, profile, build, run, realtime_ratio=run.sim_s / (time.perf_counter() - wall0))
+
+
+def _figures(example: str, profile: str, build: firmware.BuildResult, run: Run, realtime_ratio: float) -> Figures:
+    sp, pid = run.setpoints, run.set_pids
+    per_cycle_tick_work = _work(run.base) / max(1, run.base[1])
+    full_sp = (_work(sp.loop) - per_cycle_tick_work * sp.loop[1]) / sp.frames
+    full_pid = (_work(pid.loop) - per_cycle_tick_work * pid.loop[1]) / pid.frames
+    keys = run.idle.per_pc.keys() | sp.profile.per_pc.keys() | pid.profile.per_pc.keys()
     src = sources(build.elf, sorted({k - HANDLER_FLAG if k >= HANDLER_FLAG else k for k in keys}))
-    dd_sp, handling_sp, _, sp_breakdown = decode_dispatch(prof_sp, idle, n_sp, src)
-    dd_pid, handling_pid, decoder_pid, breakdown = decode_dispatch(prof_pid, idle, n_pid, src)
-    pid_bytes = len(encode_frame(pid, 0))
+    dd_sp, handling_sp, _, sp_breakdown = decode_dispatch(sp.profile, run.idle, sp.frames, src)
+    dd_pid, handling_pid, decoder_pid, pid_breakdown = decode_dispatch(pid.profile, run.idle, pid.frames, src)
+    latency, rx_bytes, overruns = run.rx
     return Figures(
         example=example,
         board=build.board.name,
@@ -314,34 +224,28 @@ def measure(example: str, profile: str) -> Figures:
         flash_capacity=build.board.flash_bytes,
         sram_bytes=build.sram_used,
         sram_capacity=build.board.sram_bytes,
-        control_cpu_share=control_share,
-        set_pid_frame_bytes=pid_bytes,
-        setpoint_frame_bytes=len(setpoint_frame),
-        decoder_cycles_per_byte=decoder_pid / pid_bytes,
+        control_cpu_share=(_work(run.driving) - run.ticks * full_sp) / max(1, run.driving[1]),
+        set_pid_frame_bytes=pid.frame_bytes,
+        setpoint_frame_bytes=sp.frame_bytes,
+        decoder_cycles_per_byte=decoder_pid / pid.frame_bytes,
         decode_dispatch_cycles_per_set_pid_frame=dd_pid,
         decode_dispatch_cycles_per_setpoint_frame=dd_sp,
         handling_cycles_per_set_pid_frame=handling_pid,
         handling_cycles_per_setpoint_frame=handling_sp,
         full_cycles_per_set_pid_frame=full_pid,
         full_cycles_per_setpoint_frame=full_sp,
-        poll_idle_call_cycles=idle.cheapest_call,
-        longest_set_pid_poll_cycles=prof_pid.longest_work,
-        longest_poll_span_cycles=span_pid,
-        worst_loop_pass_cycles=max(flood_sp[3], flood_pid[3]),
+        poll_idle_call_cycles=run.idle.cheapest_call,
+        longest_set_pid_poll_cycles=pid.profile.longest_work,
+        longest_poll_span_cycles=pid.longest_call,
+        worst_loop_pass_cycles=max(sp.loop[3], pid.loop[3]),
         worst_rx_isr_latency_cycles=latency,
         rx_bytes=rx_bytes,
         rx_overruns=overruns,
-        realtime_ratio=sim_s / wall,
-        set_pid_breakdown=breakdown,
+        realtime_ratio=realtime_ratio,
+        set_pid_breakdown=pid_breakdown,
         setpoint_breakdown=sp_breakdown,
-        line=line_use.line_use(type(_setpoint(profile, 0))),
+        line=line_use.line_use(type(setpoint(profile, 0))),
     )
-
-
-def _setpoint(profile: str, speed: int) -> messages.Message:
-    if str(PROFILES[profile].kinematics) == "ackermann":
-        return messages.SetAckermann(speed, 0)
-    return messages.SetWheelSpeeds(speed, speed)
 
 
 def frame_cycles_per_byte(f: Figures) -> float:

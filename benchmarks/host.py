@@ -41,7 +41,7 @@ from contextlib import contextmanager
 from dataclasses import asdict, dataclass
 from typing import Any
 
-from codec import _mavlink_module, _mavlink_wire_fields, _rand_scalar, choose_mavlink_message
+from codec_peers.mavlink import choose_mavlink_message, mavlink_module, random_field_values
 from pymavlink import mavutil
 
 from host_sdk import Robot
@@ -151,22 +151,16 @@ def roverlink_feeder(master: int, rate: float, stop: Any) -> None:
 
 def mavlink_feeder(master: int, rate: float, stop: Any) -> None:
     """A MAVLink 2 stream on the pty's master end: one message of FEEDBACK's size per period."""
-    mod = _mavlink_module()
+    mod = mavlink_module()
     cls = choose_mavlink_message(mod, messages.Feedback.PAYLOAD_SIZE, len(messages.Feedback.FIELDS), None)
     mav = mod.MAVLink(None, srcSystem=1, srcComponent=1)
     rng = random.Random(1)
-    fields = _mavlink_wire_fields(cls)
-    by_name = {name: (fmt, alen) for name, fmt, alen in fields}
     period = 1.0 / rate
     next_t = time.monotonic()
     while not stop.is_set():
         next_t += period
-        values = []
-        for name in cls.fieldnames:
-            fmt, alen = by_name[name]
-            values.append([_rand_scalar(fmt, rng) for _ in range(alen)] if alen else _rand_scalar(fmt, rng))
         try:
-            os.write(master, cls(*values).pack(mav))
+            os.write(master, cls(*random_field_values(cls, rng)).pack(mav))
         except OSError:
             return
         delay = next_t - time.monotonic()
@@ -175,7 +169,7 @@ def mavlink_feeder(master: int, rate: float, stop: Any) -> None:
 
 
 def mavlink_message_name() -> str:
-    mod = _mavlink_module()
+    mod = mavlink_module()
     cls = choose_mavlink_message(mod, messages.Feedback.PAYLOAD_SIZE, len(messages.Feedback.FIELDS), None)
     return f"{cls.msgname} ({cls.unpacker.size} B payload)"
 

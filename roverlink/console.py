@@ -13,16 +13,25 @@ import time
 from typing import Protocol, TextIO
 
 from host_sdk import PROFILES, Robot
+from roverlink import argtypes
 
 
 def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
     """The URL and the connection options every robot command takes."""
     p.add_argument("url", help="serial port or URL, e.g. /dev/ttyACM0, socket://host:port, emu://picar")
-    p.add_argument("--baud", type=int, default=115200, help="line speed in bit/s (default 115200)")
+    p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
     p.add_argument(
-        "--profile", choices=sorted(PROFILES), default=None, help="reference robot (default: from the firmware)"
+        "--profile",
+        choices=sorted(PROFILES),
+        default=None,
+        help="reference robot, for its kinematics (default: the one the firmware names)",
     )
-    p.add_argument("--timeout", type=float, default=timeout, help=f"connect timeout in s (default {timeout:g})")
+    p.add_argument(
+        "--timeout",
+        type=argtypes.number(0, 600, "s", lo_open=True),
+        default=timeout,
+        help=f"how long to wait for the board, in s (default {timeout:g}; an Arduino's bootloader takes ~2)",
+    )
 
 
 def connect(args: argparse.Namespace, **options: object) -> Robot:

@@ -19,7 +19,7 @@ from typing import Any
 from host_sdk.sensors import rplidar, ydlidar
 from host_sdk.sensors.errors import SensorClosedError, SensorTimeoutError
 from host_sdk.sensors.port import SensorPort
-from host_sdk.sensors.scan import LidarCounters, LidarScan
+from host_sdk.sensors.scan import DeviceHealth, DeviceInfo, LidarCounters, LidarScan
 from protocol.sensors import LidarSpec, device
 
 MODELS = ("rplidar-a1", "ydlidar-f4")
@@ -76,15 +76,14 @@ class Lidar:
         self._request(code)
         return self._wait(kind, what, timeout_s)
 
-    def info(self, timeout_s: float = 1.0) -> rplidar.DeviceInfo | ydlidar.DeviceInfo:
-        kind = rplidar.DeviceInfo if self.is_rplidar else ydlidar.DeviceInfo
+    def info(self, timeout_s: float = 1.0) -> DeviceInfo:
         code = rplidar.GET_INFO if self.is_rplidar else ydlidar.GET_INFO
-        info: rplidar.DeviceInfo | ydlidar.DeviceInfo = self._ask(code, kind, "device info", timeout_s)
+        info: DeviceInfo = self._ask(code, DeviceInfo, "device info", timeout_s)
         return info
 
-    def health(self, timeout_s: float = 1.0) -> rplidar.DeviceHealth:
+    def health(self, timeout_s: float = 1.0) -> DeviceHealth:
         code = rplidar.GET_HEALTH if self.is_rplidar else ydlidar.GET_HEALTH
-        health: rplidar.DeviceHealth = self._ask(code, rplidar.DeviceHealth, "health answer", timeout_s)
+        health: DeviceHealth = self._ask(code, DeviceHealth, "health answer", timeout_s)
         return health
 
     def sample_rate(self, timeout_s: float = 1.0) -> rplidar.SampleRate:

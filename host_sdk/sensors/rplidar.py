@@ -23,14 +23,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from host_sdk.sensors.scan import LidarParserBase, LidarScan, point_times
+from host_sdk.sensors.scan import DeviceHealth, DeviceInfo, LidarParserBase, LidarScan, point_times
 from protocol.sensors import LidarSpec, device
 
 SYNC = 0xA5
 STOP, RESET, SCAN, FORCE_SCAN = 0x25, 0x40, 0x20, 0x21
 GET_INFO, GET_HEALTH, GET_SAMPLERATE = 0x50, 0x52, 0x59
 TYPE_INFO, TYPE_HEALTH, TYPE_SAMPLERATE, TYPE_SCAN = 0x04, 0x06, 0x15, 0x81
-HEALTH_STATUS = {0: "good", 1: "warning", 2: "error"}
 START_WITHIN_DEG = 10.0
 """A start-of-revolution node is believed only this close after 0 degrees..."""
 MIN_REVOLUTION_NODES = 50
@@ -48,31 +47,6 @@ def request(cmd: int, payload: bytes = b"") -> bytes:
     for b in body:
         check ^= b
     return body + bytes([check])
-
-
-@dataclass(frozen=True, slots=True)
-class DeviceInfo:
-    model: int
-    firmware: tuple[int, int]
-    """major, minor."""
-    hardware: int
-    serial: str
-    """Hex digits."""
-
-
-@dataclass(frozen=True, slots=True)
-class DeviceHealth:
-    status: int
-    """0 good, 1 warning, 2 error."""
-    error_code: int
-
-    @property
-    def ok(self) -> bool:
-        return self.status == 0
-
-    @property
-    def name(self) -> str:
-        return HEALTH_STATUS.get(self.status, f"unknown ({self.status})")
 
 
 @dataclass(frozen=True, slots=True)
@@ -100,12 +74,8 @@ class RPLidarParser(LidarParserBase):
         buf = self._buf
         while buf:
             if self._answer is not None:
-                type_, length = self._answer
-                if len(buf) < length:
+                if not self._take_answer():
                     return
-                self._single(type_, bytes(buf[:length]))
-                del buf[:length]
-                self._answer = None
             elif self._streaming:
                 progress = self._nodes(t)
                 if progress is None:

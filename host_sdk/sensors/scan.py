@@ -23,6 +23,39 @@ from protocol.sensors import LidarSpec
 F64 = NDArray[np.float64]
 
 
+HEALTH_STATUS = {0: "good", 1: "warning", 2: "error"}
+
+
+@dataclass(frozen=True, slots=True)
+class DeviceInfo:
+    """Both lidars' answer to GET_INFO."""
+
+    model: int
+    """The device's model number (1 for the YDLIDAR F4)."""
+    firmware: tuple[int, int]
+    """major, minor."""
+    hardware: int
+    serial: str
+    """Hex digits."""
+
+
+@dataclass(frozen=True, slots=True)
+class DeviceHealth:
+    """Both lidars' answer to GET_HEALTH."""
+
+    status: int
+    """0 good, 1 warning, 2 error."""
+    error_code: int
+
+    @property
+    def ok(self) -> bool:
+        return self.status == 0
+
+    @property
+    def name(self) -> str:
+        return HEALTH_STATUS.get(self.status, f"unknown ({self.status})")
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class RegularScan:
     """A scan on evenly spaced angles, the shape of a ROS `sensor_msgs/LaserScan`."""
@@ -227,6 +260,22 @@ class LidarParserBase:
 
     def next_event(self) -> Any:
         return self._events.pop(0) if self._events else None
+
+    def _take_answer(self) -> bool:
+        """The single answer being read, handed to `_single` once all its bytes are in (False until
+        they are)."""
+        assert self._answer is not None
+        type_, length = self._answer
+        if len(self._buf) < length:
+            return False
+        self._single(type_, bytes(self._buf[:length]))
+        del self._buf[:length]
+        self._answer = None
+        return True
+
+    def _single(self, type_: int, body: bytes) -> None:
+        """A single answer (device info, health...) of the device's protocol: its events."""
+        raise NotImplementedError
 
     def _points(self, angle: F64, dist_mm: F64, quality: NDArray[np.int64], times: F64,
                 start: NDArray[np.bool_]) -> None:  # fmt: skip

@@ -21,8 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from host_sdk.sensors.rplidar import DeviceHealth, _spec
-from host_sdk.sensors.scan import LidarParserBase, LidarScan, point_times
+from host_sdk.sensors.rplidar import _spec
+from host_sdk.sensors.scan import DeviceHealth, DeviceInfo, LidarParserBase, LidarScan, point_times
 from protocol.sensors import LidarSpec
 
 START_SCAN, STOP_SCAN, GET_INFO, GET_HEALTH, RESTART = 0x60, 0x65, 0x90, 0x92, 0x80
@@ -33,15 +33,6 @@ MAX_SAMPLES = 128
 
 def command(cmd: int) -> bytes:
     return bytes([0xA5, cmd])
-
-
-@dataclass(frozen=True, slots=True)
-class DeviceInfo:
-    model: int
-    """1 for the F4."""
-    firmware: tuple[int, int]
-    hardware: int
-    serial: str
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,12 +56,8 @@ class YDLidarParser(LidarParserBase):
         buf += data
         while buf:
             if self._answer is not None:
-                type_, length = self._answer
-                if len(buf) < length:
+                if not self._take_answer():
                     return
-                self._single(type_, bytes(buf[:length]))
-                del buf[:length]
-                self._answer = None
                 continue
             at_packet = buf.find(b"\xaa\x55") if self._streaming else -1
             at_desc = buf.find(b"\xa5\x5a")

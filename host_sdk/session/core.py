@@ -209,25 +209,12 @@ class Session(Requests):
         synced = self.clock.synced
         return LinkStatistics(
             **{name: getattr(d, name) for name in DECODER_COUNTERS},
-            frames_sent=n.frames_sent,
-            bytes_sent=n.bytes_sent,
+            **n.counts(),
             bytes_received=d.bytes_received,
-            seq_gaps=n.seq_gaps,
-            feedback_received=n.feedback_received,
-            setpoints_sent=n.setpoints_sent,
-            keepalives_sent=n.keepalives_sent,
-            hellos_sent=n.hellos_sent,
-            requests_sent=n.requests_sent,
-            retries=n.retries,
-            request_timeouts=n.request_timeouts,
             nacks=dict(n.nacks),
-            pings_sent=n.pings_sent,
-            pongs_received=n.pongs_received,
             rtt=rtt,
             clock_offset_us=self.clock.offset_us(now) if synced else None,
             clock_drift_ppm=self.clock.drift_ppm if self.clock.samples >= 2 else None,
-            resets_detected=n.resets_detected,
-            reconnects=n.reconnects,
             connect_time_s=(self.ready_s - self.started_s)
             if self.ready_s is not None and self.started_s is not None
             else None,

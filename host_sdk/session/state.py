@@ -7,7 +7,7 @@ above the session reads it through properties and methods and nothing writes it 
 from __future__ import annotations
 
 from collections import deque
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING
 
 from host_sdk.errors import (
@@ -52,6 +52,10 @@ class _Counters:
     nacks: dict[str, int] = field(default_factory=dict)
     rtts: deque[float] = field(default_factory=lambda: deque(maxlen=64))
     rtt_count: int = 0
+
+    def counts(self) -> dict[str, int]:
+        """The counts LinkStatistics reports under the same names (every int field but rtt_count)."""
+        return {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ("nacks", "rtts", "rtt_count")}
 
 
 class SessionState:

@@ -5,7 +5,7 @@ All are frozen dataclasses: a snapshot never changes under the reader, whichever
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 
 from host_sdk.odometry import Pose
 from protocol.generated.enums import Board, Capability, FailsafeReason, FeedbackMode, Status
@@ -41,20 +41,9 @@ class RobotIdentity:
 
     @classmethod
     def of(cls, msg: Identity, received_s: float) -> RobotIdentity:
-        return cls(
-            protocol_version=msg.protocol_version,
-            spec_hash=msg.spec_hash,
-            firmware_version=msg.firmware_version,
-            board=msg.board,
-            capabilities=msg.capabilities,
-            boot_id=msg.boot_id,
-            uptime_ms=msg.uptime_ms,
-            robot_name=msg.robot_name,
-            watchdog_ms=msg.watchdog_ms,
-            feedback_mode=msg.feedback_mode,
-            feedback_hz=msg.feedback_hz,
-            received_s=received_s,
-        )
+        # Every field but received_s is the IDENTITY field of the same name.
+        copied = {f.name: getattr(msg, f.name) for f in fields(cls) if f.name != "received_s"}
+        return cls(**copied, received_s=received_s)
 
     @property
     def version(self) -> str:

@@ -142,22 +142,59 @@ def drive_square(
     kin = robot.kinematics
     if kin is None:
         raise RoverLinkError("the demo needs the robot's kinematics: pass --profile")
-    progress = _Progress(out, quiet=False)
-    robot.odometry.reset()
-    truth = _Truth(robot)
-    track = Track()
-    start = robot.now()
-    limit = robot.config.max_wheel_speed_mm_s / 1000
-    speed = min(speed_m_s, 0.8 * limit)
-    accel = robot.config.decel_limit_mm_s2 / 1000
-    # However the robot behaves, the demo ends: four sides and four corners at a quarter of the
-    # speed asked for, and half a minute to spare.
-    budget_s = 4 * (side_m / speed + math.pi / 2 / min(turn_rad_s, 0.5)) * 4 + 30
+    square = _Square(robot, kin, out, side_m=side_m, speed_m_s=speed_m_s, turn_rad_s=turn_rad_s)
+    heading = 0.0
+    for leg in range(1, 5):
+        square.straight(leg, heading)
+        heading += math.pi / 2
+        square.corner(leg, heading)
+    # Stop and let the robot come to rest before comparing.
+    for _ in range(25):
+        robot.stop()
+        robot.wait_feedback(1.0)
+    robot.disarm()
+    robot.sleep(0.3)
+    square.progress.done()
+    return DemoResult(
+        robot.odometry.pose, square.truth.now(), robot.stats, square.track, robot.now() - square.start, side_m
+    )
 
-    def step(leg: int, what: str, linear: float, angular: float, steering: float | None = None) -> FeedbackSample:
-        if robot.now() - start > budget_s:
+
+class _Square:
+    """One drive around the square: every control step is checked against the time budget, shown
+    on the progress line and recorded in the track."""
+
+    def __init__(
+        self,
+        robot: Robot,
+        kin: DiffDrive | Ackermann,
+        out: TextIO,
+        *,
+        side_m: float,
+        speed_m_s: float,
+        turn_rad_s: float,
+    ) -> None:
+        self.robot = robot
+        self.kin = kin
+        self.side_m = side_m
+        self.turn_rad_s = turn_rad_s
+        self.progress = _Progress(out, quiet=False)
+        robot.odometry.reset()
+        self.truth = _Truth(robot)
+        self.track = Track()
+        self.start = robot.now()
+        limit = robot.config.max_wheel_speed_mm_s / 1000
+        self.speed = min(speed_m_s, 0.8 * limit)
+        self.accel = robot.config.decel_limit_mm_s2 / 1000
+        # However the robot behaves, the demo ends: four sides and four corners at a quarter of the
+        # speed asked for, and half a minute to spare.
+        self.budget_s = 4 * (side_m / self.speed + math.pi / 2 / min(turn_rad_s, 0.5)) * 4 + 30
+
+    def step(self, leg: int, what: str, linear: float, angular: float, steering: float | None = None) -> FeedbackSample:
+        robot = self.robot
+        if robot.now() - self.start > self.budget_s:
             raise RoverLinkError(
-                f"the square did not finish within {budget_s:.0f} s (stuck on leg {leg}, {what}): "
+                f"the square did not finish within {self.budget_s:.0f} s (stuck on leg {leg}, {what}): "
                 "is the robot blocked, or its encoders unplugged?"
             )
         if steering is None:
@@ -167,55 +204,46 @@ def drive_square(
         sample = robot.wait_feedback(1.0)
         pose = sample.pose
         assert pose is not None
-        t = truth.now()
-        track.odometry.append((pose.x_m, pose.y_m))
+        t = self.truth.now()
+        self.track.odometry.append((pose.x_m, pose.y_m))
         if t is not None:
-            track.truth.append((t[0], t[1]))
-        progress.show(robot.now(), leg=leg, what=what, pose=pose, truth=t, stats=robot.stats)
+            self.track.truth.append((t[0], t[1]))
+        self.progress.show(robot.now(), leg=leg, what=what, pose=pose, truth=t, stats=robot.stats)
         return sample
 
-    heading = 0.0
-    for leg in range(1, 5):
-        # Straight: hold the heading, slow down so the ramp ends at the corner.
-        p0 = robot.odometry.pose
-        length = side_m
-        if isinstance(kin, Ackermann):
-            length = side_m - _ackermann_radius(robot, kin)
+    def straight(self, leg: int, heading: float) -> None:
+        """Hold the heading, slowing down so the ramp ends at the corner (an Ackermann corner starts
+        its turning radius before the side's end)."""
+        p0 = self.robot.odometry.pose
+        length = self.side_m
+        if isinstance(self.kin, Ackermann):
+            length = self.side_m - _ackermann_radius(self.robot, self.kin)
         while True:
-            p = robot.odometry.pose
-            done = math.hypot(p.x_m - p0.x_m, p.y_m - p0.y_m)
-            left = length - done
+            p = self.robot.odometry.pose
+            left = length - math.hypot(p.x_m - p0.x_m, p.y_m - p0.y_m)
             if left <= 0.002:
-                break
-            v = min(speed, math.sqrt(2 * accel * 0.5 * left) + 0.02)
-            if isinstance(kin, DiffDrive):
-                step(leg, "straight", v, 3.0 * _wrap(heading - p.theta_rad))
+                return
+            v = min(self.speed, math.sqrt(2 * self.accel * 0.5 * left) + 0.02)
+            if isinstance(self.kin, DiffDrive):
+                self.step(leg, "straight", v, 3.0 * _wrap(heading - p.theta_rad))
             else:
-                step(leg, "straight", v, 0.0, 0.0)
-        heading += math.pi / 2
-        # Corner.
-        if isinstance(kin, DiffDrive):
+                self.step(leg, "straight", v, 0.0, 0.0)
+
+    def corner(self, leg: int, heading: float) -> None:
+        """Turn to the heading: in place for a diff drive, at the tightest steering for Ackermann."""
+        if isinstance(self.kin, DiffDrive):
             while True:
-                err = _wrap(heading - robot.odometry.pose.theta_rad)
+                err = _wrap(heading - self.robot.odometry.pose.theta_rad)
                 if abs(err) < _TURN_TOLERANCE_RAD:
-                    break
-                w = math.copysign(min(turn_rad_s, 3.0 * abs(err) + 0.15), err)
-                step(leg, "turn", 0.0, w)
-        else:
-            steer = _ackermann_steer(robot)
-            while True:
-                err = _wrap(heading - robot.odometry.pose.theta_rad)
-                if err < _TURN_TOLERANCE_RAD:
-                    break
-                step(leg, "turn", min(speed, 0.25), 0.0, steer)
-    # Stop and let the robot come to rest before comparing.
-    for _ in range(25):
-        robot.stop()
-        robot.wait_feedback(1.0)
-    robot.disarm()
-    robot.sleep(0.3)
-    progress.done()
-    return DemoResult(robot.odometry.pose, truth.now(), robot.stats, track, robot.now() - start, side_m)
+                    return
+                w = math.copysign(min(self.turn_rad_s, 3.0 * abs(err) + 0.15), err)
+                self.step(leg, "turn", 0.0, w)
+        steer = _ackermann_steer(self.robot)
+        while True:
+            err = _wrap(heading - self.robot.odometry.pose.theta_rad)
+            if err < _TURN_TOLERANCE_RAD:
+                return
+            self.step(leg, "turn", min(self.speed, 0.25), 0.0, steer)
 
 
 def _ackermann_steer(robot: Robot) -> float:

@@ -5,14 +5,14 @@ from __future__ import annotations
 import argparse
 import sys
 
-from host_sdk import PROFILES, Robot, RoverLinkError
-from roverlink import argtypes
+from host_sdk import RoverLinkError
+from roverlink.console import add_robot_args, connect
 
 
 def cmd_info(args: argparse.Namespace) -> int:
     """Handshake with a board and print its identity, configuration and PID gains."""
     try:
-        with Robot.connect(args.url, baud=args.baud, profile=args.profile, timeout_s=args.timeout) as robot:
+        with connect(args) as robot:
             ident = robot.identity
             s = robot.stats
             print(f"{robot.url}: {ident.robot_name or '(unnamed)'} firmware {ident.version} on {ident.board.name}")
@@ -44,18 +44,5 @@ def cmd_info(args: argparse.Namespace) -> int:
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser("info", help=cmd_info.__doc__, description=cmd_info.__doc__)
-    p.add_argument("url", help="serial port or URL, e.g. /dev/ttyACM0, socket://host:port, emu://picar")
-    p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
-    p.add_argument(
-        "--profile",
-        choices=sorted(PROFILES),
-        default=None,
-        help="reference robot, for its kinematics (default: the one the firmware names)",
-    )
-    p.add_argument(
-        "--timeout",
-        type=argtypes.number(0, 600, "s", lo_open=True),
-        default=5.0,
-        help="how long to wait for the board, in s (default 5; an Arduino's bootloader takes ~2)",
-    )
+    add_robot_args(p)
     p.set_defaults(func=cmd_info)

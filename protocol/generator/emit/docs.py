@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from protocol.generator import hashing
 from protocol.generator.emit.common import GENERATOR, num
 from protocol.generator.model import Field, Message, Spec
+
+Write = Callable[[str], None]
 
 
 def emit(spec: Spec) -> dict[str, str]:
@@ -29,13 +33,20 @@ def _frame_bytes(m: Message, tail_len: int = 0) -> int:
 
 def _doc(spec: Spec) -> str:
     o: list[str] = []
-    w = o.append
+    for section in (_intro, _frame, _crc_extra, _delivery_classes, _message_table, _messages, _enums, _state_machine):
+        section(spec, o.append)
+    return "".join(o).rstrip("\n") + "\n"
+
+
+def _intro(spec: Spec, w: Write) -> None:
     w(f"<!-- DO NOT EDIT: generated from {spec.path} by `{GENERATOR}`. -->\n")
     w(f"<!-- spec hash: 0x{spec.spec_hash:08X} -->\n\n")
     w(f"# RoverLink protocol, version {spec.version}\n\n{spec.doc}\n\n")
     w(f"Spec hash: `0x{spec.spec_hash:08X}`. Source of truth: `{spec.path}`; this page, the firmware's C++ ")
     w("and the SDK's Python are generated from it.\n\n")
 
+
+def _frame(spec: Spec, w: Write) -> None:
     w("## Frame\n\n```\n")
     w("wire:  COBS( msg_id:u8 | seq:u8 | payload:0..64 bytes | crc:u16 LE ) | 0x00\n")
     w("crc:   CRC-16/CCITT-FALSE over msg_id, seq, payload, then CRC_EXTRA (1 byte, never sent)\n```\n\n")
@@ -52,6 +63,9 @@ def _doc(spec: Spec) -> str:
     w("- **Overhead**: 6 bytes per frame (COBS code, msg_id, seq, CRC x2, delimiter).\n")
     w("- All multi-byte fields are little-endian, fixed width. `f32` is IEEE-754 single precision.\n\n")
 
+
+def _crc_extra(spec: Spec, w: Write) -> None:
+    """CRC_EXTRA with a worked example, and the spec hash."""
     w("### CRC_EXTRA\n\nEach message has one CRC_EXTRA byte mixed into its CRC but never transmitted, so two ")
     w("sides built from different definitions of a message reject each other's frames as CRC errors. ")
     w("It is derived from the message's signature string:\n\n```\n")
@@ -73,6 +87,8 @@ def _doc(spec: Spec) -> str:
     w("the state-machine table. Doc strings and units are left out, so editing prose does not force a ")
     w("re-flash. HELLO and IDENTITY carry it; a mismatch fails the handshake closed.\n\n")
 
+
+def _delivery_classes(spec: Spec, w: Write) -> None:
     w("## Delivery classes\n\n| class | meaning |\n|---|---|\n")
     w("| session | handshake and time sync: HELLO is repeated until IDENTITY; PING is answered by PONG |\n")
     w("| setpoint | latest wins, never retried; applied at the next control tick; refused with NACK when not armed |\n")
@@ -82,6 +98,9 @@ def _doc(spec: Spec) -> str:
     )
     w("| telemetry | MCU to host, unsolicited: FEEDBACK and LOG |\n\n")
 
+
+def _message_table(spec: Spec, w: Write) -> None:
+    """Every message in one table, then the line budget of the setpoint and FEEDBACK streams."""
     w("## Messages\n\n| id | message | direction | class | payload bytes | frame bytes |\n|---|---|---|---|---|---|\n")
     for m in spec.messages:
         size = f"{m.payload_size}" if m.payload_max == m.payload_size else f"{m.payload_size}..{m.payload_max}"
@@ -105,6 +124,8 @@ def _doc(spec: Spec) -> str:
         w(f"FEEDBACK {fb} bytes x {rate} = {fb * rate} B/s ({100 * fb * rate / cap:.1f} % of MCU → host); ")
         w(f"together {100 * (sp + fb) * rate / (2 * cap):.1f} % of the full-duplex line.\n\n")
 
+
+def _messages(spec: Spec, w: Write) -> None:
     for m in spec.messages:
         arrow = "host → MCU" if m.direction == "host_to_mcu" else "MCU → host"
         w(f"### {m.name}\n\n`0x{m.id:02X}` · {arrow} · {m.delivery} · CRC_EXTRA `0x{m.crc_extra:02X}` · ")
@@ -119,6 +140,9 @@ def _doc(spec: Spec) -> str:
             off += f.size
         w("\n")
 
+
+def _enums(spec: Spec, w: Write) -> None:
+    """The enums and flags, then the constants."""
     w("## Enums and flags\n\n")
     for e in spec.enums:
         kind = "bit flags" if e.flags else "enum"
@@ -133,6 +157,8 @@ def _doc(spec: Spec) -> str:
         w(f"| `{c.name}` | `{c.type}` | {c.value} | {c.doc} |\n")
     w("\n")
 
+
+def _state_machine(spec: Spec, w: Write) -> None:
     sm = spec.state_machine
     w(f"## Session state machine\n\n{sm.doc}\n\n")
     w("Rows are tried in order for the current state and event; the first whose guard holds fires. ")
@@ -162,4 +188,3 @@ def _doc(spec: Spec) -> str:
         for n in items:
             w(f"- `{n.name}`: {n.doc}\n")
         w("\n")
-    return "".join(o).rstrip("\n") + "\n"

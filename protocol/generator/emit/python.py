@@ -176,6 +176,11 @@ def _unpack_expr(f: Field, idx: int) -> tuple[str, int]:
 
 
 def _message(m: Message) -> str:
+    return _class_head(m) + _pack(m) + _unpack(m)
+
+
+def _class_head(m: Message) -> str:
+    """The class line, its docstring, its class constants and FIELDS, and its fields."""
     cls = m.class_name
     out = ["\n\n@dataclass(frozen=True, slots=True)\n", f"class {cls}(Message):\n"]
     out.append(doc(f"{m.name} (0x{m.id:02X}, {m.direction.replace('_', ' ')}, {m.delivery}): {m.doc}", "    "))
@@ -201,10 +206,13 @@ def _message(m: Message) -> str:
         out.append(f"    {f.name}: {_py_type(f)}\n")
         unit = f" [{f.unit}]" if f.unit else ""
         out.append(doc(f.doc + unit, "    "))
+    return "".join(out)
 
-    # pack(): a fast path of inline checks plus struct's own; any failure is diagnosed slowly and
-    # precisely by first_invalid(), which walks FIELDS.
-    out.append("\n    def pack(self) -> bytes:\n")
+
+def _pack(m: Message) -> str:
+    """pack(): a fast path of inline checks plus struct's own; any failure is diagnosed slowly and
+    precisely by first_invalid(), which walks FIELDS."""
+    out = ["\n    def pack(self) -> bytes:\n"]
     fixed = [f for f in m.fields if f.max_len is None]
     args = ", ".join(f"*self.{f.name}" if f.count else f"self.{f.name}" for f in fixed)
     packed = f"_S_{m.name}.pack({args})" if fixed else 'b""'
@@ -234,10 +242,13 @@ def _message(m: Message) -> str:
         out.append("        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):\n")
         out.append("            pass\n")
         out.append("        raise first_invalid(self)\n")
+    return "".join(out)
 
-    # unpack(): exact length rule, enum and flag values checked, nothing else trusted.
-    out.append("\n    @classmethod\n")
-    out.append(f"    def unpack(cls, payload: bytes) -> {cls}:\n")
+
+def _unpack(m: Message) -> str:
+    """unpack(): exact length rule, enum and flag values checked, nothing else trusted."""
+    tail = m.trailing
+    out = ["\n    @classmethod\n", f"    def unpack(cls, payload: bytes) -> {m.class_name}:\n"]
     if tail is None:
         out.append(f"        if len(payload) != {m.payload_size}:\n")
         out.append(
@@ -252,6 +263,7 @@ def _message(m: Message) -> str:
     if not m.fields:
         out.append("        return cls()\n")
         return "".join(out)
+    fixed = [f for f in m.fields if f.max_len is None]
     if fixed:
         src = "payload" if tail is None else f"payload[:{m.payload_size}]"
         out.append(f"        v = _S_{m.name}.unpack({src})\n")
