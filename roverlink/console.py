@@ -13,6 +13,7 @@ import time
 from typing import Protocol, TextIO
 
 from host_sdk import PROFILES, Robot
+from roverlink.kinematics_file import CalibrationFile, kinematics_arg
 
 
 def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
@@ -23,11 +24,35 @@ def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
         "--profile", choices=sorted(PROFILES), default=None, help="reference robot (default: from the firmware)"
     )
     p.add_argument("--timeout", type=float, default=timeout, help=f"connect timeout in s (default {timeout:g})")
+    add_kinematics_arg(p)
+
+
+def add_kinematics_arg(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--kinematics",
+        type=kinematics_arg,
+        default=None,
+        metavar="FILE",
+        help="calibration file from `roverlink calibrate -o` (the track width the board does not store)",
+    )
 
 
 def connect(args: argparse.Namespace, **options: object) -> Robot:
-    """Robot.connect with the command's connection arguments."""
-    return Robot.connect(args.url, baud=args.baud, profile=args.profile, timeout_s=args.timeout, **options)  # type: ignore[arg-type]
+    """Robot.connect with the command's connection arguments (and --kinematics FILE's kinematics)."""
+    cal: CalibrationFile | None = getattr(args, "kinematics", None)
+    kinematics = cal.kinematics if cal is not None else None
+    robot = Robot.connect(
+        args.url,
+        baud=args.baud,
+        profile=args.profile,
+        timeout_s=args.timeout,
+        kinematics=kinematics,
+        **options,  # type: ignore[arg-type]
+    )
+    name = robot.identity.robot_name
+    if cal is not None and cal.robot and name and cal.robot != name:
+        print(f"note: {cal.path} was calibrated on {cal.robot}; this robot is {name}", file=sys.stderr)
+    return robot
 
 
 class Prompter(Protocol):

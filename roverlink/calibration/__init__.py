@@ -6,7 +6,8 @@ See roverlink.calibration.procedure for the steps and `roverlink calibrate` for 
 
 from roverlink.calibration.observer import EmulatorObserver, Observer, PersonObserver, observer_for
 from roverlink.calibration.procedure import Calibration, CalibrationResult, Check, restore, verify
-from roverlink.calibration.store import load_kinematics, save_file
+from roverlink.calibration.store import save_file
+from roverlink.kinematics_file import load_kinematics, read_calibration
 
 __all__ = [
     "Calibration",
@@ -17,6 +18,7 @@ __all__ = [
     "PersonObserver",
     "load_kinematics",
     "observer_for",
+    "read_calibration",
     "restore",
     "save_file",
     "verify",
