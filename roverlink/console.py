@@ -49,10 +49,27 @@ def connect(args: argparse.Namespace, **options: object) -> Robot:
         kinematics=kinematics,
         **options,  # type: ignore[arg-type]
     )
-    name = robot.identity.robot_name
-    if cal is not None and cal.robot and name and cal.robot != name:
-        print(f"note: {cal.path} was calibrated on {cal.robot}; this robot is {name}", file=sys.stderr)
+    if cal is not None:
+        for line in calibration_mismatch(cal, robot):
+            print(f"note: {line}", file=sys.stderr)
     return robot
+
+
+def calibration_mismatch(cal: CalibrationFile, robot: Robot) -> list[str]:
+    """Where a calibration file disagrees with the robot it is used on: another robot, or a board
+    configuration changed since (its wheel diameter or encoder counts are not the file's)."""
+    out = []
+    name = robot.identity.robot_name
+    if cal.robot and name and cal.robot != name:
+        out.append(f"{cal.path} was calibrated on {cal.robot}; this robot is {name}")
+    config = robot.config
+    kin = cal.kinematics
+    board = {"wheel_radius_m": config.wheel_diameter_um / 2e6, "counts_per_rev": config.encoder_cpr}
+    for field, value in board.items():
+        mine = getattr(kin, field)
+        if abs(mine - value) > 1e-3 * abs(value):
+            out.append(f"{cal.path} has {field} {mine:g}, the board {value:g}: its configuration changed since")
+    return out
 
 
 class Prompter(Protocol):

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import shlex
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
@@ -96,6 +97,6 @@ def kinematics_arg(text: str) -> CalibrationFile:
 def usage_lines(path: Path, url: str) -> list[str]:
     """How to use a calibration file: the commands' option and the SDK call."""
     return [
-        f"use it with every command: roverlink teleop {url} --kinematics {path}",
-        f'and in code: Robot.connect("{url}", kinematics=roverlink.calibration.load_kinematics("{path}"))',
+        f"use it with every command: roverlink teleop {shlex.quote(url)} --kinematics {shlex.quote(str(path))}",
+        f"and in code: Robot.connect({url!r}, kinematics=roverlink.calibration.load_kinematics({str(path)!r}))",
     ]

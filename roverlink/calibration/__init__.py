@@ -1,9 +1,11 @@
 """Guided calibration: motor and encoder directions, counts per revolution, wheel diameter,
-track width or steering, each measured by an observer (a person, or the emulator's truth).
+track width or steering, each measured by an observer (a person, or the emulator's truth; turns by
+the IMU when there is one).
 
 See roverlink.calibration.procedure for the steps and `roverlink calibrate` for the command.
 """
 
+from roverlink.calibration.imu import ImuObserver, ImuTurn, measure_turn
 from roverlink.calibration.observer import EmulatorObserver, Observer, PersonObserver, observer_for
 from roverlink.calibration.procedure import Calibration, CalibrationResult, Check, restore, verify
 from roverlink.calibration.store import save_file
@@ -14,9 +16,12 @@ __all__ = [
     "CalibrationResult",
     "Check",
     "EmulatorObserver",
+    "ImuObserver",
+    "ImuTurn",
     "Observer",
     "PersonObserver",
     "load_kinematics",
+    "measure_turn",
     "observer_for",
     "read_calibration",
     "restore",

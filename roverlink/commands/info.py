@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 
-from host_sdk import PROFILES, Robot, RoverLinkError
+from host_sdk import PROFILES, RoverLinkError
 from roverlink import argtypes
+from roverlink.console import add_kinematics_arg, connect
 
 
 def cmd_info(args: argparse.Namespace) -> int:
     """Handshake with a board and print its identity, configuration and PID gains."""
     try:
-        with Robot.connect(args.url, baud=args.baud, profile=args.profile, timeout_s=args.timeout) as robot:
+        with connect(args) as robot:
             ident = robot.identity
             s = robot.stats
             print(f"{robot.url}: {ident.robot_name or '(unnamed)'} firmware {ident.version} on {ident.board.name}")
@@ -33,6 +35,12 @@ def cmd_info(args: argparse.Namespace) -> int:
             for wheel in range(wheels):
                 g = robot.pid(wheel)
                 print(f"PID wheel {wheel}: kp {g.kp:g}, ki {g.ki:g}, kd {g.kd:g}, kf {g.kf:g}")
+            kin = robot.kinematics
+            if kin is not None:
+                cal = args.kinematics
+                where = f"from {cal.path}" if cal is not None else "from the profile and the board"
+                values = ", ".join(f"{f.name} {getattr(kin, f.name):g}" for f in dataclasses.fields(kin))
+                print(f"kinematics {type(kin).__name__} ({where}): {values}")
             rtt = robot.stats.rtt
             if rtt is not None:
                 print(f"round trip {rtt.min_s * 1000:.2f} ms")
@@ -58,4 +66,5 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         default=5.0,
         help="how long to wait for the board, in s (default 5; an Arduino's bootloader takes ~2)",
     )
+    add_kinematics_arg(p)
     p.set_defaults(func=cmd_info)

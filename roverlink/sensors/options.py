@@ -57,8 +57,9 @@ class SensorChoice:
         return out
 
 
-def add_sensor_args(p: argparse.ArgumentParser, kinds: Sequence[str] = KINDS) -> None:
-    """--lidar, --lidar-model, --imu, --imu-baud, --camera (those of `kinds`) and --no-sensors."""
+def add_sensor_args(p: argparse.ArgumentParser, kinds: Sequence[str] = KINDS, off: str = "--no-sensors") -> None:
+    """--lidar, --lidar-model, --imu, --imu-baud, --camera (those of `kinds`) and `off`
+    (--no-sensors: use none, not even those an emu:// URL attached)."""
     g = p.add_argument_group("sensors", "devices beside the board; an emu:// URL's own are used without these")
     if "lidar" in kinds:
         g.add_argument("--lidar", metavar="PORT", help="the lidar's serial port, e.g. /dev/ttyUSB0")
@@ -75,7 +76,8 @@ def add_sensor_args(p: argparse.ArgumentParser, kinds: Sequence[str] = KINDS) ->
         )
     if "camera" in kinds:
         g.add_argument("--camera", metavar="SOURCE", help=CAMERA_HELP)
-    g.add_argument("--no-sensors", action="store_true", help="read no sensors, not even those an emu:// URL attached")
+    what = "sensors" if len(kinds) > 1 else {"imu": "IMU"}.get(kinds[0], kinds[0])
+    g.add_argument(off, dest="no_sensors", action="store_true", help=f"use no {what}, not even an emu:// URL's")
 
 
 def camera_source(text: str) -> str | int:
@@ -87,11 +89,13 @@ def camera_source(text: str) -> str | int:
     return text
 
 
-def choose_sensors(args: argparse.Namespace, robot: Robot) -> SensorChoice:
-    """The devices the command line names, completed with those the robot's emu:// URL attached."""
+def choose_sensors(args: argparse.Namespace, robot: Robot, kinds: Sequence[str] = KINDS) -> SensorChoice:
+    """The devices of `kinds` the command line names, completed with those the robot's emu:// URL
+    attached."""
     if getattr(args, "no_sensors", False):
         return SensorChoice()
-    endpoints: dict[str, str] = dict(getattr(robot.transport, "endpoints", None) or {})
+    attached: dict[str, str] = dict(getattr(robot.transport, "endpoints", None) or {})
+    endpoints = {kind: url for kind, url in attached.items() if kind in kinds}
     lidar = getattr(args, "lidar", None) or endpoints.get("lidar")
     imu = getattr(args, "imu", None) or endpoints.get("imu")
     camera_text = getattr(args, "camera", None)
