@@ -4,26 +4,31 @@ on the command line; against an emulated robot with a world, a lidar, the IMU an
 from __future__ import annotations
 
 import argparse
+import asyncio
 import math
 import os
 import re
 import subprocess
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 import cv2
 import numpy as np
 import pytest
 from mcap_support import LiveClient, open_live, read_mcap
+from pty_emulator import until
 
 from host_sdk import Robot
 from host_sdk.sensors import CameraFrame, ImuSample, LidarScan
 from protocol.sensors import ROBOT_SENSORS
 from roverlink.cli import main
+from roverlink.dashboard import Dashboard
 from roverlink.recording import Recorder
 from roverlink.recording.schemas import TOPIC_IMAGE, TOPIC_IMU, TOPIC_SCAN, TOPIC_TF, imu_message
 from roverlink.recording.sensors import laser_scan_fields
-from roverlink.sensors import Sensors, choose_sensors, open_sensors
+from roverlink.sensors import SensorChoice, Sensors, choose_sensors, open_sensors
+from roverlink.tui import DashboardApp
 
 ROOM = Path(__file__).resolve().parents[2] / "examples" / "worlds" / "room.toml"
 SENSORS = "lidar=rplidar-a1&imu=jy901&camera=1"
@@ -197,22 +202,32 @@ def test_a_device_that_cannot_open_is_named(capsys: pytest.CaptureFixture[str], 
     assert "/dev/nonexistent" in capsys.readouterr().err
 
 
-def test_record_names_real_ports_on_the_command_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """A robot on a serial port with its sensors on theirs: `roverlink emulate` serves each device
-    on a pty (the camera over HTTP), as the real ones appear; each is read by a thread of its own."""
+@pytest.fixture(scope="module")
+def served() -> Iterator[tuple[str, dict[str, str]]]:
+    """A robot on a serial port with its sensors on theirs, as real ones appear: `roverlink emulate`
+    serves the board and each device on a pty of its own, the camera over HTTP."""
     cmd = [sys.executable, "-m", "roverlink", "emulate", "--profile", "diffdrive-bts7960", "--world", str(ROOM),
            "--lidar", "rplidar-a1", "--imu", "jy901", "--camera", "--quiet", "--seed", "3"]  # fmt: skip
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
     try:
         assert proc.stdout is not None
         board, *devices = (proc.stdout.readline().split() for _ in range(4))
-        port = {words[0]: words[-1] for words in devices}
-        path = tmp_path / "ports.mcap"
-        args = ["--lidar", port["lidar"], "--imu", port["imu"], "--camera", port["camera"]]
-        assert main(["record", board[0], "-o", str(path), "--duration", "2", *args]) == 0
+        yield board[0], {words[0]: words[-1] for words in devices}
     finally:
         proc.terminate()
         proc.wait(10)
+        if proc.stdout is not None:
+            proc.stdout.close()
+
+
+def test_record_names_real_ports_on_the_command_line(
+    served: tuple[str, dict[str, str]], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Each device named with its option and read by a thread of its own."""
+    board, port = served
+    path = tmp_path / "ports.mcap"
+    args = ["--lidar", port["lidar"], "--imu", port["imu"], "--camera", port["camera"]]
+    assert main(["record", board, "-o", str(path), "--duration", "2", *args]) == 0
     out = capsys.readouterr().out
     assert f"with the lidar rplidar-a1 on {port['lidar']}" in out  # the model: the robot profile's lidar
     rec = read_mcap(path)
@@ -224,3 +239,25 @@ def test_record_names_real_ports_on_the_command_line(tmp_path: Path, capsys: pyt
     # Stamped on arrival by each thread: the IMU's periods spread over the recording, not in bursts.
     imu_times = np.array([t for t, _ in rec.messages[TOPIC_IMU]]) / 1e9
     assert np.diff(imu_times).max() < 0.2 and imu_times[-1] - imu_times[0] > 1.5
+
+
+def test_textual_monitor_shows_the_sensors(served: tuple[str, dict[str, str]]) -> None:
+    board, port = served
+    choice = SensorChoice(lidar=port["lidar"], lidar_model="rplidar-a1", imu=port["imu"], camera=port["camera"])
+    with Robot.connect(board) as robot, open_sensors(choice) as sensors:
+        sensors.start()
+        app = DashboardApp(Dashboard(robot, sensors=sensors), hz=10)
+
+        def text() -> str:
+            return str(app.query_one("#sensors").render())
+
+        async def run() -> str:
+            async with app.run_test() as pilot:
+                assert await until(lambda: re.search(r"nearest [\d.]+ m", text()) is not None, pilot)
+                assert await until(lambda: re.search(r"320x240 +[\d.]+ fps", text()) is not None, pilot)
+                shown = text()
+                await pilot.press("q")
+                return shown
+
+        shown = asyncio.run(run())
+    assert "rplidar-a1" in shown and "scans/s" in shown and "yaw" in shown and "dropped" in shown
