@@ -126,8 +126,6 @@ class ImuObserver:
     """An Observer that measures rotations with the IMU and asks `base` everything else (the
     wheels' turns, distances: a person, or the emulator's truth)."""
 
-    name = "the IMU"
-
     def __init__(
         self, base: Observer, robot: Robot, sensors: Sensors, *, rest_s: float = REST_S, settle_s: float = SETTLE_S
     ) -> None:

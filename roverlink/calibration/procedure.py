@@ -372,6 +372,8 @@ class Check:
     odometry: float
     measured: float
     unit: str
+    by: str = "measured"
+    """Who measured: a person (or the emulator's truth), or the IMU."""
 
     @property
     def error(self) -> float:
@@ -380,7 +382,7 @@ class Check:
 
     def line(self) -> str:
         return (
-            f"{self.what}: odometry {self.odometry:.3f} {self.unit}, measured {self.measured:.3f} {self.unit} "
+            f"{self.what}: odometry {self.odometry:.3f} {self.unit}, {self.by} {self.measured:.3f} {self.unit} "
             f"({self.error * 100:.2f} %)"
         )
 
@@ -429,7 +431,9 @@ def verify(cal: Calibration, result: CalibrationResult) -> list[Check]:
         cal._run_until(turn, lambda _c, _t: odometry.pose.theta_rad / (2 * math.pi), "check: full turn")
         cal._settle()
         robot.disarm()
-        checks.append(Check("full turn", math.degrees(odometry.pose.theta_rad), cal.observer.rotation_deg(), "deg"))
+        by = "by the IMU" if isinstance(cal.observer, ImuObserver) else "measured"
+        turned = cal.observer.rotation_deg()
+        checks.append(Check("full turn", math.degrees(odometry.pose.theta_rad), turned, "deg", by))
     finally:
         unsubscribe()
     return checks

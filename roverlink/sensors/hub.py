@@ -41,7 +41,9 @@ RATE_WINDOW_S = 2.0
 
 
 class _Rate:
-    """Events per second over the last RATE_WINDOW_S of their own timestamps."""
+    """Events per second over the last RATE_WINDOW_S of their own timestamps. Events read in a
+    batch share its arrival time: those of the window's first batch arrived before the window's
+    span began, so they are not counted in it."""
 
     def __init__(self) -> None:
         self._times: deque[float] = deque()
@@ -55,8 +57,10 @@ class _Rate:
     def hz(self) -> float | None:
         if len(self._times) < 2:
             return None
-        span = self._times[-1] - self._times[0]
-        return (len(self._times) - 1) / span if span > 0 else None
+        first = self._times[0]
+        span = self._times[-1] - first
+        in_span = len(self._times) - sum(1 for t in self._times if t == first)
+        return in_span / span if span > 0 else None
 
 
 @dataclass(frozen=True, slots=True)

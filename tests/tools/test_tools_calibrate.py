@@ -6,6 +6,7 @@ from __future__ import annotations
 import io
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -167,7 +168,7 @@ def test_calibrate_command(tmp_path: Path, capsys: pytest.CaptureFixture[str], m
     assert main(["calibrate", url, "--yes", "-o", str(out)]) == 0
     text = capsys.readouterr().out
     assert "encoder_invert fixed" in text and "saved to EEPROM" in text and "full turn" in text
-    assert "deg by the IMU's yaw (its gyro:" in text
+    assert "deg by the IMU's yaw (its gyro:" in text and re.search(r"full turn: odometry [\d.]+ deg, by the IMU", text)
     kin = load_kinematics(out)
     assert kin.track_m == pytest.approx(0.26, rel=0.005)  # type: ignore[union-attr]
     # How to use the file: every command takes it, and the SDK.
