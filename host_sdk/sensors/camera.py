@@ -5,6 +5,7 @@
     cam = CameraSource(gstreamer_pipeline("jetson-csi"))     # Jetson CSI camera (nvarguscamerasrc)
     cam = CameraSource("http://127.0.0.1:8081/stream.mjpg")  # a network camera, e.g. `roverlink emulate --camera`
     frame = cam.read()                                       # CameraFrame: BGR image, time_s, seq
+    frames = cam.poll()                                      # every frame that arrived (streams: no wait)
 
 OpenCV (`opencv-python-headless`, the `vision` extra) is imported when a source opens. Device
 paths, GStreamer pipelines (any string with a `!`) and URLs go to `cv2.VideoCapture`; a URL whose
