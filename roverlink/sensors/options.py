@@ -17,13 +17,14 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from host_sdk import Robot
+from host_sdk import Robot, RoverLinkError, TransportError
 from host_sdk.profiles import profile_for_example
-from host_sdk.sensors import CameraSource, Jy901, Lidar, gstreamer_pipeline
+from host_sdk.sensors import CameraSource, Jy901, Lidar, SensorTimeoutError, gstreamer_pipeline
 from host_sdk.sensors.camera import PIPELINES
 from host_sdk.sensors.imu import DEFAULT_BAUD
 from host_sdk.sensors.lidar import MODELS
 from protocol.sensors import ROBOT_SENSORS, Mount
+from roverlink.argtypes import BAUD
 from roverlink.emulated import emulator_of
 from roverlink.extras import require
 from roverlink.sensors.hub import Sensors
@@ -72,7 +73,7 @@ def add_sensor_args(p: argparse.ArgumentParser, kinds: Sequence[str] = KINDS, of
     if "imu" in kinds:
         g.add_argument("--imu", metavar="PORT", help="the JY901's serial port, e.g. /dev/ttyUSB1")
         g.add_argument(
-            "--imu-baud", type=int, default=DEFAULT_BAUD, metavar="BAUD", help=f"its baud (default {DEFAULT_BAUD})"
+            "--imu-baud", type=BAUD, default=DEFAULT_BAUD, metavar="BAUD", help=f"its baud (default {DEFAULT_BAUD})"
         )
     if "camera" in kinds:
         g.add_argument("--camera", metavar="SOURCE", help=CAMERA_HELP)
@@ -112,18 +113,29 @@ def choose_sensors(args: argparse.Namespace, robot: Robot, kinds: Sequence[str] 
     )
 
 
+class SensorOpenError(RoverLinkError, OSError):
+    """A sensor could not be opened; names the kind of device, where, and why."""
+
+
 def open_sensors(choice: SensorChoice) -> Sensors:
-    """Open the chosen devices (TransportError, SensorTimeoutError... name the one that failed;
-    those already open are closed again). The camera needs OpenCV (the `vision` extra)."""
+    """Open the chosen devices; SensorOpenError names the one that failed (those already open are
+    closed again). The camera needs OpenCV (the `vision` extra: MissingDependencyError says so)."""
     sensors = Sensors()
+    kind, where = "", ""
     try:
         if choice.lidar is not None:
+            kind, where = f"lidar {choice.lidar_model}", choice.lidar
             sensors.lidar = Lidar.open(choice.lidar, choice.lidar_model)
         if choice.imu is not None:
+            kind, where = "imu jy901", choice.imu
             sensors.imu = Jy901.open(choice.imu, choice.imu_baud)
         if choice.camera is not None:
             require("cv2", "vision", "the camera")
+            kind, where = "camera", _short(choice.camera)
             sensors.camera = CameraSource(choice.camera)
+    except (TransportError, SensorTimeoutError, OSError) as exc:
+        sensors.close()
+        raise SensorOpenError(f"{kind} on {where}: {exc}") from exc
     except BaseException:
         sensors.close()
         raise

@@ -199,7 +199,8 @@ def test_monitor_shows_the_sensors(tmp_path: Path, capsys: pytest.CaptureFixture
 def test_a_device_that_cannot_open_is_named(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     code = main(["record", "emu://picar?clock=virtual", "-o", str(tmp_path / "x.mcap"), "--lidar", "/dev/nonexistent"])
     assert code == 1
-    assert "/dev/nonexistent" in capsys.readouterr().err
+    # Named with its model: the PiCar's own lidar, a YDLIDAR F4, by default.
+    assert "error: lidar ydlidar-f4 on /dev/nonexistent: could not open" in capsys.readouterr().err
 
 
 @pytest.fixture(scope="module")
