@@ -14,6 +14,7 @@ from typing import Protocol, TextIO
 
 from host_sdk import PROFILES, Robot
 from roverlink import argtypes
+from roverlink.kinematics_file import CalibrationFile, kinematics_arg
 
 
 def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
@@ -32,11 +33,52 @@ def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
         default=timeout,
         help=f"how long to wait for the board, in s (default {timeout:g}; an Arduino's bootloader takes ~2)",
     )
+    add_kinematics_arg(p)
+
+
+def add_kinematics_arg(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--kinematics",
+        type=kinematics_arg,
+        default=None,
+        metavar="FILE",
+        help="calibration file from `roverlink calibrate -o` (the track width the board does not store)",
+    )
 
 
 def connect(args: argparse.Namespace, **options: object) -> Robot:
-    """Robot.connect with the command's connection arguments."""
-    return Robot.connect(args.url, baud=args.baud, profile=args.profile, timeout_s=args.timeout, **options)  # type: ignore[arg-type]
+    """Robot.connect with the command's connection arguments (and --kinematics FILE's kinematics)."""
+    cal: CalibrationFile | None = getattr(args, "kinematics", None)
+    kinematics = cal.kinematics if cal is not None else None
+    robot = Robot.connect(
+        args.url,
+        baud=args.baud,
+        profile=args.profile,
+        timeout_s=args.timeout,
+        kinematics=kinematics,
+        **options,  # type: ignore[arg-type]
+    )
+    if cal is not None:
+        for line in calibration_mismatch(cal, robot):
+            print(f"note: {line}", file=sys.stderr)
+    return robot
+
+
+def calibration_mismatch(cal: CalibrationFile, robot: Robot) -> list[str]:
+    """Where a calibration file disagrees with the robot it is used on: another robot, or a board
+    configuration changed since (its wheel diameter or encoder counts are not the file's)."""
+    out = []
+    name = robot.identity.robot_name
+    if cal.robot and name and cal.robot != name:
+        out.append(f"{cal.path} was calibrated on {cal.robot}; this robot is {name}")
+    config = robot.config
+    kin = cal.kinematics
+    board = {"wheel_radius_m": config.wheel_diameter_um / 2e6, "counts_per_rev": config.encoder_cpr}
+    for field, value in board.items():
+        mine = getattr(kin, field)
+        if abs(mine - value) > 1e-3 * abs(value):
+            out.append(f"{cal.path} has {field} {mine:g}, the board {value:g}: its configuration changed since")
+    return out
 
 
 class Prompter(Protocol):

@@ -2,7 +2,9 @@
 
 `Dashboard` reads only: identity, state and failsafe reason, the latest FEEDBACK (measured wheel
 speeds, efforts, steering), odometry, both sides' link statistics with rates, RTT and clock drift,
-and the last LOG lines. It never arms or commands. `poll()` asks the board for its LINK_STATS
+the last LOG lines, and the host-side sensors when there are any (roverlink.sensors: scan rate,
+points, nearest obstacle; IMU attitude and rates; camera fps and dropped frames). It never arms
+or commands. `poll()` asks the board for its LINK_STATS
 once a second (a reliable request; the only thing it sends besides the session's own PINGs).
 `lines()` is the plain text (the fallback when stdout is not a terminal, and the text screenshot);
 the Textual apps in roverlink.tui show the same sections.
@@ -19,6 +21,7 @@ from dataclasses import dataclass, field
 from host_sdk import FeedbackSample, LinkStatistics, Robot, RoverLinkError
 from host_sdk.enums import LogLevel, Status
 from roverlink.recording.sources import board_counters, link_rates
+from roverlink.sensors.hub import Sensors, SensorStatus
 
 LOG_LINES = 8
 BOARD_STATS_PERIOD_S = 1.0
@@ -47,14 +50,16 @@ class Snapshot:
     board_rates: dict[str, float]
     logs: list[str] = field(default_factory=list)
     setpoint: Setpoint | None = None
+    sensors: SensorStatus | None = None
 
 
 class Dashboard:
     """Collects a robot's state for display; thread-safe (LOG lines arrive on the I/O thread)."""
 
-    def __init__(self, robot: Robot, *, board_stats: bool = True) -> None:
+    def __init__(self, robot: Robot, *, board_stats: bool = True, sensors: Sensors | None = None) -> None:
         self.robot = robot
         self.board_stats = board_stats
+        self.sensors = sensors if sensors is not None and not sensors.empty else None
         self._logs: collections.deque[str] = collections.deque(maxlen=LOG_LINES)
         self._lock = threading.Lock()
         self._unsubscribe = robot.on_log(self._on_log)
@@ -73,7 +78,9 @@ class Dashboard:
         self._unsubscribe()
 
     def poll(self) -> None:
-        """Update the rates (and once a second the board's counters)."""
+        """Update the rates (and once a second the board's counters); read virtual-clock sensors."""
+        if self.sensors is not None:
+            self.sensors.poll()
         now = self.robot.now()
         stats = self.robot.stats
         last = self._last_host
@@ -120,6 +127,7 @@ class Dashboard:
             board_rates=dict(self._board_rates),
             logs=logs,
             setpoint=self.setpoint,
+            sensors=self.sensors.status() if self.sensors is not None else None,
         )
 
 
@@ -183,9 +191,46 @@ def link_lines(s: Snapshot) -> list[str]:
     return lines
 
 
+def _opt(value: float | None, fmt: str) -> str:
+    return "-" if value is None else format(value, fmt)
+
+
+def sensor_lines(s: Snapshot) -> list[str]:
+    """The sensors' section (empty without sensors)."""
+    st = s.sensors
+    if st is None:
+        return []
+    out = []
+    if (li := st.lidar) is not None:
+        nearest = (
+            f"nearest {li.nearest_m:.3f} m at {li.nearest_bearing_deg:+.0f} deg"
+            if li.nearest_m is not None and li.nearest_bearing_deg is not None
+            else "nearest -"
+        )
+        out.append(
+            f"  lidar   {li.model}  {_opt(li.rate_hz, '.1f')} scans/s  {li.points} points ({li.valid} returns)  "
+            f"{nearest}  errors {li.errors}"
+        )
+    if (imu := st.imu) is not None:
+        attitude = rates = "-"
+        if imu.angles_deg is not None:
+            roll, pitch, yaw = imu.angles_deg
+            attitude = f"roll {roll:+.1f}  pitch {pitch:+.1f}  yaw {yaw:+.1f} deg"
+        if imu.rates_dps is not None:
+            rates = " ".join(f"{w:+.1f}" for w in imu.rates_dps) + " deg/s"
+        out.append(f"  imu     {_opt(imu.rate_hz, '.0f')} Hz  {attitude}  rates {rates}  errors {imu.errors}")
+    if (cam := st.camera) is not None:
+        size = f"{cam.size[0]}x{cam.size[1]}" if cam.size is not None else "-"
+        out.append(f"  camera  {size}  {_opt(cam.fps, '.1f')} fps  {cam.frames} frames  dropped {cam.dropped}")
+    out += [f"  stopped: {error}" for error in st.errors]
+    return out
+
+
 def lines(s: Snapshot) -> list[str]:
     """The whole dashboard as text."""
-    out = state_lines(s) + motion_lines(s) + ["link:", *link_lines(s), "log:"]
+    sensors = sensor_lines(s)
+    out = state_lines(s) + motion_lines(s) + (["sensors:", *sensors] if sensors else [])
+    out += ["link:", *link_lines(s), "log:"]
     out += [f"  {line}" for line in s.logs] or ["  (none)"]
     return out
 
@@ -203,4 +248,12 @@ def one_line(s: Snapshot) -> str:
     parts.append(f"rx {s.host_rates.get('feedback_received_per_s', 0):.0f}/s crc {h.crc_errors}")
     if h.rtt is not None:
         parts.append(f"rtt {h.rtt.last_s * 1000:.2f}ms")
+    st = s.sensors
+    if st is not None:
+        if st.lidar is not None:
+            parts.append(f"scan {_opt(st.lidar.rate_hz, '.1f')}/s near {_opt(st.lidar.nearest_m, '.2f')}m")
+        if st.imu is not None and st.imu.angles_deg is not None:
+            parts.append(f"yaw {st.imu.angles_deg[2]:+.1f}")
+        if st.camera is not None:
+            parts.append(f"cam {_opt(st.camera.fps, '.0f')}fps drop {st.camera.dropped}")
     return "  ".join(parts)

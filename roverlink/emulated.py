@@ -42,3 +42,13 @@ def on_stand(robot: Robot) -> bool | None:
     """Whether an emulated robot is on its stand (None on hardware: only the user knows)."""
     with emulator_of(robot) as emu:
         return None if emu is None else bool(emu.truth.plant.on_stand)
+
+
+def first_collision(robot: Robot) -> str | None:
+    """What an emulated robot in a world ran into first, as text (None: nothing, or hardware)."""
+    with emulator_of(robot) as emu:
+        world = emu.truth.world if emu is not None else None
+    if world is None or not world.collisions:
+        return None
+    c = world.collisions[0]
+    return f"{c.obstacle} at ({c.x_m:.2f}, {c.y_m:.2f}) m, {c.time_us / 1e6:.1f} s in, at {c.speed_m_s:.2f} m/s"

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from roverlink.dashboard import Dashboard, link_lines, motion_lines, state_lines
+from roverlink.dashboard import Dashboard, link_lines, motion_lines, sensor_lines, state_lines
 from roverlink.extras import require
 from roverlink.teleop import HELP, KEYS, TeleopController
 
@@ -42,6 +42,8 @@ class DashboardApp(App):  # type: ignore[misc]
         yield Header()
         yield Static(id="state")
         yield Static(id="motion")
+        if self.dashboard.sensors is not None:
+            yield Static(id="sensors")
         yield Static(id="link")
         yield Static(id="log")
         yield Footer()
@@ -57,6 +59,8 @@ class DashboardApp(App):  # type: ignore[misc]
         s = self.dashboard.snapshot()
         self.query_one("#state").update("\n".join(state_lines(s)))
         self.query_one("#motion").update("\n".join(motion_lines(s)) or "no FEEDBACK yet")
+        if s.sensors is not None:
+            self.query_one("#sensors").update("sensors\n" + "\n".join(sensor_lines(s)))
         self.query_one("#link").update("link\n" + "\n".join(link_lines(s)))
         self.query_one("#log").update("log\n" + ("\n".join(s.logs) or "(none)"))
 

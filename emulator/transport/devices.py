@@ -52,8 +52,10 @@ class SensorOptions:
 
     def attach(self, emu: Emulator, seed: int) -> None:
         opts = camera_options(self.camera) if self.camera else False
-        attach(emu, self.world or f"random:{seed}", lidar=self.lidar, imu=self.imu, camera=opts,
-               lidar_hz=self.lidar_hz)  # fmt: skip
+        # A lidar or a camera needs something to see: a random room by default. An IMU alone does
+        # not, and a room's walls would stop a robot driven for calibration: an open floor.
+        world = self.world or (f"random:{seed}" if self.lidar or self.camera else "empty")
+        attach(emu, world, lidar=self.lidar, imu=self.imu, camera=opts, lidar_hz=self.lidar_hz)
 
 
 def sensor_options(values: dict[str, str | None]) -> SensorOptions | None:

@@ -25,7 +25,7 @@ Query parameters (all optional):
 | cpr_scale, wheel_scale, track_scale, steering_ratio | number | 1 | true / configured cpr, wheel, track, linkage |
 | motor_flip, encoder_flip | 0..3 | 0 | wheel bit mask: mounted the other way than motor_invert / encoder_invert say |
 | steering_trim_deg | number | 0 | servo angle past the configured centre at which the wheels point straight |
-| world | scenario path, random:SEED | random:`seed` | the surroundings (docs/sensors.md); alone: no sensors |
+| world | path, random:SEED, empty | random:`seed` (IMU alone: empty) | surroundings (sensors.md); alone: no sensors |
 | lidar | rplidar-a1, ydlidar-f4 | none | attach a lidar (its `emudev://` URL is in `endpoints["lidar"]`) |
 | lidar_hz | number | the device's | the lidar's scan rate |
 | imu | jy901 | none | attach the IMU (`endpoints["imu"]`) |

@@ -2,6 +2,7 @@
 
     load_world("room.toml")      a scenario file (format: docs/sensors.md, "Scenario files")
     load_world("random:7")       a generated room, solvable: the start is free, the target reachable
+    load_world("empty")          an open floor, nothing on it (room to drive: calibration)
 
 Every field is checked; a bad one raises ScenarioError (a ValueError) naming it, e.g.
 `boxes[2].size = [0.4] is not allowed: two numbers > 0 (length, width) in metres`.
@@ -33,14 +34,16 @@ class ScenarioError(EmulatorValueError):
 
 
 def load_world(spec: str | Path) -> Scene:
-    """A Scene from a scenario file path, or `random:SEED`."""
+    """A Scene from a scenario file path, `random:SEED`, or `empty`."""
     text = str(spec)
+    if text == "empty":
+        return parse_scenario({}, default_name="empty")
     if text.startswith("random:"):
         from emulator.world.generate import random_scene  # noqa: PLC0415 (keeps the parser small)
 
         seed = text.removeprefix("random:")
         if not seed.isdigit():
-            raise ScenarioError("world", text, "a scenario file or random:SEED with SEED a whole number >= 0")
+            raise ScenarioError("world", text, "a scenario file, empty, or random:SEED with SEED a whole number >= 0")
         return random_scene(int(seed))
     path = Path(text)
     try:

@@ -5,6 +5,7 @@
     cam = CameraSource(gstreamer_pipeline("jetson-csi"))     # Jetson CSI camera (nvarguscamerasrc)
     cam = CameraSource("http://127.0.0.1:8081/stream.mjpg")  # a network camera, e.g. `roverlink emulate --camera`
     frame = cam.read()                                       # CameraFrame: BGR image, time_s, seq
+    frames = cam.poll()                                      # every frame that arrived (streams: no wait)
 
 OpenCV (`opencv-python-headless`, the `vision` extra) is imported when a source opens. Device
 paths, GStreamer pipelines (any string with a `!`) and URLs go to `cv2.VideoCapture`; a URL whose
@@ -19,6 +20,7 @@ counter when it has one (`X-Frame`), otherwise from gaps longer than 1.5 frame p
 from __future__ import annotations
 
 import time
+from collections import deque
 from dataclasses import dataclass
 from typing import Any
 
@@ -26,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk.sensors.errors import SensorClosedError, SensorTimeoutError
-from host_sdk.sensors.mjpeg import MjpegParser
+from host_sdk.sensors.mjpeg import JpegPart, MjpegParser
 from host_sdk.sensors.port import SensorPort
 from host_sdk.transport.plugins import opener, scheme_of
 
@@ -61,6 +63,9 @@ class CameraFrame:
     """Frames delivered by this source so far (1 first)."""
     device_time_s: float | None = None
     """The capture time the stream itself carried (the emulated camera's X-Timestamp), if any."""
+    jpeg: bytes | None = None
+    """The JPEG as the stream carried it (MJPEG byte streams), so it can be recorded or forwarded
+    without encoding it again; None from a capture device."""
 
 
 class CameraSource:
@@ -78,6 +83,7 @@ class CameraSource:
         self._closed = False
         self._port: SensorPort | None = None
         self._parser: MjpegParser | None = None
+        self._pending: deque[JpegPart] = deque()
         self._cap: Any = None
         text = str(source)
         scheme = scheme_of(text) if isinstance(source, str) else None
@@ -107,38 +113,78 @@ class CameraSource:
     def clock(self) -> float:
         return self._port.clock() if self._port is not None else time.monotonic()
 
+    @property
+    def virtual(self) -> bool:
+        """True for an emulator's camera on its virtual clock: reading is what moves time, so read
+        it from the loop that owns the emulator (no thread)."""
+        return self._port is not None and self._port.virtual
+
     def read(self, timeout_s: float = 1.0) -> CameraFrame:
         """The next frame; SensorTimeoutError when none arrives in time."""
-        if self._closed:
-            raise SensorClosedError(f"{self.source}: the camera was closed")
+        self._check_open()
         if self._port is not None:
             return self._read_stream(timeout_s)
         ok, image = self._cap.read()
         now = time.monotonic()
         if not ok or image is None:
             raise SensorTimeoutError(str(self.source), "camera frame", timeout_s, "the capture returned no frame")
-        return self._deliver(image, now, None, None)
+        return self._deliver(image, now, None, None, None)
+
+    def poll(self, timeout_s: float = 0.0) -> list[CameraFrame]:
+        """The frames that arrived, oldest first. A byte stream is read for at most `timeout_s`; a
+        capture device (V4L2, GStreamer, a URL through OpenCV) has no non-blocking read, so this
+        waits for its next frame (read such a camera from a thread of its own)."""
+        self._check_open()
+        if self._port is None:
+            return [self.read(max(timeout_s, 1.0))]
+        self._receive(timeout_s)
+        frames = []
+        while (frame := self._decode_pending()) is not None:
+            frames.append(frame)
+        return frames
+
+    def _check_open(self) -> None:
+        if self._closed:
+            raise SensorClosedError(f"{self.source}: the camera was closed")
+
+    def _receive(self, timeout_s: float) -> None:
+        port, parser = self._port, self._parser
+        assert port is not None and parser is not None
+        data = port.read(timeout_s)
+        if data:
+            parser.receive_data(data, port.clock())
+            self._pending.extend(parser.parts())
+
+    def _decode_pending(self) -> CameraFrame | None:
+        """The oldest complete part that decodes (a part that does not is counted and skipped)."""
+        parser = self._parser
+        assert parser is not None
+        while self._pending:
+            part = self._pending.popleft()
+            image = self._cv2.imdecode(np.frombuffer(part.jpeg, dtype=np.uint8), self._cv2.IMREAD_COLOR)
+            if image is None:
+                parser.counters.bad_parts += 1
+                continue
+            return self._deliver(image, part.t, part.frame, part.timestamp, part.jpeg)
+        return None
 
     def _read_stream(self, timeout_s: float) -> CameraFrame:
         port, parser = self._port, self._parser
         assert port is not None and parser is not None
         deadline = port.clock() + timeout_s
         while True:
-            for part in parser.parts():
-                image = self._cv2.imdecode(np.frombuffer(part.jpeg, dtype=np.uint8), self._cv2.IMREAD_COLOR)
-                if image is None:
-                    parser.counters.bad_parts += 1
-                    continue
-                return self._deliver(image, part.t, part.frame, part.timestamp)
+            frame = self._decode_pending()
+            if frame is not None:
+                return frame
             left = deadline - port.clock()
             if left <= 0:
                 heard = f"{parser.counters.bytes_received} bytes, {parser.counters.parts} frames"
                 raise SensorTimeoutError(str(self.source), "camera frame", timeout_s, heard)
-            data = port.read(min(left, 0.05))
-            if data:
-                parser.receive_data(data, port.clock())
+            self._receive(min(left, 0.05))
 
-    def _deliver(self, image: Any, t: float, counter: int | None, device_t: float | None) -> CameraFrame:
+    def _deliver(
+        self, image: Any, t: float, counter: int | None, device_t: float | None, jpeg: bytes | None
+    ) -> CameraFrame:
         if counter is not None and self._last_counter is not None:
             self.dropped += max(0, counter - self._last_counter - 1)
         elif counter is None and self._last_time is not None and self.fps:
@@ -148,7 +194,7 @@ class CameraSource:
         self._last_counter = counter
         self._last_time = t
         self.frames += 1
-        return CameraFrame(image, t, self.frames, device_t)
+        return CameraFrame(image, t, self.frames, device_t, jpeg)
 
     def close(self) -> None:
         if self._closed:

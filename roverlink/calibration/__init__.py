@@ -1,22 +1,29 @@
 """Guided calibration: motor and encoder directions, counts per revolution, wheel diameter,
-track width or steering, each measured by an observer (a person, or the emulator's truth).
+track width or steering, each measured by an observer (a person, or the emulator's truth; turns by
+the IMU when there is one).
 
 See roverlink.calibration.procedure for the steps and `roverlink calibrate` for the command.
 """
 
+from roverlink.calibration.imu import ImuObserver, ImuTurn, measure_turn
 from roverlink.calibration.observer import EmulatorObserver, Observer, PersonObserver, observer_for
 from roverlink.calibration.procedure import Calibration, CalibrationResult, Check, restore, verify
-from roverlink.calibration.store import load_kinematics, save_file
+from roverlink.calibration.store import save_file
+from roverlink.kinematics_file import load_kinematics, read_calibration
 
 __all__ = [
     "Calibration",
     "CalibrationResult",
     "Check",
     "EmulatorObserver",
+    "ImuObserver",
+    "ImuTurn",
     "Observer",
     "PersonObserver",
     "load_kinematics",
+    "measure_turn",
     "observer_for",
+    "read_calibration",
     "restore",
     "save_file",
     "verify",

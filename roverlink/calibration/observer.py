@@ -131,5 +131,6 @@ class EmulatorObserver:
 
 
 def observer_for(robot: Robot, prompter: Prompter) -> Observer:
-    """The emulator's truth for an emu:// robot, else the person."""
+    """The emulator's truth for an emu:// robot, else the person (an IMU, when there is one, is
+    added by roverlink.calibration.imu.ImuObserver)."""
     return EmulatorObserver(robot) if robot.emulator is not None else PersonObserver(prompter)

@@ -7,7 +7,8 @@
    the observer counts.
 3. On the floor: the wheel diameter, from a straight drive the observer measures (Ackermann: the
    end point's offset to the side also gives the steering centre trim).
-4. Differential drive: the track width, from an in-place rotation the observer measures.
+4. Differential drive: the track width, from an in-place rotation the observer measures (with
+   an IMU configured, its yaw measures it: roverlink.calibration.imu).
    Ackermann: the steering angle per servo step (and the trim again, precisely) from one drive
    at a servo step to each side; the servo's pulse span is set so the board's angles are the
    wheels' angles.
@@ -31,6 +32,7 @@ from host_sdk.odometry import Odometry
 from host_sdk.profiles import get_profile, profile_for_example
 from protocol.generated.messages import SetConfig
 from roverlink.calibration import geometry
+from roverlink.calibration.imu import DISAGREE, ImuObserver
 from roverlink.calibration.observer import Observer
 from roverlink.tuning.steps import command_wheel, gains_applied, wheel_count
 
@@ -89,8 +91,11 @@ class Calibration:
         track_m: float | None = None,
         say: Callable[[str], None] = print,
         progress: Callable[[str, float], None] | None = None,
+        tick: Callable[[], None] | None = None,
     ) -> None:
         self.robot = robot
+        self.tick = tick
+        """Called at every FEEDBACK while the robot moves (reads sensors on a virtual clock)."""
         self.observer = observer
         self.revolutions = revolutions
         self.distance_m = distance_m
@@ -117,9 +122,15 @@ class Calibration:
     def _speed(self, fraction: float) -> float:
         return self._config.max_wheel_speed_mm_s / 1000 * fraction
 
-    def _counts(self) -> tuple[int, ...]:
+    def feedback(self) -> FeedbackSample:
+        """The next FEEDBACK (and a tick)."""
         sample = self.robot.wait_feedback()
-        return sample.encoder_counts
+        if self.tick is not None:
+            self.tick()
+        return sample
+
+    def _counts(self) -> tuple[int, ...]:
+        return self.feedback().encoder_counts
 
     def _mpc(self) -> float:
         c = self._config
@@ -130,7 +141,7 @@ class Calibration:
         end = self.robot.now() + SETTLE_S
         while self.robot.now() < end:
             self.robot.stop()
-            self.robot.wait_feedback()
+            self.feedback()
         return self._counts()
 
     def _run_until(
@@ -276,10 +287,22 @@ class Calibration:
         self.robot.disarm()
         measured = math.radians(self.observer.rotation_deg())
         track = geometry.track_width(self.track_m, odometry, measured)
+        by = "measured"
+        imu = self.observer.last if isinstance(self.observer, ImuObserver) else None
+        if imu is not None:
+            by = (
+                f"by the IMU's yaw (its gyro: {math.degrees(imu.gyro_rad):.1f} deg; "
+                f"yaw drift at rest {math.degrees(imu.drift_rad_s):+.3f} deg/s)"
+            )
         self.findings.append(
-            f"turned {math.degrees(odometry):.1f} deg by odometry, {math.degrees(measured):.1f} deg measured: "
+            f"turned {math.degrees(odometry):.1f} deg by odometry, {math.degrees(measured):.1f} deg {by}: "
             f"track {track * 1000:.1f} mm"
         )
+        if imu is not None and imu.disagreement > DISAGREE:
+            self.findings.append(
+                f"warning: the IMU's yaw and its gyro disagree by {imu.disagreement * 100:.1f} %: a magnetic "
+                "disturbance near the robot, or the gyro's scale; measure the turn yourself to be sure (--no-imu)"
+            )
         self.track_m = track
 
     def steering(self, passes: int = 2) -> None:
@@ -349,6 +372,8 @@ class Check:
     odometry: float
     measured: float
     unit: str
+    by: str = "measured"
+    """Who measured: a person (or the emulator's truth), or the IMU."""
 
     @property
     def error(self) -> float:
@@ -357,7 +382,7 @@ class Check:
 
     def line(self) -> str:
         return (
-            f"{self.what}: odometry {self.odometry:.3f} {self.unit}, measured {self.measured:.3f} {self.unit} "
+            f"{self.what}: odometry {self.odometry:.3f} {self.unit}, {self.by} {self.measured:.3f} {self.unit} "
             f"({self.error * 100:.2f} %)"
         )
 
@@ -377,7 +402,7 @@ def verify(cal: Calibration, result: CalibrationResult) -> list[Check]:
         speed = cal._speed(0.25)
         cal.observer.place(False)
         cal.observer.mark()
-        robot.wait_feedback()
+        cal.feedback()
         odometry.reset()
 
         def straight() -> None:
@@ -393,7 +418,7 @@ def verify(cal: Calibration, result: CalibrationResult) -> list[Check]:
         pose = odometry.pose
         checks.append(Check("straight drive", math.hypot(pose.x_m, pose.y_m), math.hypot(forward, left), "m"))
         cal.observer.mark()
-        robot.wait_feedback()
+        cal.feedback()
         odometry.reset()
         step = math.radians((result.config_after.steering_step_cdeg or 1000) / 100)
 
@@ -406,7 +431,9 @@ def verify(cal: Calibration, result: CalibrationResult) -> list[Check]:
         cal._run_until(turn, lambda _c, _t: odometry.pose.theta_rad / (2 * math.pi), "check: full turn")
         cal._settle()
         robot.disarm()
-        checks.append(Check("full turn", math.degrees(odometry.pose.theta_rad), cal.observer.rotation_deg(), "deg"))
+        by = "by the IMU" if isinstance(cal.observer, ImuObserver) else "measured"
+        turned = cal.observer.rotation_deg()
+        checks.append(Check("full turn", math.degrees(odometry.pose.theta_rad), turned, "deg", by))
     finally:
         unsubscribe()
     return checks

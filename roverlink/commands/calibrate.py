@@ -2,7 +2,8 @@
 directions, encoder counts per revolution, wheel diameter, track width (differential drive) or
 steering centre and angle per servo step (Ackermann); a check drive; the configuration before and
 after; saved to EEPROM after confirmation. On `emu://` the emulator's ground truth answers the
-questions a person with a tape measure would.
+questions a person with a tape measure would. With an IMU (--imu PORT, or an emu:// URL's
+imu=jy901) its yaw measures the turns instead of a person.
 """
 
 from __future__ import annotations
@@ -17,12 +18,17 @@ from roverlink.calibration import (
     Calibration,
     CalibrationResult,
     EmulatorObserver,
+    ImuObserver,
+    Observer,
     observer_for,
     restore,
     save_file,
     verify,
 )
 from roverlink.console import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
+from roverlink.emulated import first_collision
+from roverlink.kinematics_file import usage_lines
+from roverlink.sensors import Sensors, add_sensor_args, choose_sensors, open_sensors
 
 SHOWN = (
     "motor_invert",
@@ -54,10 +60,13 @@ def before_after(result: CalibrationResult) -> list[str]:
     return lines
 
 
-def run_calibration(robot: Robot, args: argparse.Namespace, prompter: Prompter) -> int:
-    observer = observer_for(robot, prompter)
+def run_calibration(robot: Robot, args: argparse.Namespace, prompter: Prompter, sensors: Sensors | None = None) -> int:
+    observer: Observer = observer_for(robot, prompter)
     if isinstance(observer, EmulatorObserver):
         prompter.say("(emulator: its ground truth plays the person with the tape measure)")
+    if sensors is not None and sensors.imu is not None:
+        observer = ImuObserver(observer, robot, sensors)
+        prompter.say(f"(the IMU on {sensors.imu.port.url} measures the turns: keep it level and away from steel)")
     progress = Progress()
     cal = Calibration(
         robot,
@@ -67,6 +76,7 @@ def run_calibration(robot: Robot, args: argparse.Namespace, prompter: Prompter) 
         turns=args.turns,
         say=prompter.say,
         progress=lambda what, f: progress.update(f"{what:<28} {bar(f)}"),
+        tick=sensors.poll if sensors is not None else None,
     )
     try:
         result = cal.run()
@@ -86,6 +96,7 @@ def run_calibration(robot: Robot, args: argparse.Namespace, prompter: Prompter) 
             path = save_file(args.output, result, name)
             kept = "" if result.ackermann else " (with the track width, which the board does not store)"
             summary.append(f"kinematics{kept} written to {path}")
+            summary += usage_lines(path, robot.url)
     else:
         restore(robot, result.config_before)
         summary.append("the board's configuration was put back as it was")
@@ -100,9 +111,18 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     """Guided calibration: directions, counts per revolution, wheel diameter, track or steering."""
     prompter = ConsolePrompter(assume_yes=args.yes)
     try:
-        with connect(args, feedback_hz=FEEDBACK_HZ_DEFAULT) as robot:
-            return run_calibration(robot, args, prompter)
-    except (RoverLinkError, EOFError, ValueError, TimeoutError) as exc:
+        with (
+            connect(args, feedback_hz=FEEDBACK_HZ_DEFAULT) as robot,
+            open_sensors(choose_sensors(args, robot, kinds=("imu",))) as sensors,
+        ):
+            try:
+                return run_calibration(robot, args, prompter, sensors)
+            except RoverLinkError:
+                hit = first_collision(robot)
+                if hit is not None:  # the emulated robot drove into its world: say so, not just the failsafe
+                    print(f"the emulated robot hit {hit}: give it room (world=empty)", file=sys.stderr)
+                raise
+    except (RoverLinkError, EOFError, ValueError, TimeoutError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
@@ -121,4 +141,5 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         "-o", "--output", type=Path, default=Path("calibration.json"), help="host calibration file (kinematics)"
     )
     p.add_argument("--yes", action="store_true", help="keep and save the result without asking")
+    add_sensor_args(p, kinds=("imu",), off="--no-imu")
     p.set_defaults(func=cmd_calibrate)

@@ -97,7 +97,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
     g = p.add_argument_group("world and sensors (docs/sensors.md; python backend)")
-    g.add_argument("--world", metavar="FILE|random:SEED", help="the surroundings: a scenario file or random:SEED")
+    g.add_argument(
+        "--world", metavar="FILE|random:SEED|empty", help="the surroundings: a scenario file, random:SEED or empty"
+    )
     g.add_argument("--lidar", choices=LIDARS, help="serve a lidar on its own pty")
     g.add_argument(
         "--lidar-hz", type=argtypes.number(0.1, 100), metavar="HZ", help="the lidar's scan rate (default: the device's)"

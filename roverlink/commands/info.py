@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 
 from host_sdk import RoverLinkError
@@ -33,6 +34,12 @@ def cmd_info(args: argparse.Namespace) -> int:
             for wheel in range(wheels):
                 g = robot.pid(wheel)
                 print(f"PID wheel {wheel}: kp {g.kp:g}, ki {g.ki:g}, kd {g.kd:g}, kf {g.kf:g}")
+            kin = robot.kinematics
+            if kin is not None:
+                cal = args.kinematics
+                where = f"from {cal.path}" if cal is not None else "from the profile and the board"
+                values = ", ".join(f"{f.name} {getattr(kin, f.name):g}" for f in dataclasses.fields(kin))
+                print(f"kinematics {type(kin).__name__} ({where}): {values}")
             rtt = robot.stats.rtt
             if rtt is not None:
                 print(f"round trip {rtt.min_s * 1000:.2f} ms")

@@ -1,6 +1,7 @@
 """`roverlink monitor URL`: a live, read-only view of a robot: identity, state (armed, failsafe and
 its reason), measured wheel speeds and efforts, steering, odometry, both sides' link statistics
-with rates, RTT and clock drift, and the firmware's LOG lines.
+with rates, RTT and clock drift, the firmware's LOG lines, and the sensors when there are any
+(scan rate and points, nearest obstacle, IMU attitude and rates, camera fps and dropped frames).
 
 It never arms or commands. It is the one program on the link: a serial port has one owner, and
 the monitor's own session (HELLO) would end any other program's (the board disarms on a new
@@ -15,10 +16,11 @@ import argparse
 import sys
 
 from host_sdk import Robot, RoverLinkError
-from roverlink.commands.record import add_foxglove_args, announce_live_view
+from roverlink.commands.record import POLL_S, add_foxglove_args, announce_live_view
 from roverlink.console import add_robot_args, connect
 from roverlink.dashboard import Dashboard, lines, one_line
 from roverlink.recording import Recorder
+from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
 
 
 def plain(robot: Robot, dashboard: Dashboard, period_s: float, duration_s: float | None, poll: object = None) -> int:
@@ -27,10 +29,13 @@ def plain(robot: Robot, dashboard: Dashboard, period_s: float, duration_s: float
     samples = 0
     try:
         while duration_s is None or robot.now() - start < duration_s - 1e-9:
-            robot.sleep(period_s)
-            dashboard.poll()
-            if callable(poll):
-                poll()
+            line_at = robot.now() + period_s
+            # Poll in short steps: sensors on an emulator's virtual clock are read here.
+            while (left := line_at - robot.now()) > 1e-9:
+                robot.sleep(min(POLL_S, left))
+                dashboard.poll()
+                if callable(poll):
+                    poll()
             samples += 1
             print(f"{robot.now() - start:7.1f} s  {one_line(dashboard.snapshot())}", flush=True)
     except KeyboardInterrupt:
@@ -43,12 +48,16 @@ def cmd_monitor(args: argparse.Namespace) -> int:
     """Live read-only view: state, wheels, odometry, link statistics, LOG lines."""
     tty = sys.stdout.isatty() and not args.plain
     try:
-        with connect(args, feedback_hz=args.rate) as robot:
+        with connect(args, feedback_hz=args.rate) as robot, open_sensors(choose_sensors(args, robot)) as sensors:
             recorder = None
             if args.foxglove:
-                recorder = Recorder.attach(robot, serve=True, port=args.foxglove_port, board_stats=False)
+                recorder = Recorder.attach(
+                    robot, serve=True, port=args.foxglove_port, board_stats=False, sensors=sensors
+                )
                 announce_live_view(recorder)
-            dashboard = Dashboard(robot)
+            else:
+                sensors.start()
+            dashboard = Dashboard(robot, sensors=sensors)
             poll = recorder.poll if recorder is not None else None
             try:
                 if tty:
@@ -62,7 +71,7 @@ def cmd_monitor(args: argparse.Namespace) -> int:
                 dashboard.close()
                 if recorder is not None:
                     print("\n".join(recorder.close().lines()))
-    except RoverLinkError as exc:
+    except (RoverLinkError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
     return 0
@@ -76,4 +85,5 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--period", type=float, default=1.0, help="seconds between plain lines (default 1)")
     p.add_argument("--duration", type=float, default=None, metavar="S", help="stop after S seconds (plain mode)")
     add_foxglove_args(p)
+    add_sensor_args(p)
     p.set_defaults(func=cmd_monitor)

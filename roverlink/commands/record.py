@@ -1,5 +1,9 @@
-"""`roverlink record URL -o FILE.mcap [--duration S] [--foxglove]`: record a robot to MCAP, and
-optionally serve the same messages live to Foxglove on 127.0.0.1.
+"""`roverlink record URL -o FILE.mcap [--duration S] [--foxglove]`: record a robot and its sensors
+to MCAP, and optionally serve the same messages live to Foxglove on 127.0.0.1.
+
+The sensors are those an `emu://` URL attached, or those named with --lidar/--imu/--camera
+(roverlink.sensors): a lidar's scans as foxglove.LaserScan, the camera's frames as
+foxglove.CompressedImage, the IMU's samples as roverlink.Imu.
 
 Read-only, like `monitor`: it opens a session (which leaves the board disarmed) and never arms
 or commands; drive the robot from a program that records itself (`Recorder.attach` in
@@ -16,8 +20,10 @@ from typing import TextIO
 from host_sdk import Robot, RoverLinkError
 from roverlink.console import Progress, add_robot_args, bar, connect
 from roverlink.recording import Recorder, RecordingSummary
+from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
 
 LAYOUT_HINT = "docs/foxglove-layout.json"
+POLL_S = 0.05
 
 
 def add_foxglove_args(p: argparse.ArgumentParser) -> None:
@@ -48,7 +54,9 @@ def record(robot: Robot, recorder: Recorder, duration_s: float | None, progress:
             elapsed = robot.now() - start
             if duration_s is not None and elapsed >= duration_s:
                 break
-            robot.sleep(0.1 if duration_s is None else min(0.1, max(0.001, duration_s - elapsed)))
+            # 50 ms steps: an emulated camera on the virtual clock keeps only 4 frames between polls.
+            step = POLL_S if duration_s is None else min(POLL_S, max(0.001, duration_s - elapsed))
+            robot.sleep(step)
             recorder.poll()
             total = sum(recorder.sink.counts.values())
             shown = f"{bar(elapsed / duration_s)} " if duration_s else ""
@@ -61,7 +69,7 @@ def record(robot: Robot, recorder: Recorder, duration_s: float | None, progress:
 
 
 def cmd_record(args: argparse.Namespace) -> int:
-    """Record feedback, odometry, transforms, wheel series, link statistics and LOG lines to MCAP."""
+    """Record feedback, odometry, wheel series, link statistics, LOG lines and the sensors to MCAP."""
     path = Path(args.output)
     if path.suffix != ".mcap":
         print(f"error: -o {path}: the file name should end in .mcap", file=sys.stderr)
@@ -74,17 +82,22 @@ def cmd_record(args: argparse.Namespace) -> int:
         return 2
     try:
         with connect(args, feedback_hz=args.rate) as robot:
-            recorder = Recorder.attach(
-                robot,
-                mcap_path=path,
-                overwrite=args.force,
-                serve=args.foxglove,
-                port=args.foxglove_port,
-            )
-            announce_live_view(recorder)
-            name = robot.identity.robot_name or "robot"
-            print(f"recording {name} on {robot.url} to {path}" + ("" if args.duration else " (Ctrl-C stops)"))
-            summary = record(robot, recorder, args.duration, Progress())
+            choice = choose_sensors(args, robot)
+            with open_sensors(choice) as sensors:
+                recorder = Recorder.attach(
+                    robot,
+                    mcap_path=path,
+                    overwrite=args.force,
+                    serve=args.foxglove,
+                    port=args.foxglove_port,
+                    sensors=sensors,
+                )
+                announce_live_view(recorder)
+                name = robot.identity.robot_name or "robot"
+                print(f"recording {name} on {robot.url} to {path}" + ("" if args.duration else " (Ctrl-C stops)"))
+                for line in choice.lines():
+                    print(f"  with the {line}")
+                summary = record(robot, recorder, args.duration, Progress())
     except (RoverLinkError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
@@ -101,4 +114,5 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--rate", type=int, default=50, metavar="HZ", help="feedback rate asked of the board (default 50)")
     p.add_argument("--force", action="store_true", help="overwrite FILE.mcap if it exists")
     add_foxglove_args(p)
+    add_sensor_args(p)
     p.set_defaults(func=cmd_record)

@@ -1,9 +1,10 @@
 """The Foxglove layout shipped for RoverLink recordings (docs/foxglove-layout.json).
 
 Left: the 3D panel following base_link in the odom frame, with the odometry pose, the path and
-(once a lidar records) the scan. Right: plots of the wheel speeds (and setpoints when the
-recording program commanded), efforts, and the link's rates; below, the firmware's LOG lines and
-the latest FEEDBACK with every field. Regenerate the file after changing this module:
+the lidar's scan around the robot; under it the camera's image. Right: plots of the wheel speeds
+(and setpoints when the recording program commanded), efforts, the IMU's yaw and yaw rate, and
+the link's rates; below, the firmware's LOG lines and the latest FEEDBACK with every field. A
+panel whose topic is not in a recording (no camera, no IMU) stays empty. Regenerate the file after changing this module:
 
     python -m roverlink.recording.layout > docs/foxglove-layout.json
 """
@@ -18,6 +19,8 @@ from roverlink.recording.schemas import (
     FRAME_BASE,
     FRAME_ODOM,
     TOPIC_FEEDBACK,
+    TOPIC_IMAGE,
+    TOPIC_IMU,
     TOPIC_LINK,
     TOPIC_LOG,
     TOPIC_ODOMETRY,
@@ -43,9 +46,14 @@ def layout() -> Any:
             topics={
                 TOPIC_ODOMETRY: fl.BaseRendererPoseTopicSettings(visible=True, type="arrow"),
                 TOPIC_PATH: fl.BaseRendererPosesTopicSettings(visible=True, type="line", line_width=0.02),
-                TOPIC_SCAN: fl.BaseRendererLaserScanTopicSettings(visible=True),
+                TOPIC_SCAN: fl.BaseRendererLaserScanTopicSettings(
+                    visible=True, point_size=4.0, color_mode="flat", flat_color="#ff3d00"
+                ),
             },
         ),
+    )
+    camera = fl.ImagePanel(
+        title="camera", config=fl.ImageConfig(image_mode=fl.ImageModeConfig(image_topic=TOPIC_IMAGE))
     )
     speeds = plot(
         "wheel speeds (m/s)",
@@ -58,6 +66,10 @@ def layout() -> Any:
     )
     efforts = plot(
         "efforts (-1..1)", [(f"{TOPIC_WHEELS}.effort[0]", "wheel 0"), (f"{TOPIC_WHEELS}.effort[1]", "wheel 1")]
+    )
+    imu = plot(
+        "IMU (rad, rad/s)",
+        [(f"{TOPIC_IMU}.angles_rad[2]", "yaw"), (f"{TOPIC_IMU}.angular_velocity[2]", "yaw rate")],
     )
     link = plot(
         "link (per second)",
@@ -73,10 +85,14 @@ def layout() -> Any:
     def column(*panels: Any) -> Any:
         return fl.SplitContainer(direction="column", items=[fl.SplitItem(content=p) for p in panels])
 
-    right = column(speeds, efforts, link)
+    left = fl.SplitContainer(
+        direction="column",
+        items=[fl.SplitItem(proportion=3, content=three_d), fl.SplitItem(proportion=2, content=camera)],
+    )
+    right = column(speeds, efforts, imu, link)
     bottom = fl.SplitContainer(direction="row", items=[fl.SplitItem(content=log), fl.SplitItem(content=raw)])
     top = fl.SplitContainer(
-        direction="row", items=[fl.SplitItem(proportion=3, content=three_d), fl.SplitItem(proportion=2, content=right)]
+        direction="row", items=[fl.SplitItem(proportion=3, content=left), fl.SplitItem(proportion=2, content=right)]
     )
     return fl.Layout(
         content=fl.SplitContainer(

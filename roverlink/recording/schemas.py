@@ -1,7 +1,7 @@
 """The recording's channels: topics, JSON schemas, and SDK values turned into JSON messages.
 
 Well-known Foxglove schemas carry what Foxglove draws by itself (the pose and path in the 3D
-panel, transforms, log lines, and later scans and images); RoverLink's own values go on JSON
+panel, transforms, log lines, scans and images); RoverLink's own values go on JSON
 channels whose JSON schema names every field, so Foxglove's plot and raw-message panels can use
 them (`/roverlink/wheels.speed_m_s[0]`). Nothing here imports foxglove: these are plain dicts.
 """
@@ -15,6 +15,7 @@ from typing import Any
 
 from host_sdk import FeedbackSample, LinkStatistics
 from host_sdk.enums import Status
+from host_sdk.sensors import ImuSample
 
 TOPIC_FEEDBACK = "/roverlink/feedback"
 TOPIC_WHEELS = "/roverlink/wheels"
@@ -29,6 +30,11 @@ TOPIC_IMAGE = "/camera/image/compressed"
 TOPIC_IMU = "/imu"
 FRAME_ODOM = "odom"
 FRAME_BASE = "base_link"
+FRAME_LASER = "laser"
+FRAME_IMU = "imu"
+FRAME_CAMERA = "camera"
+SENSOR_FRAMES = {"lidar": FRAME_LASER, "imu": FRAME_IMU, "camera": FRAME_CAMERA}
+"""The frame of each kind of sensor (a child of base_link on /tf)."""
 
 _NUMBER = {"type": "number"}
 _INTEGER = {"type": "integer"}
@@ -112,16 +118,27 @@ LINK_SCHEMA = _object(
     },
 )
 
-IMU_SCHEMA = _object(
-    "roverlink.Imu",
-    "An IMU sample: orientation quaternion, angular velocity (rad/s) and linear acceleration (m/s^2).",
-    {
-        "frame_id": {"type": "string"},
-        "orientation": _array({"type": "number"}),
-        "angular_velocity": _array({"type": "number"}),
-        "linear_acceleration": _array({"type": "number"}),
-    },
-)
+_NUMBERS_OR_NULL = {"type": ["array", "null"], "items": _NUMBER}
+IMU_SCHEMA = {
+    **_object(
+        "roverlink.Imu",
+        "An IMU output period as the driver decoded it (host_sdk.sensors.ImuSample), in the module's "
+        "body frame (x forward, y left, z up); null: an output the module was not set to send.",
+        {
+            "frame_id": {"type": "string"},
+            "orientation": {
+                **_NUMBERS_OR_NULL,
+                "description": "attitude quaternion x, y, z, w (the module's own, else from its angles)",
+            },
+            "angular_velocity": {**_NUMBERS_OR_NULL, "description": "rad/s about x, y, z"},
+            "linear_acceleration": {**_NUMBERS_OR_NULL, "description": "m/s^2, gravity included (+9.81 on z)"},
+            "angles_rad": {**_NUMBERS_OR_NULL, "description": "roll, pitch, yaw from the module's filter"},
+            "magnetic_field": {**_NUMBERS_OR_NULL, "description": "the magnetometer, in the module's units (mG)"},
+            "temperature_c": {"type": ["number", "null"]},
+        },
+    ),
+    "required": ["angular_velocity", "frame_id", "linear_acceleration", "orientation"],
+}
 
 
 def _plain(value: Any) -> Any:
@@ -160,3 +177,36 @@ def link_message(host: LinkStatistics, board: dict[str, int] | None, rates: dict
     host_part["nacks"] = dict(host.nacks)
     host_part["rtt_ms"] = host.rtt.last_s * 1000 if host.rtt is not None else None
     return {"host": host_part, "board": board, "rates": rates}
+
+
+def imu_message(sample: ImuSample, frame_id: str = FRAME_IMU) -> dict[str, Any]:
+    """An ImuSample as a roverlink.Imu message."""
+    if sample.quaternion is not None:
+        w, x, y, z = sample.quaternion
+        orientation: list[float] | None = [x, y, z, w]
+    elif sample.angle is not None:
+        orientation = list(_quaternion_xyzw(*sample.angle))
+    else:
+        orientation = None
+    return {
+        "frame_id": frame_id,
+        "orientation": orientation,
+        "angular_velocity": _plain(sample.gyro),
+        "linear_acceleration": _plain(sample.accel),
+        "angles_rad": _plain(sample.angle),
+        "magnetic_field": _plain(sample.mag),
+        "temperature_c": sample.temperature_c,
+    }
+
+
+def _quaternion_xyzw(roll: float, pitch: float, yaw: float) -> tuple[float, float, float, float]:
+    """(x, y, z, w) of Z-Y-X Euler angles."""
+    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
+    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    return (
+        sr * cp * cy - cr * sp * sy,
+        cr * sp * cy + sr * cp * sy,
+        cr * cp * sy - sr * sp * cy,
+        cr * cp * cy + sr * sp * sy,
+    )

@@ -36,7 +36,7 @@ class Publisher(Protocol):
     ) -> None: ...
 
     def transform(
-        self, topic: str, time_s: float, *, parent: str, child: str, x: float, y: float, theta: float
+        self, topic: str, time_s: float, *, parent: str, child: str, x: float, y: float, theta: float, z: float = 0.0
     ) -> None: ...
 
     def log(self, topic: str, time_s: float, *, level: str, text: str, name: str) -> None: ...
@@ -139,7 +139,7 @@ class FoxgloveSink:
         self._typed(topic, "PosesInFrameChannel", msg, time_s)
 
     def transform(
-        self, topic: str, time_s: float, *, parent: str, child: str, x: float, y: float, theta: float
+        self, topic: str, time_s: float, *, parent: str, child: str, x: float, y: float, theta: float, z: float = 0.0
     ) -> None:
         m = self._fg.messages
         qx, qy, qz, qw = _yaw_quaternion(theta)
@@ -147,7 +147,7 @@ class FoxgloveSink:
             timestamp=self._stamp(time_s),
             parent_frame_id=parent,
             child_frame_id=child,
-            translation=m.Vector3(x=x, y=y, z=0.0),
+            translation=m.Vector3(x=x, y=y, z=z),
             rotation=m.Quaternion(x=qx, y=qy, z=qz, w=qw),
         )
         self._typed(topic, "FrameTransformsChannel", m.FrameTransforms(transforms=[tf]), time_s)

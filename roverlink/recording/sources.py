@@ -3,9 +3,9 @@
 A source is anything with `start(publisher)`, `poll(now_s)` and `stop()`. It publishes from its
 own callbacks (the robot's FEEDBACK and LOG callbacks run on the SDK's I/O thread) and does
 periodic work, such as asking the board for its link counters, in `poll`, which the program that
-owns the recorder calls from its loop. Sensor drivers (lidar, camera, IMU) plug in the same way:
-a scan becomes `publisher.laser_scan(TOPIC_SCAN, ...)`, an image `compressed_image(TOPIC_IMAGE,
-...)`, an IMU sample `json(TOPIC_IMU, IMU_SCHEMA, ...)`.
+owns the recorder calls from its loop. The sensors plug in the same way (`SensorSource`, or
+`Recorder.attach(robot, sensors=...)`): a scan becomes `publisher.laser_scan(TOPIC_SCAN, ...)`, an
+image `compressed_image(TOPIC_IMAGE, ...)`, an IMU sample `json(TOPIC_IMU, IMU_SCHEMA, ...)`.
 
     with Recorder.attach(robot, mcap_path="run.mcap", serve=True) as recorder:
         while driving:
@@ -44,7 +44,10 @@ from roverlink.recording.schemas import (
     link_message,
     wheels_message,
 )
+from roverlink.recording.sensors import SensorSource
 from roverlink.recording.sink import FoxgloveSink, Publisher, TimeBase
+from roverlink.sensors.hub import Sensors
+from roverlink.sensors.options import sensor_mounts
 
 
 class Source(Protocol):
@@ -90,9 +93,11 @@ class RobotSource:
         board_stats: bool = True,
         path_spacing_m: float = 0.02,
         path_max_poses: int = 5000,
+        path_period_s: float = 1.0,
     ) -> None:
         self.robot = robot
         self.link_period_s = link_period_s
+        self.path_period_s = path_period_s
         self.board_stats = board_stats
         self.path_spacing_m = path_spacing_m
         self.path_max_poses = path_max_poses
@@ -102,6 +107,7 @@ class RobotSource:
         self._unsubscribe: list[Callable[[], None]] = []
         self._path: list[tuple[float, float, float]] = []
         self._path_dirty = False
+        self._last_path_s: float | None = None
         self._last_link: tuple[float, LinkStatistics] | None = None
 
     def start(self, out: Publisher) -> None:
@@ -112,6 +118,13 @@ class RobotSource:
         for unsubscribe in self._unsubscribe:
             unsubscribe()
         self._unsubscribe = []
+        self._publish_path(self.robot.now())  # the whole path, to where the recording ends
+
+    def _publish_path(self, now_s: float) -> None:
+        if self._out is not None and self._path_dirty:
+            self._path_dirty = False
+            self._last_path_s = now_s
+            self._out.poses(TOPIC_PATH, now_s, frame_id=FRAME_ODOM, poses=list(self._path))
 
     def _on_feedback(self, sample: FeedbackSample) -> None:
         out = self._out
@@ -148,9 +161,8 @@ class RobotSource:
         out = self._out
         if out is None:
             return
-        if self._path_dirty:
-            self._path_dirty = False
-            out.poses(TOPIC_PATH, now_s, frame_id=FRAME_ODOM, poses=list(self._path))
+        if self._last_path_s is None or now_s - self._last_path_s >= self.path_period_s:
+            self._publish_path(now_s)
         if self._last_link is not None and now_s - self._last_link[0] < self.link_period_s:
             return
         stats = self.robot.stats
@@ -202,12 +214,17 @@ class Recorder:
         port: int = 8765,
         sources: Sequence[Source] = (),
         board_stats: bool = True,
+        sensors: Sensors | None = None,
     ) -> Recorder:
-        """Record `robot` (and any further `sources`) to `mcap_path` and/or a live server."""
+        """Record `robot` (and any further `sources`) to `mcap_path` and/or a live server; with
+        `sensors` (roverlink.sensors), their scans, images and IMU samples too."""
         sink = FoxgloveSink(
             TimeBase.now(robot.now()), mcap_path=mcap_path, overwrite=overwrite, serve=serve, host=host, port=port
         )
-        return cls(sink, [RobotSource(robot, board_stats=board_stats), *sources], robot.now)
+        extra = list(sources)
+        if sensors is not None and not sensors.empty:
+            extra.append(SensorSource(sensors, sensor_mounts(robot, sensors.kinds())))
+        return cls(sink, [RobotSource(robot, board_stats=board_stats), *extra], robot.now)
 
     @property
     def robot_source(self) -> RobotSource | None:

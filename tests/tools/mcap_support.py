@@ -92,8 +92,11 @@ class LiveClient:
         self.received[channel["topic"]].append((time_ns, value))
 
     def pump(self, timeout_s: float) -> None:
+        """Handle what arrived, waiting up to `timeout_s` for the first frame."""
         with contextlib.suppress(TimeoutError):
             self._handle(self.ws.recv(timeout=timeout_s))
+            while True:
+                self._handle(self.ws.recv(timeout=0))
 
     def wait_for(self, what: Callable[[], bool], step: Callable[[], None], timeout_s: float = 20.0) -> bool:
         """Run `step` (e.g. drive the robot one feedback period) and read frames until `what()`."""

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import subprocess
 import sys
-from collections.abc import Iterator
+import time
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 
@@ -32,3 +33,13 @@ def pty_board(profile: str) -> Iterator[str]:
         proc.wait(timeout=10)
         if proc.stdout is not None:
             proc.stdout.close()
+
+
+async def until(predicate: Callable[[], bool], pilot: object, timeout_s: float = 10.0) -> bool:
+    """Let a Textual app run (its pilot pausing) until `predicate()`, at most `timeout_s`."""
+    deadline = time.monotonic() + timeout_s
+    while not predicate():
+        if time.monotonic() > deadline:
+            return False
+        await pilot.pause(0.05)  # type: ignore[attr-defined]
+    return True

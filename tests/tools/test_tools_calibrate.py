@@ -4,17 +4,29 @@ brought within 1 % of ground truth over a 2 m drive and a full turn, on every pr
 from __future__ import annotations
 
 import io
+import json
 import math
+import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from host_sdk import FeedbackSample, Robot
 from host_sdk.odometry import Odometry
-from roverlink.calibration import Calibration, EmulatorObserver, PersonObserver, load_kinematics
+from roverlink.calibration import (
+    Calibration,
+    EmulatorObserver,
+    ImuObserver,
+    PersonObserver,
+    load_kinematics,
+    measure_turn,
+)
 from roverlink.calibration import geometry as g
 from roverlink.cli import main
 from roverlink.console import ConsolePrompter
+from roverlink.emulated import first_collision
+from roverlink.sensors import SensorChoice, open_sensors
 
 PROFILES = ["diffdrive-tb6612", "diffdrive-bts7960", "picar"]
 
@@ -151,14 +163,110 @@ def test_person_observer_asks_and_parses() -> None:
 
 def test_calibrate_command(tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
     out = tmp_path / "cal.json"
-    url = "emu://diffdrive-bts7960?clock=virtual&physical=miscalibrated"
+    # The URL attaches a JY901: its yaw measures the turns (the emulator's truth the rest).
+    url = "emu://diffdrive-bts7960?clock=virtual&physical=miscalibrated&imu=jy901"
     assert main(["calibrate", url, "--yes", "-o", str(out)]) == 0
     text = capsys.readouterr().out
     assert "encoder_invert fixed" in text and "saved to EEPROM" in text and "full turn" in text
+    assert "deg by the IMU's yaw (its gyro:" in text and re.search(r"full turn: odometry [\d.]+ deg, by the IMU", text)
     kin = load_kinematics(out)
-    assert kin.track_m == pytest.approx(0.26, rel=0.003)  # type: ignore[union-attr]
-    # Declined: the board's configuration is put back.
+    assert kin.track_m == pytest.approx(0.26, rel=0.005)  # type: ignore[union-attr]
+    # How to use the file: every command takes it, and the SDK.
+    assert f"--kinematics {out}" in text and "load_kinematics(" in text
+    assert main(["info", url, "--kinematics", str(out)]) == 0
+    info = capsys.readouterr()
+    assert f"kinematics DiffDrive (from {out}): " in info.out and f"track_m {kin.track_m:g}" in info.out  # type: ignore[union-attr]
+    assert "note:" in info.err  # a fresh emulator: the board's configuration is not the calibrated one
+    # Declined, measured without the IMU: the board's configuration is put back.
     monkeypatch.setattr("sys.stdin", io.StringIO("n\n"))
-    assert main(["calibrate", url, "--no-check", "-o", str(tmp_path / "no.json")]) == 0
-    assert "put back" in capsys.readouterr().out
+    assert main(["calibrate", url, "--no-imu", "--no-check", "-o", str(tmp_path / "no.json")]) == 0
+    text = capsys.readouterr().out
+    assert "put back" in text and "deg measured: track" in text and "IMU" not in text
     assert not (tmp_path / "no.json").exists()
+
+
+class _NoProtractor(EmulatorObserver):
+    """The emulator's tape measure without its protractor: the IMU has to measure the turns."""
+
+    def rotation_deg(self) -> float:
+        raise AssertionError("the IMU measures the turns")
+
+
+def test_imu_calibration_brings_odometry_within_one_percent() -> None:
+    """The miscalibrated board (track 4 % wider than configured), the track measured by the JY901's
+    yaw (9-axis: the compass holds it at rest; uncalibrated, so its hard iron costs a little)."""
+    url = "emu://diffdrive-tb6612?clock=virtual&physical=miscalibrated&imu=jy901&seed=2"
+    with Robot.connect(url) as robot, open_sensors(SensorChoice(imu=robot.transport.endpoints["imu"])) as sensors:
+        observer = ImuObserver(_NoProtractor(robot), robot, sensors)
+        result = Calibration(robot, observer, say=lambda _t: None, tick=sensors.poll).run()
+        assert result.track_after_m == pytest.approx(robot.emulator.profile.track_m, rel=0.005)  # the true track
+        assert observer.last is not None and observer.last.disagreement < 0.01
+        assert any("by the IMU's yaw" in f for f in result.findings)
+        position, heading = _drive_and_compare(robot, result.kinematics(), False)
+        print(f"IMU: 2 m drive {position * 100:.2f} %, full turn {heading * 100:.2f} %")
+        assert position < 0.01
+        assert heading < 0.01
+
+
+def test_imu_gyro_bias_is_taken_out() -> None:
+    """A module in 6-axis mode (no compass: its yaw drifts with the gyro's bias) with a bad bias of
+    1 deg/s: the drift measured at rest comes out, which the turn alone would be 3 % off without."""
+    url = "emu://diffdrive-tb6612?clock=virtual&track_scale=1.04&imu=jy901&seed=3"
+    with Robot.connect(url) as robot, open_sensors(SensorChoice(imu=robot.transport.endpoints["imu"])) as sensors:
+        assert sensors.imu is not None
+        sensors.imu.configure(six_axis=True)
+        robot.emulator.sensors.devices["imu"].model.gyro_bias[2] = 1.0
+        observer = ImuObserver(_NoProtractor(robot), robot, sensors)
+        cal = Calibration(robot, observer, say=lambda _t: None, tick=sensors.poll)
+        cal.track()
+        turn = observer.last
+        assert turn is not None
+        assert math.degrees(turn.drift_rad_s) == pytest.approx(1.0, abs=0.05)
+        assert turn.drift_rad_s * turn.span_s / turn.yaw_rad > 0.02
+        assert cal.track_m == pytest.approx(robot.emulator.profile.track_m, rel=0.003)
+
+
+def test_measure_turn_from_batched_samples() -> None:
+    """A full turn at 200 Hz, read in 20 ms batches (each sample stamped with its batch's
+    arrival), the yaw drifting at 0.02 rad/s: the drift and the gyro's bias come out."""
+    rate, bias = 200, 0.02
+    t = np.arange(0, 12, 1 / rate)
+    turning = (t > 2) & (t < 9)
+    true_rate = np.where(turning, 2 * np.pi / 7, 0.0)
+    true_yaw = np.cumsum(true_rate) / rate
+    batched = np.ceil(t / 0.02) * 0.02
+    turn = measure_turn(batched, true_yaw + bias * t, true_rate + bias, (1.0, 2.0), (11.0, 12.0))
+    assert turn.yaw_rad == pytest.approx(true_yaw[-1], abs=1e-3)  # 0.06 degree
+    assert turn.gyro_rad == pytest.approx(true_yaw[-1], rel=3e-3)
+    assert (turn.drift_rad_s, turn.bias_rad_s) == pytest.approx((bias, bias), rel=1e-2)
+    with pytest.raises(ValueError, match="samples at rest"):
+        measure_turn(batched, true_yaw, true_rate, (20.0, 21.0), (11.0, 12.0))
+
+
+def test_kinematics_files_are_checked(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"format": "roverlink-calibration/1", "kinematics": {"type": "diff", "track_m": -1}}))
+    with pytest.raises(SystemExit) as exit_info:
+        main(["monitor", "emu://", "--kinematics", str(bad)])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert f"argument --kinematics: {bad}:" in err
+    with pytest.raises(SystemExit):
+        main(["teleop", "emu://", "--kinematics", str(tmp_path / "missing.json")])
+    assert "missing.json: No such file" in capsys.readouterr().err
+
+
+def test_an_imu_alone_gets_an_open_floor_and_a_collision_is_named(tmp_path: Path) -> None:
+    # An IMU needs no surroundings: the robot is on an open floor, with room for the 2 m drive.
+    with Robot.connect("emu://diffdrive-tb6612?clock=virtual&imu=jy901") as robot:
+        assert robot.emulator.sensors.world.scene.name == "empty"
+    wall = tmp_path / "wall.toml"
+    wall.write_text("[[walls]]\nfrom = [0.4, -1.0]\nto = [0.4, 1.0]\n", encoding="utf-8")
+    with Robot.connect(f"emu://diffdrive-tb6612?clock=virtual&imu=jy901&world={wall}") as robot:
+        assert first_collision(robot) is None
+        robot.arm()
+        for _ in range(50):  # 1 s: into the wall 0.4 m ahead
+            robot.drive(0.3, 0.0)
+            robot.wait_feedback()
+        hit = first_collision(robot)
+    assert hit is not None and hit.startswith("walls[0] at (0.40, ")

@@ -8,7 +8,7 @@ import time
 from collections.abc import Callable
 
 import pytest
-from pty_emulator import pty_board
+from pty_emulator import pty_board, until
 
 from emulator.firmware.statemachine import SessionState
 from host_sdk import FeedbackSample, Robot
@@ -54,24 +54,15 @@ def _wait(predicate: Callable[[], bool], timeout_s: float = 10.0) -> bool:
     return True
 
 
-async def _until(predicate: Callable[[], bool], pilot: object, timeout_s: float = 10.0) -> bool:
-    deadline = time.monotonic() + timeout_s
-    while not predicate():
-        if time.monotonic() > deadline:
-            return False
-        await pilot.pause(0.05)  # type: ignore[attr-defined]
-    return True
-
-
 def test_textual_monitor_headless() -> None:
     with pty_board("picar") as port, Robot.connect(port) as robot:
         app = DashboardApp(Dashboard(robot), hz=10)
 
         async def run() -> str:
             async with app.run_test() as pilot:
-                ok = await _until(lambda: "feedback" not in str(app.query_one("#motion").render()).lower(), pilot)
+                ok = await until(lambda: "feedback" not in str(app.query_one("#motion").render()).lower(), pilot)
                 assert ok
-                await _until(lambda: "board  rx" in str(app.query_one("#link").render()), pilot)
+                await until(lambda: "board  rx" in str(app.query_one("#link").render()), pilot)
                 text = "\n".join(str(app.query_one(f"#{w}").render()) for w in ("state", "motion", "link"))
                 await pilot.press("q")
                 return text
@@ -101,12 +92,12 @@ def test_teleop_drives_while_keys_arrive_and_stops_when_they_stop(profile: str) 
         async def run() -> None:
             async with app.run_test() as pilot:
                 await pilot.press("enter")
-                assert await _until(lambda: robot.armed, pilot)  # the PiCar's ESC window first
+                assert await until(lambda: robot.armed, pilot)  # the PiCar's ESC window first
                 driving = await hold(pilot, "up", times=20)
                 assert max(min(s.wheel_speeds_m_s[: 1 if ackermann else 2]) for s in driving) > 0.05
                 assert controller.setpoint is not None and controller.setpoint.linear_m_s > 0
                 # Released: within the key timeout the target drops to zero and the robot stops, still armed.
-                assert await _until(lambda: max(abs(v) for v in robot.feedback.wheel_speeds_m_s) < 0.01, pilot)
+                assert await until(lambda: max(abs(v) for v in robot.feedback.wheel_speeds_m_s) < 0.01, pilot)
                 assert robot.armed and robot.failsafe is None
                 await pilot.press("plus")
                 if ackermann:  # forward and left together: the servo steers left
@@ -118,7 +109,7 @@ def test_teleop_drives_while_keys_arrive_and_stops_when_they_stop(profile: str) 
                     assert min(s.wheel_speeds_m_s[0] for s in turning) < -0.05
                 await pilot.press("space")
                 await pilot.press("x")
-                assert await _until(lambda: not robot.armed, pilot)
+                assert await until(lambda: not robot.armed, pilot)
                 await pilot.press("q")
 
         asyncio.run(run())

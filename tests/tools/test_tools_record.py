@@ -167,6 +167,9 @@ def test_shipped_layout_is_current_and_names_recorded_topics() -> None:
     text = shipped.read_text(encoding="utf-8")
     for topic in (TOPIC_ODOMETRY, TOPIC_PATH, TOPIC_WHEELS, TOPIC_LINK, TOPIC_LOG, TOPIC_FEEDBACK):
         assert f'"{topic}' in text
+    # The scan in the 3D panel, the camera in an image panel, the IMU's yaw in a plot.
+    assert f'"{TOPIC_SCAN}": {{' in text and f'"imageTopic": "{TOPIC_IMAGE}"' in text
+    assert f'"{TOPIC_IMU}.angles_rad[2]"' in text
 
 
 class _FakeSensors:
