@@ -241,33 +241,72 @@ def start(args: list[str], **kw: Any) -> subprocess.Popen[str]:
     return subprocess.Popen(args, cwd=ROOT, text=True, **kw)
 
 
-def measure_processes(seconds: float) -> dict[str, Any]:
+def _start_stack() -> list[subprocess.Popen[str]]:
+    """The emulator on a pty, the bridge in /bridge on it, and the minimal relay (in that order)."""
     emulator = start(
         [sys.executable, "-m", "roverlink", "emulate", "--profile", "diffdrive-tb6612", "--eeprom", "saved", "--quiet"],
         stdout=subprocess.PIPE,
     )
     assert emulator.stdout is not None
     port = emulator.stdout.readline().strip()
+    bridge_args = ["--url", port, "--profile", "diffdrive-tb6612", "--ros-args", "-r", "__ns:=/bridge"]
     bridge = start(
-        [
-            sys.executable,
-            "-m",
-            "roverlink",
-            "ros2",
-            "--url",
-            port,
-            "--profile",
-            "diffdrive-tb6612",
-            "--ros-args",
-            "-r",
-            "__ns:=/bridge",
-            "-p",
-            f"odom_rate:={RATE_HZ}",
-        ],
+        [sys.executable, "-m", "roverlink", "ros2", *bridge_args, "-p", f"odom_rate:={RATE_HZ}"],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
     )
     relay = start([sys.executable, __file__, "--relay"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return [emulator, bridge, relay]
+
+
+def _arm_bridge(arm: Any) -> None:
+    """Calls ~/arm until it succeeds: the bridge connects (through the board's bootloader) after
+    its services are up."""
+    if not arm.wait_for_service(timeout_sec=20):
+        raise SystemExit("BENCHMARK INVALID: the bridge did not come up")
+    deadline = time.monotonic() + 15
+    while True:
+        future = arm.call_async(Trigger.Request())
+        while not future.done() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        if future.done() and future.result().success:
+            return
+        if time.monotonic() > deadline:
+            raise SystemExit("BENCHMARK INVALID: arming the bridge failed")
+        time.sleep(0.2)
+
+
+def _drive(pubs: list[Any], until: float) -> None:
+    """cmd_vel at 20 Hz to every publisher: forward, weaving."""
+    k = 0
+    while time.monotonic() < until:
+        msg = Twist()
+        msg.linear.x, msg.angular.z = 0.2, 0.5 * math.sin(k / 20)
+        for pub in pubs:
+            pub.publish(msg)
+        k += 1
+        time.sleep(0.05)
+
+
+def _stop(procs: list[subprocess.Popen[str]]) -> None:
+    for proc in procs:
+        proc.send_signal(2)
+    for proc in procs:
+        try:
+            proc.wait(10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+
+
+def _jitter(xs: list[float]) -> dict[str, float]:
+    """|interval - nominal| over consecutive times, in ms."""
+    nominal = 1.0 / RATE_HZ
+    dev = [abs((b - a) - nominal) * 1e3 for a, b in itertools.pairwise(xs)]
+    return {"mean_abs_ms": statistics.fmean(dev), "p99_abs_ms": percentile(dev, 0.99), "max_abs_ms": max(dev)}
+
+
+def measure_processes(seconds: float) -> dict[str, Any]:
+    emulator, bridge, relay = _start_stack()
     node = Node("bench")
     arrivals: dict[str, list[tuple[float, Any]]] = {"bridge": [], "relay": []}
     for name in arrivals:
@@ -281,63 +320,27 @@ def measure_processes(seconds: float) -> dict[str, Any]:
     stop = threading.Event()
     thread = spin(executor, stop)
     try:
-        if not arm.wait_for_service(timeout_sec=20):
-            raise SystemExit("BENCHMARK INVALID: the bridge did not come up")
-        deadline = time.monotonic() + 15
-        while True:  # the bridge connects (through the board's bootloader) after its services are up
-            future = arm.call_async(Trigger.Request())
-            while not future.done() and time.monotonic() < deadline:
-                time.sleep(0.05)
-            if future.done() and future.result().success:
-                break
-            if time.monotonic() > deadline:
-                raise SystemExit("BENCHMARK INVALID: arming the bridge failed")
-            time.sleep(0.2)
-
-        def drive(until: float) -> None:
-            k = 0
-            while time.monotonic() < until:
-                msg = Twist()
-                msg.linear.x, msg.angular.z = 0.2, 0.5 * math.sin(k / 20)
-                for pub in pubs:
-                    pub.publish(msg)
-                k += 1
-                time.sleep(0.05)  # 20 Hz cmd_vel
-
-        drive(time.monotonic() + 3.0)  # warm-up: discovery settled, the robot moving
+        _arm_bridge(arm)
+        _drive(pubs, time.monotonic() + 3.0)  # warm-up: discovery settled, the robot moving
         t0 = time.monotonic()
         cpu0 = {"bridge": cpu_s(bridge.pid), "relay": cpu_s(relay.pid)}
-        drive(t0 + seconds)
+        _drive(pubs, t0 + seconds)
         t1 = time.monotonic()
         cpu1 = {"bridge": cpu_s(bridge.pid), "relay": cpu_s(relay.pid)}
     finally:
         stop.set()
         thread.join(5)
-        for proc in (relay, bridge, emulator):
-            proc.send_signal(2)
-        for proc in (relay, bridge, emulator):
-            try:
-                proc.wait(10)
-            except subprocess.TimeoutExpired:
-                proc.kill()
+        _stop([relay, bridge, emulator])
         executor.shutdown()
         node.destroy_node()
     out: dict[str, Any] = {"seconds": t1 - t0}
     for name, items in arrivals.items():
         window = [(t, s) for t, s in items if t0 <= t <= t1]
-        at = [t for t, _ in window]
-        st = [s.sec + s.nanosec * 1e-9 for _, s in window]
-        nominal = 1.0 / RATE_HZ
-
-        def jitter(xs: list[float], nominal: float = nominal) -> dict[str, float]:
-            dev = [abs((b - a) - nominal) * 1e3 for a, b in itertools.pairwise(xs)]
-            return {"mean_abs_ms": statistics.fmean(dev), "p99_abs_ms": percentile(dev, 0.99), "max_abs_ms": max(dev)}
-
         out[name] = {
             "odom_hz": len(window) / (t1 - t0),
             "cpu_percent": 100 * (cpu1[name] - cpu0[name]) / (t1 - t0),
-            "stamp_interval_jitter": jitter(st),
-            "arrival_interval_jitter": jitter(at),
+            "stamp_interval_jitter": _jitter([s.sec + s.nanosec * 1e-9 for _, s in window]),
+            "arrival_interval_jitter": _jitter([t for t, _ in window]),
         }
     out["cpu_ratio"] = out["bridge"]["cpu_percent"] / max(out["relay"]["cpu_percent"], 1e-9)
     return out

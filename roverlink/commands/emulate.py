@@ -96,6 +96,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="virtual seconds per wall second, 0.01..1000 (default 1)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    _add_sensor_arguments(p)
+
+
+def _add_sensor_arguments(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("world and sensors (docs/sensors.md; python backend)")
     g.add_argument(
         "--world", metavar="FILE|random:SEED|empty", help="the surroundings: a scenario file, random:SEED or empty"
