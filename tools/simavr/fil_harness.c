@@ -554,13 +554,9 @@ static void after_reset(uint32_t adc_mv) {
     if (prof_in) prof_abandon();
 }
 
-int main(int argc, char** argv) {
-    if (argc < 3) {
-        fprintf(stderr, "usage: %s MCU ELF [--enc PA PB]... [--pcint-k] [--watch ADDR]... [--adc0 MV] [--line-ppb N]\n",
-                argv[0]);
-        return 2;
-    }
-    uint32_t adc_mv = 1234;
+/* The command-line options (argv[3..]): encoders, watched addresses, PCINT2 on port K, the ADC0
+ * level and the line's drift. 0 when they parse, else the exit status. */
+static int parse_options(int argc, char** argv, uint32_t* adc_mv) {
     for (int i = 3; i < argc; ++i) {
         if (strcmp(argv[i], "--enc") == 0 && i + 2 < argc && encoder_count < MAX_WHEELS) {
             encoder_t* e = &encoders[encoder_count++];
@@ -572,7 +568,7 @@ int main(int argc, char** argv) {
         } else if (strcmp(argv[i], "--pcint-k") == 0) {
             pcint_k = 1;
         } else if (strcmp(argv[i], "--adc0") == 0 && i + 1 < argc) {
-            adc_mv = (uint32_t)strtoul(argv[++i], NULL, 0);
+            *adc_mv = (uint32_t)strtoul(argv[++i], NULL, 0);
         } else if (strcmp(argv[i], "--line-ppb") == 0 && i + 1 < argc) {
             const long long ppb = strtoll(argv[++i], NULL, 0);
             if (ppb <= -100000000LL || ppb >= 100000000LL) {
@@ -585,13 +581,19 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
+    return 0;
+}
+
+/* The MCU of that name with the ELF loaded, the encoders and the UART wired, after its reset.
+ * 0 on success, else the exit status. */
+static int load_mcu(const char* mmcu, const char* elf, uint32_t adc_mv, char* loaded_mmcu, size_t loaded_size) {
     elf_firmware_t fw;
     memset(&fw, 0, sizeof fw);
-    if (elf_read_firmware(argv[2], &fw) != 0) {
-        fprintf(stderr, "fil_harness: cannot read %s\n", argv[2]);
+    if (elf_read_firmware(elf, &fw) != 0) {
+        fprintf(stderr, "fil_harness: cannot read %s\n", elf);
         return 2;
     }
-    strncpy(fw.mmcu, argv[1], sizeof fw.mmcu - 1);
+    strncpy(fw.mmcu, mmcu, sizeof fw.mmcu - 1);
     fw.frequency = F_CPU_HZ;
     avr = avr_make_mcu_by_name(fw.mmcu);
     if (avr == NULL) {
@@ -624,11 +626,14 @@ int main(int argc, char** argv) {
     }
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT), on_uart_out, NULL);
     after_reset(adc_mv);
+    snprintf(loaded_mmcu, loaded_size, "%s", fw.mmcu);
+    return 0;
+}
 
+/* One command per line on stdin, one answer line each on stdout, until Q or the end of input: one
+ * switch with a case per command of the line protocol, which is why it runs long. */
+static int serve_commands(uint32_t adc_mv) {
     static char line[MAX_LINE];
-    setvbuf(stdout, NULL, _IOFBF, 1 << 16);
-    printf("READY %s\n", fw.mmcu); /* simavr's loader prints to stdout before this: skip to here */
-    fflush(stdout);
     while (fgets(line, sizeof line, stdin) != NULL) {
         int ok = 1;
         switch (line[0]) {
@@ -713,4 +718,22 @@ int main(int argc, char** argv) {
         fflush(stdout);
     }
     return 0;
+}
+
+
+int main(int argc, char** argv) {
+    if (argc < 3) {
+        fprintf(stderr, "usage: %s MCU ELF [--enc PA PB]... [--pcint-k] [--watch ADDR]... [--adc0 MV] [--line-ppb N]\n",
+                argv[0]);
+        return 2;
+    }
+    uint32_t adc_mv = 1234;
+    int status = parse_options(argc, argv, &adc_mv);
+    char mmcu[sizeof ((elf_firmware_t*)0)->mmcu];
+    if (status == 0) status = load_mcu(argv[1], argv[2], adc_mv, mmcu, sizeof mmcu);
+    if (status != 0) return status;
+    setvbuf(stdout, NULL, _IOFBF, 1 << 16);
+    printf("READY %s\n", mmcu); /* simavr's loader prints to stdout before this: skip to here */
+    fflush(stdout);
+    return serve_commands(adc_mv);
 }

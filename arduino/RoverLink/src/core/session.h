@@ -220,6 +220,9 @@ ROVERLINK_OUT_OF_LINE void Session<App>::poll() {
 }
 
 // A frame the decoder accepted (COBS, length, id and CRC checked): docs/control.md section 1.
+// One function for every message on purpose: the handlers share their answer tails in one body,
+// which is what keeps link + session inside its flash budget (sharing the setpoint tail saved
+// 24 B, ending the reliable requests in one answer call 8 B; docs/budgets.md).
 template <class App>
 void Session<App>::on_frame() {
     FrameDecoder& d = link_.decoder();
