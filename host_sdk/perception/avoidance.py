@@ -123,7 +123,9 @@ def direction_clearance(px: F64, py: F64, directions: F64, half_width_m: float, 
     across = -s * x + c * y
     inside = np.abs(across) < half_width_m
     reach = along - np.sqrt(np.maximum(half_width_m**2 - across**2, 0.0))
-    blocked = inside & (along > -half_width_m)
+    # Only what lies ahead along a direction blocks it: moving away from a point already within the
+    # margin is how the robot gets its margin back.
+    blocked = inside & (along > 0)
     length = np.where(blocked, np.maximum(reach, 0.0), np.inf).min(axis=1)
     clear: F64 = np.minimum(out, length)
     return clear
@@ -204,15 +206,16 @@ class Avoider:
         self._side = 0.0
         """+1 / -1: the side the last deflection went (kept while the obstacle lasts)."""
 
-    def free_directions(self, px: F64, py: F64) -> tuple[NDArray[np.bool_], F64]:
-        """(free?, clear length) for every direction bin."""
+    def free_directions(self, px: F64, py: F64, reach_m: float | None = None) -> tuple[NDArray[np.bool_], F64]:
+        """(free?, clear length) for every direction bin; free means `clear_m` (or `reach_m`, if
+        shorter: the goal is nearer than that) of clear corridor."""
         p, fp = self.params, self.footprint
         near = np.hypot(px, py) < p.window_m
         x, y = px[near], py[near]
         half = fp.radius_m + p.margin_m
         # The corridor leaves from the footprint's centre, not the pose point.
         clear = direction_clearance(x - fp.x_m, y, self.directions, half, horizon_m=p.window_m)
-        free = clear >= p.clear_m
+        free = clear >= (p.clear_m if reach_m is None else max(0.2, min(p.clear_m, reach_m)))
         free &= ackermann_mask(x, y, self.directions, p.min_turn_radius_m, half)
         return free, clear
 
@@ -250,15 +253,16 @@ class Avoider:
         return max(-p.max_curvature, min(p.max_curvature, k))
 
     def plan(self, px: F64, py: F64, goal_rad: float, speed_m_s: float, *, target_xy: tuple[F64, F64] | None = None,
-             curvature: float | None = None) -> Plan:  # fmt: skip
+             curvature: float | None = None, goal_m: float | None = None) -> Plan:  # fmt: skip
         """Steer for `goal_rad` at up to `speed_m_s` among obstacle points (px, py), base frame.
 
         `target_xy`: points of the followed target. They do not repel the choice of direction (the
         robot is meant to approach the target) and do not count towards the time-to-collision cap
         (the target moves away), but the robot must still be able to stop short of them.
-        `curvature`: the wanted arc when the goal is not a direction (the behaviour's own steering)."""
+        `curvature`: the wanted arc when the goal is not a direction (the behaviour's own steering).
+        `goal_m`: how far the goal is (a direction towards a nearer goal needs less clear corridor)."""
         p, fp = self.params, self.footprint
-        free, _ = self.free_directions(px, py)
+        free, _ = self.free_directions(px, py, goal_m)
         direction, deflected = self.choose_direction(free, goal_rad)
         if direction is None:
             return Plan(0.0, 0.0, goal_rad, 0.0, True, True)

@@ -44,10 +44,17 @@ Pose2D = tuple[float, float, float]
 class LaserScanLike(Protocol):
     """The fields of a ROS `sensor_msgs/LaserScan` this module reads."""
 
-    angle_min: float
-    angle_increment: float
-    range_min: float
-    range_max: float
+    @property
+    def angle_min(self) -> float: ...
+
+    @property
+    def angle_increment(self) -> float: ...
+
+    @property
+    def range_min(self) -> float: ...
+
+    @property
+    def range_max(self) -> float: ...
 
     @property
     def ranges(self) -> object: ...
@@ -57,10 +64,17 @@ class LaserScanLike(Protocol):
 class DriverScanLike(Protocol):
     """A `host_sdk.sensors.LidarScan`."""
 
-    angles_rad: F64
-    ranges_m: F64
-    range_min_m: float
-    range_max_m: float
+    @property
+    def angles_rad(self) -> F64: ...
+
+    @property
+    def ranges_m(self) -> F64: ...
+
+    @property
+    def range_min_m(self) -> float: ...
+
+    @property
+    def range_max_m(self) -> float: ...
 
     @property
     def time_s(self) -> float: ...
@@ -200,7 +214,7 @@ class ScanFilter:
         x, y, t = self.base_points(scan)
         here = pose or (0.0, 0.0, 0.0)
         self._history.append((x, y, here))
-        layers = [bin_points(*_into(px, py, then, here), self.bins) for px, py, then in self._history]
+        layers = [bin_points(*move_points(px, py, then, here), self.bins) for px, py, then in self._history]
         stack = np.nan_to_num(np.vstack(layers), nan=np.inf)
         med = np.median(stack, axis=0)
         med[~np.isfinite(med)] = np.nan
@@ -208,7 +222,7 @@ class ScanFilter:
         return ObstacleScan(self.angles, ranges, t)
 
 
-def _into(x: F64, y: F64, then: Pose2D, now: Pose2D) -> tuple[F64, F64]:
+def move_points(x: F64, y: F64, then: Pose2D, now: Pose2D) -> tuple[F64, F64]:
     """Base-frame points taken at pose `then`, seen from pose `now` (both in the odometry frame)."""
     if then == now:
         return x, y

@@ -90,8 +90,11 @@ class TrackerParams:
     lost_after: int = 2
     """Consecutive frames below `accept` before the track is declared lost."""
     min_size_px: int = 6
-    redetect_scales: int = 9
-    """Scales tried by the correlation fallback, from 1/4 to 2.5 times the template."""
+    redetect_scales: tuple[float, float, int] = (0.15, 2.5, 12)
+    """Scales the correlation fallback tries: smallest, largest (times the template), how many. A
+    template taken at 0.8 m covers 0.3 m to 5 m this way."""
+    redetect_per_frame: int = 4
+    """Of those, how many one frame tries (in turn: all are covered every few frames while lost)."""
 
 
 def _cv2() -> Any:
@@ -133,6 +136,7 @@ class Tracker:
         self.time_s = time_s
         self.lost_since: float | None = None if box is not None else time_s
         self._misses = 0
+        self._phase = 0
 
     @classmethod
     def from_region(cls, image: Image, box: Box, camera: CameraModel, **kwargs: Any) -> Tracker:
@@ -221,12 +225,21 @@ class Tracker:
         x, y, w, h = pred
         m = p.search
         big = p.scale_step
-        x0, y0 = max(0, int(x - m * w * big)), max(0, int(y - m * h * big))
-        x1, y1 = min(W, math.ceil(x + w * (1 + m) * big)), min(H, math.ceil(y + h * (1 + m) * big))
+        wx0, wy0 = int(x - m * w * big), int(y - m * h * big)
+        wx1, wy1 = math.ceil(x + w * (1 + m) * big), math.ceil(y + h * (1 + m) * big)
+        x0, y0, x1, y1 = max(0, wx0), max(0, wy0), min(W, wx1), min(H, wy1)
         if x1 - x0 < p.min_size_px or y1 - y0 < p.min_size_px:
             return None
         f = min(1.0, p.work_px / max(w, h))
         window = image[y0:y1, x0:x1]
+        # An object near the frame's edge may hang over it (close up, a tall target's top is cut):
+        # the window is extended by repeating the edge, up to half the box, so it can still be matched
+        # (the part outside matches poorly, so only a mostly visible object passes).
+        pads = (min(y0 - wy0, h // 2), min(wy1 - y1, h // 2), min(x0 - wx0, w // 2), min(wx1 - x1, w // 2))
+        if any(pads):
+            top, bottom, left, right = (int(v) for v in pads)
+            window = cv2.copyMakeBorder(window, top, bottom, left, right, cv2.BORDER_REPLICATE)
+            x0, y0 = x0 - left, y0 - top
         if f < 1.0:
             window = cv2.resize(window, None, fx=f, fy=f, interpolation=cv2.INTER_AREA)
         best: tuple[float, float, float, float, float] | None = None
@@ -294,7 +307,10 @@ class Tracker:
         H, W = image.shape[:2]
         reduced: dict[float, Image] = {}
         best: tuple[float, Box] | None = None
-        for s in np.geomspace(0.25, 2.5, p.redetect_scales):
+        scales = np.geomspace(*p.redetect_scales)
+        turn = np.arange(self._phase, scales.shape[0], max(1, scales.shape[0] // p.redetect_per_frame))
+        self._phase = (self._phase + 1) % max(1, scales.shape[0] // p.redetect_per_frame)
+        for s in scales[turn]:
             w, h = tw * s, th * s
             if w > W or h > H or min(w, h) < p.min_size_px:
                 continue

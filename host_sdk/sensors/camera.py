@@ -119,6 +119,26 @@ class CameraSource:
             raise SensorTimeoutError(str(self.source), "camera frame", timeout_s, "the capture returned no frame")
         return self._deliver(image, now, None, None)
 
+    def latest(self) -> CameraFrame | None:
+        """The newest frame that has arrived, without waiting (None: nothing new); older ones waiting
+        are skipped (and counted as dropped) without being decoded. A control loop reads this way.
+        A capture source (V4L2, GStreamer, URL) has no queue to look into: this is `read()`."""
+        if self._closed:
+            raise SensorClosedError(f"{self.source}: the camera was closed")
+        if self._port is None:
+            return self.read()
+        port, parser = self._port, self._parser
+        assert parser is not None
+        data = port.read(0.0)
+        if data:
+            parser.receive_data(data, port.clock())
+        for part in reversed(parser.parts()):
+            image = self._cv2.imdecode(np.frombuffer(part.jpeg, dtype=np.uint8), self._cv2.IMREAD_COLOR)
+            if image is not None:
+                return self._deliver(image, part.t, part.frame, part.timestamp)
+            parser.counters.bad_parts += 1
+        return None
+
     def _read_stream(self, timeout_s: float) -> CameraFrame:
         port, parser = self._port, self._parser
         assert port is not None and parser is not None

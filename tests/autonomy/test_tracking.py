@@ -59,8 +59,10 @@ def test_tracks_a_moving_target_with_its_bearing_and_range() -> None:
             assert track.bearing_rad is not None and track.range_m is not None
             bearing_err.append(abs(track.bearing_rad - bearing))
             range_err.append(abs(track.range_m - dist) / dist)
-    assert states[0] is TrackState.REACQUIRED  # found from the template alone
-    assert all(s is TrackState.TRACKING for s in states[1:])
+    # Found from the template alone (the whole-frame search spreads its scales over a few frames).
+    first = states.index(TrackState.REACQUIRED)
+    assert first < 3 and states[:first] == [TrackState.LOST] * first
+    assert all(s is TrackState.TRACKING for s in states[first + 1 :])
     assert max(bearing_err) < math.radians(1.0)
     assert np.mean(range_err) < 0.05 and max(range_err) < 0.12
 
@@ -72,9 +74,10 @@ def test_lost_when_it_leaves_the_view_and_reacquired_when_it_comes_back() -> Non
     x, y, th = behind_target(scene, 1.2)
     turn = [*[0.0] * 10, *np.linspace(0, math.radians(90), 10), *[math.radians(90)] * 20, *[0.0] * 10]
     states = [tracker.update(img, t).state for img, t, _, _ in frames(scene, ((x, y, th + a) for a in turn))]
-    assert states[:10] == [TrackState.REACQUIRED] + [TrackState.TRACKING] * 9
-    lost = [i for i, s in enumerate(states) if s is TrackState.LOST]
-    assert lost and 10 < lost[0] < 20 and max(lost) < 42
+    first = states.index(TrackState.REACQUIRED)
+    assert first < 3 and states[first + 1 : 10] == [TrackState.TRACKING] * (9 - first)
+    lost = [i for i, s in enumerate(states) if s is TrackState.LOST and i > first]
+    assert lost and 10 < lost[0] < 20 and max(lost) < 45
     assert states[max(lost) + 1] is TrackState.REACQUIRED
     assert all(s is TrackState.TRACKING for s in states[max(lost) + 2 :])
     assert tracker.update(*next(frames(scene, iter([(x, y, th + 2.0)]), start_s=2.0))[:2]).lost_s == 0.0
@@ -92,12 +95,12 @@ def test_no_false_reacquisition_on_frames_without_the_target() -> None:
 
 
 def test_the_rotation_hint_keeps_a_fast_pan() -> None:
-    """The robot spins 8 degrees per frame: the target jumps ~40 px, more than the search window.
+    """The robot spins 13 degrees per frame: the target jumps ~60 px, more than the search window.
     With the rotation passed in, the prediction follows it."""
     scene = world()
     template = render_target(scene, MOUNT)
     x, y, th = behind_target(scene, 1.5)
-    pan = [th + math.radians(a) for a in (-16, -8, 0, 8, 16, 24)]
+    pan = [th + math.radians(a) for a in (0, 0, 0, 13, 26, 13, 0, -13, -26)]  # held still to find it first
     for hinted in (False, True):
         tracker = Tracker(template.image, CAMERA, height_m=template.height_m)
         states = []
@@ -106,10 +109,12 @@ def test_the_rotation_hint_keeps_a_fast_pan() -> None:
             a = pan[len(states)]
             states.append(tracker.update(img, t, rotation_rad=(a - prev) if hinted else 0.0).state)
             prev = a
-        reacquired = states.count(TrackState.REACQUIRED)
-        assert reacquired == (1 if hinted else reacquired)
+        found = states.index(TrackState.REACQUIRED)
+        assert found < 3
         if hinted:
-            assert states[1:] == [TrackState.TRACKING] * 5
+            assert states[found + 1 :] == [TrackState.TRACKING] * (len(pan) - found - 1)
+        else:  # the jumps leave the search window: lost (or found again from scratch)
+            assert any(s is not TrackState.TRACKING for s in states[3:])
 
 
 def test_a_region_selected_in_a_frame() -> None:

@@ -1,0 +1,397 @@
+"""Follow a tracked target while avoiding obstacles: a small state machine over the avoider.
+
+    follower = Follower(Footprint(0.19, 0.13), camera, min_turn_radius_m=0.37)   # 0: differential drive
+    decision = follower.step(t, xs, ys, track, pose)    # obstacle points (base frame), Track, odometry pose
+    robot.drive(decision.linear_m_s, decision.angular_rad_s, clamp=True)
+
+Each step (every control period, typically 20 Hz):
+
+1. **Where the target is.** The tracked bearing and range are matched against the scan
+   (`locate_target`): the lidar gives the distance and the target's points. The target's position
+   and velocity are kept in the odometry frame, so a target lost for a moment (occluded, a missed
+   frame) is still steered for at its predicted position for `coast_s`, and searched for where it
+   went after that.
+2. **What to want.** TRACK: head for the target at its own speed away from the robot plus
+   `gain_gap` times the gap error (the gap is between the footprint and the target's surface), down
+   to standing at `follow_gap_m`, backing off when it comes closer. YIELD: a target that keeps coming
+   (it turns round on its path) is got out of the way of: of the forward and backward arcs the
+   robot can drive, the one that keeps it farthest from where the target is heading. SEARCH: no
+   target for longer than `coast_s`: go to where it was heading, then turn towards the side it was
+   last seen (in place on a differential drive; on the tightest circle on an Ackermann robot).
+3. **Arbitration.** The avoider (`host_sdk.perception.avoidance`) gets the wish. The target's points
+   are not obstacles to steer round, but the robot must still be able to stop short of them.
+   Avoidance deflects the heading (AVOID) when the way to the target is not free, and vetoes speed
+   down to zero (STOP) when there is no room; an Ackermann robot that stays blocked, or whose target
+   is too far to the side to turn to, backs out on its tightest reverse arc towards the freer side
+   (RECOVER); a differential drive too close to something to turn in place backs away first. Every
+   command is checked against the swept corridor of the exact arc it drives, forwards or backwards.
+
+The decision is a body twist; send it every step (setpoints are cheap on RoverLink; renewing them is
+what keeps the board's watchdog fed).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from enum import Enum
+
+import numpy as np
+from numpy.typing import NDArray
+
+from host_sdk.autonomy.target import TargetFix, locate_target
+from host_sdk.perception.avoidance import AvoidanceParams, Avoider, Footprint, Plan, arc_free_distance, safe_speed
+from host_sdk.perception.camera import CameraModel
+from host_sdk.perception.tracking import Track
+
+F64 = NDArray[np.float64]
+Pose2D = tuple[float, float, float]
+
+
+class Mode(Enum):
+    SEARCH = "search"
+    TRACK = "track"
+    AVOID = "avoid"
+    YIELD = "yield"
+    STOP = "stop"
+    RECOVER = "recover"
+
+
+@dataclass(frozen=True, slots=True)
+class FollowParams:
+    follow_gap_m: float = 0.5
+    """Wanted gap between the robot's footprint and the target's surface."""
+    stop_gap_m: float = 0.3
+    """Closer than this the robot does not advance."""
+    max_speed_m_s: float = 0.45
+    reverse_speed_m_s: float = 0.35
+    gain_gap: float = 0.8
+    """Speed per metre of gap error, 1/s."""
+    gain_turn: float = 2.5
+    """Differential drive: turn rate per radian of heading error, 1/s."""
+    max_turn_rate: float = 1.6
+    coast_s: float = 1.5
+    """How long a lost target is still steered for at its predicted position."""
+    search_speed_m_s: float = 0.25
+    search_turn_rate: float = 0.9
+    """Differential drive: turn rate while searching."""
+    yield_horizon_s: float = 2.0
+    """A target that would reach the robot within this is got out of the way of."""
+    blocked_s: float = 0.6
+    """Ackermann: blocked this long, it backs out."""
+    recover_s: float = 1.2
+    target_size_m: float = 0.3
+    """About how wide the target is (to pick its returns out of the scan)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Decision:
+    linear_m_s: float
+    angular_rad_s: float
+    mode: Mode
+    target: TargetFix | None
+    """Where the target was found this step (None: not seen)."""
+    gap_m: float | None
+    """Gap to the target's surface (measured or predicted)."""
+    plan: Plan | None = None
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class _View:
+    """One step's picture: obstacle points, the target's points (base frame) and the fix."""
+
+    ox: F64
+    oy: F64
+    tx: F64
+    ty: F64
+    fix: TargetFix | None
+
+    @property
+    def xy(self) -> tuple[F64, F64]:
+        """Every point, the target's too (what the robot must not touch)."""
+        return np.concatenate([self.ox, self.tx]), np.concatenate([self.oy, self.ty])
+
+
+class Follower:
+    def __init__(self, footprint: Footprint, camera: CameraModel, *, min_turn_radius_m: float = 0.0,
+                 avoidance: AvoidanceParams | None = None, params: FollowParams | None = None) -> None:  # fmt: skip
+        self.footprint = footprint
+        self.camera = camera
+        self.ackermann = min_turn_radius_m > 0
+        self.params = params or FollowParams()
+        self.avoider = Avoider(footprint, replace(avoidance or AvoidanceParams(), min_turn_radius_m=min_turn_radius_m))
+        self._seen: tuple[float, float, float] | None = None
+        """(time, x, y) of the target in the odometry frame when last seen."""
+        self._velocity = (0.0, 0.0)
+        """The target's velocity in the odometry frame."""
+        self._side = 1.0
+        self._blocked_since: float | None = None
+        self._evade: tuple[float, float, float] | None = None
+        """(until, signed speed, curvature) of a manoeuvre out of the target's way."""
+        self._recover: tuple[float, float] | None = None
+        """(until, curvature) of a manoeuvre backing out."""
+        self._t = 0.0
+
+    # -- the target -----------------------------------------------------------------------------------
+    def _remember(self, t: float, fix: TargetFix, pose: Pose2D) -> None:
+        wx, wy = _to_world(pose, fix.x_m, fix.y_m)
+        if self._seen is not None and 0 < t - self._seen[0] < 0.6:
+            dt = t - self._seen[0]
+            vx, vy = (wx - self._seen[1]) / dt, (wy - self._seen[2]) / dt
+            a = min(1.0, dt / 0.5)  # ~0.5 s smoothing: the surface point jitters with the view
+            vx, vy = self._velocity[0] + a * (vx - self._velocity[0]), self._velocity[1] + a * (vy - self._velocity[1])
+            speed = math.hypot(vx, vy)
+            self._velocity = (vx, vy) if speed <= 0.8 else (0.8 * vx / speed, 0.8 * vy / speed)
+        elif self._seen is None or t - self._seen[0] >= 0.6:
+            self._velocity = (0.0, 0.0)
+        self._seen = (t, wx, wy)
+        self._side = 1.0 if fix.y_m >= 0 else -1.0
+
+    def _predicted(self, t: float, pose: Pose2D, horizon_s: float) -> tuple[float, float] | None:
+        if self._seen is None or t - self._seen[0] > horizon_s:
+            return None
+        age = min(t - self._seen[0], 3.0)
+        wx, wy = self._seen[1] + self._velocity[0] * age, self._seen[2] + self._velocity[1] * age
+        return _to_base(pose, wx, wy)
+
+    def _velocity_in(self, pose: Pose2D) -> tuple[float, float]:
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        vx, vy = self._velocity
+        return c * vx + s * vy, -s * vx + c * vy
+
+    # -- the step -------------------------------------------------------------------------------------
+    def step(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D) -> Decision:
+        """One control step: obstacle points in the base frame now, the latest track, the odometry pose."""
+        dt = max(0.0, t - self._t)
+        self._t = t
+        p = self.params
+        px, py = np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64)
+        fix = None
+        if track is not None and track.found and track.bearing_rad is not None:
+            fix = locate_target(px, py, self.camera, track.bearing_rad, track.range_m, size_m=p.target_size_m)
+            if fix is not None:
+                self._remember(t, fix, pose)
+        goal = (fix.x_m, fix.y_m) if fix is not None else self._predicted(t, pose, p.coast_s)
+        mask = fix.mask if fix is not None else self._mask_near(px, py, goal)
+        view = _View(px[~mask], py[~mask], px[mask], py[mask], fix)
+        if self._recover is not None and t < self._recover[0]:
+            return self._backing(view, self._recover[1])
+        self._recover = None
+        if goal is None:
+            return self._search(view, pose, dt)
+        return self._track(view, goal, pose, dt)
+
+    def _mask_near(self, px: F64, py: F64, goal: tuple[float, float] | None) -> NDArray[np.bool_]:
+        """The predicted target's returns, when the scan has a cluster right where it should be."""
+        mask = np.zeros(px.shape[0], dtype=bool)
+        if goal is None or not px.size:
+            return mask
+        d = np.hypot(px - goal[0], py - goal[1])
+        i = int(np.argmin(d))
+        if d[i] < 0.25:
+            mask = np.hypot(px - px[i], py - py[i]) < 0.6 * self.params.target_size_m + 0.05
+        return mask
+
+    # -- tracking ---------------------------------------------------------------------------------------
+    def _track(self, view: _View, goal: tuple[float, float], pose: Pose2D, dt: float) -> Decision:
+        p, fp = self.params, self.footprint
+        ox, oy, tx, ty, fix = view.ox, view.oy, view.tx, view.ty, view.fix
+        gx, gy = goal
+        bearing = math.atan2(gy, gx)
+        gap = math.hypot(gx - fp.x_m, gy) - fp.radius_m
+        dist = math.hypot(gx, gy)
+        vx, vy = self._velocity_in(pose)
+        away = vx * math.cos(bearing) + vy * math.sin(bearing)
+        if self._evade is not None and self._t < self._evade[0]:
+            return self._keep_yielding(view, gap)
+        self._evade = None
+        if gap < p.follow_gap_m + 0.3 and -away * p.yield_horizon_s > gap - p.stop_gap_m + 0.1:
+            return self._yield(view, goal, (vx, vy), gap)
+        want = max(-p.reverse_speed_m_s, min(p.max_speed_m_s, away + p.gain_gap * (gap - p.follow_gap_m)))
+        if gap < p.stop_gap_m:
+            want = min(want, 0.0)
+        if not self.ackermann:
+            want *= max(0.0, math.cos(bearing)) ** 2  # face it first, then go
+        elif abs(bearing) > math.radians(40) and gap < p.follow_gap_m + 0.6:
+            # Too far to the side to turn to without closing in: back out swinging the nose round.
+            return self._start_backing(view, side=1.0 if bearing > 0 else -1.0)
+        if want < -0.02:
+            return self._back_off(view, gap, -want, bearing)
+        curvature = 2 * math.sin(bearing) / max(dist, 0.3)
+        plan = self.avoider.plan(ox, oy, bearing, max(want, 0.0), target_xy=(tx, ty), curvature=curvature, goal_m=dist)
+        v, w = self._command(plan, view, turn_to=plan.direction_rad)
+        mode = Mode.AVOID if plan.deflected else Mode.TRACK
+        if abs(v) < 0.02 and abs(w) < 0.05:
+            mode = Mode.STOP
+        if self._stuck(want > 0.05 and v < 0.02, dt):
+            return self._start_backing(view, side=1.0 if bearing > 0 else -1.0)
+        return Decision(v, w, mode, fix, gap, plan)
+
+    def _yield(self, view: _View, goal: tuple[float, float], velocity: tuple[float, float], gap: float) -> Decision:
+        """The arc (forwards or backwards) that keeps the robot farthest from the coming target."""
+        p, fp, a = self.params, self.footprint, self.avoider.params
+        ox, oy, fix = view.ox, view.oy, view.fix
+        horizon = p.yield_horizon_s
+        taus = np.array([0.25, 0.5, 0.75, 1.0]) * horizon
+        cx, cy = goal[0] + velocity[0] * taus, goal[1] + velocity[1] * taus  # the target's surface point
+        best: tuple[float, float, float] | None = None  # (score, signed speed, curvature)
+        curvatures = self.avoider.curvatures[:: max(1, len(self.avoider.curvatures) // 10)]
+        for direction in (1.0, -1.0):
+            free = arc_free_distance(ox, oy, curvatures, fp, horizon_m=a.window_m, reverse=direction < 0)
+            for k, room in zip(curvatures, free, strict=True):
+                v = min(p.reverse_speed_m_s, safe_speed(float(room), a, ttc=False))
+                if v < 0.05:
+                    continue
+                s = direction * v * taus
+                x, y, th = _arc(s, float(k))
+                fx, fy = x + fp.x_m * np.cos(th), y + fp.x_m * np.sin(th)
+                sep = float(np.min(np.hypot(cx - fx, cy - fy))) - fp.radius_m
+                facing = float(np.cos(math.atan2(cy[-1] - y[-1], cx[-1] - x[-1]) - th[-1]))
+                score = min(sep, 1.0) + 0.15 * facing
+                if best is None or score > best[0]:
+                    best = (score, direction * v, float(k))
+        if best is None:
+            return Decision(0.0, 0.0, Mode.STOP, fix, gap)
+        _, v, k = best
+        self._evade = (self._t + 0.5 * horizon, v, k)  # commit: re-choosing every step dithers
+        return Decision(v, v * k, Mode.YIELD, fix, gap)
+
+    def _keep_yielding(self, view: _View, gap: float) -> Decision:
+        assert self._evade is not None
+        _, v, k = self._evade
+        a, fix = self.avoider.params, view.fix
+        x, y = view.xy
+        free = float(arc_free_distance(x, y, np.array([k]), self.footprint, horizon_m=a.window_m, reverse=v < 0)[0])
+        speed = min(abs(v), safe_speed(free, a, ttc=False))
+        if speed < 0.02:
+            self._evade = None
+            return Decision(0.0, 0.0, Mode.STOP, fix, gap)
+        v = math.copysign(speed, v)
+        return Decision(v, v * k, Mode.YIELD, fix, gap)
+
+    def _command(self, plan: Plan, view: _View, *, turn_to: float) -> tuple[float, float]:
+        """The plan as a body twist, checked once more on the exact arc it drives."""
+        p = self.params
+        ox, oy, tx, ty = view.ox, view.oy, view.tx, view.ty
+        if self.ackermann:
+            return plan.speed_m_s, plan.speed_m_s * plan.curvature
+        w = max(-p.max_turn_rate, min(p.max_turn_rate, p.gain_turn * turn_to))
+        v = plan.speed_m_s * max(0.0, math.cos(turn_to))
+        if v > 0.02:
+            k = np.array([w / v])
+            a = self.avoider.params
+            free = float(arc_free_distance(ox, oy, k, self.footprint, horizon_m=a.window_m)[0])
+            on_target = float(arc_free_distance(tx, ty, k, self.footprint, horizon_m=a.window_m)[0])
+            v = min(v, safe_speed(free, a), safe_speed(on_target, a, ttc=False))
+        if v <= 0.02:
+            v = 0.0
+            if not self._can_spin(view):
+                w = 0.0
+        return v, w
+
+    def _back_off(self, view: _View, gap: float, speed: float, bearing: float) -> Decision:
+        """Reverse away from a target that came too close, still facing it (a differential drive turns
+        to it as it goes)."""
+        a, fix = self.avoider.params, view.fix
+        x, y = view.xy
+        w = 0.0 if self.ackermann else max(-1.0, min(1.0, self.params.gain_turn * bearing))
+        k = -w / speed if speed > 0 else 0.0
+        free = float(arc_free_distance(x, y, np.array([k]), self.footprint, horizon_m=a.window_m, reverse=True)[0])
+        v = min(speed, safe_speed(free, a, ttc=False))
+        if v < 0.02:
+            return Decision(0.0, w if self._can_spin(view) else 0.0, Mode.STOP, fix, gap)
+        return Decision(-v, w if not self.ackermann else 0.0, Mode.TRACK, fix, gap)
+
+    # -- searching --------------------------------------------------------------------------------------
+    def _search(self, view: _View, pose: Pose2D, dt: float) -> Decision:
+        """Go to where the target was heading, then look round towards the side it was last seen."""
+        p = self.params
+        last = self._predicted(self._t, pose, 8.0)
+        if last is not None and math.hypot(*last) > 0.8:
+            goal, speed = math.atan2(last[1], last[0]), p.search_speed_m_s
+        else:
+            goal, speed = self._side * 0.75 * math.pi, p.search_speed_m_s
+        near = last is None or math.hypot(*last) <= 0.8
+        if not self.ackermann and (near or abs(goal) > 0.5):
+            turn = self._side if near else goal
+            if self._can_spin(view):
+                return Decision(0.0, math.copysign(p.search_turn_rate, turn), Mode.SEARCH, None, None)
+            return self._unstick(view)
+        plan = self.avoider.plan(view.ox, view.oy, goal, speed, target_xy=(view.tx, view.ty))
+        v, w = self._command(plan, view, turn_to=plan.direction_rad)
+        if self._stuck(v < 0.02, dt):
+            return self._start_backing(view, side=self._side)
+        return Decision(v, w, Mode.SEARCH, None, None, plan)
+
+    def _can_spin(self, view: _View) -> bool:
+        """A differential drive turning in place sweeps a disc round its pose point."""
+        fp = self.footprint
+        reach = abs(fp.x_m) + fp.radius_m + 0.03
+        x, y = view.xy
+        return not bool((np.hypot(x, y) < reach).any())
+
+    def _unstick(self, view: _View) -> Decision:
+        """Too close to something to turn in place: move straight away from it, whichever way is free."""
+        a = self.avoider.params
+        x, y = view.xy
+        ahead = float(arc_free_distance(x, y, np.array([0.0]), self.footprint, horizon_m=a.window_m)[0])
+        behind = float(arc_free_distance(x, y, np.array([0.0]), self.footprint, horizon_m=a.window_m, reverse=True)[0])
+        v = min(0.15, safe_speed(max(ahead, behind), a, ttc=False))
+        if v < 0.02:
+            return Decision(0.0, 0.0, Mode.STOP, None, None)
+        return Decision(v if ahead >= behind else -v, 0.0, Mode.RECOVER, None, None)
+
+    # -- backing out (Ackermann) ------------------------------------------------------------------------
+    def _stuck(self, blocked: bool, dt: float) -> bool:
+        """Ackermann: True once it has been unable to move on for `blocked_s`."""
+        if not self.ackermann or not blocked:
+            self._blocked_since = None
+            return False
+        self._blocked_since = self._t if self._blocked_since is None else self._blocked_since
+        if self._t - self._blocked_since < self.params.blocked_s:
+            return False
+        self._blocked_since = None
+        return True
+
+    def _start_backing(self, view: _View, side: float) -> Decision:
+        """Reverse on the tightest arc that swings the nose towards `side` (or, if that is blocked,
+        whichever reverse arc has the most room) for `recover_s`."""
+        a, fix = self.avoider.params, view.fix
+        x, y = view.xy
+        options = (-side * a.max_curvature, 0.0, side * a.max_curvature)
+        free = arc_free_distance(x, y, np.array(options), self.footprint, horizon_m=a.window_m, reverse=True)
+        usable = [i for i in range(3) if free[i] > 0.25]
+        if not usable:
+            return Decision(0.0, 0.0, Mode.STOP, fix, None)
+        k = options[usable[0]] if 0 in usable else options[int(np.argmax(free))]
+        self._recover = (self._t + self.params.recover_s, k)
+        return self._backing(view, k)
+
+    def _backing(self, view: _View, k: float) -> Decision:
+        a, fix = self.avoider.params, view.fix
+        px, py = view.xy
+        free = float(arc_free_distance(px, py, np.array([k]), self.footprint, horizon_m=a.window_m, reverse=True)[0])
+        v = min(self.params.reverse_speed_m_s * 0.6, safe_speed(free, a, ttc=False))
+        if v < 0.02:
+            self._recover = None
+            return Decision(0.0, 0.0, Mode.STOP, fix, None)
+        return Decision(-v, -v * k, Mode.RECOVER, fix, None)
+
+
+def _arc(s: F64, k: float) -> tuple[F64, F64, F64]:
+    """Pose after travelling `s` (array, signed) along an arc of curvature k from the origin."""
+    th = s * k
+    if abs(k) < 1e-9:
+        return s, np.zeros_like(s), th
+    return np.sin(th) / k, (1 - np.cos(th)) / k, th
+
+
+def _to_world(pose: Pose2D, x: float, y: float) -> tuple[float, float]:
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    return pose[0] + c * x - s * y, pose[1] + s * x + c * y
+
+
+def _to_base(pose: Pose2D, wx: float, wy: float) -> tuple[float, float]:
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    dx, dy = wx - pose[0], wy - pose[1]
+    return c * dx + s * dy, -s * dx + c * dy
