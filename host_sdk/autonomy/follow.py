@@ -33,6 +33,7 @@ what keeps the board's watchdog fed).
 from __future__ import annotations
 
 import math
+from collections import deque
 from dataclasses import dataclass, replace
 from enum import Enum
 
@@ -72,11 +73,17 @@ class FollowParams:
     max_turn_rate: float = 1.6
     coast_s: float = 1.5
     """How long a lost target is still steered for at its predicted position."""
+    lidar_hold_s: float = 3.0
+    """How long the target is followed in the scan alone after the camera lost it."""
     search_speed_m_s: float = 0.25
     search_turn_rate: float = 0.9
     """Differential drive: turn rate while searching."""
-    yield_horizon_s: float = 2.0
+    k_turn_leg_m: float = 0.4
+    """Ackermann: length of each leg of the K-turn it searches with."""
+    yield_horizon_s: float = 2.5
     """A target that would reach the robot within this is got out of the way of."""
+    guard_gap_m: float = 0.12
+    """No command may bring the robot closer than this to where the target is heading."""
     blocked_s: float = 0.6
     """Ackermann: blocked this long, it backs out."""
     recover_s: float = 1.2
@@ -125,6 +132,11 @@ class Follower:
         self._velocity = (0.0, 0.0)
         """The target's velocity in the odometry frame."""
         self._side = 1.0
+        self._camera_seen = -math.inf
+        self._route: deque[tuple[float, float]] = deque(maxlen=400)
+        """Where the target has been (odometry frame): it walks the same route again."""
+        self._k_leg = (1.0, 0.0)
+        """Ackermann search: the direction of the current K-turn leg and how far it has gone."""
         self._blocked_since: float | None = None
         self._evade: tuple[float, float, float] | None = None
         """(until, signed speed, curvature) of a manoeuvre out of the target's way."""
@@ -146,6 +158,8 @@ class Follower:
             self._velocity = (0.0, 0.0)
         self._seen = (t, wx, wy)
         self._side = 1.0 if fix.y_m >= 0 else -1.0
+        if not self._route or math.hypot(wx - self._route[-1][0], wy - self._route[-1][1]) > 0.1:
+            self._route.append((wx, wy))
 
     def _predicted(self, t: float, pose: Pose2D, horizon_s: float) -> tuple[float, float] | None:
         if self._seen is None or t - self._seen[0] > horizon_s:
@@ -170,27 +184,66 @@ class Follower:
         if track is not None and track.found and track.bearing_rad is not None:
             fix = locate_target(px, py, self.camera, track.bearing_rad, track.range_m, size_m=p.target_size_m)
             if fix is not None:
+                self._camera_seen = t
+                self._remember(t, fix, pose)
+        if fix is None and t - self._camera_seen <= p.lidar_hold_s:
+            # Out of the camera's view (beside the robot, too close) but still in the scan: follow its
+            # returns for a while, so its position and velocity stay current.
+            fix = self._lidar_fix(px, py, self._predicted(t, pose, p.lidar_hold_s))
+            if fix is not None:
                 self._remember(t, fix, pose)
         goal = (fix.x_m, fix.y_m) if fix is not None else self._predicted(t, pose, p.coast_s)
-        mask = fix.mask if fix is not None else self._mask_near(px, py, goal)
+        mask = fix.mask if fix is not None else np.zeros(px.shape[0], dtype=bool)
         view = _View(px[~mask], py[~mask], px[mask], py[mask], fix)
         if self._recover is not None and t < self._recover[0]:
-            return self._backing(view, self._recover[1])
-        self._recover = None
-        if goal is None:
+            decision = self._backing(view, self._recover[1])
+        elif goal is None:
+            self._recover = None
             return self._search(view, pose, dt)
-        return self._track(view, goal, pose, dt)
+        else:
+            self._recover = None
+            decision = self._track(view, goal, pose, dt)
+        if goal is None or decision.mode is Mode.YIELD:
+            return decision
+        return self._guard(decision, view, goal, self._velocity_in(pose))
 
-    def _mask_near(self, px: F64, py: F64, goal: tuple[float, float] | None) -> NDArray[np.bool_]:
-        """The predicted target's returns, when the scan has a cluster right where it should be."""
-        mask = np.zeros(px.shape[0], dtype=bool)
-        if goal is None or not px.size:
-            return mask
-        d = np.hypot(px - goal[0], py - goal[1])
+    def _guard(self, decision: Decision, view: _View, goal: tuple[float, float],
+               velocity: tuple[float, float]) -> Decision:  # fmt: skip
+        """The last word on every command while the target is known: it must not bring the robot
+        within `guard_gap_m` of where the target is heading over the next seconds (the target does
+        not avoid the robot). If it would, the robot gets out of the way instead (YIELD)."""
+        v = decision.linear_m_s
+        k = decision.angular_rad_s / v if abs(v) > 0.01 else 0.0
+        if self._separation(v, k, goal, velocity) >= self.params.guard_gap_m:
+            return decision
+        fp = self.footprint
+        return self._yield(view, goal, velocity, math.hypot(goal[0] - fp.x_m, goal[1]) - fp.radius_m)
+
+    def _separation(self, v: float, k: float, goal: tuple[float, float], velocity: tuple[float, float]) -> float:
+        """Smallest gap between the footprint, driving at v along curvature k, and the target's surface
+        point moving at `velocity`, over the yield horizon."""
+        fp = self.footprint
+        taus = np.linspace(0.0, self.params.yield_horizon_s, 6)
+        cx, cy = goal[0] + velocity[0] * taus, goal[1] + velocity[1] * taus
+        x, y, th = _arc(v * taus, k)
+        fx, fy = x + fp.x_m * np.cos(th), y + fp.x_m * np.sin(th)
+        return float(np.min(np.hypot(cx - fx, cy - fy))) - fp.radius_m
+
+    def _lidar_fix(self, px: F64, py: F64, predicted: tuple[float, float] | None) -> TargetFix | None:
+        """The target's returns where it should be now: a compact cluster near the prediction with
+        nothing else around it (a wall or a box nearby makes it ambiguous: then none)."""
+        if predicted is None or not px.size:
+            return None
+        d = np.hypot(px - predicted[0], py - predicted[1])
         i = int(np.argmin(d))
-        if d[i] < 0.25:
-            mask = np.hypot(px - px[i], py - py[i]) < 0.6 * self.params.target_size_m + 0.05
-        return mask
+        if d[i] > 0.3:
+            return None
+        sx, sy = float(px[i]), float(py[i])
+        r = np.hypot(px - sx, py - sy)
+        inner = 0.6 * self.params.target_size_m + 0.05
+        if ((r >= inner) & (r < inner + 0.25)).any():
+            return None
+        return TargetFix(sx, sy, r < inner, True)
 
     # -- tracking ---------------------------------------------------------------------------------------
     def _track(self, view: _View, goal: tuple[float, float], pose: Pose2D, dt: float) -> Decision:
@@ -230,29 +283,27 @@ class Follower:
     def _yield(self, view: _View, goal: tuple[float, float], velocity: tuple[float, float], gap: float) -> Decision:
         """The arc (forwards or backwards) that keeps the robot farthest from the coming target."""
         p, fp, a = self.params, self.footprint, self.avoider.params
-        ox, oy, fix = view.ox, view.oy, view.fix
+        (ox, oy), fix = view.xy, view.fix  # the target where it is now is in the way too
         horizon = p.yield_horizon_s
-        taus = np.array([0.25, 0.5, 0.75, 1.0]) * horizon
-        cx, cy = goal[0] + velocity[0] * taus, goal[1] + velocity[1] * taus  # the target's surface point
-        best: tuple[float, float, float] | None = None  # (score, signed speed, curvature)
+        end = (goal[0] + velocity[0] * horizon, goal[1] + velocity[1] * horizon)
+        # Standing still is a candidate too (it is what the robot does best), scored the same way.
+        best = (min(self._separation(0.0, 0.0, goal, velocity), 1.0) + 0.15 + 0.05, 0.0, 0.0)
         curvatures = self.avoider.curvatures[:: max(1, len(self.avoider.curvatures) // 10)]
         for direction in (1.0, -1.0):
             free = arc_free_distance(ox, oy, curvatures, fp, horizon_m=a.window_m, reverse=direction < 0)
             for k, room in zip(curvatures, free, strict=True):
-                v = min(p.reverse_speed_m_s, safe_speed(float(room), a, ttc=False))
-                if v < 0.05:
+                v = direction * min(p.reverse_speed_m_s, safe_speed(float(room), a, ttc=False))
+                if abs(v) < 0.05:
                     continue
-                s = direction * v * taus
-                x, y, th = _arc(s, float(k))
-                fx, fy = x + fp.x_m * np.cos(th), y + fp.x_m * np.sin(th)
-                sep = float(np.min(np.hypot(cx - fx, cy - fy))) - fp.radius_m
-                facing = float(np.cos(math.atan2(cy[-1] - y[-1], cx[-1] - x[-1]) - th[-1]))
+                sep = self._separation(v, float(k), goal, velocity)
+                x, y, th = _arc(np.array([v * horizon]), float(k))
+                facing = math.cos(math.atan2(end[1] - y[0], end[0] - x[0]) - th[0])
                 score = min(sep, 1.0) + 0.15 * facing
-                if best is None or score > best[0]:
-                    best = (score, direction * v, float(k))
-        if best is None:
-            return Decision(0.0, 0.0, Mode.STOP, fix, gap)
+                if score > best[0]:
+                    best = (score, v, float(k))
         _, v, k = best
+        if v == 0.0:
+            return Decision(0.0, 0.0, Mode.STOP, fix, gap)
         self._evade = (self._t + 0.5 * horizon, v, k)  # commit: re-choosing every step dithers
         return Decision(v, v * k, Mode.YIELD, fix, gap)
 
@@ -312,16 +363,54 @@ class Follower:
         else:
             goal, speed = self._side * 0.75 * math.pi, p.search_speed_m_s
         near = last is None or math.hypot(*last) <= 0.8
+        off = self._off_route(pose)
+        if off is not None:  # standing on its route while it cannot be seen: step off it first
+            plan = self.avoider.plan(view.ox, view.oy, off, p.search_speed_m_s, target_xy=(view.tx, view.ty))
+            v, w = self._command(plan, view, turn_to=plan.direction_rad)
+            if v > 0.02 or abs(w) > 0.05:
+                return Decision(v, w, Mode.SEARCH, None, None, plan)
         if not self.ackermann and (near or abs(goal) > 0.5):
             turn = self._side if near else goal
             if self._can_spin(view):
                 return Decision(0.0, math.copysign(p.search_turn_rate, turn), Mode.SEARCH, None, None)
             return self._unstick(view)
+        if self.ackermann and (near or abs(goal) > 2.0):
+            return self._k_turn(view, dt)
         plan = self.avoider.plan(view.ox, view.oy, goal, speed, target_xy=(view.tx, view.ty))
         v, w = self._command(plan, view, turn_to=plan.direction_rad)
         if self._stuck(v < 0.02, dt):
             return self._start_backing(view, side=self._side)
         return Decision(v, w, Mode.SEARCH, None, None, plan)
+
+    def _off_route(self, pose: Pose2D) -> float | None:
+        """Bearing (base frame) away from the target's route when the robot stands on it, else None."""
+        if not self._route:
+            return None
+        route = np.array(self._route)
+        fp = self.footprint
+        fx, fy = _to_world(pose, fp.x_m, 0.0)
+        d = np.hypot(route[:, 0] - fx, route[:, 1] - fy)
+        i = int(np.argmin(d))
+        if d[i] > fp.radius_m + self.params.target_size_m / 2 + 0.25:
+            return None
+        ax, ay = _to_base(pose, float(route[i, 0]), float(route[i, 1]))
+        return math.atan2(-ay, -ax)
+
+    def _k_turn(self, view: _View, dt: float) -> Decision:
+        """Ackermann: turn round on the spot as a driver does in a narrow street, forwards with the
+        wheels to one side, backwards with them to the other, each leg `k_turn_leg_m` or until the
+        way is not clear; the heading turns the same way on both legs and the camera sweeps round."""
+        p, a = self.params, self.avoider.params
+        x, y = view.xy
+        leg, travelled = self._k_leg
+        k = self._side * a.max_curvature * leg  # forwards: towards the side; backwards: away from it
+        free = float(arc_free_distance(x, y, np.array([k]), self.footprint, horizon_m=a.window_m, reverse=leg < 0)[0])
+        v = min(p.search_speed_m_s, safe_speed(free, a, ttc=False))
+        if v < 0.05 or travelled >= p.k_turn_leg_m:
+            self._k_leg = (-leg, 0.0)
+            return Decision(0.0, 0.0, Mode.SEARCH, None, None)
+        self._k_leg = (leg, travelled + v * dt)
+        return Decision(leg * v, leg * v * k, Mode.SEARCH, None, None)
 
     def _can_spin(self, view: _View) -> bool:
         """A differential drive turning in place sweeps a disc round its pose point."""

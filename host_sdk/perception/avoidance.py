@@ -46,7 +46,7 @@ class Footprint:
 class AvoidanceParams:
     margin_m: float = 0.08
     """Clearance kept between the footprint and obstacles when choosing a direction."""
-    stop_margin_m: float = 0.06
+    stop_margin_m: float = 0.1
     """What is left between the footprint and the obstacle after an emergency stop."""
     max_decel_m_s2: float = 0.8
     """Braking the speed law assumes (well under what the robot can do, for slippery floors)."""

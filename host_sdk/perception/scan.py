@@ -19,6 +19,10 @@ Input is a driver's `LidarScan` (host_sdk.sensors), anything shaped like a ROS `
   `keep_near_m` is dropped; a one-bin hole between two returns at similar ranges is filled (a lidar
   with a coarser step than the bins leaves such holes in walls, which a gap finder would take for
   openings).
+- the blind zone: a lidar sees nothing nearer than its minimum range (0.12-0.15 m), which on a small
+  robot reaches past the body's edge. Obstacle points that were seen and have since moved (with the
+  robot's motion) into that zone are kept: the lidar cannot say they are gone, and they are exactly
+  the ones the robot is about to touch. They are dropped once the robot has moved away from them.
 
 Everything is numpy over whole arrays: a revolution costs tens of microseconds.
 """
@@ -87,6 +91,8 @@ class RawScan:
     angles_rad: F64
     ranges_m: F64
     time_s: float = 0.0
+    range_min_m: float = 0.0
+    """The device's shortest range: anything nearer is not seen at all."""
 
     @classmethod
     def from_arrays(cls, angles_rad: object, ranges_m: object, *, range_min_m: float = 0.0,
@@ -97,7 +103,7 @@ class RawScan:
         if a.shape != r.shape:
             raise CommandRangeError("ranges_m", f"{r.shape[0]} values", f"one per angle ({a.shape[0]} angles)")
         ok = np.isfinite(r) & (r > 0) & (r >= range_min_m) & (r <= range_max_m)
-        return cls(a, np.where(ok, r, np.nan), float(time_s))
+        return cls(a, np.where(ok, r, np.nan), float(time_s), float(range_min_m))
 
     @classmethod
     def from_laserscan(cls, msg: LaserScanLike, time_s: float = 0.0) -> RawScan:
@@ -196,22 +202,28 @@ class ScanFilter:
         self.keep_near_m = keep_near_m
         self.angles = -math.pi + (np.arange(bins) + 0.5) * 2 * math.pi / bins
         self._history: deque[tuple[F64, F64, Pose2D]] = deque(maxlen=temporal)
+        self._last: tuple[F64, F64, Pose2D] | None = None
 
     def reset(self) -> None:
         self._history.clear()
+        self._last = None
 
     def base_points(self, scan: RawScan | DriverScanLike | LaserScanLike) -> tuple[F64, F64, float]:
         """A revolution's returns as base-frame points, and its time."""
+        x, y, raw = self._points(scan)
+        return x, y, raw.time_s
+
+    def _points(self, scan: RawScan | DriverScanLike | LaserScanLike) -> tuple[F64, F64, RawScan]:
         raw = as_raw(scan)
         ok = np.isfinite(raw.ranges_m)
         m = self.mount
         a = raw.angles_rad[ok] + m.yaw_rad
         r = raw.ranges_m[ok]
-        return m.x_m + r * np.cos(a), m.y_m + r * np.sin(a), raw.time_s
+        return m.x_m + r * np.cos(a), m.y_m + r * np.sin(a), raw
 
     def update(self, scan: RawScan | DriverScanLike | LaserScanLike, pose: Pose2D | None = None) -> ObstacleScan:
         """Add a revolution (with the robot's pose when it was taken) and return the filtered picture."""
-        x, y, t = self.base_points(scan)
+        x, y, raw = self._points(scan)
         here = pose or (0.0, 0.0, 0.0)
         self._history.append((x, y, here))
         layers = [bin_points(*move_points(px, py, then, here), self.bins) for px, py, then in self._history]
@@ -219,7 +231,16 @@ class ScanFilter:
         med = np.median(stack, axis=0)
         med[~np.isfinite(med)] = np.nan
         ranges = spatial_filter(med, isolated_m=self.isolated_m, keep_near_m=self.keep_near_m)
-        return ObstacleScan(self.angles, ranges, t)
+        if self._last is not None and raw.range_min_m > 0:
+            lx, ly = move_points(self._last[0], self._last[1], self._last[2], here)
+            m = self.mount
+            blind = np.hypot(lx - m.x_m, ly - m.y_m) < raw.range_min_m + 0.1
+            if blind.any():
+                ranges = np.fmin(ranges, bin_points(lx[blind], ly[blind], self.bins))
+        out = ObstacleScan(self.angles, ranges, raw.time_s)
+        ox, oy = out.points_xy()
+        self._last = (ox, oy, here)
+        return out
 
 
 def move_points(x: F64, y: F64, then: Pose2D, now: Pose2D) -> tuple[F64, F64]:
