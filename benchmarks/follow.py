@@ -32,7 +32,7 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
 
-from roverlink.follow.app import run_emulated
+from roverlink.follow.app import FollowSettings, run_emulated
 
 PROFILES = ("picar", "diffdrive-tb6612")
 PILOTS = ("roverlink", "picar-2018")
@@ -42,7 +42,8 @@ def one(job: tuple[str, str, int, float, float]) -> dict[str, Any]:
     profile, pilot, seed, duration, fps = job
     t0 = time.perf_counter()
     try:
-        m = run_emulated(profile, f"random:{seed}", pilot=pilot, seed=seed, duration_s=duration, camera_fps=fps)
+        settings = FollowSettings(duration_s=duration)
+        m = run_emulated(profile, f"random:{seed}", pilot=pilot, seed=seed, camera_fps=fps, settings=settings)
         out = m.to_json()
     except Exception as exc:  # a run that breaks is reported, not allowed to end the benchmark
         out = {"pilot": pilot, "profile": profile, "world": f"random:{seed}", "error": repr(exc)}

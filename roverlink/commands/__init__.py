@@ -7,6 +7,6 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from roverlink.commands import decode, demo, emulate, firmware, info, ports, roundtrip, spec
+from roverlink.commands import decode, demo, emulate, firmware, follow, info, ports, roundtrip, spec
 
-COMMANDS: tuple[ModuleType, ...] = (demo, info, ports, emulate, firmware, roundtrip, decode, spec)
+COMMANDS: tuple[ModuleType, ...] = (demo, info, ports, emulate, firmware, roundtrip, decode, spec, follow)

@@ -23,7 +23,6 @@ from emulator.transport.inprocess import EmulatorTransport
 from emulator.world.raycast import nearest
 from emulator.world.scene import Scene
 from host_sdk import Robot
-from host_sdk.perception import CameraModel, LidarMount
 from host_sdk.transport.plugins import PluginTransport
 from protocol.sensors import DEVICES, ROBOT_SENSORS, CameraSpec, Mount
 from roverlink.follow.metrics import TruthSample
@@ -40,9 +39,6 @@ class EmulatedRobot:
     scene: Scene
     endpoints: dict[str, str]
     lidar_model: str
-    lidar_mount: LidarMount
-    camera: CameraModel
-    camera_mount: Mount
     template: TargetTemplate
     truth: TruthProbe
 
@@ -58,16 +54,12 @@ def start(profile: str, world: str | Path, *, seed: int = 0, camera_fps: float =
     transport.endpoints = register(transport)
     robot = Robot.connect(transport.url, profile=profile, transport=PluginTransport(transport), clamp=True,
                           auto_rearm=True)  # fmt: skip
-    lm = rig.mount_for("lidar", lidar)
     cm = rig.mount_for("camera", "pi-camera-v2")
     spec = DEVICES["pi-camera-v2"]
     assert isinstance(spec, CameraSpec)
-    camera = CameraModel.pi_camera_v2(320, 240, mount_x_m=cm.x_m, mount_y_m=cm.y_m, mount_yaw_rad=cm.yaw_rad)
     scene = rig.world.scene
-    template = render_target(scene, cm)
-    truth = TruthProbe(emu, profile, cm, spec.hfov_deg)
-    return EmulatedRobot(robot, emu, scene, dict(transport.endpoints), lidar, LidarMount(lm.x_m, lm.y_m, lm.yaw_rad),
-                         camera, cm, template, truth)  # fmt: skip
+    return EmulatedRobot(robot, emu, scene, dict(transport.endpoints), lidar, render_target(scene, cm),
+                         TruthProbe(emu, profile, cm, spec.hfov_deg))  # fmt: skip
 
 
 class TruthProbe:

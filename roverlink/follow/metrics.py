@@ -49,6 +49,8 @@ class FollowMetrics:
     mode_s: dict[str, float] = field(default_factory=dict)
     """Time spent in each mode of the pilot."""
     failsafes: int = 0
+    ground_truth: bool = False
+    """True on the emulator: collisions, in-view share and gaps come from its truth."""
 
     def to_json(self) -> dict[str, Any]:
         out = asdict(self)

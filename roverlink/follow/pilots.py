@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from collections import deque
 from typing import Protocol
 
@@ -125,7 +126,9 @@ class PiCarBaseline:
         a = scan.angles_rad[ok] + self.mount.yaw_rad
         r = scan.ranges_m[ok]
         self._scans.append(bin_points(r * np.cos(a), r * np.sin(a), self.bins))  # the lidar's own frame
-        ranges = np.nanmedian(np.vstack(self._scans), axis=0) if len(self._scans) > 1 else self._scans[-1]
+        with warnings.catch_warnings():  # a beam with no return in any revolution: NaN, as it should be
+            warnings.simplefilter("ignore", RuntimeWarning)
+            ranges = np.nanmedian(np.vstack(self._scans), axis=0)
         # Three consecutive beams straight ahead (their code: the beam at 1..1.5 degrees and the two
         # before it, at the F4's 0.5 degree step).
         front = (self.bins // 2 + np.array([-1, 0, 1])) % self.bins

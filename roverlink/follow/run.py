@@ -91,6 +91,7 @@ def run_follow(robot: Robot, lidar: Lidar, camera: CameraSource, pilot: Pilot, *
                on_step: Callable[[float], None] | None = None) -> FollowMetrics:  # fmt: skip
     """Run `pilot` for `duration_s` of the robot's clock; returns the filled `metrics`."""
     recorder = MetricsRecorder(metrics, follow_gap_m)
+    metrics.ground_truth = truth is not None
     poses = PoseSource(robot, imu)
     if not robot.armed:
         robot.arm()

@@ -18,7 +18,8 @@ from numpy.typing import NDArray
 from emulator.sensors.camera import CameraOptions, Renderer
 from emulator.world.scenario import make_scene
 from emulator.world.scene import Scene
-from protocol.sensors import DEVICES, ROBOT_SENSORS, CameraSpec, Mount
+from protocol.sensors import DEVICES, CameraSpec, Mount
+from roverlink.follow.geometry import mount
 
 
 @dataclass(frozen=True, slots=True)
@@ -32,12 +33,7 @@ class TargetTemplate:
 
 def camera_mount(profile: str) -> Mount:
     """Where the profile carries its camera (the emulator's default spot when it has none)."""
-    body = ROBOT_SENSORS[profile]
-    mount = body.mount("camera")
-    if mount is not None:
-        return mount
-    front = body.footprint_x_m + 0.8 * body.footprint_radius_m
-    return Mount("pi-camera-v2", "camera", front, 0.0, 0.12, 0.0)
+    return mount(profile, "camera")
 
 
 def render_target(scene: Scene, mount: Mount, *, width: int = 320, height: int = 240,
