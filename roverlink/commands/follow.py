@@ -27,7 +27,7 @@ from typing import TextIO
 import numpy as np
 
 from host_sdk import PROFILES, RoverLinkError
-from roverlink.follow.app import PILOTS, FollowSettings, RobotPorts, run_emulated, run_robot
+from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress
 
@@ -62,6 +62,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--max-speed", type=_positive, default=0.45, help="top speed, m/s (default 0.45)")
     p.add_argument("--json", action="store_true", help="print the metrics as JSON on stdout at the end")
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    p.add_argument(
+        "--foxglove", metavar="FILE.mcap", type=Path, help="record the run (robot, scan, tracked camera, behaviour)"
+    )
+    p.add_argument("--foxglove-live", action="store_true", help="serve the run to Foxglove live (ws://127.0.0.1:8765)")
     e = p.add_argument_group("on the emulator")
     e.add_argument("--world", metavar="FILE|random:SEED", help="a scenario file or random:SEED (selects the emulator)")
     e.add_argument("--seed", type=int, default=0, help="the emulator's random seed (default 0)")
@@ -106,12 +110,13 @@ def _summary(m: FollowMetrics) -> str:
 def cmd_follow(args: argparse.Namespace) -> int:
     """Follow a target with the camera while avoiding obstacles with the lidar."""
     settings = FollowSettings(args.follow_gap, args.max_speed, args.target_height, args.duration)
+    record = RecordTo(args.foxglove, args.foxglove_live) if args.foxglove or args.foxglove_live else None
     progress = None if args.quiet else _progress(sys.stderr)
     try:
         if args.url is None:
             metrics = run_emulated(args.profile, args.world or f"random:{args.seed}", pilot=args.pilot, seed=args.seed,
                                    camera_fps=args.camera_fps, imu=not args.no_imu, settings=settings,
-                                   progress=progress)  # fmt: skip
+                                   progress=progress, record=record)  # fmt: skip
         else:
             missing = [name for name in ("lidar", "camera") if getattr(args, name) is None]
             if missing or (args.template is None) == (args.select is None):
@@ -130,8 +135,8 @@ def cmd_follow(args: argparse.Namespace) -> int:
             camera = int(args.camera) if args.camera.isdigit() else args.camera
             ports = RobotPorts(args.url, args.lidar, camera, args.imu, args.lidar_model, args.baud)
             metrics = run_robot(ports, args.profile, template=template, select=args.select, pilot=args.pilot,
-                                settings=settings, progress=progress)  # fmt: skip
-    except (RoverLinkError, ValueError, OSError) as exc:
+                                settings=settings, progress=progress, record=record)  # fmt: skip
+    except (RoverLinkError, ValueError, OSError, RuntimeError) as exc:
         print(f"roverlink follow: {exc}", file=sys.stderr)
         return 1
     if args.json:

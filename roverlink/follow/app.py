@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import contextlib
+import importlib
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -17,10 +19,40 @@ from roverlink.follow import emulated
 from roverlink.follow.geometry import RobotGeometry, geometry
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.pilots import PiCarBaseline, Pilot, RoverLinkPilot
+from roverlink.follow.record import FollowSource
 from roverlink.follow.run import Progress, run_follow
 
 PILOTS = ("roverlink", "picar-2018")
 LIDAR_FOR = emulated.LIDAR_FOR
+
+
+@dataclass(frozen=True, slots=True)
+class RecordTo:
+    """Record the run (roverlink.recording): an MCAP file and/or the live Foxglove view."""
+
+    mcap_path: Path | None = None
+    serve: bool = False
+
+
+@contextlib.contextmanager
+def recording(robot: Robot, pilot: Pilot, record: RecordTo | None) -> Iterator[Callable[[float], None] | None]:
+    """The recorder's poll for the follow loop (None when not recording). The recorder is the shared
+    library piece `roverlink record` and `monitor --foxglove` use; the follow run adds its scan, camera
+    and behaviour to it (roverlink.follow.record.FollowSource)."""
+    if record is None:
+        yield None
+        return
+    try:
+        library = importlib.import_module("roverlink.recording")
+    except ImportError as exc:
+        raise RuntimeError(f"recording needs roverlink.recording and the foxglove extra ({exc})") from None
+    sources = [FollowSource(pilot)] if isinstance(pilot, RoverLinkPilot) else []
+    recorder = library.Recorder.attach(robot, mcap_path=record.mcap_path, overwrite=True, serve=record.serve,
+                                       sources=sources)  # fmt: skip
+    try:
+        yield lambda _t: recorder.poll()
+    finally:
+        recorder.close()
 
 
 @dataclass(frozen=True, slots=True)
@@ -51,7 +83,8 @@ def make_pilot(kind: str, geo: RobotGeometry, template: NDArray[np.uint8], setti
 
 def run_emulated(profile: str, world: str | Path, *, pilot: str = "roverlink", seed: int = 0, camera_fps: float = 15.0,
                  imu: bool = True, settings: FollowSettings | None = None,
-                 progress: Callable[[Progress], None] | None = None) -> FollowMetrics:  # fmt: skip
+                 progress: Callable[[Progress], None] | None = None,
+                 record: RecordTo | None = None) -> FollowMetrics:  # fmt: skip
     """One follow run on the emulator (virtual clock); the metrics, with the truth's figures."""
     settings = settings or FollowSettings()
     em = emulated.start(profile, world, seed=seed, camera_fps=camera_fps, imu=imu)
@@ -64,9 +97,10 @@ def run_emulated(profile: str, world: str | Path, *, pilot: str = "roverlink", s
         camera = CameraSource(em.endpoints["camera"])
         imu_port = Jy901.open(em.endpoints["imu"]) if imu else None
         metrics = FollowMetrics(chosen.name, profile, str(world))
-        return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
-                          follow_gap_m=settings.follow_gap_m, imu=imu_port, truth=em.truth.sample,
-                          progress=progress)  # fmt: skip
+        with recording(robot, chosen, record) as on_step:
+            return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
+                              follow_gap_m=settings.follow_gap_m, imu=imu_port, truth=em.truth.sample,
+                              progress=progress, on_step=on_step)  # fmt: skip
     finally:
         robot.close()
 
@@ -86,8 +120,8 @@ class RobotPorts:
 
 def run_robot(ports: RobotPorts, profile: str, *, template: NDArray[np.uint8] | None = None,
               select: tuple[float, float, float, float] | None = None, pilot: str = "roverlink",
-              settings: FollowSettings | None = None,
-              progress: Callable[[Progress], None] | None = None) -> FollowMetrics:  # fmt: skip
+              settings: FollowSettings | None = None, progress: Callable[[Progress], None] | None = None,
+              record: RecordTo | None = None) -> FollowMetrics:  # fmt: skip
     """Follow on a real robot: the target is a template image, or a region `select`ed in the first frame."""
     settings = settings or FollowSettings()
     if (template is None) == (select is None):
@@ -104,8 +138,10 @@ def run_robot(ports: RobotPorts, profile: str, *, template: NDArray[np.uint8] | 
         lidar = Lidar.open(ports.lidar, ports.lidar_model or LIDAR_FOR.get(profile, "rplidar-a1"))
         imu = Jy901.open(ports.imu) if ports.imu else None
         metrics = FollowMetrics(chosen.name, profile, ports.url)
-        return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
-                          follow_gap_m=settings.follow_gap_m, imu=imu, progress=progress)  # fmt: skip
+        with recording(robot, chosen, record) as on_step:
+            return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
+                              follow_gap_m=settings.follow_gap_m, imu=imu, progress=progress,
+                              on_step=on_step)  # fmt: skip
     finally:
         for device in (lidar, imu, camera):
             if device is not None:

@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk.autonomy import Decision, Follower
-from host_sdk.perception import CameraModel, LidarMount, ScanFilter, Tracker
+from host_sdk.perception import CameraModel, LidarMount, ObstacleScan, ScanFilter, Tracker
 from host_sdk.perception.scan import bin_points, move_points
 from host_sdk.perception.tracking import Track, TrackState
 from host_sdk.sensors import CameraFrame, LidarScan
@@ -50,9 +50,14 @@ class RoverLinkPilot:
         self._track: tuple[Track, Pose2D] | None = None
         self._frame_pose: Pose2D | None = None
         self.decision: Decision | None = None
+        self.last_scan: ObstacleScan | None = None
+        """The latest filtered scan, frame and track (for recording and live views)."""
+        self.last_frame: CameraFrame | None = None
+        self.last_track: Track | None = None
 
     def on_scan(self, scan: LidarScan, pose: Pose2D) -> None:
         obstacles = self.scan_filter.update(scan, pose)
+        self.last_scan = obstacles
         x, y = obstacles.points_xy()
         self._obstacles = (x, y, pose)
 
@@ -61,6 +66,7 @@ class RoverLinkPilot:
         self._frame_pose = pose
         track = self.tracker.update(frame.image, frame.time_s, rotation_rad=turned)
         self._track = (track, pose)
+        self.last_frame, self.last_track = frame, track
         return track
 
     def command(self, t: float, pose: Pose2D) -> tuple[float, float, str]:

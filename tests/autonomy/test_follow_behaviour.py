@@ -175,3 +175,46 @@ def test_baseline_camera_node_three_zones_about_once_a_second() -> None:
         zones.append(base.steer)
     assert tracker.calls == 4
     assert zones == ["left", "left", "straight", "right"]  # 280 and 580 of 800 px: 112 and 232 of 320
+
+
+# -- what follow --foxglove records ------------------------------------------------------------------------
+class FakePublisher:
+    def __init__(self) -> None:
+        self.calls: list[tuple[str, str, dict[str, object]]] = []
+
+    def json(self, topic: str, schema: dict[str, object], message: dict[str, object], time_s: float) -> None:
+        self.calls.append(("json", topic, message))
+
+    def laser_scan(self, topic: str, time_s: float, **fields: object) -> None:
+        self.calls.append(("scan", topic, fields))
+
+    def compressed_image(self, topic: str, time_s: float, **fields: object) -> None:
+        self.calls.append(("image", topic, fields))
+
+
+def test_follow_source_publishes_scan_camera_and_state() -> None:
+    import cv2
+
+    from host_sdk.perception import ScanFilter, Tracker
+    from roverlink.follow.pilots import RoverLinkPilot
+    from roverlink.follow.record import TOPIC_FOLLOW, TOPIC_IMAGE, TOPIC_SCAN, FollowSource
+
+    image = np.full((240, 320, 3), 90, dtype=np.uint8)
+    cv2.rectangle(image, (150, 100), (170, 130), (255, 0, 255), -1)
+    pilot = RoverLinkPilot(ScanFilter(), Tracker(image[100:131, 150:171].copy(), CAMERA), Follower(DIFF, CAMERA))
+    source = FollowSource(pilot, image_hz=2.0)
+    out = FakePublisher()
+    source.start(out)
+    pilot.on_scan(scan_with(1.0), (0.0, 0.0, 0.0))
+    pilot.on_frame(CameraFrame(image, 0.0, 1), (0.0, 0.0, 0.0))
+    pilot.command(0.05, (0.0, 0.0, 0.0))
+    for t in (0.05, 0.1, 0.6):
+        source.poll(t)
+    kinds = [(kind, topic) for kind, topic, _ in out.calls]
+    assert kinds.count(("scan", TOPIC_SCAN)) == 1  # one scan, published once
+    assert kinds.count(("json", TOPIC_FOLLOW)) == 3
+    assert kinds.count(("image", TOPIC_IMAGE)) == 2  # at most image_hz
+    state = next(m for kind, _, m in out.calls if kind == "json")
+    assert state["tracked"] is True and state["mode"] in {"track", "stop", "avoid"}
+    jpeg = next(m for kind, _, m in out.calls if kind == "image")["data"]
+    assert cv2.imdecode(np.frombuffer(jpeg, np.uint8), cv2.IMREAD_COLOR).shape == (240, 320, 3)  # type: ignore[arg-type]
