@@ -81,14 +81,16 @@ def summarise(runs: list[dict[str, Any]]) -> dict[str, Any]:
 def table(summary: dict[str, dict[str, dict[str, Any]]], worlds: int, duration: float) -> str:
     rows = [
         f"{worlds} worlds (random:0..{worlds - 1}) per profile, {duration:g} s each, virtual clock\n",
-        "| profile | pilot | collisions (worlds) | target in view, mean (min) | worlds >= 90 % in view | "
-        "following error mean / worst | reacquisitions: count, mean / max | first sight, mean |",
-        "|---|---|---|---|---|---|---|---|",
+        "| profile | pilot | collisions (worlds) | saw the target | target in view, mean (min) "
+        "| worlds >= 90 % in view | following error mean / worst | reacquisitions: count, mean / max "
+        "| first sight, mean |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for profile, pilots in summary.items():
         for pilot, s in pilots.items():
             rows.append(
                 f"| {profile} | {pilot} | {s['collisions']} ({s['worlds_with_collisions']}) | "
+                f"{s['runs'] - s['errors'] - s['never_saw_target']} of {s['runs']} | "
                 f"{100 * s['in_view_mean']:.1f} % ({100 * s['in_view_min']:.1f} %) | {s['worlds_in_view_90']} | "
                 f"{s['follow_error_mean_m']:.2f} / {s['follow_error_max_m']:.2f} m | "
                 f"{s['reacquisitions']}, {s['reacquisition_mean_s']:.1f} / {s['reacquisition_max_s']:.1f} s | "
@@ -107,7 +109,19 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--pilot", action="append", choices=PILOTS, help="default: both")
     ap.add_argument("--jobs", type=int, default=1, help="processes (default 1)")
     ap.add_argument("--json", type=Path, help="write every run's metrics and the summary here")
+    ap.add_argument("--from-json", type=Path, metavar="FILE", help="summarise the runs saved in FILE (no new runs)")
     args = ap.parse_args(argv)
+    if args.from_json:
+        saved = json.loads(args.from_json.read_text())["runs"]
+        worlds = len({r["seed"] for r in saved})
+        duration = max((r.get("duration_s", 0.0) for r in saved), default=0.0)
+        pairs = sorted({(r["profile"], r["pilot"]) for r in saved})
+        pairs.sort(key=lambda k: (PROFILES.index(k[0]), PILOTS.index(k[1])))
+        summary: dict[str, dict[str, dict[str, Any]]] = {}
+        for pr, pi in pairs:
+            summary.setdefault(pr, {})[pi] = summarise([r for r in saved if r["profile"] == pr and r["pilot"] == pi])
+        print(table(summary, worlds, round(duration)))
+        return 0
     profiles, pilots = args.profile or list(PROFILES), args.pilot or list(PILOTS)
     seeds = range(args.first, args.first + args.worlds)
     jobs = [(pr, pi, s, args.duration, args.fps) for pr in profiles for s in seeds for pi in pilots]
