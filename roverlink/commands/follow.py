@@ -58,7 +58,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--profile", choices=sorted(PROFILES), default="picar", help="reference robot (default picar)")
     p.add_argument("--duration", type=_positive, default=60.0, help="seconds to run (default 60)")
     p.add_argument("--pilot", choices=PILOTS, default="roverlink", help="whose behaviour drives (default roverlink)")
-    p.add_argument("--follow-gap", type=_positive, default=0.5, help="gap to keep to the target, m (default 0.5)")
+    p.add_argument("--follow-gap", type=_positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
     p.add_argument("--max-speed", type=_positive, default=0.45, help="top speed, m/s (default 0.45)")
     p.add_argument("--json", action="store_true", help="print the metrics as JSON on stdout at the end")
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")

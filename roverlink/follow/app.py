@@ -57,11 +57,20 @@ def recording(robot: Robot, pilot: Pilot, record: RecordTo | None) -> Iterator[C
 
 @dataclass(frozen=True, slots=True)
 class FollowSettings:
-    follow_gap_m: float = 0.5
+    follow_gap_m: float | None = None
+    """Gap to keep (footprint to target). Default: 0.5 m for a differential drive, 0.9 m for an
+    Ackermann robot, which cannot turn on the spot: from farther back a target that turns moves less
+    across the image, and the car has room to drive the arc that keeps it in view."""
     max_speed_m_s: float = 0.45
     target_height_m: float | None = None
     """The tracked region's real height (gives the tracker a range estimate)."""
     duration_s: float = 60.0
+
+
+def follow_gap(settings: FollowSettings, geo: RobotGeometry) -> float:
+    if settings.follow_gap_m is not None:
+        return settings.follow_gap_m
+    return 0.9 if geo.min_turn_radius_m > 0 else 0.5
 
 
 def make_pilot(kind: str, geo: RobotGeometry, template: NDArray[np.uint8], settings: FollowSettings) -> Pilot:
@@ -76,7 +85,7 @@ def make_pilot(kind: str, geo: RobotGeometry, template: NDArray[np.uint8], setti
         geo.camera,
         min_turn_radius_m=geo.min_turn_radius_m,
         avoidance=AvoidanceParams(),
-        params=FollowParams(follow_gap_m=settings.follow_gap_m, max_speed_m_s=settings.max_speed_m_s),
+        params=FollowParams(follow_gap_m=follow_gap(settings, geo), max_speed_m_s=settings.max_speed_m_s),
     )
     return RoverLinkPilot(ScanFilter(geo.lidar_mount), tracker, follower)
 
@@ -92,14 +101,15 @@ def run_emulated(profile: str, world: str | Path, *, pilot: str = "roverlink", s
     try:
         if settings.target_height_m is None:
             settings = replace(settings, target_height_m=em.template.height_m)
-        chosen = make_pilot(pilot, geometry(profile, robot.kinematics), em.template.image, settings)
+        geo = geometry(profile, robot.kinematics)
+        chosen = make_pilot(pilot, geo, em.template.image, settings)
         lidar = Lidar.open(em.endpoints["lidar"], em.lidar_model)
         camera = CameraSource(em.endpoints["camera"])
         imu_port = Jy901.open(em.endpoints["imu"]) if imu else None
         metrics = FollowMetrics(chosen.name, profile, str(world))
         with recording(robot, chosen, record) as on_step:
             return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
-                              follow_gap_m=settings.follow_gap_m, imu=imu_port, truth=em.truth.sample,
+                              follow_gap_m=follow_gap(settings, geo), imu=imu_port, truth=em.truth.sample,
                               progress=progress, on_step=on_step)  # fmt: skip
     finally:
         robot.close()
@@ -134,13 +144,14 @@ def run_robot(ports: RobotPorts, profile: str, *, template: NDArray[np.uint8] | 
             x, y, w, h = (round(v) for v in select)
             template = camera.read(5.0).image[y : y + h, x : x + w].copy()
         assert template is not None
-        chosen = make_pilot(pilot, geometry(profile, robot.kinematics), template, settings)
+        geo = geometry(profile, robot.kinematics)
+        chosen = make_pilot(pilot, geo, template, settings)
         lidar = Lidar.open(ports.lidar, ports.lidar_model or LIDAR_FOR.get(profile, "rplidar-a1"))
         imu = Jy901.open(ports.imu) if ports.imu else None
         metrics = FollowMetrics(chosen.name, profile, ports.url)
         with recording(robot, chosen, record) as on_step:
             return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
-                              follow_gap_m=settings.follow_gap_m, imu=imu, progress=progress,
+                              follow_gap_m=follow_gap(settings, geo), imu=imu, progress=progress,
                               on_step=on_step)  # fmt: skip
     finally:
         for device in (lidar, imu, camera):

@@ -49,6 +49,8 @@ class FollowMetrics:
     mode_s: dict[str, float] = field(default_factory=dict)
     """Time spent in each mode of the pilot."""
     failsafes: int = 0
+    follow_gap_m: float = 0.5
+    """The gap the following error is measured against."""
     ground_truth: bool = False
     """True on the emulator: collisions, in-view share and gaps come from its truth."""
 

@@ -92,6 +92,7 @@ def run_follow(robot: Robot, lidar: Lidar, camera: CameraSource, pilot: Pilot, *
     """Run `pilot` for `duration_s` of the robot's clock; returns the filled `metrics`."""
     recorder = MetricsRecorder(metrics, follow_gap_m)
     metrics.ground_truth = truth is not None
+    metrics.follow_gap_m = follow_gap_m
     poses = PoseSource(robot, imu)
     if not robot.armed:
         robot.arm()
