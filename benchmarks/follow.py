@@ -14,7 +14,8 @@ profile's lidar (PiCar: YDLIDAR F4; diff-drive car: an RPLIDAR A1 on top), the P
 Per profile and pilot: collisions (contacts recorded by the emulator: obstacles and the target),
 worlds with any; the target in the camera's view (truth: inside the field of view with a clear line
 of sight) as a share of the time from the first sight; the mean and worst following error
-(|gap - 0.5 m|, gap = footprint to target surface, while in view); reacquisition times (target lost
+(|gap - the wanted gap|: 0.9 m on the PiCar, 0.5 m on the diff-drive car; gap = footprint to target
+surface, while in view); reacquisition times (target lost
 by the tracker until found again); time to the first sight. Virtual time: the wall time depends on
 the machine only.
 """
