@@ -107,6 +107,12 @@ class CameraSource:
     def clock(self) -> float:
         return self._port.clock() if self._port is not None else time.monotonic()
 
+    @property
+    def queued(self) -> bool:
+        """True when frames queue up to be taken (a byte stream: `latest()` never waits); False for an
+        OpenCV capture, whose `read()` waits for the next frame."""
+        return self._port is not None
+
     def read(self, timeout_s: float = 1.0) -> CameraFrame:
         """The next frame; SensorTimeoutError when none arrives in time."""
         if self._closed:

@@ -76,6 +76,10 @@ class MetricsRecorder:
         self._lost_since: float | None = None
         self._found_once = False
 
+    def begin(self, t: float) -> None:
+        """The run starts (its duration counts from here)."""
+        self._t0 = t
+
     def observe(self, t: float, dt: float, *, state: TrackState | None, gap_estimate_m: float | None, mode: str,
                 truth: TruthSample | None) -> None:  # fmt: skip
         m = self.m

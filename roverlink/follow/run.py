@@ -14,14 +14,15 @@ from __future__ import annotations
 
 import bisect
 import math
+import threading
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from host_sdk import FeedbackSample, NotArmedError, Robot
+from host_sdk import FeedbackSample, NotArmedError, Robot, RoverLinkError
 from host_sdk.fusion import OdometryIncrements, PoseEkf
 from host_sdk.perception.tracking import TrackState
-from host_sdk.sensors import CameraSource, Jy901, Lidar
+from host_sdk.sensors import CameraFrame, CameraSource, Jy901, Lidar
 from roverlink.follow.metrics import FollowMetrics, MetricsRecorder, TruthSample
 from roverlink.follow.pilots import Pilot, Pose2D
 
@@ -33,6 +34,43 @@ class Progress:
     tracked: bool
     gap_m: float | None
     metrics: FollowMetrics
+
+
+class FrameGrabber:
+    """The newest camera frame without waiting. A byte-stream source queues its frames (the emulator's
+    in-process camera): take the newest. An OpenCV capture blocks in `read()` until the next frame,
+    up to a frame period, or longer when the camera stalls: read it on a thread of its own."""
+
+    def __init__(self, camera: CameraSource) -> None:
+        self.camera = camera
+        self._frame: CameraFrame | None = None
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        if not camera.queued:
+            self._thread = threading.Thread(target=self._run, name="camera", daemon=True)
+            self._thread.start()
+
+    def _run(self) -> None:
+        while not self._stop.is_set():
+            try:
+                frame = self.camera.read(1.0)
+            except RoverLinkError:
+                continue
+            with self._lock:
+                self._frame = frame
+
+    def latest(self) -> CameraFrame | None:
+        if self._thread is None:
+            return self.camera.latest()
+        with self._lock:
+            frame, self._frame = self._frame, None
+        return frame
+
+    def close(self) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=2.0)
 
 
 class PoseSource:
@@ -98,41 +136,47 @@ def run_follow(robot: Robot, lidar: Lidar, camera: CameraSource, pilot: Pilot, *
         robot.arm()
     lidar.start()
     t0 = robot.now()
+    recorder.begin(t0)
     pose = poses.update(t0)
     state: TrackState | None = None
+    frames = FrameGrabber(camera)
     next_progress = t0
     tick = t0
     last_t = t0
-    while (t := robot.now()) - t0 < duration_s:
-        pose = poses.update(t)
-        for scan in lidar.poll():
-            pilot.on_scan(scan, poses.at(scan.time_s + scan.duration_s / 2))
-        frame = camera.latest()
-        if frame is not None:
-            track = pilot.on_frame(frame, poses.at(frame.time_s))
-            if track is not None:
-                state = track.state
-        linear, angular, mode = pilot.command(t, pose)
-        try:
-            robot.drive(linear, angular, clamp=True)
-        except NotArmedError:  # a failsafe (e.g. pushing against something): count it, re-arm
-            metrics.failsafes += 1
-            robot.arm()
-        decision = getattr(pilot, "decision", None)
-        gap = getattr(decision, "gap_m", None)
-        sample = truth() if truth is not None else None
-        recorder.observe(t, t - last_t, state=state, gap_estimate_m=gap, mode=mode, truth=sample)
-        if sample is None:
-            metrics.distance_m = poses.distance_m
-        last_t = t
-        if on_step is not None:
-            on_step(t)
-        if progress is not None and t >= next_progress:
-            next_progress += progress_every_s
-            tracked = state is not None and state is not TrackState.LOST
-            progress(Progress(t - t0, mode, tracked, gap, metrics))
-        tick += period_s
-        robot.sleep(max(0.0, tick - robot.now()))
+    try:
+        while (t := robot.now()) - t0 < duration_s:
+            pose = poses.update(t)
+            for scan in lidar.poll():
+                pilot.on_scan(scan, poses.at(scan.time_s + scan.duration_s / 2))
+            frame = frames.latest()
+            if frame is not None:
+                track = pilot.on_frame(frame, poses.at(frame.time_s))
+                if track is not None:
+                    state = track.state
+            linear, angular, mode = pilot.command(t, pose)
+            try:
+                robot.drive(linear, angular, clamp=True)
+            except NotArmedError:  # a failsafe (e.g. pushing against something): count it, re-arm
+                metrics.failsafes += 1
+                robot.arm()
+            decision = getattr(pilot, "decision", None)
+            gap = getattr(decision, "gap_m", None)
+            sample = truth() if truth is not None else None
+            recorder.observe(t, t - last_t, state=state, gap_estimate_m=gap, mode=mode, truth=sample)
+            if sample is None:
+                metrics.distance_m = poses.distance_m
+            last_t = t
+            if on_step is not None:
+                on_step(t)
+            if progress is not None and t >= next_progress:
+                next_progress += progress_every_s
+                tracked = state is not None and state is not TrackState.LOST
+                progress(Progress(t - t0, mode, tracked, gap, metrics))
+            tick += period_s
+            robot.sleep(max(0.0, tick - robot.now()))
+    finally:
+        frames.close()
+    metrics.duration_s = robot.now() - t0
     robot.stop()
     lidar.stop()
     return metrics
