@@ -257,10 +257,17 @@ class Tracker:
         score, bx, by, bw, bh = best
         return (bx, by, bw, bh), float(score)
 
-    def _redetect(self, image: Image, time_s: float) -> Track:
+    def detect(self, image: Image, time_s: float) -> Track:
+        """A detection from scratch over the whole frame at every scale at once (what `update` spreads
+        over a few frames while lost): REACQUIRED with the box, or LOST. The track starts from it."""
+        self.box = None
+        self.time_s = time_s
+        return self._redetect(image, time_s, every_scale=True)
+
+    def _redetect(self, image: Image, time_s: float, *, every_scale: bool = False) -> Track:
         box = self._detect_features(image) if self.has_features else None
         if box is None:
-            box = self._detect_correlation(image)
+            box = self._detect_correlation(image, every_scale=every_scale)
         if box is not None:
             refined = self._match_near(image, box)
             if refined is not None and refined[1] >= self.params.accept_redetect:
@@ -299,7 +306,7 @@ class Tracker:
             return None
         return float(x0), float(y0), w, h
 
-    def _detect_correlation(self, image: Image) -> Box | None:
+    def _detect_correlation(self, image: Image, *, every_scale: bool = False) -> Box | None:
         """Multi-scale correlation over the whole frame, each scale on a copy reduced so the template
         is about work_px across (small scales at full resolution)."""
         cv2, p = self.cv2, self.params
@@ -308,7 +315,8 @@ class Tracker:
         reduced: dict[float, Image] = {}
         best: tuple[float, Box] | None = None
         scales = np.geomspace(*p.redetect_scales)
-        turn = np.arange(self._phase, scales.shape[0], max(1, scales.shape[0] // p.redetect_per_frame))
+        step = 1 if every_scale else max(1, scales.shape[0] // p.redetect_per_frame)
+        turn = np.arange(0 if every_scale else self._phase, scales.shape[0], step)
         self._phase = (self._phase + 1) % max(1, scales.shape[0] // p.redetect_per_frame)
         for s in scales[turn]:
             w, h = tw * s, th * s

@@ -150,8 +150,7 @@ class PiCarBaseline:
         if frame.time_s < self._next_detect:
             return None
         self._next_detect = frame.time_s + self.period_s
-        self.tracker.box = None  # a detection from scratch each time, as find_object_2d's
-        track = self.tracker.update(frame.image, frame.time_s)
+        track = self.tracker.detect(frame.image, frame.time_s)  # from scratch each time, as find_object_2d
         if track.state is not TrackState.LOST and track.centre is not None:
             u = track.centre[0] / self.camera.width * 800
             zone = "left" if u < 280 else "right" if u > 580 else "straight"

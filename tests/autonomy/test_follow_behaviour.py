@@ -143,7 +143,7 @@ class FixedTracker:
         self.box = None
         self.calls = 0
 
-    def update(self, image: np.ndarray, time_s: float) -> Track:
+    def detect(self, image: np.ndarray, time_s: float) -> Track:
         self.calls += 1
         if self.u is None:
             return Track(TrackState.LOST, time_s, None, 0.0, None, None, 0.0)

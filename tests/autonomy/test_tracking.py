@@ -193,3 +193,15 @@ def test_bad_templates_and_regions_are_refused() -> None:
         Tracker.from_region(np.zeros((240, 320, 3), dtype=np.uint8), (300, 10, 40, 40), CAMERA)
     with pytest.raises(CommandRangeError, match="fx"):
         CameraModel(320, 240, 0.0, 1.0, 0, 0)
+
+
+def test_a_one_shot_detection_tries_every_scale() -> None:
+    """`detect` finds the target in one frame at any distance (`update` spreads its scales over frames)."""
+    scene = world()
+    template = render_target(scene, MOUNT)
+    for back in (1.0, 2.5):
+        image, t, bearing, _ = next(frames(scene, iter([behind_target(scene, back)])))
+        tracker = Tracker(template.image, CAMERA, height_m=template.height_m)
+        track = tracker.detect(image, t)
+        assert track.state is TrackState.REACQUIRED
+        assert abs(track.bearing_rad - bearing) < math.radians(1.0)  # type: ignore[operator]
