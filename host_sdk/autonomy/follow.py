@@ -33,15 +33,24 @@ what keeps the board's watchdog fed).
 from __future__ import annotations
 
 import math
-from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from enum import Enum
 
 import numpy as np
 from numpy.typing import NDArray
 
+from host_sdk.autonomy.memory import TargetMemory, arc_pose, to_base, to_world
 from host_sdk.autonomy.target import TargetFix, locate_target
-from host_sdk.perception.avoidance import AvoidanceParams, Avoider, Footprint, Plan, arc_free_distance, safe_speed
+from host_sdk.perception.avoidance import (
+    AvoidanceParams,
+    Avoider,
+    Footprint,
+    Plan,
+    arc_room,
+    direction_clearance,
+    safe_speed,
+)
 from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.tracking import Track
 
@@ -127,51 +136,19 @@ class Follower:
         self.ackermann = min_turn_radius_m > 0
         self.params = params or FollowParams()
         self.avoider = Avoider(footprint, replace(avoidance or AvoidanceParams(), min_turn_radius_m=min_turn_radius_m))
-        self._seen: tuple[float, float, float] | None = None
-        """(time, x, y) of the target in the odometry frame when last seen."""
-        self._velocity = (0.0, 0.0)
-        """The target's velocity in the odometry frame."""
-        self._side = 1.0
-        self._camera_seen = -math.inf
-        self._route: deque[tuple[float, float]] = deque(maxlen=400)
-        """Where the target has been (odometry frame): it walks the same route again."""
+        self.memory = TargetMemory(self.params.target_size_m)
+        self._search_from: float | None = None
+        """Heading when the search began (a whole turn round without the target: go elsewhere)."""
+        self._wander: tuple[float, float, float] | None = None
+        """(until, x, y) of a place to look from, in the odometry frame."""
         self._k_leg = (1.0, 0.0)
         """Ackermann search: the direction of the current K-turn leg and how far it has gone."""
         self._blocked_since: float | None = None
         self._evade: tuple[float, float, float] | None = None
-        """(until, signed speed, curvature) of a manoeuvre out of the target's way."""
+        """(until, linear, angular) of a manoeuvre out of the target's way."""
         self._recover: tuple[float, float] | None = None
         """(until, curvature) of a manoeuvre backing out."""
         self._t = 0.0
-
-    # -- the target -----------------------------------------------------------------------------------
-    def _remember(self, t: float, fix: TargetFix, pose: Pose2D) -> None:
-        wx, wy = _to_world(pose, fix.x_m, fix.y_m)
-        if self._seen is not None and 0 < t - self._seen[0] < 0.6:
-            dt = t - self._seen[0]
-            vx, vy = (wx - self._seen[1]) / dt, (wy - self._seen[2]) / dt
-            a = min(1.0, dt / 0.5)  # ~0.5 s smoothing: the surface point jitters with the view
-            vx, vy = self._velocity[0] + a * (vx - self._velocity[0]), self._velocity[1] + a * (vy - self._velocity[1])
-            speed = math.hypot(vx, vy)
-            self._velocity = (vx, vy) if speed <= 0.8 else (0.8 * vx / speed, 0.8 * vy / speed)
-        elif self._seen is None or t - self._seen[0] >= 0.6:
-            self._velocity = (0.0, 0.0)
-        self._seen = (t, wx, wy)
-        self._side = 1.0 if fix.y_m >= 0 else -1.0
-        if not self._route or math.hypot(wx - self._route[-1][0], wy - self._route[-1][1]) > 0.1:
-            self._route.append((wx, wy))
-
-    def _predicted(self, t: float, pose: Pose2D, horizon_s: float) -> tuple[float, float] | None:
-        if self._seen is None or t - self._seen[0] > horizon_s:
-            return None
-        age = min(t - self._seen[0], 3.0)
-        wx, wy = self._seen[1] + self._velocity[0] * age, self._seen[2] + self._velocity[1] * age
-        return _to_base(pose, wx, wy)
-
-    def _velocity_in(self, pose: Pose2D) -> tuple[float, float]:
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        vx, vy = self._velocity
-        return c * vx + s * vy, -s * vx + c * vy
 
     # -- the step -------------------------------------------------------------------------------------
     def step(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D) -> Decision:
@@ -184,15 +161,15 @@ class Follower:
         if track is not None and track.found and track.bearing_rad is not None:
             fix = locate_target(px, py, self.camera, track.bearing_rad, track.range_m, size_m=p.target_size_m)
             if fix is not None:
-                self._camera_seen = t
-                self._remember(t, fix, pose)
-        if fix is None and t - self._camera_seen <= p.lidar_hold_s:
+                self.memory.camera_seen = t
+                self.memory.remember(t, fix, pose)
+        if fix is None and t - self.memory.camera_seen <= p.lidar_hold_s:
             # Out of the camera's view (beside the robot, too close) but still in the scan: follow its
             # returns for a while, so its position and velocity stay current.
-            fix = self._lidar_fix(px, py, self._predicted(t, pose, p.lidar_hold_s))
+            fix = self.memory.lidar_fix(px, py, self.memory.predicted(t, pose, p.lidar_hold_s))
             if fix is not None:
-                self._remember(t, fix, pose)
-        goal = (fix.x_m, fix.y_m) if fix is not None else self._predicted(t, pose, p.coast_s)
+                self.memory.remember(t, fix, pose)
+        goal = (fix.x_m, fix.y_m) if fix is not None else self.memory.predicted(t, pose, p.coast_s)
         mask = fix.mask if fix is not None else np.zeros(px.shape[0], dtype=bool)
         view = _View(px[~mask], py[~mask], px[mask], py[mask], fix)
         if self._recover is not None and t < self._recover[0]:
@@ -202,10 +179,11 @@ class Follower:
             return self._search(view, pose, dt)
         else:
             self._recover = None
+            self._search_from = self._wander = None
             decision = self._track(view, goal, pose, dt)
         if goal is None or decision.mode is Mode.YIELD:
             return decision
-        return self._guard(decision, view, goal, self._velocity_in(pose))
+        return self._guard(decision, view, goal, self.memory.velocity_in(pose))
 
     def _guard(self, decision: Decision, view: _View, goal: tuple[float, float],
                velocity: tuple[float, float]) -> Decision:  # fmt: skip
@@ -225,25 +203,14 @@ class Follower:
         fp = self.footprint
         taus = np.linspace(0.0, self.params.yield_horizon_s, 6)
         cx, cy = goal[0] + velocity[0] * taus, goal[1] + velocity[1] * taus
-        x, y, th = _arc(v * taus, k)
+        x, y, th = arc_pose(v * taus, k)
         fx, fy = x + fp.x_m * np.cos(th), y + fp.x_m * np.sin(th)
         return float(np.min(np.hypot(cx - fx, cy - fy))) - fp.radius_m
 
-    def _lidar_fix(self, px: F64, py: F64, predicted: tuple[float, float] | None) -> TargetFix | None:
-        """The target's returns where it should be now: a compact cluster near the prediction with
-        nothing else around it (a wall or a box nearby makes it ambiguous: then none)."""
-        if predicted is None or not px.size:
-            return None
-        d = np.hypot(px - predicted[0], py - predicted[1])
-        i = int(np.argmin(d))
-        if d[i] > 0.3:
-            return None
-        sx, sy = float(px[i]), float(py[i])
-        r = np.hypot(px - sx, py - sy)
-        inner = 0.6 * self.params.target_size_m + 0.05
-        if ((r >= inner) & (r < inner + 0.25)).any():
-            return None
-        return TargetFix(sx, sy, r < inner, True)
+    def _room(self, px: F64, py: F64, curvatures: F64, *, reverse: bool = False) -> F64:
+        """Clear travel along each arc, with the avoider's margin round the footprint."""
+        a = self.avoider.params
+        return arc_room(px, py, curvatures, self.footprint, pad_m=a.pad_m, horizon_m=a.window_m, reverse=reverse)
 
     # -- tracking ---------------------------------------------------------------------------------------
     def _track(self, view: _View, goal: tuple[float, float], pose: Pose2D, dt: float) -> Decision:
@@ -253,7 +220,7 @@ class Follower:
         bearing = math.atan2(gy, gx)
         gap = math.hypot(gx - fp.x_m, gy) - fp.radius_m
         dist = math.hypot(gx, gy)
-        vx, vy = self._velocity_in(pose)
+        vx, vy = self.memory.velocity_in(pose)
         away = vx * math.cos(bearing) + vy * math.sin(bearing)
         if self._evade is not None and self._t < self._evade[0]:
             return self._keep_yielding(view, gap)
@@ -281,38 +248,69 @@ class Follower:
         return Decision(v, w, mode, fix, gap, plan)
 
     def _yield(self, view: _View, goal: tuple[float, float], velocity: tuple[float, float], gap: float) -> Decision:
-        """The arc (forwards or backwards) that keeps the robot farthest from the coming target."""
-        p, fp, a = self.params, self.footprint, self.avoider.params
+        """The move that keeps the robot farthest from the coming target: an arc forwards or backwards,
+        standing still, or (differential drive) turning on the spot to leave sideways."""
+        p, a = self.params, self.avoider.params
         (ox, oy), fix = view.xy, view.fix  # the target where it is now is in the way too
         horizon = p.yield_horizon_s
-        end = (goal[0] + velocity[0] * horizon, goal[1] + velocity[1] * horizon)
-        # Standing still is a candidate too (it is what the robot does best), scored the same way.
-        best = (min(self._separation(0.0, 0.0, goal, velocity), 1.0) + 0.15 + 0.05, 0.0, 0.0)
+        taus = np.linspace(0.0, horizon, 11)
+        tx, ty = goal[0] + velocity[0] * taus, goal[1] + velocity[1] * taus
+
+        def score(x: F64, y: F64, th: F64) -> float:
+            fx, fy = x + self.footprint.x_m * np.cos(th), y + self.footprint.x_m * np.sin(th)
+            sep = float(np.min(np.hypot(tx - fx, ty - fy))) - self.footprint.radius_m
+            facing = math.cos(math.atan2(ty[-1] - y[-1], tx[-1] - x[-1]) - th[-1])
+            return min(sep, 1.0) + 0.15 * facing
+
+        zero = np.zeros_like(taus)
+        best = (score(zero, zero, zero) + 0.05, 0.0, 0.0, 0.0)  # (score, v, w, how long): standing still
         curvatures = self.avoider.curvatures[:: max(1, len(self.avoider.curvatures) // 10)]
         for direction in (1.0, -1.0):
-            free = arc_free_distance(ox, oy, curvatures, fp, horizon_m=a.window_m, reverse=direction < 0)
+            free = self._room(ox, oy, curvatures, reverse=direction < 0)
             for k, room in zip(curvatures, free, strict=True):
                 v = direction * min(p.reverse_speed_m_s, safe_speed(float(room), a, ttc=False))
-                if abs(v) < 0.05:
-                    continue
-                sep = self._separation(v, float(k), goal, velocity)
-                x, y, th = _arc(np.array([v * horizon]), float(k))
-                facing = math.cos(math.atan2(end[1] - y[0], end[0] - x[0]) - th[0])
-                score = min(sep, 1.0) + 0.15 * facing
-                if score > best[0]:
-                    best = (score, v, float(k))
-        _, v, k = best
-        if v == 0.0:
+                if abs(v) >= 0.05:
+                    cand = score(*arc_pose(v * taus, float(k)))
+                    if cand > best[0]:
+                        best = (cand, v, v * float(k), 0.5 * horizon)
+        if not self.ackermann and self._can_spin(view):
+            best = max(best, *self._spin_and_go(view, taus, score), key=lambda c: c[0])
+        _, v, w, hold = best
+        if v == 0.0 and w == 0.0:
             return Decision(0.0, 0.0, Mode.STOP, fix, gap)
-        self._evade = (self._t + 0.5 * horizon, v, k)  # commit: re-choosing every step dithers
-        return Decision(v, v * k, Mode.YIELD, fix, gap)
+        self._evade = (self._t + hold, v, w)  # commit: re-choosing every step dithers
+        return Decision(v, w, Mode.YIELD, fix, gap)
+
+    def _spin_and_go(self, view: _View, taus: F64,
+                     score: Callable[[F64, F64, F64], float]) -> list[tuple[float, float, float, float]]:  # fmt: skip
+        """Differential drive: turn a quarter turn either way on the spot, then drive straight out."""
+        p, a = self.params, self.avoider.params
+        x, y = view.xy
+        out = []
+        for side in (1.0, -1.0):
+            heading = side * math.pi / 2
+            spin_s = abs(heading) / p.max_turn_rate
+            clear = float(direction_clearance(x - self.footprint.x_m, y, np.array([heading]),
+                                              self.footprint.radius_m + a.pad_m, horizon_m=a.window_m)[0])  # fmt: skip
+            v = min(p.reverse_speed_m_s, safe_speed(clear, a, ttc=False))
+            th = np.where(taus < spin_s, side * p.max_turn_rate * taus, heading)
+            run = v * np.maximum(taus - spin_s, 0.0)
+            out.append((score(run * math.cos(heading), run * math.sin(heading), th), 0.0, side * p.max_turn_rate,
+                        spin_s))  # fmt: skip
+        return out
 
     def _keep_yielding(self, view: _View, gap: float) -> Decision:
         assert self._evade is not None
-        _, v, k = self._evade
+        _, v, w = self._evade
         a, fix = self.avoider.params, view.fix
+        if v == 0.0:  # turning on the spot
+            if self._can_spin(view):
+                return Decision(0.0, w, Mode.YIELD, fix, gap)
+            self._evade = None
+            return Decision(0.0, 0.0, Mode.STOP, fix, gap)
         x, y = view.xy
-        free = float(arc_free_distance(x, y, np.array([k]), self.footprint, horizon_m=a.window_m, reverse=v < 0)[0])
+        k = w / v
+        free = float(self._room(x, y, np.array([k]), reverse=v < 0)[0])
         speed = min(abs(v), safe_speed(free, a, ttc=False))
         if speed < 0.02:
             self._evade = None
@@ -331,8 +329,8 @@ class Follower:
         if v > 0.02:
             k = np.array([w / v])
             a = self.avoider.params
-            free = float(arc_free_distance(ox, oy, k, self.footprint, horizon_m=a.window_m)[0])
-            on_target = float(arc_free_distance(tx, ty, k, self.footprint, horizon_m=a.window_m)[0])
+            free = float(self._room(ox, oy, k)[0])
+            on_target = float(self._room(tx, ty, k)[0])
             v = min(v, safe_speed(free, a), safe_speed(on_target, a, ttc=False))
         if v <= 0.02:
             v = 0.0
@@ -347,7 +345,7 @@ class Follower:
         x, y = view.xy
         w = 0.0 if self.ackermann else max(-1.0, min(1.0, self.params.gain_turn * bearing))
         k = -w / speed if speed > 0 else 0.0
-        free = float(arc_free_distance(x, y, np.array([k]), self.footprint, horizon_m=a.window_m, reverse=True)[0])
+        free = float(self._room(x, y, np.array([k]), reverse=True)[0])
         v = min(speed, safe_speed(free, a, ttc=False))
         if v < 0.02:
             return Decision(0.0, w if self._can_spin(view) else 0.0, Mode.STOP, fix, gap)
@@ -355,22 +353,31 @@ class Follower:
 
     # -- searching --------------------------------------------------------------------------------------
     def _search(self, view: _View, pose: Pose2D, dt: float) -> Decision:
-        """Go to where the target was heading, then look round towards the side it was last seen."""
+        """Go to where the target was heading, then look round towards the side it was last seen;
+        after a whole turn round without it, go somewhere else to look from (`_wander`)."""
         p = self.params
-        last = self._predicted(self._t, pose, 8.0)
+        if self._search_from is None:
+            self._search_from = pose[2]
+        if self._wander is None and abs(pose[2] - self._search_from) > 2 * math.pi:
+            self._wander = self._wander_goal(view, pose)
+        if self._wander is not None:
+            decision = self._go_wander(view, pose, dt)
+            if decision is not None:
+                return decision
+        last = self.memory.predicted(self._t, pose, 8.0)
         if last is not None and math.hypot(*last) > 0.8:
             goal, speed = math.atan2(last[1], last[0]), p.search_speed_m_s
         else:
-            goal, speed = self._side * 0.75 * math.pi, p.search_speed_m_s
+            goal, speed = self.memory.side * 0.75 * math.pi, p.search_speed_m_s
         near = last is None or math.hypot(*last) <= 0.8
-        off = self._off_route(pose)
+        off = self.memory.off_route(pose, self.footprint.radius_m, self.footprint.x_m)
         if off is not None:  # standing on its route while it cannot be seen: step off it first
             plan = self.avoider.plan(view.ox, view.oy, off, p.search_speed_m_s, target_xy=(view.tx, view.ty))
             v, w = self._command(plan, view, turn_to=plan.direction_rad)
             if v > 0.02 or abs(w) > 0.05:
                 return Decision(v, w, Mode.SEARCH, None, None, plan)
         if not self.ackermann and (near or abs(goal) > 0.5):
-            turn = self._side if near else goal
+            turn = self.memory.side if near else goal
             if self._can_spin(view):
                 return Decision(0.0, math.copysign(p.search_turn_rate, turn), Mode.SEARCH, None, None)
             return self._unstick(view)
@@ -379,22 +386,39 @@ class Follower:
         plan = self.avoider.plan(view.ox, view.oy, goal, speed, target_xy=(view.tx, view.ty))
         v, w = self._command(plan, view, turn_to=plan.direction_rad)
         if self._stuck(v < 0.02, dt):
-            return self._start_backing(view, side=self._side)
+            return self._start_backing(view, side=self.memory.side)
         return Decision(v, w, Mode.SEARCH, None, None, plan)
 
-    def _off_route(self, pose: Pose2D) -> float | None:
-        """Bearing (base frame) away from the target's route when the robot stands on it, else None."""
-        if not self._route:
+    def _wander_goal(self, view: _View, pose: Pose2D) -> tuple[float, float, float]:
+        """(until, x, y): where it was last seen if that is some way off (it comes back along its
+        route), else 1.5 m into the most open direction."""
+        seen = self.memory.seen
+        if seen is not None:
+            bx, by = to_base(pose, seen[1], seen[2])
+            if math.hypot(bx, by) > 1.0:
+                return self._t + 8.0, seen[1], seen[2]
+        _, clear = self.avoider.free_directions(view.ox, view.oy)
+        best = float(self.avoider.directions[int(np.argmax(clear))])
+        wx, wy = to_world(pose, 1.5 * math.cos(best), 1.5 * math.sin(best))
+        return self._t + 8.0, wx, wy
+
+    def _go_wander(self, view: _View, pose: Pose2D, dt: float) -> Decision | None:
+        assert self._wander is not None
+        until, wx, wy = self._wander
+        gx, gy = to_base(pose, wx, wy)
+        if self._t > until or math.hypot(gx, gy) < 0.5:
+            self._wander = None
+            self._search_from = pose[2]  # look round again from here
             return None
-        route = np.array(self._route)
-        fp = self.footprint
-        fx, fy = _to_world(pose, fp.x_m, 0.0)
-        d = np.hypot(route[:, 0] - fx, route[:, 1] - fy)
-        i = int(np.argmin(d))
-        if d[i] > fp.radius_m + self.params.target_size_m / 2 + 0.25:
-            return None
-        ax, ay = _to_base(pose, float(route[i, 0]), float(route[i, 1]))
-        return math.atan2(-ay, -ax)
+        bearing = math.atan2(gy, gx)
+        if not self.ackermann and abs(bearing) > 0.6 and self._can_spin(view):
+            return Decision(0.0, math.copysign(self.params.search_turn_rate, bearing), Mode.SEARCH, None, None)
+        plan = self.avoider.plan(view.ox, view.oy, bearing, self.params.search_speed_m_s, target_xy=(view.tx, view.ty),
+                                 goal_m=math.hypot(gx, gy))  # fmt: skip
+        v, w = self._command(plan, view, turn_to=plan.direction_rad)
+        if self._stuck(v < 0.02, dt):
+            return self._start_backing(view, side=1.0 if bearing > 0 else -1.0)
+        return Decision(v, w, Mode.SEARCH, None, None, plan)
 
     def _k_turn(self, view: _View, dt: float) -> Decision:
         """Ackermann: turn round on the spot as a driver does in a narrow street, forwards with the
@@ -403,8 +427,8 @@ class Follower:
         p, a = self.params, self.avoider.params
         x, y = view.xy
         leg, travelled = self._k_leg
-        k = self._side * a.max_curvature * leg  # forwards: towards the side; backwards: away from it
-        free = float(arc_free_distance(x, y, np.array([k]), self.footprint, horizon_m=a.window_m, reverse=leg < 0)[0])
+        k = self.memory.side * a.max_curvature * leg  # forwards: towards the side; backwards: away from it
+        free = float(self._room(x, y, np.array([k]), reverse=leg < 0)[0])
         v = min(p.search_speed_m_s, safe_speed(free, a, ttc=False))
         if v < 0.05 or travelled >= p.k_turn_leg_m:
             self._k_leg = (-leg, 0.0)
@@ -423,8 +447,8 @@ class Follower:
         """Too close to something to turn in place: move straight away from it, whichever way is free."""
         a = self.avoider.params
         x, y = view.xy
-        ahead = float(arc_free_distance(x, y, np.array([0.0]), self.footprint, horizon_m=a.window_m)[0])
-        behind = float(arc_free_distance(x, y, np.array([0.0]), self.footprint, horizon_m=a.window_m, reverse=True)[0])
+        ahead = float(self._room(x, y, np.array([0.0]))[0])
+        behind = float(self._room(x, y, np.array([0.0]), reverse=True)[0])
         v = min(0.15, safe_speed(max(ahead, behind), a, ttc=False))
         if v < 0.02:
             return Decision(0.0, 0.0, Mode.STOP, None, None)
@@ -448,7 +472,7 @@ class Follower:
         a, fix = self.avoider.params, view.fix
         x, y = view.xy
         options = (-side * a.max_curvature, 0.0, side * a.max_curvature)
-        free = arc_free_distance(x, y, np.array(options), self.footprint, horizon_m=a.window_m, reverse=True)
+        free = self._room(x, y, np.array(options), reverse=True)
         usable = [i for i in range(3) if free[i] > 0.25]
         if not usable:
             return Decision(0.0, 0.0, Mode.STOP, fix, None)
@@ -459,28 +483,9 @@ class Follower:
     def _backing(self, view: _View, k: float) -> Decision:
         a, fix = self.avoider.params, view.fix
         px, py = view.xy
-        free = float(arc_free_distance(px, py, np.array([k]), self.footprint, horizon_m=a.window_m, reverse=True)[0])
+        free = float(self._room(px, py, np.array([k]), reverse=True)[0])
         v = min(self.params.reverse_speed_m_s * 0.6, safe_speed(free, a, ttc=False))
         if v < 0.02:
             self._recover = None
             return Decision(0.0, 0.0, Mode.STOP, fix, None)
         return Decision(-v, -v * k, Mode.RECOVER, fix, None)
-
-
-def _arc(s: F64, k: float) -> tuple[F64, F64, F64]:
-    """Pose after travelling `s` (array, signed) along an arc of curvature k from the origin."""
-    th = s * k
-    if abs(k) < 1e-9:
-        return s, np.zeros_like(s), th
-    return np.sin(th) / k, (1 - np.cos(th)) / k, th
-
-
-def _to_world(pose: Pose2D, x: float, y: float) -> tuple[float, float]:
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    return pose[0] + c * x - s * y, pose[1] + s * x + c * y
-
-
-def _to_base(pose: Pose2D, wx: float, wy: float) -> tuple[float, float]:
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    dx, dy = wx - pose[0], wy - pose[1]
-    return c * dx + s * dy, -s * dx + c * dy

@@ -48,6 +48,9 @@ class AvoidanceParams:
     """Clearance kept between the footprint and obstacles when choosing a direction."""
     stop_margin_m: float = 0.1
     """What is left between the footprint and the obstacle after an emergency stop."""
+    pad_m: float = 0.04
+    """Margin round the footprint when checking an arc: a real robot never drives exactly the arc it
+    was told to (wheel speed control at low speed, odometry between scans)."""
     max_decel_m_s2: float = 0.8
     """Braking the speed law assumes (well under what the robot can do, for slippery floors)."""
     latency_s: float = 0.3
@@ -107,6 +110,25 @@ def arc_free_distance(px: F64, py: F64, curvatures: F64, footprint: Footprint, *
     s = np.where(inside, 0.0, s)
     free: F64 = np.minimum(out, np.maximum(s.min(axis=1), 0.0))
     return free
+
+
+def arc_room(px: F64, py: F64, curvatures: F64, footprint: Footprint, *, pad_m: float, horizon_m: float = 5.0,
+             reverse: bool = False) -> F64:  # fmt: skip
+    """`arc_free_distance` for the footprint grown by `pad_m`, the margin a real robot needs (its path
+    is never quite the commanded arc). Points already inside that margin do not block every arc:
+    they block only motion that brings the footprint any closer to them than it is now, so a robot
+    that got too close can still move away."""
+    x, y = np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64)
+    gap = np.hypot(x - footprint.x_m, y) - footprint.radius_m
+    near = gap < pad_m
+    grown = Footprint(footprint.radius_m + pad_m, footprint.x_m)
+    room = arc_free_distance(x[~near], y[~near], curvatures, grown, horizon_m=horizon_m, reverse=reverse)
+    if near.any():
+        closest = max(0.0, float(gap[near].min()) - 0.005)
+        tight = Footprint(footprint.radius_m + closest, footprint.x_m)
+        room = np.minimum(room, arc_free_distance(x[near], y[near], curvatures, tight, horizon_m=horizon_m,
+                                                  reverse=reverse))  # fmt: skip
+    return room
 
 
 def direction_clearance(px: F64, py: F64, directions: F64, half_width_m: float, *, horizon_m: float = 5.0) -> F64:
@@ -270,9 +292,9 @@ class Avoider:
         k = max(-p.max_curvature, min(p.max_curvature, k))
         # The arc through the chosen direction may still clip something the straight corridor missed:
         # take the nearest arc (towards the chosen side) that leaves enough room.
-        free_arcs = arc_free_distance(px, py, self.curvatures, fp, horizon_m=p.window_m)
+        free_arcs = arc_room(px, py, self.curvatures, fp, pad_m=p.pad_m, horizon_m=p.window_m)
         need = stopping_distance(speed_m_s, p)
-        own = float(arc_free_distance(px, py, np.array([k]), fp, horizon_m=p.window_m)[0])
+        own = float(arc_room(px, py, np.array([k]), fp, pad_m=p.pad_m, horizon_m=p.window_m)[0])
         if own < need and deflected:
             ok = free_arcs >= need
             if ok.any():

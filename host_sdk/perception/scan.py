@@ -22,7 +22,8 @@ Input is a driver's `LidarScan` (host_sdk.sensors), anything shaped like a ROS `
 - the blind zone: a lidar sees nothing nearer than its minimum range (0.12-0.15 m), which on a small
   robot reaches past the body's edge. Obstacle points that were seen and have since moved (with the
   robot's motion) into that zone are kept: the lidar cannot say they are gone, and they are exactly
-  the ones the robot is about to touch. They are dropped once the robot has moved away from them.
+  the ones the robot is about to touch. They are dropped once they leave the zone (the lidar sees
+  that part again) or after `blind_hold_s` (something that walked past is not a wall for ever).
 
 Everything is numpy over whole arrays: a revolution costs tens of microseconds.
 """
@@ -190,7 +191,7 @@ class ScanFilter:
     """Temporal (motion-compensated median) and spatial filtering of successive revolutions."""
 
     def __init__(self, mount: LidarMount | None = None, *, bins: int = 360, temporal: int = 3,
-                 isolated_m: float = 0.1, keep_near_m: float = 1.0) -> None:  # fmt: skip
+                 isolated_m: float = 0.1, keep_near_m: float = 1.0, blind_hold_s: float = 4.0) -> None:  # fmt: skip
         if not (isinstance(bins, int) and 36 <= bins <= 4096):
             raise CommandRangeError("bins", bins, "an integer in 36..4096")
         if not (isinstance(temporal, int) and 1 <= temporal <= 25):
@@ -200,13 +201,16 @@ class ScanFilter:
         self.temporal = temporal
         self.isolated_m = isolated_m
         self.keep_near_m = keep_near_m
+        self.blind_hold_s = blind_hold_s
         self.angles = -math.pi + (np.arange(bins) + 0.5) * 2 * math.pi / bins
         self._history: deque[tuple[F64, F64, Pose2D]] = deque(maxlen=temporal)
         self._last: tuple[F64, F64, Pose2D] | None = None
+        self._blind: list[tuple[F64, F64, Pose2D, F64]] = []
 
     def reset(self) -> None:
         self._history.clear()
         self._last = None
+        self._blind = []
 
     def base_points(self, scan: RawScan | DriverScanLike | LaserScanLike) -> tuple[F64, F64, float]:
         """A revolution's returns as base-frame points, and its time."""
@@ -231,16 +235,33 @@ class ScanFilter:
         med = np.median(stack, axis=0)
         med[~np.isfinite(med)] = np.nan
         ranges = spatial_filter(med, isolated_m=self.isolated_m, keep_near_m=self.keep_near_m)
-        if self._last is not None and raw.range_min_m > 0:
-            lx, ly = move_points(self._last[0], self._last[1], self._last[2], here)
-            m = self.mount
-            blind = np.hypot(lx - m.x_m, ly - m.y_m) < raw.range_min_m + 0.1
-            if blind.any():
-                ranges = np.fmin(ranges, bin_points(lx[blind], ly[blind], self.bins))
-        out = ObstacleScan(self.angles, ranges, raw.time_s)
-        ox, oy = out.points_xy()
+        seen = ObstacleScan(self.angles, ranges, raw.time_s)
+        if raw.range_min_m > 0:
+            bx, by = self._remember_blind(seen, raw, here)
+            if bx.size:
+                ranges = np.fmin(ranges, bin_points(bx, by, self.bins))
+        return ObstacleScan(self.angles, ranges, raw.time_s)
+
+    def _remember_blind(self, seen: ObstacleScan, raw: RawScan, here: Pose2D) -> tuple[F64, F64]:
+        """Points now in the blind zone that were seen before it swallowed them, for `blind_hold_s`
+        (long enough to back away from a wall, short enough that the target walking past is not
+        remembered as a wall)."""
+        m = self.mount
+        xs, ys, born = [], [], []
+        for x, y, then, t0 in ([(*self._last, None)] if self._last is not None else []) + self._blind:
+            mx, my = move_points(x, y, then, here)
+            inside = np.hypot(mx - m.x_m, my - m.y_m) < raw.range_min_m + 0.02
+            xs.append(mx[inside])
+            ys.append(my[inside])
+            born.append(np.full(int(inside.sum()), raw.time_s) if t0 is None else t0[inside])
+        ox, oy = seen.points_xy()
         self._last = (ox, oy, here)
-        return out
+        if not xs:
+            return np.zeros(0), np.zeros(0)
+        bx, by, bt = np.concatenate(xs), np.concatenate(ys), np.concatenate(born)
+        keep = raw.time_s - bt <= self.blind_hold_s
+        self._blind = [(bx[keep], by[keep], here, bt[keep])]
+        return bx[keep], by[keep]
 
 
 def move_points(x: F64, y: F64, then: Pose2D, now: Pose2D) -> tuple[F64, F64]:

@@ -123,7 +123,7 @@ def test_planner_deflects_round_a_box_towards_the_open_side() -> None:
 
 
 def test_planner_slows_down_as_the_way_closes_in() -> None:
-    avoider = Avoider(DISC)
+    avoider = Avoider(DISC, AvoidanceParams(max_curvature=0.01))  # no turning away: straight at the wall
     speeds = []
     for d in (3.0, 1.5, 1.0, 0.6, 0.35):
         x, y = wall(d, -3, d, 3, 200)
@@ -162,3 +162,19 @@ def test_ackermann_planner_respects_its_turning_radius() -> None:
     fx, fy = wall(0.9, -0.4, 0.9, 0.9, 60)
     plan = avoider.plan(np.concatenate([bx, fx]), np.concatenate([by, fy]), math.radians(60), 0.3)
     assert plan.direction_rad < 0
+
+
+def test_arc_room_keeps_a_margin_but_lets_a_robot_that_is_too_close_move_away() -> None:
+    from host_sdk.perception.avoidance import arc_room
+
+    wall_x, wall_y = wall(1.0, -2.0, 1.0, 2.0, 200)
+    bare = arc_free_distance(wall_x, wall_y, np.array([0.0]), DISC)[0]
+    padded = arc_room(wall_x, wall_y, np.array([0.0]), DISC, pad_m=0.05)[0]
+    assert padded == pytest.approx(bare - 0.05, abs=0.002)
+    # A point 2 cm off the footprint (inside the margin), ahead on the left: backing away is free,
+    # driving on past it is not (without the margin it would be: the bare disc just clears it).
+    x, y = np.array([0.1]), np.array([0.2])
+    away = arc_room(x, y, np.array([0.0]), DISC, pad_m=0.05, horizon_m=2.0, reverse=True)[0]
+    towards = arc_room(x, y, np.array([0.0]), DISC, pad_m=0.05, horizon_m=2.0)[0]
+    assert away == 2.0 and towards < 0.11
+    assert arc_free_distance(x, y, np.array([-1.0]), DISC, horizon_m=2.0)[0] == 2.0

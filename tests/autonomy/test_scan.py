@@ -124,3 +124,22 @@ def test_bad_arguments_name_themselves() -> None:
         RawScan.from_arrays([0.0, 1.0], [1.0])
     with pytest.raises(CommandRangeError, match="scan"):
         ScanFilter().update(42)  # type: ignore[arg-type]
+
+
+def test_points_swallowed_by_the_blind_zone_are_kept_for_a_while() -> None:
+    """A post seen 0.3 m ahead; the robot creeps up until the post is nearer than the lidar's minimum
+    range (0.12 m) and vanishes from the scans: the filter still reports it, until `blind_hold_s`."""
+    filt = ScanFilter(temporal=1, blind_hold_s=2.0)
+
+    def post_at(x: float, t: float) -> RawScan:
+        r = np.where(np.abs(ANGLES) < math.radians(8), x, np.nan)
+        return RawScan.from_arrays(ANGLES, r, range_min_m=0.12, range_max_m=12.0, time_s=t)
+
+    assert filt.update(post_at(0.3, 0.0), pose=(0.0, 0.0, 0.0)).range_at(0.0) == pytest.approx(0.3, abs=0.01)
+    # 0.2 m on, the post is 0.1 m away: inside the blind zone, so the lidar returns nothing there.
+    blind = RawScan.from_arrays(ANGLES, np.full(ANGLES.shape, np.nan), range_min_m=0.12, time_s=0.5)
+    assert filt.update(blind, pose=(0.2, 0.0, 0.0)).range_at(0.0, math.radians(5)) == pytest.approx(0.1, abs=0.01)
+    kept = filt.update(RawScan(ANGLES, blind.ranges_m, 1.5, 0.12), pose=(0.2, 0.0, 0.0))
+    assert kept.range_at(0.0, math.radians(5)) == pytest.approx(0.1, abs=0.01)
+    gone = filt.update(RawScan(ANGLES, blind.ranges_m, 2.6, 0.12), pose=(0.2, 0.0, 0.0))
+    assert gone.range_at(0.0, math.radians(5)) == math.inf
