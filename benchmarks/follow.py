@@ -64,6 +64,7 @@ def summarise(runs: list[dict[str, Any]]) -> dict[str, Any]:
         "runs": len(runs),
         "errors": len(runs) - len(ok),
         "collisions": sum(r["collisions"] for r in ok),
+        "target_contacts": sum(1 for r in ok for hit in r["collided_with"] if hit == "target"),
         "worlds_with_collisions": sum(1 for r in ok if r["collisions"]),
         "never_saw_target": sum(1 for r in ok if r["first_sight_s"] is None),
         "in_view_mean": statistics.fmean(views) if views else math.nan,
@@ -82,7 +83,7 @@ def summarise(runs: list[dict[str, Any]]) -> dict[str, Any]:
 def table(summary: dict[str, dict[str, dict[str, Any]]], worlds: int, duration: float) -> str:
     rows = [
         f"{worlds} worlds (random:0..{worlds - 1}) per profile, {duration:g} s each, virtual clock\n",
-        "| profile | pilot | collisions (worlds) | saw the target | target in view, mean (min) "
+        "| profile | pilot | collisions (worlds): obstacles + the target | saw the target | target in view, mean (min) "
         "| worlds >= 90 % in view | following error mean / worst | reacquisitions: count, mean / max "
         "| first sight, mean |",
         "|---|---|---|---|---|---|---|---|---|",
@@ -90,7 +91,8 @@ def table(summary: dict[str, dict[str, dict[str, Any]]], worlds: int, duration: 
     for profile, pilots in summary.items():
         for pilot, s in pilots.items():
             rows.append(
-                f"| {profile} | {pilot} | {s['collisions']} ({s['worlds_with_collisions']}) | "
+                f"| {profile} | {pilot} | {s['collisions']} ({s['worlds_with_collisions']}): "
+                f"{s['collisions'] - s['target_contacts']} + {s['target_contacts']} | "
                 f"{s['runs'] - s['errors'] - s['never_saw_target']} of {s['runs']} | "
                 f"{100 * s['in_view_mean']:.1f} % ({100 * s['in_view_min']:.1f} %) | {s['worlds_in_view_90']} | "
                 f"{s['follow_error_mean_m']:.2f} / {s['follow_error_max_m']:.2f} m | "
