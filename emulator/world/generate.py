@@ -1,9 +1,10 @@
 """`random:SEED` worlds: a walled room with boxes and cylinders and a target on a closed path.
 
 The rules keep every world solvable for every reference robot (the largest footprint is a 0.19 m
-disc): the start pose has ROBOT_CLEARANCE_M of free space around it, the target's path keeps its
-disc clear of every obstacle, and a breadth-first search over a 5 cm grid, with obstacles grown by
-the robot's radius, reaches a cell next to every waypoint of the target from the start. A draw that
+disc): the start pose has ROBOT_CLEARANCE_M of free space around it, the target's path (each leg,
+not only its waypoints) keeps its disc clear of every obstacle, and a breadth-first search over a
+5 cm grid, with obstacles grown by the robot's radius, reaches a cell next to every waypoint of the
+target from the start. A draw that
 breaks a rule is thrown away and the next one taken (from the same seeded stream, so one seed is
 one world on every machine: `random.Random` seeded from a string is stable across Python versions).
 """
@@ -116,10 +117,26 @@ def clearance_field(scene: Scene, points: NDArray[np.float64], *, skip_target: b
     return best
 
 
+def path_clear(scene: Scene, margin: float = 0.05) -> bool:
+    """The target's disc (plus `margin`) stays clear of every obstacle along its whole path, not only
+    at its waypoints (a leg between two free waypoints can cross a box)."""
+    target = scene.target
+    if target is None:
+        return True
+    pts = []
+    for (ax, ay), (bx, by) in target.path._legs():
+        n = max(2, int(math.hypot(bx - ax, by - ay) / 0.05) + 1)
+        pts.append(np.column_stack([np.linspace(ax, bx, n), np.linspace(ay, by, n)]))
+    if not pts:
+        return True
+    return bool(clearance_field(scene, np.vstack(pts)).min() >= target.radius_m + margin)
+
+
 def solvable(scene: Scene, robot_radius: float = ROBOT_RADIUS_M) -> bool:
-    """The start is free and a cell beside every target waypoint is reachable from it."""
+    """The start is free, the target's path is clear, and a cell beside every target waypoint is
+    reachable from the start."""
     sx, sy, _ = scene.start
-    if clearance_field(scene, np.array([[sx, sy]]))[0] < robot_radius:
+    if clearance_field(scene, np.array([[sx, sy]]))[0] < robot_radius or not path_clear(scene):
         return False
     x0, y0, x1, y1 = scene.bounds
     nx, ny = int((x1 - x0) / GRID_M) + 1, int((y1 - y0) / GRID_M) + 1

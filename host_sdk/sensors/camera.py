@@ -119,6 +119,12 @@ class CameraSource:
         it from the loop that owns the emulator (no thread)."""
         return self._port is not None and self._port.virtual
 
+    @property
+    def queued(self) -> bool:
+        """True when frames queue up to be taken (a byte stream: `latest()` never waits); False for an
+        OpenCV capture, whose `read()` waits for the next frame."""
+        return self._port is not None
+
     def read(self, timeout_s: float = 1.0) -> CameraFrame:
         """The next frame; SensorTimeoutError when none arrives in time."""
         self._check_open()
@@ -166,6 +172,25 @@ class CameraSource:
                 parser.counters.bad_parts += 1
                 continue
             return self._deliver(image, part.t, part.frame, part.timestamp, part.jpeg)
+        return None
+
+    def latest(self) -> CameraFrame | None:
+        """The newest frame that has arrived, without waiting (None: nothing new); older ones waiting
+        are skipped (and counted as dropped) without being decoded. A control loop reads this way.
+        A capture source (V4L2, GStreamer, URL) has no queue to look into: this is `read()`."""
+        if self._closed:
+            raise SensorClosedError(f"{self.source}: the camera was closed")
+        if self._port is None:
+            return self.read()
+        parser = self._parser
+        assert parser is not None
+        self._receive(0.0)
+        parts, self._pending = list(self._pending), deque()
+        for part in reversed(parts):
+            image = self._cv2.imdecode(np.frombuffer(part.jpeg, dtype=np.uint8), self._cv2.IMREAD_COLOR)
+            if image is not None:
+                return self._deliver(image, part.t, part.frame, part.timestamp, part.jpeg)
+            parser.counters.bad_parts += 1
         return None
 
     def _read_stream(self, timeout_s: float) -> CameraFrame:

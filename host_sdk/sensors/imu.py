@@ -4,6 +4,12 @@
         imu.configure(rate_hz=200, outputs=("acc", "gyro", "angle", "mag", "quat"))
         sample = imu.read()                           # ImuSample: SI units, the arrival time
 
+Samples read together carry one arrival time; the driver spaces them back from it by the output
+period (as the lidar driver does with its points), so a sample's `t` is when it was measured to
+within a period, never earlier than the sample before it (a batch that arrives sooner than its
+periods would allow is spread over the time since the last one), so samples stay in order and a
+gyro integrates over the right intervals.
+
 Configuration writes are sent after the unlock command, as the newer firmware wants (older modules
 ignore it); `configure(save=True)` stores them in the module's flash. A baud change switches this
 port's speed too, right after the command has gone out.
@@ -11,6 +17,7 @@ port's speed too, right after the command has gone out.
 
 from __future__ import annotations
 
+import dataclasses
 from collections import deque
 from collections.abc import Iterator, Sequence
 
@@ -20,6 +27,7 @@ from host_sdk.sensors.port import SensorPort
 from protocol.sensors import DEVICES
 
 DEFAULT_BAUD = DEVICES["jy901"].baud  # type: ignore[union-attr]
+DEFAULT_RATE_HZ = DEVICES["jy901"].rate_hz  # type: ignore[union-attr]
 
 
 class Jy901:
@@ -28,6 +36,9 @@ class Jy901:
         self.parser = wit.WitParser()
         self._samples: deque[wit.ImuSample] = deque()
         self._registers: deque[wit.Registers] = deque()
+        self.period_s = 1.0 / DEFAULT_RATE_HZ
+        self._last_t: float | None = None
+        """The output period the samples are spaced by (set by `configure(rate_hz=...)`)."""
         self.latest: dict[type, wit.Packet] = {}
         """The newest packet of each kind."""
         self._closed = False
@@ -59,6 +70,7 @@ class Jy901:
         commands = [wit.unlock()]
         if rate_hz is not None:
             commands.append(wit.set_rate(rate_hz))
+            self.period_s = 1.0 / rate_hz
         if outputs is not None:
             commands.append(wit.set_outputs(*outputs))
         if six_axis is not None:
@@ -114,9 +126,18 @@ class Jy901:
         if not data:
             return
         self.parser.receive_data(data, self.port.clock())
-        for event in self.parser.events():
+        events = self.parser.events()
+        count = sum(isinstance(e, wit.ImuSample) for e in events)
+        step = self.period_s
+        if count and self._last_t is not None:
+            arrival = next(e.t for e in events if isinstance(e, wit.ImuSample))
+            step = min(step, max(arrival - self._last_t, 0.0) / count)
+        for event in events:
             if isinstance(event, wit.ImuSample):
-                self._samples.append(event)
+                count -= 1
+                sample = dataclasses.replace(event, t=event.t - count * step)
+                self._last_t = sample.t
+                self._samples.append(sample)
             elif isinstance(event, wit.Registers):
                 self._registers.append(event)
             else:

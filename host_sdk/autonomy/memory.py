@@ -1,0 +1,110 @@
+"""What the follower knows about the target between sightings, in the odometry frame.
+
+Its last position and smoothed velocity (to steer for where it went while it is out of view, and to
+see it coming), the side it was last seen on (to search that way first), when the camera last had it,
+and the route it walks (it will come back along it: a robot that lost it should not stand there).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+import numpy as np
+from numpy.typing import NDArray
+
+from host_sdk.autonomy.target import TargetFix
+
+F64 = NDArray[np.float64]
+Pose2D = tuple[float, float, float]
+
+
+class TargetMemory:
+    def __init__(self, target_size_m: float) -> None:
+        self.target_size_m = target_size_m
+        self.seen: tuple[float, float, float] | None = None
+        """(time, x, y) of the target's surface point in the odometry frame when last seen."""
+        self.velocity = (0.0, 0.0)
+        """The target's velocity in the odometry frame."""
+        self.side = 1.0
+        """+1: last seen on the robot's left, -1: on its right."""
+        self.camera_seen = -math.inf
+        """When the camera last had it (the scan may have had it since)."""
+        self.route: deque[tuple[float, float]] = deque(maxlen=400)
+        """Where the target has been (odometry frame): it walks the same route again."""
+
+    def remember(self, t: float, fix: TargetFix, pose: Pose2D) -> None:
+        wx, wy = to_world(pose, fix.x_m, fix.y_m)
+        if self.seen is not None and 0 < t - self.seen[0] < 0.6:
+            dt = t - self.seen[0]
+            vx, vy = (wx - self.seen[1]) / dt, (wy - self.seen[2]) / dt
+            a = min(1.0, dt / 0.5)  # ~0.5 s smoothing: the surface point jitters with the view
+            vx, vy = self.velocity[0] + a * (vx - self.velocity[0]), self.velocity[1] + a * (vy - self.velocity[1])
+            speed = math.hypot(vx, vy)
+            self.velocity = (vx, vy) if speed <= 0.8 else (0.8 * vx / speed, 0.8 * vy / speed)
+        elif self.seen is None or t - self.seen[0] >= 0.6:
+            self.velocity = (0.0, 0.0)
+        self.seen = (t, wx, wy)
+        self.side = 1.0 if fix.y_m >= 0 else -1.0
+        if not self.route or math.hypot(wx - self.route[-1][0], wy - self.route[-1][1]) > 0.1:
+            self.route.append((wx, wy))
+
+    def predicted(self, t: float, pose: Pose2D, horizon_s: float) -> tuple[float, float] | None:
+        if self.seen is None or t - self.seen[0] > horizon_s:
+            return None
+        age = min(t - self.seen[0], 3.0)
+        wx, wy = self.seen[1] + self.velocity[0] * age, self.seen[2] + self.velocity[1] * age
+        return to_base(pose, wx, wy)
+
+    def velocity_in(self, pose: Pose2D) -> tuple[float, float]:
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        vx, vy = self.velocity
+        return c * vx + s * vy, -s * vx + c * vy
+
+    def lidar_fix(self, px: F64, py: F64, predicted: tuple[float, float] | None) -> TargetFix | None:
+        """The target's returns where it should be now: a compact cluster near the prediction with
+        nothing else around it (a wall or a box nearby makes it ambiguous: then none)."""
+        if predicted is None or not px.size:
+            return None
+        d = np.hypot(px - predicted[0], py - predicted[1])
+        i = int(np.argmin(d))
+        if d[i] > 0.3:
+            return None
+        sx, sy = float(px[i]), float(py[i])
+        r = np.hypot(px - sx, py - sy)
+        inner = 0.6 * self.target_size_m + 0.05
+        if ((r >= inner) & (r < inner + 0.25)).any():
+            return None
+        return TargetFix(sx, sy, r < inner, True)
+
+    def off_route(self, pose: Pose2D, radius_m: float, x_m: float) -> float | None:
+        """Bearing (base frame) away from the target's route when the robot stands on it, else None."""
+        if not self.route:
+            return None
+        route = np.array(self.route)
+        fx, fy = to_world(pose, x_m, 0.0)
+        d = np.hypot(route[:, 0] - fx, route[:, 1] - fy)
+        i = int(np.argmin(d))
+        if d[i] > radius_m + self.target_size_m / 2 + 0.25:
+            return None
+        ax, ay = to_base(pose, float(route[i, 0]), float(route[i, 1]))
+        return math.atan2(-ay, -ax)
+
+
+def arc_pose(s: F64, k: float) -> tuple[F64, F64, F64]:
+    """Pose after travelling `s` (array, signed) along an arc of curvature k from the origin."""
+    th = s * k
+    if abs(k) < 1e-9:
+        return s, np.zeros_like(s), th
+    return np.sin(th) / k, (1 - np.cos(th)) / k, th
+
+
+def to_world(pose: Pose2D, x: float, y: float) -> tuple[float, float]:
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    return pose[0] + c * x - s * y, pose[1] + s * x + c * y
+
+
+def to_base(pose: Pose2D, wx: float, wy: float) -> tuple[float, float]:
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    dx, dy = wx - pose[0], wy - pose[1]
+    return c * dx + s * dy, -s * dx + c * dy

@@ -1,0 +1,33 @@
+"""Perception for robot programs: lidar scan processing, obstacle avoidance and camera tracking.
+
+- `scan`: any lidar scan (the SDK's drivers, ROS LaserScan-shaped messages, arrays) to a filtered
+  360-degree obstacle picture around the robot (`ScanFilter`, `ObstacleScan`).
+- `avoidance`: the footprint's swept corridor, free directions over the whole scan, the speed law
+  (`Avoider`, `Footprint`, `AvoidanceParams`).
+- `camera`: a pinhole camera model (`CameraModel`): pixels to bearings, size to range.
+- `tracking`: a fast template tracker with feature re-detection (`Tracker`, `Track`, `TrackState`);
+  it needs OpenCV (the `vision` extra), imported when a tracker is made.
+
+numpy is the only import here; see docs/autonomy.md.
+"""
+
+from host_sdk.perception.avoidance import AvoidanceParams, Avoider, Footprint, Plan
+from host_sdk.perception.camera import CameraModel
+from host_sdk.perception.scan import LidarMount, ObstacleScan, RawScan, ScanFilter
+from host_sdk.perception.tracking import Track, Tracker, TrackerParams, TrackState
+
+__all__ = [
+    "AvoidanceParams",
+    "Avoider",
+    "CameraModel",
+    "Footprint",
+    "LidarMount",
+    "ObstacleScan",
+    "Plan",
+    "RawScan",
+    "ScanFilter",
+    "Track",
+    "TrackState",
+    "Tracker",
+    "TrackerParams",
+]

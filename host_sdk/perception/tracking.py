@@ -1,0 +1,359 @@
+"""Fast single-object tracking in camera frames: template matching near the predicted position,
+re-detection over the whole frame when the object is lost.
+
+    tracker = Tracker.from_region(first_frame, (x, y, w, h), camera, height_m=0.3)   # a user's box
+    tracker = Tracker(template_image, camera, width_m=0.24, height_m=0.3)           # or an image
+    track = tracker.update(frame.image, frame.time_s)
+    track.state, track.bearing_rad, track.range_m, track.confidence
+
+Tracking (every frame): the object's box is predicted from its image velocity (plus, if given, the
+robot's own rotation since the last frame, which moves everything sideways by fx * tan(angle)); a
+window around it is cut out and scaled so the template is about `work_px` pixels across (small
+templates are matched at full resolution, big ones on a reduced copy: the cost stays flat with
+distance); the template is matched there with OpenCV's normalised cross-correlation (colour, mean
+removed per channel) at three scales, so the box follows the object as it nears or recedes. The
+best score is the confidence.
+
+Re-detection (while lost, and at start-up from an image): ORB features of the template matched to
+the frame's with a ratio test and a RANSAC homography, as find_object_2d does; that needs texture,
+so when the template has too few features or the homography fails, a multi-scale correlation over
+the whole (reduced) frame stands in. Either way a candidate is accepted only if the correlation at
+its box reaches `accept_redetect`, stricter than what keeps a track alive, so clutter does not get
+"re-acquired".
+
+States: TRACKING, LOST, and REACQUIRED on the first frame of a track found again by re-detection.
+OpenCV is imported when a tracker is made (the `vision` extra).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import Enum
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from host_sdk.errors import CommandRangeError
+from host_sdk.perception.camera import CameraModel
+
+Image = NDArray[np.uint8]
+Box = tuple[float, float, float, float]
+"""x, y (top-left), width, height in pixels."""
+
+
+class TrackState(Enum):
+    TRACKING = "tracking"
+    LOST = "lost"
+    REACQUIRED = "reacquired"
+
+
+@dataclass(frozen=True, slots=True)
+class Track:
+    state: TrackState
+    time_s: float
+    box: Box | None
+    """Where the object is (None when lost)."""
+    confidence: float
+    """Normalised correlation of the best match, -1..1 (0 when lost)."""
+    bearing_rad: float | None
+    """From the robot's forward axis, left positive (camera model and mount)."""
+    range_m: float | None
+    """Depth from the apparent size, when the object's size is known."""
+    lost_s: float
+    """How long the object has been lost (0 while tracked)."""
+
+    @property
+    def found(self) -> bool:
+        return self.state is not TrackState.LOST
+
+    @property
+    def centre(self) -> tuple[float, float] | None:
+        if self.box is None:
+            return None
+        x, y, w, h = self.box
+        return x + w / 2, y + h / 2
+
+
+@dataclass(frozen=True, slots=True)
+class TrackerParams:
+    work_px: int = 28
+    """Template size (largest side, pixels) the matching runs at."""
+    search: float = 1.0
+    """Search window margin around the predicted box, in box sizes."""
+    scale_step: float = 1.06
+    accept: float = 0.5
+    """Correlation that keeps a track alive."""
+    accept_redetect: float = 0.72
+    """Correlation a re-detected candidate must reach."""
+    lost_after: int = 2
+    """Consecutive frames below `accept` before the track is declared lost."""
+    min_size_px: int = 6
+    redetect_scales: tuple[float, float, int] = (0.15, 2.5, 12)
+    """Scales the correlation fallback tries: smallest, largest (times the template), how many. A
+    template taken at 0.8 m covers 0.3 m to 5 m this way."""
+    redetect_per_frame: int = 4
+    """Of those, how many one frame tries (in turn: all are covered every few frames while lost)."""
+
+
+def _cv2() -> Any:
+    import cv2  # noqa: PLC0415 (the vision extra)
+
+    return cv2
+
+
+class Tracker:
+    def __init__(self, template: Image, camera: CameraModel, *, width_m: float | None = None,
+                 height_m: float | None = None, params: TrackerParams | None = None,
+                 box: Box | None = None, time_s: float = 0.0) -> None:  # fmt: skip
+        if not (isinstance(template, np.ndarray) and template.ndim == 3 and template.shape[2] == 3):
+            raise CommandRangeError("template", getattr(template, "shape", template), "a BGR image (H x W x 3)")
+        p = params or TrackerParams()
+        if min(template.shape[:2]) < p.min_size_px:
+            raise CommandRangeError("template", template.shape[:2], f"at least {p.min_size_px} pixels on each side")
+        self.cv2 = _cv2()
+        self.camera = camera
+        self.params = p
+        self.template = np.ascontiguousarray(template)
+        self.size_m = (width_m, height_m)
+        self._tpl_cache: dict[tuple[int, int], Image] = {}
+        self._orb = self.cv2.ORB_create(nfeatures=500, fastThreshold=10, edgeThreshold=11, patchSize=11)
+        big = self.template
+        if max(big.shape[:2]) < 120:  # enlarge small templates so ORB finds features on them
+            f = 120 / max(big.shape[:2])
+            big = self.cv2.resize(big, None, fx=f, fy=f, interpolation=self.cv2.INTER_LINEAR)
+        else:
+            f = 1.0
+        kp, des = self._orb.detectAndCompute(self.cv2.cvtColor(big, self.cv2.COLOR_BGR2GRAY), None)
+        self._tpl_kp = np.array([k.pt for k in kp], dtype=np.float32).reshape(-1, 2) / f
+        self._tpl_des = des
+        self._matcher = self.cv2.BFMatcher(self.cv2.NORM_HAMMING)
+        self.box: Box | None = box
+        self.scale = 1.0 if box is None else box[3] / template.shape[0]
+        self.velocity = (0.0, 0.0)
+        """Image velocity of the box centre, pixels per second."""
+        self.time_s = time_s
+        self.lost_since: float | None = None if box is not None else time_s
+        self._misses = 0
+        self._phase = 0
+
+    @classmethod
+    def from_region(cls, image: Image, box: Box, camera: CameraModel, **kwargs: Any) -> Tracker:
+        """Track what is inside `box` (x, y, w, h) of `image` (a user's selection)."""
+        x, y, w, h = (round(v) for v in box)
+        H, W = image.shape[:2]
+        if not (x >= 0 and y >= 0 and w > 0 and h > 0 and x + w <= W and y + h <= H):
+            raise CommandRangeError("box", box, f"a region inside the {W}x{H} image")
+        return cls(image[y : y + h, x : x + w].copy(), camera, box=(x, y, w, h), **kwargs)
+
+    @property
+    def has_features(self) -> bool:
+        return self._tpl_des is not None and len(self._tpl_kp) >= 8
+
+    # -- the per-frame step -------------------------------------------------------------------------
+    def update(self, image: Image, time_s: float, *, rotation_rad: float = 0.0) -> Track:
+        """Find the object in `image` (taken at `time_s`); `rotation_rad`: how far the camera turned
+        (counter-clockwise) since the previous frame, if known."""
+        dt = max(0.0, time_s - self.time_s)
+        self.time_s = time_s
+        if self.box is None:
+            return self._redetect(image, time_s)
+        pred = self._predict(dt, rotation_rad)
+        found = self._match_near(image, pred)
+        if found is not None and found[1] >= self.params.accept:
+            box, score = found
+            self._accept(box, dt)
+            self._misses = 0
+            return self._track(TrackState.TRACKING, score)
+        self._misses += 1
+        if self._misses < self.params.lost_after:
+            self.box = pred  # coast one frame on the prediction
+            return self._track(TrackState.TRACKING, found[1] if found else 0.0)
+        self.box = None
+        self.lost_since = time_s
+        self.velocity = (0.0, 0.0)
+        return self._redetect(image, time_s)
+
+    def _predict(self, dt: float, rotation_rad: float) -> Box:
+        assert self.box is not None
+        x, y, w, h = self.box
+        shift = self.camera.fx * math.tan(rotation_rad) if rotation_rad else 0.0
+        vx, vy = self.velocity
+        return (x + vx * dt + shift, y + vy * dt, w, h)
+
+    def _accept(self, box: Box, dt: float) -> None:
+        if self.box is not None and dt > 0:
+            (ox, oy), (nx, ny) = _centre(self.box), _centre(box)
+            vx, vy = (nx - ox) / dt, (ny - oy) / dt
+            a = 0.5  # smoothing: a box jitters by a pixel or so from frame to frame
+            self.velocity = (a * vx + (1 - a) * self.velocity[0], a * vy + (1 - a) * self.velocity[1])
+        self.box = box
+        self.scale = box[3] / self.template.shape[0]
+        self.lost_since = None
+
+    def _track(self, state: TrackState, score: float) -> Track:
+        box = self.box
+        assert box is not None
+        x, _, w, h = box
+        cam = self.camera
+        width_m, height_m = self.size_m
+        depth = cam.range_from_size(w_px=w, h_px=h, width_m=width_m, height_m=height_m)
+        bearing = cam.bearing(x + w / 2)
+        rng = None if depth is None else depth / max(math.cos(bearing - cam.mount_yaw_rad), 1e-6)
+        return Track(state, self.time_s, box, float(score), bearing, rng, 0.0)
+
+    def _lost(self, time_s: float) -> Track:
+        since = self.lost_since if self.lost_since is not None else time_s
+        return Track(TrackState.LOST, time_s, None, 0.0, None, None, time_s - since)
+
+    # -- matching -----------------------------------------------------------------------------------
+    def _template_at(self, w: int, h: int) -> Image:
+        key = (w, h)
+        tpl = self._tpl_cache.get(key)
+        if tpl is None:
+            if len(self._tpl_cache) > 256:
+                self._tpl_cache.clear()
+            tpl = self.cv2.resize(self.template, (w, h), interpolation=self.cv2.INTER_AREA)
+            self._tpl_cache[key] = tpl
+        return tpl
+
+    def _match_near(self, image: Image, pred: Box) -> tuple[Box, float] | None:
+        """Best box near `pred` over three scales, and its correlation."""
+        cv2, p = self.cv2, self.params
+        H, W = image.shape[:2]
+        x, y, w, h = pred
+        m = p.search
+        big = p.scale_step
+        wx0, wy0 = int(x - m * w * big), int(y - m * h * big)
+        wx1, wy1 = math.ceil(x + w * (1 + m) * big), math.ceil(y + h * (1 + m) * big)
+        x0, y0, x1, y1 = max(0, wx0), max(0, wy0), min(W, wx1), min(H, wy1)
+        if x1 - x0 < p.min_size_px or y1 - y0 < p.min_size_px:
+            return None
+        f = min(1.0, p.work_px / max(w, h))
+        window = image[y0:y1, x0:x1]
+        # An object near the frame's edge may hang over it (close up, a tall target's top is cut):
+        # the window is extended by repeating the edge, up to half the box, so it can still be matched
+        # (the part outside matches poorly, so only a mostly visible object passes).
+        pads = (min(y0 - wy0, h // 2), min(wy1 - y1, h // 2), min(x0 - wx0, w // 2), min(wx1 - x1, w // 2))
+        if any(pads):
+            top, bottom, left, right = (int(v) for v in pads)
+            window = cv2.copyMakeBorder(window, top, bottom, left, right, cv2.BORDER_REPLICATE)
+            x0, y0 = x0 - left, y0 - top
+        if f < 1.0:
+            window = cv2.resize(window, None, fx=f, fy=f, interpolation=cv2.INTER_AREA)
+        best: tuple[float, float, float, float, float] | None = None
+        for s in (1 / big, 1.0, big):
+            tw, th = round(w * s * f), round(h * s * f)
+            if tw < 4 or th < 4 or tw > window.shape[1] or th > window.shape[0]:
+                continue
+            res = cv2.matchTemplate(window, self._template_at(tw, th), cv2.TM_CCOEFF_NORMED)
+            _, score, _, loc = cv2.minMaxLoc(res)
+            if best is None or score > best[0]:
+                dx, dy = _subpixel(res, loc)
+                best = (score, (loc[0] + dx) / f + x0, (loc[1] + dy) / f + y0, tw / f, th / f)
+        if best is None:
+            return None
+        score, bx, by, bw, bh = best
+        return (bx, by, bw, bh), float(score)
+
+    def detect(self, image: Image, time_s: float) -> Track:
+        """A detection from scratch over the whole frame at every scale at once (what `update` spreads
+        over a few frames while lost): REACQUIRED with the box, or LOST. The track starts from it."""
+        self.box = None
+        self.time_s = time_s
+        return self._redetect(image, time_s, every_scale=True)
+
+    def _redetect(self, image: Image, time_s: float, *, every_scale: bool = False) -> Track:
+        box = self._detect_features(image) if self.has_features else None
+        if box is None:
+            box = self._detect_correlation(image, every_scale=every_scale)
+        if box is not None:
+            refined = self._match_near(image, box)
+            if refined is not None and refined[1] >= self.params.accept_redetect:
+                self.box = None
+                self._accept(refined[0], 0.0)
+                self.velocity = (0.0, 0.0)
+                self._misses = 0
+                return self._track(TrackState.REACQUIRED, refined[1])
+        return self._lost(time_s)
+
+    def _detect_features(self, image: Image) -> Box | None:
+        cv2 = self.cv2
+        gray = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+        kp, des = self._orb.detectAndCompute(gray, None)
+        if des is None or len(kp) < 8:
+            return None
+        pairs = self._matcher.knnMatch(self._tpl_des, des, k=2)
+        good = [m[0] for m in pairs if len(m) == 2 and m[0].distance < 0.8 * m[1].distance]
+        if len(good) < 8:
+            return None
+        src = self._tpl_kp[[m.queryIdx for m in good]].reshape(-1, 1, 2)
+        dst = np.array([kp[m.trainIdx].pt for m in good], dtype=np.float32).reshape(-1, 1, 2)
+        hom, inliers = cv2.findHomography(src, dst, cv2.RANSAC, 4.0)
+        if hom is None or int(inliers.sum()) < 8:
+            return None
+        th, tw = self.template.shape[:2]
+        corners = np.array([[0, 0], [tw, 0], [tw, th], [0, th]], dtype=np.float32).reshape(-1, 1, 2)
+        pts = cv2.perspectiveTransform(corners, hom).reshape(-1, 2)
+        x0, y0 = pts.min(axis=0)
+        x1, y1 = pts.max(axis=0)
+        w, h = float(x1 - x0), float(y1 - y0)
+        if w < self.params.min_size_px or h < self.params.min_size_px or not np.isfinite(pts).all():
+            return None
+        # A homography of a template onto a rigid object keeps its aspect ratio roughly.
+        if not 0.5 < (w / h) / (tw / th) < 2.0:
+            return None
+        return float(x0), float(y0), w, h
+
+    def _detect_correlation(self, image: Image, *, every_scale: bool = False) -> Box | None:
+        """Multi-scale correlation over the whole frame, each scale on a copy reduced so the template
+        is about work_px across (small scales at full resolution)."""
+        cv2, p = self.cv2, self.params
+        th, tw = self.template.shape[:2]
+        H, W = image.shape[:2]
+        reduced: dict[float, Image] = {}
+        best: tuple[float, Box] | None = None
+        scales = np.geomspace(*p.redetect_scales)
+        step = 1 if every_scale else max(1, scales.shape[0] // p.redetect_per_frame)
+        turn = np.arange(0 if every_scale else self._phase, scales.shape[0], step)
+        self._phase = (self._phase + 1) % max(1, scales.shape[0] // p.redetect_per_frame)
+        for s in scales[turn]:
+            w, h = tw * s, th * s
+            if w > W or h > H or min(w, h) < p.min_size_px:
+                continue
+            f = round(min(1.0, p.work_px / max(w, h)), 2)
+            frame = reduced.get(f)
+            if frame is None:
+                frame = image if f == 1.0 else cv2.resize(image, None, fx=f, fy=f, interpolation=cv2.INTER_AREA)
+                reduced[f] = frame
+            tw_f, th_f = max(4, round(w * f)), max(4, round(h * f))
+            if tw_f > frame.shape[1] or th_f > frame.shape[0]:
+                continue
+            res = cv2.matchTemplate(frame, self._template_at(tw_f, th_f), cv2.TM_CCOEFF_NORMED)
+            _, score, _, loc = cv2.minMaxLoc(res)
+            if best is None or score > best[0]:
+                best = (float(score), (loc[0] / f, loc[1] / f, tw_f / f, th_f / f))
+        if best is None or best[0] < p.accept:
+            return None
+        return best[1]
+
+
+def _centre(box: Box) -> tuple[float, float]:
+    return box[0] + box[2] / 2, box[1] + box[3] / 2
+
+
+def _subpixel(res: NDArray[np.float32], loc: tuple[int, int]) -> tuple[float, float]:
+    """Parabola through the peak and its neighbours, per axis (a quarter-pixel better than the grid)."""
+    x, y = loc
+    h, w = res.shape
+    dx = dy = 0.0
+    if 0 < x < w - 1:
+        a, b, c = float(res[y, x - 1]), float(res[y, x]), float(res[y, x + 1])
+        den = a - 2 * b + c
+        dx = 0.5 * (a - c) / den if den < 0 else 0.0
+    if 0 < y < h - 1:
+        a, b, c = float(res[y - 1, x]), float(res[y, x]), float(res[y + 1, x])
+        den = a - 2 * b + c
+        dy = 0.5 * (a - c) / den if den < 0 else 0.0
+    return dx, dy

@@ -1,0 +1,151 @@
+"""`roverlink follow`: follow a target with the camera while avoiding obstacles with the lidar.
+
+On the emulator (virtual clock, as fast as the CPU allows):
+
+    roverlink follow --world random:3 --profile picar --duration 60 --json
+
+On a robot (the board, the lidar, the camera and optionally the IMU):
+
+    roverlink follow --url /dev/ttyACM0 --profile picar --lidar /dev/ttyUSB0 \\
+        --camera "libcamerasrc ! ... ! appsink" --template target.png --target-height 0.3
+
+Progress goes to stderr once a second; with --json the metrics are printed on stdout at the end
+(duration, collisions (emulator), the share of the time the target was in view, following error,
+reacquisition times, distance driven). `--pilot picar-2018` runs the PiCar team's published approach
+instead of RoverLink's, for comparison (benchmarks/follow.py runs both on many worlds).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import TextIO
+
+import numpy as np
+
+from host_sdk import PROFILES, RoverLinkError
+from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
+from roverlink.follow.metrics import FollowMetrics
+from roverlink.follow.run import Progress
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"{text} is not allowed: a number > 0")
+    return value
+
+
+def _box(text: str) -> tuple[float, float, float, float]:
+    parts = text.split(",")
+    try:
+        x, y, w, h = (float(v) for v in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not allowed: X,Y,W,H in pixels, e.g. 140,90,40,60") from None
+    if w <= 0 or h <= 0 or x < 0 or y < 0:
+        raise argparse.ArgumentTypeError(f"{text} is not allowed: X, Y >= 0 and W, H > 0 pixels")
+    return x, y, w, h
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    p = sub.add_parser(
+        "follow",
+        help="follow a target with the camera while avoiding obstacles with the lidar",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("--profile", choices=sorted(PROFILES), default="picar", help="reference robot (default picar)")
+    p.add_argument("--duration", type=_positive, default=60.0, help="seconds to run (default 60)")
+    p.add_argument("--pilot", choices=PILOTS, default="roverlink", help="whose behaviour drives (default roverlink)")
+    p.add_argument("--follow-gap", type=_positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
+    p.add_argument("--max-speed", type=_positive, default=0.45, help="top speed, m/s (default 0.45)")
+    p.add_argument("--json", action="store_true", help="print the metrics as JSON on stdout at the end")
+    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    p.add_argument(
+        "--foxglove", metavar="FILE.mcap", type=Path, help="record the run (robot, scan, tracked camera, behaviour)"
+    )
+    p.add_argument("--foxglove-live", action="store_true", help="serve the run to Foxglove live (ws://127.0.0.1:8765)")
+    e = p.add_argument_group("on the emulator")
+    e.add_argument("--world", metavar="FILE|random:SEED", help="a scenario file or random:SEED (selects the emulator)")
+    e.add_argument("--seed", type=int, default=0, help="the emulator's random seed (default 0)")
+    e.add_argument("--camera-fps", type=_positive, default=15.0, help="emulated camera frame rate (default 15)")
+    e.add_argument("--no-imu", action="store_true", help="no IMU: wheel odometry alone")
+    r = p.add_argument_group("on a robot")
+    r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, ...")
+    r.add_argument("--baud", type=int, default=115200, help="the board's line speed (default 115200)")
+    r.add_argument("--lidar", metavar="PORT", help="the lidar's port")
+    r.add_argument("--lidar-model", choices=("rplidar-a1", "ydlidar-f4"), help="default: the profile's")
+    r.add_argument("--imu", metavar="PORT", help="the JY901's port (optional: fuses its gyro with odometry)")
+    r.add_argument("--camera", metavar="SOURCE", help="V4L2 index or path, GStreamer pipeline, or URL")
+    r.add_argument("--template", type=Path, metavar="IMAGE", help="an image of the target")
+    r.add_argument("--select", type=_box, metavar="X,Y,W,H", help="the target's box in the first frame")
+    r.add_argument("--target-height", type=_positive, metavar="M", help="the target's height (gives its range)")
+    p.set_defaults(func=cmd_follow)
+
+
+def _progress(out: TextIO) -> Callable[[Progress], None]:
+    def show(p: Progress) -> None:
+        gap = f"gap {p.gap_m:4.2f} m" if p.gap_m is not None else "gap   -   "
+        seen = "target seen" if p.tracked else "target lost"
+        hits = f"  collisions {p.metrics.collisions}" if p.metrics.ground_truth else ""
+        print(f"{p.t_s:6.1f} s  {p.mode:8s} {gap}  {seen}{hits}", file=out, flush=True)
+
+    return show
+
+
+def _summary(m: FollowMetrics) -> str:
+    view = "-" if m.in_view_fraction is None else f"{100 * m.in_view_fraction:.1f} %"
+    tracked = "-" if m.tracked_fraction is None else f"{100 * m.tracked_fraction:.1f} %"
+    err = "-"
+    if m.follow_error_mean_m is not None:
+        err = f"{m.follow_error_mean_m:.2f} m mean, {m.follow_error_max_m:.2f} m max"
+    reacq = ", ".join(f"{v:.1f} s" for v in m.reacquisitions_s) or "none"
+    first = "never" if m.first_sight_s is None else f"{m.first_sight_s:.1f} s"
+    return (f"{m.pilot} on {m.profile} ({m.world}), {m.duration_s:.1f} s: collisions {m.collisions}, "
+            f"first sight {first}, target in view {view} (tracked {tracked}), following error {err}, "
+            f"reacquisitions {reacq}, {m.distance_m:.1f} m driven")  # fmt: skip
+
+
+def cmd_follow(args: argparse.Namespace) -> int:
+    """Follow a target with the camera while avoiding obstacles with the lidar."""
+    settings = FollowSettings(args.follow_gap, args.max_speed, args.target_height, args.duration)
+    record = RecordTo(args.foxglove, args.foxglove_live) if args.foxglove or args.foxglove_live else None
+    progress = None if args.quiet else _progress(sys.stderr)
+    try:
+        if args.url is None:
+            metrics = run_emulated(args.profile, args.world or f"random:{args.seed}", pilot=args.pilot, seed=args.seed,
+                                   camera_fps=args.camera_fps, imu=not args.no_imu, settings=settings,
+                                   progress=progress, record=record)  # fmt: skip
+        else:
+            missing = [name for name in ("lidar", "camera") if getattr(args, name) is None]
+            if missing or (args.template is None) == (args.select is None):
+                print("roverlink follow: on a robot give --lidar, --camera, and --template or --select",
+                      file=sys.stderr)  # fmt: skip
+                return 2
+            template = None
+            if args.template is not None:
+                import cv2  # noqa: PLC0415 (the vision extra)
+
+                image = cv2.imread(str(args.template), cv2.IMREAD_COLOR)
+                if image is None:
+                    print(f"roverlink follow: cannot read the image {args.template}", file=sys.stderr)
+                    return 2
+                template = np.asarray(image, dtype=np.uint8)
+            camera = int(args.camera) if args.camera.isdigit() else args.camera
+            ports = RobotPorts(args.url, args.lidar, camera, args.imu, args.lidar_model, args.baud)
+            metrics = run_robot(ports, args.profile, template=template, select=args.select, pilot=args.pilot,
+                                settings=settings, progress=progress, record=record)  # fmt: skip
+    except (RoverLinkError, ValueError, OSError, RuntimeError) as exc:
+        print(f"roverlink follow: {exc}", file=sys.stderr)
+        return 1
+    if args.json:
+        print(json.dumps(metrics.to_json(), indent=1))
+    else:
+        print(_summary(metrics))
+    return 0

@@ -1,0 +1,160 @@
+"""Putting a follow run together: the pilot for a robot, then a run on a real robot or the emulator."""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from host_sdk import Robot
+from host_sdk.autonomy import Follower, FollowParams
+from host_sdk.perception import AvoidanceParams, ScanFilter, Tracker
+from host_sdk.sensors import CameraSource, Jy901, Lidar
+from roverlink.follow import emulated
+from roverlink.follow.geometry import RobotGeometry, geometry
+from roverlink.follow.metrics import FollowMetrics
+from roverlink.follow.pilots import PiCarBaseline, Pilot, RoverLinkPilot
+from roverlink.follow.record import FollowSource
+from roverlink.follow.run import Progress, run_follow
+
+PILOTS = ("roverlink", "picar-2018")
+LIDAR_FOR = emulated.LIDAR_FOR
+
+
+@dataclass(frozen=True, slots=True)
+class RecordTo:
+    """Record the run (roverlink.recording): an MCAP file and/or the live Foxglove view."""
+
+    mcap_path: Path | None = None
+    serve: bool = False
+
+
+@contextlib.contextmanager
+def recording(robot: Robot, pilot: Pilot, record: RecordTo | None) -> Iterator[Callable[[float], None] | None]:
+    """The recorder's poll for the follow loop (None when not recording). The recorder is the shared
+    library piece `roverlink record` and `monitor --foxglove` use; the follow run adds its scan, camera
+    and behaviour to it (roverlink.follow.record.FollowSource)."""
+    if record is None:
+        yield None
+        return
+    try:
+        library = importlib.import_module("roverlink.recording")
+    except ImportError as exc:
+        raise RuntimeError(f"recording needs roverlink.recording and the foxglove extra ({exc})") from None
+    sources = [FollowSource(pilot)] if isinstance(pilot, RoverLinkPilot) else []
+    recorder = library.Recorder.attach(robot, mcap_path=record.mcap_path, overwrite=True, serve=record.serve,
+                                       sources=sources)  # fmt: skip
+    try:
+        yield lambda _t: recorder.poll()
+    finally:
+        recorder.close()
+
+
+@dataclass(frozen=True, slots=True)
+class FollowSettings:
+    follow_gap_m: float | None = None
+    """Gap to keep (footprint to target). Default: 0.5 m for a differential drive, 0.9 m for an
+    Ackermann robot, which cannot turn on the spot: from farther back a target that turns moves less
+    across the image, and the car has room to drive the arc that keeps it in view."""
+    max_speed_m_s: float = 0.45
+    target_height_m: float | None = None
+    """The tracked region's real height (gives the tracker a range estimate)."""
+    duration_s: float = 60.0
+
+
+def follow_gap(settings: FollowSettings, geo: RobotGeometry) -> float:
+    if settings.follow_gap_m is not None:
+        return settings.follow_gap_m
+    return 0.9 if geo.min_turn_radius_m > 0 else 0.5
+
+
+def make_pilot(kind: str, geo: RobotGeometry, template: NDArray[np.uint8], settings: FollowSettings) -> Pilot:
+    """RoverLink's behaviour ("roverlink") or the PiCar team's ("picar-2018") for this robot."""
+    tracker = Tracker(template, geo.camera, height_m=settings.target_height_m)
+    if kind == "picar-2018":
+        return PiCarBaseline(tracker, geo.camera, geo.lidar_mount, settings.max_speed_m_s)
+    if kind != "roverlink":
+        raise ValueError(f"pilot {kind!r} is not allowed: one of {', '.join(PILOTS)}")
+    follower = Follower(
+        geo.footprint,
+        geo.camera,
+        min_turn_radius_m=geo.min_turn_radius_m,
+        avoidance=AvoidanceParams(),
+        params=FollowParams(follow_gap_m=follow_gap(settings, geo), max_speed_m_s=settings.max_speed_m_s),
+    )
+    return RoverLinkPilot(ScanFilter(geo.lidar_mount), tracker, follower)
+
+
+def run_emulated(profile: str, world: str | Path, *, pilot: str = "roverlink", seed: int = 0, camera_fps: float = 15.0,
+                 imu: bool = True, settings: FollowSettings | None = None,
+                 progress: Callable[[Progress], None] | None = None,
+                 record: RecordTo | None = None) -> FollowMetrics:  # fmt: skip
+    """One follow run on the emulator (virtual clock); the metrics, with the truth's figures."""
+    settings = settings or FollowSettings()
+    em = emulated.start(profile, world, seed=seed, camera_fps=camera_fps, imu=imu)
+    robot = em.robot
+    try:
+        if settings.target_height_m is None:
+            settings = replace(settings, target_height_m=em.template.height_m)
+        geo = geometry(profile, robot.kinematics)
+        chosen = make_pilot(pilot, geo, em.template.image, settings)
+        lidar = Lidar.open(em.endpoints["lidar"], em.lidar_model)
+        camera = CameraSource(em.endpoints["camera"])
+        imu_port = Jy901.open(em.endpoints["imu"]) if imu else None
+        metrics = FollowMetrics(chosen.name, profile, str(world))
+        with recording(robot, chosen, record) as on_step:
+            return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
+                              follow_gap_m=follow_gap(settings, geo), imu=imu_port, truth=em.truth.sample,
+                              progress=progress, on_step=on_step)  # fmt: skip
+    finally:
+        robot.close()
+
+
+@dataclass(frozen=True, slots=True)
+class RobotPorts:
+    url: str
+    """The board."""
+    lidar: str
+    camera: str | int
+    """A V4L2 index or path, a GStreamer pipeline, or a URL (host_sdk.sensors.CameraSource)."""
+    imu: str | None = None
+    lidar_model: str | None = None
+    """rplidar-a1 or ydlidar-f4 (default: the profile's)."""
+    baud: int = 115200
+
+
+def run_robot(ports: RobotPorts, profile: str, *, template: NDArray[np.uint8] | None = None,
+              select: tuple[float, float, float, float] | None = None, pilot: str = "roverlink",
+              settings: FollowSettings | None = None, progress: Callable[[Progress], None] | None = None,
+              record: RecordTo | None = None) -> FollowMetrics:  # fmt: skip
+    """Follow on a real robot: the target is a template image, or a region `select`ed in the first frame."""
+    settings = settings or FollowSettings()
+    if (template is None) == (select is None):
+        raise ValueError("give the target as a template image or as a region of the first frame (not both)")
+    robot = Robot.connect(ports.url, profile=profile, baud=ports.baud, clamp=True, auto_rearm=True)
+    camera = lidar = imu = None
+    try:
+        camera = CameraSource(ports.camera)
+        if select is not None:
+            x, y, w, h = (round(v) for v in select)
+            template = camera.read(5.0).image[y : y + h, x : x + w].copy()
+        assert template is not None
+        geo = geometry(profile, robot.kinematics)
+        chosen = make_pilot(pilot, geo, template, settings)
+        lidar = Lidar.open(ports.lidar, ports.lidar_model or LIDAR_FOR.get(profile, "rplidar-a1"))
+        imu = Jy901.open(ports.imu) if ports.imu else None
+        metrics = FollowMetrics(chosen.name, profile, ports.url)
+        with recording(robot, chosen, record) as on_step:
+            return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
+                              follow_gap_m=follow_gap(settings, geo), imu=imu, progress=progress,
+                              on_step=on_step)  # fmt: skip
+    finally:
+        for device in (lidar, imu, camera):
+            if device is not None:
+                device.close()
+        robot.close()

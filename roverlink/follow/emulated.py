@@ -1,0 +1,97 @@
+"""`roverlink follow` on the emulator: a robot in a world with a lidar, a camera and an IMU, on the
+virtual clock, and the ground truth the metrics are judged by.
+
+The robot code is the same as on a real robot: the SDK connects to the board's transport and the
+drivers open the sensors' `emudev://` endpoints. Only two things come from the emulator: the
+target's look (rendered once as the tracker's template, as a user would give a photo of it) and the
+truth (pose, target, collisions) for the metrics.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from emulator import Emulator
+from emulator.sensors import attach
+from emulator.sensors.camera import CameraOptions
+from emulator.transport.devices import register
+from emulator.transport.inprocess import EmulatorTransport
+from emulator.world.raycast import nearest
+from emulator.world.scene import Scene
+from host_sdk import Robot
+from host_sdk.transport.plugins import PluginTransport
+from protocol.sensors import DEVICES, ROBOT_SENSORS, CameraSpec, Mount
+from roverlink.follow.metrics import TruthSample
+from roverlink.follow.template import TargetTemplate, render_target
+
+LIDAR_FOR = {"picar": "ydlidar-f4", "diffdrive-bts7960": "rplidar-a1", "diffdrive-tb6612": "rplidar-a1"}
+"""The lidar each profile carries (the TB6612 car gets the SLAM robot's A1 on top)."""
+
+
+@dataclass
+class EmulatedRobot:
+    robot: Robot
+    emulator: Emulator
+    scene: Scene
+    endpoints: dict[str, str]
+    lidar_model: str
+    template: TargetTemplate
+    truth: TruthProbe
+
+
+def start(profile: str, world: str | Path, *, seed: int = 0, camera_fps: float = 15.0, imu: bool = True,
+          faults: str | None = None) -> EmulatedRobot:  # fmt: skip
+    """Connect (virtual clock) to an emulated `profile` in `world` with its sensors attached."""
+    emu = Emulator(profile, seed=seed, faults=faults, eeprom="saved")
+    lidar = LIDAR_FOR.get(profile, "rplidar-a1")
+    rig = attach(emu, world, lidar=lidar, imu="jy901" if imu else None,
+                 camera=CameraOptions(fps=camera_fps))  # fmt: skip
+    transport = EmulatorTransport(emu, clock="virtual", url=f"emu://{profile}?seed={seed}&clock=virtual")
+    transport.endpoints = register(transport)
+    robot = Robot.connect(transport.url, profile=profile, transport=PluginTransport(transport), clamp=True,
+                          auto_rearm=True)  # fmt: skip
+    cm = rig.mount_for("camera", "pi-camera-v2")
+    spec = DEVICES["pi-camera-v2"]
+    assert isinstance(spec, CameraSpec)
+    scene = rig.world.scene
+    return EmulatedRobot(robot, emu, scene, dict(transport.endpoints), lidar, render_target(scene, cm),
+                         TruthProbe(emu, profile, cm, spec.hfov_deg))  # fmt: skip
+
+
+class TruthProbe:
+    """The emulator's ground truth as the metrics want it."""
+
+    def __init__(self, emu: Emulator, profile: str, camera_mount: Mount, hfov_deg: float) -> None:
+        self.emu = emu
+        self.body = ROBOT_SENSORS[profile]
+        self.mount = camera_mount
+        self.half_fov = math.radians(hfov_deg) / 2
+
+    def sample(self) -> TruthSample:
+        emu = self.emu
+        world = emu.world
+        assert world is not None
+        x, y, th = world.robot_pose(emu.plant)
+        scene = world.scene
+        names = tuple(c.obstacle for c in world.collisions)
+        distance = emu.plant.vehicle.distance_m
+        target = scene.target
+        if target is None:
+            return TruthSample(False, math.inf, names, distance)
+        tx, ty = float(scene.circles[-1, 0]), float(scene.circles[-1, 1])
+        fx, fy = world.footprint(x, y, th)
+        gap = math.hypot(tx - fx, ty - fy) - self.body.footprint_radius_m - target.radius_m
+        m = self.mount
+        cx, cy = x + math.cos(th) * m.x_m - math.sin(th) * m.y_m, y + math.sin(th) * m.x_m + math.cos(th) * m.y_m
+        bearing = math.remainder(math.atan2(ty - cy, tx - cx) - th - m.yaw_rad, 2 * math.pi)
+        in_view = abs(bearing) <= self.half_fov
+        if in_view:
+            d = math.hypot(tx - cx, ty - cy)
+            direction = np.array([[(tx - cx) / d, (ty - cy) / d]])
+            _, shape, _ = nearest(scene, np.array([[cx, cy]]), direction)
+            in_view = int(shape[0]) == scene.target_index
+        return TruthSample(in_view, gap, names, distance)

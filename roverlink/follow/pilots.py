@@ -1,0 +1,164 @@
+"""What drives during `roverlink follow`: RoverLink's behaviour, or the PiCar team's published one.
+
+A pilot is fed lidar revolutions and camera frames as they arrive (with the robot's pose at that
+time) and asked for a body twist every control period. Both pilots get exactly the same inputs.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+from collections import deque
+from typing import Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from host_sdk.autonomy import Decision, Follower
+from host_sdk.perception import CameraModel, LidarMount, ObstacleScan, ScanFilter, Tracker
+from host_sdk.perception.scan import bin_points, move_points
+from host_sdk.perception.tracking import Track, TrackState
+from host_sdk.sensors import CameraFrame, LidarScan
+
+F64 = NDArray[np.float64]
+Pose2D = tuple[float, float, float]
+
+
+class Pilot(Protocol):
+    name: str
+
+    def on_scan(self, scan: LidarScan, pose: Pose2D) -> None: ...
+
+    def on_frame(self, frame: CameraFrame, pose: Pose2D) -> Track | None: ...
+
+    def command(self, t: float, pose: Pose2D) -> tuple[float, float, str]:
+        """(linear m/s, angular rad/s, what it is doing)."""
+        ...
+
+
+class RoverLinkPilot:
+    """Scan filter + tracker + `Follower` (host_sdk.autonomy)."""
+
+    name = "roverlink"
+
+    def __init__(self, scan_filter: ScanFilter, tracker: Tracker, follower: Follower) -> None:
+        self.scan_filter = scan_filter
+        self.tracker = tracker
+        self.follower = follower
+        self._obstacles: tuple[F64, F64, Pose2D] | None = None
+        self._track: tuple[Track, Pose2D] | None = None
+        self._frame_pose: Pose2D | None = None
+        self.decision: Decision | None = None
+        self.last_scan: ObstacleScan | None = None
+        """The latest filtered scan, frame and track (for recording and live views)."""
+        self.last_frame: CameraFrame | None = None
+        self.last_track: Track | None = None
+
+    def on_scan(self, scan: LidarScan, pose: Pose2D) -> None:
+        obstacles = self.scan_filter.update(scan, pose)
+        self.last_scan = obstacles
+        x, y = obstacles.points_xy()
+        self._obstacles = (x, y, pose)
+
+    def on_frame(self, frame: CameraFrame, pose: Pose2D) -> Track:
+        turned = 0.0 if self._frame_pose is None else pose[2] - self._frame_pose[2]
+        self._frame_pose = pose
+        track = self.tracker.update(frame.image, frame.time_s, rotation_rad=turned)
+        self._track = (track, pose)
+        self.last_frame, self.last_track = frame, track
+        return track
+
+    def command(self, t: float, pose: Pose2D) -> tuple[float, float, str]:
+        if self._obstacles is None:
+            return 0.0, 0.0, "waiting"
+        x, y, then = self._obstacles
+        px, py = move_points(x, y, then, pose)  # the latest revolution, moved to where the robot is now
+        track = None
+        if self._track is not None:
+            tr, seen_at = self._track
+            if t - tr.time_s < 0.3:
+                track = tr
+                if tr.bearing_rad is not None:  # the robot has turned since the frame was taken
+                    track = dataclasses.replace(tr, bearing_rad=tr.bearing_rad - (pose[2] - seen_at[2]))
+        decision = self.follower.step(t, px, py, track, pose)
+        self.decision = decision
+        return decision.linear_m_s, decision.angular_rad_s, decision.mode.value
+
+
+class PiCarBaseline:
+    """The PiCar capstone's published approach, re-implemented from its report.
+
+    - Lidar: a per-beam median over the last 13 revolutions (ROS laser_filters' median filter as the
+      team set it, no motion compensation); an obstacle when three consecutive beams just right of
+      straight ahead are all under 1.3 m. On "nothing -> something" it turns, opposite to its
+      previous turn (left first); on "something -> nothing" it goes straight.
+    - Camera: the object's horizontal position about once a second (find_object_2d's rate on the
+      Pi), in three zones of the image: left of 280/800 of the width, right of 580/800, else middle;
+      the wheels turn towards the zone.
+    - Steering in 15 degree steps (one step either way), at a constant speed: the car never stopped.
+    - The two run side by side and each sends only when its own state changes; the Arduino keeps the
+      latest byte it received (latest wins). They were never combined.
+
+    The detector behind the 1 Hz positions is RoverLink's (the same template, the same re-detection):
+    find_object_2d matched ORB-style features, which the emulated target's plain bands do not have;
+    giving the baseline a detector that works keeps the comparison about what was published.
+    """
+
+    name = "picar-2018"
+    THRESHOLD_M = 1.3
+    STEER_RAD = math.radians(15)
+    WHEELBASE_M = 0.26
+    """The PiCar's, to turn a steering angle into a curvature on a differential drive too."""
+
+    def __init__(self, tracker: Tracker, camera: CameraModel, mount: LidarMount, speed_m_s: float,
+                 *, bins: int = 500, period_s: float = 1.0) -> None:  # fmt: skip
+        self.tracker = tracker
+        self.camera = camera
+        self.mount = mount
+        self.speed = speed_m_s
+        self.bins = bins
+        self.period_s = period_s
+        self._scans: deque[F64] = deque(maxlen=13)
+        self._obstacle = False
+        self._last_turn = "right"  # so that it turns left first, as their code did
+        self._zone = "straight"
+        self._next_detect = -math.inf
+        self.steer = "straight"
+        """The latest command sent (what the Arduino holds)."""
+
+    def on_scan(self, scan: LidarScan, pose: Pose2D) -> None:
+        ok = np.isfinite(scan.ranges_m)
+        a = scan.angles_rad[ok] + self.mount.yaw_rad
+        r = scan.ranges_m[ok]
+        self._scans.append(bin_points(r * np.cos(a), r * np.sin(a), self.bins))  # the lidar's own frame
+        with warnings.catch_warnings():  # a beam with no return in any revolution: NaN, as it should be
+            warnings.simplefilter("ignore", RuntimeWarning)
+            ranges = np.nanmedian(np.vstack(self._scans), axis=0)
+        # Three consecutive beams straight ahead (their code: the beam at 1..1.5 degrees and the two
+        # before it, at the F4's 0.5 degree step).
+        front = (self.bins // 2 + np.array([-1, 0, 1])) % self.bins
+        seen = bool(np.all(ranges[front] < self.THRESHOLD_M))
+        if seen and not self._obstacle:
+            self._last_turn = "left" if self._last_turn == "right" else "right"
+            self.steer = self._last_turn
+        elif not seen and self._obstacle:
+            self.steer = "straight"
+        self._obstacle = seen
+
+    def on_frame(self, frame: CameraFrame, pose: Pose2D) -> Track | None:
+        if frame.time_s < self._next_detect:
+            return None
+        self._next_detect = frame.time_s + self.period_s
+        track = self.tracker.detect(frame.image, frame.time_s)  # from scratch each time, as find_object_2d
+        if track.state is not TrackState.LOST and track.centre is not None:
+            u = track.centre[0] / self.camera.width * 800
+            zone = "left" if u < 280 else "right" if u > 580 else "straight"
+            if zone != self._zone:
+                self._zone = zone
+                self.steer = zone
+        return track
+
+    def command(self, t: float, pose: Pose2D) -> tuple[float, float, str]:
+        steer = {"left": self.STEER_RAD, "right": -self.STEER_RAD, "straight": 0.0}[self.steer]
+        return self.speed, self.speed * math.tan(steer) / self.WHEELBASE_M, self.steer

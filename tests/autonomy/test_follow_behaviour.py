@@ -1,0 +1,220 @@
+"""The follow state machine and the PiCar baseline with known geometry (no emulator): what each
+decides for a target ahead, behind a box, coming closer, lost, and for a robot boxed in."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from host_sdk.autonomy import Follower, Mode, locate_target
+from host_sdk.perception import CameraModel, Footprint, LidarMount
+from host_sdk.perception.tracking import Track, TrackState
+from host_sdk.sensors import CameraFrame, LidarScan
+from roverlink.follow.pilots import PiCarBaseline
+
+CAMERA = CameraModel.pi_camera_v2(320, 240, mount_x_m=0.1)
+DIFF = Footprint(0.12, 0.03)
+PICAR = Footprint(0.19, 0.13)
+
+
+def disc(cx: float, cy: float, r: float = 0.12, n: int = 24) -> tuple[np.ndarray, np.ndarray]:
+    """The lidar's view of a cylinder: the half facing the robot."""
+    facing = math.atan2(-cy, -cx)
+    a = facing + np.linspace(-1.2, 1.2, n)
+    return cx + r * np.cos(a), cy + r * np.sin(a)
+
+
+def wall(x0: float, y0: float, x1: float, y1: float, n: int = 60) -> tuple[np.ndarray, np.ndarray]:
+    return np.linspace(x0, x1, n), np.linspace(y0, y1, n)
+
+
+def scene(*parts: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+
+
+def track_of(x: float, y: float, t: float, camera: CameraModel = CAMERA) -> Track:
+    """What the tracker reports for a target whose near surface is at (x, y), base frame."""
+    bearing = math.atan2(y - camera.mount_y_m, x - camera.mount_x_m)
+    depth = math.hypot(x - camera.mount_x_m, y - camera.mount_y_m) * math.cos(bearing)
+    return Track(TrackState.TRACKING, t, (150.0, 100.0, 20.0, 30.0), 0.95, bearing, depth, 0.0)
+
+
+def test_the_target_is_picked_out_of_the_scan_along_the_camera_ray() -> None:
+    tx, ty = disc(1.0, 0.2)
+    bx, by = wall(1.5, -1.0, 1.5, 1.0)
+    px, py = scene((tx, ty), (bx, by))
+    fix = locate_target(px, py, CAMERA, math.atan2(0.2 - 0.0, 0.88 - 0.1), None)
+    assert fix is not None and fix.from_lidar
+    assert fix.mask[: tx.size].all() and not fix.mask[tx.size :].any()  # the target, not the wall
+    assert math.hypot(fix.x_m - 1.0, fix.y_m - 0.2) == pytest.approx(0.12, abs=0.02)
+    # Nothing in the scan along the ray: the camera's range estimate places it.
+    far = locate_target(bx, by, CAMERA, math.radians(-60), 0.9)
+    assert far is not None and not far.from_lidar and not far.mask.any()
+    assert locate_target(bx, by, CAMERA, math.radians(-60), None) is None
+
+
+def test_target_straight_ahead_inside_a_picar_threshold_is_followed_not_avoided() -> None:
+    follower = Follower(DIFF, CAMERA)
+    px, py = scene(disc(1.0, 0.0), wall(-1, 1.2, 3, 1.2), wall(-1, -1.2, 3, -1.2))
+    d = follower.step(0.0, px, py, track_of(0.88, 0.0, 0.0), (0.0, 0.0, 0.0))
+    assert d.mode is Mode.TRACK and d.target is not None
+    assert d.plan is not None and not d.plan.deflected
+    assert d.linear_m_s > 0.1 and abs(d.angular_rad_s) < 0.05
+    assert d.gap_m == pytest.approx(0.88 - 0.03 - 0.12, abs=0.01)
+
+
+def test_standing_at_the_follow_gap() -> None:
+    follower = Follower(DIFF, CAMERA)
+    x = 0.03 + 0.12 + 0.5  # the surface exactly the follow gap ahead
+    px, py = disc(x + 0.12, 0.0)
+    for i in range(5):  # a few steps so the filter knows the target is still
+        d = follower.step(0.1 * i, px, py, track_of(x, 0.0, 0.1 * i), (0.0, 0.0, 0.0))
+    assert d.mode is Mode.STOP and abs(d.linear_m_s) < 0.02
+
+
+def test_a_box_between_robot_and_target_is_steered_round() -> None:
+    follower = Follower(DIFF, CAMERA)
+    px, py = scene(disc(2.5, 0.0), wall(1.0, -0.4, 1.0, 0.4, 30), wall(0, -0.9, 3, -0.9))
+    d = follower.step(0.0, px, py, track_of(2.38, 0.0, 0.0), (0.0, 0.0, 0.0))
+    assert d.mode is Mode.AVOID and d.plan is not None and d.plan.direction_rad > 0  # left: the right is walled
+    assert d.angular_rad_s > 0
+
+
+def test_a_target_coming_at_the_robot_is_got_out_of_the_way_of() -> None:
+    follower = Follower(DIFF, CAMERA)
+    pose = (0.0, 0.0, 0.0)
+    for i in range(12):  # it walks straight at the robot at 0.3 m/s
+        t = 0.1 * i
+        x = 1.2 - 0.3 * t
+        px, py = disc(x + 0.12, 0.0)
+        d = follower.step(t, px, py, track_of(x, 0.0, t), pose)
+        assert d.linear_m_s <= 0.0 or d.mode is Mode.YIELD  # never towards it
+    assert d.mode is Mode.YIELD and d.linear_m_s != 0.0
+
+
+def test_lost_target_is_searched_for() -> None:
+    px, py = wall(-2, 2, 2, 2)
+    diff = Follower(DIFF, CAMERA)
+    d = diff.step(0.0, px, py, None, (0.0, 0.0, 0.0))
+    assert d.mode is Mode.SEARCH and d.linear_m_s == 0.0 and d.angular_rad_s != 0.0  # turns on the spot
+    car = Follower(PICAR, CameraModel.pi_camera_v2(mount_x_m=0.3), min_turn_radius_m=0.37)
+    d = car.step(0.0, px, py, None, (0.0, 0.0, 0.0))
+    assert d.mode is Mode.SEARCH and d.linear_m_s > 0
+    assert d.angular_rad_s / d.linear_m_s == pytest.approx(1 / 0.37, rel=0.01)  # a K-turn leg, tightest arc
+
+
+def test_boxed_in_it_stands_still() -> None:
+    """A ring of obstacles just beyond the body: no arc, no turn on the spot, no K-turn leg fits."""
+    a = np.linspace(-math.pi, math.pi, 180, endpoint=False)
+    for follower, ring in ((Follower(DIFF, CAMERA), 0.17), (Follower(PICAR, CAMERA, min_turn_radius_m=0.37), 0.36)):
+        d = follower.step(0.0, ring * np.cos(a), ring * np.sin(a), None, (0.0, 0.0, 0.0))
+        assert (d.linear_m_s, d.angular_rad_s) == (0.0, 0.0)
+    # With a little more room the differential drive can turn on the spot to look round.
+    d = Follower(DIFF, CAMERA).step(0.0, 0.2 * np.cos(a), 0.2 * np.sin(a), None, (0.0, 0.0, 0.0))
+    assert d.linear_m_s == 0.0 and d.angular_rad_s != 0.0
+
+
+def test_an_ackermann_robot_backs_out_to_turn_to_a_target_beside_it() -> None:
+    cam = CameraModel.pi_camera_v2(mount_x_m=0.3)
+    car = Follower(PICAR, cam, min_turn_radius_m=0.37)
+    px, py = disc(0.45, 0.75)
+    d = car.step(0.0, px, py, track_of(0.42, 0.64, 0.0, cam), (0.0, 0.0, 0.0))
+    assert d.mode is Mode.RECOVER and d.linear_m_s < 0
+    assert d.angular_rad_s / d.linear_m_s < 0  # wheels to the right while reversing: the nose swings left
+
+
+# -- the PiCar team's approach -------------------------------------------------------------------------
+def scan_with(front_m: float | None, t: float = 0.0) -> LidarScan:
+    angles = np.radians(np.arange(-180, 180, 0.72))
+    ranges = np.full(angles.shape, 4.0)
+    if front_m is not None:
+        ranges[np.abs(angles) < math.radians(3)] = front_m
+    return LidarScan("ydlidar-f4", 0, angles, ranges, np.zeros(angles.shape, dtype=np.int64),
+                     np.full(angles.shape, t), 0.12, 12.0)  # fmt: skip
+
+
+class FixedTracker:
+    """Stands in for the detector: reports the target at a given image column."""
+
+    def __init__(self) -> None:
+        self.u: float | None = None
+        self.box = None
+        self.calls = 0
+
+    def detect(self, image: np.ndarray, time_s: float) -> Track:
+        self.calls += 1
+        if self.u is None:
+            return Track(TrackState.LOST, time_s, None, 0.0, None, None, 0.0)
+        return Track(TrackState.REACQUIRED, time_s, (self.u - 10, 100, 20, 30), 0.9, 0.0, None, 0.0)
+
+
+def test_baseline_obstacle_node_three_beams_threshold_alternating_turns() -> None:
+    tracker = FixedTracker()
+    base = PiCarBaseline(tracker, CAMERA, LidarMount(), 0.45)  # type: ignore[arg-type]
+    turns = []
+    for front in (None, 1.0, 1.0, None, 1.2, None, 1.5, 0.8):
+        for _ in range(13):  # the 13-revolution median needs its majority to change its mind
+            base.on_scan(scan_with(front), (0.0, 0.0, 0.0))
+        turns.append(base.steer)
+    assert turns == ["straight", "left", "left", "straight", "right", "straight", "straight", "left"]
+    v, w, _ = base.command(0.0, (0.0, 0.0, 0.0))
+    assert v == 0.45 and w / v == pytest.approx(math.tan(math.radians(15)) / 0.26)  # one 15 degree step
+
+
+def test_baseline_camera_node_three_zones_about_once_a_second() -> None:
+    tracker = FixedTracker()
+    base = PiCarBaseline(tracker, CAMERA, LidarMount(), 0.45)  # type: ignore[arg-type]
+    image = np.zeros((240, 320, 3), dtype=np.uint8)
+    zones = []
+    for i, u in enumerate([50.0, 60.0, 160.0, 300.0]):
+        tracker.u = u
+        for k in range(15):  # 15 frames a second, one detection a second
+            base.on_frame(CameraFrame(image, i + k / 15, 1), (0.0, 0.0, 0.0))
+        zones.append(base.steer)
+    assert tracker.calls == 4
+    assert zones == ["left", "left", "straight", "right"]  # 280 and 580 of 800 px: 112 and 232 of 320
+
+
+# -- what follow --foxglove records ------------------------------------------------------------------------
+class FakePublisher:
+    def __init__(self) -> None:
+        self.calls: list[tuple[str, str, dict[str, object]]] = []
+
+    def json(self, topic: str, schema: dict[str, object], message: dict[str, object], time_s: float) -> None:
+        self.calls.append(("json", topic, message))
+
+    def laser_scan(self, topic: str, time_s: float, **fields: object) -> None:
+        self.calls.append(("scan", topic, fields))
+
+    def compressed_image(self, topic: str, time_s: float, **fields: object) -> None:
+        self.calls.append(("image", topic, fields))
+
+
+def test_follow_source_publishes_scan_camera_and_state() -> None:
+    import cv2
+
+    from host_sdk.perception import ScanFilter, Tracker
+    from roverlink.follow.pilots import RoverLinkPilot
+    from roverlink.follow.record import TOPIC_FOLLOW, TOPIC_IMAGE, TOPIC_SCAN, FollowSource
+
+    image = np.full((240, 320, 3), 90, dtype=np.uint8)
+    cv2.rectangle(image, (150, 100), (170, 130), (255, 0, 255), -1)
+    pilot = RoverLinkPilot(ScanFilter(), Tracker(image[100:131, 150:171].copy(), CAMERA), Follower(DIFF, CAMERA))
+    source = FollowSource(pilot, image_hz=2.0)
+    out = FakePublisher()
+    source.start(out)
+    pilot.on_scan(scan_with(1.0), (0.0, 0.0, 0.0))
+    pilot.on_frame(CameraFrame(image, 0.0, 1), (0.0, 0.0, 0.0))
+    pilot.command(0.05, (0.0, 0.0, 0.0))
+    for t in (0.05, 0.1, 0.6):
+        source.poll(t)
+    kinds = [(kind, topic) for kind, topic, _ in out.calls]
+    assert kinds.count(("scan", TOPIC_SCAN)) == 1  # one scan, published once
+    assert kinds.count(("json", TOPIC_FOLLOW)) == 3
+    assert kinds.count(("image", TOPIC_IMAGE)) == 2  # at most image_hz
+    state = next(m for kind, _, m in out.calls if kind == "json")
+    assert state["tracked"] is True and state["mode"] in {"track", "stop", "avoid"}
+    jpeg = next(m for kind, _, m in out.calls if kind == "image")["data"]
+    assert cv2.imdecode(np.frombuffer(jpeg, np.uint8), cv2.IMREAD_COLOR).shape == (240, 320, 3)  # type: ignore[arg-type]
