@@ -33,7 +33,7 @@ what keeps the board's watchdog fed).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from enum import Enum
 
@@ -52,6 +52,7 @@ from host_sdk.perception.avoidance import (
     safe_speed,
 )
 from host_sdk.perception.camera import CameraModel
+from host_sdk.perception.motion import Mover
 from host_sdk.perception.tracking import Track
 
 F64 = NDArray[np.float64]
@@ -151,8 +152,10 @@ class Follower:
         self._t = 0.0
 
     # -- the step -------------------------------------------------------------------------------------
-    def step(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D) -> Decision:
-        """One control step: obstacle points in the base frame now, the latest track, the odometry pose."""
+    def step(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *,
+             movers: Sequence[Mover] = ()) -> Decision:  # fmt: skip
+        """One control step: obstacle points in the base frame now, the latest track, the odometry pose,
+        and what moves in the scan (`MotionDetector`), which is where a lost target is looked for."""
         dt = max(0.0, t - self._t)
         self._t = t
         p = self.params
@@ -170,6 +173,13 @@ class Follower:
             if fix is not None:
                 self.memory.remember(t, fix, pose)
         goal = (fix.x_m, fix.y_m) if fix is not None else self.memory.predicted(t, pose, p.coast_s)
+        if goal is None and movers:
+            # Lost, and something moves in the scan: most likely the target (nothing else in a room
+            # walks); turn to it and the tracker's re-detection has it in view again.
+            fix = self.memory.mover_fix(px, py, movers, pose)
+            if fix is not None:
+                self.memory.remember(t, fix, pose)
+                goal = (fix.x_m, fix.y_m)
         mask = fix.mask if fix is not None else np.zeros(px.shape[0], dtype=bool)
         view = _View(px[~mask], py[~mask], px[mask], py[mask], fix)
         if self._recover is not None and t < self._recover[0]:

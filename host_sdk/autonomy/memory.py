@@ -9,11 +9,13 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk.autonomy.target import TargetFix
+from host_sdk.perception.motion import Mover
 
 F64 = NDArray[np.float64]
 Pose2D = tuple[float, float, float]
@@ -76,6 +78,22 @@ class TargetMemory:
         if ((r >= inner) & (r < inner + 0.25)).any():
             return None
         return TargetFix(sx, sy, r < inner, True)
+
+    def mover_fix(self, px: F64, py: F64, movers: Sequence[Mover], pose: Pose2D) -> TargetFix | None:
+        """The moving cluster nearest where the target was last seen (or nearest the robot), with its
+        returns among the points given (base frame)."""
+        if not movers:
+            return None
+        ref = (self.seen[1], self.seen[2]) if self.seen is not None else to_world(pose, 0.0, 0.0)
+        best = min(movers, key=lambda m: math.hypot(m.x_m - ref[0], m.y_m - ref[1]))
+        bx, by = to_base(pose, best.x_m, best.y_m)
+        if px.size:
+            d = np.hypot(px - bx, py - by)
+            i = int(np.argmin(d))
+            if d[i] < 0.3:
+                bx, by = float(px[i]), float(py[i])
+        mask = np.hypot(px - bx, py - by) < 0.6 * self.target_size_m + 0.05
+        return TargetFix(bx, by, mask, True)
 
     def off_route(self, pose: Pose2D, radius_m: float, x_m: float) -> float | None:
         """Bearing (base frame) away from the target's route when the robot stands on it, else None."""

@@ -4,6 +4,8 @@
   360-degree obstacle picture around the robot (`ScanFilter`, `ObstacleScan`).
 - `avoidance`: the footprint's swept corridor, free directions over the whole scan, the speed law
   (`Avoider`, `Footprint`, `AvoidanceParams`).
+- `motion`: what moves in the scan (`MotionDetector`, `Mover`): returns where earlier revolutions
+  saw free space, clustered and confirmed.
 - `camera`: a pinhole camera model (`CameraModel`): pixels to bearings, size to range.
 - `tracking`: a fast template tracker with feature re-detection (`Tracker`, `Track`, `TrackState`);
   it needs OpenCV (the `vision` extra), imported when a tracker is made.
@@ -13,6 +15,7 @@ numpy is the only import here; see docs/autonomy.md.
 
 from host_sdk.perception.avoidance import AvoidanceParams, Avoider, Footprint, Plan
 from host_sdk.perception.camera import CameraModel
+from host_sdk.perception.motion import MotionDetector, MotionParams, Mover
 from host_sdk.perception.scan import LidarMount, ObstacleScan, RawScan, ScanFilter
 from host_sdk.perception.tracking import Track, Tracker, TrackerParams, TrackState
 
@@ -22,6 +25,9 @@ __all__ = [
     "CameraModel",
     "Footprint",
     "LidarMount",
+    "MotionDetector",
+    "MotionParams",
+    "Mover",
     "ObstacleScan",
     "Plan",
     "RawScan",

@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk.autonomy import Decision, Follower
-from host_sdk.perception import CameraModel, LidarMount, ObstacleScan, ScanFilter, Tracker
+from host_sdk.perception import CameraModel, LidarMount, MotionDetector, Mover, ObstacleScan, ScanFilter, Tracker
 from host_sdk.perception.scan import bin_points, move_points
 from host_sdk.perception.tracking import Track, TrackState
 from host_sdk.sensors import CameraFrame, LidarScan
@@ -49,6 +49,8 @@ class RoverLinkPilot:
         self._obstacles: tuple[F64, F64, Pose2D] | None = None
         self._track: tuple[Track, Pose2D] | None = None
         self._frame_pose: Pose2D | None = None
+        self.motion = MotionDetector()
+        self.movers: tuple[Mover, ...] = ()
         self.decision: Decision | None = None
         self.last_scan: ObstacleScan | None = None
         """The latest filtered scan, frame and track (for recording and live views)."""
@@ -58,6 +60,7 @@ class RoverLinkPilot:
     def on_scan(self, scan: LidarScan, pose: Pose2D) -> None:
         obstacles = self.scan_filter.update(scan, pose)
         self.last_scan = obstacles
+        self.movers = self.motion.update(obstacles, pose)
         x, y = obstacles.points_xy()
         self._obstacles = (x, y, pose)
 
@@ -81,7 +84,7 @@ class RoverLinkPilot:
                 track = tr
                 if tr.bearing_rad is not None:  # the robot has turned since the frame was taken
                     track = dataclasses.replace(tr, bearing_rad=tr.bearing_rad - (pose[2] - seen_at[2]))
-        decision = self.follower.step(t, px, py, track, pose)
+        decision = self.follower.step(t, px, py, track, pose, movers=self.movers)
         self.decision = decision
         return decision.linear_m_s, decision.angular_rad_s, decision.mode.value
 
