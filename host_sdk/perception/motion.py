@@ -44,8 +44,9 @@ class MotionParams:
     confirm: int = 2
     """Revolutions in a row a cluster must be seen near the same place."""
     associate_m: float = 0.5
-    max_turn_rate: float = 0.35
-    """rad/s: revolutions taken while the robot turns faster are not compared."""
+    max_turn_rate: float = 1.2
+    """rad/s: revolutions taken while the robot turns faster are not compared (slower, the beams
+    compared are widened by the turn during a revolution)."""
     forget_s: float = 1.0
 
 
@@ -61,22 +62,34 @@ class Mover:
     """Revolutions in a row it was seen."""
 
 
+@dataclass(frozen=True, slots=True, eq=False)
+class _Revolution:
+    time_s: float
+    pose: Pose2D
+    angles_rad: F64
+    ranges_m: F64
+    skew_rad: float
+    """How far the robot turned since the revolution before: about how far apart in heading this
+    one's first and last beams are."""
+
+
 class MotionDetector:
     def __init__(self, params: MotionParams | None = None) -> None:
         self.params = params or MotionParams()
-        self._history: deque[tuple[float, Pose2D, F64, F64]] = deque()
+        self._history: deque[_Revolution] = deque()
         self._tracks: list[Mover] = []
 
     def update(self, scan: ObstacleScan, pose: Pose2D) -> tuple[Mover, ...]:
         """Take a filtered revolution and the pose it was taken at; the confirmed movers now."""
         p = self.params
         t = scan.time_s
+        skew = 0.0
         if self._history:
-            t0, pose0 = self._history[-1][0], self._history[-1][1]
-            turn = abs(math.remainder(pose[2] - pose0[2], 2 * math.pi))
-            if t > t0 and turn / (t - t0) > p.max_turn_rate:
-                # A revolution taken while turning fast is skewed (its first and last beams are
-                # tens of degrees apart in heading): not a picture to compare free space with.
+            last = self._history[-1]
+            skew = abs(math.remainder(pose[2] - last.pose[2], 2 * math.pi))
+            if t > last.time_s and skew / (t - last.time_s) > p.max_turn_rate:
+                # Spinning, a revolution's first and last beams are tens of degrees apart in
+                # heading: not a picture to compare free space with.
                 self._history.clear()
                 return self._confirm(t, [])
         x, y = scan.points_xy()
@@ -87,16 +100,16 @@ class MotionDetector:
         for lag in p.lags_s:
             old = self._at_age(t, lag)
             if old is not None:
-                moving |= usable & _free_before(old, wx, wy, p.margin_m)
-        self._history.append((t, pose, scan.angles_rad, scan.ranges_m))
-        while self._history and t - self._history[0][0] > max(p.lags_s) + 1.0:
+                moving |= usable & _free_before(old, wx, wy, p.margin_m, (skew + old.skew_rad) / 2)
+        self._history.append(_Revolution(t, pose, scan.angles_rad, scan.ranges_m, skew))
+        while self._history and t - self._history[0].time_s > max(p.lags_s) + 1.0:
             self._history.popleft()
         return self._confirm(t, _clusters(wx[moving], wy[moving], pose, p))
 
-    def _at_age(self, t: float, lag: float) -> tuple[float, Pose2D, F64, F64] | None:
+    def _at_age(self, t: float, lag: float) -> _Revolution | None:
         """The newest revolution at least `lag` old."""
         for entry in reversed(self._history):
-            if t - entry[0] >= lag:
+            if t - entry.time_s >= lag:
                 return entry
         return None
 
@@ -113,26 +126,31 @@ class MotionDetector:
         return tuple(m for m in updated if m.hits >= p.confirm)
 
 
-def _free_before(old: tuple[float, Pose2D, F64, F64], wx: F64, wy: F64, margin: float) -> NDArray[np.bool_]:
-    """Which world points lay in space an earlier revolution (time, pose, bin angles, ranges) saw as free."""
-    _, pose, angles, ranges = old
-    bins = angles.shape[0]
+def _free_before(old: _Revolution, wx: F64, wy: F64, margin: float, skew: float) -> NDArray[np.bool_]:
+    """Which world points lay in space an earlier revolution saw as free. `skew` (rad) is how far
+    the two revolutions may be off each other in heading (each beam is up to half its revolution's
+    turn off the pose it was given): the beams that count are that much wider, and an earlier
+    return that much farther still counts as close by."""
+    bins = old.angles_rad.shape[0]
+    pose, ranges = old.pose, old.ranges_m
     c, s = math.cos(pose[2]), math.sin(pose[2])
     dx, dy = wx - pose[0], wy - pose[1]
     bx, by = c * dx + s * dy, -s * dx + c * dy
     r = np.hypot(bx, by)
     idx = np.floor((np.arctan2(by, bx) + math.pi) * bins / (2 * math.pi)).astype(np.int64) % bins
     seen = np.where(np.isfinite(ranges), ranges, -np.inf)  # no return: unknown, never free
-    nearest = np.minimum(np.minimum(seen[idx], seen[(idx - 1) % bins]), seen[(idx + 1) % bins])
+    half = 1 + math.ceil(skew * bins / (2 * math.pi))
+    nearest = np.min(np.stack([seen[(idx + j) % bins] for j in range(-half, half + 1)]), axis=0)
     free: NDArray[np.bool_] = nearest > r + margin
     if free.any():
         # An obstacle's edge seen from a little elsewhere falls into a neighbouring beam's free
         # space; a return that has an earlier return close by was there before.
         ok = np.isfinite(ranges)
-        ox, oy = ranges[ok] * np.cos(angles[ok]), ranges[ok] * np.sin(angles[ok])
+        ox, oy = ranges[ok] * np.cos(old.angles_rad[ok]), ranges[ok] * np.sin(old.angles_rad[ok])
         cand = np.flatnonzero(free)
         d = np.hypot(bx[cand, None] - ox[None, :], by[cand, None] - oy[None, :])
-        free[cand[(d < margin).any(axis=1)]] = False
+        near = d < (margin + r[cand] * skew)[:, None]
+        free[cand[near.any(axis=1)]] = False
     return free
 
 
