@@ -1,7 +1,7 @@
 """Follow-while-avoiding on the emulator: RoverLink's behaviour against the PiCar team's published
 approach, on the same seeded random worlds, per profile, in one run.
 
-    python benchmarks/follow.py                       # 50 worlds x 2 profiles x 2 pilots, 60 s each
+    python benchmarks/follow.py                       # 50 worlds x 2 profiles x 2 pilots, 40 s each
     python benchmarks/follow.py --worlds 10 --jobs 2  # fewer worlds, two processes
     python benchmarks/follow.py --json results.json   # also every run's metrics
 
@@ -106,7 +106,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--worlds", type=int, default=50, help="random:0 .. random:N-1 (default 50)")
     ap.add_argument("--first", type=int, default=0, help="first world's number (default 0)")
-    ap.add_argument("--duration", type=float, default=60.0, help="seconds of virtual time per run (default 60)")
+    ap.add_argument("--duration", type=float, default=40.0, help="seconds of virtual time per run (default 40)")
     ap.add_argument("--fps", type=float, default=15.0, help="camera frame rate (default 15)")
     ap.add_argument("--profile", action="append", choices=PROFILES, help="default: both")
     ap.add_argument("--pilot", action="append", choices=PILOTS, help="default: both")

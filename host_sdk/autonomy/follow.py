@@ -233,7 +233,12 @@ class Follower:
         vx, vy = self.memory.velocity_in(pose)
         away = vx * math.cos(bearing) + vy * math.sin(bearing)
         if self._evade is not None and self._t < self._evade[0]:
-            return self._keep_yielding(view, gap)
+            _, v, w = self._evade
+            k = w / v if abs(v) > 0.01 else 0.0
+            if v == 0.0 or self._separation(v, k, goal, (vx, vy)) >= p.guard_gap_m:
+                return self._keep_yielding(view, gap)
+            # The target turned: the move held to get out of its way now leads into it. Choose again.
+            return self._yield(view, goal, (vx, vy), gap)
         self._evade = None
         if gap < p.follow_gap_m + 0.3 and -away * p.yield_horizon_s > gap - p.stop_gap_m + 0.1:
             return self._yield(view, goal, (vx, vy), gap)

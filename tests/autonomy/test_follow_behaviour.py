@@ -94,6 +94,25 @@ def test_a_target_coming_at_the_robot_is_got_out_of_the_way_of() -> None:
     assert d.mode is Mode.YIELD and d.linear_m_s != 0.0
 
 
+def test_a_held_escape_is_dropped_when_the_target_speeds_up_after_it() -> None:
+    # Backing straight away keeps clear of a target walking at 0.3 m/s, and is held so the robot
+    # does not dither; when the target speeds up to 0.7 m/s (faster than the robot reverses),
+    # backing down its line would end in contact: the robot must choose again and leave the line.
+    follower = Follower(DIFF, CAMERA)
+    pose = (0.0, 0.0, 0.0)
+    x, held = 1.2, None
+    for i in range(11):
+        t = 0.1 * i
+        x -= 0.1 * (0.3 if t < 0.25 else 0.7) if i else 0.0
+        px, py = disc(x + 0.12, 0.0)
+        d = follower.step(t, px, py, track_of(x, 0.0, t), pose)
+        assert d.linear_m_s <= 0.0
+        if i == 2:
+            held = (d.mode, d.linear_m_s, d.angular_rad_s)
+    assert held is not None and held[0] is Mode.YIELD and held[2] == pytest.approx(0.0)  # straight back
+    assert d.mode is Mode.YIELD and abs(d.angular_rad_s) > 0.3  # off its line by t = 1.0 s, x = 0.58 m
+
+
 def test_lost_target_is_searched_for() -> None:
     px, py = wall(-2, 2, 2, 2)
     diff = Follower(DIFF, CAMERA)
