@@ -74,7 +74,7 @@ class TargetMemory:
             return None
         sx, sy = float(px[i]), float(py[i])
         r = np.hypot(px - sx, py - sy)
-        inner = 0.6 * self.target_size_m + 0.05
+        inner = self._cluster_radius
         if ((r >= inner) & (r < inner + 0.25)).any():
             return None
         return TargetFix(sx, sy, r < inner, True)
@@ -92,8 +92,12 @@ class TargetMemory:
             i = int(np.argmin(d))
             if d[i] < 0.3:
                 bx, by = float(px[i]), float(py[i])
-        mask = np.hypot(px - bx, py - by) < 0.6 * self.target_size_m + 0.05
-        return TargetFix(bx, by, mask, True)
+        return TargetFix(bx, by, np.hypot(px - bx, py - by) < self._cluster_radius, True)
+
+    @property
+    def _cluster_radius(self) -> float:
+        """Returns within this of the target's nearest one are the target's."""
+        return 0.6 * self.target_size_m + 0.05
 
     def off_route(self, pose: Pose2D, radius_m: float, x_m: float) -> float | None:
         """Bearing (base frame) away from the target's route when the robot stands on it, else None."""

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from host_sdk.perception.scan import ObstacleScan
+from host_sdk.perception.scan import ObstacleScan, move_points
 
 F64 = NDArray[np.float64]
 Pose2D = tuple[float, float, float]
@@ -93,7 +93,7 @@ class MotionDetector:
                 self._history.clear()
                 return self._confirm(t, [])
         x, y = scan.points_xy()
-        wx, wy = _to_world(pose, x, y)
+        wx, wy = move_points(x, y, pose, (0.0, 0.0, 0.0))  # into the odometry frame
         r = np.hypot(x, y)
         moving = np.zeros(x.shape[0], dtype=bool)
         usable = (r > p.min_range_m) & (r < p.max_range_m)
@@ -133,9 +133,7 @@ def _free_before(old: _Revolution, wx: F64, wy: F64, margin: float, skew: float)
     return that much farther still counts as close by."""
     bins = old.angles_rad.shape[0]
     pose, ranges = old.pose, old.ranges_m
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    dx, dy = wx - pose[0], wy - pose[1]
-    bx, by = c * dx + s * dy, -s * dx + c * dy
+    bx, by = move_points(wx, wy, (0.0, 0.0, 0.0), pose)
     r = np.hypot(bx, by)
     idx = np.floor((np.arctan2(by, bx) + math.pi) * bins / (2 * math.pi)).astype(np.int64) % bins
     seen = np.where(np.isfinite(ranges), ranges, -np.inf)  # no return: unknown, never free
@@ -178,8 +176,3 @@ def _clusters(x: F64, y: F64, pose: Pose2D, p: MotionParams) -> list[tuple[float
         near = members[int(np.argmin(np.hypot(x[members] - pose[0], y[members] - pose[1])))]
         out.append((float(x[near]), float(y[near])))
     return out
-
-
-def _to_world(pose: Pose2D, x: F64, y: F64) -> tuple[F64, F64]:
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    return pose[0] + c * x - s * y, pose[1] + s * x + c * y
