@@ -8,9 +8,10 @@ Each step (every control period, typically 20 Hz):
 
 1. **Where the target is.** The tracked bearing and range are matched against the scan
    (`locate_target`): the lidar gives the distance and the target's points. The target's position
-   and velocity are kept in the odometry frame, so a target lost for a moment (occluded, a missed
-   frame) is still steered for at its predicted position for `coast_s`, and searched for where it
-   went after that.
+   and velocity are kept in the odometry frame. Out of the camera's view, its returns are followed
+   in the scan from one revolution to the next, and, lost from the scan too, it is looked for where
+   something moves (`MotionDetector`); what the camera then looks at without seeing the target is
+   dropped. Between fixes it is steered for at its predicted position for `coast_s`.
 2. **What to want.** TRACK: head for the target at its own speed away from the robot plus
    `gain_gap` times the gap error (the gap is between the footprint and the target's surface), down
    to standing at `follow_gap_m`, backing off when it comes closer. YIELD: a target that keeps coming
@@ -40,8 +41,9 @@ from enum import Enum
 import numpy as np
 from numpy.typing import NDArray
 
-from host_sdk.autonomy.memory import TargetMemory, arc_pose, to_base, to_world
-from host_sdk.autonomy.target import TargetFix, locate_target
+from host_sdk.autonomy.finder import TargetFinder
+from host_sdk.autonomy.memory import arc_pose, to_base, to_world
+from host_sdk.autonomy.target import TargetFix
 from host_sdk.perception.avoidance import (
     AvoidanceParams,
     Avoider,
@@ -83,8 +85,13 @@ class FollowParams:
     max_turn_rate: float = 1.6
     coast_s: float = 1.5
     """How long a lost target is still steered for at its predicted position."""
-    lidar_hold_s: float = 3.0
-    """How long the target is followed in the scan alone after the camera lost it."""
+    doubt_s: float = 1.0
+    """The target followed in the scan alone is dropped when the camera, looking straight at it, has
+    not seen it for this long (the cluster followed is something else)."""
+    reject_s: float = 5.0
+    """How long a place so found not to be the target is not taken for it again."""
+    confirm_s: float = 8.0
+    """A mover followed this long without the camera confirming it is dropped too."""
     search_speed_m_s: float = 0.25
     search_turn_rate: float = 0.9
     """Differential drive: turn rate while searching."""
@@ -137,19 +144,31 @@ class Follower:
         self.ackermann = min_turn_radius_m > 0
         self.params = params or FollowParams()
         self.avoider = Avoider(footprint, replace(avoidance or AvoidanceParams(), min_turn_radius_m=min_turn_radius_m))
-        self.memory = TargetMemory(self.params.target_size_m)
+        p = self.params
+        self.finder = TargetFinder(camera, target_size_m=p.target_size_m, coast_s=p.coast_s, doubt_s=p.doubt_s,
+                                   reject_s=p.reject_s, confirm_s=p.confirm_s)  # fmt: skip
+        self.memory = self.finder.memory
         self._search_from: float | None = None
         """Heading when the search began (a whole turn round without the target: go elsewhere)."""
         self._wander: tuple[float, float, float] | None = None
         """(until, x, y) of a place to look from, in the odometry frame."""
+        self._search_side = 1.0
+        """The way the search turns (+1: left), chosen when it begins."""
+        self._going = False
+        """The search is on its way to where the target was heading..."""
+        self._no_go = False
+        """...or found the way there blocked, and looks round instead."""
+        self._step_off: tuple[float, float] | None = None
+        """(until, heading in the odometry frame) of a step off the target's route."""
         self._k_leg = (1.0, 0.0)
         """Ackermann search: the direction of the current K-turn leg and how far it has gone."""
         self._blocked_since: float | None = None
         self._evade: tuple[float, float, float] | None = None
         """(until, linear, angular) of a manoeuvre out of the target's way."""
-        self._recover: tuple[float, float] | None = None
-        """(until, curvature) of a manoeuvre backing out."""
+        self._recover: tuple[float, float, float] | None = None
+        """(until, curvature, direction) of a manoeuvre backing out (or, blocked behind, pulling out)."""
         self._t = 0.0
+        self._pose: Pose2D = (0.0, 0.0, 0.0)
 
     # -- the step -------------------------------------------------------------------------------------
     def step(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *,
@@ -157,33 +176,15 @@ class Follower:
         """One control step: obstacle points in the base frame now, the latest track, the odometry pose,
         and what moves in the scan (`MotionDetector`), which is where a lost target is looked for."""
         dt = max(0.0, t - self._t)
-        self._t = t
+        self._t, self._pose = t, pose
         p = self.params
         px, py = np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64)
-        fix = None
-        if track is not None and track.found and track.bearing_rad is not None:
-            fix = locate_target(px, py, self.camera, track.bearing_rad, track.range_m, size_m=p.target_size_m)
-            if fix is not None:
-                self.memory.camera_seen = t
-                self.memory.remember(t, fix, pose)
-        if fix is None and t - self.memory.camera_seen <= p.lidar_hold_s:
-            # Out of the camera's view (beside the robot, too close) but still in the scan: follow its
-            # returns for a while, so its position and velocity stay current.
-            fix = self.memory.lidar_fix(px, py, self.memory.predicted(t, pose, p.lidar_hold_s))
-            if fix is not None:
-                self.memory.remember(t, fix, pose)
+        fix = self.finder.find(t, px, py, track, pose, movers=movers)
         goal = (fix.x_m, fix.y_m) if fix is not None else self.memory.predicted(t, pose, p.coast_s)
-        if goal is None and movers:
-            # Lost, and something moves in the scan: most likely the target (nothing else in a room
-            # walks); turn to it and the tracker's re-detection has it in view again.
-            fix = self.memory.mover_fix(px, py, movers, pose)
-            if fix is not None:
-                self.memory.remember(t, fix, pose)
-                goal = (fix.x_m, fix.y_m)
         mask = fix.mask if fix is not None else np.zeros(px.shape[0], dtype=bool)
         view = _View(px[~mask], py[~mask], px[mask], py[mask], fix)
         if self._recover is not None and t < self._recover[0]:
-            decision = self._backing(view, self._recover[1])
+            decision = self._manoeuvre(view, self._recover[1], self._recover[2])
         elif goal is None:
             self._recover = None
             return self._search(view, pose, dt)
@@ -253,8 +254,19 @@ class Follower:
         if want < -0.02:
             return self._back_off(view, gap, -want, bearing)
         curvature = 2 * math.sin(bearing) / max(dist, 0.3)
+        cam = self.camera
+        off_view = abs(math.atan2(gy - cam.mount_y_m, gx - cam.mount_x_m) - cam.mount_yaw_rad) - cam.half_fov_rad
+        if self.ackermann and gap > p.stop_gap_m + 0.1 and off_view > -0.2 * cam.half_fov_rad:
+            # Out of the camera's view: a car turns only as it drives, so drive, on the tightest arc
+            # towards it (pure pursuit's gentle arc at a creeping speed would leave it out of view).
+            curvature = math.copysign(self.avoider.params.max_curvature, bearing)
+            want = max(want, p.search_speed_m_s)
         plan = self.avoider.plan(ox, oy, bearing, max(want, 0.0), target_xy=(tx, ty), curvature=curvature, goal_m=dist)
         v, w = self._command(plan, view, turn_to=plan.direction_rad)
+        if not self.ackermann and v <= 0.02 and abs(plan.direction_rad) > 0.3 and not self._can_spin(view):
+            # It has to turn to the target and is too close to something to turn on the spot: get
+            # room first (standing there, it would wait for ever).
+            return self._unstick(view, gap)
         mode = Mode.AVOID if plan.deflected else Mode.TRACK
         if abs(v) < 0.02 and abs(w) < 0.05:
             mode = Mode.STOP
@@ -354,54 +366,78 @@ class Follower:
         return v, w
 
     def _back_off(self, view: _View, gap: float, speed: float, bearing: float) -> Decision:
-        """Reverse away from a target that came too close, still facing it (a differential drive turns
-        to it as it goes)."""
+        """Reverse away from a target that came too close, still facing it: a differential drive turns
+        to it as it goes; an Ackermann robot reverses with its wheels turned away from it, which swings
+        the nose towards it (straight back, a target off to one side leaves the camera's view)."""
         a, fix = self.avoider.params, view.fix
         x, y = view.xy
-        w = 0.0 if self.ackermann else max(-1.0, min(1.0, self.params.gain_turn * bearing))
-        k = -w / speed if speed > 0 else 0.0
+        if self.ackermann:
+            w, k = 0.0, -math.copysign(min(a.max_curvature, 2.5 * abs(math.sin(bearing))), bearing)
+        else:
+            w = max(-1.0, min(1.0, self.params.gain_turn * bearing))
+            k = -w / speed if speed > 0 else 0.0
         free = float(self._room(x, y, np.array([k]), reverse=True)[0])
         v = min(speed, safe_speed(free, a, ttc=False))
         if v < 0.02:
             return Decision(0.0, w if self._can_spin(view) else 0.0, Mode.STOP, fix, gap)
-        return Decision(-v, w if not self.ackermann else 0.0, Mode.TRACK, fix, gap)
+        if self.ackermann:
+            return Decision(-v, -v * k, Mode.TRACK, fix, gap)
+        return Decision(-v, w, Mode.TRACK, fix, gap)
 
     # -- searching --------------------------------------------------------------------------------------
     def _search(self, view: _View, pose: Pose2D, dt: float) -> Decision:
-        """Go to where the target was heading, then look round towards the side it was last seen;
-        after a whole turn round without it, go somewhere else to look from (`_wander`)."""
+        """Step off the target's route once, go to where it was heading, and look round towards the side
+        it went; after a whole turn round without it, go somewhere else to look from (`_wander`). The
+        side is chosen when the search begins and kept: a search that changes its mind sees nothing."""
         p = self.params
+        last = self.memory.predicted(self._t, pose, 8.0)
         if self._search_from is None:
             self._search_from = pose[2]
+            self._search_side = self.memory.side if last is None else (1.0 if last[1] >= 0 else -1.0)
+            off = self.memory.off_route(pose, self.footprint.radius_m, self.footprint.x_m)
+            self._step_off = None if off is None else (self._t + 1.5, pose[2] + off)
+            self._going = self._no_go = False
         if self._wander is None and abs(pose[2] - self._search_from) > 2 * math.pi:
             self._wander = self._wander_goal(view, pose)
         if self._wander is not None:
             decision = self._go_wander(view, pose, dt)
             if decision is not None:
                 return decision
-        last = self.memory.predicted(self._t, pose, 8.0)
-        if last is not None and math.hypot(*last) > 0.8:
-            goal, speed = math.atan2(last[1], last[0]), p.search_speed_m_s
-        else:
-            goal, speed = self.memory.side * 0.75 * math.pi, p.search_speed_m_s
-        near = last is None or math.hypot(*last) <= 0.8
-        off = self.memory.off_route(pose, self.footprint.radius_m, self.footprint.x_m)
-        if off is not None:  # standing on its route while it cannot be seen: step off it first
-            plan = self.avoider.plan(view.ox, view.oy, off, p.search_speed_m_s, target_xy=(view.tx, view.ty))
-            v, w = self._command(plan, view, turn_to=plan.direction_rad)
-            if v > 0.02 or abs(w) > 0.05:
-                return Decision(v, w, Mode.SEARCH, None, None, plan)
-        if not self.ackermann and (near or abs(goal) > 0.5):
-            turn = self.memory.side if near else goal
-            if self._can_spin(view):
-                return Decision(0.0, math.copysign(p.search_turn_rate, turn), Mode.SEARCH, None, None)
-            return self._unstick(view)
-        if self.ackermann and (near or abs(goal) > 2.0):
+        if self._step_off is not None:  # standing on its route while it cannot be seen: off it first
+            until, heading = self._step_off
+            decision = self._search_towards(view, math.remainder(heading - pose[2], 2 * math.pi), dt)
+            if self._t < until and decision is not None:
+                return decision
+            self._step_off = None
+        if last is not None and math.hypot(*last) > 0.8 and not self._no_go:
+            decision = self._search_towards(view, math.atan2(last[1], last[0]), dt)
+            if decision is not None:
+                self._going = True
+                return decision
+            # Going there and the way is blocked: look round from here (not back and forth).
+            self._no_go = self._going
+        if self.ackermann:
             return self._k_turn(view, dt)
-        plan = self.avoider.plan(view.ox, view.oy, goal, speed, target_xy=(view.tx, view.ty))
+        if self._can_spin(view):
+            return Decision(0.0, self._search_side * p.search_turn_rate, Mode.SEARCH, None, None)
+        return self._unstick(view)
+
+    def _search_towards(self, view: _View, bearing: float, dt: float) -> Decision | None:
+        """Drive towards `bearing` at search speed, turning no faster than `search_turn_rate` (so the
+        motion detector keeps comparing revolutions). None when that is not the way to go: the bearing
+        is behind the robot's turning (it looks round instead) or the way there is blocked."""
+        p = self.params
+        if (not self.ackermann and abs(bearing) > (1.0 if self._going else 0.5)) or abs(bearing) > 2.0:
+            return None
+        plan = self.avoider.plan(view.ox, view.oy, bearing, p.search_speed_m_s, target_xy=(view.tx, view.ty))
+        if abs(plan.direction_rad - bearing) > 1.0:
+            return None
         v, w = self._command(plan, view, turn_to=plan.direction_rad)
+        w = max(-p.search_turn_rate, min(p.search_turn_rate, w))
         if self._stuck(v < 0.02, dt):
-            return self._start_backing(view, side=self.memory.side)
+            return self._start_backing(view, side=self._search_side)
+        if v < 0.02 and not self.ackermann:
+            return None
         return Decision(v, w, Mode.SEARCH, None, None, plan)
 
     def _wander_goal(self, view: _View, pose: Pose2D) -> tuple[float, float, float]:
@@ -442,7 +478,7 @@ class Follower:
         p, a = self.params, self.avoider.params
         x, y = view.xy
         leg, travelled = self._k_leg
-        k = self.memory.side * a.max_curvature * leg  # forwards: towards the side; backwards: away from it
+        k = self._search_side * a.max_curvature * leg  # forwards: towards the side; backwards: away from it
         free = float(self._room(x, y, np.array([k]), reverse=leg < 0)[0])
         v = min(p.search_speed_m_s, safe_speed(free, a, ttc=False))
         if v < 0.05 or travelled >= p.k_turn_leg_m:
@@ -458,7 +494,7 @@ class Follower:
         x, y = view.xy
         return not bool((np.hypot(x, y) < reach).any())
 
-    def _unstick(self, view: _View) -> Decision:
+    def _unstick(self, view: _View, gap: float | None = None) -> Decision:
         """Too close to something to turn in place: move straight away from it, whichever way is free."""
         a = self.avoider.params
         x, y = view.xy
@@ -466,8 +502,8 @@ class Follower:
         behind = float(self._room(x, y, np.array([0.0]), reverse=True)[0])
         v = min(0.15, safe_speed(max(ahead, behind), a, ttc=False))
         if v < 0.02:
-            return Decision(0.0, 0.0, Mode.STOP, None, None)
-        return Decision(v if ahead >= behind else -v, 0.0, Mode.RECOVER, None, None)
+            return Decision(0.0, 0.0, Mode.STOP, view.fix, gap)
+        return Decision(v if ahead >= behind else -v, 0.0, Mode.RECOVER, view.fix, gap)
 
     # -- backing out (Ackermann) ------------------------------------------------------------------------
     def _stuck(self, blocked: bool, dt: float) -> bool:
@@ -483,24 +519,35 @@ class Follower:
 
     def _start_backing(self, view: _View, side: float) -> Decision:
         """Reverse on the tightest arc that swings the nose towards `side` (or, if that is blocked,
-        whichever reverse arc has the most room) for `recover_s`."""
+        whichever reverse arc has the most room) for `recover_s`. With no room behind, drive forwards
+        on the tightest arc towards `side` that has room instead: standing still fixes nothing."""
         a, fix = self.avoider.params, view.fix
         x, y = view.xy
         options = (-side * a.max_curvature, 0.0, side * a.max_curvature)
         free = self._room(x, y, np.array(options), reverse=True)
         usable = [i for i in range(3) if free[i] > 0.25]
+        if usable:
+            k = options[usable[0]] if 0 in usable else options[int(np.argmax(free))]
+            self._recover = (self._t + self.params.recover_s, k, -1.0)
+            return self._manoeuvre(view, k, -1.0)
+        forwards = options[::-1]
+        ahead = self._room(x, y, np.array(forwards))
+        velocity = self.memory.velocity_in(self._pose)
+        usable = [i for i in range(3) if ahead[i] > 0.35 and (fix is None or self._separation(
+            0.2, forwards[i], (fix.x_m, fix.y_m), velocity) >= self.params.guard_gap_m)]  # fmt: skip
         if not usable:
             return Decision(0.0, 0.0, Mode.STOP, fix, None)
-        k = options[usable[0]] if 0 in usable else options[int(np.argmax(free))]
-        self._recover = (self._t + self.params.recover_s, k)
-        return self._backing(view, k)
+        k = forwards[usable[0]]
+        self._recover = (self._t + self.params.recover_s, k, 1.0)
+        return self._manoeuvre(view, k, 1.0)
 
-    def _backing(self, view: _View, k: float) -> Decision:
+    def _manoeuvre(self, view: _View, k: float, direction: float) -> Decision:
+        """Drive on curvature k, forwards (+1) or backwards (-1), as far as there is room."""
         a, fix = self.avoider.params, view.fix
         px, py = view.xy
-        free = float(self._room(px, py, np.array([k]), reverse=True)[0])
+        free = float(self._room(px, py, np.array([k]), reverse=direction < 0)[0])
         v = min(self.params.reverse_speed_m_s * 0.6, safe_speed(free, a, ttc=False))
         if v < 0.02:
             self._recover = None
             return Decision(0.0, 0.0, Mode.STOP, fix, None)
-        return Decision(-v, -v * k, Mode.RECOVER, fix, None)
+        return Decision(direction * v, direction * v * k, Mode.RECOVER, fix, None)

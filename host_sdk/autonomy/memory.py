@@ -63,14 +63,15 @@ class TargetMemory:
         vx, vy = self.velocity
         return c * vx + s * vy, -s * vx + c * vy
 
-    def lidar_fix(self, px: F64, py: F64, predicted: tuple[float, float] | None) -> TargetFix | None:
-        """The target's returns where it should be now: a compact cluster near the prediction with
-        nothing else around it (a wall or a box nearby makes it ambiguous: then none)."""
+    def lidar_fix(self, px: F64, py: F64, predicted: tuple[float, float] | None, *,
+                  gate_m: float = 0.3) -> TargetFix | None:  # fmt: skip
+        """The target's returns where it should be now: a compact cluster within `gate_m` of the
+        prediction with nothing else around it (a wall or a box nearby makes it ambiguous: then none)."""
         if predicted is None or not px.size:
             return None
         d = np.hypot(px - predicted[0], py - predicted[1])
         i = int(np.argmin(d))
-        if d[i] > 0.3:
+        if d[i] > gate_m:
             return None
         sx, sy = float(px[i]), float(py[i])
         r = np.hypot(px - sx, py - sy)
@@ -79,20 +80,32 @@ class TargetMemory:
             return None
         return TargetFix(sx, sy, r < inner, True)
 
-    def mover_fix(self, px: F64, py: F64, movers: Sequence[Mover], pose: Pose2D) -> TargetFix | None:
-        """The moving cluster nearest where the target was last seen (or nearest the robot), with its
-        returns among the points given (base frame)."""
-        if not movers:
-            return None
-        ref = (self.seen[1], self.seen[2]) if self.seen is not None else to_world(pose, 0.0, 0.0)
-        best = min(movers, key=lambda m: math.hypot(m.x_m - ref[0], m.y_m - ref[1]))
-        bx, by = to_base(pose, best.x_m, best.y_m)
-        if px.size:
-            d = np.hypot(px - bx, py - by)
-            i = int(np.argmin(d))
-            if d[i] < 0.3:
-                bx, by = float(px[i]), float(py[i])
-        return TargetFix(bx, by, np.hypot(px - bx, py - by) < self._cluster_radius, True)
+    def mover_fix(self, px: F64, py: F64, movers: Sequence[Mover], pose: Pose2D, *,
+                  near: tuple[float, float] | None = None, gate_m: float = math.inf,
+                  compact: bool = False) -> TargetFix | None:  # fmt: skip
+        """The moving cluster nearest `near` (base frame; by default where the target was last seen,
+        or the robot), if within `gate_m` of it, with its returns among the points given (base frame).
+        With `compact`, only one standing clear of everything else (a "mover" on a wall or a box is
+        the detector seeing an edge from a new angle, far more often than the target against it)."""
+        if near is not None:
+            ref = to_world(pose, *near)
+        else:
+            ref = (self.seen[1], self.seen[2]) if self.seen is not None else to_world(pose, 0.0, 0.0)
+        inner = self._cluster_radius
+        for mover in sorted(movers, key=lambda m: math.hypot(m.x_m - ref[0], m.y_m - ref[1])):
+            if math.hypot(mover.x_m - ref[0], mover.y_m - ref[1]) > gate_m:
+                return None
+            bx, by = to_base(pose, mover.x_m, mover.y_m)
+            if px.size:
+                d = np.hypot(px - bx, py - by)
+                i = int(np.argmin(d))
+                if d[i] < 0.3:
+                    bx, by = float(px[i]), float(py[i])
+            r = np.hypot(px - bx, py - by)
+            if compact and ((r >= inner) & (r < inner + 0.25)).any():
+                continue
+            return TargetFix(bx, by, r < inner, True)
+        return None
 
     @property
     def _cluster_radius(self) -> float:

@@ -71,6 +71,8 @@ class _Revolution:
     skew_rad: float
     """How far the robot turned since the revolution before: about how far apart in heading this
     one's first and last beams are."""
+    turn_rate: float
+    """rad/s, while it was taken."""
 
 
 class MotionDetector:
@@ -83,28 +85,37 @@ class MotionDetector:
         """Take a filtered revolution and the pose it was taken at; the confirmed movers now."""
         p = self.params
         t = scan.time_s
+        rate = self._turn_rate(t, pose)
         skew = 0.0
-        if self._history:
-            last = self._history[-1]
-            skew = abs(math.remainder(pose[2] - last.pose[2], 2 * math.pi))
-            if t > last.time_s and skew / (t - last.time_s) > p.max_turn_rate:
-                # Spinning, a revolution's first and last beams are tens of degrees apart in
-                # heading: not a picture to compare free space with.
-                self._history.clear()
-                return self._confirm(t, [])
+        if self._history and t > self._history[-1].time_s:
+            skew = rate * (t - self._history[-1].time_s)
         x, y = scan.points_xy()
         wx, wy = move_points(x, y, pose, (0.0, 0.0, 0.0))  # into the odometry frame
         r = np.hypot(x, y)
         moving = np.zeros(x.shape[0], dtype=bool)
         usable = (r > p.min_range_m) & (r < p.max_range_m)
-        for lag in p.lags_s:
+        for lag in p.lags_s if rate <= p.max_turn_rate else ():
             old = self._at_age(t, lag)
-            if old is not None:
+            if old is not None and old.turn_rate <= p.max_turn_rate:
+                # Spinning, a revolution's first and last beams are tens of degrees apart in heading:
+                # not a picture to compare free space with.
                 moving |= usable & _free_before(old, wx, wy, p.margin_m, (skew + old.skew_rad) / 2)
-        self._history.append(_Revolution(t, pose, scan.angles_rad, scan.ranges_m, skew))
+        self._history.append(_Revolution(t, pose, scan.angles_rad, scan.ranges_m, skew, rate))
         while self._history and t - self._history[0].time_s > max(p.lags_s) + 1.0:
             self._history.popleft()
         return self._confirm(t, _clusters(wx[moving], wy[moving], pose, p))
+
+    def _turn_rate(self, t: float, pose: Pose2D) -> float:
+        """How fast the robot turns, over the last half second or more: a revolution's pose comes from
+        the host's loop and may be a control step off, so one revolution's own turn is jittery."""
+        ref = None
+        for entry in reversed(self._history):
+            ref = entry
+            if t - entry.time_s >= 0.5:
+                break
+        if ref is None or t <= ref.time_s:
+            return 0.0
+        return abs(math.remainder(pose[2] - ref.pose[2], 2 * math.pi)) / (t - ref.time_s)
 
     def _at_age(self, t: float, lag: float) -> _Revolution | None:
         """The newest revolution at least `lag` old."""

@@ -10,6 +10,10 @@ Input is a driver's `LidarScan` (host_sdk.sensors), anything shaped like a ROS `
 (`RawScan.from_arrays`). Each revolution is binned into fixed angular bins around the pose point
 (the nearest return in a bin wins: obstacles are never averaged away), then filtered:
 
+- de-skewing (with `pose_at=` and a driver's per-return times): each return is placed with the pose
+  the robot had when it was measured, not the revolution's one pose (turning fast, the ends of a
+  revolution are tens of degrees apart).
+
 - temporal median over the last `temporal` revolutions, per bin (the PiCar team's choice, which
   removes single-revolution outliers). Older revolutions are first moved into the current frame with
   the robot's pose at each, so the median does not smear obstacles while driving; a bin with no
@@ -32,6 +36,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
@@ -84,6 +89,9 @@ class DriverScanLike(Protocol):
     @property
     def time_s(self) -> float: ...
 
+    @property
+    def times_s(self) -> F64: ...
+
 
 @dataclass(frozen=True, slots=True, eq=False)
 class RawScan:
@@ -94,17 +102,22 @@ class RawScan:
     time_s: float = 0.0
     range_min_m: float = 0.0
     """The device's shortest range: anything nearer is not seen at all."""
+    times_s: F64 | None = None
+    """When each return was measured, if known (a revolution takes 0.1..0.2 s)."""
 
     @classmethod
     def from_arrays(cls, angles_rad: object, ranges_m: object, *, range_min_m: float = 0.0,
-                    range_max_m: float = math.inf, time_s: float = 0.0) -> RawScan:  # fmt: skip
+                    range_max_m: float = math.inf, time_s: float = 0.0, times_s: object = None) -> RawScan:  # fmt: skip
         """Arrays of equal length; ranges outside range_min..range_max, 0, inf or NaN are no return."""
         a = np.asarray(angles_rad, dtype=np.float64).ravel()
         r = np.asarray(ranges_m, dtype=np.float64).ravel()
         if a.shape != r.shape:
             raise CommandRangeError("ranges_m", f"{r.shape[0]} values", f"one per angle ({a.shape[0]} angles)")
+        times = None if times_s is None else np.asarray(times_s, dtype=np.float64).ravel()
+        if times is not None and times.shape != r.shape:
+            raise CommandRangeError("times_s", f"{times.shape[0]} values", f"one per angle ({a.shape[0]} angles)")
         ok = np.isfinite(r) & (r > 0) & (r >= range_min_m) & (r <= range_max_m)
-        return cls(a, np.where(ok, r, np.nan), float(time_s), float(range_min_m))
+        return cls(a, np.where(ok, r, np.nan), float(time_s), float(range_min_m), times)
 
     @classmethod
     def from_laserscan(cls, msg: LaserScanLike, time_s: float = 0.0) -> RawScan:
@@ -117,7 +130,7 @@ class RawScan:
     def from_driver(cls, scan: DriverScanLike) -> RawScan:
         """A `host_sdk.sensors.LidarScan` (RPLIDAR A1, YDLIDAR F4)."""
         return cls.from_arrays(scan.angles_rad, scan.ranges_m, range_min_m=scan.range_min_m,
-                               range_max_m=scan.range_max_m, time_s=scan.time_s)  # fmt: skip
+                               range_max_m=scan.range_max_m, time_s=scan.time_s, times_s=scan.times_s)  # fmt: skip
 
 
 def as_raw(scan: RawScan | DriverScanLike | LaserScanLike) -> RawScan:
@@ -225,10 +238,17 @@ class ScanFilter:
         r = raw.ranges_m[ok]
         return m.x_m + r * np.cos(a), m.y_m + r * np.sin(a), raw
 
-    def update(self, scan: RawScan | DriverScanLike | LaserScanLike, pose: Pose2D | None = None) -> ObstacleScan:
-        """Add a revolution (with the robot's pose when it was taken) and return the filtered picture."""
+    def update(self, scan: RawScan | DriverScanLike | LaserScanLike, pose: Pose2D | None = None, *,
+               pose_at: Callable[[float], Pose2D] | None = None) -> ObstacleScan:  # fmt: skip
+        """Add a revolution (with the robot's pose when it was taken) and return the filtered picture.
+        With `pose_at` (the pose at any recent time) and per-return times, each return is first moved
+        from where the robot was when it was measured to `pose` (de-skewing: turning at 1.6 rad/s, the
+        two ends of a 0.18 s revolution are 17 degrees apart)."""
         x, y, raw = self._points(scan)
         here = pose or (0.0, 0.0, 0.0)
+        if pose_at is not None and raw.times_s is not None and x.size > 1:
+            times = raw.times_s[np.isfinite(raw.ranges_m)]
+            x, y = deskew(x, y, times, pose_at, here)
         self._history.append((x, y, here))
         layers = [bin_points(*move_points(px, py, then, here), self.bins) for px, py, then in self._history]
         stack = np.nan_to_num(np.vstack(layers), nan=np.inf)
@@ -262,6 +282,18 @@ class ScanFilter:
         keep = raw.time_s - bt <= self.blind_hold_s
         self._blind = [(bx[keep], by[keep], here, bt[keep])]
         return bx[keep], by[keep]
+
+
+def deskew(x: F64, y: F64, times: F64, pose_at: Callable[[float], Pose2D], now: Pose2D) -> tuple[F64, F64]:
+    """Base-frame points each taken at its own time, seen from pose `now`: the robot's pose at each
+    time is interpolated between those at the first and the last time (steady over a revolution)."""
+    t0, t1 = float(times.min()), float(times.max())
+    (x0, y0, a0), (x1, y1, a1) = pose_at(t0), pose_at(t1)
+    f = (times - t0) / (t1 - t0) if t1 > t0 else np.zeros_like(times)
+    th = a0 + f * math.remainder(a1 - a0, 2 * math.pi)
+    c, s = np.cos(th), np.sin(th)
+    wx, wy = x0 + f * (x1 - x0) + c * x - s * y, y0 + f * (y1 - y0) + s * x + c * y
+    return move_points(wx, wy, (0.0, 0.0, 0.0), now)
 
 
 def move_points(x: F64, y: F64, then: Pose2D, now: Pose2D) -> tuple[F64, F64]:

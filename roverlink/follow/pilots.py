@@ -10,6 +10,7 @@ import dataclasses
 import math
 import warnings
 from collections import deque
+from collections.abc import Callable
 from typing import Protocol
 
 import numpy as np
@@ -28,7 +29,9 @@ Pose2D = tuple[float, float, float]
 class Pilot(Protocol):
     name: str
 
-    def on_scan(self, scan: LidarScan, pose: Pose2D) -> None: ...
+    def on_scan(self, scan: LidarScan, pose: Pose2D, *, pose_at: Callable[[float], Pose2D] | None = None) -> None:
+        """A revolution, the pose at its mid-time, and (to de-skew it) the pose at any recent time."""
+        ...
 
     def on_frame(self, frame: CameraFrame, pose: Pose2D) -> Track | None: ...
 
@@ -57,8 +60,8 @@ class RoverLinkPilot:
         self.last_frame: CameraFrame | None = None
         self.last_track: Track | None = None
 
-    def on_scan(self, scan: LidarScan, pose: Pose2D) -> None:
-        obstacles = self.scan_filter.update(scan, pose)
+    def on_scan(self, scan: LidarScan, pose: Pose2D, *, pose_at: Callable[[float], Pose2D] | None = None) -> None:
+        obstacles = self.scan_filter.update(scan, pose, pose_at=pose_at)
         self.last_scan = obstacles
         self.movers = self.motion.update(obstacles, pose)
         x, y = obstacles.points_xy()
@@ -130,7 +133,8 @@ class PiCarBaseline:
         self.steer = "straight"
         """The latest command sent (what the Arduino holds)."""
 
-    def on_scan(self, scan: LidarScan, pose: Pose2D) -> None:
+    def on_scan(self, scan: LidarScan, pose: Pose2D, *, pose_at: Callable[[float], Pose2D] | None = None) -> None:
+        """Their filter had no motion compensation: `pose` and `pose_at` are not used."""
         ok = np.isfinite(scan.ranges_m)
         a = scan.angles_rad[ok] + self.mount.yaw_rad
         r = scan.ranges_m[ok]

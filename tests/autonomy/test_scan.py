@@ -143,3 +143,33 @@ def test_points_swallowed_by_the_blind_zone_are_kept_for_a_while() -> None:
     assert kept.range_at(0.0, math.radians(5)) == pytest.approx(0.1, abs=0.01)
     gone = filt.update(RawScan(ANGLES, blind.ranges_m, 2.6, 0.12), pose=(0.2, 0.0, 0.0))
     assert gone.range_at(0.0, math.radians(5)) == math.inf
+
+
+def test_a_revolution_taken_while_spinning_is_deskewed_with_the_pose_of_each_return() -> None:
+    # Spinning at 1.6 rad/s, a 0.125 s revolution's ends are 11 degrees apart, and they meet behind
+    # the robot (the beam starts at -pi): a wall 1 m behind comes out torn in two unless each return
+    # is placed with the heading the robot had when it was measured.
+    rate, period = 1.6, 0.125
+    times = period * (ANGLES + math.pi) / (2 * math.pi)  # the beam sweeps round from -pi
+    heading = rate * times
+    world = ANGLES + heading  # each beam's direction in the odometry frame at its time
+    with np.errstate(divide="ignore"):
+        r = np.where(np.cos(world) < -0.3, -1.0 / np.cos(world), np.nan)
+    raw = RawScan.from_arrays(ANGLES, r, range_max_m=12.0, times_s=times)
+    mid = (0.0, 0.0, rate * period / 2)
+
+    def pose_at(t: float) -> tuple[float, float, float]:
+        return 0.0, 0.0, rate * t
+
+    def wall_x(obstacles: object) -> np.ndarray:
+        x, y = obstacles.points_xy()  # type: ignore[attr-defined]
+        th = mid[2]
+        wx, wy = x * math.cos(th) - y * math.sin(th), x * math.sin(th) + y * math.cos(th)
+        return wx[np.abs(wy) < 0.5]  # back into the odometry frame, where the wall is x = -1
+
+    straight = wall_x(ScanFilter(temporal=1).update(raw, mid, pose_at=pose_at))
+    assert straight == pytest.approx(-np.ones_like(straight), abs=0.01)
+    torn = wall_x(ScanFilter(temporal=1).update(raw, mid))
+    assert np.abs(torn + 1.0).max() > 0.03
+    with pytest.raises(CommandRangeError, match="times_s"):
+        RawScan.from_arrays(ANGLES, r, times_s=times[:-1])
