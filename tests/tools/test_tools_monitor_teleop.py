@@ -92,7 +92,8 @@ def test_teleop_drives_while_keys_arrive_and_stops_when_they_stop(profile: str) 
         async def run() -> None:
             async with app.run_test() as pilot:
                 await pilot.press("enter")
-                assert await until(lambda: robot.armed, pilot)  # the PiCar's ESC window first
+                # the PiCar's ESC window first; a refused arm leaves its reason in the message
+                assert await until(lambda: robot.armed, pilot), controller.message
                 driving = await hold(pilot, "up", times=20)
                 assert max(min(s.wheel_speeds_m_s[: 1 if ackermann else 2]) for s in driving) > 0.05
                 assert controller.setpoint is not None and controller.setpoint.linear_m_s > 0
