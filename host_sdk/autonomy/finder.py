@@ -79,8 +79,7 @@ class TargetFinder:
         if fix is None:
             return None
         cam = self.camera
-        bearing = math.atan2(fix.y_m - cam.mount_y_m, fix.x_m - cam.mount_x_m)
-        looking = abs(bearing - cam.mount_yaw_rad) < 0.7 * cam.half_fov_rad and fix.range_m < 3.5
+        looking = abs(cam.off_axis_rad(fix.x_m, fix.y_m)) < 0.7 * cam.half_fov_rad and fix.range_m < 3.5
         self._doubt = self._doubt + dt if looking and track is not None and not track.found else 0.0
         if self._doubt > self.doubt_s or t - self._unconfirmed_since > self.confirm_s:
             self._rejected.append((t + self.reject_s, *to_world(pose, fix.x_m, fix.y_m)))

@@ -254,9 +254,8 @@ class Follower:
         if want < -0.02:
             return self._back_off(view, gap, -want, bearing)
         curvature = 2 * math.sin(bearing) / max(dist, 0.3)
-        cam = self.camera
-        off_view = abs(math.atan2(gy - cam.mount_y_m, gx - cam.mount_x_m) - cam.mount_yaw_rad) - cam.half_fov_rad
-        if self.ackermann and gap > p.stop_gap_m + 0.1 and off_view > -0.2 * cam.half_fov_rad:
+        out_of_view = abs(self.camera.off_axis_rad(gx, gy)) > 0.8 * self.camera.half_fov_rad
+        if self.ackermann and gap > p.stop_gap_m + 0.1 and out_of_view:
             # Out of the camera's view: a car turns only as it drives, so drive, on the tightest arc
             # towards it (pure pursuit's gentle arc at a creeping speed would leave it out of view).
             curvature = math.copysign(self.avoider.params.max_curvature, bearing)
@@ -372,16 +371,17 @@ class Follower:
         a, fix = self.avoider.params, view.fix
         x, y = view.xy
         if self.ackermann:
-            w, k = 0.0, -math.copysign(min(a.max_curvature, 2.5 * abs(math.sin(bearing))), bearing)
-        else:
-            w = max(-1.0, min(1.0, self.params.gain_turn * bearing))
-            k = -w / speed if speed > 0 else 0.0
-        free = float(self._room(x, y, np.array([k]), reverse=True)[0])
+            k = -math.copysign(min(a.max_curvature, 2.5 * abs(math.sin(bearing))), bearing)
+            free = float(self._room(x, y, np.array([k]), reverse=True)[0])
+            v = min(speed, safe_speed(free, a, ttc=False))
+            if v < 0.02:
+                return Decision(0.0, 0.0, Mode.STOP, fix, gap)
+            return Decision(-v, -v * k, Mode.TRACK, fix, gap)
+        w = max(-1.0, min(1.0, self.params.gain_turn * bearing))
+        free = float(self._room(x, y, np.array([-w / speed if speed > 0 else 0.0]), reverse=True)[0])
         v = min(speed, safe_speed(free, a, ttc=False))
         if v < 0.02:
             return Decision(0.0, w if self._can_spin(view) else 0.0, Mode.STOP, fix, gap)
-        if self.ackermann:
-            return Decision(-v, -v * k, Mode.TRACK, fix, gap)
         return Decision(-v, w, Mode.TRACK, fix, gap)
 
     # -- searching --------------------------------------------------------------------------------------

@@ -73,12 +73,8 @@ class TargetMemory:
         i = int(np.argmin(d))
         if d[i] > gate_m:
             return None
-        sx, sy = float(px[i]), float(py[i])
-        r = np.hypot(px - sx, py - sy)
-        inner = self._cluster_radius
-        if ((r >= inner) & (r < inner + 0.25)).any():
-            return None
-        return TargetFix(sx, sy, r < inner, True)
+        fix, clear = self._cluster(px, py, float(px[i]), float(py[i]))
+        return fix if clear else None
 
     def mover_fix(self, px: F64, py: F64, movers: Sequence[Mover], pose: Pose2D, *,
                   near: tuple[float, float] | None = None, gate_m: float = math.inf,
@@ -91,7 +87,6 @@ class TargetMemory:
             ref = to_world(pose, *near)
         else:
             ref = (self.seen[1], self.seen[2]) if self.seen is not None else to_world(pose, 0.0, 0.0)
-        inner = self._cluster_radius
         for mover in sorted(movers, key=lambda m: math.hypot(m.x_m - ref[0], m.y_m - ref[1])):
             if math.hypot(mover.x_m - ref[0], mover.y_m - ref[1]) > gate_m:
                 return None
@@ -101,16 +96,17 @@ class TargetMemory:
                 i = int(np.argmin(d))
                 if d[i] < 0.3:
                     bx, by = float(px[i]), float(py[i])
-            r = np.hypot(px - bx, py - by)
-            if compact and ((r >= inner) & (r < inner + 0.25)).any():
-                continue
-            return TargetFix(bx, by, r < inner, True)
+            fix, clear = self._cluster(px, py, bx, by)
+            if clear or not compact:
+                return fix
         return None
 
-    @property
-    def _cluster_radius(self) -> float:
-        """Returns within this of the target's nearest one are the target's."""
-        return 0.6 * self.target_size_m + 0.05
+    def _cluster(self, px: F64, py: F64, sx: float, sy: float) -> tuple[TargetFix, bool]:
+        """The target's fix with its surface at (sx, sy): the returns within its size of that point are
+        its own; and whether it stands clear (nothing else within 0.25 m beyond them)."""
+        inner = 0.6 * self.target_size_m + 0.05
+        r = np.hypot(px - sx, py - sy)
+        return TargetFix(sx, sy, r < inner, True), not bool(((r >= inner) & (r < inner + 0.25)).any())
 
     def off_route(self, pose: Pose2D, radius_m: float, x_m: float) -> float | None:
         """Bearing (base frame) away from the target's route when the robot stands on it, else None."""

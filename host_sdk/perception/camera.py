@@ -68,6 +68,11 @@ class CameraModel:
     def half_fov_rad(self) -> float:
         return math.atan2(self.width / 2, self.fx)
 
+    def off_axis_rad(self, x_m: float, y_m: float) -> float:
+        """How far a base-frame point is from the optical axis, seen from the camera (rad, left
+        positive): within `half_fov_rad` either way it is in the picture."""
+        return math.remainder(math.atan2(y_m - self.mount_y_m, x_m - self.mount_x_m) - self.mount_yaw_rad, 2 * math.pi)
+
     def range_from_size(self, *, w_px: float | None = None, h_px: float | None = None,
                         width_m: float | None = None, height_m: float | None = None) -> float | None:  # fmt: skip
         """Depth (m, along the optical axis) of an object of known width and/or height from its

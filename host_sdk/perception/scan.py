@@ -13,7 +13,6 @@ Input is a driver's `LidarScan` (host_sdk.sensors), anything shaped like a ROS `
 - de-skewing (with `pose_at=` and a driver's per-return times): each return is placed with the pose
   the robot had when it was measured, not the revolution's one pose (turning fast, the ends of a
   revolution are tens of degrees apart).
-
 - temporal median over the last `temporal` revolutions, per bin (the PiCar team's choice, which
   removes single-revolution outliers). Older revolutions are first moved into the current frame with
   the robot's pose at each, so the median does not smear obstacles while driving; a bin with no
