@@ -11,7 +11,8 @@ moving at 0.15-0.3 m/s round 3-4 waypoints, the robot somewhere in it facing any
 profile's lidar (PiCar: YDLIDAR F4; diff-drive car: an RPLIDAR A1 on top), the Pi Camera v2 model at
 `--fps`, the JY901 at 200 Hz; the same template and detector for both pilots, the same top speed.
 
-Per profile and pilot: collisions (contacts recorded by the emulator: obstacles and the target),
+Per profile and pilot: collisions (contacts recorded by the emulator: obstacles and the target,
+and how many of them the robot was run into: it stood or moved away, and the target walked into it),
 worlds with any; the target in the camera's view (truth: inside the field of view with a clear line
 of sight) as a share of the time from the first sight; the mean and worst following error
 (|gap - the wanted gap|: 0.9 m on the PiCar, 0.5 m on the diff-drive car; gap = footprint to target
@@ -66,6 +67,7 @@ def summarise(runs: list[dict[str, Any]]) -> dict[str, Any]:
         "collisions": sum(r["collisions"] for r in ok),
         "target_contacts": sum(1 for r in ok for hit in r["collided_with"] if hit == "target"),
         "worlds_with_collisions": sum(1 for r in ok if r["collisions"]),
+        "run_into": sum(r.get("run_into", 0) for r in ok),
         "never_saw_target": sum(1 for r in ok if r["first_sight_s"] is None),
         "in_view_mean": statistics.fmean(views) if views else math.nan,
         "in_view_min": min(views) if views else math.nan,
@@ -83,7 +85,8 @@ def summarise(runs: list[dict[str, Any]]) -> dict[str, Any]:
 def table(summary: dict[str, dict[str, dict[str, Any]]], worlds: int, duration: float) -> str:
     rows = [
         f"{worlds} worlds (random:0..{worlds - 1}) per profile, {duration:g} s each, virtual clock\n",
-        "| profile | pilot | collisions (worlds): obstacles + the target | saw the target | target in view, mean (min) "
+        "| profile | pilot | collisions (worlds): obstacles + the target (of which run into) | saw the target "
+        "| target in view, mean (min) "
         "| worlds >= 90 % in view | following error mean / worst | reacquisitions: count, mean / max "
         "| first sight, mean |",
         "|---|---|---|---|---|---|---|---|---|",
@@ -92,7 +95,7 @@ def table(summary: dict[str, dict[str, dict[str, Any]]], worlds: int, duration: 
         for pilot, s in pilots.items():
             rows.append(
                 f"| {profile} | {pilot} | {s['collisions']} ({s['worlds_with_collisions']}): "
-                f"{s['collisions'] - s['target_contacts']} + {s['target_contacts']} | "
+                f"{s['collisions'] - s['target_contacts']} + {s['target_contacts']} ({s['run_into']}) | "
                 f"{s['runs'] - s['errors'] - s['never_saw_target']} of {s['runs']} | "
                 f"{100 * s['in_view_mean']:.1f} % ({100 * s['in_view_min']:.1f} %) | {s['worlds_in_view_90']} | "
                 f"{s['follow_error_mean_m']:.2f} / {s['follow_error_max_m']:.2f} m | "

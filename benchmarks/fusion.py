@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import math
 import time
+from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -55,10 +56,12 @@ def drive(profile: str, seconds: float, *, traction: float = 0.15, seed: int = 1
         ekf = PoseEkf(time_s=robot.now())
         steps = OdometryIncrements()
 
-        def on_feedback(sample: FeedbackSample) -> None:
+        odometry: deque[tuple[float, float, float]] = deque()
+
+        def on_feedback(sample: FeedbackSample) -> None:  # on the I/O thread: fused below, after the gyro
             if sample.pose is not None:
                 ds, turn = steps.step(sample.pose.x_m, sample.pose.y_m, sample.pose.theta_rad)
-                ekf.add_odometry(sample.host_time_s, ds, turn)
+                odometry.append((sample.host_time_s, ds, turn))
 
         robot.on_feedback(on_feedback)
         robot.arm()
@@ -75,6 +78,8 @@ def drive(profile: str, seconds: float, *, traction: float = 0.15, seed: int = 1
                     ekf.add_gyro(sample.t, sample.gyro[2])
                 if compass and sample.mag is not None:
                     ekf.add_heading(sample.t, compass_heading(sample.mag))
+            while odometry:
+                ekf.add_odometry(*odometry.popleft())
         truth = emu.truth.plant.theta_rad
         odo = math.degrees(math.remainder(robot.odometry.pose.theta_rad - truth, 2 * math.pi))
         fused = ekf.pose

@@ -42,6 +42,9 @@ class Collision:
     """Name of the shape hit (e.g. "outer walls", "boxes[1]", "target")."""
     kind: str
     """wall, box, cylinder or target."""
+    closing_m_s: float = 0.0
+    """How fast the footprint itself moved towards the contact point in the step before it. Zero or
+    less: the robot stood, or was moving away, and was run into (only the target moves)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -68,6 +71,7 @@ class World:
         self._gap = -math.inf  # unknown until the first check
         self._checked = (0.0, 0.0, 0)  # where and when the footprint's gap was last measured
         self._saved: tuple[float, ...] = ()
+        self._step_us: int | None = None  # when the last physics step ended
         # The robot's world pose after each physics step (a ring), for sensors that sample
         # between steps: `pose_at`.
         self._hist = np.zeros((HISTORY, 4))
@@ -95,6 +99,7 @@ class World:
 
     def after_step(self, plant: Plant, now_us: int) -> None:
         self._collide(plant, now_us)
+        self._step_us = now_us
         self._hist[self._hist_n % HISTORY] = (now_us, *self.robot_pose(plant))
         self._hist_n += 1
 
@@ -150,7 +155,14 @@ class World:
             g, _ = clearance(self.scene, px, py, 0.0)
             best = min(best, (g, px, py))
         hit = self.scene.shapes[shape]
-        self.collisions.append(Collision(now_us, best[1], best[2], abs(speed), hit.name, hit.kind))
+        closing = 0.0
+        if self._saved and self._step_us is not None and now_us > self._step_us:
+            px, py = self.footprint(*self.to_world(*self._saved[:3]))
+            d = math.hypot(best[1] - fx, best[2] - fy)
+            if d > 0:
+                moved = ((fx - px) * (best[1] - fx) + (fy - py) * (best[2] - fy)) / d
+                closing = moved / ((now_us - self._step_us) / 1e6)
+        self.collisions.append(Collision(now_us, best[1], best[2], abs(speed), hit.name, hit.kind, closing))
 
     def _stop(self, plant: Plant) -> None:
         """The bumper: undo the step into the obstacle; body and wheels stand still."""

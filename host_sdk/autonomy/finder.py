@@ -6,10 +6,10 @@
    beside clutter the cluster is ambiguous, and a mover there confirms it.
 3. Lost from the scan too: something moving in the scan is most likely the target (nothing else in
    a room walks). Following it turns the camera to it, and the tracker's re-detection takes over.
-4. Doubt: what the camera looks straight at for `doubt_s` without seeing the target is not the
-   target (a false mover, a cylinder of its size), and neither is a mover the camera has not
-   confirmed within `confirm_s` of taking it (one the robot cannot turn to, or hidden). It is
-   dropped, and not taken again for `reject_s`.
+4. Doubt: what the camera has had in its picture for `doubt_s` in all (the looks need not be one
+   after another) without seeing the target is not the target (a false mover, a cylinder of its
+   size), and neither is a mover the camera has not confirmed within `confirm_s` of taking it (one
+   the robot cannot turn to, or hidden). It is dropped, and not taken again for `reject_s`.
 """
 
 from __future__ import annotations
@@ -79,8 +79,11 @@ class TargetFinder:
         if fix is None:
             return None
         cam = self.camera
-        looking = abs(cam.off_axis_rad(fix.x_m, fix.y_m)) < 0.7 * cam.half_fov_rad and fix.range_m < 3.5
-        self._doubt = self._doubt + dt if looking and track is not None and not track.found else 0.0
+        looking = abs(cam.off_axis_rad(fix.x_m, fix.y_m)) < 0.85 * cam.half_fov_rad and fix.range_m < 3.5
+        if looking and track is not None and not track.found:
+            # Held, not cleared, while it is out of the picture: only the camera seeing the target
+            # clears it (a false target skirting the edge of the view would otherwise never be dropped).
+            self._doubt += dt
         if self._doubt > self.doubt_s or t - self._unconfirmed_since > self.confirm_s:
             self._rejected.append((t + self.reject_s, *to_world(pose, fix.x_m, fix.y_m)))
             self._scan_ok, self._doubt, self._unconfirmed_since = False, 0.0, math.inf

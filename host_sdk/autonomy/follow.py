@@ -92,6 +92,10 @@ class FollowParams:
     """How long a place so found not to be the target is not taken for it again."""
     confirm_s: float = 8.0
     """A mover followed this long without the camera confirming it is dropped too."""
+    aim_off_axis: float = 0.5
+    """Ackermann: with the target farther off the camera's axis than this share of its half field of
+    view, the car keeps moving to swing its nose to it (`aim_speed_m_s` at least)."""
+    aim_speed_m_s: float = 0.15
     search_speed_m_s: float = 0.25
     search_turn_rate: float = 0.9
     """Differential drive: turn rate while searching."""
@@ -163,6 +167,8 @@ class Follower:
         self._k_leg = (1.0, 0.0)
         """Ackermann search: the direction of the current K-turn leg and how far it has gone."""
         self._blocked_since: float | None = None
+        self._aim = 0.0
+        """Ackermann: the way it drives (+1, -1) to bring the target to the middle of the picture."""
         self._evade: tuple[float, float, float] | None = None
         """(until, linear, angular) of a manoeuvre out of the target's way."""
         self._recover: tuple[float, float, float] | None = None
@@ -182,7 +188,13 @@ class Follower:
         fix = self.finder.find(t, px, py, track, pose, movers=movers)
         goal = (fix.x_m, fix.y_m) if fix is not None else self.memory.predicted(t, pose, p.coast_s)
         mask = fix.mask if fix is not None else np.zeros(px.shape[0], dtype=bool)
-        view = _View(px[~mask], py[~mask], px[mask], py[mask], fix)
+        tx, ty = px[mask], py[mask]
+        if goal is not None:
+            # Where the target is (or is predicted to be) is in the way whether or not the scan has
+            # it: right beside the robot it is inside the lidar's blind range and its returns vanish.
+            dx, dy = self._target_outline(goal)
+            tx, ty = np.concatenate([tx, dx]), np.concatenate([ty, dy])
+        view = _View(px[~mask], py[~mask], tx, ty, fix)
         if self._recover is not None and t < self._recover[0]:
             decision = self._manoeuvre(view, self._recover[1], self._recover[2])
         elif goal is None:
@@ -195,6 +207,14 @@ class Follower:
         if goal is None or decision.mode is Mode.YIELD:
             return decision
         return self._guard(decision, view, goal, self.memory.velocity_in(pose))
+
+    def _target_outline(self, surface: tuple[float, float]) -> tuple[F64, F64]:
+        """Points round the target's body (base frame), from its surface point nearest the robot."""
+        r = self.params.target_size_m / 2
+        d = math.hypot(*surface)
+        cx, cy = (surface[0] * (1 + r / d), surface[1] * (1 + r / d)) if d > 1e-6 else surface
+        a = np.linspace(0.0, 2 * math.pi, 16, endpoint=False)
+        return cx + r * np.cos(a), cy + r * np.sin(a)
 
     def _guard(self, decision: Decision, view: _View, goal: tuple[float, float],
                velocity: tuple[float, float]) -> Decision:  # fmt: skip
@@ -251,13 +271,15 @@ class Follower:
         elif abs(bearing) > math.radians(40) and gap < p.follow_gap_m + 0.6:
             # Too far to the side to turn to without closing in: back out swinging the nose round.
             return self._start_backing(view, side=1.0 if bearing > 0 else -1.0)
+        aim = self._aim_direction(gx, gy, gap)
+        if aim < 0:
+            want = min(want, -p.aim_speed_m_s)
         if want < -0.02:
             return self._back_off(view, gap, -want, bearing)
         curvature = 2 * math.sin(bearing) / max(dist, 0.3)
-        out_of_view = abs(self.camera.off_axis_rad(gx, gy)) > 0.8 * self.camera.half_fov_rad
-        if self.ackermann and gap > p.stop_gap_m + 0.1 and out_of_view:
-            # Out of the camera's view: a car turns only as it drives, so drive, on the tightest arc
-            # towards it (pure pursuit's gentle arc at a creeping speed would leave it out of view).
+        if aim > 0:
+            # Drive, on the tightest arc towards it: pure pursuit's gentle arc at a creeping speed
+            # would leave it at the edge of the picture, or out of it.
             curvature = math.copysign(self.avoider.params.max_curvature, bearing)
             want = max(want, p.search_speed_m_s)
         plan = self.avoider.plan(ox, oy, bearing, max(want, 0.0), target_xy=(tx, ty), curvature=curvature, goal_m=dist)
@@ -273,6 +295,27 @@ class Follower:
             return self._start_backing(view, side=1.0 if bearing > 0 else -1.0)
         return Decision(v, w, mode, fix, gap, plan)
 
+    def _aim_direction(self, gx: float, gy: float, gap: float) -> float:
+        """Ackermann: +1 or -1 while the car must move to bring the target (at gx, gy) towards the
+        middle of the picture, 0 otherwise. A car turns only as it drives: standing at the gap with
+        the target off to one side, it loses it there. Forwards on the tightest arc towards it while
+        there is gap to spare, else backwards with the wheels turned away (`_back_off`): both swing
+        the nose towards it. The way chosen is kept until the gap runs out, so it does not chatter."""
+        p = self.params
+        if (
+            not self.ackermann
+            or gap < p.stop_gap_m
+            or (abs(self.camera.off_axis_rad(gx, gy)) < p.aim_off_axis * self.camera.half_fov_rad)
+        ):
+            self._aim = 0.0
+        elif self._aim == 0.0:
+            self._aim = 1.0 if gap > p.follow_gap_m else -1.0
+        elif self._aim > 0 and gap < p.stop_gap_m + 0.1:
+            self._aim = -1.0
+        elif self._aim < 0 and gap > p.follow_gap_m + 0.3:
+            self._aim = 1.0
+        return self._aim
+
     def _yield(self, view: _View, goal: tuple[float, float], velocity: tuple[float, float], gap: float) -> Decision:
         """The move that keeps the robot farthest from the coming target: an arc forwards or backwards,
         standing still, or (differential drive) turning on the spot to leave sideways."""
@@ -282,11 +325,16 @@ class Follower:
         taus = np.linspace(0.0, horizon, 11)
         tx, ty = goal[0] + velocity[0] * taus, goal[1] + velocity[1] * taus
 
+        rx, ry = self.memory.route_in(self._pose)
+        clear_of_route = self.footprint.radius_m + p.target_size_m / 2 + 0.1
+
         def score(x: F64, y: F64, th: F64) -> float:
             fx, fy = x + self.footprint.x_m * np.cos(th), y + self.footprint.x_m * np.sin(th)
             sep = float(np.min(np.hypot(tx - fx, ty - fy))) - self.footprint.radius_m
             facing = math.cos(math.atan2(ty[-1] - y[-1], tx[-1] - x[-1]) - th[-1])
-            return min(sep, 1.0) + 0.15 * facing
+            # Where it ends up should be off the route the target walks: it turns, and comes back along it.
+            on_route = float(np.min(np.hypot(rx - fx[-1], ry - fy[-1]), initial=math.inf)) < clear_of_route
+            return min(sep, 1.0) + 0.15 * facing - 0.3 * on_route
 
         zero = np.zeros_like(taus)
         best = (score(zero, zero, zero) + 0.05, 0.0, 0.0, 0.0)  # (score, v, w, how long): standing still

@@ -81,8 +81,8 @@ class TargetMemory:
                   compact: bool = False) -> TargetFix | None:  # fmt: skip
         """The moving cluster nearest `near` (base frame; by default where the target was last seen,
         or the robot), if within `gate_m` of it, with its returns among the points given (base frame).
-        With `compact`, only one standing clear of everything else (a "mover" on a wall or a box is
-        the detector seeing an edge from a new angle, far more often than the target against it)."""
+        With `compact`, only one standing clear of everything else (against a wall or a box, which
+        returns are the target's is ambiguous, and an edge seen from a new angle can pass for one)."""
         if near is not None:
             ref = to_world(pose, *near)
         else:
@@ -107,6 +107,15 @@ class TargetMemory:
         inner = 0.6 * self.target_size_m + 0.05
         r = np.hypot(px - sx, py - sy)
         return TargetFix(sx, sy, r < inner, True), not bool(((r >= inner) & (r < inner + 0.25)).any())
+
+    def route_in(self, pose: Pose2D) -> tuple[F64, F64]:
+        """The target's route in the base frame (x, y arrays)."""
+        if not self.route:
+            return np.zeros(0), np.zeros(0)
+        route = np.array(self.route)
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        dx, dy = route[:, 0] - pose[0], route[:, 1] - pose[1]
+        return c * dx + s * dy, -s * dx + c * dy
 
     def off_route(self, pose: Pose2D, radius_m: float, x_m: float) -> float | None:
         """Bearing (base frame) away from the target's route when the robot stands on it, else None."""

@@ -146,11 +146,15 @@ class PoseEkf:
         last = self._gyro_last
         if last is not None and time_s - last < 0.5 and time_s > self._gyro_mark:
             gyro_dt = time_s - self._gyro_mark
-            # Samples are integrated up to `last`: hold its rate up to now, or take back what lies
-            # beyond now (it belongs to the next step).
-            excess = self._gyro_rate * (last - time_s)
-            gyro_turn = self._gyro_turn - excess
-            self._gyro_turn = excess if last > time_s else 0.0
+            # Samples are integrated up to `last`: take back what lies beyond now (it belongs to the
+            # next step), or hold the last rate up to now, from where the integral ends (the last
+            # sample, or the previous step if that already held it past the last sample).
+            if last > time_s:
+                excess = self._gyro_rate * (last - time_s)
+                gyro_turn, self._gyro_turn = self._gyro_turn - excess, excess
+            else:
+                gyro_turn = self._gyro_turn + self._gyro_rate * (time_s - max(last, self._gyro_mark))
+                self._gyro_turn = 0.0
             self._gyro_mark = time_s
             self._predict(distance_m, gyro_turn, gyro_dt, wheel_turn=turn_rad, dt=dt)
         else:

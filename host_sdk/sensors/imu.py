@@ -5,10 +5,11 @@
         sample = imu.read()                           # ImuSample: SI units, the arrival time
 
 Samples read together carry one arrival time; the driver spaces them back from it by the output
-period (as the lidar driver does with its points), so a sample's `t` is when it was measured to
-within a period, never earlier than the sample before it (a batch that arrives sooner than its
-periods would allow is spread over the time since the last one), so samples stay in order and a
-gyro integrates over the right intervals.
+period (as the lidar driver does with its points). A period's packets make a sample only once the
+next period's first packet is in, so the newest sample of a read is placed a period before the
+read. A sample's `t` is thus when it was measured to within a period, and always after the sample
+before it (a batch that arrives sooner than its periods would allow is spread over the time since
+the last one), so samples stay in order and a gyro integrates over the right intervals.
 
 Configuration writes are sent after the unlock command, as the newer firmware wants (older modules
 ignore it); `configure(save=True)` stores them in the module's flash. A baud change switches this
@@ -125,17 +126,20 @@ class Jy901:
         data = self.port.read(timeout_s)
         if not data:
             return
-        self.parser.receive_data(data, self.port.clock())
+        arrival = self.port.clock()
+        self.parser.receive_data(data, arrival)
         events = self.parser.events()
         count = sum(isinstance(e, wit.ImuSample) for e in events)
         step = self.period_s
         if count and self._last_t is not None:
-            arrival = next(e.t for e in events if isinstance(e, wit.ImuSample))
-            step = min(step, max(arrival - self._last_t, 0.0) / count)
+            step = min(step, max(arrival - self._last_t, 0.0) / (count + 1))
         for event in events:
             if isinstance(event, wit.ImuSample):
+                # Spaced back from this read's arrival, not from the sample's own stamp: the first
+                # sample of a read may carry the previous read's time (its period began there), and
+                # spacing from that would stack the rest on one time.
+                sample = dataclasses.replace(event, t=arrival - count * step)
                 count -= 1
-                sample = dataclasses.replace(event, t=event.t - count * step)
                 self._last_t = sample.t
                 self._samples.append(sample)
             elif isinstance(event, wit.Registers):

@@ -28,6 +28,9 @@ from protocol.sensors import DEVICES, ROBOT_SENSORS, CameraSpec, Mount
 from roverlink.follow.metrics import TruthSample
 from roverlink.follow.template import TargetTemplate, render_target
 
+RUN_INTO_M_S = 0.02
+"""A contact in which the robot moved towards the contact point no faster than this was not driven
+into: the robot stood (or crept, or moved away) and the target walked into it."""
 LIDAR_FOR = {"picar": "ydlidar-f4", "diffdrive-bts7960": "rplidar-a1", "diffdrive-tb6612": "rplidar-a1"}
 """The lidar each profile carries (the TB6612 car gets the SLAM robot's A1 on top)."""
 
@@ -78,10 +81,11 @@ class TruthProbe:
         x, y, th = world.robot_pose(emu.plant)
         scene = world.scene
         names = tuple(c.obstacle for c in world.collisions)
+        run_into = sum(1 for c in world.collisions if c.closing_m_s <= RUN_INTO_M_S)
         distance = emu.plant.vehicle.distance_m
         target = scene.target
         if target is None:
-            return TruthSample(False, math.inf, names, distance)
+            return TruthSample(False, math.inf, names, distance, run_into)
         tx, ty = float(scene.circles[-1, 0]), float(scene.circles[-1, 1])
         fx, fy = world.footprint(x, y, th)
         gap = math.hypot(tx - fx, ty - fy) - self.body.footprint_radius_m - target.radius_m
@@ -94,4 +98,4 @@ class TruthProbe:
             direction = np.array([[(tx - cx) / d, (ty - cy) / d]])
             _, shape, _ = nearest(scene, np.array([[cx, cy]]), direction)
             in_view = int(shape[0]) == scene.target_index
-        return TruthSample(in_view, gap, names, distance)
+        return TruthSample(in_view, gap, names, distance, run_into)

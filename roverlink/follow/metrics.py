@@ -24,6 +24,8 @@ class TruthSample:
     """What was hit so far (one entry per contact)."""
     distance_m: float
     """Distance driven so far."""
+    run_into: int = 0
+    """Of those contacts, the ones the robot did not drive into: it stood or moved away."""
 
 
 @dataclass
@@ -35,6 +37,8 @@ class FollowMetrics:
     distance_m: float = 0.0
     collisions: int = 0
     collided_with: list[str] = field(default_factory=list)
+    run_into: int = 0
+    """Of the collisions, those in which the robot stood or moved away (the target walked into it)."""
     first_sight_s: float | None = None
     """When the tracker first had the target (None: never)."""
     in_view_fraction: float | None = None
@@ -107,6 +111,7 @@ class MetricsRecorder:
         if truth is not None:
             m.collided_with = list(truth.collisions)
             m.collisions = len(truth.collisions)
+            m.run_into = truth.run_into
             m.distance_m = truth.distance_m
         if self._following_s > 0:
             m.tracked_fraction = self._tracked_s / self._following_s

@@ -83,22 +83,28 @@ class PoseSource:
         self._history: deque[tuple[float, Pose2D]] = deque(maxlen=64)
         self.distance_m = 0.0
         self._steps = OdometryIncrements()
+        self._odometry: deque[tuple[float, float, float]] = deque()
+        """(time, distance, turn) steps from FEEDBACK, not yet fused."""
         if imu is not None:
             self.ekf = PoseEkf(time_s=robot.now())
             robot.on_feedback(self._on_feedback)
 
     def _on_feedback(self, sample: FeedbackSample) -> None:
-        if sample.pose is None or self.ekf is None:
-            return
-        ds, turn = self._steps.step(sample.pose.x_m, sample.pose.y_m, sample.pose.theta_rad)
-        self.ekf.add_odometry(sample.host_time_s, ds, turn)
-        self.distance_m += abs(ds)
+        # On the I/O thread: queued, and fused on the loop's thread once the IMU has been read up to
+        # now (a step fused before its gyro samples are in would have to guess the turn).
+        if sample.pose is not None:
+            ds, turn = self._steps.step(sample.pose.x_m, sample.pose.y_m, sample.pose.theta_rad)
+            self._odometry.append((sample.host_time_s, ds, turn))
 
     def update(self, t: float) -> Pose2D:
         if self.imu is not None and self.ekf is not None:
             for sample in self.imu.poll():
                 if sample.gyro is not None:
                     self.ekf.add_gyro(sample.t, sample.gyro[2])
+            while self._odometry:
+                time_s, ds, turn = self._odometry.popleft()
+                self.ekf.add_odometry(time_s, ds, turn)
+                self.distance_m += abs(ds)
             p = self.ekf.pose
             pose = (p.x_m, p.y_m, p.theta_rad)
         else:

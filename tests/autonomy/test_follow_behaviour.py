@@ -114,6 +114,25 @@ def test_a_held_escape_is_dropped_when_the_target_speeds_up_after_it() -> None:
     assert d.mode is Mode.YIELD and abs(d.angular_rad_s) > 0.3  # off its line by t = 1.0 s, x = 0.58 m
 
 
+def test_a_target_coming_back_along_its_route_is_yielded_to_off_that_route() -> None:
+    # The target walked this corridor (the x axis) before, past where the robot stands, and now comes
+    # back along it. Backing straight away would keep clear for the next seconds, but leaves the robot
+    # on the route: wherever it turns there, the target walks into it. The robot leaves the line.
+    follower = Follower(DIFF, CAMERA)
+    follower.memory.route.extend((float(x), 0.0) for x in np.arange(-3.0, 1.3, 0.1))
+    pose = (0.0, 0.0, 0.0)
+    turned = []
+    for i in range(12):
+        t = 0.1 * i
+        x = 1.2 - 0.3 * t
+        px, py = disc(x + 0.12, 0.0)
+        d = follower.step(t, px, py, track_of(x, 0.0, t), pose)
+        assert d.linear_m_s <= 0.0 or d.mode is Mode.YIELD
+        turned.append(d.mode is Mode.YIELD and abs(d.angular_rad_s) > 0.3)
+    assert any(turned), "it backed straight down the route"
+    assert d.mode is Mode.YIELD and all(turned[turned.index(True) :])  # and keeps to its arc
+
+
 def test_lost_target_is_searched_for() -> None:
     px, py = wall(-2, 2, 2, 2)
     diff = Follower(DIFF, CAMERA)
@@ -281,6 +300,29 @@ def test_an_ackermann_robot_backing_off_swings_its_nose_towards_the_target() -> 
     d = car.step(0.0, *disc(tx + 0.12 * math.cos(a), ty + 0.12 * math.sin(a)), track_of(tx, ty, 0.0, cam),
                  (0.0, 0.0, 0.0))  # fmt: skip
     assert d.linear_m_s < 0 and d.angular_rad_s > 0  # reversing, turning left: towards it
+
+
+def test_an_ackermann_robot_at_its_gap_keeps_moving_until_the_target_is_in_the_middle_of_the_picture() -> None:
+    # The target stands at about the follow gap, 24 degrees off the camera's axis: in the picture,
+    # near its edge. The gap alone asks for nothing; a car that stands there keeps the target at the
+    # edge, where a step of the target's loses it. The car moves (forwards and back) until the
+    # target is near the middle.
+    cam = CameraModel.pi_camera_v2(mount_x_m=0.3)
+    car = Follower(PICAR, cam, min_turn_radius_m=0.37)
+    target = (1.1, 0.5)  # world frame, the robot starting at the origin facing +x
+    pose = (0.0, 0.0, 0.0)
+    off = []
+    for i in range(60):  # 3 s
+        x, y, th = pose
+        c, s = math.cos(th), math.sin(th)
+        bx, by = c * (target[0] - x) + s * (target[1] - y), -s * (target[0] - x) + c * (target[1] - y)
+        r = math.hypot(bx, by)
+        sx, sy = bx - 0.12 * bx / r, by - 0.12 * by / r  # its near surface
+        off.append(abs(cam.off_axis_rad(sx, sy)))
+        d = car.step(0.05 * i, *disc(bx, by), track_of(sx, sy, 0.05 * i, cam), pose)
+        assert d.mode is not Mode.STOP or off[-1] < 0.5 * cam.half_fov_rad
+        pose = (x + 0.05 * d.linear_m_s * c, y + 0.05 * d.linear_m_s * s, th + 0.05 * d.angular_rad_s)
+    assert off[0] > 0.7 * cam.half_fov_rad and off[-1] < 0.5 * cam.half_fov_rad
 
 
 # -- the PiCar team's approach -------------------------------------------------------------------------

@@ -23,3 +23,38 @@ def test_poses_between_control_steps_are_interpolated_not_rounded() -> None:
     assert x == pytest.approx(0.024) and y == 0.0
     assert th == pytest.approx(math.pi - 0.1 + 0.12)  # not the nearest step's, 0.1 or 0.15
     assert poses.at(-1.0)[0] == 0.0 and poses.at(9.0)[0] == pytest.approx(0.04)  # held beyond the history
+
+
+def test_the_fused_heading_follows_the_robot_as_the_loop_reads_it() -> None:
+    """The loop's own plumbing on the emulator: FEEDBACK on the I/O thread, the IMU read in batches
+    once per step. Turning back and forth, every 3 s of the fused heading (a whole back and forth:
+    the few ms FEEDBACK spends on the wire cancel) matches the true turn to a fraction of a degree (each of the two once made the robot turn half again as far as it did)."""
+    import numpy as np
+
+    from host_sdk.sensors import Jy901
+    from roverlink.follow import emulated
+
+    em = emulated.start("diffdrive-tb6612", "random:3", seed=3)
+    robot, world = em.robot, em.emulator.world
+    assert world is not None and em.emulator.plant is not None
+    with Jy901.open(em.endpoints["imu"]) as imu:
+        poses = PoseSource(robot, imu)
+        assert poses.ekf is not None
+        robot.arm()
+        times, truth, fused = [], [], []
+        t0 = robot.now()
+        for i in range(160):  # 8 s of 50 ms steps
+            t = robot.now()
+            theta = poses.update(t)[2]
+            times.append(t)
+            truth.append(world.robot_pose(em.emulator.plant)[2])
+            fused.append((poses.ekf.time_s, theta))  # the fused pose is the last FEEDBACK's
+            robot.drive(0.0, 1.2 if (t - t0) % 3.0 < 1.5 else -0.8, clamp=True)
+            robot.sleep(max(0.0, t0 + 0.05 * (i + 1) - robot.now()))
+        robot.stop()
+    true_then = np.interp([f[0] for f in fused[10:]], times, np.unwrap(truth))
+    turned = true_then[60:] - true_then[:-60]
+    fused_turned = np.array([f[1] for f in fused[10:]])
+    errors = np.abs((fused_turned[60:] - fused_turned[:-60]) - turned)
+    assert np.abs(turned).min() > 0.5  # it did turn
+    assert errors.max() < math.radians(0.5)

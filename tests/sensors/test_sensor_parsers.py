@@ -93,3 +93,37 @@ def test_wit_chunks_and_flips(cuts: list[int], flips: list[int]) -> None:
         # Detected (counted), or two flips in one packet cancelled in its sum (then the values differ).
         assert parser.counters.checksum_errors + parser.counters.bytes_discarded > 0 or samples != reference
         assert len(samples) >= len(reference) - 2 * len(flips) - 1
+
+
+class _ChunkedPort:
+    """Hands out one chunk per read, the clock 50 ms on each time (a host loop reading its IMU)."""
+
+    url = "test://imu"
+
+    def __init__(self, chunks: list[bytes]) -> None:
+        self.chunks, self.now = chunks, 0.0
+
+    def clock(self) -> float:
+        return self.now
+
+    def read(self, timeout_s: float) -> bytes:
+        self.now += 0.05
+        return self.chunks.pop(0) if self.chunks else b""
+
+
+def test_imu_samples_read_in_batches_are_spaced_by_the_output_period() -> None:
+    """Ten 5 ms periods per read, each read ending inside a period (its group is completed by the
+    next read). Every sample gets its own time, one period apart: none stacked on one time (a
+    gyro integrating them would lose all but one)."""
+    from host_sdk.sensors import Jy901
+
+    def pkt(type_: int) -> bytes:
+        body = bytes([0x55, type_]) + bytes(8)
+        return body + bytes([sum(body) & 0xFF])
+
+    stream = b"".join(pkt(0x51) + pkt(0x52) for _ in range(60))
+    cut = [i * 20 * 11 + 11 for i in range(6)] + [len(stream)]  # after a period's first packet
+    imu = Jy901(_ChunkedPort([stream[a:b] for a, b in itertools.pairwise([0, *cut])]))  # type: ignore[arg-type]
+    times = [s.t for _ in range(6) for s in imu.poll()]  # the last chunk's own end is cut short
+    assert len(times) == 50
+    np.testing.assert_allclose(np.diff(times), imu.period_s, rtol=1e-6)

@@ -72,16 +72,14 @@ def test_driving_into_a_wall_is_a_collision_and_the_bumper_stops_the_robot(tmp_p
     world = tmp_path / "corridor.toml"
     world.write_text("[world]\nsize_m = [3.0, 1.0]\n[start]\nx_m = 0.5\ny_m = 0.5\n", encoding="utf-8")
     with Robot.connect(f"emu://diffdrive-tb6612?clock=virtual&world={world}") as robot:
-        robot.arm()
         emu = robot.emulator
-        while not emu.truth.world.collisions and robot.now() < 12:
-            robot.drive(0.4, 0.0)
-            robot.wait_feedback()
+        _drive_until_contact(robot, 0.4, 12.0)
         truth = emu.truth.world
         (hit,) = truth.collisions
         # The footprint (r 0.12 m, 0.03 m ahead of the pose point) meets the wall at x = 3.
         assert hit.x_m == pytest.approx(3.0, abs=0.01) and hit.y_m == pytest.approx(0.5, abs=0.05)
         assert hit.kind == "wall" and 0.2 < hit.speed_m_s < 0.6
+        assert hit.closing_m_s == pytest.approx(hit.speed_m_s, rel=0.2)  # straight at it: driven into
         stopped_at = truth.x_m
         assert stopped_at == pytest.approx(3.0 - 0.12 - 0.03, abs=0.01)
         for _ in range(15):  # pushing on: the robot stays where the bumper stopped it
@@ -95,3 +93,23 @@ def test_driving_into_a_wall_is_a_collision_and_the_bumper_stops_the_robot(tmp_p
             robot.wait_feedback()
         assert emu.truth.world.x_m < stopped_at - 0.1
         assert not emu.truth.world.in_contact
+
+
+def test_a_target_walking_into_a_standing_robot_is_a_contact_the_robot_was_run_into(tmp_path: Path) -> None:
+    world = tmp_path / "crossing.toml"
+    world.write_text(
+        "[world]\nsize_m = [4.0, 2.0]\n[start]\nx_m = 2.0\ny_m = 1.0\n"
+        '[target]\npath = [[3.5, 1.0], [0.5, 1.0]]\nspeed_m_s = 0.3\nmode = "bounce"\n',
+        encoding="utf-8",
+    )
+    with Robot.connect(f"emu://diffdrive-tb6612?clock=virtual&world={world}") as robot:
+        _drive_until_contact(robot, 0.0, 8.0)
+        (hit,) = robot.emulator.truth.world.collisions
+        assert hit.kind == "target" and hit.closing_m_s == pytest.approx(0.0, abs=0.01)
+
+
+def _drive_until_contact(robot: Robot, linear_m_s: float, until_s: float) -> None:
+    robot.arm()
+    while not robot.emulator.truth.world.collisions and robot.now() < until_s:
+        robot.drive(linear_m_s, 0.0)
+        robot.wait_feedback()
