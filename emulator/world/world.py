@@ -157,10 +157,10 @@ class World:
         hit = self.scene.shapes[shape]
         closing = 0.0
         if self._saved and self._step_us is not None and now_us > self._step_us:
-            px, py = self.footprint(*self.to_world(*self._saved[:3]))
+            before_x, before_y = self.footprint(*self.to_world(*self._saved[:3]))
             d = math.hypot(best[1] - fx, best[2] - fy)
             if d > 0:
-                moved = ((fx - px) * (best[1] - fx) + (fy - py) * (best[2] - fy)) / d
+                moved = ((fx - before_x) * (best[1] - fx) + (fy - before_y) * (best[2] - fy)) / d
                 closing = moved / ((now_us - self._step_us) / 1e6)
         self.collisions.append(Collision(now_us, best[1], best[2], abs(speed), hit.name, hit.kind, closing))
 

@@ -119,16 +119,14 @@ class TargetMemory:
 
     def off_route(self, pose: Pose2D, radius_m: float, x_m: float) -> float | None:
         """Bearing (base frame) away from the target's route when the robot stands on it, else None."""
-        if not self.route:
+        rx, ry = self.route_in(pose)
+        if not rx.size:
             return None
-        route = np.array(self.route)
-        fx, fy = to_world(pose, x_m, 0.0)
-        d = np.hypot(route[:, 0] - fx, route[:, 1] - fy)
+        d = np.hypot(rx - x_m, ry)
         i = int(np.argmin(d))
         if d[i] > radius_m + self.target_size_m / 2 + 0.25:
             return None
-        ax, ay = to_base(pose, float(route[i, 0]), float(route[i, 1]))
-        return math.atan2(-ay, -ax)
+        return math.atan2(-float(ry[i]), -float(rx[i]))
 
 
 def arc_pose(s: F64, k: float) -> tuple[F64, F64, F64]:
