@@ -20,7 +20,15 @@ from host_sdk.kinematics import Ackermann, DiffDrive
 from protocol.generated.messages import SetConfig
 from protocol.generated.profiles import PROFILES, RobotProfile
 
-__all__ = ["PROFILES", "RobotProfile", "get_profile", "kinematics_for", "profile_for_example", "steering_limits"]
+__all__ = [
+    "PROFILES",
+    "RobotProfile",
+    "get_profile",
+    "kinematics_for",
+    "profile_for_example",
+    "steering_angles",
+    "steering_limits",
+]
 
 
 def get_profile(name: str, *, argument: str = "name") -> RobotProfile:
@@ -50,6 +58,27 @@ def steering_limits(config: SetConfig) -> tuple[float, float]:
     left = math.radians((config.steering_max_cdeg - config.steering_center_cdeg) / 100)
     right = math.radians((config.steering_center_cdeg - config.steering_min_cdeg) / 100)
     return max(0.0, right), max(0.0, left)
+
+
+def steering_angles(config: SetConfig) -> tuple[float, ...]:
+    """The front-wheel angles (rad, left positive, ascending) the servo actually reaches: with a
+    `steering_step_cdeg` the firmware clamps the angle asked for to the servo's range, rounds it to
+    centre + k * step (half away from centre) and clamps again, so a coarse servo has a few angles
+    only, not always the same number each side (the PiCar's: -25, -15, 0, 15 and 30 degrees). Without
+    a step, the two limits and the centre."""
+    checks.instance("config", config, SetConfig, "a RobotConfig (robot.config)")
+    lo, hi, centre = config.steering_min_cdeg, config.steering_max_cdeg, config.steering_center_cdeg
+    step = config.steering_step_cdeg
+    if step <= 0:
+        reach = {lo, centre, hi}
+    else:
+        ks = range(_round_away((lo - centre) / step), _round_away((hi - centre) / step) + 1)
+        reach = {min(hi, max(lo, centre + k * step)) for k in ks}
+    return tuple(sorted(math.radians((cdeg - centre) / 100) for cdeg in reach))
+
+
+def _round_away(x: float) -> int:
+    return int(math.copysign(math.floor(abs(x) + 0.5), x))
 
 
 def kinematics_for(profile: str | RobotProfile, config: SetConfig | None = None) -> DiffDrive | Ackermann:

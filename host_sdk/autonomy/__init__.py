@@ -1,12 +1,26 @@
 """Behaviour for robot programs: follow a tracked target while avoiding obstacles (`Follower`),
 with the target picked out of the lidar scan by the camera's bearing (`locate_target`) and followed in
-the scan while the camera does not have it (`TargetFinder`).
+the scan while the camera does not have it (`TargetFinder`); an Ackermann robot's manoeuvres are
+planned a few seconds ahead to keep the target in the picture (`ViewPlanner`).
 
-numpy only (the tracker that feeds it needs OpenCV); see docs/autonomy.md.
+numpy, and OpenCV for the planner's distance field (the tracker that feeds it needs OpenCV too);
+see docs/autonomy.md.
 """
 
 from host_sdk.autonomy.finder import TargetFinder
 from host_sdk.autonomy.follow import Decision, Follower, FollowParams, Mode
+from host_sdk.autonomy.planner import PlanChoice, PlannerParams, ViewPlanner
 from host_sdk.autonomy.target import TargetFix, locate_target
 
-__all__ = ["Decision", "FollowParams", "Follower", "Mode", "TargetFinder", "TargetFix", "locate_target"]
+__all__ = [
+    "Decision",
+    "FollowParams",
+    "Follower",
+    "Mode",
+    "PlanChoice",
+    "PlannerParams",
+    "TargetFinder",
+    "TargetFix",
+    "ViewPlanner",
+    "locate_target",
+]

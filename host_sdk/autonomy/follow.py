@@ -1,4 +1,4 @@
-"""Follow a tracked target while avoiding obstacles: a small state machine over the avoider.
+"""Follow a tracked target while avoiding obstacles: a small state machine round a manoeuvre planner.
 
     follower = Follower(Footprint(0.19, 0.13), camera, min_turn_radius_m=0.37)   # 0: differential drive
     decision = follower.step(t, xs, ys, track, pose)    # obstacle points (base frame), Track, odometry pose
@@ -11,21 +11,17 @@ Each step (every control period, typically 20 Hz):
    and velocity are kept in the odometry frame. Out of the camera's view, its returns are followed
    in the scan from one revolution to the next, and, lost from the scan too, it is looked for where
    something moves (`MotionDetector`); what the camera then looks at without seeing the target is
-   dropped. Between fixes it is steered for at its predicted position for `coast_s`.
-2. **What to want.** TRACK: head for the target at its own speed away from the robot plus
-   `gain_gap` times the gap error (the gap is between the footprint and the target's surface), down
-   to standing at `follow_gap_m`, backing off when it comes closer. YIELD: a target that keeps coming
-   (it turns round on its path) is got out of the way of: of the forward and backward arcs the
-   robot can drive, the one that keeps it farthest from where the target is heading. SEARCH: no
-   target for longer than `coast_s`: go to where it was heading, then turn towards the side it was
-   last seen (in place on a differential drive; on the tightest circle on an Ackermann robot).
-3. **Arbitration.** The avoider (`host_sdk.perception.avoidance`) gets the wish. The target's points
-   are not obstacles to steer round, but the robot must still be able to stop short of them.
-   Avoidance deflects the heading (AVOID) when the way to the target is not free, and vetoes speed
-   down to zero (STOP) when there is no room; an Ackermann robot that stays blocked, or whose target
-   is too far to the side to turn to, backs out on its tightest reverse arc towards the freer side
-   (RECOVER); a differential drive too close to something to turn in place backs away first. Every
-   command is checked against the swept corridor of the exact arc it drives, forwards or backwards.
+   dropped (`TargetFinder`).
+2. **Known, or lost a little while: plan.** The `ViewPlanner` chooses the manoeuvre of the next
+   seconds that keeps the target (or where it is predicted to be, for `coast_s + look_s` after it was
+   last found) in the camera's picture and in sight past the obstacles, at `follow_gap_m`, clear of
+   the obstacles and out of the target's way (it does not avoid the robot). Modes: TRACK; AVOID when
+   the obstacles changed the choice; YIELD when it is getting out of the target's way; STOP when it
+   stands; SEARCH while it looks where the target was predicted to go.
+3. **Lost: search.** Step off the target's remembered route once, go to where it was heading, then
+   look round towards the side it was last seen (on the spot on a differential drive, by K-turns on
+   an Ackermann robot); after a whole turn round, look from elsewhere. Blocked, an Ackermann robot
+   backs out (RECOVER).
 
 The decision is a body twist; send it every step (setpoints are cheap on RoverLink; renewing them is
 what keeps the board's watchdog fed).
@@ -34,7 +30,7 @@ what keeps the board's watchdog fed).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from enum import Enum
 
@@ -42,17 +38,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk.autonomy.finder import TargetFinder
-from host_sdk.autonomy.memory import arc_pose, to_base, to_world
+from host_sdk.autonomy.memory import to_base, to_world
+from host_sdk.autonomy.planner import PlanChoice, PlannerParams, ViewPlanner
 from host_sdk.autonomy.target import TargetFix
-from host_sdk.perception.avoidance import (
-    AvoidanceParams,
-    Avoider,
-    Footprint,
-    Plan,
-    arc_room,
-    direction_clearance,
-    safe_speed,
-)
+from host_sdk.perception.avoidance import AvoidanceParams, Avoider, Footprint, Plan, arc_room, safe_speed
 from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.motion import Mover
 from host_sdk.perception.tracking import Track
@@ -74,17 +63,19 @@ class Mode(Enum):
 class FollowParams:
     follow_gap_m: float = 0.5
     """Wanted gap between the robot's footprint and the target's surface."""
-    stop_gap_m: float = 0.3
-    """Closer than this the robot does not advance."""
     max_speed_m_s: float = 0.45
     reverse_speed_m_s: float = 0.35
-    gain_gap: float = 0.8
-    """Speed per metre of gap error, 1/s."""
     gain_turn: float = 2.5
-    """Differential drive: turn rate per radian of heading error, 1/s."""
+    """Differential drive, searching: turn rate per radian of heading error, 1/s."""
     max_turn_rate: float = 1.6
     coast_s: float = 1.5
-    """How long a lost target is still steered for at its predicted position."""
+    """How long a lost target is still taken to be where it is predicted (and followed there)."""
+    hold_s: float = 0.6
+    """Having begun to move forwards (or backwards), the planner keeps that way this long: choosing
+    again 20 times a second, a car chattered between the two and never moved."""
+    look_s: float = 5.0
+    """How long after that the planner still looks where it is predicted to be, before the search
+    turns round to look for it."""
     doubt_s: float = 1.0
     """The target followed in the scan alone is dropped when the camera, looking straight at it, has
     not seen it for this long (the cluster followed is something else)."""
@@ -92,24 +83,18 @@ class FollowParams:
     """How long a place so found not to be the target is not taken for it again."""
     confirm_s: float = 8.0
     """A mover followed this long without the camera confirming it is dropped too."""
-    aim_off_axis: float = 0.5
-    """Ackermann: with the target farther off the camera's axis than this share of its half field of
-    view, the car keeps moving to swing its nose to it (`aim_speed_m_s` at least)."""
-    aim_speed_m_s: float = 0.15
     search_speed_m_s: float = 0.25
     search_turn_rate: float = 0.9
     """Differential drive: turn rate while searching."""
     k_turn_leg_m: float = 0.4
     """Ackermann: length of each leg of the K-turn it searches with."""
-    yield_horizon_s: float = 2.5
-    """A target that would reach the robot within this is got out of the way of."""
-    guard_gap_m: float = 0.12
-    """No command may bring the robot closer than this to where the target is heading."""
     blocked_s: float = 0.6
-    """Ackermann: blocked this long, it backs out."""
+    """Ackermann: blocked this long while searching, it backs out."""
     recover_s: float = 1.2
     target_size_m: float = 0.3
     """About how wide the target is (to pick its returns out of the scan)."""
+    planner: PlannerParams | None = None
+    """The manoeuvre planner's weights and limits (default: `PlannerParams` with the speeds above)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -122,6 +107,9 @@ class Decision:
     gap_m: float | None
     """Gap to the target's surface (measured or predicted)."""
     plan: Plan | None = None
+    """The avoider's plan, while searching."""
+    manoeuvre: PlanChoice | None = None
+    """The planner's choice, while the target is known or looked for where it went."""
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -141,17 +129,38 @@ class _View:
 
 
 class Follower:
+    """`curvatures`: the arcs (1/m) an Ackermann robot's steering reaches (default: seven up to its
+    tightest); a coarse servo reaches only a few, and the planner plans with what the car can drive."""
+
     def __init__(self, footprint: Footprint, camera: CameraModel, *, min_turn_radius_m: float = 0.0,
-                 avoidance: AvoidanceParams | None = None, params: FollowParams | None = None) -> None:  # fmt: skip
+                 avoidance: AvoidanceParams | None = None, params: FollowParams | None = None,
+                 curvatures: Sequence[float] | None = None) -> None:  # fmt: skip
         self.footprint = footprint
         self.camera = camera
         self.ackermann = min_turn_radius_m > 0
-        self.params = params or FollowParams()
+        self.params = p = params or FollowParams()
         self.avoider = Avoider(footprint, replace(avoidance or AvoidanceParams(), min_turn_radius_m=min_turn_radius_m))
-        p = self.params
         self.finder = TargetFinder(camera, target_size_m=p.target_size_m, coast_s=p.coast_s, doubt_s=p.doubt_s,
                                    reject_s=p.reject_s, confirm_s=p.confirm_s)  # fmt: skip
         self.memory = self.finder.memory
+        speeds = (-p.reverse_speed_m_s, -0.2, 0.0, 0.2, 0.35, p.max_speed_m_s)
+        plan = p.planner or PlannerParams(speeds_m_s=speeds, target_radius_m=p.target_size_m / 2)
+        if self.ackermann:
+            k = self.avoider.params.max_curvature
+            arcs = curvatures if curvatures is not None else np.linspace(-k, k, 7).tolist()
+            self.planner = ViewPlanner(footprint, camera, curvatures=arcs, params=plan)
+        else:
+            w = p.max_turn_rate
+            self.planner = ViewPlanner(footprint, camera, turn_rates=(-w, -w / 2, w / 2, w), params=plan)
+        self._arcs = None if curvatures is None else np.array(sorted(curvatures), dtype=np.float64)
+        self._last = (0.0, 0.0)
+        """The command decided last (linear, angular)."""
+        self._speed = 0.0
+        """The speed measured from the poses, m/s."""
+        self._gave_up = False
+        """Looking where the target was predicted to go showed nothing to do: search."""
+        self._direction = (0.0, -math.inf)
+        """(+1 forwards or -1 backwards, since when): the way it last began to move."""
         self._search_from: float | None = None
         """Heading when the search began (a whole turn round without the target: go elsewhere)."""
         self._wander: tuple[float, float, float] | None = None
@@ -167,10 +176,6 @@ class Follower:
         self._k_leg = (1.0, 0.0)
         """Ackermann search: the direction of the current K-turn leg and how far it has gone."""
         self._blocked_since: float | None = None
-        self._aim = 0.0
-        """Ackermann: the way it drives (+1, -1) to bring the target to the middle of the picture."""
-        self._evade: tuple[float, float, float] | None = None
-        """(until, linear, angular) of a manoeuvre out of the target's way."""
         self._recover: tuple[float, float, float] | None = None
         """(until, curvature, direction) of a manoeuvre backing out (or, blocked behind, pulling out)."""
         self._t = 0.0
@@ -181,216 +186,77 @@ class Follower:
              movers: Sequence[Mover] = ()) -> Decision:  # fmt: skip
         """One control step: obstacle points in the base frame now, the latest track, the odometry pose,
         and what moves in the scan (`MotionDetector`), which is where a lost target is looked for."""
+        decision = self._step(t, px, py, track, pose, movers=movers)
+        v, w = decision.linear_m_s, decision.angular_rad_s
+        if self._arcs is not None and v != 0.0:  # a car drives the arc its steering reaches nearest
+            k = self._arcs[int(np.argmin(np.abs(self._arcs - w / v)))]
+            decision = replace(decision, angular_rad_s=float(v * k))
+        if v != 0.0 and math.copysign(1.0, v) != self._direction[0]:
+            self._direction = (math.copysign(1.0, v), t)
+        self._last = (decision.linear_m_s, decision.angular_rad_s)
+        return decision
+
+    def _step(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *,
+              movers: Sequence[Mover]) -> Decision:  # fmt: skip
         dt = max(0.0, t - self._t)
+        if dt > 0:  # how fast it really moves (a command takes a while to become a speed)
+            moved = (pose[0] - self._pose[0]) * math.cos(pose[2]) + (pose[1] - self._pose[1]) * math.sin(pose[2])
+            self._speed += min(1.0, dt / 0.1) * (moved / dt - self._speed)
         self._t, self._pose = t, pose
         p = self.params
         px, py = np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64)
         fix = self.finder.find(t, px, py, track, pose, movers=movers)
-        goal = (fix.x_m, fix.y_m) if fix is not None else self.memory.predicted(t, pose, p.coast_s)
         mask = fix.mask if fix is not None else np.zeros(px.shape[0], dtype=bool)
-        tx, ty = px[mask], py[mask]
-        if goal is not None:
-            # Where the target is (or is predicted to be) is in the way whether or not the scan has
-            # it: right beside the robot it is inside the lidar's blind range and its returns vanish.
-            dx, dy = self._target_outline(goal)
-            tx, ty = np.concatenate([tx, dx]), np.concatenate([ty, dy])
-        view = _View(px[~mask], py[~mask], tx, ty, fix)
-        if self._recover is not None and t < self._recover[0]:
-            decision = self._manoeuvre(view, self._recover[1], self._recover[2])
-        elif goal is None:
-            self._recover = None
-            return self._search(view, pose, dt)
+        view = _View(px[~mask], py[~mask], px[mask], py[mask], fix)
+        searching = False
+        if fix is not None:
+            goal: tuple[float, float] | None = (fix.x_m, fix.y_m)
+            self._gave_up = False
         else:
-            self._recover = None
-            self._search_from = self._wander = None
-            decision = self._track(view, goal, pose, dt)
-        if goal is None or decision.mode is Mode.YIELD:
-            return decision
-        return self._guard(decision, view, goal, self.memory.velocity_in(pose))
-
-    def _target_outline(self, surface: tuple[float, float]) -> tuple[F64, F64]:
-        """Points round the target's body (base frame), from its surface point nearest the robot."""
-        r = self.params.target_size_m / 2
-        d = math.hypot(*surface)
-        cx, cy = (surface[0] * (1 + r / d), surface[1] * (1 + r / d)) if d > 1e-6 else surface
-        a = np.linspace(0.0, 2 * math.pi, 16, endpoint=False)
-        return cx + r * np.cos(a), cy + r * np.sin(a)
-
-    def _guard(self, decision: Decision, view: _View, goal: tuple[float, float],
-               velocity: tuple[float, float]) -> Decision:  # fmt: skip
-        """The last word on every command while the target is known: it must not bring the robot
-        within `guard_gap_m` of where the target is heading over the next seconds (the target does
-        not avoid the robot). If it would, the robot gets out of the way instead (YIELD)."""
-        v = decision.linear_m_s
-        k = decision.angular_rad_s / v if abs(v) > 0.01 else 0.0
-        if self._separation(v, k, goal, velocity) >= self.params.guard_gap_m:
-            return decision
-        fp = self.footprint
-        return self._yield(view, goal, velocity, math.hypot(goal[0] - fp.x_m, goal[1]) - fp.radius_m)
-
-    def _separation(self, v: float, k: float, goal: tuple[float, float], velocity: tuple[float, float]) -> float:
-        """Smallest gap between the footprint, driving at v along curvature k, and the target's surface
-        point moving at `velocity`, over the yield horizon."""
-        fp = self.footprint
-        taus = np.linspace(0.0, self.params.yield_horizon_s, 6)
-        cx, cy = goal[0] + velocity[0] * taus, goal[1] + velocity[1] * taus
-        x, y, th = arc_pose(v * taus, k)
-        fx, fy = x + fp.x_m * np.cos(th), y + fp.x_m * np.sin(th)
-        return float(np.min(np.hypot(cx - fx, cy - fy))) - fp.radius_m
+            goal = self.memory.predicted(t, pose, p.coast_s)
+            if goal is None and not self._gave_up:
+                goal, searching = self.memory.predicted(t, pose, p.coast_s + p.look_s), True
+        if goal is not None:
+            decision = self._plan(view, goal, pose, searching=searching)
+            if not searching or decision.linear_m_s or decision.angular_rad_s:
+                self._recover = None
+                self._search_from = self._wander = None
+                return decision
+            # Looking where it went, the planner would stand: nothing it can do shows that place.
+            # Search instead (and do not come back to looking until the target is found again).
+            self._gave_up = True
+        if self._recover is not None and t < self._recover[0]:
+            return self._manoeuvre(view, self._recover[1], self._recover[2])
+        self._recover = None
+        return self._search(view, pose, dt)
 
     def _room(self, px: F64, py: F64, curvatures: F64, *, reverse: bool = False) -> F64:
         """Clear travel along each arc, with the avoider's margin round the footprint."""
         a = self.avoider.params
         return arc_room(px, py, curvatures, self.footprint, pad_m=a.pad_m, horizon_m=a.window_m, reverse=reverse)
 
-    # -- tracking ---------------------------------------------------------------------------------------
-    def _track(self, view: _View, goal: tuple[float, float], pose: Pose2D, dt: float) -> Decision:
+    # -- the planner ----------------------------------------------------------------------------------
+    def _plan(self, view: _View, goal: tuple[float, float], pose: Pose2D, *, searching: bool) -> Decision:
+        """The planner's manoeuvre for the target where it is or, while `searching`, where it is
+        predicted to be (a car turning round on the spot is slow, and it is most likely there)."""
         p, fp = self.params, self.footprint
-        ox, oy, tx, ty, fix = view.ox, view.oy, view.tx, view.ty, view.fix
-        gx, gy = goal
-        bearing = math.atan2(gy, gx)
-        gap = math.hypot(gx - fp.x_m, gy) - fp.radius_m
-        dist = math.hypot(gx, gy)
-        vx, vy = self.memory.velocity_in(pose)
-        away = vx * math.cos(bearing) + vy * math.sin(bearing)
-        if self._evade is not None and self._t < self._evade[0]:
-            _, v, w = self._evade
-            k = w / v if abs(v) > 0.01 else 0.0
-            if v == 0.0 or self._separation(v, k, goal, (vx, vy)) >= p.guard_gap_m:
-                return self._keep_yielding(view, gap)
-            # The target turned: the move held to get out of its way now leads into it. Choose again.
-            return self._yield(view, goal, (vx, vy), gap)
-        self._evade = None
-        if gap < p.follow_gap_m + 0.3 and -away * p.yield_horizon_s > gap - p.stop_gap_m + 0.1:
-            return self._yield(view, goal, (vx, vy), gap)
-        want = max(-p.reverse_speed_m_s, min(p.max_speed_m_s, away + p.gain_gap * (gap - p.follow_gap_m)))
-        if gap < p.stop_gap_m:
-            want = min(want, 0.0)
-        if not self.ackermann:
-            want *= max(0.0, math.cos(bearing)) ** 2  # face it first, then go
-        elif abs(bearing) > math.radians(40) and gap < p.follow_gap_m + 0.6:
-            # Too far to the side to turn to without closing in: back out swinging the nose round.
-            return self._start_backing(view, side=1.0 if bearing > 0 else -1.0)
-        aim = self._aim_direction(gx, gy, gap)
-        if aim < 0:
-            want = min(want, -p.aim_speed_m_s)
-        if want < -0.02:
-            return self._back_off(view, gap, -want, bearing)
-        curvature = 2 * math.sin(bearing) / max(dist, 0.3)
-        if aim > 0:
-            # Drive, on the tightest arc towards it: pure pursuit's gentle arc at a creeping speed
-            # would leave it at the edge of the picture, or out of it.
-            curvature = math.copysign(self.avoider.params.max_curvature, bearing)
-            want = max(want, p.search_speed_m_s)
-        plan = self.avoider.plan(ox, oy, bearing, max(want, 0.0), target_xy=(tx, ty), curvature=curvature, goal_m=dist)
-        v, w = self._command(plan, view, turn_to=plan.direction_rad)
-        if not self.ackermann and v <= 0.02 and abs(plan.direction_rad) > 0.3 and not self._can_spin(view):
-            # It has to turn to the target and is too close to something to turn on the spot: get
-            # room first (standing there, it would wait for ever).
-            return self._unstick(view, gap)
-        mode = Mode.AVOID if plan.deflected else Mode.TRACK
-        if abs(v) < 0.02 and abs(w) < 0.05:
+        way, since = self._direction
+        choice = self.planner.plan(view.ox, view.oy, target=goal, target_velocity=self.memory.velocity_in(pose),
+                                   gap_m=p.follow_gap_m, last=self._last, speed_m_s=self._speed,
+                                   direction=way if self._t - since < p.hold_s else 0.0,
+                                   target_path=self.memory.ahead(self._t, pose, self.planner.times))  # fmt: skip
+        gap = math.hypot(goal[0] - fp.x_m, goal[1]) - fp.radius_m
+        if searching:
+            return Decision(choice.linear_m_s, choice.angular_rad_s, Mode.SEARCH, None, None, manoeuvre=choice)
+        if choice.linear_m_s == 0.0 and choice.angular_rad_s == 0.0:
             mode = Mode.STOP
-        if self._stuck(want > 0.05 and v < 0.02, dt):
-            return self._start_backing(view, side=1.0 if bearing > 0 else -1.0)
-        return Decision(v, w, mode, fix, gap, plan)
-
-    def _aim_direction(self, gx: float, gy: float, gap: float) -> float:
-        """Ackermann: +1 or -1 while the car must move to bring the target (at gx, gy) towards the
-        middle of the picture, 0 otherwise. A car turns only as it drives: standing at the gap with
-        the target off to one side, it loses it there. Forwards on the tightest arc towards it while
-        there is gap to spare, else backwards with the wheels turned away (`_back_off`): both swing
-        the nose towards it. The way chosen is kept until the gap runs out, so it does not chatter."""
-        p = self.params
-        if (
-            not self.ackermann
-            or gap < p.stop_gap_m
-            or (abs(self.camera.off_axis_rad(gx, gy)) < p.aim_off_axis * self.camera.half_fov_rad)
-        ):
-            self._aim = 0.0
-        elif self._aim == 0.0:
-            self._aim = 1.0 if gap > p.follow_gap_m else -1.0
-        elif self._aim > 0 and gap < p.stop_gap_m + 0.1:
-            self._aim = -1.0
-        elif self._aim < 0 and gap > p.follow_gap_m + 0.3:
-            self._aim = 1.0
-        return self._aim
-
-    def _yield(self, view: _View, goal: tuple[float, float], velocity: tuple[float, float], gap: float) -> Decision:
-        """The move that keeps the robot farthest from the coming target: an arc forwards or backwards,
-        standing still, or (differential drive) turning on the spot to leave sideways."""
-        p, a = self.params, self.avoider.params
-        (ox, oy), fix = view.xy, view.fix  # the target where it is now is in the way too
-        horizon = p.yield_horizon_s
-        taus = np.linspace(0.0, horizon, 11)
-        tx, ty = goal[0] + velocity[0] * taus, goal[1] + velocity[1] * taus
-
-        rx, ry = self.memory.route_in(self._pose)
-        clear_of_route = self.footprint.radius_m + p.target_size_m / 2 + 0.1
-
-        def score(x: F64, y: F64, th: F64) -> float:
-            fx, fy = x + self.footprint.x_m * np.cos(th), y + self.footprint.x_m * np.sin(th)
-            sep = float(np.min(np.hypot(tx - fx, ty - fy))) - self.footprint.radius_m
-            facing = math.cos(math.atan2(ty[-1] - y[-1], tx[-1] - x[-1]) - th[-1])
-            # Where it ends up should be off the route the target walks: it turns, and comes back along it.
-            on_route = float(np.min(np.hypot(rx - fx[-1], ry - fy[-1]), initial=math.inf)) < clear_of_route
-            return min(sep, 1.0) + 0.15 * facing - 0.3 * on_route
-
-        zero = np.zeros_like(taus)
-        best = (score(zero, zero, zero) + 0.05, 0.0, 0.0, 0.0)  # (score, v, w, how long): standing still
-        curvatures = self.avoider.curvatures[:: max(1, len(self.avoider.curvatures) // 10)]
-        for direction in (1.0, -1.0):
-            free = self._room(ox, oy, curvatures, reverse=direction < 0)
-            for k, room in zip(curvatures, free, strict=True):
-                v = direction * min(p.reverse_speed_m_s, safe_speed(float(room), a, ttc=False))
-                if abs(v) >= 0.05:
-                    cand = score(*arc_pose(v * taus, float(k)))
-                    if cand > best[0]:
-                        best = (cand, v, v * float(k), 0.5 * horizon)
-        if not self.ackermann and self._can_spin(view):
-            best = max(best, *self._spin_and_go(view, taus, score), key=lambda c: c[0])
-        _, v, w, hold = best
-        if v == 0.0 and w == 0.0:
-            return Decision(0.0, 0.0, Mode.STOP, fix, gap)
-        self._evade = (self._t + hold, v, w)  # commit: re-choosing every step dithers
-        return Decision(v, w, Mode.YIELD, fix, gap)
-
-    def _spin_and_go(self, view: _View, taus: F64,
-                     score: Callable[[F64, F64, F64], float]) -> list[tuple[float, float, float, float]]:  # fmt: skip
-        """Differential drive: turn a quarter turn either way on the spot, then drive straight out."""
-        p, a = self.params, self.avoider.params
-        x, y = view.xy
-        out = []
-        for side in (1.0, -1.0):
-            heading = side * math.pi / 2
-            spin_s = abs(heading) / p.max_turn_rate
-            clear = float(direction_clearance(x - self.footprint.x_m, y, np.array([heading]),
-                                              self.footprint.radius_m + a.pad_m, horizon_m=a.window_m)[0])  # fmt: skip
-            v = min(p.reverse_speed_m_s, safe_speed(clear, a, ttc=False))
-            th = np.where(taus < spin_s, side * p.max_turn_rate * taus, heading)
-            run = v * np.maximum(taus - spin_s, 0.0)
-            out.append((score(run * math.cos(heading), run * math.sin(heading), th), 0.0, side * p.max_turn_rate,
-                        spin_s))  # fmt: skip
-        return out
-
-    def _keep_yielding(self, view: _View, gap: float) -> Decision:
-        assert self._evade is not None
-        _, v, w = self._evade
-        a, fix = self.avoider.params, view.fix
-        if v == 0.0:  # turning on the spot
-            if self._can_spin(view):
-                return Decision(0.0, w, Mode.YIELD, fix, gap)
-            self._evade = None
-            return Decision(0.0, 0.0, Mode.STOP, fix, gap)
-        x, y = view.xy
-        k = w / v
-        free = float(self._room(x, y, np.array([k]), reverse=v < 0)[0])
-        speed = min(abs(v), safe_speed(free, a, ttc=False))
-        if speed < 0.02:
-            self._evade = None
-            return Decision(0.0, 0.0, Mode.STOP, fix, gap)
-        v = math.copysign(speed, v)
-        return Decision(v, v * k, Mode.YIELD, fix, gap)
+        elif choice.min_separation_m < self.planner.params.guard_m:
+            mode = Mode.YIELD
+        elif choice.deflected:
+            mode = Mode.AVOID
+        else:
+            mode = Mode.TRACK
+        return Decision(choice.linear_m_s, choice.angular_rad_s, mode, view.fix, gap, manoeuvre=choice)
 
     def _command(self, plan: Plan, view: _View, *, turn_to: float) -> tuple[float, float]:
         """The plan as a body twist, checked once more on the exact arc it drives."""
@@ -412,26 +278,6 @@ class Follower:
                 w = 0.0
         return v, w
 
-    def _back_off(self, view: _View, gap: float, speed: float, bearing: float) -> Decision:
-        """Reverse away from a target that came too close, still facing it: a differential drive turns
-        to it as it goes; an Ackermann robot reverses with its wheels turned away from it, which swings
-        the nose towards it (straight back, a target off to one side leaves the camera's view)."""
-        a, fix = self.avoider.params, view.fix
-        x, y = view.xy
-        if self.ackermann:
-            k = -math.copysign(min(a.max_curvature, 2.5 * abs(math.sin(bearing))), bearing)
-            free = float(self._room(x, y, np.array([k]), reverse=True)[0])
-            v = min(speed, safe_speed(free, a, ttc=False))
-            if v < 0.02:
-                return Decision(0.0, 0.0, Mode.STOP, fix, gap)
-            return Decision(-v, -v * k, Mode.TRACK, fix, gap)
-        w = max(-1.0, min(1.0, self.params.gain_turn * bearing))
-        free = float(self._room(x, y, np.array([-w / speed if speed > 0 else 0.0]), reverse=True)[0])
-        v = min(speed, safe_speed(free, a, ttc=False))
-        if v < 0.02:
-            return Decision(0.0, w if self._can_spin(view) else 0.0, Mode.STOP, fix, gap)
-        return Decision(-v, w, Mode.TRACK, fix, gap)
-
     # -- searching --------------------------------------------------------------------------------------
     def _search(self, view: _View, pose: Pose2D, dt: float) -> Decision:
         """Step off the target's route once, go to where it was heading, and look round towards the side
@@ -441,7 +287,11 @@ class Follower:
         last = self.memory.predicted(self._t, pose, 8.0)
         if self._search_from is None:
             self._search_from = pose[2]
-            self._search_side = self.memory.side if last is None else (1.0 if last[1] >= 0 else -1.0)
+            if last is None:
+                self._search_side = self.memory.side
+            else:  # the side it is on, or, nearly straight ahead, the side it was walking to
+                lateral = last[1] + 2.0 * self.memory.velocity_in(pose)[1]
+                self._search_side = 1.0 if lateral >= 0 else -1.0
             off = self.memory.off_route(pose, self.footprint.radius_m, self.footprint.x_m)
             self._step_off = None if off is None else (self._t + 1.5, pose[2] + off)
             self._going = self._no_go = False
@@ -580,9 +430,7 @@ class Follower:
             return self._manoeuvre(view, k, -1.0)
         forwards = options[::-1]
         ahead = self._room(x, y, np.array(forwards))
-        velocity = self.memory.velocity_in(self._pose)
-        usable = [i for i in range(3) if ahead[i] > 0.35 and (fix is None or self._separation(
-            0.2, forwards[i], (fix.x_m, fix.y_m), velocity) >= self.params.guard_gap_m)]  # fmt: skip
+        usable = [i for i in range(3) if ahead[i] > 0.35]
         if not usable:
             return Decision(0.0, 0.0, Mode.STOP, fix, None)
         k = forwards[usable[0]]

@@ -21,6 +21,10 @@ F64 = NDArray[np.float64]
 Pose2D = tuple[float, float, float]
 
 
+_RECENT = 15
+"""Route points (0.1 m apart) that are the target's current pass."""
+
+
 class TargetMemory:
     def __init__(self, target_size_m: float) -> None:
         self.target_size_m = target_size_m
@@ -57,6 +61,34 @@ class TargetMemory:
         age = min(t - self.seen[0], 3.0)
         wx, wy = self.seen[1] + self.velocity[0] * age, self.seen[2] + self.velocity[1] * age
         return to_base(pose, wx, wy)
+
+    def ahead(self, t: float, pose: Pose2D, times: F64) -> tuple[F64, F64] | None:
+        """Where the target will be (its surface point, base frame) at `times` from now, if it walks
+        its route again: from the last time it passed near where it is now, going the same way, the
+        route it walked then, at its speed now. None when it has not passed here before (or stands):
+        then its velocity is all there is to go by."""
+        speed = math.hypot(*self.velocity)
+        if self.seen is None or speed < 0.05 or len(self.route) < 2 * _RECENT:
+            return None
+        age = min(t - self.seen[0], 3.0)
+        px, py = self.seen[1] + self.velocity[0] * age, self.seen[2] + self.velocity[1] * age
+        route = np.array(self.route)
+        step = np.diff(route, axis=0)
+        old = slice(0, len(route) - _RECENT)  # the current pass is not a pass before
+        near = np.hypot(route[old, 0] - px, route[old, 1] - py) < 0.35
+        same_way = step[old] @ np.array(self.velocity) > 0.5 * speed * np.hypot(step[old, 0], step[old, 1])
+        passes = np.flatnonzero(near & same_way)
+        if not passes.size:
+            return None
+        latest = passes[passes > passes[-1] - 10]  # the last pass by here (points 0.1 m apart)...
+        i = int(latest[np.argmin(np.hypot(route[latest, 0] - px, route[latest, 1] - py))])  # ...where nearest
+        walked = np.concatenate([[0.0], np.cumsum(np.hypot(step[i:, 0], step[i:, 1]))])
+        s = speed * np.asarray(times, dtype=np.float64)
+        wx = np.interp(s, walked, route[i:, 0]) + (px - route[i, 0])
+        wy = np.interp(s, walked, route[i:, 1]) + (py - route[i, 1])
+        c, sn = math.cos(pose[2]), math.sin(pose[2])
+        dx, dy = wx - pose[0], wy - pose[1]
+        return c * dx + sn * dy, -sn * dx + c * dy
 
     def velocity_in(self, pose: Pose2D) -> tuple[float, float]:
         c, s = math.cos(pose[2]), math.sin(pose[2])
@@ -127,14 +159,6 @@ class TargetMemory:
         if d[i] > radius_m + self.target_size_m / 2 + 0.25:
             return None
         return math.atan2(-float(ry[i]), -float(rx[i]))
-
-
-def arc_pose(s: F64, k: float) -> tuple[F64, F64, F64]:
-    """Pose after travelling `s` (array, signed) along an arc of curvature k from the origin."""
-    th = s * k
-    if abs(k) < 1e-9:
-        return s, np.zeros_like(s), th
-    return np.sin(th) / k, (1 - np.cos(th)) / k, th
 
 
 def to_world(pose: Pose2D, x: float, y: float) -> tuple[float, float]:

@@ -86,6 +86,7 @@ def make_pilot(kind: str, geo: RobotGeometry, template: NDArray[np.uint8], setti
         min_turn_radius_m=geo.min_turn_radius_m,
         avoidance=AvoidanceParams(),
         params=FollowParams(follow_gap_m=follow_gap(settings, geo), max_speed_m_s=settings.max_speed_m_s),
+        curvatures=geo.curvatures,
     )
     return RoverLinkPilot(ScanFilter(geo.lidar_mount), tracker, follower)
 
@@ -101,7 +102,7 @@ def run_emulated(profile: str, world: str | Path, *, pilot: str = "roverlink", s
     try:
         if settings.target_height_m is None:
             settings = replace(settings, target_height_m=em.template.height_m)
-        geo = geometry(profile, robot.kinematics)
+        geo = geometry(profile, robot.kinematics, config=robot.config)
         chosen = make_pilot(pilot, geo, em.template.image, settings)
         lidar = Lidar.open(em.endpoints["lidar"], em.lidar_model)
         camera = CameraSource(em.endpoints["camera"])
@@ -144,7 +145,7 @@ def run_robot(ports: RobotPorts, profile: str, *, template: NDArray[np.uint8] | 
             x, y, w, h = (round(v) for v in select)
             template = camera.read(5.0).image[y : y + h, x : x + w].copy()
         assert template is not None
-        geo = geometry(profile, robot.kinematics)
+        geo = geometry(profile, robot.kinematics, config=robot.config)
         chosen = make_pilot(pilot, geo, template, settings)
         lidar = Lidar.open(ports.lidar, ports.lidar_model or LIDAR_FOR.get(profile, "rplidar-a1"))
         imu = Jy901.open(ports.imu) if ports.imu else None

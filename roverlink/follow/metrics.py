@@ -53,6 +53,9 @@ class FollowMetrics:
     mode_s: dict[str, float] = field(default_factory=dict)
     """Time spent in each mode of the pilot."""
     failsafes: int = 0
+    decide_ms_mean: float | None = None
+    """CPU time the pilot took to decide each control step (the follower and its planner), mean."""
+    decide_ms_p99: float | None = None
     follow_gap_m: float = 0.5
     """The gap the following error is measured against."""
     ground_truth: bool = False
@@ -79,6 +82,7 @@ class MetricsRecorder:
         self._errors: list[float] = []
         self._lost_since: float | None = None
         self._found_once = False
+        self._decide_s: list[float] = []
 
     def begin(self, t: float) -> None:
         """The run starts (its duration counts from here)."""
@@ -119,6 +123,17 @@ class MetricsRecorder:
         if self._errors:
             m.follow_error_mean_m = sum(self._errors) / len(self._errors)
             m.follow_error_max_m = max(self._errors)
+
+    def decided(self, seconds: float) -> None:
+        """How long the pilot took to decide one control step (CPU time of the loop's thread)."""
+        self._decide_s.append(seconds)
+        self.m.decide_ms_mean = 1000 * sum(self._decide_s) / len(self._decide_s)
+
+    def finish(self) -> None:
+        """The run is over: the figures that need all of it."""
+        if self._decide_s:
+            ordered = sorted(self._decide_s)
+            self.m.decide_ms_p99 = 1000 * ordered[min(len(ordered) - 1, int(0.99 * len(ordered)))]
 
     def add_distance(self, metres: float) -> None:
         """Distance driven, from odometry (a real robot has no truth to take it from)."""

@@ -1,6 +1,7 @@
 """What `roverlink follow --foxglove` records besides the robot: the filtered scan, the camera with
-the tracked box, and the behaviour's state, as a source for the recording library (roverlink.recording:
-MCAP files and the live Foxglove view, shared with `roverlink record` and `monitor`).
+the tracked box, and the behaviour's state (with the manoeuvre it plans), as a source for the
+recording library (roverlink.recording: MCAP files and the live Foxglove view, shared with
+`roverlink record` and `monitor`).
 
 A source has `start(publisher)`, `poll(now_s)` and `stop()`; this one reads the pilot's latest
 picture when polled (the follow loop polls the recorder once per control period) and publishes at
@@ -30,6 +31,8 @@ FOLLOW_SCHEMA: dict[str, Any] = {
         "target_y_m": {"type": ["number", "null"]},
         "tracked": {"type": "boolean"},
         "confidence": {"type": "number"},
+        "plan_x_m": {"type": "array", "items": {"type": "number"}},
+        "plan_y_m": {"type": "array", "items": {"type": "number"}},
     },
 }
 
@@ -78,6 +81,9 @@ class FollowSource:
                 "target_y_m": d.target.y_m if d.target is not None else None,
                 "tracked": bool(track is not None and track.found),
                 "confidence": track.confidence if track is not None else 0.0,
+                # The planned manoeuvre (base frame): where the robot means to be over the next seconds.
+                "plan_x_m": [x for x, _ in d.manoeuvre.path_xy] if d.manoeuvre is not None else [],
+                "plan_y_m": [y for _, y in d.manoeuvre.path_xy] if d.manoeuvre is not None else [],
             }
             out.json(TOPIC_FOLLOW, FOLLOW_SCHEMA, message, now_s)
         frame = pilot.last_frame

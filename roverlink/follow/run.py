@@ -15,6 +15,7 @@ from __future__ import annotations
 import bisect
 import math
 import threading
+import time
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -163,7 +164,9 @@ def run_follow(robot: Robot, lidar: Lidar, camera: CameraSource, pilot: Pilot, *
                 track = pilot.on_frame(frame, poses.at(frame.time_s))
                 if track is not None:
                     state = track.state
+            started = time.thread_time()
             linear, angular, mode = pilot.command(t, pose)
+            recorder.decided(time.thread_time() - started)
             try:
                 robot.drive(linear, angular, clamp=True)
             except NotArmedError:  # a failsafe (e.g. pushing against something): count it, re-arm
@@ -187,6 +190,7 @@ def run_follow(robot: Robot, lidar: Lidar, camera: CameraSource, pilot: Pilot, *
     finally:
         frames.close()
     metrics.duration_s = robot.now() - t0
+    recorder.finish()
     robot.stop()
     lidar.stop()
     return metrics

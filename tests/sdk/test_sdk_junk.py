@@ -33,7 +33,7 @@ from host_sdk.errors import (
 from host_sdk.framing import FrameDecoder, encode_frame
 from host_sdk.kinematics import Ackermann, Arc, DiffDrive
 from host_sdk.odometry import Odometry, integrate_arc
-from host_sdk.profiles import PROFILES, get_profile, kinematics_for, steering_limits
+from host_sdk.profiles import PROFILES, get_profile, kinematics_for, steering_angles, steering_limits
 from host_sdk.timesync import ClockSync, Unwrapper
 
 JUNK = st.one_of(
@@ -323,6 +323,7 @@ def module_calls() -> list[tuple[Callable[..., Any], st.SearchStrategy[dict[str,
             (),
         ),
         (steering_limits, kwargs(config=arg(st.just(PROFILES["picar"].config))), ()),
+        (steering_angles, kwargs(config=arg(st.just(PROFILES["picar"].config))), ()),
         (encode_frame, kwargs(msg=arg(valid_msg), seq=arg(st.integers(0, 255))), ()),
         (decoder.feed, kwargs(data=arg(st.binary(max_size=80))), ()),
         (FrameDecoder, kwargs(), ()),

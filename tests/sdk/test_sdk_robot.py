@@ -11,6 +11,7 @@ import threading
 import time
 from typing import Any
 
+import numpy as np
 import pytest
 
 from emulator.firmware.statemachine import SessionState
@@ -27,6 +28,7 @@ from host_sdk.errors import (
     UnsupportedError,
 )
 from host_sdk.framing import Frame, FrameDecoder, encode_frame
+from host_sdk.profiles import steering_angles
 from host_sdk.transport import Transport
 from protocol.generated.constants import PROTOCOL_VERSION
 
@@ -76,6 +78,24 @@ def test_ackermann_steering_limits_and_unsupported_calls(robot: Robot) -> None:
     with pytest.raises(UnsupportedError, match="set_wheel_speeds"):
         robot.set_wheel_speeds(0.1, 0.1)
     robot.drive_ackermann(0.5, 0.9, clamp=True)
+
+
+@pytest.mark.roverlink(profile="picar")
+def test_steering_angles_are_the_angles_the_servo_reaches(robot: Robot) -> None:
+    """Whatever angle is asked for, the firmware puts its coarse servo on one of `steering_angles`
+    (the PiCar's: -25, -15, 0, 15, 30 degrees), and every one of them is reached."""
+    angles = steering_angles(robot.config)
+    assert [round(math.degrees(a)) for a in angles] == [-25, -15, 0, 15, 30]
+    robot.arm(wait_esc=False)
+    reached = set()
+    for asked in np.linspace(-0.6, 0.6, 25):
+        robot.drive_ackermann(0.1, float(asked), clamp=True)
+        robot.sleep(0.05)
+        sample = robot.wait_feedback()
+        assert sample.steering_rad is not None
+        assert min(abs(sample.steering_rad - a) for a in angles) < 0.002, asked
+        reached.add(min(range(len(angles)), key=lambda i: abs(sample.steering_rad - angles[i])))
+    assert reached == set(range(len(angles)))
 
 
 def test_calls_on_a_closed_robot_raise(robot: Robot) -> None:
