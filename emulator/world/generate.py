@@ -1,12 +1,13 @@
 """`random:SEED` worlds: a walled room with boxes and cylinders and a target on a closed path.
 
 The rules keep every world solvable for every reference robot (the largest footprint is a 0.19 m
-disc): the start pose has ROBOT_CLEARANCE_M of free space around it, the target's path (each leg,
-not only its waypoints) keeps its disc clear of every obstacle, and a breadth-first search over a
-5 cm grid, with obstacles grown by the robot's radius, reaches a cell next to every waypoint of the
-target from the start. A draw that
-breaks a rule is thrown away and the next one taken (from the same seeded stream, so one seed is
-one world on every machine: `random.Random` seeded from a string is stable across Python versions).
+disc): the start pose has ROBOT_CLEARANCE_M of free space around it, which the target's path never
+crosses (the target walks while the robot is being connected, and a robot cannot step aside before
+it runs), the target's path (each leg, not only its waypoints) keeps its disc clear of every
+obstacle, and a breadth-first search over a 5 cm grid, with obstacles grown by the robot's radius,
+reaches a cell next to every waypoint of the target from the start. A draw that breaks a rule is
+thrown away and the next one taken (from the same seeded stream, so one seed is one world on every
+machine: `random.Random` seeded from a string is stable across Python versions).
 """
 
 from __future__ import annotations
@@ -119,7 +120,8 @@ def clearance_field(scene: Scene, points: NDArray[np.float64], *, skip_target: b
 
 def path_clear(scene: Scene, margin: float = 0.05) -> bool:
     """The target's disc (plus `margin`) stays clear of every obstacle along its whole path, not only
-    at its waypoints (a leg between two free waypoints can cross a box)."""
+    at its waypoints (a leg between two free waypoints can cross a box), and out of the start's free
+    space."""
     target = scene.target
     if target is None:
         return True
@@ -129,7 +131,13 @@ def path_clear(scene: Scene, margin: float = 0.05) -> bool:
         pts.append(np.column_stack([np.linspace(ax, bx, n), np.linspace(ay, by, n)]))
     if not pts:
         return True
-    return bool(clearance_field(scene, np.vstack(pts)).min() >= target.radius_m + margin)
+    path = np.vstack(pts)
+    sx, sy, _ = scene.start
+    from_start = float(np.hypot(path[:, 0] - sx, path[:, 1] - sy).min())
+    return bool(
+        clearance_field(scene, path).min() >= target.radius_m + margin
+        and from_start >= ROBOT_CLEARANCE_M + target.radius_m
+    )
 
 
 def solvable(scene: Scene, robot_radius: float = ROBOT_RADIUS_M) -> bool:

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from emulator.world import ScenarioError, load_world, parse_scenario
-from emulator.world.generate import solvable
+from emulator.world.generate import ROBOT_CLEARANCE_M, solvable
 from emulator.world.raycast import nearest
 from host_sdk.robot import Robot
 
@@ -55,6 +55,18 @@ def test_random_worlds_are_solvable_and_reproducible() -> None:
     a, b = load_world("random:11"), load_world("random:11")
     assert np.array_equal(a.segments, b.segments) and a.start == b.start
     assert not np.array_equal(a.segments, load_world("random:12").segments)
+
+
+def test_no_random_world_walks_its_target_over_the_robots_start() -> None:
+    # The target walks while the robot is being connected: a route across the start pose would
+    # run into a robot that has not begun to move.
+    for seed in range(50):
+        scene = load_world(f"random:{seed}")
+        assert scene.target is not None
+        path, (sx, sy, _) = scene.target.path, scene.start
+        walk = [path.pose_at(t)[:2] for t in np.arange(0.0, path.length_m / path.speed_m_s, 0.05)]
+        closest = min(math.hypot(x - sx, y - sy) for x, y in walk)
+        assert closest >= ROBOT_CLEARANCE_M + scene.target.radius_m - 0.01, (seed, closest)
 
 
 def test_the_target_moves_along_its_path_at_its_speed() -> None:
