@@ -9,7 +9,9 @@
 4. Doubt: what the camera has had in its picture for `doubt_s` in all (the looks need not be one
    after another) without seeing the target is not the target (a false mover, a cylinder of its
    size), and neither is a mover the camera has not confirmed within `confirm_s` of taking it (one
-   the robot cannot turn to, or hidden). It is dropped, and not taken again for `reject_s`.
+   the robot cannot turn to, or hidden) while it is farther than `near_m` (one that close is kept:
+   a moving body beside the robot is one to keep clear of). It is dropped, and not taken again for
+   `reject_s`.
 """
 
 from __future__ import annotations
@@ -32,13 +34,14 @@ Pose2D = tuple[float, float, float]
 
 class TargetFinder:
     def __init__(self, camera: CameraModel, *, target_size_m: float, coast_s: float, doubt_s: float,
-                 reject_s: float, confirm_s: float) -> None:  # fmt: skip
+                 reject_s: float, confirm_s: float, near_m: float = 1.0) -> None:  # fmt: skip
         self.camera = camera
         self.target_size_m = target_size_m
         self.coast_s = coast_s
         self.doubt_s = doubt_s
         self.reject_s = reject_s
         self.confirm_s = confirm_s
+        self.near_m = near_m
         self.memory = TargetMemory(target_size_m)
         self._t = 0.0
         self._scan_ok = True
@@ -84,7 +87,9 @@ class TargetFinder:
             # Held, not cleared, while it is out of the picture: only the camera seeing the target
             # clears it (a false target skirting the edge of the view would otherwise never be dropped).
             self._doubt += dt
-        if self._doubt > self.doubt_s or t - self._unconfirmed_since > self.confirm_s:
+        # Unconfirmed but within reach is kept: a body that close, moving, is not one to forget.
+        unconfirmed = t - self._unconfirmed_since > self.confirm_s and fix.range_m > self.near_m
+        if self._doubt > self.doubt_s or unconfirmed:
             self._rejected.append((t + self.reject_s, *to_world(pose, fix.x_m, fix.y_m)))
             self._scan_ok, self._doubt, self._unconfirmed_since = False, 0.0, math.inf
             mem.seen = None  # nor steered for where it would be now

@@ -73,6 +73,9 @@ class FollowParams:
     hold_s: float = 0.6
     """Having begun to move forwards (or backwards), the planner keeps that way this long: choosing
     again 20 times a second, a car chattered between the two and never moved."""
+    go_s: float = 0.3
+    """Ackermann: having started from standing, it keeps moving for this long (unless that runs into
+    the target). A differential drive stands to turn, so it is not held to going."""
     look_s: float = 5.0
     """How long after that the planner still looks where it is predicted to be, before the search
     turns round to look for it."""
@@ -82,7 +85,9 @@ class FollowParams:
     reject_s: float = 5.0
     """How long a place so found not to be the target is not taken for it again."""
     confirm_s: float = 8.0
-    """A mover followed this long without the camera confirming it is dropped too."""
+    """A mover followed this long without the camera confirming it is dropped too..."""
+    keep_near_m: float = 1.0
+    """...unless it is this close (a moving body that near is one to keep clear of)."""
     search_speed_m_s: float = 0.25
     search_turn_rate: float = 0.9
     """Differential drive: turn rate while searching."""
@@ -141,7 +146,7 @@ class Follower:
         self.params = p = params or FollowParams()
         self.avoider = Avoider(footprint, replace(avoidance or AvoidanceParams(), min_turn_radius_m=min_turn_radius_m))
         self.finder = TargetFinder(camera, target_size_m=p.target_size_m, coast_s=p.coast_s, doubt_s=p.doubt_s,
-                                   reject_s=p.reject_s, confirm_s=p.confirm_s)  # fmt: skip
+                                   reject_s=p.reject_s, confirm_s=p.confirm_s, near_m=p.keep_near_m)  # fmt: skip
         self.memory = self.finder.memory
         speeds = (-p.reverse_speed_m_s, -0.2, 0.0, 0.2, 0.35, p.max_speed_m_s)
         plan = p.planner or PlannerParams(speeds_m_s=speeds, target_radius_m=p.target_size_m / 2)
@@ -161,6 +166,8 @@ class Follower:
         """Looking where the target was predicted to go showed nothing to do: search."""
         self._direction = (0.0, -math.inf)
         """(+1 forwards or -1 backwards, since when): the way it last began to move."""
+        self._started = -math.inf
+        """When it last started from standing."""
         self._search_from: float | None = None
         """Heading when the search began (a whole turn round without the target: go elsewhere)."""
         self._wander: tuple[float, float, float] | None = None
@@ -193,6 +200,8 @@ class Follower:
             decision = replace(decision, angular_rad_s=float(v * k))
         if v != 0.0 and math.copysign(1.0, v) != self._direction[0]:
             self._direction = (math.copysign(1.0, v), t)
+        if v != 0.0 and self._last[0] == 0.0:
+            self._started = t
         self._last = (decision.linear_m_s, decision.angular_rad_s)
         return decision
 
@@ -218,7 +227,7 @@ class Follower:
                 goal, searching = self.memory.predicted(t, pose, p.coast_s + p.look_s), True
         if goal is not None:
             decision = self._plan(view, goal, pose, searching=searching)
-            if not searching or decision.linear_m_s or decision.angular_rad_s:
+            if not searching or decision.linear_m_s or decision.angular_rad_s or decision.mode is Mode.YIELD:
                 self._recover = None
                 self._search_from = self._wander = None
                 return decision
@@ -241,13 +250,16 @@ class Follower:
         predicted to be (a car turning round on the spot is slow, and it is most likely there)."""
         p, fp = self.params, self.footprint
         way, since = self._direction
+        just_started = self.ackermann and self._last[0] != 0.0 and self._t - self._started < p.go_s
         choice = self.planner.plan(view.ox, view.oy, target=goal, target_velocity=self.memory.velocity_in(pose),
                                    gap_m=p.follow_gap_m, last=self._last, speed_m_s=self._speed,
                                    direction=way if self._t - since < p.hold_s else 0.0,
+                                   moving=just_started,
                                    target_path=self.memory.ahead(self._t, pose, self.planner.times))  # fmt: skip
         gap = math.hypot(goal[0] - fp.x_m, goal[1]) - fp.radius_m
-        if searching:
-            return Decision(choice.linear_m_s, choice.angular_rad_s, Mode.SEARCH, None, None, manoeuvre=choice)
+        if searching:  # standing to let it pass is something to do, not nothing
+            mode = Mode.YIELD if choice.min_separation_m < self.planner.params.guard_m else Mode.SEARCH
+            return Decision(choice.linear_m_s, choice.angular_rad_s, mode, None, None, manoeuvre=choice)
         if choice.linear_m_s == 0.0 and choice.angular_rad_s == 0.0:
             mode = Mode.STOP
         elif choice.min_separation_m < self.planner.params.guard_m:

@@ -150,7 +150,8 @@ class ViewPlanner:
 
     def plan(self, ox: F64, oy: F64, *, target: tuple[float, float], target_velocity: tuple[float, float],
              gap_m: float, last: tuple[float, float] = (0.0, 0.0), speed_m_s: float | None = None,
-             direction: float = 0.0, target_path: tuple[F64, F64] | None = None) -> PlanChoice:  # fmt: skip
+             direction: float = 0.0, moving: bool = False,
+             target_path: tuple[F64, F64] | None = None) -> PlanChoice:  # fmt: skip
         """The manoeuvre to start now: obstacle points and the target's nearest surface point in the
         base frame, the target's velocity (base frame, m/s), the wanted footprint-to-surface gap, and
         the command sent last (linear m/s, angular rad/s), which still drives for `latency_s`, and the
@@ -161,8 +162,9 @@ class ViewPlanner:
         `direction` (+1 forwards, -1 backwards, 0 either) rules out the other way, unless holding to it
         runs into the target and the other way does not: replanning 20 times a second between two
         nearly equal choices, forwards and backwards, a car never moves (the caller holds the way it
-        began to move for a while). A manoeuvre that goes on moving as the last command did costs
-        `w_keep` less."""
+        began to move for a while). With `moving`, standing is ruled out too (the same way, between
+        standing and going: a car that has just started keeps going for a moment). A manoeuvre that
+        goes on moving as the last command did costs `w_keep` less."""
         p, fp, cam = self.params, self.footprint, self.camera
         v0, w0 = last
         x, y, th, stop_x, stop_y = self._simulate(v0 if speed_m_s is None else speed_m_s, v0, w0)
@@ -221,7 +223,7 @@ class ViewPlanner:
             + p.w_contact * np.maximum(-min_sep, 0.0)
         )
         if direction:
-            held = ok & (self.v1 * direction >= 0)
+            held = ok & (self.v1 * direction > 0 if moving else self.v1 * direction >= 0)
             clear_of_it = ok & (min_sep >= 0.0)
             if held.any() and (min_sep[int(np.argmin(np.where(held, cost, np.inf)))] >= 0.0 or not clear_of_it.any()):
                 ok = held  # held, unless holding runs into the target and the other way does not

@@ -10,7 +10,7 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
-from host_sdk.autonomy import Decision, Follower, FollowParams, Mode, locate_target
+from host_sdk.autonomy import Decision, Follower, FollowParams, Mode, PlanChoice, locate_target
 from host_sdk.perception import CameraModel, Footprint, LidarMount, Mover
 from host_sdk.perception.tracking import Track, TrackState
 from host_sdk.sensors import CameraFrame, LidarScan
@@ -306,19 +306,38 @@ def test_what_the_camera_looks_at_without_seeing_the_target_is_not_taken_for_it(
     assert d.target is not None and d.target.bearing_rad > math.radians(90)
 
 
-def test_a_mover_the_camera_never_confirms_is_dropped() -> None:
+@pytest.mark.parametrize("distance", [1.5, 0.7])
+def test_a_mover_the_camera_never_confirms_is_dropped_unless_it_is_within_reach(distance: float) -> None:
     # Nothing seen yet; something moves beside the robot (where an Ackermann robot may take long to
-    # turn to, or it is hidden from the camera): followed for `confirm_s`, then dropped.
+    # turn to, or it is hidden from the camera): followed for `confirm_s`, then dropped; but not
+    # while it is within a metre (a body that close, moving, is one to keep clear of, not forget).
     follower = Follower(DIFF, CAMERA)
-    mover_at = (0.1, 1.0)
     found = []
     for i in range(100):
         t = 0.1 * i
-        x, y = mover_at[0] + 0.02 * t, mover_at[1]
+        x, y = 0.1 + 0.02 * t, distance
         d = follower.step(t, *disc(x, y), lost(t), (0.0, 0.0, 0.0), movers=(Mover(x, y - 0.12, t, 3),))
         found.append(d.target is not None)
     confirm = int(follower.params.confirm_s / 0.1)
-    assert all(found[1:confirm]) and not any(found[confirm + 2 :])
+    assert all(found[1:confirm])
+    assert all(found[confirm + 2 :]) if distance < 1.0 else not any(found[confirm + 2 :])
+
+
+def test_looking_for_a_lost_target_standing_to_let_it_pass_is_not_giving_up(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Lost from the camera and the scan, the target is looked for where it was going. When the
+    planner stands because the target is predicted to come close, the follower stands with it (it
+    yields); only a planner standing with nothing to gain sends it searching."""
+    follower = Follower(DIFF, CAMERA)
+    walls = room_walls(6.0, 6.0)
+    follower.step(0.0, *scene(walls, disc(1.0, 0.0)), track_of(0.88, 0.0, 0.0), (0.0, 0.0, 0.0))
+    t = follower.params.coast_s + 0.5
+    guard = follower.planner.params.guard_m
+    monkeypatch.setattr(follower.planner, "plan", lambda *a, **k: PlanChoice(0.0, 0.0, 1.0, 0.0, guard / 2, True))
+    d = follower.step(t, *walls, lost(t), (0.0, 0.0, 0.0))
+    assert d.mode is Mode.YIELD and (d.linear_m_s, d.angular_rad_s) == (0.0, 0.0)
+    monkeypatch.setattr(follower.planner, "plan", lambda *a, **k: PlanChoice(0.0, 0.0, 1.0, 0.0, 2.0, True))
+    d = follower.step(t + 0.1, *walls, lost(t + 0.1), (0.0, 0.0, 0.0))
+    assert d.mode is Mode.SEARCH and d.angular_rad_s != 0.0
 
 
 def test_a_mover_on_a_wall_is_not_taken_for_the_lost_target() -> None:

@@ -184,6 +184,22 @@ def test_the_way_the_car_began_to_move_is_held_unless_that_runs_into_the_target(
     assert coming.linear_m_s < 0
 
 
+def test_having_just_started_it_keeps_going_unless_that_runs_into_the_target() -> None:
+    """The target stands at the follow gap, where standing is best. Just started forwards
+    (`moving`), the car keeps going for a moment (replanning between standing and going 20 times a
+    second, a car never got moving); not when going on would run into a target coming at it."""
+    pl = planner()
+    at_gap = (PICAR.x_m + PICAR.radius_m + GAP, 0.0)
+    still = pl.plan(*room(8, 8), target=at_gap, target_velocity=(0.0, 0.0), gap_m=GAP, last=(0.2, 0.0))
+    assert still.linear_m_s == 0.0
+    going = pl.plan(*room(8, 8), target=at_gap, target_velocity=(0.0, 0.0), gap_m=GAP, last=(0.2, 0.0),
+                    direction=1.0, moving=True)  # fmt: skip
+    assert going.linear_m_s > 0.0 and going.min_separation_m > 0.0
+    coming = pl.plan(*room(8, 8), target=(0.8, 0.0), target_velocity=(-0.3, 0.0), gap_m=GAP, last=(0.2, 0.0),
+                     direction=1.0, moving=True)  # fmt: skip
+    assert coming.linear_m_s < 0.0
+
+
 def test_a_target_walking_its_route_again_is_predicted_to_turn_where_it_turned() -> None:
     """Round a 2 m square once (seen every 0.1 s); on its second lap, half a metre before a corner,
     the prediction turns the corner with it, where its velocity alone would run straight on. Before
