@@ -1,7 +1,7 @@
 """Behaviour for robot programs: follow a tracked target while avoiding obstacles (`Follower`),
 with the target picked out of the lidar scan by the camera's bearing (`locate_target`) and followed in
-the scan while the camera does not have it (`TargetFinder`); an Ackermann robot's manoeuvres are
-planned a few seconds ahead to keep the target in the picture (`ViewPlanner`).
+the scan while the camera does not have it (`TargetFinder`); the robot's manoeuvres are planned a
+few seconds ahead to keep the target in the picture and keep out of its way (`ViewPlanner`).
 
 numpy, and OpenCV for the planner's distance field (the tracker that feeds it needs OpenCV too);
 see docs/autonomy.md.

@@ -83,6 +83,7 @@ class MetricsRecorder:
         self._lost_since: float | None = None
         self._found_once = False
         self._decide_s: list[float] = []
+        self._decide_total_s = 0.0
 
     def begin(self, t: float) -> None:
         """The run starts (its duration counts from here)."""
@@ -127,7 +128,8 @@ class MetricsRecorder:
     def decided(self, seconds: float) -> None:
         """How long the pilot took to decide one control step (CPU time of the loop's thread)."""
         self._decide_s.append(seconds)
-        self.m.decide_ms_mean = 1000 * sum(self._decide_s) / len(self._decide_s)
+        self._decide_total_s += seconds  # a running sum: a run on a robot lasts hours of steps
+        self.m.decide_ms_mean = 1000 * self._decide_total_s / len(self._decide_s)
 
     def finish(self) -> None:
         """The run is over: the figures that need all of it."""

@@ -1,4 +1,5 @@
-"""The follow loop's pose history: a revolution or a frame is registered at the pose of its own time."""
+"""The follow loop's pose history (a revolution or a frame is registered at the pose of its own time),
+its fused heading, and the time the pilot takes to decide a step."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from typing import cast
 import pytest
 
 from host_sdk import Robot
+from roverlink.follow.metrics import FollowMetrics, MetricsRecorder
 from roverlink.follow.run import PoseSource
 
 
@@ -23,6 +25,16 @@ def test_poses_between_control_steps_are_interpolated_not_rounded() -> None:
     assert x == pytest.approx(0.024) and y == 0.0
     assert th == pytest.approx(math.pi - 0.1 + 0.12)  # not the nearest step's, 0.1 or 0.15
     assert poses.at(-1.0)[0] == 0.0 and poses.at(9.0)[0] == pytest.approx(0.04)  # held beyond the history
+
+
+def test_the_time_to_decide_a_step_is_reported_as_mean_and_99th_percentile() -> None:
+    recorder = MetricsRecorder(FollowMetrics("roverlink", "picar", "random:0"), 0.9)
+    for i in range(200):  # 1 ms a step, and two slow steps of 9 ms
+        recorder.decided(0.009 if i in (50, 150) else 0.001)
+    assert recorder.m.decide_ms_mean == pytest.approx(1.08)
+    assert recorder.m.decide_ms_p99 is None  # a percentile needs the whole run
+    recorder.finish()
+    assert recorder.m.decide_ms_p99 == pytest.approx(9.0)
 
 
 def test_the_fused_heading_follows_the_robot_as_the_loop_reads_it() -> None:
