@@ -255,7 +255,7 @@ class Follower:
                                    gap_m=p.follow_gap_m, last=self._last, speed_m_s=self._speed,
                                    direction=way if self._t - since < p.hold_s else 0.0,
                                    moving=just_started,
-                                   target_path=self.memory.ahead(self._t, pose, self.planner.times))  # fmt: skip
+                                   target_path=self.memory.ahead(self._t, pose, self.planner.path_times))  # fmt: skip
         gap = math.hypot(goal[0] - fp.x_m, goal[1]) - fp.radius_m
         if searching:  # standing to let it pass is something to do, not nothing
             mode = Mode.YIELD if choice.min_separation_m < self.planner.params.guard_m else Mode.SEARCH

@@ -16,7 +16,8 @@ Each manoeuvre is simulated (the previous command for `latency_s`, then the spee
 - must keep the footprint `pad_m` clear of every obstacle point, over the horizon and the stop after
   it (points already inside that margin only forbid coming closer to them);
 - should keep the footprint `guard_m` clear of the target's predicted body (the target does not
-  avoid the robot: a manoeuvre that meets it costs more than any other);
+  avoid the robot: a manoeuvre that meets it costs more than any other), and a car should not stop
+  where the target walks into it within `late_s` after the horizon;
 - is scored by where the target would be in the picture (no cost inside `view_share` of the half
   field of view, the most at its edge, beyond it or behind an obstacle: the line of sight is checked
   against the obstacle points), how much turning would still be needed at the end, how far the gap
@@ -93,6 +94,14 @@ class PlannerParams:
     w_contact: float = 300.0
     """Per metre the footprint would overlap the target's predicted body at the worst: a manoeuvre
     that runs into it is worse than any that does not, whatever it does for the view."""
+    late_s: float = 3.0
+    """A car's: after the horizon it stands where it stopped while the target walks on this long. A
+    place the target walks into soon after is no place for a car to stop: it needs room and time to
+    get off the target's route, so it has to see that coming before it is inside the horizon. (A
+    differential drive steps aside on the spot in time; checking this for it too only cost it time
+    with the target in view.)"""
+    w_late: float = 100.0
+    """Per metre the target's body would overlap the stopped footprint then, at the worst."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -108,6 +117,8 @@ class PlanChoice:
     """False: no manoeuvre kept clear of the obstacles (the choice is to stand)."""
     deflected: bool = False
     """The obstacles changed the choice: without them another manoeuvre would have been best."""
+    late_separation_m: float = math.inf
+    """Closest the target's predicted body comes to the footprint stopped after it, in `late_s`."""
     path_xy: tuple[tuple[float, float], ...] = field(default=(), repr=False)
     """Where the chosen manoeuvre takes the pose point (base frame), at every judged time."""
 
@@ -147,6 +158,9 @@ class ViewPlanner:
         self._n_b = round((p.horizon_s - p.switch_s) / p.step_s)
         self.times: F64 = p.step_s * np.arange(1, self._n_a + self._n_b + 1, dtype=np.float64)
         """When each manoeuvre is judged, s from now."""
+        late = round(p.late_s / p.step_s) if curvatures is not None else 0
+        self.path_times: F64 = p.step_s * np.arange(1, self.times.size + late + 1, dtype=np.float64)
+        """When the target's predicted place is wanted: `times`, then (a car) `late_s` after them."""
 
     def plan(self, ox: F64, oy: F64, *, target: tuple[float, float], target_velocity: tuple[float, float],
              gap_m: float, last: tuple[float, float] = (0.0, 0.0), speed_m_s: float | None = None,
@@ -156,7 +170,7 @@ class ViewPlanner:
         base frame, the target's velocity (base frame, m/s), the wanted footprint-to-surface gap, and
         the command sent last (linear m/s, angular rad/s), which still drives for `latency_s`, and the
         speed the robot moves at now (measured; by default the last command's). `target_path`, where
-        known, is where the target's surface point will be at each of `times` (it turns where its
+        known, is where the target's surface point will be at each of `path_times` (it turns where its
         route turns); by default it goes on at its velocity.
 
         `direction` (+1 forwards, -1 backwards, 0 either) rules out the other way, unless holding to it
@@ -179,13 +193,16 @@ class ViewPlanner:
         # The target's centre, from its nearest surface point, moving at its velocity (or on its path).
         r = p.target_radius_m
         if target_path is None:
-            sx = target[0] + target_velocity[0] * self.times
-            sy = target[1] + target_velocity[1] * self.times
+            sx = target[0] + target_velocity[0] * self.path_times
+            sy = target[1] + target_velocity[1] * self.path_times
         else:
             sx, sy = np.asarray(target_path[0], np.float64), np.asarray(target_path[1], np.float64)
         d = np.maximum(np.hypot(sx, sy), 1e-6)
-        cx, cy = sx * (1 + r / d), sy * (1 + r / d)
+        n = self.times.size
+        cx, cy = sx[:n] * (1 + r / d[:n]), sy[:n] * (1 + r / d[:n])
         sep = np.hypot(fx - cx, fy - cy) - fp.radius_m - r
+        lx, ly = sx[n:] * (1 + r / d[n:]), sy[n:] * (1 + r / d[n:])
+        late = (np.hypot(sfx[:, -1:] - lx, sfy[:, -1:] - ly) - fp.radius_m - r).min(axis=1, initial=np.inf)
         camx = x + cam.mount_x_m * np.cos(th) - cam.mount_y_m * np.sin(th)
         camy = y + cam.mount_x_m * np.sin(th) + cam.mount_y_m * np.cos(th)
         bearing = np.remainder(np.arctan2(cy - camy, cx - camx) - th - cam.mount_yaw_rad + math.pi, 2 * math.pi)
@@ -221,6 +238,7 @@ class ViewPlanner:
             + p.w_change * change
             + p.w_meet * np.maximum(p.guard_m - sep, 0.0).mean(axis=1)
             + p.w_contact * np.maximum(-min_sep, 0.0)
+            + p.w_late * np.maximum(-late, 0.0)
         )
         if direction:
             held = ok & (self.v1 * direction > 0 if moving else self.v1 * direction >= 0)
@@ -228,12 +246,13 @@ class ViewPlanner:
             if held.any() and (min_sep[int(np.argmin(np.where(held, cost, np.inf)))] >= 0.0 or not clear_of_it.any()):
                 ok = held  # held, unless holding runs into the target and the other way does not
         if not ok.any():
-            return PlanChoice(0.0, 0.0, math.inf, 0.0, float(min_sep.max()), False)
+            return PlanChoice(0.0, 0.0, math.inf, 0.0, float(min_sep.max()), False,
+                              late_separation_m=float(late.max()))  # fmt: skip
         free = int(np.argmin(cost))
         i = int(np.argmin(np.where(ok, cost, np.inf)))
         path = tuple(zip(np.round(x[i], 3).tolist(), np.round(y[i], 3).tolist(), strict=True))
         return PlanChoice(float(self.v1[i]), float(self.turn1[i]), float(cost[i]), float(seen[i].mean()),
-                          float(min_sep[i]), True, free != i, path)  # fmt: skip
+                          float(min_sep[i]), True, free != i, float(late[i]), path)  # fmt: skip
 
     def _simulate(self, speed: float, v0: float, w0: float) -> tuple[F64, F64, F64, F64, F64]:
         """Poses (manoeuvre x judged point) of every manoeuvre from the base frame's origin, and two

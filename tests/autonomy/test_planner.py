@@ -244,7 +244,31 @@ def test_the_path_the_target_is_predicted_on_is_what_is_planned_for() -> None:
     pl = planner()
     across = pl.plan(*room(8, 8), target=(1.7, 0.3), target_velocity=(0.0, -0.25), gap_m=GAP)
     assert across.linear_m_s > 0.0
-    t = pl.times
+    t = pl.path_times
     turning = (1.7 - 0.45 * np.maximum(t - 0.4, 0.0), 0.3 - 0.25 * np.minimum(t, 0.4))
     coming = pl.plan(*room(8, 8), target=(1.7, 0.3), target_velocity=(0.0, -0.25), gap_m=GAP, target_path=turning)
     assert coming.linear_m_s <= 0.0 and coming.min_separation_m > 0.5
+
+
+def test_a_car_does_not_stop_where_the_target_walks_into_it_after_the_horizon() -> None:
+    """Coming straight at the car, 1.45 m off, at 0.25 m/s: inside the horizon it stays clear, so
+    standing looks fine, but it walks into the car 1 to 2 s later, with a box behind the car. Looking
+    past the horizon, the car ends its manoeuvre off the target's line; without, it stays on it."""
+    obstacles = join(room(), box(-0.45, 0.0, 0.15))
+    come = {"target": (1.45, 0.0), "target_velocity": (-0.25, 0.0), "gap_m": 0.5}
+    blind = planner(w_late=0.0).plan(*obstacles, **come)  # type: ignore[arg-type]
+    assert blind.min_separation_m > 0.0 and blind.late_separation_m < 0.0
+    seeing = planner().plan(*obstacles, **come)  # type: ignore[arg-type]
+    assert seeing.min_separation_m > 0.0 and seeing.late_separation_m >= 0.0
+    assert abs(seeing.path_xy[-1][1]) > 0.2
+
+
+def test_only_a_car_looks_past_the_horizon() -> None:
+    """A differential drive steps aside on the spot: its planner wants the target's path over the
+    horizon only."""
+    car = planner()
+    assert car.path_times.size == car.times.size + round(car.params.late_s / car.params.step_s)
+    drive = ViewPlanner(PICAR, CAM, turn_rates=(-2.0, 2.0))
+    np.testing.assert_array_equal(drive.path_times, drive.times)
+    choice = drive.plan(*room(), target=(1.45, 0.0), target_velocity=(-0.25, 0.0), gap_m=0.5)
+    assert choice.late_separation_m == math.inf
