@@ -199,10 +199,12 @@ class ViewPlanner:
             sx, sy = np.asarray(target_path[0], np.float64), np.asarray(target_path[1], np.float64)
         d = np.maximum(np.hypot(sx, sy), 1e-6)
         n = self.times.size
-        cx, cy = sx[:n] * (1 + r / d[:n]), sy[:n] * (1 + r / d[:n])
+        centre_x, centre_y = sx * (1 + r / d), sy * (1 + r / d)
+        cx, cy = centre_x[:n], centre_y[:n]
         sep = np.hypot(fx - cx, fy - cy) - fp.radius_m - r
-        lx, ly = sx[n:] * (1 + r / d[n:]), sy[n:] * (1 + r / d[n:])
-        late = (np.hypot(sfx[:, -1:] - lx, sfy[:, -1:] - ly) - fp.radius_m - r).min(axis=1, initial=np.inf)
+        # After the horizon (a car): the target walks on while the robot stands where it stopped.
+        late = (np.hypot(sfx[:, -1:] - centre_x[n:], sfy[:, -1:] - centre_y[n:]) - fp.radius_m - r).min(
+            axis=1, initial=np.inf)  # fmt: skip
         camx = x + cam.mount_x_m * np.cos(th) - cam.mount_y_m * np.sin(th)
         camy = y + cam.mount_x_m * np.sin(th) + cam.mount_y_m * np.cos(th)
         bearing = np.remainder(np.arctan2(cy - camy, cx - camx) - th - cam.mount_yaw_rad + math.pi, 2 * math.pi)
