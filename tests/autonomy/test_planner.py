@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from host_sdk.autonomy import PlannerParams, ViewPlanner
+from host_sdk.autonomy import PlanChoice, PlannerParams, ViewPlanner
 from host_sdk.perception import CameraModel, Footprint
 
 CAM = CameraModel.pi_camera_v2(320, 240, mount_x_m=0.3)
@@ -255,10 +255,13 @@ def test_a_car_does_not_stop_where_the_target_walks_into_it_after_the_horizon() 
     standing looks fine, but it walks into the car 1 to 2 s later, with a box behind the car. Looking
     past the horizon, the car ends its manoeuvre off the target's line; without, it stays on it."""
     obstacles = join(room(), box(-0.45, 0.0, 0.15))
-    come = {"target": (1.45, 0.0), "target_velocity": (-0.25, 0.0), "gap_m": 0.5}
-    blind = planner(w_late=0.0).plan(*obstacles, **come)  # type: ignore[arg-type]
+
+    def come(pl: ViewPlanner) -> PlanChoice:
+        return pl.plan(*obstacles, target=(1.45, 0.0), target_velocity=(-0.25, 0.0), gap_m=0.5)
+
+    blind = come(planner(w_late=0.0))
     assert blind.min_separation_m > 0.0 and blind.late_separation_m < 0.0
-    seeing = planner().plan(*obstacles, **come)  # type: ignore[arg-type]
+    seeing = come(planner())
     assert seeing.min_separation_m > 0.0 and seeing.late_separation_m >= 0.0
     assert abs(seeing.path_xy[-1][1]) > 0.2
 
