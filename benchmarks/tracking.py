@@ -35,7 +35,7 @@ from emulator.world import load_world
 from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.tracking import Tracker
 from protocol.sensors import DEVICES
-from roverlink.follow.template import camera_mount, render_target
+from emulator.sensors.target import camera_mount, render_target
 
 Frame = tuple[np.ndarray, float, float, tuple[float, float, float, float]]
 """image, time, true bearing, true box (x, y, w, h)."""

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import resources
 from typing import Any
 
@@ -101,6 +101,8 @@ class CameraSpec:
 
 
 DeviceSpec = LidarSpec | ImuSpec | CameraSpec
+DEFAULT_DEVICES = {"lidar": "rplidar-a1", "imu": "jy901", "camera": "pi-camera-v2"}
+"""The device of each kind a robot that carries none gets (in the emulator, and for its geometry)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -129,6 +131,18 @@ class RobotSensors:
 
     def mount(self, name: str) -> Mount | None:
         return next((m for m in self.mounts if m.name == name), None)
+
+    def placed(self, name: str, device: str | None = None) -> Mount:
+        """Where the robot carries its `name` device, or where a device of that kind is put when it
+        carries none (both the SDK and the emulator use these spots): the lidar on top of the pose
+        point, the IMU on it, the camera at the front of the footprint. `device` names the device
+        put there (default: the carried one, else the kind's usual: rplidar-a1, jy901, pi-camera-v2)."""
+        found = self.mount(name)
+        if found is not None:
+            return found if device is None else replace(found, device=device)
+        front = self.footprint_x_m + 0.8 * self.footprint_radius_m
+        x, z = {"lidar": (0.0, 0.2), "imu": (0.0, 0.05), "camera": (front, 0.12)}[name]
+        return Mount(device or DEFAULT_DEVICES[name], name, x, 0.0, z, 0.0)
 
 
 _KINDS: dict[str, type[LidarSpec] | type[ImuSpec] | type[CameraSpec]] = {

@@ -1,4 +1,4 @@
-"""argparse value checkers for the commands' numeric options.
+"""argparse value checkers for the commands' options (numbers, calibration files).
 
 Each returns a `type=` callable: a bad value ends the command before any work starts, with
 argparse's own message (`error: argument --side: ...`) and exit status 2.
@@ -8,7 +8,11 @@ from __future__ import annotations
 
 import argparse
 import math
+import shlex
 from collections.abc import Callable
+from pathlib import Path
+
+from host_sdk.calibration import CalibrationFile, KinematicsFileError, read_calibration
 
 
 def _fmt(x: float) -> str:
@@ -52,3 +56,21 @@ SEED = integer(0, 2**63, "")
 """Emulator seeds (the range the emulator takes)."""
 BAUD = integer(50, 4_000_000, "bit/s")
 """Line speeds a serial port may be opened at."""
+
+
+def kinematics_arg(text: str) -> CalibrationFile:
+    """argparse `type=` for --kinematics FILE: a bad file ends the command before it connects."""
+    try:
+        return read_calibration(text)
+    except OSError as exc:
+        raise argparse.ArgumentTypeError(f"{text}: {exc.strerror or exc}") from None
+    except KinematicsFileError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def usage_lines(path: Path, url: str) -> list[str]:
+    """How to use a calibration file: the commands' option and the SDK call."""
+    return [
+        f"use it with every command: roverlink teleop {shlex.quote(url)} --kinematics {shlex.quote(str(path))}",
+        f"and in code: Robot.connect({url!r}, kinematics=host_sdk.calibration.load_kinematics({str(path)!r}))",
+    ]

@@ -13,8 +13,9 @@ import time
 from typing import Protocol, TextIO
 
 from host_sdk import PROFILES, Robot
+from host_sdk.calibration import CalibrationFile
 from roverlink import argtypes
-from roverlink.kinematics_file import CalibrationFile, kinematics_arg
+from roverlink.argtypes import kinematics_arg
 
 
 def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:

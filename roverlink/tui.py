@@ -7,8 +7,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from host_sdk.extras import require
 from roverlink.dashboard import Dashboard, link_lines, motion_lines, sensor_lines, state_lines
-from roverlink.extras import require
 from roverlink.teleop import HELP, KEYS, TeleopController
 
 _textual_app = require("textual.app", "tui", "the terminal view")

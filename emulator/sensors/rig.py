@@ -49,13 +49,7 @@ class SensorRig:
         emu.clock.call_at(emu.now_us + BATCH_US, self._tick, PRIORITY_OTHER)
 
     def mount_for(self, kind: str, device_name: str) -> Mount:
-        body = ROBOT_SENSORS[self.emu.profile.name]
-        mount = body.mount(kind)
-        if mount is not None:
-            return Mount(device_name, kind, mount.x_m, mount.y_m, mount.z_m, mount.yaw_deg)
-        front = body.footprint_x_m + 0.8 * body.footprint_radius_m
-        spot = {"lidar": (0.0, 0.2), "imu": (0.0, 0.05), "camera": (front, 0.12)}[kind]
-        return Mount(device_name, kind, spot[0], 0.0, spot[1], 0.0)
+        return mount_on(self.emu.profile.name, kind, device_name)
 
     def _motion(self) -> tuple[float, float, float]:
         v = self.emu.plant.vehicle
@@ -94,6 +88,11 @@ class SensorRig:
         for dev in self.devices.values():
             dev.update(scene, now, self.world.pose_at)
         self.emu.clock.call_at(now + BATCH_US, self._tick, PRIORITY_OTHER)
+
+
+def mount_on(profile: str, kind: str, device_name: str) -> Mount:
+    """Where `profile` carries a device of `kind` (sensors.toml), else that kind's default spot."""
+    return ROBOT_SENSORS[profile].placed(kind, device_name)
 
 
 def camera_options(size: str | None = None, **extra: float) -> CameraOptions:

@@ -6,7 +6,9 @@ point `emudev` like any other port, so robot code is the same for a real robot a
 The endpoint shares the emulator's clock and lock with the board's transport: on the virtual clock,
 waiting for lidar bytes runs the emulator exactly as waiting for feedback does.
 
-A camera endpoint carries the camera's MJPEG parts (emulator.sensors.mjpeg). Frames wait in a
+A camera endpoint carries the camera's MJPEG parts (emulator.sensors.mjpeg). With a camera in a
+world that has a target, a `target` endpoint carries one part: the target's picture, as a user would
+photograph it for the tracker (emulator.sensors.target). Frames wait in a
 buffer of BUFFERED_FRAMES, as in a V4L2 driver's queue: a reader that falls behind loses the oldest
 (it sees the gap in the frame counter).
 """
@@ -23,10 +25,12 @@ from urllib.parse import urlsplit
 from emulator.device import Emulator
 from emulator.errors import EmulatorValueError
 from emulator.sensors.mjpeg import CameraDevice, Frame
-from emulator.sensors.rig import IMUS, LIDARS, attach, camera_options
+from emulator.sensors.rig import IMUS, LIDARS, SensorRig, attach, camera_options
+from emulator.sensors.target import render_target
 
 SENSOR_PARAMS = ("world", "lidar", "lidar_hz", "imu", "camera")
 BUFFERED_FRAMES = 4
+TARGET = "target"
 
 
 class _Transport(Protocol):
@@ -93,7 +97,10 @@ def register(transport: _Transport) -> dict[str, str]:
     key = f"{id(transport):x}"
     _REGISTRY[key] = transport
     rig = transport.emulator.sensors
-    return {kind: f"emudev://{key}/{kind}" for kind in rig.devices}
+    kinds = list(rig.devices)
+    if "camera" in rig.devices and rig.world.scene.target is not None:
+        kinds.append(TARGET)
+    return {kind: f"emudev://{key}/{kind}" for kind in kinds}
 
 
 def unregister(transport: object) -> None:
@@ -110,17 +117,20 @@ class DeviceEndpoint:
         self.virtual = transport.virtual
         self.transport = transport
         self.kind = kind
-        self.device = transport.emulator.sensors.devices[kind]
+        rig = transport.emulator.sensors
+        self.device = rig.devices[kind if kind != TARGET else "camera"]
         self._closed = False
         self._frames: deque[bytes] = deque(maxlen=BUFFERED_FRAMES)
-        if isinstance(self.device, CameraDevice):
+        if kind == TARGET:
+            self._frames.append(target_part(rig))
+        elif isinstance(self.device, CameraDevice):
             self.device.listeners.append(self._on_frame)
 
     def _on_frame(self, frame: Frame) -> None:
         self._frames.append(frame.part())
 
     def _take(self) -> bytes:
-        if isinstance(self.device, CameraDevice):
+        if isinstance(self.device, CameraDevice) or self.kind == TARGET:
             out = b"".join(self._frames)
             self._frames.clear()
             return out
@@ -143,7 +153,7 @@ class DeviceEndpoint:
         return self.transport.clock()
 
     def close(self) -> None:
-        if not self._closed and isinstance(self.device, CameraDevice):
+        if not self._closed and isinstance(self.device, CameraDevice) and self.kind != TARGET:
             self.device.listeners.remove(self._on_frame)
         self._closed = True
 
@@ -155,6 +165,17 @@ def open_url(url: str, baud: int = 0) -> DeviceEndpoint:
     kind = parts.path.strip("/")
     if parts.scheme != "emudev" or transport is None:
         raise EmulatorValueError("url", url, "the emudev:// URL of a sensor of an open emu:// transport")
-    if kind not in transport.emulator.sensors.devices:
+    if kind not in transport.endpoints:
         raise EmulatorValueError("url", url, f"one of {', '.join(transport.endpoints.values())}")
     return DeviceEndpoint(url, transport, kind)
+
+
+def target_part(rig: SensorRig) -> bytes:
+    """The world's target as one MJPEG part (frame 1), rendered by the rig's camera model."""
+    import cv2  # noqa: PLC0415 (the vision extra, as for the camera itself)
+
+    template = render_target(rig.world.scene, rig.mount_for("camera", "pi-camera-v2"))
+    ok, jpeg = cv2.imencode(".jpg", template.image, [cv2.IMWRITE_JPEG_QUALITY, 95])
+    if not ok:
+        raise OSError("the target's picture could not be encoded")
+    return Frame(1, 0, jpeg.tobytes()).part()

@@ -31,7 +31,8 @@ Query parameters (all optional):
 | imu | jy901 | none | attach the IMU (`endpoints["imu"]`) |
 | camera | 0, 1, WIDTHxHEIGHT | 0 | attach the camera (`endpoints["camera"]`: an MJPEG byte stream; 1 = 320x240) |
 
-With any of the last five, `transport.endpoints` maps `lidar`, `imu`, `camera` to the URLs the SDK's
+With any of the last five, `transport.endpoints` maps `lidar`, `imu`, `camera` (and `target`, the
+world's target as a photo for the tracker, with a camera) to the URLs the SDK's
 sensor drivers open (`host_sdk.sensors`), and `truth.world` has the robot's pose in the world, the
 target and every collision.
 """

@@ -27,9 +27,9 @@ from host_sdk.autonomy.target import TargetFix, locate_target
 from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.motion import Mover
 from host_sdk.perception.tracking import Track
+from host_sdk.pose import Pose2D
 
 F64 = NDArray[np.float64]
-Pose2D = tuple[float, float, float]
 
 
 class TargetFinder:

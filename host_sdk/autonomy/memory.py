@@ -16,9 +16,9 @@ from numpy.typing import NDArray
 
 from host_sdk.autonomy.target import TargetFix
 from host_sdk.perception.motion import Mover
+from host_sdk.pose import Pose2D
 
 F64 = NDArray[np.float64]
-Pose2D = tuple[float, float, float]
 
 
 _RECENT = 15

@@ -23,9 +23,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk.perception.scan import ObstacleScan, move_points
+from host_sdk.pose import Pose2D
 
 F64 = NDArray[np.float64]
-Pose2D = tuple[float, float, float]
 
 
 @dataclass(frozen=True, slots=True)

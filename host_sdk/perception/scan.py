@@ -36,17 +36,16 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk.errors import CommandRangeError
+from host_sdk.pose import Pose2D
 
 F64 = NDArray[np.float64]
-Pose2D = tuple[float, float, float]
-"""x, y (m), theta (rad) in the odometry frame."""
 
 
 @runtime_checkable
@@ -153,18 +152,24 @@ class LidarMount:
 
 @dataclass(frozen=True, slots=True, eq=False)
 class ObstacleScan:
-    """Filtered obstacles around the pose point: the nearest return per angular bin (NaN: none)."""
+    """Filtered obstacles around the pose point: the nearest return per angular bin (NaN: none), and
+    the same returns as base-frame points, computed once here and carried to every consumer."""
 
     angles_rad: F64
     """Bin centres, -pi..pi, counter-clockwise from the robot's forward axis."""
     ranges_m: F64
     time_s: float
+    x_m: F64 = field(init=False)
+    y_m: F64 = field(init=False)
+
+    def __post_init__(self) -> None:
+        x, y = polar_points(self.angles_rad, self.ranges_m)
+        object.__setattr__(self, "x_m", x)
+        object.__setattr__(self, "y_m", y)
 
     def points_xy(self) -> tuple[F64, F64]:
         """Obstacle points (x forward, y left) in the robot's base frame."""
-        ok = np.isfinite(self.ranges_m)
-        r, a = self.ranges_m[ok], self.angles_rad[ok]
-        return r * np.cos(a), r * np.sin(a)
+        return self.x_m, self.y_m
 
     def range_at(self, bearing_rad: float, half_width_rad: float = 0.0) -> float:
         """Nearest obstacle within `half_width_rad` of a bearing (inf: none)."""
@@ -172,6 +177,13 @@ class ObstacleScan:
         near = self.ranges_m[d <= max(half_width_rad, math.pi / self.angles_rad.shape[0])]
         near = near[np.isfinite(near)]
         return float(near.min()) if near.size else math.inf
+
+
+def polar_points(angles_rad: F64, ranges_m: F64) -> tuple[F64, F64]:
+    """x, y of the returns (NaN ranges: none) at `angles_rad`."""
+    ok = np.isfinite(ranges_m)
+    r, a = ranges_m[ok], angles_rad[ok]
+    return r * np.cos(a), r * np.sin(a)
 
 
 def bin_points(x: F64, y: F64, bins: int) -> F64:
@@ -254,14 +266,13 @@ class ScanFilter:
         med = np.median(stack, axis=0)
         med[~np.isfinite(med)] = np.nan
         ranges = spatial_filter(med, isolated_m=self.isolated_m, keep_near_m=self.keep_near_m)
-        seen = ObstacleScan(self.angles, ranges, raw.time_s)
         if raw.range_min_m > 0:
-            bx, by = self._remember_blind(seen, raw, here)
+            bx, by = self._remember_blind(ranges, raw, here)
             if bx.size:
                 ranges = np.fmin(ranges, bin_points(bx, by, self.bins))
         return ObstacleScan(self.angles, ranges, raw.time_s)
 
-    def _remember_blind(self, seen: ObstacleScan, raw: RawScan, here: Pose2D) -> tuple[F64, F64]:
+    def _remember_blind(self, seen: F64, raw: RawScan, here: Pose2D) -> tuple[F64, F64]:
         """Points now in the blind zone that were seen before it swallowed them, for `blind_hold_s`
         (long enough to back away from a wall, short enough that the target walking past is not
         remembered as a wall)."""
@@ -273,8 +284,7 @@ class ScanFilter:
             xs.append(mx[inside])
             ys.append(my[inside])
             born.append(np.full(int(inside.sum()), raw.time_s) if t0 is None else t0[inside])
-        ox, oy = seen.points_xy()
-        self._last = (ox, oy, here)
+        self._last = (*polar_points(self.angles, seen), here)
         if not xs:
             return np.zeros(0), np.zeros(0)
         bx, by, bt = np.concatenate(xs), np.concatenate(ys), np.concatenate(born)

@@ -12,25 +12,39 @@ that owns the port:
 The same classes open real devices (`/dev/ttyUSB0`, `/dev/video0`) and an emulator's devices
 (the `emudev://` URLs an `emu://` robot lists in `transport.endpoints`). numpy is the only
 dependency here; OpenCV is imported by the camera source when it opens.
+
+`Sensors` (hub.py) reads a lidar, an IMU and a camera together beside the robot's loop and keeps
+their status; `DeviceReader` and `FrameGrabber` (reader.py) are its pieces: a thread per device on a
+real port, `poll()` on an emulator's virtual clock.
 """
 
 from host_sdk.sensors.camera import CameraFrame, CameraSource, gstreamer_pipeline
-from host_sdk.sensors.errors import SensorClosedError, SensorTimeoutError
+from host_sdk.sensors.errors import SensorClosedError, SensorOpenError, SensorTimeoutError
+from host_sdk.sensors.hub import CameraStatus, ImuStatus, LidarStatus, Sensors, SensorStatus
 from host_sdk.sensors.imu import Jy901
 from host_sdk.sensors.lidar import Lidar
+from host_sdk.sensors.reader import DeviceReader, FrameGrabber
 from host_sdk.sensors.scan import LidarCounters, LidarScan, RegularScan
 from host_sdk.sensors.wit import ImuSample
 
 __all__ = [
     "CameraFrame",
     "CameraSource",
+    "CameraStatus",
+    "DeviceReader",
+    "FrameGrabber",
     "ImuSample",
+    "ImuStatus",
     "Jy901",
     "Lidar",
     "LidarCounters",
     "LidarScan",
+    "LidarStatus",
     "RegularScan",
     "SensorClosedError",
+    "SensorOpenError",
+    "SensorStatus",
     "SensorTimeoutError",
+    "Sensors",
     "gstreamer_pipeline",
 ]

@@ -17,3 +17,7 @@ class SensorTimeoutError(RoverLinkError, TimeoutError):
 
 class SensorClosedError(RoverLinkError, ConnectionError):
     """A call on a sensor driver that was closed."""
+
+
+class SensorOpenError(RoverLinkError, OSError):
+    """A sensor could not be opened; names the kind of device, where, and why."""

@@ -155,7 +155,7 @@ class RPLidarParser(LidarParserBase):
         # Nodes still in the buffer arrived at t as well: each decoded node is that much earlier.
         later = len(buf) // 5
         times = point_times(t, good + later, self.sample_period_s)[:good]
-        angle = ((nodes[:, 1] >> 1) | (nodes[:, 2] << 7)) / 64.0
+        angle = angle_q6[:good] / 64.0
         dist = (nodes[:, 3] | (nodes[:, 4] << 8)) / 4.0
         # A revolution starts just past 0 degrees (nodes are under 2 degrees apart at any scan rate),
         # at most once per MIN_REVOLUTION_NODES: a start flag elsewhere is a corrupted node's.

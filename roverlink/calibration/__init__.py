@@ -2,14 +2,14 @@
 track width or steering, each measured by an observer (a person, or the emulator's truth; turns by
 the IMU when there is one).
 
-See roverlink.calibration.procedure for the steps and `roverlink calibrate` for the command.
+See roverlink.calibration.procedure for the steps and `roverlink calibrate` for the command; the
+file it writes is read by host_sdk.calibration.
 """
 
 from roverlink.calibration.imu import ImuObserver, ImuTurn, measure_turn
 from roverlink.calibration.observer import EmulatorObserver, Observer, PersonObserver, observer_for
 from roverlink.calibration.procedure import Calibration, CalibrationResult, Check, restore, verify
 from roverlink.calibration.store import save_file
-from roverlink.kinematics_file import load_kinematics, read_calibration
 
 __all__ = [
     "Calibration",
@@ -20,10 +20,8 @@ __all__ = [
     "ImuTurn",
     "Observer",
     "PersonObserver",
-    "load_kinematics",
     "measure_turn",
     "observer_for",
-    "read_calibration",
     "restore",
     "save_file",
     "verify",

@@ -32,8 +32,8 @@ import numpy as np
 
 from host_sdk import Robot
 from host_sdk.sensors import ImuSample
+from host_sdk.sensors.hub import Sensors
 from roverlink.calibration.observer import Observer
-from roverlink.sensors.hub import Sensors
 
 REST_S = 1.0
 SETTLE_S = 5.0

@@ -1,5 +1,5 @@
 """The host's half of a calibration: what the board has no setting for (the track width), written
-to the calibration file of roverlink.kinematics_file with the calibration's record.
+to the calibration file of host_sdk.calibration with the calibration's record.
 
     roverlink calibrate /dev/ttyACM0 -o calibration.json
     kin = load_kinematics("calibration.json")
@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from host_sdk.calibration import write_calibration
 from roverlink.calibration.procedure import CalibrationResult
-from roverlink.kinematics_file import write_calibration
 
 
 def save_file(path: str | Path, result: CalibrationResult, robot_name: str) -> Path:

@@ -13,7 +13,9 @@ import sys
 from pathlib import Path
 
 from host_sdk import Robot, RobotConfig, RoverLinkError
+from host_sdk.sensors import Sensors
 from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
+from roverlink.argtypes import usage_lines
 from roverlink.calibration import (
     Calibration,
     CalibrationResult,
@@ -27,8 +29,7 @@ from roverlink.calibration import (
 )
 from roverlink.console import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
 from roverlink.emulated import first_collision
-from roverlink.kinematics_file import usage_lines
-from roverlink.sensors import Sensors, add_sensor_args, choose_sensors, open_sensors
+from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
 
 SHOWN = (
     "motor_invert",

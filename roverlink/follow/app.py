@@ -12,13 +12,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk import Robot
-from host_sdk.autonomy import Follower, FollowParams
-from host_sdk.perception import AvoidanceParams, ScanFilter, Tracker
+from host_sdk.autonomy import FollowPilot, Pilot, follow_gap
+from host_sdk.geometry import RobotGeometry, geometry
+from host_sdk.perception import Tracker
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 from roverlink.follow import emulated
-from roverlink.follow.geometry import RobotGeometry, geometry
+from roverlink.follow.baseline import PiCarBaseline
 from roverlink.follow.metrics import FollowMetrics
-from roverlink.follow.pilots import PiCarBaseline, Pilot, RoverLinkPilot
 from roverlink.follow.record import FollowSource
 from roverlink.follow.run import Progress, run_follow
 
@@ -46,7 +46,7 @@ def recording(robot: Robot, pilot: Pilot, record: RecordTo | None) -> Iterator[C
         library = importlib.import_module("roverlink.recording")
     except ImportError as exc:
         raise RuntimeError(f"recording needs roverlink.recording and the foxglove extra ({exc})") from None
-    sources = [FollowSource(pilot)] if isinstance(pilot, RoverLinkPilot) else []
+    sources = [FollowSource(pilot)] if isinstance(pilot, FollowPilot) else []
     recorder = library.Recorder.attach(robot, mcap_path=record.mcap_path, overwrite=True, serve=record.serve,
                                        sources=sources)  # fmt: skip
     try:
@@ -67,28 +67,21 @@ class FollowSettings:
     duration_s: float = 60.0
 
 
-def follow_gap(settings: FollowSettings, geo: RobotGeometry) -> float:
-    if settings.follow_gap_m is not None:
-        return settings.follow_gap_m
-    return 0.9 if geo.min_turn_radius_m > 0 else 0.5
+def gap_for(settings: FollowSettings, geo: RobotGeometry) -> float:
+    return follow_gap(geo) if settings.follow_gap_m is None else settings.follow_gap_m
 
 
 def make_pilot(kind: str, geo: RobotGeometry, template: NDArray[np.uint8], settings: FollowSettings) -> Pilot:
     """RoverLink's behaviour ("roverlink") or the PiCar team's ("picar-2018") for this robot."""
-    tracker = Tracker(template, geo.camera, height_m=settings.target_height_m)
     if kind == "picar-2018":
+        tracker = Tracker(template, geo.camera, height_m=settings.target_height_m)
         return PiCarBaseline(tracker, geo.camera, geo.lidar_mount, settings.max_speed_m_s)
     if kind != "roverlink":
         raise ValueError(f"pilot {kind!r} is not allowed: one of {', '.join(PILOTS)}")
-    follower = Follower(
-        geo.footprint,
-        geo.camera,
-        min_turn_radius_m=geo.min_turn_radius_m,
-        avoidance=AvoidanceParams(),
-        params=FollowParams(follow_gap_m=follow_gap(settings, geo), max_speed_m_s=settings.max_speed_m_s),
-        curvatures=geo.curvatures,
-    )
-    return RoverLinkPilot(ScanFilter(geo.lidar_mount), tracker, follower)
+    return FollowPilot.for_robot(
+        geo, template, follow_gap_m=settings.follow_gap_m, max_speed_m_s=settings.max_speed_m_s,
+        target_height_m=settings.target_height_m,
+    )  # fmt: skip
 
 
 def run_emulated(profile: str, world: str | Path, *, pilot: str = "roverlink", seed: int = 0, camera_fps: float = 15.0,
@@ -110,7 +103,7 @@ def run_emulated(profile: str, world: str | Path, *, pilot: str = "roverlink", s
         metrics = FollowMetrics(chosen.name, profile, str(world))
         with recording(robot, chosen, record) as on_step:
             return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
-                              follow_gap_m=follow_gap(settings, geo), imu=imu_port, truth=em.truth.sample,
+                              follow_gap_m=gap_for(settings, geo), imu=imu_port, truth=em.truth.sample,
                               progress=progress, on_step=on_step)  # fmt: skip
     finally:
         robot.close()
@@ -152,7 +145,7 @@ def run_robot(ports: RobotPorts, profile: str, *, template: NDArray[np.uint8] | 
         metrics = FollowMetrics(chosen.name, profile, ports.url)
         with recording(robot, chosen, record) as on_step:
             return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
-                              follow_gap_m=follow_gap(settings, geo), imu=imu, progress=progress,
+                              follow_gap_m=gap_for(settings, geo), imu=imu, progress=progress,
                               on_step=on_step)  # fmt: skip
     finally:
         for device in (lidar, imu, camera):

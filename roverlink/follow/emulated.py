@@ -18,6 +18,7 @@ import numpy as np
 from emulator import Emulator
 from emulator.sensors import attach
 from emulator.sensors.camera import CameraOptions
+from emulator.sensors.target import TargetTemplate, render_target
 from emulator.transport.devices import register
 from emulator.transport.inprocess import EmulatorTransport
 from emulator.world.raycast import nearest
@@ -26,7 +27,6 @@ from host_sdk import Robot
 from host_sdk.transport.plugins import PluginTransport
 from protocol.sensors import DEVICES, ROBOT_SENSORS, CameraSpec, Mount
 from roverlink.follow.metrics import TruthSample
-from roverlink.follow.template import TargetTemplate, render_target
 
 RUN_INTO_M_S = 0.02
 """A contact in which the robot moved towards the contact point no faster than this was not driven

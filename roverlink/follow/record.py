@@ -15,7 +15,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from roverlink.follow.pilots import RoverLinkPilot
+from host_sdk.autonomy import FollowPilot
 
 TOPIC_SCAN = "/scan"
 TOPIC_IMAGE = "/camera/image/compressed"
@@ -49,7 +49,7 @@ class Publisher(Protocol):
 class FollowSource:
     name = "follow"
 
-    def __init__(self, pilot: RoverLinkPilot, image_hz: float = 5.0) -> None:
+    def __init__(self, pilot: FollowPilot, image_hz: float = 5.0) -> None:
         self.pilot = pilot
         self.image_period_s = 1.0 / image_hz
         self._out: Publisher | None = None

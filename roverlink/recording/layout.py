@@ -14,7 +14,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from roverlink.extras import require
+from host_sdk.extras import require
 from roverlink.recording.schemas import (
     FRAME_BASE,
     FRAME_ODOM,

@@ -23,6 +23,7 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 from host_sdk.sensors import CameraFrame, ImuSample, LidarScan
+from host_sdk.sensors.hub import Sensors
 from protocol.sensors import Mount
 from roverlink.recording.schemas import (
     FRAME_BASE,
@@ -38,7 +39,6 @@ from roverlink.recording.schemas import (
     imu_message,
 )
 from roverlink.recording.sink import Publisher
-from roverlink.sensors.hub import Sensors
 
 SCAN_BINS = 360
 JPEG_QUALITY = 85

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
 
-from roverlink.extras import require
+from host_sdk.extras import require
 
 LOG_LEVELS = ("DEBUG", "INFO", "WARN", "ERROR")
 

@@ -25,6 +25,7 @@ from typing import Any, Protocol
 
 from host_sdk import FeedbackSample, LinkStatistics, Robot, RoverLinkError
 from host_sdk.enums import LogLevel
+from host_sdk.sensors.hub import Sensors
 from roverlink.recording.schemas import (
     FEEDBACK_SCHEMA,
     FRAME_BASE,
@@ -46,7 +47,6 @@ from roverlink.recording.schemas import (
 )
 from roverlink.recording.sensors import SensorSource
 from roverlink.recording.sink import FoxgloveSink, Publisher, TimeBase
-from roverlink.sensors.hub import Sensors
 from roverlink.sensors.options import sensor_mounts
 
 

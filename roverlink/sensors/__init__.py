@@ -1,4 +1,4 @@
-"""The host-side sensors the bring-up tools read beside the board (lidar, IMU, camera).
+"""The command line's choice of host-side sensors (lidar, IMU, camera) beside the board.
 
 `choose_sensors(args, robot)` takes the devices the command line names (`add_sensor_args`) and
 those an `emu://` URL attached; `open_sensors(choice)` opens them as a `Sensors` hub that reads
@@ -7,16 +7,10 @@ scan, IMU sample and frame, and keeps the status the monitor shows. `roverlink.r
 records them; `roverlink.calibration.ImuObserver` measures turns with the IMU.
 """
 
-from roverlink.sensors.hub import CameraStatus, ImuStatus, LidarStatus, Sensors, SensorStatus
 from roverlink.sensors.options import SensorChoice, add_sensor_args, camera_source, choose_sensors, open_sensors
 
 __all__ = [
-    "CameraStatus",
-    "ImuStatus",
-    "LidarStatus",
     "SensorChoice",
-    "SensorStatus",
-    "Sensors",
     "add_sensor_args",
     "camera_source",
     "choose_sensors",

@@ -17,17 +17,16 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from host_sdk import Robot, RoverLinkError, TransportError
+from host_sdk import Robot
 from host_sdk.profiles import profile_for_example
-from host_sdk.sensors import CameraSource, Jy901, Lidar, SensorTimeoutError, gstreamer_pipeline
+from host_sdk.sensors import gstreamer_pipeline
 from host_sdk.sensors.camera import PIPELINES
+from host_sdk.sensors.hub import Sensors, short_source
 from host_sdk.sensors.imu import DEFAULT_BAUD
 from host_sdk.sensors.lidar import MODELS
 from protocol.sensors import ROBOT_SENSORS, Mount
 from roverlink.argtypes import BAUD
 from roverlink.emulated import emulator_of
-from roverlink.extras import require
-from roverlink.sensors.hub import Sensors
 
 KINDS = ("lidar", "imu", "camera")
 CAMERA_HELP = (
@@ -54,7 +53,7 @@ class SensorChoice:
         if self.imu is not None:
             out.append(f"imu jy901 on {self.imu}")
         if self.camera is not None:
-            out.append(f"camera {_short(self.camera)}")
+            out.append(f"camera {short_source(self.camera)}")
         return out
 
 
@@ -113,33 +112,10 @@ def choose_sensors(args: argparse.Namespace, robot: Robot, kinds: Sequence[str] 
     )
 
 
-class SensorOpenError(RoverLinkError, OSError):
-    """A sensor could not be opened; names the kind of device, where, and why."""
-
-
 def open_sensors(choice: SensorChoice) -> Sensors:
-    """Open the chosen devices; SensorOpenError names the one that failed (those already open are
-    closed again). The camera needs OpenCV (the `vision` extra: MissingDependencyError says so)."""
-    sensors = Sensors()
-    kind, where = "", ""
-    try:
-        if choice.lidar is not None:
-            kind, where = f"lidar {choice.lidar_model}", choice.lidar
-            sensors.lidar = Lidar.open(choice.lidar, choice.lidar_model)
-        if choice.imu is not None:
-            kind, where = "imu jy901", choice.imu
-            sensors.imu = Jy901.open(choice.imu, choice.imu_baud)
-        if choice.camera is not None:
-            require("cv2", "vision", "the camera")
-            kind, where = "camera", _short(choice.camera)
-            sensors.camera = CameraSource(choice.camera)
-    except (TransportError, SensorTimeoutError, OSError) as exc:
-        sensors.close()
-        raise SensorOpenError(f"{kind} on {where}: {exc}") from exc
-    except BaseException:
-        sensors.close()
-        raise
-    return sensors
+    """Open the chosen devices (host_sdk.sensors.Sensors.open)."""
+    return Sensors.open(lidar=choice.lidar, lidar_model=choice.lidar_model, imu=choice.imu,
+                        imu_baud=choice.imu_baud, camera=choice.camera)  # fmt: skip
 
 
 def _emulated(robot: Robot, kind: str) -> str | None:
@@ -163,11 +139,6 @@ def _profile_lidar(robot: Robot) -> str | None:
     body = ROBOT_SENSORS.get(_profile_name(robot) or "")
     mount = body.mount("lidar") if body is not None else None
     return mount.device if mount is not None and mount.device in MODELS else None
-
-
-def _short(source: str | int) -> str:
-    text = str(source)
-    return text if len(text) <= 48 else text[:45] + "..."
 
 
 def sensor_mounts(robot: Robot, kinds: Sequence[str]) -> dict[str, Mount]:

@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from roverlink.extras import require
+from host_sdk.extras import require
 from roverlink.tuning.metrics import StepMetrics, StepResponse, smooth
 
 

@@ -13,8 +13,9 @@ import pytest
 from host_sdk.autonomy import Decision, Follower, FollowParams, Mode, PlanChoice, locate_target
 from host_sdk.perception import CameraModel, Footprint, LidarMount, Mover
 from host_sdk.perception.tracking import Track, TrackState
+from host_sdk.pose import RobotPose
 from host_sdk.sensors import CameraFrame, LidarScan
-from roverlink.follow.pilots import PiCarBaseline
+from roverlink.follow.baseline import PiCarBaseline
 
 CAMERA = CameraModel.pi_camera_v2(320, 240, mount_x_m=0.1)
 DIFF = Footprint(0.12, 0.03)
@@ -407,10 +408,10 @@ def test_baseline_obstacle_node_three_beams_threshold_alternating_turns() -> Non
     turns = []
     for front in (None, 1.0, 1.0, None, 1.2, None, 1.5, 0.8):
         for _ in range(13):  # the 13-revolution median needs its majority to change its mind
-            base.on_scan(scan_with(front), (0.0, 0.0, 0.0))
+            base.on_scan(scan_with(front), RobotPose(0.0, 0.0, 0.0, 0.0))
         turns.append(base.steer)
     assert turns == ["straight", "left", "left", "straight", "right", "straight", "straight", "left"]
-    v, w, _ = base.command(0.0, (0.0, 0.0, 0.0))
+    v, w, _ = base.command(RobotPose(0.0, 0.0, 0.0, 0.0))
     assert v == 0.45 and w / v == pytest.approx(math.tan(math.radians(15)) / 0.26)  # one 15 degree step
 
 
@@ -422,7 +423,7 @@ def test_baseline_camera_node_three_zones_about_once_a_second() -> None:
     for i, u in enumerate([50.0, 60.0, 160.0, 300.0]):
         tracker.u = u
         for k in range(15):  # 15 frames a second, one detection a second
-            base.on_frame(CameraFrame(image, i + k / 15, 1), (0.0, 0.0, 0.0))
+            base.on_frame(CameraFrame(image, i + k / 15, 1), RobotPose(i + k / 15, 0.0, 0.0, 0.0))
         zones.append(base.steer)
     assert tracker.calls == 4
     assert zones == ["left", "left", "straight", "right"]  # 280 and 580 of 800 px: 112 and 232 of 320
@@ -446,19 +447,20 @@ class FakePublisher:
 def test_follow_source_publishes_scan_camera_and_state() -> None:
     import cv2
 
+    from host_sdk.autonomy import FollowPilot
     from host_sdk.perception import ScanFilter, Tracker
-    from roverlink.follow.pilots import RoverLinkPilot
+    from host_sdk.pose import RobotPose
     from roverlink.follow.record import TOPIC_FOLLOW, TOPIC_IMAGE, TOPIC_SCAN, FollowSource
 
     image = np.full((240, 320, 3), 90, dtype=np.uint8)
     cv2.rectangle(image, (150, 100), (170, 130), (255, 0, 255), -1)
-    pilot = RoverLinkPilot(ScanFilter(), Tracker(image[100:131, 150:171].copy(), CAMERA), Follower(DIFF, CAMERA))
+    pilot = FollowPilot(ScanFilter(), Tracker(image[100:131, 150:171].copy(), CAMERA), Follower(DIFF, CAMERA))
     source = FollowSource(pilot, image_hz=2.0)
     out = FakePublisher()
     source.start(out)
-    pilot.on_scan(scan_with(1.0), (0.0, 0.0, 0.0))
-    pilot.on_frame(CameraFrame(image, 0.0, 1), (0.0, 0.0, 0.0))
-    pilot.command(0.05, (0.0, 0.0, 0.0))
+    pilot.on_scan(scan_with(1.0), RobotPose(0.0, 0.0, 0.0, 0.0))
+    pilot.on_frame(CameraFrame(image, 0.0, 1), RobotPose(0.0, 0.0, 0.0, 0.0))
+    pilot.command(RobotPose(0.05, 0.0, 0.0, 0.0))
     for t in (0.05, 0.1, 0.6):
         source.poll(t)
     kinds = [(kind, topic) for kind, topic, _ in out.calls]

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
+from emulator.sensors.target import camera_mount, render_target
 from emulator.world import load_world
-from roverlink.follow.template import camera_mount, render_target
 
 WORLD = Path(__file__).resolve().parents[2] / "examples" / "worlds" / "follow_ahead.toml"
 

@@ -10,21 +10,24 @@ from typing import cast
 import pytest
 
 from host_sdk import Robot
+from host_sdk.fusion import PoseSource
 from roverlink.follow.metrics import FollowMetrics, MetricsRecorder
-from roverlink.follow.run import PoseSource
 
 
 def test_poses_between_control_steps_are_interpolated_not_rounded() -> None:
-    odometry = SimpleNamespace(pose=SimpleNamespace(x_m=0.0, y_m=0.0, theta_rad=0.0))
+    odometry = SimpleNamespace(pose=SimpleNamespace(x_m=0.0, y_m=0.0, theta_rad=0.0, linear_m_s=0.0, angular_rad_s=0.0))
     poses = PoseSource(cast(Robot, SimpleNamespace(odometry=odometry)), None)
     for i in range(5):  # turning at 1 rad/s and driving at 0.2 m/s, one pose per 50 ms control step
         t = 0.05 * i
-        odometry.pose = SimpleNamespace(x_m=0.2 * t, y_m=0.0, theta_rad=math.pi - 0.1 + t)  # crosses pi
+        odometry.pose = SimpleNamespace(
+            x_m=0.2 * t, y_m=0.0, theta_rad=math.pi - 0.1 + t, linear_m_s=0.2, angular_rad_s=1.0
+        )  # fmt: skip  (crosses pi)
         poses.update(t)
-    x, y, th = poses.at(0.12)
-    assert x == pytest.approx(0.024) and y == 0.0
-    assert th == pytest.approx(math.pi - 0.1 + 0.12)  # not the nearest step's, 0.1 or 0.15
-    assert poses.at(-1.0)[0] == 0.0 and poses.at(9.0)[0] == pytest.approx(0.04)  # held beyond the history
+    then = poses.at(0.12)
+    assert then.x_m == pytest.approx(0.024) and then.y_m == 0.0
+    assert then.theta_rad == pytest.approx(math.pi - 0.1 + 0.12)  # not the nearest step's, 0.1 or 0.15
+    assert then.time_s == 0.12 and then.linear_m_s == 0.2  # the measured speed is carried
+    assert poses.at(-1.0).x_m == 0.0 and poses.at(9.0).x_m == pytest.approx(0.04)  # held beyond the history
 
 
 def test_the_time_to_decide_a_step_is_reported_as_mean_and_99th_percentile() -> None:
@@ -57,7 +60,7 @@ def test_the_fused_heading_follows_the_robot_as_the_loop_reads_it() -> None:
         t0 = robot.now()
         for i in range(160):  # 8 s of 50 ms steps
             t = robot.now()
-            theta = poses.update(t)[2]
+            theta = poses.update(t).theta_rad
             times.append(t)
             truth.append(world.robot_pose(em.emulator.plant)[2])
             fused.append((poses.ekf.time_s, theta))  # the fused pose is the last FEEDBACK's

@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 
 from emulator.sensors.camera import CameraOptions, Renderer
+from emulator.sensors.target import camera_mount, render_target
 from emulator.world import load_world
 from emulator.world.scene import Scene
 from host_sdk.errors import CommandRangeError
 from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.tracking import Tracker, TrackState
 from protocol.sensors import DEVICES
-from roverlink.follow.template import camera_mount, render_target
 
 MOUNT = camera_mount("picar")
 CAMERA = CameraModel.pi_camera_v2(320, 240, mount_x_m=MOUNT.x_m)

@@ -13,13 +13,13 @@ import numpy as np
 import pytest
 
 from host_sdk import FeedbackSample, Robot
+from host_sdk.calibration import load_kinematics
 from host_sdk.odometry import Odometry
 from roverlink.calibration import (
     Calibration,
     EmulatorObserver,
     ImuObserver,
     PersonObserver,
-    load_kinematics,
     measure_turn,
 )
 from roverlink.calibration import geometry as g

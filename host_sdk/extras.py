@@ -1,4 +1,4 @@
-"""Optional dependencies of the tools, imported only when a command needs them.
+"""Optional dependencies, imported only when a feature needs them (the SDK's and the tools').
 
 `import host_sdk` and `roverlink --help` stay small on a Raspberry Pi: Textual, matplotlib and
 foxglove-sdk are extras (`pip install 'roverlink[tui]'`, `[plot]`, `[foxglove]`, or `[tools]`
@@ -10,11 +10,11 @@ from __future__ import annotations
 import importlib
 from types import ModuleType
 
-from protocol.errors import RoverLinkError
+from host_sdk.errors import RoverLinkError
 
 
 class MissingDependencyError(RoverLinkError, ImportError):
-    """A command needs an optional dependency that is not installed; names the extra to install."""
+    """A feature needs an optional dependency that is not installed; names the extra to install."""
 
     def __init__(self, module: str, extra: str, what: str) -> None:
         self.module = module

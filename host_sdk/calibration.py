@@ -6,7 +6,7 @@ use. `roverlink calibrate` writes it here, with the rest of the kinematics:
 
     roverlink calibrate /dev/ttyACM0 -o calibration.json          # writes the file
     roverlink teleop /dev/ttyACM0 --kinematics calibration.json   # every command with a URL takes it
-    robot = Robot.connect("/dev/ttyACM0", kinematics=load_kinematics("calibration.json"))
+    robot = Robot.connect("/dev/ttyACM0", kinematics=host_sdk.calibration.load_kinematics("calibration.json"))
 
 The file is JSON: the format, the robot's firmware name, the kinematics with every value, and the
 board configuration changes and findings of the calibration (already in the board's EEPROM; kept
@@ -15,14 +15,13 @@ as the record).
 
 from __future__ import annotations
 
-import argparse
 import json
-import shlex
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
-from host_sdk import Ackermann, DiffDrive, RoverLinkError
+from host_sdk.errors import RoverLinkError
+from host_sdk.kinematics import Ackermann, DiffDrive
 
 FORMAT = "roverlink-calibration/1"
 _KINDS: dict[str, type[DiffDrive] | type[Ackermann]] = {"diff": DiffDrive, "ackermann": Ackermann}
@@ -82,21 +81,3 @@ def write_calibration(path: str | Path, robot: str, kinematics: DiffDrive | Acke
     out = Path(path)
     out.write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
     return out
-
-
-def kinematics_arg(text: str) -> CalibrationFile:
-    """argparse `type=` for --kinematics FILE: a bad file ends the command before it connects."""
-    try:
-        return read_calibration(text)
-    except OSError as exc:
-        raise argparse.ArgumentTypeError(f"{text}: {exc.strerror or exc}") from None
-    except KinematicsFileError as exc:
-        raise argparse.ArgumentTypeError(str(exc)) from None
-
-
-def usage_lines(path: Path, url: str) -> list[str]:
-    """How to use a calibration file: the commands' option and the SDK call."""
-    return [
-        f"use it with every command: roverlink teleop {shlex.quote(url)} --kinematics {shlex.quote(str(path))}",
-        f"and in code: Robot.connect({url!r}, kinematics=roverlink.calibration.load_kinematics({str(path)!r}))",
-    ]

@@ -1,6 +1,6 @@
-"""The host-side sensors a bring-up tool reads beside the board, and what they last showed.
+"""The host-side sensors a robot program reads beside the board, and what they last showed.
 
-    sensors = Sensors(lidar=Lidar.open(...), imu=Jy901.open(...), camera=CameraSource(...))
+    sensors = Sensors.open(lidar="/dev/ttyUSB0", lidar_model="rplidar-a1", imu="/dev/ttyUSB1", camera=0)
     sensors.on_scan(print)              # LidarScan / ImuSample / CameraFrame, as the drivers deliver them
     sensors.start()                     # the lidar spins up and scans
     while running:
@@ -9,12 +9,8 @@
     print(sensors.status())             # rates, point counts, nearest obstacle, yaw, fps, drops
     sensors.close()
 
-A real port is read by a thread of its own, so every sample is stamped when it arrives whatever
-the program's loop does, and a camera's blocking capture never holds that loop up. A device on an
-emulator's virtual clock (an `emudev://` endpoint of an `emu://...?clock=virtual` robot) cannot
-have a thread: reading it is what moves the emulator's time, which belongs to the loop that
-drives the robot; `poll()` reads it there, and does nothing for the threaded ones. Listeners are
-called on the reading thread.
+Each device is read by a `DeviceReader` (host_sdk.sensors.reader): a thread of its own on a real
+port, `poll()` on an emulator's virtual clock. Listeners are called on the reading thread.
 
 A device that fails (unplugged, closed) stops being read; `status().errors` says why, and the
 other devices and the robot carry on.
@@ -26,17 +22,22 @@ import contextlib
 import math
 import threading
 from collections import deque
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from host_sdk import RoverLinkError
-from host_sdk.sensors import CameraFrame, CameraSource, ImuSample, Jy901, Lidar, LidarScan, SensorTimeoutError
+from host_sdk.errors import RoverLinkError, TransportError
+from host_sdk.extras import require
+from host_sdk.sensors.camera import CameraFrame, CameraSource
+from host_sdk.sensors.errors import SensorOpenError, SensorTimeoutError
+from host_sdk.sensors.imu import DEFAULT_BAUD, Jy901
+from host_sdk.sensors.lidar import Lidar
+from host_sdk.sensors.reader import DeviceReader
+from host_sdk.sensors.scan import LidarScan
+from host_sdk.sensors.wit import ImuSample
 
-READ_SLICE_S = 0.05
-"""How long a reading thread waits for bytes before it looks at its stop flag again."""
 RATE_WINDOW_S = 2.0
 
 
@@ -111,48 +112,6 @@ class SensorStatus:
     """Devices that stopped being read, and why."""
 
 
-@dataclass
-class _Reader:
-    """One device's reading: `pump(timeout)` returns what arrived; a thread of its own, or `poll()`."""
-
-    name: str
-    pump: Callable[[float], Sequence[Any]]
-    deliver: Callable[[Any], None]
-    threaded: bool
-    error: str | None = None
-    _stop: threading.Event = field(default_factory=threading.Event)
-    _thread: threading.Thread | None = None
-
-    def start(self) -> None:
-        if self.threaded and self._thread is None:
-            self._thread = threading.Thread(target=self._run, name=f"roverlink-{self.name}", daemon=True)
-            self._thread.start()
-
-    def poll(self) -> None:
-        if not self.threaded and self.error is None:
-            self._once(0.0)
-
-    def _once(self, timeout_s: float) -> None:
-        try:
-            events = self.pump(timeout_s)
-        except SensorTimeoutError:
-            return  # a capture device with no frame this time: try again
-        except (RoverLinkError, OSError) as exc:
-            self.error = f"{self.name}: {exc}"
-            return
-        for event in events:
-            self.deliver(event)
-
-    def _run(self) -> None:
-        while not self._stop.is_set() and self.error is None:
-            self._once(READ_SLICE_S)
-
-    def stop(self) -> None:
-        self._stop.set()
-        if self._thread is not None:
-            self._thread.join(timeout=2.0)
-
-
 class Sensors:
     """A lidar, an IMU and a camera (any of them None), read together; see the module docstring."""
 
@@ -164,7 +123,7 @@ class Sensors:
         self.camera = camera
         self._lock = threading.Lock()
         self._listeners: dict[str, list[Callable[[Any], None]]] = {"scan": [], "imu": [], "frame": []}
-        self._readers: list[_Reader] = []
+        self._readers: list[DeviceReader[Any]] = []
         self._started = False
         self._closed = False
         self._last_scan: LidarScan | None = None
@@ -172,6 +131,33 @@ class Sensors:
         self._last_frame: CameraFrame | None = None
         self._counts = {"scan": 0, "imu": 0, "frame": 0}
         self._rates = {"scan": _Rate(), "imu": _Rate(), "frame": _Rate()}
+
+    @classmethod
+    def open(cls, *, lidar: str | None = None, lidar_model: str = "rplidar-a1", imu: str | None = None,
+             imu_baud: int = DEFAULT_BAUD, camera: str | int | None = None) -> Sensors:  # fmt: skip
+        """Open the devices given by URL (None: not there). SensorOpenError names the one that failed
+        (those already open are closed again); the camera needs OpenCV (the `vision` extra:
+        MissingDependencyError says so)."""
+        sensors = cls()
+        kind, where = "", ""
+        try:
+            if lidar is not None:
+                kind, where = f"lidar {lidar_model}", lidar
+                sensors.lidar = Lidar.open(lidar, lidar_model)
+            if imu is not None:
+                kind, where = "imu jy901", imu
+                sensors.imu = Jy901.open(imu, imu_baud)
+            if camera is not None:
+                require("cv2", "vision", "the camera")
+                kind, where = "camera", short_source(camera)
+                sensors.camera = CameraSource(camera)
+        except (TransportError, SensorTimeoutError, OSError) as exc:
+            sensors.close()
+            raise SensorOpenError(f"{kind} on {where}: {exc}") from exc
+        except BaseException:
+            sensors.close()
+            raise
+        return sensors
 
     @property
     def empty(self) -> bool:
@@ -237,15 +223,24 @@ class Sensors:
                     lidar.sample_rate()  # the device's own sample period times the points
             lidar.start()
             self._readers.append(
-                _Reader("lidar", lidar.poll, lambda s: self._deliver("scan", s, s.time_s), not lidar.port.virtual)
+                DeviceReader(
+                    "lidar", lidar.poll, lambda s: self._deliver("scan", s, s.time_s), threaded=not lidar.port.virtual
+                )
             )
         if self.imu is not None:
             imu = self.imu
-            self._readers.append(_Reader("imu", imu.poll, lambda s: self._deliver("imu", s, s.t), not imu.port.virtual))
+            self._readers.append(
+                DeviceReader("imu", imu.poll, lambda s: self._deliver("imu", s, s.t), threaded=not imu.port.virtual)
+            )
         if self.camera is not None:
             camera = self.camera
             self._readers.append(
-                _Reader("camera", camera.poll, lambda f: self._deliver("frame", f, _frame_time(f)), not camera.virtual)
+                DeviceReader(
+                    "camera",
+                    camera.poll,
+                    lambda f: self._deliver("frame", f, _frame_time(f)),
+                    threaded=not camera.virtual,
+                )
             )
         for reader in self._readers:
             reader.start()
@@ -342,3 +337,9 @@ class Sensors:
 def _frame_time(frame: CameraFrame) -> float:
     """The capture time when the stream carries one (its spacing is the camera's), else arrival."""
     return frame.device_time_s if frame.device_time_s is not None else frame.time_s
+
+
+def short_source(source: str | int) -> str:
+    """A device or pipeline for messages (a GStreamer pipeline can be long)."""
+    text = str(source)
+    return text if len(text) <= 48 else text[:45] + "..."

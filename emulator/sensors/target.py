@@ -1,10 +1,12 @@
 """The emulated target's look as a tracker template: rendered by the emulator's own camera model.
 
-On a real robot the user gives the tracker a template image or selects a region of a frame; on the
-emulator the follow command knows what the target looks like (its shape, colours and pattern are in
-the scene), so it renders it once, straight ahead at a known distance with nothing around it, and
-crops the box the cylinder fills. The crop stays inside the silhouette: the template holds only the
-target's own pixels, so it matches the target against any background.
+On a real robot the user gives the tracker a photo of the target or selects a region of a frame; on
+the emulator the target's shape, colours and pattern are in the scene, so it is rendered once,
+straight ahead at a known distance with nothing around it, and the box the cylinder fills is
+cropped. An `emu://` robot with a camera serves that picture as its `target` endpoint (one JPEG in
+the camera's MJPEG format), so a robot program reads it as it would read a photo. The crop stays
+inside the silhouette: the template holds only the target's own pixels, so it matches the target
+against any background.
 """
 
 from __future__ import annotations
@@ -16,10 +18,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from emulator.sensors.camera import CameraOptions, Renderer
+from emulator.sensors.rig import mount_on
 from emulator.world.scenario import make_scene
 from emulator.world.scene import Scene
 from protocol.sensors import DEVICES, CameraSpec, Mount
-from roverlink.follow.geometry import mount
 
 
 @dataclass(frozen=True, slots=True)
@@ -33,7 +35,7 @@ class TargetTemplate:
 
 def camera_mount(profile: str) -> Mount:
     """Where the profile carries its camera (the emulator's default spot when it has none)."""
-    return mount(profile, "camera")
+    return mount_on(profile, "camera", "pi-camera-v2")
 
 
 def render_target(scene: Scene, mount: Mount, *, width: int = 320, height: int = 240,

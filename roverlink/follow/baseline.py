@@ -1,95 +1,24 @@
-"""What drives during `roverlink follow`: RoverLink's behaviour, or the PiCar team's published one.
-
-A pilot is fed lidar revolutions and camera frames as they arrive (with the robot's pose at that
-time) and asked for a body twist every control period. Both pilots get exactly the same inputs.
+"""The PiCar team's published approach as a pilot (host_sdk.autonomy.Pilot), for `roverlink follow
+--pilot picar-2018` and the follow benchmark: it gets exactly the inputs RoverLink's FollowPilot gets.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import warnings
 from collections import deque
-from collections.abc import Callable
-from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
-from host_sdk.autonomy import Decision, Follower
-from host_sdk.perception import CameraModel, LidarMount, MotionDetector, Mover, ObstacleScan, ScanFilter, Tracker
-from host_sdk.perception.scan import bin_points, move_points
+from host_sdk.autonomy.pilot import PoseAt
+from host_sdk.perception import CameraModel, LidarMount, Tracker
+from host_sdk.perception.scan import bin_points
 from host_sdk.perception.tracking import Track, TrackState
+from host_sdk.pose import RobotPose
 from host_sdk.sensors import CameraFrame, LidarScan
 
 F64 = NDArray[np.float64]
-Pose2D = tuple[float, float, float]
-
-
-class Pilot(Protocol):
-    name: str
-
-    def on_scan(self, scan: LidarScan, pose: Pose2D, *, pose_at: Callable[[float], Pose2D] | None = None) -> None:
-        """A revolution, the pose at its mid-time, and (to de-skew it) the pose at any recent time."""
-        ...
-
-    def on_frame(self, frame: CameraFrame, pose: Pose2D) -> Track | None: ...
-
-    def command(self, t: float, pose: Pose2D) -> tuple[float, float, str]:
-        """(linear m/s, angular rad/s, what it is doing)."""
-        ...
-
-
-class RoverLinkPilot:
-    """Scan filter + tracker + `Follower` (host_sdk.autonomy)."""
-
-    name = "roverlink"
-
-    def __init__(self, scan_filter: ScanFilter, tracker: Tracker, follower: Follower) -> None:
-        self.scan_filter = scan_filter
-        self.tracker = tracker
-        self.follower = follower
-        self._obstacles: tuple[F64, F64, Pose2D] | None = None
-        self._track: tuple[Track, Pose2D] | None = None
-        self._frame_pose: Pose2D | None = None
-        self.motion = MotionDetector()
-        self.movers: tuple[Mover, ...] = ()
-        self.decision: Decision | None = None
-        self.last_scan: ObstacleScan | None = None
-        """The latest filtered scan, frame and track (for recording and live views)."""
-        self.last_frame: CameraFrame | None = None
-        self.last_track: Track | None = None
-
-    def on_scan(self, scan: LidarScan, pose: Pose2D, *, pose_at: Callable[[float], Pose2D] | None = None) -> None:
-        obstacles = self.scan_filter.update(scan, pose, pose_at=pose_at)
-        self.last_scan = obstacles
-        self.movers = self.motion.update(obstacles, pose)
-        x, y = obstacles.points_xy()
-        self._obstacles = (x, y, pose)
-
-    def on_frame(self, frame: CameraFrame, pose: Pose2D) -> Track:
-        turned = 0.0 if self._frame_pose is None else pose[2] - self._frame_pose[2]
-        self._frame_pose = pose
-        track = self.tracker.update(frame.image, frame.time_s, rotation_rad=turned)
-        self._track = (track, pose)
-        self.last_frame, self.last_track = frame, track
-        return track
-
-    def command(self, t: float, pose: Pose2D) -> tuple[float, float, str]:
-        if self._obstacles is None:
-            return 0.0, 0.0, "waiting"
-        x, y, then = self._obstacles
-        px, py = move_points(x, y, then, pose)  # the latest revolution, moved to where the robot is now
-        track = None
-        if self._track is not None:
-            tr, seen_at = self._track
-            if t - tr.time_s < 0.3:
-                track = tr
-                if tr.bearing_rad is not None:  # the robot has turned since the frame was taken
-                    track = dataclasses.replace(tr, bearing_rad=tr.bearing_rad - (pose[2] - seen_at[2]))
-        decision = self.follower.step(t, px, py, track, pose, movers=self.movers)
-        self.decision = decision
-        return decision.linear_m_s, decision.angular_rad_s, decision.mode.value
 
 
 class PiCarBaseline:
@@ -133,7 +62,7 @@ class PiCarBaseline:
         self.steer = "straight"
         """The latest command sent (what the Arduino holds)."""
 
-    def on_scan(self, scan: LidarScan, pose: Pose2D, *, pose_at: Callable[[float], Pose2D] | None = None) -> None:
+    def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
         """Their filter had no motion compensation: `pose` and `pose_at` are not used."""
         ok = np.isfinite(scan.ranges_m)
         a = scan.angles_rad[ok] + self.mount.yaw_rad
@@ -153,7 +82,7 @@ class PiCarBaseline:
             self.steer = "straight"
         self._obstacle = seen
 
-    def on_frame(self, frame: CameraFrame, pose: Pose2D) -> Track | None:
+    def on_frame(self, frame: CameraFrame, pose: RobotPose) -> Track | None:
         if frame.time_s < self._next_detect:
             return None
         self._next_detect = frame.time_s + self.period_s
@@ -166,6 +95,6 @@ class PiCarBaseline:
                 self.steer = zone
         return track
 
-    def command(self, t: float, pose: Pose2D) -> tuple[float, float, str]:
+    def command(self, pose: RobotPose) -> tuple[float, float, str]:
         steer = {"left": self.STEER_RAD, "right": -self.STEER_RAD, "straight": 0.0}[self.steer]
         return self.speed, self.speed * math.tan(steer) / self.WHEELBASE_M, self.steer

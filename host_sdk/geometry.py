@@ -1,7 +1,8 @@
-"""A robot's shape and where its sensors sit, from protocol/spec/sensors.toml and its kinematics.
+"""A robot's shape and where its sensors sit (for perception and autonomy), from the reference
+robots' sensor mounts (protocol/spec/sensors.toml) and its kinematics.
 
-Where a profile carries no device of a kind, the same defaults as the emulator's: a lidar on top of
-the pose point, a camera at the front of the footprint.
+Where a profile carries no device of a kind, the same spot as the emulator's (protocol.sensors:
+`RobotSensors.placed`): a lidar on top of the pose point, a camera at the front of the footprint.
 """
 
 from __future__ import annotations
@@ -9,9 +10,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from host_sdk.errors import CommandRangeError
 from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.perception import CameraModel, Footprint, LidarMount
-from host_sdk.profiles import steering_angles
+from host_sdk.profiles import profile_for_example, steering_angles
+from host_sdk.robot import Robot
 from protocol.generated.messages import SetConfig
 from protocol.sensors import ROBOT_SENSORS, Mount
 
@@ -28,13 +31,25 @@ class RobotGeometry:
 
 
 def mount(profile: str, kind: str) -> Mount:
-    body = ROBOT_SENSORS[profile]
-    found = body.mount(kind)
-    if found is not None:
-        return found
-    if kind == "camera":
-        return Mount("pi-camera-v2", "camera", body.footprint_x_m + 0.8 * body.footprint_radius_m, 0.0, 0.12, 0.0)
-    return Mount("rplidar-a1", kind, 0.0, 0.0, 0.2, 0.0)
+    """Where `profile` carries its `kind` device (sensors.toml), else where the emulator puts one."""
+    return ROBOT_SENSORS[profile].placed(kind)
+
+
+def profile_of(robot: Robot) -> str | None:
+    """The reference robot `robot` is (an emulator's profile, or the firmware example's), else None."""
+    if robot.transport.profile is not None:
+        return robot.transport.profile
+    found = profile_for_example(robot.identity.robot_name)
+    return found.name if found is not None else None
+
+
+def robot_geometry(robot: Robot, profile: str | None = None, *, width: int = 320, height: int = 240) -> RobotGeometry:
+    """`geometry()` of a connected robot: its kinematics and its board's steering, the mounts of
+    `profile` (default: the reference robot it is)."""
+    name = profile or profile_of(robot)
+    if name is None:
+        raise CommandRangeError("profile", None, f"a reference robot: {', '.join(sorted(ROBOT_SENSORS))}")
+    return geometry(name, robot.kinematics, config=robot.config, width=width, height=height)
 
 
 def geometry(profile: str, kinematics: DiffDrive | Ackermann | None, *, config: SetConfig | None = None,

@@ -1,0 +1,48 @@
+"""Follow a target with the camera while avoiding obstacles with the lidar: a whole robot program.
+
+On the emulator (a PiCar in a random room, on the emulator's virtual clock: as fast as the CPU allows):
+
+    python examples/follow.py --url 'emu://picar?world=random:3&lidar=ydlidar-f4&imu=jy901&camera=320x240&clock=virtual'
+
+On a robot (the board, the lidar and the camera; `--imu` adds the JY901's gyro to the odometry):
+
+    python examples/follow.py --url /dev/ttyACM0 --profile picar --lidar /dev/ttyUSB0 --camera 0 --template target.png
+
+An emulated robot with a camera serves a photo of its world's target (`endpoints["target"]`); on a
+robot, `--template` is your photo of what to follow. Only `host_sdk` is imported: docs/autonomy.md.
+"""
+
+import argparse
+
+import cv2
+
+from host_sdk import Robot
+from host_sdk.autonomy import ControlLoop, FollowPilot
+from host_sdk.geometry import mount, profile_of, robot_geometry
+from host_sdk.sensors import CameraSource, Jy901, Lidar
+
+p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+for option in ("--url", "--profile", "--lidar", "--camera", "--imu", "--template"):
+    p.add_argument(option)
+p.add_argument("--duration", type=float, default=30.0, help="seconds (default 30)")
+args = p.parse_args()
+
+with Robot.connect(args.url, profile=args.profile, clamp=True, auto_rearm=True) as robot:
+    ports = getattr(robot.transport, "endpoints", {})  # an emu:// robot's own sensors
+    model = mount(args.profile or profile_of(robot) or "picar", "lidar").device
+    lidar = Lidar.open(args.lidar or ports["lidar"], model)
+    camera = CameraSource(int(args.camera) if (args.camera or "").isdigit() else args.camera or ports["camera"])
+    imu = Jy901.open(args.imu or ports["imu"]) if args.imu or "imu" in ports else None
+    photo = cv2.imread(args.template) if args.template else CameraSource(ports["target"]).read().image
+    pilot = FollowPilot.for_robot(robot_geometry(robot, args.profile), photo)
+    with ControlLoop(robot, pilot, lidar=lidar, camera=camera, imu=imu) as loop:
+        shown = 0.0
+        while (t := robot.now() - loop.started_s) < args.duration:
+            step = loop.step()
+            if t >= shown:  # once a second: what it does and where it is
+                shown += 1.0
+                print(f"{t:5.1f} s  {step.mode:8s} x {step.pose.x_m:5.2f} m  y {step.pose.y_m:5.2f} m")
+            loop.wait()
+    for device in (lidar, camera, imu):
+        if device is not None:
+            device.close()

@@ -1,0 +1,116 @@
+"""A pilot: what turns sensor data into a body twist in a robot program's loop.
+
+A pilot is fed lidar revolutions and camera frames as they arrive (each with the robot's pose at
+the time it was taken) and asked for a twist every control period. `FollowPilot` is RoverLink's
+follow-while-avoiding behaviour: the scan filter, the motion detector, the camera tracker and the
+`Follower` joined up.
+
+    pilot = FollowPilot.for_robot(geometry(profile, robot.kinematics, config=robot.config), template)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+from typing import Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from host_sdk.autonomy.follow import Decision, Follower, FollowParams
+from host_sdk.geometry import RobotGeometry
+from host_sdk.perception import AvoidanceParams, MotionDetector, Mover, ObstacleScan, ScanFilter
+from host_sdk.perception.scan import move_points
+from host_sdk.perception.tracking import Track, Tracker
+from host_sdk.pose import RobotPose
+from host_sdk.sensors import CameraFrame, LidarScan
+
+PoseAt = Callable[[float], RobotPose]
+TRACK_FRESH_S = 0.3
+"""A track older than this is not steered by (the camera stalled or the tracker lags)."""
+
+
+class Pilot(Protocol):
+    name: str
+
+    def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
+        """A revolution, the pose at its mid-time, and (to de-skew it) the pose at any recent time."""
+        ...
+
+    def on_frame(self, frame: CameraFrame, pose: RobotPose) -> Track | None: ...
+
+    def command(self, pose: RobotPose) -> tuple[float, float, str]:
+        """(linear m/s, angular rad/s, what it is doing) at `pose.time_s`."""
+        ...
+
+
+def follow_gap(geometry: RobotGeometry) -> float:
+    """The default gap to keep: 0.5 m for a differential drive, 0.9 m for an Ackermann robot, which
+    cannot turn on the spot: from farther back a target that turns moves less across the image, and
+    the car has room to drive the arc that keeps it in view."""
+    return 0.9 if geometry.min_turn_radius_m > 0 else 0.5
+
+
+class FollowPilot:
+    """Scan filter + motion detector + tracker + `Follower`."""
+
+    name = "roverlink"
+
+    def __init__(self, scan_filter: ScanFilter, tracker: Tracker, follower: Follower) -> None:
+        self.scan_filter = scan_filter
+        self.tracker = tracker
+        self.follower = follower
+        self.motion = MotionDetector()
+        self.movers: tuple[Mover, ...] = ()
+        self.decision: Decision | None = None
+        self.last_scan: ObstacleScan | None = None
+        """The latest filtered scan, frame and track (for recording and live views)."""
+        self.last_frame: CameraFrame | None = None
+        self.last_track: Track | None = None
+        self._scan_pose: RobotPose | None = None
+        self._track: tuple[Track, RobotPose] | None = None
+        self._frame_pose: RobotPose | None = None
+
+    @classmethod
+    def for_robot(cls, geometry: RobotGeometry, template: NDArray[np.uint8], *, follow_gap_m: float | None = None,
+                  max_speed_m_s: float = 0.45, target_height_m: float | None = None) -> FollowPilot:  # fmt: skip
+        """The pilot for a robot of `geometry` following what `template` (a BGR image) shows;
+        `target_height_m`, the target's real height, gives the tracker a range estimate."""
+        tracker = Tracker(template, geometry.camera, height_m=target_height_m)
+        gap = follow_gap(geometry) if follow_gap_m is None else follow_gap_m
+        params = FollowParams(follow_gap_m=gap, max_speed_m_s=max_speed_m_s)
+        follower = Follower(geometry.footprint, geometry.camera, min_turn_radius_m=geometry.min_turn_radius_m,
+                            avoidance=AvoidanceParams(), params=params, curvatures=geometry.curvatures)  # fmt: skip
+        return cls(ScanFilter(geometry.lidar_mount), tracker, follower)
+
+    def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
+        deskew = None if pose_at is None else (lambda t: pose_at(t).xyt)
+        obstacles = self.scan_filter.update(scan, pose.xyt, pose_at=deskew)
+        self.last_scan = obstacles
+        self.movers = self.motion.update(obstacles, pose.xyt)
+        self._scan_pose = pose
+
+    def on_frame(self, frame: CameraFrame, pose: RobotPose) -> Track:
+        turned = 0.0 if self._frame_pose is None else pose.theta_rad - self._frame_pose.theta_rad
+        self._frame_pose = pose
+        track = self.tracker.update(frame.image, frame.time_s, rotation_rad=turned)
+        self._track = (track, pose)
+        self.last_frame, self.last_track = frame, track
+        return track
+
+    def command(self, pose: RobotPose) -> tuple[float, float, str]:
+        scan, then = self.last_scan, self._scan_pose
+        if scan is None or then is None:
+            return 0.0, 0.0, "waiting"
+        # The latest revolution, moved to where the robot is now.
+        px, py = move_points(scan.x_m, scan.y_m, then.xyt, pose.xyt)
+        track = None
+        if self._track is not None:
+            tr, seen_at = self._track
+            if pose.time_s - tr.time_s < TRACK_FRESH_S:
+                track = tr
+                if tr.bearing_rad is not None:  # the robot has turned since the frame was taken
+                    track = dataclasses.replace(tr, bearing_rad=tr.bearing_rad - (pose.theta_rad - seen_at.theta_rad))
+        decision = self.follower.step(pose.time_s, px, py, track, pose, movers=self.movers)
+        self.decision = decision
+        return decision.linear_m_s, decision.angular_rad_s, decision.mode.value
