@@ -31,11 +31,11 @@ import cv2
 import numpy as np
 
 from emulator.sensors.camera import CameraOptions, Renderer
+from emulator.sensors.target import camera_mount, render_target
 from emulator.world import load_world
 from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.tracking import Tracker
 from protocol.sensors import DEVICES
-from emulator.sensors.target import camera_mount, render_target
 
 Frame = tuple[np.ndarray, float, float, tuple[float, float, float, float]]
 """image, time, true bearing, true box (x, y, w, h)."""

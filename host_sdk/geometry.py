@@ -8,6 +8,7 @@ Where a profile carries no device of a kind, the same spot as the emulator's (pr
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from host_sdk.errors import CommandRangeError
@@ -41,6 +42,14 @@ def profile_of(robot: Robot) -> str | None:
         return robot.transport.profile
     found = profile_for_example(robot.identity.robot_name)
     return found.name if found is not None else None
+
+
+def sensor_mounts(robot: Robot, kinds: Sequence[str]) -> dict[str, Mount]:
+    """Where each device of `kinds` sits on the robot (REP-103, from the pose point): the reference
+    robot's mounts, or where the emulator puts a device it carries none of; at the pose point on a
+    robot of its own."""
+    body = ROBOT_SENSORS.get(profile_of(robot) or "")
+    return {kind: body.placed(kind) if body is not None else Mount(kind, kind) for kind in kinds}
 
 
 def robot_geometry(robot: Robot, profile: str | None = None, *, width: int = 320, height: int = 240) -> RobotGeometry:

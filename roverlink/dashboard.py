@@ -20,8 +20,8 @@ from dataclasses import dataclass, field
 
 from host_sdk import FeedbackSample, LinkStatistics, Robot, RoverLinkError
 from host_sdk.enums import LogLevel, Status
+from host_sdk.recording.sources import board_counters, link_rates
 from host_sdk.sensors.hub import Sensors, SensorStatus
-from roverlink.recording.sources import board_counters, link_rates
 
 LOG_LINES = 8
 BOARD_STATS_PERIOD_S = 1.0

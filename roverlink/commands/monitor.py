@@ -16,10 +16,10 @@ import argparse
 import sys
 
 from host_sdk import Robot, RoverLinkError
+from host_sdk.recording import Recorder
 from roverlink.commands.record import POLL_S, add_foxglove_args, announce_live_view
 from roverlink.console import add_robot_args, connect
 from roverlink.dashboard import Dashboard, lines, one_line
-from roverlink.recording import Recorder
 from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
 
 

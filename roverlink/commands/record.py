@@ -7,7 +7,7 @@ foxglove.CompressedImage, the IMU's samples as roverlink.Imu.
 
 Read-only, like `monitor`: it opens a session (which leaves the board disarmed) and never arms
 or commands; drive the robot from a program that records itself (`Recorder.attach` in
-roverlink.recording, or `follow --foxglove`) to record a drive.
+host_sdk.recording, or `follow --foxglove`) to record a drive.
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ from pathlib import Path
 from typing import TextIO
 
 from host_sdk import Robot, RoverLinkError
+from host_sdk.recording import Recorder, RecordingSummary
 from roverlink.console import Progress, add_robot_args, bar, connect
-from roverlink.recording import Recorder, RecordingSummary
 from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
 
 LAYOUT_HINT = "docs/foxglove-layout.json"

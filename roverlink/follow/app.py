@@ -15,11 +15,11 @@ from host_sdk import Robot
 from host_sdk.autonomy import FollowPilot, Pilot, follow_gap
 from host_sdk.geometry import RobotGeometry, geometry
 from host_sdk.perception import Tracker
+from host_sdk.recording.follow import FollowSource
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 from roverlink.follow import emulated
 from roverlink.follow.baseline import PiCarBaseline
 from roverlink.follow.metrics import FollowMetrics
-from roverlink.follow.record import FollowSource
 from roverlink.follow.run import Progress, run_follow
 
 PILOTS = ("roverlink", "picar-2018")
@@ -28,7 +28,7 @@ LIDAR_FOR = emulated.LIDAR_FOR
 
 @dataclass(frozen=True, slots=True)
 class RecordTo:
-    """Record the run (roverlink.recording): an MCAP file and/or the live Foxglove view."""
+    """Record the run (host_sdk.recording): an MCAP file and/or the live Foxglove view."""
 
     mcap_path: Path | None = None
     serve: bool = False
@@ -38,14 +38,14 @@ class RecordTo:
 def recording(robot: Robot, pilot: Pilot, record: RecordTo | None) -> Iterator[Callable[[float], None] | None]:
     """The recorder's poll for the follow loop (None when not recording). The recorder is the shared
     library piece `roverlink record` and `monitor --foxglove` use; the follow run adds its scan, camera
-    and behaviour to it (roverlink.follow.record.FollowSource)."""
+    and behaviour to it (host_sdk.recording.follow.FollowSource)."""
     if record is None:
         yield None
         return
     try:
-        library = importlib.import_module("roverlink.recording")
+        library = importlib.import_module("host_sdk.recording")
     except ImportError as exc:
-        raise RuntimeError(f"recording needs roverlink.recording and the foxglove extra ({exc})") from None
+        raise RuntimeError(f"recording needs host_sdk.recording and the foxglove extra ({exc})") from None
     sources = [FollowSource(pilot)] if isinstance(pilot, FollowPilot) else []
     recorder = library.Recorder.attach(robot, mcap_path=record.mcap_path, overwrite=True, serve=record.serve,
                                        sources=sources)  # fmt: skip

@@ -79,7 +79,6 @@ class Driver:
         *,
         timeout_s: float,
         on_timeout: str,
-        clamp: bool,
         lockstep: bool,
         period_s: float,
     ) -> None:
@@ -87,7 +86,6 @@ class Driver:
         self.refusals = refusals
         self.timeout_s = timeout_s
         self.on_timeout = on_timeout
-        self.clamp = clamp
         self.lockstep = lockstep
         self.period_s = period_s
         self.latest: Command | None = None
@@ -127,7 +125,7 @@ class Driver:
 
     def _send(self, linear: float, angular: float, hold_s: float, quiet: bool = False) -> None:
         try:
-            self.robot.drive(linear, angular, clamp=self.clamp, hold_s=max(hold_s, 1e-3))
+            self.robot.drive(linear, angular, hold_s=max(hold_s, 1e-3))  # clamp: the robot's limit_policy
         except CommandRangeError as exc:
             self.refusals.refused("range", str(exc))
         except SessionResetError as exc:

@@ -207,7 +207,6 @@ class BridgeNode(Node):
             timeout_s=p.connect_timeout,
             clamp=p.limit_policy == "clamp",
             auto_rearm=p.auto_arm,
-            command_timeout_s=p.cmd_vel_timeout,
         )
 
     def _on_connected(self, robot: Robot) -> None:
@@ -226,7 +225,6 @@ class BridgeNode(Node):
                 self.refusals,
                 timeout_s=p.cmd_vel_timeout,
                 on_timeout=p.on_timeout,
-                clamp=p.limit_policy == "clamp",
                 lockstep=self.lockstep,
                 period_s=self._period,
             )

@@ -3,7 +3,7 @@
 `choose_sensors(args, robot)` takes the devices the command line names (`add_sensor_args`) and
 those an `emu://` URL attached; `open_sensors(choice)` opens them as a `Sensors` hub that reads
 them (threads on real ports, `poll()` on an emulator's virtual clock), calls listeners with every
-scan, IMU sample and frame, and keeps the status the monitor shows. `roverlink.recording.SensorSource`
+scan, IMU sample and frame, and keeps the status the monitor shows. `host_sdk.recording.SensorSource`
 records them; `roverlink.calibration.ImuObserver` measures turns with the IMU.
 """
 

@@ -15,7 +15,6 @@ from __future__ import annotations
 import argparse
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 from host_sdk import Robot
 from host_sdk.profiles import profile_for_example
@@ -24,7 +23,7 @@ from host_sdk.sensors.camera import PIPELINES
 from host_sdk.sensors.hub import Sensors, short_source
 from host_sdk.sensors.imu import DEFAULT_BAUD
 from host_sdk.sensors.lidar import MODELS
-from protocol.sensors import ROBOT_SENSORS, Mount
+from protocol.sensors import ROBOT_SENSORS
 from roverlink.argtypes import BAUD
 from roverlink.emulated import emulator_of
 
@@ -139,22 +138,3 @@ def _profile_lidar(robot: Robot) -> str | None:
     body = ROBOT_SENSORS.get(_profile_name(robot) or "")
     mount = body.mount("lidar") if body is not None else None
     return mount.device if mount is not None and mount.device in MODELS else None
-
-
-def sensor_mounts(robot: Robot, kinds: Sequence[str]) -> dict[str, Mount]:
-    """Where each device of `kinds` sits on the robot (REP-103, from the pose point): an emulated
-    robot's rig says where it put them; else the robot's reference profile (sensors.toml) where it
-    carries that kind; else at the pose point."""
-    out: dict[str, Mount] = {}
-    with emulator_of(robot) as emu:
-        rig: Any = getattr(emu, "sensors", None)
-        devices = rig.devices if rig is not None else {}
-        for kind in kinds:
-            if kind in devices:
-                out[kind] = rig.mount_for(kind, devices[kind].spec.name)
-    body = ROBOT_SENSORS.get(_profile_name(robot) or "")
-    for kind in kinds:
-        if kind not in out:
-            mount = body.mount(kind) if body is not None else None
-            out[kind] = mount if mount is not None else Mount(kind, kind)
-    return out

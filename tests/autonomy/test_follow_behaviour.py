@@ -450,7 +450,7 @@ def test_follow_source_publishes_scan_camera_and_state() -> None:
     from host_sdk.autonomy import FollowPilot
     from host_sdk.perception import ScanFilter, Tracker
     from host_sdk.pose import RobotPose
-    from roverlink.follow.record import TOPIC_FOLLOW, TOPIC_IMAGE, TOPIC_SCAN, FollowSource
+    from host_sdk.recording.follow import TOPIC_FOLLOW, TOPIC_IMAGE, TOPIC_SCAN, FollowSource
 
     image = np.full((240, 320, 3), 90, dtype=np.uint8)
     cv2.rectangle(image, (150, 100), (170, 130), (255, 0, 255), -1)

@@ -207,7 +207,7 @@ def robot() -> Iterator[Robot]:
 
 def make_driver(robot: Robot, **kw: Any) -> tuple[Driver, list[str]]:
     logged: list[str] = []
-    options: dict[str, Any] = {"timeout_s": 0.5, "on_timeout": "stop", "clamp": True, "lockstep": False}
+    options: dict[str, Any] = {"timeout_s": 0.5, "on_timeout": "stop", "lockstep": False}
     options["period_s"] = 0.02
     options.update(kw)
     return Driver(robot, RefusalLog(logged.append, logged.append), **options), logged
@@ -260,7 +260,7 @@ def test_lockstep_is_paced_by_the_ticks() -> None:
 
 
 def test_refused_commands_are_logged_once_per_burst(robot: Robot) -> None:
-    driver, logged = make_driver(robot, clamp=False)
+    driver, logged = make_driver(robot)  # the robot refuses (it was connected without clamp)
     for _ in range(10):
         driver.command(5.0, 0.0, robot.now())  # beyond max_wheel_speed
     assert len(logged) == 1 and "linear_m_s = 5.0" in logged[0]

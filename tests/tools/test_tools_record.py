@@ -10,9 +10,8 @@ from mcap_support import LiveClient, open_live, read_mcap
 
 from host_sdk import FeedbackSample, Robot
 from host_sdk.enums import LogLevel
-from roverlink.cli import main
-from roverlink.recording import Publisher, Recorder
-from roverlink.recording.schemas import (
+from host_sdk.recording import Publisher, Recorder
+from host_sdk.recording.schemas import (
     FEEDBACK_SCHEMA,
     IMU_SCHEMA,
     TOPIC_FEEDBACK,
@@ -27,6 +26,7 @@ from roverlink.recording.schemas import (
     TOPIC_WHEELS,
     feedback_message,
 )
+from roverlink.cli import main
 
 PROFILES = ["diffdrive-tb6612", "diffdrive-bts7960", "picar"]
 
@@ -160,10 +160,10 @@ def test_live_view_serves_decodable_messages() -> None:
 
 
 def test_shipped_layout_is_current_and_names_recorded_topics() -> None:
-    from roverlink.recording.layout import layout_json
+    from host_sdk.recording.layout import layout_json
 
     shipped = Path(__file__).resolve().parents[2] / "docs" / "foxglove-layout.json"
-    assert shipped.read_text(encoding="utf-8") == layout_json(), "regenerate: python -m roverlink.recording.layout"
+    assert shipped.read_text(encoding="utf-8") == layout_json(), "regenerate: python -m host_sdk.recording.layout"
     text = shipped.read_text(encoding="utf-8")
     for topic in (TOPIC_ODOMETRY, TOPIC_PATH, TOPIC_WHEELS, TOPIC_LINK, TOPIC_LOG, TOPIC_FEEDBACK):
         assert f'"{topic}' in text

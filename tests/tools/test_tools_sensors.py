@@ -20,13 +20,13 @@ from mcap_support import LiveClient, open_live, read_mcap
 from pty_emulator import until
 
 from host_sdk import Robot
+from host_sdk.recording import Recorder
+from host_sdk.recording.schemas import TOPIC_IMAGE, TOPIC_IMU, TOPIC_SCAN, TOPIC_TF, imu_message
+from host_sdk.recording.sensors import laser_scan_fields
 from host_sdk.sensors import CameraFrame, ImuSample, LidarScan, Sensors
 from protocol.sensors import ROBOT_SENSORS
 from roverlink.cli import main
 from roverlink.dashboard import Dashboard
-from roverlink.recording import Recorder
-from roverlink.recording.schemas import TOPIC_IMAGE, TOPIC_IMU, TOPIC_SCAN, TOPIC_TF, imu_message
-from roverlink.recording.sensors import laser_scan_fields
 from roverlink.sensors import SensorChoice, choose_sensors, open_sensors
 from roverlink.tui import DashboardApp
 

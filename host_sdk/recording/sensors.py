@@ -22,10 +22,7 @@ import math
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from host_sdk.sensors import CameraFrame, ImuSample, LidarScan
-from host_sdk.sensors.hub import Sensors
-from protocol.sensors import Mount
-from roverlink.recording.schemas import (
+from host_sdk.recording.schemas import (
     FRAME_BASE,
     FRAME_CAMERA,
     FRAME_IMU,
@@ -38,7 +35,10 @@ from roverlink.recording.schemas import (
     TOPIC_TF,
     imu_message,
 )
-from roverlink.recording.sink import Publisher
+from host_sdk.recording.sink import Publisher
+from host_sdk.sensors import CameraFrame, ImuSample, LidarScan
+from host_sdk.sensors.hub import Sensors
+from protocol.sensors import Mount
 
 SCAN_BINS = 360
 JPEG_QUALITY = 85

@@ -1,7 +1,7 @@
-"""What `roverlink follow --foxglove` records besides the robot: the filtered scan, the camera with
-the tracked box, and the behaviour's state (with the manoeuvre it plans), as a source for the
-recording library (roverlink.recording: MCAP files and the live Foxglove view, shared with
-`roverlink record` and `monitor`).
+"""What a follow run records besides the robot (`roverlink follow --foxglove`, or a robot program
+with a `FollowPilot`): the filtered scan, the camera with the tracked box, and the behaviour's state
+(with the manoeuvre it plans), as a source for the recorder (MCAP files and the live Foxglove view,
+shared with `roverlink record` and `monitor`).
 
 A source has `start(publisher)`, `poll(now_s)` and `stop()`; this one reads the pilot's latest
 picture when polled (the follow loop polls the recorder once per control period) and publishes at

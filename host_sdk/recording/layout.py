@@ -6,7 +6,7 @@ the lidar's scan around the robot; under it the camera's image. Right: plots of 
 the link's rates; below, the firmware's LOG lines and the latest FEEDBACK with every field. A
 panel whose topic is not in a recording (no camera, no IMU) stays empty. Regenerate the file after changing this module:
 
-    python -m roverlink.recording.layout > docs/foxglove-layout.json
+    python -m host_sdk.recording.layout > docs/foxglove-layout.json
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import json
 from typing import Any
 
 from host_sdk.extras import require
-from roverlink.recording.schemas import (
+from host_sdk.recording.schemas import (
     FRAME_BASE,
     FRAME_ODOM,
     TOPIC_FEEDBACK,

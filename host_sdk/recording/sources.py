@@ -25,8 +25,8 @@ from typing import Any, Protocol
 
 from host_sdk import FeedbackSample, LinkStatistics, Robot, RoverLinkError
 from host_sdk.enums import LogLevel
-from host_sdk.sensors.hub import Sensors
-from roverlink.recording.schemas import (
+from host_sdk.geometry import sensor_mounts
+from host_sdk.recording.schemas import (
     FEEDBACK_SCHEMA,
     FRAME_BASE,
     FRAME_ODOM,
@@ -45,9 +45,9 @@ from roverlink.recording.schemas import (
     link_message,
     wheels_message,
 )
-from roverlink.recording.sensors import SensorSource
-from roverlink.recording.sink import FoxgloveSink, Publisher, TimeBase
-from roverlink.sensors.options import sensor_mounts
+from host_sdk.recording.sensors import SensorSource
+from host_sdk.recording.sink import FoxgloveSink, Publisher, TimeBase
+from host_sdk.sensors.hub import Sensors
 
 
 class Source(Protocol):
