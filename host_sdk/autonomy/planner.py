@@ -179,62 +179,31 @@ class ViewPlanner:
         began to move for a while). With `moving`, standing is ruled out too (the same way, between
         standing and going: a car that has just started keeps going for a moment). A manoeuvre that
         goes on moving as the last command did costs `w_keep` less."""
-        p, fp, cam = self.params, self.footprint, self.camera
+        p, fp = self.params, self.footprint
         v0, w0 = last
+        ox, oy = np.asarray(ox, np.float64), np.asarray(oy, np.float64)
         x, y, th, stop_x, stop_y = self._simulate(v0 if speed_m_s is None else speed_m_s, v0, w0)
         fx, fy = x + fp.x_m * np.cos(th), y + fp.x_m * np.sin(th)
         sfx, sfy = stop_x + fp.x_m * np.cos(th[:, -1:]), stop_y + fp.x_m * np.sin(th[:, -1:])
-        distance = _DistanceField(np.asarray(ox, np.float64), np.asarray(oy, np.float64), p.cell_m,
-                               half=float(max(np.abs(fx).max(), np.abs(fy).max(), np.abs(sfx).max(), np.abs(sfy).max()))
-                               + fp.radius_m + p.soft_clear_m + 0.1)  # fmt: skip
-        clear = distance.at(np.concatenate([fx, sfx], axis=1), np.concatenate([fy, sfy], axis=1)) - fp.radius_m
-        now = float(distance.at(np.array([fp.x_m]), np.array([0.0]))[0]) - fp.radius_m
-        ok = clear.min(axis=1) >= min(p.pad_m, now - 0.005)
-        # The target's centre, from its nearest surface point, moving at its velocity (or on its path).
-        r = p.target_radius_m
-        if target_path is None:
-            sx = target[0] + target_velocity[0] * self.path_times
-            sy = target[1] + target_velocity[1] * self.path_times
-        else:
-            sx, sy = np.asarray(target_path[0], np.float64), np.asarray(target_path[1], np.float64)
-        d = np.maximum(np.hypot(sx, sy), 1e-6)
-        n = self.times.size
-        centre_x, centre_y = sx * (1 + r / d), sy * (1 + r / d)
+        clear, ok = self._clearance((ox, oy), (fx, fy), (sfx, sfy))
+        centre_x, centre_y = self._target_centres(target, target_velocity, target_path)
+        n, r = self.times.size, p.target_radius_m
         cx, cy = centre_x[:n], centre_y[:n]
         sep = np.hypot(fx - cx, fy - cy) - fp.radius_m - r
         # After the horizon (a car): the target walks on while the robot stands where it stopped.
         late = (np.hypot(sfx[:, -1:] - centre_x[n:], sfy[:, -1:] - centre_y[n:]) - fp.radius_m - r).min(
             axis=1, initial=np.inf)  # fmt: skip
-        camx = x + cam.mount_x_m * np.cos(th) - cam.mount_y_m * np.sin(th)
-        camy = y + cam.mount_x_m * np.sin(th) + cam.mount_y_m * np.cos(th)
-        bearing = np.remainder(np.arctan2(cy - camy, cx - camx) - th - cam.mount_yaw_rad + math.pi, 2 * math.pi)
-        off = np.abs(bearing - math.pi) / cam.half_fov_rad
-        dist = np.hypot(cx - camx, cy - camy)
-        sight = _Sight(np.asarray(ox, np.float64), np.asarray(oy, np.float64), cx, cy)
-        hidden = sight.hidden(camx, camy)
-        seen = (off <= 1.0) & ~hidden & (dist <= p.max_view_m)
-        view = np.where(seen, np.clip((off - p.view_share) / (1 - p.view_share), 0.0, 1.0), 1.0)
-        # Where it ends: the turn still needed to face the target, and the way out of an obstacle's
-        # shadow (both give the choice a direction when nothing in the horizon sees the target).
-        turn_left = np.maximum(np.abs(bearing[:, -1] - math.pi) - p.view_share * cam.half_fov_rad, 0.0) / math.pi
-        shadow = np.where(hidden[:, -1], np.minimum(sight.way_out(camx[:, -1], camy[:, -1]), 1.0), 0.0)
+        seen, view, turn_left, shadow = self._views((ox, oy), (x, y, th), (cx, cy))
+        reverse, flip, keep, change = self._command_changes(v0, w0)
         gap_err = np.where(sep < gap_m, 1.5 * (gap_m - sep), sep - gap_m)
         min_sep = sep.min(axis=1)
-        # What the two parts do to the command is paid for in both: a manoeuvre that stands now to
-        # reverse later would otherwise look cheaper than reversing now, for ever (it plans again).
-        v1, v2, turn2 = self.v1, self.v2, self.v2 * self.k2 + self.w2
-        way = np.where(v1 != 0.0, np.sign(v1), np.sign(v0))
-        flip = (v1 * v0 < 0).astype(np.float64) + (v2 * way < 0)
-        change = (np.abs(v1 - v0) + np.abs(v2 - v1)) / self.max_speed + (
-            np.abs(self.turn1 - w0) + np.abs(turn2 - self.turn1)) / self.max_turn  # fmt: skip
-        keep = (v1 == v0) & (np.abs(self.turn1 - w0) < 1e-9) & (v0 != 0.0)
         cost = (
             p.w_view * view.mean(axis=1)
             + p.w_turn * turn_left
             + p.w_shadow * shadow
             + p.w_gap * gap_err.mean(axis=1)
             + p.w_clear * np.clip((p.soft_clear_m - clear) / p.soft_clear_m, 0.0, 1.0).mean(axis=1)
-            + p.w_reverse * ((v1 < 0).astype(np.float64) + (v2 < 0))
+            + p.w_reverse * reverse
             + p.w_flip * flip
             - p.w_keep * keep
             + p.w_change * change
@@ -255,6 +224,63 @@ class ViewPlanner:
         path = tuple(zip(np.round(x[i], 3).tolist(), np.round(y[i], 3).tolist(), strict=True))
         return PlanChoice(float(self.v1[i]), float(self.turn1[i]), float(cost[i]), float(seen[i].mean()),
                           float(min_sep[i]), True, free != i, float(late[i]), path)  # fmt: skip
+
+    def _clearance(self, obstacles: tuple[F64, F64], front: tuple[F64, F64],
+                   stop: tuple[F64, F64]) -> tuple[F64, NDArray[np.bool_]]:  # fmt: skip
+        """The footprint's clearance at every judged point and at the stop, and which manoeuvres keep
+        `pad_m` of it (or, already closer than that, do not get closer)."""
+        p, fp = self.params, self.footprint
+        (ox, oy), (fx, fy), (sfx, sfy) = obstacles, front, stop
+        half = float(max(np.abs(fx).max(), np.abs(fy).max(), np.abs(sfx).max(), np.abs(sfy).max()))
+        distance = _DistanceField(ox, oy, p.cell_m, half=half + fp.radius_m + p.soft_clear_m + 0.1)
+        clear = distance.at(np.concatenate([fx, sfx], axis=1), np.concatenate([fy, sfy], axis=1)) - fp.radius_m
+        now = float(distance.at(np.array([fp.x_m]), np.array([0.0]))[0]) - fp.radius_m
+        return clear, clear.min(axis=1) >= min(p.pad_m, now - 0.005)
+
+    def _target_centres(self, target: tuple[float, float], velocity: tuple[float, float],
+                        path: tuple[F64, F64] | None) -> tuple[F64, F64]:  # fmt: skip
+        """The target's centre at each of `path_times`, from its nearest surface point, moving at its
+        velocity (or on its path)."""
+        if path is None:
+            sx = target[0] + velocity[0] * self.path_times
+            sy = target[1] + velocity[1] * self.path_times
+        else:
+            sx, sy = np.asarray(path[0], np.float64), np.asarray(path[1], np.float64)
+        d = np.maximum(np.hypot(sx, sy), 1e-6)
+        r = self.params.target_radius_m
+        return sx * (1 + r / d), sy * (1 + r / d)
+
+    def _views(self, obstacles: tuple[F64, F64], poses: tuple[F64, F64, F64],
+               centre: tuple[F64, F64]) -> tuple[NDArray[np.bool_], F64, F64, F64]:  # fmt: skip
+        """Where the camera sees the target along each manoeuvre (seen, and the view cost per judged
+        point), and where it ends: the turn still needed to face the target, and the way out of an
+        obstacle's shadow (both give the choice a direction when nothing in the horizon sees it)."""
+        p, cam = self.params, self.camera
+        (ox, oy), (x, y, th), (cx, cy) = obstacles, poses, centre
+        camx = x + cam.mount_x_m * np.cos(th) - cam.mount_y_m * np.sin(th)
+        camy = y + cam.mount_x_m * np.sin(th) + cam.mount_y_m * np.cos(th)
+        bearing = np.remainder(np.arctan2(cy - camy, cx - camx) - th - cam.mount_yaw_rad + math.pi, 2 * math.pi)
+        off = np.abs(bearing - math.pi) / cam.half_fov_rad
+        dist = np.hypot(cx - camx, cy - camy)
+        sight = _Sight(ox, oy, cx, cy)
+        hidden = sight.hidden(camx, camy)
+        seen = (off <= 1.0) & ~hidden & (dist <= p.max_view_m)
+        view = np.where(seen, np.clip((off - p.view_share) / (1 - p.view_share), 0.0, 1.0), 1.0)
+        turn_left = np.maximum(np.abs(bearing[:, -1] - math.pi) - p.view_share * cam.half_fov_rad, 0.0) / math.pi
+        shadow = np.where(hidden[:, -1], np.minimum(sight.way_out(camx[:, -1], camy[:, -1]), 1.0), 0.0)
+        return seen, view, turn_left, shadow
+
+    def _command_changes(self, v0: float, w0: float) -> tuple[F64, F64, NDArray[np.bool_], F64]:
+        """What the two parts do to the command (reversing, flipping the way, keeping it, changing
+        it), paid for in both: a manoeuvre that stands now to reverse later would otherwise look
+        cheaper than reversing now, for ever (it plans again)."""
+        v1, v2, turn2 = self.v1, self.v2, self.v2 * self.k2 + self.w2
+        way = np.where(v1 != 0.0, np.sign(v1), np.sign(v0))
+        flip = (v1 * v0 < 0).astype(np.float64) + (v2 * way < 0)
+        change = (np.abs(v1 - v0) + np.abs(v2 - v1)) / self.max_speed + (
+            np.abs(self.turn1 - w0) + np.abs(turn2 - self.turn1)) / self.max_turn  # fmt: skip
+        keep = (v1 == v0) & (np.abs(self.turn1 - w0) < 1e-9) & (v0 != 0.0)
+        return (v1 < 0).astype(np.float64) + (v2 < 0), flip, keep, change
 
     def _simulate(self, speed: float, v0: float, w0: float) -> tuple[F64, F64, F64, F64, F64]:
         """Poses (manoeuvre x judged point) of every manoeuvre from the base frame's origin, and two
