@@ -16,8 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from emulator.sensors.camera import CameraOptions, Renderer
-from emulator.world.scenario import make_scene
-from emulator.world.scene import Scene
+from emulator.world.scene import Scene, make_scene
 from protocol.sensors import DEVICES, CameraSpec, Mount
 from roverlink.follow.geometry import mount
 
