@@ -7,10 +7,11 @@ outside a session the answer is NACK(NO_SESSION) and nothing is applied (Firmwar
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
+from emulator.firmware.board import Board
 from emulator.firmware.config import (
     IMAGE_ADDR,
     IMAGE_SIZE,
@@ -20,6 +21,8 @@ from emulator.firmware.config import (
     first_out_of_range,
     pid_wheel_ok,
 )
+from emulator.firmware.link import FirmwareLink
+from emulator.firmware.session import Session
 from emulator.firmware.statemachine import SessionState
 from protocol.codec.message import Message
 from protocol.generated.constants import WHEEL_COUNT
@@ -38,8 +41,23 @@ from protocol.generated.messages import (
     SetPid,
 )
 
-if TYPE_CHECKING:
-    from emulator.firmware.core import Firmware
+
+class RequestTarget(Protocol):
+    """What the requests read and change in one boot of the firmware. Firmware (core.py) is one;
+    it imports this module, so this module names the part it needs rather than importing it."""
+
+    board: Board
+    caps: Capability
+    session: Session
+    link: FirmwareLink
+    config: SetConfig
+    gains: list[Gains]
+    counts: list[int]
+    config_defaults: bool
+
+    def set_gains(self, wheels: Iterable[int], gains: Gains) -> None: ...
+
+    def set_config(self, config: SetConfig) -> None: ...
 
 
 def ack(msg: Message | type[Message], seq: int) -> Ack:
@@ -50,7 +68,7 @@ def nack(msg: Message | type[Message], seq: int, reason: NackReason, detail: int
     return Nack(req_id=msg.MSG_ID, req_seq=seq, reason=reason, detail=detail & 0xFF)
 
 
-def set_pid(fw: Firmware, msg: SetPid, seq: int) -> Message:
+def set_pid(fw: RequestTarget, msg: SetPid, seq: int) -> Message:
     if not pid_wheel_ok(msg.wheel):
         return nack(msg, seq, NackReason.OUT_OF_RANGE, 0)
     bad = first_out_of_range(msg)
@@ -60,14 +78,14 @@ def set_pid(fw: Firmware, msg: SetPid, seq: int) -> Message:
     return ack(msg, seq)
 
 
-def get_pid(fw: Firmware, msg: GetPid, seq: int) -> Message:
+def get_pid(fw: RequestTarget, msg: GetPid, seq: int) -> Message:
     if not 0 <= msg.wheel < WHEEL_COUNT:
         return nack(msg, seq, NackReason.OUT_OF_RANGE, 0)
     g = fw.gains[msg.wheel]
     return Pid(req_seq=seq, wheel=msg.wheel, kp=g.kp, ki=g.ki, kd=g.kd, kf=g.kf)
 
 
-def set_config(fw: Firmware, msg: SetConfig, seq: int) -> Message:
+def set_config(fw: RequestTarget, msg: SetConfig, seq: int) -> Message:
     bad = first_out_of_range(msg)
     if bad is not None:
         return nack(msg, seq, NackReason.OUT_OF_RANGE, bad)
@@ -78,11 +96,11 @@ def set_config(fw: Firmware, msg: SetConfig, seq: int) -> Message:
     return ack(msg, seq)
 
 
-def get_config(fw: Firmware, msg: GetConfig, seq: int) -> Message:
+def get_config(fw: RequestTarget, msg: GetConfig, seq: int) -> Message:
     return Config(req_seq=seq, **fw.config.fields())
 
 
-def save_config(fw: Firmware, msg: SaveConfig, seq: int) -> Message:
+def save_config(fw: RequestTarget, msg: SaveConfig, seq: int) -> Message:
     if not fw.caps & Capability.EEPROM:
         return nack(msg, seq, NackReason.UNSUPPORTED)
     if fw.session.state is SessionState.ARMED:
@@ -95,19 +113,19 @@ def save_config(fw: Firmware, msg: SaveConfig, seq: int) -> Message:
     return ack(msg, seq)
 
 
-def reset_odometry(fw: Firmware, msg: ResetOdometry, seq: int) -> Message:
+def reset_odometry(fw: RequestTarget, msg: ResetOdometry, seq: int) -> Message:
     fw.board.zero_encoders()
     fw.counts = [0] * WHEEL_COUNT  # the measurement baseline too: no speed spike
     return ack(msg, seq)
 
 
-def get_link_stats(fw: Firmware, msg: GetLinkStats, seq: int) -> Message:
+def get_link_stats(fw: RequestTarget, msg: GetLinkStats, seq: int) -> Message:
     return fw.link.stats(seq)
 
 
 @dataclass(frozen=True)
 class Request:
-    apply: Callable[[Firmware, Any, int], Message]
+    apply: Callable[[RequestTarget, Any, int], Message]
     fresh: bool = False
     """A GET_*: a repeat is answered with the current values (reading changes nothing)."""
 

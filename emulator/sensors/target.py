@@ -19,8 +19,7 @@ from numpy.typing import NDArray
 
 from emulator.sensors.camera import CameraOptions, Renderer
 from emulator.sensors.rig import mount_on
-from emulator.world.scenario import make_scene
-from emulator.world.scene import Scene
+from emulator.world.scene import Scene, make_scene
 from protocol.sensors import DEVICES, CameraSpec, Mount
 
 

@@ -19,8 +19,7 @@ from collections import deque
 import numpy as np
 from numpy.typing import NDArray
 
-from emulator.world.scenario import BOX, CYLINDER, TARGET, WALL, make_scene
-from emulator.world.scene import Scene, Shape, Target, TargetPath, box_segments
+from emulator.world.scene import BOX, CYLINDER, TARGET, WALL, Scene, Shape, Target, TargetPath, box_segments, make_scene
 
 ROBOT_RADIUS_M = 0.2
 """Radius the passages are checked for (every reference robot's footprint fits)."""

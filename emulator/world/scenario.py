@@ -15,16 +15,22 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from emulator.errors import EmulatorValueError
-from emulator.world.scene import PATTERNS, Colour, Scene, Shape, Target, TargetPath, box_segments
-
-WALL = Shape("wall", "wall", 0.5, (200, 200, 200), "bricks", (170, 170, 180), 0.9)
-BOX = Shape("box", "box", 0.4, (60, 110, 160), "plain", (0, 0, 0), 0.7)
-CYLINDER = Shape("cylinder", "cylinder", 0.5, (90, 140, 90), "plain", (0, 0, 0), 0.6)
-TARGET = Shape("target", "target", 0.3, (255, 0, 255), "stripes", (0, 220, 255), 0.8)
-"""The target's default look: magenta and yellow stripes, unlike anything else in a scene."""
+from emulator.world.generate import random_scene
+from emulator.world.scene import (
+    BOX,
+    CYLINDER,
+    PATTERNS,
+    TARGET,
+    WALL,
+    Colour,
+    Scene,
+    Shape,
+    Target,
+    TargetPath,
+    box_segments,
+    make_scene,
+)
 
 _TOP_KEYS = {"world", "start", "walls", "boxes", "cylinders", "target"}
 
@@ -39,8 +45,6 @@ def load_world(spec: str | Path) -> Scene:
     if text == "empty":
         return parse_scenario({}, default_name="empty")
     if text.startswith("random:"):
-        from emulator.world.generate import random_scene  # noqa: PLC0415 (keeps the parser small)
-
         seed = text.removeprefix("random:")
         if not seed.isdigit():
             raise ScenarioError("world", text, "a scenario file, empty, or random:SEED with SEED a whole number >= 0")
@@ -169,32 +173,4 @@ def _target(entry: dict[str, Any]) -> Target:
         radius_m=_num("target.radius_m", entry.get("radius_m", 0.12), 0.02, 5, "a radius in 0.02..5 m"),
         shape=Shape("target", "target", shape.height_m, shape.colour, shape.pattern, shape.colour2, shape.reflectivity),
         path=TargetPath(points, _num("target.speed_m_s", entry.get("speed_m_s", 0.0), 0, 5, "0..5 m/s"), mode),
-    )
-
-
-def make_scene(
-    name: str,
-    shapes: list[Shape],
-    segments: list[tuple[float, ...]],
-    seg_shape: list[int],
-    circles: list[tuple[float, float, float]],
-    *,
-    cir_shape: list[int],
-    start: tuple[float, float, float],
-    target: Target | None,
-) -> Scene:
-    seg = np.array(segments, dtype=np.float64).reshape(-1, 4)
-    cir = np.array(circles, dtype=np.float64).reshape(-1, 3)
-    xs = np.concatenate([seg[:, 0], seg[:, 2], cir[:, 0] - cir[:, 2], cir[:, 0] + cir[:, 2], [start[0]]])
-    ys = np.concatenate([seg[:, 1], seg[:, 3], cir[:, 1] - cir[:, 2], cir[:, 1] + cir[:, 2], [start[1]]])
-    return Scene(
-        name=name,
-        shapes=shapes,
-        segments=seg,
-        segment_shape=np.array(seg_shape, dtype=np.int64),
-        circles=cir,
-        circle_shape=np.array(cir_shape, dtype=np.int64),
-        start=start,
-        target=target,
-        bounds=(float(xs.min()), float(ys.min()), float(xs.max()), float(ys.max())),
     )

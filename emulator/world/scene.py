@@ -83,6 +83,14 @@ class Target:
     path: TargetPath
 
 
+# The default looks, for scenario files and random worlds alike.
+WALL = Shape("wall", "wall", 0.5, (200, 200, 200), "bricks", (170, 170, 180), 0.9)
+BOX = Shape("box", "box", 0.4, (60, 110, 160), "plain", (0, 0, 0), 0.7)
+CYLINDER = Shape("cylinder", "cylinder", 0.5, (90, 140, 90), "plain", (0, 0, 0), 0.6)
+TARGET = Shape("target", "target", 0.3, (255, 0, 255), "stripes", (0, 220, 255), 0.8)
+"""The target's default look: magenta and yellow stripes, unlike anything else in a scene."""
+
+
 @dataclass(slots=True)
 class Scene:
     """Static geometry as arrays, and the moving target.
@@ -136,3 +144,32 @@ def box_segments(cx: float, cy: float, length: float, width: float, yaw: float) 
     hx, hy = length / 2, width / 2
     corners = [(cx + c * px - s * py, cy + s * px + c * py) for px, py in ((hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy))]
     return [(*corners[i], *corners[(i + 1) % 4]) for i in range(4)]
+
+
+def make_scene(
+    name: str,
+    shapes: list[Shape],
+    segments: list[tuple[float, ...]],
+    seg_shape: list[int],
+    circles: list[tuple[float, float, float]],
+    *,
+    cir_shape: list[int],
+    start: tuple[float, float, float],
+    target: Target | None,
+) -> Scene:
+    """A Scene from plain lists (scenario files and random worlds build these), with its bounds."""
+    seg = np.array(segments, dtype=np.float64).reshape(-1, 4)
+    cir = np.array(circles, dtype=np.float64).reshape(-1, 3)
+    xs = np.concatenate([seg[:, 0], seg[:, 2], cir[:, 0] - cir[:, 2], cir[:, 0] + cir[:, 2], [start[0]]])
+    ys = np.concatenate([seg[:, 1], seg[:, 3], cir[:, 1] - cir[:, 2], cir[:, 1] + cir[:, 2], [start[1]]])
+    return Scene(
+        name=name,
+        shapes=shapes,
+        segments=seg,
+        segment_shape=np.array(seg_shape, dtype=np.int64),
+        circles=cir,
+        circle_shape=np.array(cir_shape, dtype=np.int64),
+        start=start,
+        target=target,
+        bounds=(float(xs.min()), float(ys.min()), float(xs.max()), float(ys.max())),
+    )

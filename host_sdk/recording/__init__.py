@@ -3,7 +3,8 @@
 `Recorder.attach(robot, mcap_path=..., serve=..., sensors=...)` is the piece `roverlink record`,
 `monitor --foxglove` and `follow --foxglove` share, and a robot program's own (`sensors`: a
 `host_sdk.sensors.Sensors` hub, whose lidar, camera and IMU `SensorSource` records);
-`host_sdk.recording.schemas` lists the topics and schemas. Needs the `foxglove` extra (foxglove-sdk), imported when a recorder starts.
+`host_sdk.recording.schemas` lists the topics and schemas. Needs the `foxglove` extra
+(foxglove-sdk), imported when a recorder starts.
 """
 
 from host_sdk.recording.sensors import SensorSource

@@ -1,7 +1,7 @@
 """Drivers for the reference robots' host-side sensors (docs/sensors.md).
 
 Each protocol is a sans-I/O parser (`receive_data(bytes, t)`, then its events), with a thin class
-that owns the port:
+that owns the port (a host_sdk.transport Transport, opened by `open_transport` as the board's is):
 
 - `Lidar`: RPLIDAR A1 (`rplidar.RPLidarParser`) and YDLIDAR F4 (`ydlidar.YDLidarParser`), whole
   revolutions as `LidarScan` with a time on every point;

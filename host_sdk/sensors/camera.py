@@ -29,8 +29,8 @@ from numpy.typing import NDArray
 
 from host_sdk.sensors.errors import SensorClosedError, SensorTimeoutError
 from host_sdk.sensors.mjpeg import JpegPart, MjpegParser
-from host_sdk.sensors.port import SensorPort
-from host_sdk.transport.plugins import opener, scheme_of
+from host_sdk.transport import Transport
+from host_sdk.transport.plugins import open_plugin
 
 PIPELINES = {
     # Jetson (Nano, Xavier, Orin) CSI camera through the Argus ISP, converted to BGR for OpenCV.
@@ -81,14 +81,13 @@ class CameraSource:
         self._last_time: float | None = None
         self._last_counter: int | None = None
         self._closed = False
-        self._port: SensorPort | None = None
+        self._port: Transport | None = None
         self._parser: MjpegParser | None = None
         self._pending: deque[JpegPart] = deque()
         self._cap: Any = None
         text = str(source)
-        scheme = scheme_of(text) if isinstance(source, str) else None
-        if scheme is not None and opener(scheme) is not None:
-            self._port = SensorPort(text, 0)
+        self._port = open_plugin(text, 0) if isinstance(source, str) else None
+        if self._port is not None:  # a plugin's byte stream (emudev://): MJPEG parts
             self._parser = MjpegParser()
             return
         if isinstance(source, int) or text.startswith("/dev/video"):

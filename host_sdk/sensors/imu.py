@@ -24,7 +24,7 @@ from collections.abc import Iterator, Sequence
 
 from host_sdk.sensors import wit
 from host_sdk.sensors.errors import SensorClosedError, SensorTimeoutError
-from host_sdk.sensors.port import SensorPort
+from host_sdk.transport import Transport, open_transport
 from protocol.sensors import DEVICES
 
 DEFAULT_BAUD = DEVICES["jy901"].baud  # type: ignore[union-attr]
@@ -32,7 +32,7 @@ DEFAULT_RATE_HZ = DEVICES["jy901"].rate_hz  # type: ignore[union-attr]
 
 
 class Jy901:
-    def __init__(self, port: SensorPort) -> None:
+    def __init__(self, port: Transport) -> None:
         self.port = port
         self.parser = wit.WitParser()
         self._samples: deque[wit.ImuSample] = deque()
@@ -46,7 +46,7 @@ class Jy901:
 
     @classmethod
     def open(cls, url: str, baud: int = DEFAULT_BAUD) -> Jy901:
-        return cls(SensorPort(url, baud))
+        return cls(open_transport(url, baud))
 
     @property
     def counters(self) -> wit.WitCounters:

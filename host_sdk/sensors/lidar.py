@@ -18,15 +18,15 @@ from typing import Any
 
 from host_sdk.sensors import rplidar, ydlidar
 from host_sdk.sensors.errors import SensorClosedError, SensorTimeoutError
-from host_sdk.sensors.port import SensorPort
 from host_sdk.sensors.scan import DeviceHealth, DeviceInfo, LidarCounters, LidarScan
+from host_sdk.transport import Transport, open_transport
 from protocol.sensors import LidarSpec, device
 
 MODELS = ("rplidar-a1", "ydlidar-f4")
 
 
 class Lidar:
-    def __init__(self, port: SensorPort, model: str = "rplidar-a1") -> None:
+    def __init__(self, port: Transport, model: str = "rplidar-a1") -> None:
         spec = device(model, "lidar")
         assert isinstance(spec, LidarSpec)
         self.spec = spec
@@ -47,7 +47,7 @@ class Lidar:
         lidar left scanning by an earlier program is stopped first: what it still sends is skipped."""
         spec = device(model, "lidar")
         assert isinstance(spec, LidarSpec)
-        lidar = cls(SensorPort(url, baud or spec.baud), model)
+        lidar = cls(open_transport(url, baud or spec.baud), model)
         lidar.stop()
         return lidar
 

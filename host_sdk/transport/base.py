@@ -1,4 +1,7 @@
-"""The Transport interface: read with a timeout, write, close, and the clock to use with it."""
+"""The Transport interface: read with a timeout, write, close, and the clock to use with it.
+
+The board and every serial sensor (lidar, IMU) are read through it: one way to open a URL, one
+read loop, one mapping of errors to TransportError."""
 
 from __future__ import annotations
 
@@ -7,7 +10,7 @@ import time
 
 
 class Transport(abc.ABC):
-    """A byte pipe to a RoverLink board. Implementations raise TransportError on failure."""
+    """A byte pipe to a RoverLink board or a sensor. Implementations raise TransportError on failure."""
 
     url: str
     """What was opened, for messages."""
@@ -34,6 +37,16 @@ class Transport(abc.ABC):
     def clock(self) -> float:
         """Seconds on the clock this transport's timing is measured with."""
         return time.monotonic()
+
+    def set_dtr(self, level: bool) -> None:
+        """Drive the DTR modem line (the RPLIDAR A1's adapter switches its motor with it). A transport
+        without modem lines (a socket, an emulated device) ignores it."""
+        return  # no modem lines here
+
+    def set_baud(self, baud: int) -> None:
+        """Switch the line's speed (after a device was told to change its own). A transport without a
+        line speed ignores it."""
+        return  # no line speed here
 
     def __enter__(self) -> Transport:
         return self

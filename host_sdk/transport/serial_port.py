@@ -22,7 +22,8 @@ READ_SIZE = 4096
 
 
 class SerialTransport(Transport):
-    """A serial port, pty, TCP socket (`socket://`), `loop://` or `spy://` port via pyserial."""
+    """A serial port, pty, TCP socket (`socket://`), `loop://` or `spy://` port via pyserial: the
+    board's, or a sensor's (which also drives DTR and switches baud)."""
 
     def __init__(self, url: str, baud: int = 115200) -> None:
         self.url = url
@@ -93,6 +94,18 @@ class SerialTransport(Transport):
                 self._port.write(data)
         except (serial.SerialException, OSError, TypeError, AttributeError) as exc:
             raise TransportError(f"writing {self.url} failed: {exc}", self.url, exc) from exc
+
+    def set_dtr(self, level: bool) -> None:
+        # A pty or socket has no modem lines; pyserial says so with an error, which is no failure here.
+        with contextlib.suppress(serial.SerialException, OSError):
+            self._port.dtr = level
+
+    def set_baud(self, baud: int) -> None:
+        try:
+            self._port.baudrate = baud
+        except (serial.SerialException, OSError) as exc:
+            raise TransportError(f"setting {self.url} to {baud} baud failed: {exc}", self.url, exc) from exc
+        self.baud = baud
 
     def close(self) -> None:
         if self._closed:

@@ -13,6 +13,8 @@ from typing import Any
 from host_sdk import PROFILES
 from roverlink.ros2 import INSTALL_HINT, missing_modules
 
+_DESCRIPTION = __doc__.split("\n\n")[1]
+
 
 def cmd_ros2(args: argparse.Namespace) -> int:
     """Run the ROS 2 bridge node: cmd_vel in; odom, tf, joint_states and diagnostics out."""
@@ -32,13 +34,17 @@ def cmd_ros2(args: argparse.Namespace) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     """`roverlink ros2` as its own program (a console script for `ros2 run`; docs/ros2.md)."""
-    from roverlink import cli  # noqa: PLC0415 (cli imports this module)
-
-    return cli.main(["ros2", *(sys.argv[1:] if argv is None else argv)])
+    parser = argparse.ArgumentParser(prog="roverlink ros2", description=_DESCRIPTION)
+    _add_arguments(parser)
+    args = parser.parse_args(sys.argv[1:] if argv is None else argv)
+    return cmd_ros2(args)
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    p = sub.add_parser("ros2", help=cmd_ros2.__doc__, description=__doc__.split("\n\n")[1])
+    _add_arguments(sub.add_parser("ros2", help=cmd_ros2.__doc__, description=_DESCRIPTION))
+
+
+def _add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--url", default=None, help="serial port or URL (default: the url parameter, /dev/ttyACM0)")
     p.add_argument(
         "--profile", choices=sorted(PROFILES), default=None, help="reference robot (default: from the firmware)"

@@ -375,6 +375,21 @@ def test_command_without_rclpy_says_how_to_install(
     assert "cannot import rclpy" in err and "pip install 'roverlink[ros2]'" in err and "/opt/ros/jazzy" in err
 
 
+def test_console_script_takes_the_same_arguments_as_the_command(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`roverlink.commands.ros2:main` (for `ros2 run`) parses the command's own arguments."""
+    from roverlink.commands import ros2
+
+    seen: list[Any] = []
+    monkeypatch.setattr(ros2, "cmd_ros2", lambda args: seen.append(args) or 0)
+    assert ros2.main(["--url", "emu://", "--profile", "picar", "--ros-args", "-p", "publish_tf:=false"]) == 0
+    assert (seen[0].url, seen[0].profile, seen[0].ros_args) == ("emu://", "picar", ["-p", "publish_tf:=false"])
+    with pytest.raises(SystemExit):
+        ros2.main(["--profile", "no-such-robot"])
+    assert "roverlink ros2: error" in capsys.readouterr().err
+
+
 def test_the_sdk_and_other_commands_never_import_ros() -> None:
     code = (
         "import sys, host_sdk, roverlink.cli;"

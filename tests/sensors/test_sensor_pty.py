@@ -8,16 +8,21 @@ import os
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from contextlib import AbstractContextManager
 from pathlib import Path
+from typing import TypeVar
 
 import pytest
 from sensor_truth import agreement
 
 from emulator.world import load_world
+from host_sdk import TransportError
 from host_sdk.sensors import CameraSource, Jy901, Lidar
+from host_sdk.transport import SerialTransport, open_transport
 from protocol.sensors import ROBOT_SENSORS
 
+P = TypeVar("P")
 ROOM = Path(__file__).resolve().parents[2] / "examples" / "worlds" / "room.toml"
 
 
@@ -57,6 +62,38 @@ def test_lidar_over_a_pty_agrees_with_the_scene(served: dict[str, list[str]]) ->
     # The board was never opened: the robot stands at the start. The target moves, so it may
     # disagree with a scene frozen at t = 0 for the few points that see it.
     assert agreement(scan, scene, scene.start, mount) > 0.9
+
+
+def test_the_lidar_reads_through_the_boards_transport(served: dict[str, list[str]]) -> None:
+    with Lidar.open(served["lidar"][-1], "rplidar-a1") as lidar, open_transport(served["board"][0]) as board:
+        assert type(lidar.port) is type(board) is SerialTransport
+        assert lidar.info().model == 0x18  # read through it
+
+
+def _unplugged_error(open_port: Callable[[str], AbstractContextManager[P]], read: Callable[[P], object]) -> str:
+    """The TransportError text a port gives once its device goes away (the path made generic)."""
+    master, slave = os.openpty()
+    path = os.ttyname(slave)
+    os.close(slave)
+    with open_port(path) as port:
+        os.close(master)
+        with pytest.raises(TransportError) as caught:
+            read(port)
+    return str(caught.value).replace(path, "PORT")
+
+
+def test_a_sensor_port_fails_in_the_boards_words() -> None:
+    lidar_error = _unplugged_error(lambda path: Lidar.open(path, "rplidar-a1"), lambda lidar: lidar.poll(1.0))
+    board_error = _unplugged_error(open_transport, lambda board: board.read(1.0))
+    assert lidar_error == board_error
+    assert board_error.startswith("reading PORT failed: ")
+    missing = "/nonexistent/ttyUSB9"
+    with pytest.raises(TransportError) as from_lidar:
+        Lidar.open(missing, "rplidar-a1")  # 115200 baud, the board's default
+    with pytest.raises(TransportError) as from_board:
+        open_transport(missing)
+    assert str(from_lidar.value) == str(from_board.value)
+    assert "there is no such device" in str(from_board.value)
 
 
 def test_imu_over_a_pty_reports_the_heading_within_its_bias(served: dict[str, list[str]]) -> None:
