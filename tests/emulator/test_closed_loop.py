@@ -5,11 +5,11 @@ from __future__ import annotations
 import math
 
 import pytest
-from hostlink import Host
 
 from emulator import Emulator
 from host_sdk import enums, messages
 from host_sdk.enums import Status
+from tests.support.hostlink import Host
 
 
 def _drive(host: Host, msg: messages.SetWheelSpeeds | messages.SetAckermann, seconds: float, lockstep: bool) -> None:
@@ -149,7 +149,7 @@ def test_turn_signals_follow_motion_state() -> None:
 
 
 def test_turn_signals_light_at_boot_not_at_the_first_tick() -> None:
-    # Found by tests/conformance (test_turn_signal_leds): the C++ core lights the IDLE pattern at the
+    # Found by tests/system/conformance (test_turn_signal_leds): the C++ core lights the IDLE pattern at the
     # end of begin(); the model waited for the first control tick, 10 ms (here 14: the boot's
     # EEPROM write delays it) later.
     emu = Emulator("diffdrive-tb6612", seed=16)

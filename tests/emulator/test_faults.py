@@ -6,7 +6,6 @@ import math
 import re
 
 import pytest
-from hostlink import Host
 
 from emulator import Emulator, FaultSpecError, UnknownProfileError, parse_faults
 from emulator.errors import EmulatorValueError
@@ -15,6 +14,7 @@ from host_sdk import messages
 from host_sdk.enums import FailsafeReason, NackReason, Status
 from host_sdk.framing import FrameErrorKind
 from protocol.generated.hardware import MotorMode
+from tests.support.hostlink import Host
 
 PING_FRAME_BYTES = 10
 

@@ -2,7 +2,7 @@
 
 Two layers:
 
-* ``make -C tests/native core-test``: the C++ unit tests (PID, ramp, pulses, session, watchdog,
+* ``make -C tests/firmware/native core-test``: the C++ unit tests (PID, ramp, pulses, session, watchdog,
   EEPROM, lockstep, link statistics...), plain and under AddressSanitizer + UBSan, and
   ``make core-avr``: every core .cpp compiled with avr-g++ against the Arduino core.
 * The same core as a shared library (``native_sim.py``, ctypes) driven from Python with the SDK's
@@ -19,11 +19,9 @@ import shutil
 import subprocess
 from dataclasses import dataclass, field
 
-import native_sim
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from native_sim import HostLink, NativeSim
 
 from host_sdk import messages
 from host_sdk.framing import Frame
@@ -42,6 +40,8 @@ from protocol.generated.enums import (
 from protocol.generated.hardware import MotorMode
 from protocol.generated.profiles import PROFILES
 from protocol.generated.state_machine import SessionState
+from tests.support import native_sim
+from tests.support.native_sim import HostLink, NativeSim
 
 PROFILE_NAMES = sorted(PROFILES)
 TICK_US = 10_000
