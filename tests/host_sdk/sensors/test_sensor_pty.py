@@ -4,7 +4,6 @@ they read the real devices) and agree with the world the emulator was given."""
 from __future__ import annotations
 
 import math
-import os
 import subprocess
 import sys
 import time
@@ -17,22 +16,17 @@ from sensor_truth import agreement
 from emulator.world import load_world
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 from protocol.sensors import ROBOT_SENSORS
+from tests.support.emulate import emulate
 
 ROOM = Path(__file__).resolve().parents[3] / "examples" / "worlds" / "room.toml"
 
 
 @pytest.fixture(scope="module")
 def served() -> Iterator[dict[str, list[str]]]:
-    cmd = [sys.executable, "-m", "roverlink", "emulate", "--profile", "diffdrive-bts7960", "--world", str(ROOM),
-           "--lidar", "rplidar-a1", "--imu", "jy901", "--camera", "--quiet", "--seed", "3"]  # fmt: skip
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
-    assert proc.stdout is not None
-    lines = [proc.stdout.readline().strip() for _ in range(4)]
-    try:
-        yield {"board": [lines[0]], **{line.split()[0]: line.split() for line in lines[1:]}}
-    finally:
-        proc.terminate()
-        assert proc.wait(10) == 0
+    args = ["--profile", "diffdrive-bts7960", "--world", str(ROOM),
+            "--lidar", "rplidar-a1", "--imu", "jy901", "--camera", "--quiet", "--seed", "3"]  # fmt: skip
+    with emulate(*args, devices=3, clean_exit=True) as served:
+        yield {"board": [served.url], **served.devices}
 
 
 def test_stdout_names_each_device_then_its_port(served: dict[str, list[str]]) -> None:

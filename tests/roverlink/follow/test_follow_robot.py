@@ -4,7 +4,6 @@ in real time by `roverlink emulate`, opened by the same paths a Raspberry Pi's p
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 from collections.abc import Iterator
@@ -14,22 +13,17 @@ import pytest
 
 from emulator.world import load_world
 from roverlink.follow.template import camera_mount, render_target
+from tests.support.emulate import emulate
 
 WORLD = Path(__file__).resolve().parents[3] / "examples" / "worlds" / "follow_ahead.toml"
 
 
 @pytest.fixture
 def served() -> Iterator[dict[str, str]]:
-    cmd = [sys.executable, "-m", "roverlink", "emulate", "--profile", "picar", "--world", str(WORLD), "--eeprom",
-           "saved", "--lidar", "ydlidar-f4", "--imu", "jy901", "--camera", "--quiet", "--seed", "1"]  # fmt: skip
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
-    assert proc.stdout is not None
-    lines = [proc.stdout.readline().split() for _ in range(4)]
-    try:
-        yield {"board": lines[0][0], **{line[0]: line[-1] for line in lines[1:]}}
-    finally:
-        proc.terminate()
-        assert proc.wait(10) == 0
+    args = ["--profile", "picar", "--world", str(WORLD), "--eeprom",
+            "saved", "--lidar", "ydlidar-f4", "--imu", "jy901", "--camera", "--quiet", "--seed", "1"]  # fmt: skip
+    with emulate(*args, devices=3, clean_exit=True) as served:
+        yield {"board": served.url, **{name: words[-1] for name, words in served.devices.items()}}
 
 
 def test_follow_on_ptys_and_an_http_camera(served: dict[str, str], tmp_path: Path) -> None:

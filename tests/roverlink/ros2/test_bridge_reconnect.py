@@ -9,8 +9,6 @@ under the bridge, as pulling a USB cable does.
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 import time
 import uuid
 from collections.abc import Iterator
@@ -23,22 +21,18 @@ require_ros()
 
 from bridge_harness import ROOT, BridgeProcess, Probe, values  # noqa: E402
 
+from tests.support.emulate import EmulatorProcess  # noqa: E402
 
-class EmulatorServer:
+
+class EmulatorServer(EmulatorProcess):
     """`roverlink emulate --socket PORT` as a process; `port` 0 picks a free one."""
 
     def __init__(self, port: int = 0) -> None:
-        args = [sys.executable, "-m", "roverlink", "emulate", "--profile", "diffdrive-tb6612", "--quiet"]
+        args = ["--profile", "diffdrive-tb6612", "--quiet"]
         args += ["--socket", str(port), "--no-dtr-reset", "--eeprom", "saved"]
-        self.proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True, cwd=ROOT)
-        assert self.proc.stdout is not None
-        self.url = self.proc.stdout.readline().strip()
+        super().__init__(*args, cwd=ROOT)
         assert self.url.startswith("socket://"), self.url
         self.port = int(self.url.rsplit(":", 1)[1])
-
-    def stop(self) -> None:
-        self.proc.terminate()
-        self.proc.wait(10)
 
 
 @pytest.fixture

@@ -8,7 +8,7 @@ import time
 from collections.abc import Callable
 
 import pytest
-from pty_emulator import pty_board, until
+from textual_pilot import until
 
 from emulator.firmware.statemachine import SessionState
 from host_sdk import FeedbackSample, Robot
@@ -17,6 +17,7 @@ from roverlink.commands.monitor import plain
 from roverlink.dashboard import Dashboard, lines
 from roverlink.teleop import TeleopController
 from roverlink.tui import DashboardApp, TeleopApp
+from tests.support.emulate import emulate
 
 PROFILES = ["diffdrive-tb6612", "diffdrive-bts7960", "picar"]
 
@@ -55,7 +56,7 @@ def _wait(predicate: Callable[[], bool], timeout_s: float = 10.0) -> bool:
 
 
 def test_textual_monitor_headless() -> None:
-    with pty_board("picar") as port, Robot.connect(port) as robot:
+    with emulate("--quiet", "--profile", "picar") as board, Robot.connect(board.url) as robot:
         app = DashboardApp(Dashboard(robot), hz=10)
 
         async def run() -> str:
@@ -75,7 +76,7 @@ def test_textual_monitor_headless() -> None:
 @pytest.mark.parametrize("profile", PROFILES)
 def test_teleop_drives_while_keys_arrive_and_stops_when_they_stop(profile: str) -> None:
     ackermann = profile == "picar"
-    with pty_board(profile) as port, Robot.connect(port) as robot:
+    with emulate("--quiet", "--profile", profile) as board, Robot.connect(board.url) as robot:
         controller = TeleopController(robot, key_timeout_s=0.4)
         app = TeleopApp(Dashboard(robot), controller)
 

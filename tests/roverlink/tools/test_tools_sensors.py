@@ -6,10 +6,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import math
-import os
 import re
-import subprocess
-import sys
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -17,7 +14,7 @@ import cv2
 import numpy as np
 import pytest
 from mcap_support import LiveClient, open_live, read_mcap
-from pty_emulator import until
+from textual_pilot import until
 
 from host_sdk import Robot
 from host_sdk.sensors import CameraFrame, ImuSample, LidarScan
@@ -29,6 +26,7 @@ from roverlink.recording.schemas import TOPIC_IMAGE, TOPIC_IMU, TOPIC_SCAN, TOPI
 from roverlink.recording.sensors import laser_scan_fields
 from roverlink.sensors import SensorChoice, Sensors, choose_sensors, open_sensors
 from roverlink.tui import DashboardApp
+from tests.support.emulate import emulate
 
 ROOM = Path(__file__).resolve().parents[3] / "examples" / "worlds" / "room.toml"
 SENSORS = "lidar=rplidar-a1&imu=jy901&camera=1"
@@ -207,18 +205,10 @@ def test_a_device_that_cannot_open_is_named(capsys: pytest.CaptureFixture[str], 
 def served() -> Iterator[tuple[str, dict[str, str]]]:
     """A robot on a serial port with its sensors on theirs, as real ones appear: `roverlink emulate`
     serves the board and each device on a pty of its own, the camera over HTTP."""
-    cmd = [sys.executable, "-m", "roverlink", "emulate", "--profile", "diffdrive-bts7960", "--world", str(ROOM),
-           "--lidar", "rplidar-a1", "--imu", "jy901", "--camera", "--quiet", "--seed", "3"]  # fmt: skip
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
-    try:
-        assert proc.stdout is not None
-        board, *devices = (proc.stdout.readline().split() for _ in range(4))
-        yield board[0], {words[0]: words[-1] for words in devices}
-    finally:
-        proc.terminate()
-        proc.wait(10)
-        if proc.stdout is not None:
-            proc.stdout.close()
+    args = ["--profile", "diffdrive-bts7960", "--world", str(ROOM),
+            "--lidar", "rplidar-a1", "--imu", "jy901", "--camera", "--quiet", "--seed", "3"]  # fmt: skip
+    with emulate(*args, devices=3) as served:
+        yield served.url, {name: words[-1] for name, words in served.devices.items()}
 
 
 def test_record_names_real_ports_on_the_command_line(

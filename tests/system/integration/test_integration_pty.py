@@ -5,50 +5,16 @@ from __future__ import annotations
 
 import math
 import os
-import shutil
 import subprocess
 import sys
 import threading
-from collections.abc import Iterator
-from contextlib import contextmanager
 
 import pytest
 
 from host_sdk import Robot
+from tests.support.emulate import emulate
 
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="needs Linux ptys")
-
-
-@contextmanager
-def emulate(*args: str) -> Iterator[str]:
-    """Run `roverlink emulate ARGS`; yields the pty path it prints first."""
-    cmd = [shutil.which("roverlink") or "roverlink", "emulate", "--quiet", *args]
-    if shutil.which("roverlink") is None:
-        cmd = [
-            sys.executable,
-            "-c",
-            "import sys; from roverlink.cli import main; sys.exit(main())",
-            "emulate",
-            "--quiet",
-            *args,
-        ]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        assert proc.stdout is not None
-        line = proc.stdout.readline().strip()
-        if not line:
-            pytest.fail(f"roverlink emulate printed no port: {proc.stderr.read() if proc.stderr else ''}")
-        yield line
-    finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=5)
-        except subprocess.TimeoutExpired:  # pragma: no cover
-            proc.kill()
-            proc.wait()
-        for stream in (proc.stdout, proc.stderr):
-            if stream is not None:
-                stream.close()
 
 
 def drive_and_check(robot: Robot, seconds: float = 1.0) -> None:
@@ -68,7 +34,10 @@ def drive_and_check(robot: Robot, seconds: float = 1.0) -> None:
 def test_pty_with_dtr_reset_on_open_stream_mode() -> None:
     """Opening the pty resets the board (DTR); the SDK rides through the bootloader with no sleeps."""
     threads, fds = set(threading.enumerate()), len(os.listdir("/proc/self/fd"))
-    with emulate("--profile", "diffdrive-tb6612") as port, Robot.connect(port, profile="diffdrive-tb6612") as robot:
+    with (
+        emulate("--quiet", "--profile", "diffdrive-tb6612") as board,
+        Robot.connect(board.url, profile="diffdrive-tb6612") as robot,
+    ):
         ready = robot.stats.connect_time_s
         assert ready is not None and ready < 3.0
         drive_and_check(robot)
@@ -78,7 +47,8 @@ def test_pty_with_dtr_reset_on_open_stream_mode() -> None:
 
 
 def test_pty_lockstep_and_roverlink_info() -> None:
-    with emulate("--profile", "diffdrive-bts7960", "--no-dtr-reset") as port:
+    with emulate("--quiet", "--profile", "diffdrive-bts7960", "--no-dtr-reset") as board:
+        port = board.url
         info = subprocess.run(
             [sys.executable, "-c", "import sys; from roverlink.cli import main; sys.exit(main())", "info", port],
             capture_output=True,
@@ -98,7 +68,7 @@ def test_pty_simavr_backend_with_seed_faults_and_bootloader() -> None:
     through a short bootloader (its garbage included), adapter latency and a lossy line."""
     args = ("--backend", "simavr", "--profile", "diffdrive-tb6612", "--seed", "7", "--bootloader-ms", "300")
     faults = ("--faults", "bitflip=2e-5,drop=1e-4", "--latency-ms", "2")
-    with emulate(*args, *faults) as port, Robot.connect(port, profile="diffdrive-tb6612") as robot:
+    with emulate("--quiet", *args, *faults) as board, Robot.connect(board.url, profile="diffdrive-tb6612") as robot:
         ready = robot.stats.connect_time_s
         assert ready is not None and ready < 3.0
         drive_and_check(robot)
