@@ -27,16 +27,14 @@ import ctypes
 import functools
 import os
 import subprocess
-from collections.abc import Iterable
 from dataclasses import dataclass, fields
 from pathlib import Path
 from types import TracebackType
 
-from host_sdk.framing import BadFrame, Frame, FrameDecoder, encode_frame
-from protocol.codec.message import Message
 from protocol.generated.enums import FailsafeReason, FeedbackMode, Status
 from protocol.generated.hardware import Lights, MotorMode
 from protocol.generated.state_machine import SessionState
+from tests.support.hostlink import Link, Received
 
 ROOT = Path(__file__).resolve().parents[2]
 NATIVE_DIR = ROOT / "tests" / "firmware" / "native"
@@ -334,39 +332,15 @@ def _i32(x: int) -> int:
     return x - (1 << 32) if x & 0x80000000 else x
 
 
-class HostLink:
-    """The host end of the link, with the Python codec: frames out with a running seq, frames in."""
+class HostLink(Link):
+    """The shared host end (tests.support.hostlink) on the native core: frames are queued for the
+    firmware and handled at the next run(); each received frame is stamped with the core's time."""
 
     def __init__(self, sim: NativeSim, first_seq: int = 0) -> None:
+        super().__init__(sim.feed, sim.read, lambda: sim.time_us, first_seq)
         self.sim = sim
-        self.seq = first_seq & 0xFF
-        self.decoder = FrameDecoder()
-        self.frames: list[Frame] = []
-        self.bad: list[BadFrame] = []
 
-    def send(self, msg: Message, seq: int | None = None) -> int:
-        """Queues one frame for the firmware (handled at the next run()); returns its seq."""
-        if seq is None:
-            seq = self.seq
-            self.seq = (self.seq + 1) & 0xFF
-        self.sim.feed(encode_frame(msg, seq))
-        return seq
-
-    def run(self, us: int = 0) -> list[Frame]:
+    def run(self, us: int = 0) -> list[Received]:
         """Advances the simulation and returns the frames the firmware sent meanwhile."""
         self.sim.advance_us(us)
         return self.receive()
-
-    def receive(self) -> list[Frame]:
-        new: list[Frame] = []
-        for event in self.decoder.feed(self.sim.read()):
-            if isinstance(event, Frame):
-                new.append(event)
-            else:
-                self.bad.append(event)
-        self.frames.extend(new)
-        return new
-
-    @staticmethod
-    def of(frames: Iterable[Frame], cls: type[Message]) -> list[Frame]:
-        return [f for f in frames if isinstance(f.message, cls)]

@@ -25,12 +25,11 @@ from typing import Protocol
 
 from emulator import Emulator
 from emulator.backends.simavr import PinState, PlantLoop, SimavrRobot, elf_with_eeprom
-from host_sdk import messages
-from host_sdk.framing import Frame, FrameDecoder, encode_frame
+from host_sdk.framing import encode_frame
 from protocol.codec.message import Message
-from protocol.generated.enums import IdentityReason
 from protocol.generated.hardware import MotorMode
 from protocol.generated.profiles import PROFILES
+from tests.support.hostlink import Link, answers
 from tests.support.native_sim import NativeSim
 from tests.support.simavr import example_elf
 
@@ -243,32 +242,26 @@ def make_backend(name: str, profile: str, seed: int = 1, eeprom: bytes | None = 
 
 
 # -- the host end ----------------------------------------------------------------------------------
-class Host:
-    """Frames out with a running seq; frames in, stamped with the virtual time they were read."""
+class Host(Link):
+    """The shared host end over a backend, stepped 1 ms at a time; waits take frames in order of
+    arrival (after the previous wait's match), so a scenario sees every frame once."""
 
     def __init__(self, backend: Backend) -> None:
+        super().__init__(backend.write, backend.read, lambda: backend.now_us)
         self.b = backend
-        self.seq = 0
-        self.decoder = FrameDecoder()
-        self.frames: list[tuple[int, Message]] = []
         self.cursor = 0
         self.sent_at: dict[int, int] = {}
         self.pin_log: list[tuple[int, Pins]] | None = None
         """Set to a list to sample ``pins()`` after every step (1 ms)."""
 
     def send(self, msg: Message, seq: int | None = None) -> int:
-        if seq is None:
-            seq = self.seq
-            self.seq = (self.seq + 1) & 0xFF
-        self.b.write(encode_frame(msg, seq))
+        seq = super().send(msg, seq)
         self.sent_at[seq] = self.b.now_us
         return seq
 
     def step(self, us: int = 1000) -> None:
         self.b.advance_us(us)
-        for event in self.decoder.feed(self.b.read()):
-            if isinstance(event, Frame):
-                self.frames.append((self.b.now_us, event.message))
+        self.receive()
         if self.pin_log is not None:
             self.pin_log.append((self.b.now_us, self.b.pins()))
 
@@ -279,29 +272,21 @@ class Host:
     def wait_for(self, cls: type[Message], timeout_ms: int, pred: object = None) -> tuple[int, Message]:
         """The first frame of `cls` (matching `pred`) after the previous wait's match."""
         for _ in range(timeout_ms + 1):
-            for i in range(self.cursor, len(self.frames)):
-                t, m = self.frames[i]
+            for i in range(self.cursor, len(self.received)):
+                t, m = self.received[i].time_us, self.received[i].message
                 if isinstance(m, cls) and (pred is None or pred(m)):  # type: ignore[operator]
                     self.cursor = i + 1
                     return t, m
             self.step()
-        seen = [type(m).__name__ for _, m in self.frames[self.cursor :]]
+        seen = [type(r.message).__name__ for r in self.received[self.cursor :]]
         raise AssertionError(f"{self.b.name}: no {cls.__name__} within {timeout_ms} ms (saw {seen[-12:]})")
 
     def request(self, msg: Message, seq: int | None = None, timeout_ms: int = 200) -> Message:
         seq = self.send(msg, seq)
-
-        def answers(m: Message) -> bool:
-            if isinstance(m, (messages.Ack, messages.Nack)):
-                return m.req_seq == seq and m.req_id == msg.MSG_ID
-            if isinstance(m, messages.Identity):
-                return isinstance(msg, messages.Hello) and m.hello_seq == seq and m.reason != IdentityReason.BOOT
-            return getattr(m, "req_seq", None) == seq
-
-        return self.wait_for(Message, timeout_ms, answers)[1]
+        return self.wait_for(Message, timeout_ms, answers(msg, seq))[1]
 
     def since(self, cls: type[Message], t_us: int) -> list[tuple[int, Message]]:
-        return [(t, m) for t, m in self.frames if t >= t_us and isinstance(m, cls)]
+        return [(t, m) for t, m in self.timed(Message) if t >= t_us and isinstance(m, cls)]
 
 
 def wire(msg: Message) -> str:

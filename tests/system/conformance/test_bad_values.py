@@ -19,22 +19,16 @@ from conformance_backends import BACKENDS, Backend, Host, make_backend, wire
 
 from host_sdk import messages
 from host_sdk.framing import Frame, FrameDecoder
-from protocol.codec.cobs import cobs_encode
-from protocol.codec.crc import frame_crc
 from protocol.codec.message import Delivery, Direction, Message
 from protocol.generated import oracle
-from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
-from protocol.generated.enums import FeedbackMode, IdentityReason, NackReason, Status
+from protocol.generated.enums import IdentityReason, NackReason, Status
 from protocol.generated.profiles import PROFILES
+from tests.support import hostlink
+from tests.support.hostlink import raw_frame
 
 PROFILE = "diffdrive-tb6612"
 SAFE_STATE = [f.name for f in messages.SetConfig.FIELDS].index("safe_state")
 WATCHDOG = [f.name for f in messages.SetConfig.FIELDS].index("watchdog_ms")
-
-
-def raw_frame(cls: type[Message], payload: bytes, seq: int) -> bytes:
-    body = bytes((cls.MSG_ID, seq)) + payload
-    return cobs_encode(body + frame_crc(body, cls.CRC_EXTRA).to_bytes(2, "little")) + b"\x00"
 
 
 def with_values(msg: Message, **raw: int) -> bytes:
@@ -61,14 +55,14 @@ def scenario(h: Host) -> dict[str, object]:
     out: dict[str, object] = {}
     out["idle"] = wire(raw_request(h, messages.SetConfig, with_values(_defaults(h), safe_state=3)))
     # HELLO with an undefined feedback_mode: counted as a value error, never answered.
-    hello = messages.Hello(PROTOCOL_VERSION, SPEC_HASH, 0, FeedbackMode.STREAM, 0)
+    hello = hostlink.hello()
     bad_hello_seq = h.seq
     h.seq += 1
     h.b.write(raw_frame(messages.Hello, with_values(hello, feedback_mode=9), bad_hello_seq))
     h.run_ms(50)
     out["bad_hello_answered"] = any(
         isinstance(m, messages.Identity) and m.hello_seq == bad_hello_seq and m.reason != IdentityReason.BOOT
-        for _, m in h.frames
+        for _, m in h.timed(Message)
     )
     ident = h.request(hello)
     assert isinstance(ident, messages.Identity) and ident.reason == IdentityReason.HELLO_ACCEPTED

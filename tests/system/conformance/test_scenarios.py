@@ -26,9 +26,10 @@ from emulator.firmware.config import IMAGE_ADDR, Gains, encode_image
 from host_sdk import messages
 from host_sdk.framing import Frame, FrameDecoder
 from protocol.codec.message import Message
-from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
+from protocol.generated.constants import SPEC_HASH
 from protocol.generated.enums import FailsafeReason, FeedbackMode, IdentityReason, NackReason, Status
 from protocol.generated.profiles import PROFILES
+from tests.support.hostlink import hello
 
 TICK_MS = 10
 BOOT_TIMEOUT_MS = 2500
@@ -54,10 +55,6 @@ ODOMETRY_TOL_FRAC = 0.02
 # to one count per 10 ms: 12.9 mm/s on the TB6612 robot).
 RISE_TOL_MS = 40
 OVERSHOOT_TOL_FRAC = 0.03
-
-
-def hello(mode: FeedbackMode = FeedbackMode.STREAM, hz: int = 0, spec_hash: int = SPEC_HASH) -> messages.Hello:
-    return messages.Hello(PROTOCOL_VERSION, spec_hash, 0, mode, hz)
 
 
 def decode(hex_frame: object) -> Message:
@@ -90,7 +87,7 @@ def tick_origin(h: Host) -> int:
     at 115200 baud). Not the boot IDENTITY's arrival: how long after tick 0 it goes out differs
     between backends (the model starts its clock before the boot counter's EEPROM write, the C++
     core after it; the native build's EEPROM takes no time, simavr's 3.4 ms per byte)."""
-    for t, m in h.frames:
+    for t, m in h.timed(Message):
         if isinstance(m, messages.Feedback) and m.tick >= 5:
             return t - m.tick * TICK_MS * 1000
     raise AssertionError(f"{h.b.name}: no FEEDBACK of tick >= 5 yet")
@@ -342,7 +339,7 @@ def sc_encoder_fault(h: Host) -> dict[str, object]:
     fbs = [m for _, m in h.since(messages.Feedback, t_cut - 100_000)]
     before = [m for m in fbs if isinstance(m, messages.Feedback) and m.tick < fault.tick]
     moved = [m.tick for prev, m in itertools.pairwise(before) if m.encoder_counts[0] != prev.encoder_counts[0]]
-    h.cursor = len(h.frames)
+    h.cursor = len(h.received)
     h.seq = 200  # the setpoints sent until the fault was seen vary with the tick phase: a fixed seq
     latched = h.request(messages.SetWheelSpeeds(300, 300))
     h.run_ms(200)
@@ -394,7 +391,7 @@ def sc_save_config(h: Host) -> dict[str, object]:
     _, fb = h.wait_for(messages.Feedback, 100)
     out["defaults_bit_cleared"] = not fb.status & Status.CONFIG_DEFAULTS  # type: ignore[attr-defined]
     h.b.reset()
-    h.cursor = len(h.frames)
+    h.cursor = len(h.received)
     t_reset = h.b.now_us
     t_boot, second = h.wait_for(messages.Identity, BOOT_TIMEOUT_MS, lambda m: m.reason == IdentityReason.BOOT)
     assert isinstance(second, messages.Identity)
