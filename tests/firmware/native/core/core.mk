@@ -6,7 +6,7 @@
 #   make -C tests/firmware/native core-test   test_core, plain + AddressSanitizer/UBSan; last line "N passed, 0 failed"
 #   make -C tests/firmware/native sim         $(BUILD)/sim/libroverlink_sim.so (tests/support/native_sim.py)
 #   make -C tests/firmware/native core-avr    avr-g++ -mmcu=atmega328p each core .cpp against the Arduino core,
-#                                    avr-size per object, and sizeof(Link/Session/Firmware) on AVR
+#                                             avr-size per object, and sizeof(Link/Session/Firmware) on AVR
 
 CORE_DIR      := $(HERE)/core
 EXAMPLES_DIR  := $(ROOT)/arduino/RoverLink/examples
