@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Coverage-guided fuzzing of the firmware's untrusted inputs (tests/fuzz, SECURITY.md): installs
+# Coverage-guided fuzzing of the firmware's untrusted inputs (tests/firmware/fuzz, SECURITY.md): installs
 # clang 14 and libFuzzer from Debian when missing, builds the targets with ASan + UBSan, runs each
 # for a bounded time and fails on any finding (the input is kept in build/fuzz/findings/).
 #
@@ -28,9 +28,9 @@ source scripts/debian-packages.sh
 install_debian_packages clang-14 libfuzzer-14-dev libclang-rt-14-dev llvm-14 make
 
 echo "== building the fuzz targets ($targets)"
-make -s -C tests/fuzz -j2 TARGETS="$targets" >/dev/null
-make -s -C tests/fuzz fuzz TARGETS="$targets" SECONDS="$seconds"
+make -s -C tests/firmware/fuzz -j2 TARGETS="$targets" >/dev/null
+make -s -C tests/firmware/fuzz fuzz TARGETS="$targets" SECONDS="$seconds"
 if ((coverage)); then
     echo "== line coverage on the corpus"
-    make -s -C tests/fuzz coverage TARGETS="$targets"
+    make -s -C tests/firmware/fuzz coverage TARGETS="$targets"
 fi

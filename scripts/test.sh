@@ -44,5 +44,5 @@ python benchmarks/codec.py --quick --require-roverlink
 echo "== host receive-path benchmark (smoke run; full run: .venv/bin/python benchmarks/host.py)"
 python benchmarks/host.py --quick --rates 100
 
-echo "== fuzzing (tests/fuzz: ${FUZZ_SECONDS:=60} s per target; SECURITY.md)"
+echo "== fuzzing (tests/firmware/fuzz: ${FUZZ_SECONDS:=60} s per target; SECURITY.md)"
 bash scripts/fuzz.sh --seconds "$FUZZ_SECONDS"

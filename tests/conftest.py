@@ -5,7 +5,7 @@ Hypothesis profiles, chosen with the HYPOTHESIS_PROFILE environment variable:
 * ``ci`` (default): 100 examples per property, no deadline; quick enough for every push.
 * ``thorough``: 2000 examples per property, for a nightly run or after touching the codec.
 
-    HYPOTHESIS_PROFILE=thorough pytest -q tests/codec
+    HYPOTHESIS_PROFILE=thorough pytest -q tests/protocol/codec
 """
 
 from __future__ import annotations

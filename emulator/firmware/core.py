@@ -141,7 +141,7 @@ class Firmware(ControlTick):
         if loaded is not LoadResult.OK:
             self._send(Log(LogLevel.WARN, loaded.value))
         # The turn signals show the IDLE pattern from INIT_DONE on, not from the first tick (the
-        # C++ core's begin() does the same; found by tests/conformance, test_turn_signal_leds).
+        # C++ core's begin() does the same; found by tests/system/conformance, test_turn_signal_leds).
         if self.caps & Capability.TURN_SIGNALS:
             board.lights(light_mask(self.session.state, 0, 0, steer_cdeg=0, ackermann=False, blink=0))
 

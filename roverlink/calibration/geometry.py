@@ -1,6 +1,6 @@
 """The arithmetic of calibration: each measurement turned into a configuration value.
 
-Pure functions, so each rule is tested on its own (tests/tools/test_tools_calibrate.py).
+Pure functions, so each rule is tested on its own (tests/roverlink/tools/test_tools_calibrate.py).
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ ament/rosidl generator wheels build it from its message definition with CMake an
 seconds:
 
     python -m roverlink.ros2.interfaces --prefix "$VIRTUAL_ENV"   # into this venv: the node publishes /tf
-    python -m roverlink.ros2.interfaces --prefix build/ros2       # a cache the tests load (tests/ros2)
+    python -m roverlink.ros2.interfaces --prefix build/ros2       # a cache the tests load (tests/roverlink/ros2)
 
 It needs `pip install 'roverlink[ros2,ros2-build]'`, `cmake` and a C/C++ compiler. A build is
 skipped when the prefix already holds one made from the same definitions. A ROS 2 distribution

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import pytest
-from hostlink import Host
 
 from emulator import Emulator
+from tests.support.hostlink import Host
 
 
 @pytest.fixture

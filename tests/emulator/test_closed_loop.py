@@ -5,19 +5,11 @@ from __future__ import annotations
 import math
 
 import pytest
-from hostlink import Host
 
 from emulator import Emulator
 from host_sdk import enums, messages
 from host_sdk.enums import Status
-
-
-def _drive(host: Host, msg: messages.SetWheelSpeeds | messages.SetAckermann, seconds: float, lockstep: bool) -> None:
-    for _ in range(round(seconds / 0.02)):
-        host.send(msg)
-        if lockstep:
-            host.wait_for(messages.Feedback, 0.05)
-        host.run(0.02)
+from tests.support.hostlink import Host
 
 
 def _wait_out_esc_window(host: Host) -> None:
@@ -59,7 +51,7 @@ def test_diff_drive_steady_state_within_2_percent(name: str, left: int, right: i
     lockstep = emu.profile.robot.feedback_mode is enums.FeedbackMode.LOCKSTEP
     host.session(mode=emu.profile.robot.feedback_mode)
     msg = messages.SetWheelSpeeds(left, right)
-    _drive(host, msg, 2.0, lockstep)
+    host.drive(msg, 2.0, lockstep)
     speeds = _mean_rim_speeds(emu, host, msg, 1.0, lockstep)
     assert speeds[0] == pytest.approx(left, rel=0.02)
     assert speeds[1] == pytest.approx(right, rel=0.02)
@@ -76,7 +68,7 @@ def test_ackermann_speed_within_2_percent_and_turning_radius_from_the_wire() -> 
     _wait_out_esc_window(host)
     steer_mrad = round(math.radians(15) * 1000)
     msg = messages.SetAckermann(1000, steer_mrad)
-    _drive(host, msg, 2.0, lockstep=False)
+    host.drive(msg, 2.0, lockstep=False)
     theta0, dist0 = emu.truth.plant.theta_rad, emu.truth.plant.distance_m
     speeds = _mean_rim_speeds(emu, host, msg, 2.0, lockstep=False)
     assert speeds[0] == pytest.approx(1000, rel=0.02)
@@ -98,7 +90,7 @@ def test_steering_is_quantised_and_reported_back() -> None:
         reported[deg] = round(math.degrees(host.of(messages.Feedback)[-1].steering_mrad / 1000))
     # servo 65..125 deg, centre 90, 15-degree steps: -25 (clamped), -15, 0, +15, +30 (120 deg)
     assert reported == {-40: -25, -20: -15, -7: 0, 8: 15, 20: 15, 40: 30}
-    _drive(host, messages.SetAckermann(0, 1571), 0.3, lockstep=False)
+    host.drive(messages.SetAckermann(0, 1571), 0.3, lockstep=False)
     assert emu.truth.plant.servo_deg == pytest.approx(120.0)  # the horn followed, within its slew rate
     emu.cut_link()
     host.run(0.5)  # watchdog (250 ms): FAILSAFE puts the steering back to its centre
@@ -110,7 +102,7 @@ def test_effort_limit_saturates_and_is_reported() -> None:
     host = Host(emu)
     host.session()
     _wait_out_esc_window(host)
-    _drive(host, messages.SetAckermann(2000, 0), 2.0, lockstep=False)  # more than 600 permille can give
+    host.drive(messages.SetAckermann(2000, 0), 2.0, lockstep=False)  # more than 600 permille can give
     fb = host.of(messages.Feedback)[-1]
     assert fb.status & Status.SATURATED and fb.effort_permille[0] == 600
     assert 1000 < emu.truth.plant.speed_m_s * 1000 < 1900
@@ -149,7 +141,7 @@ def test_turn_signals_follow_motion_state() -> None:
 
 
 def test_turn_signals_light_at_boot_not_at_the_first_tick() -> None:
-    # Found by tests/conformance (test_turn_signal_leds): the C++ core lights the IDLE pattern at the
+    # Found by tests/system/conformance (test_turn_signal_leds): the C++ core lights the IDLE pattern at the
     # end of begin(); the model waited for the first control tick, 10 ms (here 14: the boot's
     # EEPROM write delays it) later.
     emu = Emulator("diffdrive-tb6612", seed=16)

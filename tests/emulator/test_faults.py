@@ -6,7 +6,6 @@ import math
 import re
 
 import pytest
-from hostlink import Host
 
 from emulator import Emulator, FaultSpecError, UnknownProfileError, parse_faults
 from emulator.errors import EmulatorValueError
@@ -15,6 +14,7 @@ from host_sdk import messages
 from host_sdk.enums import FailsafeReason, NackReason, Status
 from host_sdk.framing import FrameErrorKind
 from protocol.generated.hardware import MotorMode
+from tests.support.hostlink import Host
 
 PING_FRAME_BYTES = 10
 
@@ -24,12 +24,6 @@ def _armed(name: str = "diffdrive-tb6612", seed: int = 21, **kwargs: object) -> 
     host = Host(emu)
     host.session()
     return emu, host
-
-
-def _drive(host: Host, left: int, right: int, seconds: float) -> None:
-    for _ in range(round(seconds / 0.02)):
-        host.send(messages.SetWheelSpeeds(left, right))
-        host.run(0.02)
 
 
 def test_bit_flips_host_to_mcu_cost_each_hit_frame_and_at_most_its_neighbour() -> None:
@@ -64,7 +58,7 @@ def test_bit_flips_host_to_mcu_cost_each_hit_frame_and_at_most_its_neighbour() -
 def test_bit_flips_mcu_to_host_show_in_the_hosts_decoder() -> None:
     emu, host = _armed()
     emu.set_bitflip_rate(2e-3, "m2h")
-    _drive(host, 200, 200, 2.0)
+    host.drive(messages.SetWheelSpeeds(200, 200), 2.0)
     truth = emu.truth
     assert truth.mcu_to_host.bits_flipped > 0 and truth.host_to_mcu.bits_flipped == 0
     assert any(bad.kind is FrameErrorKind.CRC for bad in host.bad)
@@ -77,7 +71,7 @@ def test_drops_and_insertions() -> None:
     emu, host = _armed()
     emu.set_drop_rate(0.01, "h2m")
     emu.set_insert_rate(0.01, "m2h")
-    _drive(host, 200, 200, 3.0)
+    host.drive(messages.SetWheelSpeeds(200, 200), 3.0)
     emu.set_drop_rate(0.0, "h2m")
     emu.set_insert_rate(0.0, "m2h")
     truth = emu.truth
@@ -93,14 +87,14 @@ def test_drops_and_insertions() -> None:
 
 def test_noise_burst_damages_only_its_window() -> None:
     emu, host = _armed()
-    _drive(host, 100, 100, 0.5)
+    host.drive(messages.SetWheelSpeeds(100, 100), 0.5)
     bad_before = len(host.bad)
     start = emu.now_us
     emu.noise_burst(0.1, ber=0.05)
-    _drive(host, 100, 100, 0.1)
+    host.drive(messages.SetWheelSpeeds(100, 100), 0.1)
     host.run(0.01)
     bad_during = len(host.bad)
-    _drive(host, 100, 100, 1.0)
+    host.drive(messages.SetWheelSpeeds(100, 100), 1.0)
     assert bad_during > bad_before and len(host.bad) <= bad_during + 1  # + a frame straddling the end
     noise = [f for f in emu.truth.faults if f.kind == "noise"]
     assert len(noise) == 2 and all(f.time_us == start for f in noise)
@@ -109,11 +103,11 @@ def test_noise_burst_damages_only_its_window() -> None:
 
 def test_link_cut_silences_the_line_and_the_watchdog_latches_failsafe() -> None:
     emu, host = _armed()
-    _drive(host, 300, 300, 1.0)
+    host.drive(messages.SetWheelSpeeds(300, 300), 1.0)
     emu.cut_link()
     cut_at = emu.now_us
     received_before = len(host.received)
-    _drive(host, 300, 300, 1.0)
+    host.drive(messages.SetWheelSpeeds(300, 300), 1.0)
     assert len(host.received) == received_before  # nothing crosses a cut cable
     fw = emu.truth.firmware
     assert fw is not None and fw.state.name == "FAILSAFE" and fw.failsafe_reason is FailsafeReason.COMM_TIMEOUT
@@ -133,7 +127,7 @@ def test_link_cut_silences_the_line_and_the_watchdog_latches_failsafe() -> None:
 def test_mcu_reset_gives_a_new_boot_and_refuses_the_old_session() -> None:
     emu, host = _armed()
     old = emu.boot_ids[-1]
-    _drive(host, 300, 300, 0.5)
+    host.drive(messages.SetWheelSpeeds(300, 300), 0.5)
     emu.reset_mcu()
     assert emu.truth.mcu.phase == "bootloader" and emu.truth.firmware is None
     assert all(w.mode is MotorMode.COAST for w in emu.truth.plant.wheels)  # pins released
@@ -204,10 +198,10 @@ def test_brown_out_during_save_config_corrupts_the_record() -> None:
 
 def test_stalled_wheel_raises_encoder_fault_with_the_wheel_truly_stopped() -> None:
     emu, host = _armed()
-    _drive(host, 300, 300, 1.0)
+    host.drive(messages.SetWheelSpeeds(300, 300), 1.0)
     emu.stall_wheel(0)
     stalled_at = emu.now_us
-    _drive(host, 300, 300, 1.0)
+    host.drive(messages.SetWheelSpeeds(300, 300), 1.0)
     fb = next(f for f in host.of(messages.Feedback) if f.status & Status.FAILSAFE)
     assert fb.failsafe_reason is FailsafeReason.ENCODER_FAULT and fb.status & Status.ENCODER_FAULT
     fw = emu.truth.firmware
@@ -223,7 +217,7 @@ def test_stalled_wheel_raises_encoder_fault_with_the_wheel_truly_stopped() -> No
 
 def test_disconnected_encoder_raises_encoder_fault_while_the_wheel_turns() -> None:
     emu, host = _armed()
-    _drive(host, 300, 300, 1.0)
+    host.drive(messages.SetWheelSpeeds(300, 300), 1.0)
     emu.disconnect_encoder(1)
     speeds_after = []
     for _ in range(50):

@@ -10,10 +10,10 @@ import time
 from collections.abc import Callable
 
 import pytest
-from simavr_support import simavr_robot
 
 from emulator.device import Emulator
 from emulator.transport.realtime import serve as serve_python
+from tests.support.simavr import simavr_robot
 
 DEADLINE_S = 30.0
 BOOT_LINE = re.compile(r"boot, boot_id 0x([0-9A-F]{8})")

@@ -6,7 +6,6 @@ import itertools
 import struct
 
 import pytest
-from hostlink import Host, raw_frame
 
 from emulator import Emulator
 from emulator.firmware.statemachine import SessionState
@@ -14,6 +13,7 @@ from host_sdk import enums, messages
 from host_sdk.enums import FailsafeReason, IdentityReason, NackReason, Status
 from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 from protocol.generated.hardware import MotorMode
+from tests.support.hostlink import Host, raw_frame
 
 
 def _state(emu: Emulator) -> SessionState:

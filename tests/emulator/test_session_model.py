@@ -6,7 +6,6 @@ so a wrong action wiring, NACK reason or latched state in the emulator shows up 
 
 from __future__ import annotations
 
-from hostlink import Host
 from hypothesis import settings
 from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, rule
@@ -16,6 +15,7 @@ from host_sdk import enums, messages
 from host_sdk.enums import FailsafeReason, NackReason, Status
 from protocol.codec.message import Message
 from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
+from tests.support.hostlink import Host
 
 WATCHDOG_MS = 100
 ANSWER_MS = 20  # how long each request rule listens for its answer: the watchdog runs meanwhile

@@ -6,7 +6,6 @@ refuses. Builds the harness and the ELFs once (cached under build/simavr)."""
 from __future__ import annotations
 
 import pytest
-from simavr_support import simavr_robot
 
 from emulator.backends.simavr import SimavrError, SimavrRobot
 from emulator.firmware.config import LoadResult
@@ -16,6 +15,7 @@ from protocol.codec.message import Message
 from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 from protocol.generated.enums import FeedbackMode, IdentityReason
 from roverlink.cli import main as roverlink_main
+from tests.support.simavr import simavr_robot
 
 PROFILE = "diffdrive-tb6612"
 

@@ -3,11 +3,8 @@ served by `roverlink emulate` in a subprocess, opened with pyserial."""
 
 from __future__ import annotations
 
-import os
-import select
 import signal
 import subprocess
-import sys
 import time
 from collections.abc import Callable, Iterator
 from typing import Any
@@ -23,6 +20,7 @@ from host_sdk.framing import Frame, FrameDecoder, encode_frame
 from protocol.codec.message import Message
 from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 from roverlink.cli import main as roverlink_main
+from tests.support.emulate import EmulatorProcess
 
 HELLO = messages.Hello(PROTOCOL_VERSION, SPEC_HASH, 0, enums.FeedbackMode.STREAM, 0)
 
@@ -72,36 +70,17 @@ def test_memory_serial_dtr_edge_resets_and_closed_port_refuses() -> None:
 
 
 # == real time, in a subprocess ==========================================================================
-def _readline(stream: Any, timeout_s: float) -> str:
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        ready, _, _ = select.select([stream], [], [], 0.1)
-        if ready:
-            return str(stream.readline()).strip()
-    raise AssertionError(f"no line from the emulator within {timeout_s} s")
-
-
 @pytest.fixture
 def emulate() -> Iterator[Callable[..., tuple[subprocess.Popen[str], str]]]:
-    procs: list[subprocess.Popen[str]] = []
+    served: list[EmulatorProcess] = []
 
     def start(*args: str) -> tuple[subprocess.Popen[str], str]:
-        env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-        proc = subprocess.Popen(
-            [sys.executable, "-m", "roverlink.cli", "emulate", *args],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-            env=env,
-        )
-        procs.append(proc)
-        return proc, _readline(proc.stdout, 20.0)
+        served.append(EmulatorProcess(*args, stderr=subprocess.PIPE))
+        return served[-1].proc, served[-1].url
 
     yield start
-    for proc in procs:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait(5)
+    for board in served:
+        board.stop()
 
 
 class _Reader:

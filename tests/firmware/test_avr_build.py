@@ -10,7 +10,7 @@ LTO, --gc-sections), and the figures are checked against the design brief's budg
 
 `pytest -s` prints the figures; each test also records them as junit properties.
 
-Then the AVR hardware layer runs in simavr (tests/native/avr_hal/sim_pins.c): test sketches for
+Then the AVR hardware layer runs in simavr (tests/firmware/native/avr_hal/sim_pins.c): test sketches for
 Timer1 servo pulses, TB6612 / BTS7960 pins, LEDs and encoders on external and pin-change
 interrupts, and every example booting and streaming frames with its outputs in the safe state.
 """
@@ -490,12 +490,12 @@ def test_flash_without_avrdude_says_what_to_install(
 
 
 # -- the hardware layer on a simulated MCU ----------------------------------------------------------------
-# Test sketches run in simavr (tests/native/avr_hal/sim_pins.c): the harness drives encoder pins
+# Test sketches run in simavr (tests/firmware/native/avr_hal/sim_pins.c): the harness drives encoder pins
 # on a schedule and logs output pins and UART0. Digital pin levels and the register file are
 # exact in simavr; the waveform of a 16-bit timer's compare output is not, so PWM and servo pulses
 # are checked through the registers that make them (the sketches report them over the UART).
 
-AVR_HAL_DIR = ROOT / "tests" / "native" / "avr_hal"
+AVR_HAL_DIR = ROOT / "tests" / "firmware" / "native" / "avr_hal"
 SIM_BUILD = ROOT / "build" / "native" / "avr_hal"
 CYCLES_PER_US = 16
 GRAY = ("00", "10", "11", "01")  # channel levels (A, B) at the four positions of a cycle

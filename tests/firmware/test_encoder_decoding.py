@@ -2,7 +2,7 @@
 
 Two independent checks:
 
-* the native C++ unit tests (tests/native/avr_hal/test_quadrature.cpp), built with g++ -Wall
+* the native C++ unit tests (tests/firmware/native/avr_hal/test_quadrature.cpp), built with g++ -Wall
   -Wextra -Werror, once plain and once with AddressSanitizer + UndefinedBehaviorSanitizer:
   every transition of every resolution, full cycles both ways, dither, error counting, i32 wrap;
 * the decoder's tables, dumped by the same binary, against a model written here from how a
@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-HERE = ROOT / "tests" / "native" / "avr_hal"
+HERE = ROOT / "tests" / "firmware" / "native" / "avr_hal"
 BUILD = ROOT / "build" / "native" / "avr_hal"
 
 # Channel levels (A, B) at the four positions of one encoder cycle, turning forward (A leads B).

@@ -2,7 +2,7 @@
 
 Two layers:
 
-* ``make -C tests/native core-test``: the C++ unit tests (PID, ramp, pulses, session, watchdog,
+* ``make -C tests/firmware/native core-test``: the C++ unit tests (PID, ramp, pulses, session, watchdog,
   EEPROM, lockstep, link statistics...), plain and under AddressSanitizer + UBSan, and
   ``make core-avr``: every core .cpp compiled with avr-g++ against the Arduino core.
 * The same core as a shared library (``native_sim.py``, ctypes) driven from Python with the SDK's
@@ -19,11 +19,9 @@ import shutil
 import subprocess
 from dataclasses import dataclass, field
 
-import native_sim
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from native_sim import HostLink, NativeSim
 
 from host_sdk import messages
 from host_sdk.framing import Frame
@@ -42,6 +40,9 @@ from protocol.generated.enums import (
 from protocol.generated.hardware import MotorMode
 from protocol.generated.profiles import PROFILES
 from protocol.generated.state_machine import SessionState
+from tests.support import native_sim
+from tests.support.hostlink import Received, hello
+from tests.support.native_sim import HostLink, NativeSim
 
 PROFILE_NAMES = sorted(PROFILES)
 TICK_US = 10_000
@@ -69,17 +70,7 @@ def _library() -> None:
         pytest.fail(str(exc), pytrace=False)
 
 
-def hello(mode: FeedbackMode = FeedbackMode.STREAM, hz: int = 0, watchdog_ms: int = 0) -> messages.Hello:
-    return messages.Hello(
-        protocol_version=PROTOCOL_VERSION,
-        spec_hash=SPEC_HASH,
-        watchdog_ms=watchdog_ms,
-        feedback_mode=mode,
-        feedback_hz=hz,
-    )
-
-
-def only(frames: list[Frame], cls: type) -> list:  # type: ignore[type-arg]
+def only(frames: list[Received], cls: type) -> list:  # type: ignore[type-arg]
     return [f.message for f in frames if isinstance(f.message, cls)]
 
 
@@ -130,7 +121,7 @@ class Plant:
             return 1000.0 * (out.esc_us - cfg.esc_neutral_us) / (cfg.esc_neutral_us - cfg.esc_min_us)
         return float(out.motor_effort[wheel]) if out.motor_mode[wheel] == MotorMode.DRIVE else 0.0
 
-    def run(self, host: HostLink, ms: int, keepalive: messages.Message | None = None) -> list[Frame]:
+    def run(self, host: HostLink, ms: int, keepalive: messages.Message | None = None) -> list[Received]:
         for t in range(ms):
             if keepalive is not None and t % 50 == 0:
                 host.send(keepalive)
@@ -246,7 +237,7 @@ def test_pid_converges_on_a_simulated_motor(name: str) -> None:
         out = sim.outputs()
         assert out.state == SessionState.ARMED
         assert all(abs(m - target) < 0.1 * target for m in out.measured_mm_s[: len(plant.motors)])
-        fbs = only(host.frames, messages.Feedback)
+        fbs = only(host.received, messages.Feedback)
         assert fbs and abs(fbs[-1].wheel_speed_mm_s[0] - target) < 0.1 * target
 
 

@@ -21,7 +21,7 @@ def emit(spec: Spec) -> dict[str, str]:
     return {
         f"{LIB}/roverlink_protocol.h": _header(spec),
         f"{LIB}/roverlink_protocol.cpp": _source(spec),
-        "tests/native/generated/roverlink_reflect.h": reflect(spec),
+        "tests/firmware/native/generated/roverlink_reflect.h": reflect(spec),
     }
 
 

@@ -1,4 +1,4 @@
-"""Emit tests/native/generated/roverlink_reflect.h: a test-only text interface (print fields, set
+"""Emit tests/firmware/native/generated/roverlink_reflect.h: a test-only text interface (print fields, set
 fields by name) that lets the Python tests drive the C++ codec field by field."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ from protocol.generator.emit.cpp_types import ctype
 from protocol.generator.model import Field, Message, Spec
 
 _HEAD = (
-    "// Test-only: text view of every message for tests/native/rl_codec.cpp. Not part of the library.\n"
+    "// Test-only: text view of every message for tests/firmware/native/rl_codec.cpp. Not part of the library.\n"
     "#ifndef ROVERLINK_REFLECT_H\n#define ROVERLINK_REFLECT_H\n\n"
     '#include <stdio.h>\n#include <stdlib.h>\n#include <string.h>\n\n#include "generated/roverlink_protocol.h"\n\n'
     "namespace roverlink {\nnamespace reflect {\n\n"

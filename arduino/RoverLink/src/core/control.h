@@ -1,5 +1,5 @@
 // The control law of docs/control.md as pure functions: no state, no I/O, so each piece is tested
-// on its own (tests/native/core/test_core.cpp) and the Firmware class only sequences them.
+// on its own (tests/firmware/native/core/test_core.cpp) and the Firmware class only sequences them.
 #ifndef ROVERLINK_CORE_CONTROL_H
 #define ROVERLINK_CORE_CONTROL_H
 

@@ -8,7 +8,7 @@
 // ROVERLINK_OUT_OF_LINE also keeps GCC from cloning the function for a constant argument (with
 // LTO, a copy for the one global object, whose members it then addresses absolutely: four bytes
 // per access on AVR instead of two through the pointer).
-#if defined(__clang__)  // the native builds' other compiler (tests/fuzz): it has no noclone
+#if defined(__clang__)  // the native builds' other compiler (tests/firmware/fuzz): it has no noclone
 #define ROVERLINK_ALWAYS_INLINE inline __attribute__((always_inline))
 #define ROVERLINK_NOINLINE __attribute__((noinline))
 #define ROVERLINK_OUT_OF_LINE __attribute__((noinline))

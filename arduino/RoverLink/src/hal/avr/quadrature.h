@@ -3,7 +3,7 @@
 //
 // This header is pure logic with no AVR dependency on purpose (and so, unlike the rest of
 // src/hal/avr/, it is not wrapped in `#if defined(ARDUINO_ARCH_AVR)`): the interrupt handlers in
-// encoder.h call it, and tests/native/avr_hal/ checks every transition of every resolution with
+// encoder.h call it, and tests/firmware/native/avr_hal/ checks every transition of every resolution with
 // g++ and sanitizers.
 //
 // Channel levels are packed as `ab = (A << 1) | B`. Turning forward (A leads B) walks the Gray

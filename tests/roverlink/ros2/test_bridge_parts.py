@@ -1,0 +1,401 @@
+"""The bridge's plain-Python parts, without ROS: parameters, conversions, the cmd_vel driver (against
+the emulator on its virtual clock), diagnostics levels, the connection's retries, and the command
+line when rclpy is missing."""
+
+from __future__ import annotations
+
+import itertools
+import math
+import re
+import subprocess
+import sys
+import threading
+from collections.abc import Iterator
+from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
+
+import pytest
+
+from host_sdk import CommandRangeError, FeedbackSample, LinkStatistics, Robot, TransportError
+from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.sensors import ImuSample
+from host_sdk.session.types import RobotIdentity
+from protocol.generated.enums import Board, Capability, FailsafeReason, FeedbackMode, Status
+from protocol.generated.messages import LinkStats
+from roverlink.ros2 import convert
+from roverlink.ros2.connection import Connection
+from roverlink.ros2.diagnostics import ERROR, OK, STALE, WARN, DiagnosticsBuilder, Event, Snapshot
+from roverlink.ros2.driver import Driver, RefusalLog
+from roverlink.ros2.params import SPECS, BridgeParams
+
+ROOT = Path(__file__).resolve().parents[3]
+
+
+# -- parameters ------------------------------------------------------------------------------------
+def test_default_parameters_are_valid_and_conventional() -> None:
+    p = BridgeParams.defaults()
+    assert (p.odom_frame, p.base_frame, p.publish_tf, p.auto_arm) == ("odom", "base_link", True, False)
+    assert p.cmd_vel_timeout == 0.5 and p.odom_rate == 50 and p.diagnostics_rate == 1.0
+
+
+@pytest.mark.parametrize(
+    ("name", "value"),
+    [
+        ("mode", "fast"),
+        ("odom_rate", 2.5),
+        ("odom_rate", 500),
+        ("watchdog", float("nan")),
+        ("publish_tf", 1),
+        ("pose_covariance_diagonal", [0.1] * 5),
+        ("twist_covariance_diagonal", [0.1, 0.1, 0.1, 0.1, 0.1, -1.0]),
+        ("wheel_joints", "left"),
+        ("odom_frame", ""),
+        ("no_such_parameter", 1),
+    ],
+)
+def test_bad_parameters_are_refused_by_name(name: str, value: object) -> None:
+    with pytest.raises(CommandRangeError, match=re.escape(f"{name}")):
+        BridgeParams.defaults(**{name: value})  # type: ignore[arg-type]
+
+
+def test_integer_values_are_taken_for_floats_as_a_yaml_file_writes_them() -> None:
+    p = BridgeParams.defaults(watchdog=1, pose_covariance_diagonal=[1, 1, 1, 1, 1, 1])
+    assert p.watchdog == 1.0 and p.pose_covariance_diagonal == (1.0,) * 6
+
+
+def test_docs_list_every_parameter_with_its_default() -> None:
+    text = (ROOT / "docs" / "ros2.md").read_text().split("## Parameters\n", 1)[1].split("\n## ", 1)[0]
+    rows = dict(re.findall(r"^\| `(\w+)` \| `([^`]*)` \|", text, re.MULTILINE))
+    assert sorted(rows) == sorted(spec.name for spec in SPECS)
+    for spec in SPECS:
+        default = spec.default
+        shown = str(default).lower() if isinstance(default, bool) else str(default)
+        assert rows[spec.name] == shown.replace("'", ""), spec.name
+
+
+def test_example_parameters_file_sets_only_real_parameters() -> None:
+    yaml = pytest.importorskip("yaml")
+    values = yaml.safe_load((ROOT / "examples" / "ros2" / "roverlink.yaml").read_text())["/**/roverlink"]
+    BridgeParams.from_values(values["ros__parameters"])
+
+
+# -- conversions -----------------------------------------------------------------------------------
+def sample(
+    counts: tuple[int, ...],
+    *,
+    boot_id: int = 1,
+    t_us: int = 0,
+    speeds: tuple[float, ...] = (0.0, 0.0),
+    steering: float = 0.0,
+) -> FeedbackSample:
+    return FeedbackSample(
+        index=0,
+        boot_id=boot_id,
+        received_s=0.0,
+        host_time_s=0.0,
+        mcu_time_us=t_us,
+        tick=0,
+        status=Status.SESSION,
+        failsafe_reason=FailsafeReason.NONE,
+        encoder_counts=counts,
+        wheel_speeds_m_s=speeds,
+        efforts=(0.0,) * len(counts),
+        steering_rad=steering,
+        ack_seq=0,
+        pose=None,
+    )
+
+
+def test_quaternion_and_covariance() -> None:
+    assert convert.yaw_quaternion(math.pi / 2) == pytest.approx((0, 0, math.sqrt(0.5), math.sqrt(0.5)))
+    cov = convert.covariance([1, 2, 3, 4, 5, 6])
+    assert [cov[i * 7] for i in range(6)] == [1, 2, 3, 4, 5, 6] and sum(cov) == 21
+
+
+def test_stamp_is_the_sample_time_not_the_read_time() -> None:
+    # Sampled 12 ms before it was read, read 3 ms ago: stamped 15 ms before ROS now.
+    assert convert.stamp_ns(sample_host_s=10.000, host_now_s=10.015, ros_now_ns=5_000_000_000) == 4_985_000_000
+
+
+def test_twist_comes_from_the_measured_wheel_speeds() -> None:
+    diff = DiffDrive(wheel_radius_m=0.03, track_m=0.2, counts_per_rev=1000)
+    assert convert.body_twist(diff, sample((0, 0), speeds=(0.1, 0.3))) == pytest.approx((0.2, 1.0))
+    ack = Ackermann(wheelbase_m=0.26, wheel_radius_m=0.03, counts_per_rev=720)
+    v, w = convert.body_twist(ack, sample((0,), speeds=(0.5,), steering=0.2))
+    assert (v, w) == pytest.approx((0.5, 0.5 * math.tan(0.2) / 0.26))
+
+
+def test_wheel_angles_carry_on_across_a_board_reset() -> None:
+    diff = DiffDrive(wheel_radius_m=0.05, track_m=0.2, counts_per_rev=100)
+    joints = convert.JointTracker(diff, ("l", "r"), "s")
+    assert joints.update(sample((25, 50), speeds=(0.1, 0.2))).positions == pytest.approx((math.pi / 2, math.pi))
+    assert joints.update(sample((50, 100))).positions == pytest.approx((math.pi, 2 * math.pi))
+    # A new boot restarts the board's counts near 0: the joints do not jump back.
+    after = joints.update(sample((3, 1), boot_id=2))
+    assert after.positions == pytest.approx((math.pi, 2 * math.pi))
+    assert joints.update(sample((28, 26), boot_id=2)).positions == pytest.approx((1.5 * math.pi, 2.5 * math.pi))
+    assert joints.update(sample((0, 0), speeds=(0.1, -0.2))).velocities == pytest.approx((2.0, -4.0))
+
+
+def test_ackermann_joints_include_the_steering() -> None:
+    ack = Ackermann(wheelbase_m=0.26, wheel_radius_m=0.05, counts_per_rev=100)
+    joints = convert.JointTracker(ack, ("rear",), "steer")
+    joints.update(sample((0,), t_us=0, steering=0.0))
+    js = joints.update(sample((10,), t_us=100_000, steering=0.1))
+    assert js.names == ("rear", "steer")
+    assert js.positions == pytest.approx((2 * math.pi * 0.1, 0.1))
+    assert js.velocities[1] == pytest.approx(1.0)  # 0.1 rad in 0.1 s
+    with pytest.raises(ValueError, match="wheel_joints"):
+        convert.JointTracker(ack, ("a", "b"), "steer")
+
+
+def _vec() -> SimpleNamespace:
+    return SimpleNamespace(x=0.0, y=0.0, z=0.0, w=1.0)
+
+
+def test_imu_message_from_a_jy901_sample() -> None:
+    assert convert.euler_quaternion(0.0, 0.0, 0.7) == pytest.approx(convert.yaw_quaternion(0.7))
+    msg = SimpleNamespace(
+        header=SimpleNamespace(stamp=SimpleNamespace(), frame_id=""),
+        orientation=_vec(),
+        orientation_covariance=[0.0] * 9,
+        angular_velocity=_vec(),
+        angular_velocity_covariance=[0.0] * 9,
+        linear_acceleration=_vec(),
+        linear_acceleration_covariance=[0.0] * 9,
+    )
+    sample = ImuSample(
+        t=1.0,
+        accel=(0.1, 0.2, 9.8),
+        gyro=None,
+        angle=(0.0, 0.0, math.pi / 2),
+        mag=None,
+        quaternion=None,
+        temperature_c=None,
+    )
+    convert.fill_imu(msg, ns=1_500_000_000, frame="imu_link", sample=sample)
+    assert (msg.header.stamp.sec, msg.header.stamp.nanosec, msg.header.frame_id) == (1, 500_000_000, "imu_link")
+    q = msg.orientation
+    assert (q.x, q.y, q.z, q.w) == pytest.approx((0, 0, math.sqrt(0.5), math.sqrt(0.5)))  # from the angles
+    assert msg.angular_velocity_covariance[0] == -1.0  # the gyro was not sent: "not provided"
+    assert (msg.linear_acceleration.z, msg.linear_acceleration_covariance[0]) == (9.8, 0.0)
+
+
+def test_laser_scan_from_a_binned_scan() -> None:
+    import numpy as np
+
+    from host_sdk.sensors import RegularScan
+
+    scan = RegularScan(
+        -math.pi, math.pi / 2, np.array([1.0, np.inf, 2.0, np.nan]), np.zeros(4), 3.0, 0.1, -0.025, 0.12, 12.0
+    )
+    msg = SimpleNamespace(header=SimpleNamespace(stamp=SimpleNamespace(), frame_id=""))
+    convert.fill_laser_scan(msg, ns=3_000_000_000, frame="laser", scan=scan)
+    assert msg.angle_max == pytest.approx(math.pi / 2) and msg.time_increment == -0.025 and msg.scan_time == 0.1
+    assert msg.ranges[0] == 1.0 and math.isinf(msg.ranges[1]) and math.isnan(msg.ranges[3])
+    assert (msg.range_min, msg.range_max, msg.header.frame_id) == (0.12, 12.0, "laser")
+
+
+# -- the driver, against the emulator on its virtual clock --------------------------------------------
+@pytest.fixture
+def robot() -> Iterator[Robot]:
+    with Robot.connect("emu://diffdrive-tb6612?clock=virtual&seed=3", command_timeout_s=0.5) as r:
+        r.arm()
+        yield r
+
+
+def make_driver(robot: Robot, **kw: Any) -> tuple[Driver, list[str]]:
+    logged: list[str] = []
+    options: dict[str, Any] = {"timeout_s": 0.5, "on_timeout": "stop", "lockstep": False}
+    options["period_s"] = 0.02
+    options.update(kw)
+    return Driver(robot, RefusalLog(logged.append, logged.append), **options), logged
+
+
+def run(robot: Robot, driver: Driver, seconds: float, cmd: tuple[float, float] | None = None) -> None:
+    """Tick the driver every period for `seconds` of virtual time, commanding `cmd` at 20 Hz."""
+    end = robot.now() + seconds
+    next_cmd = robot.now()
+    while robot.now() < end:
+        if cmd is not None and robot.now() >= next_cmd:
+            driver.command(*cmd, robot.now())
+            next_cmd += 0.05
+        robot.sleep(driver.period_s)
+        driver.tick(robot.now())
+
+
+def targets(robot: Robot) -> tuple[float, ...]:
+    return tuple(robot.emulator.truth.firmware.targets_mm_s)
+
+
+def test_cmd_vel_drives_and_silence_holds_zero_armed(robot: Robot) -> None:
+    driver, logged = make_driver(robot)
+    run(robot, driver, 1.0, (0.3, 0.0))
+    assert targets(robot) == (300, 300)
+    run(robot, driver, 0.5 + 0.03)  # the timeout, and one tick
+    assert targets(robot) == (0, 0)
+    run(robot, driver, 2.0)  # many watchdog periods: the zero hold keeps the session alive
+    assert robot.state == "armed" and robot.failsafe is None and not logged
+
+
+def test_release_lets_the_board_fail_safe(robot: Robot) -> None:
+    driver, _ = make_driver(robot, on_timeout="release")
+    run(robot, driver, 0.5, (0.3, 0.0))
+    run(robot, driver, 0.5 + robot.watchdog_s + 0.05)
+    assert robot.failsafe is FailsafeReason.COMM_TIMEOUT
+    assert robot.emulator.truth.firmware.failsafe_reason is FailsafeReason.COMM_TIMEOUT
+
+
+def test_lockstep_is_paced_by_the_ticks() -> None:
+    with Robot.connect("emu://diffdrive-bts7960?clock=virtual", mode="lockstep") as robot:
+        robot.arm()
+        driver, _ = make_driver(robot, lockstep=True, period_s=0.02)
+        first = robot.stats.feedback_received
+        run(robot, driver, 1.0, (0.2, 0.0))  # 20 Hz cmd_vel, 50 Hz ticks
+        assert robot.stats.feedback_received - first == pytest.approx(50, abs=3)
+        first = robot.stats.feedback_received
+        run(robot, driver, 1.0)  # idle: the zero hold still paces FEEDBACK (odometry keeps flowing)
+        assert robot.stats.feedback_received - first == pytest.approx(50, abs=3)
+
+
+def test_refused_commands_are_logged_once_per_burst(robot: Robot) -> None:
+    driver, logged = make_driver(robot)  # the robot refuses (it was connected without clamp)
+    for _ in range(10):
+        driver.command(5.0, 0.0, robot.now())  # beyond max_wheel_speed
+    assert len(logged) == 1 and "linear_m_s = 5.0" in logged[0]
+    assert driver.refusals.total == 10
+    driver.command(0.1, 0.0, robot.now())
+    assert len(logged) == 2 and logged[1] == "cmd_vel accepted again after 10 refused"
+    robot.disarm()
+    for _ in range(5):
+        driver.command(0.1, 0.0, robot.now())
+    assert len(logged) == 3 and "not armed" in logged[2]
+    driver.hold_off = "disarmed through ~/disarm"
+    driver.command(0.1, 0.0, robot.now())
+    assert len(logged) == 4 and "~/disarm" in logged[3]
+
+
+def test_zero_hold_never_arms_a_disarmed_robot() -> None:
+    with Robot.connect("emu://diffdrive-tb6612?clock=virtual", auto_rearm=True) as robot:
+        driver, _ = make_driver(robot)
+        run(robot, driver, 1.0)
+        assert robot.state == "disarmed"
+
+
+# -- diagnostics -----------------------------------------------------------------------------------
+IDENTITY = RobotIdentity(
+    1, 0x1234, (0, 1, 0), Board.EMULATOR, Capability.DIFF_DRIVE, 7, 0, "Car", 250, FeedbackMode.STREAM, 50, 0.0
+)
+
+
+def snap(t: float, **kw: Any) -> Snapshot:
+    base: dict[str, Any] = {"url": "emu://", "connection": "connected", "identity": IDENTITY, "state": "armed"}
+    base["host"] = LinkStatistics(frames_ok=100 * int(t), frames_sent=20 * int(t))
+    base.update(kw)
+    return Snapshot(time_s=t, **base)
+
+
+def board(**counts: int) -> LinkStats:
+    fields = {f.name: 0 for f in LinkStats.FIELDS}
+    fields.update(counts)
+    return LinkStats(**fields)
+
+
+def test_link_rates_and_rising_errors() -> None:
+    d = DiagnosticsBuilder("roverlink")
+    link, robot = d.build(snap(1.0, board=board(frames_ok=10), board_time_s=1.0))
+    assert (link.level, robot.level, robot.message) == (OK, OK, "armed")
+    link, _ = d.build(snap(2.0, board=board(frames_ok=30, crc_errors=2), board_time_s=2.0))
+    v = dict(link.values)
+    assert v["host frames received/s"] == "100.0" and v["board frames received/s"] == "20.0"
+    assert link.level == WARN and "board crc_errors +2" in link.message
+    # Counters that restart (a board reset) are not errors rising.
+    link, _ = d.build(snap(3.0, board=board(frames_ok=5), board_time_s=3.0))
+    assert link.level == OK
+
+
+def test_levels_for_failsafe_reset_silence_and_no_connection() -> None:
+    d = DiagnosticsBuilder("roverlink")
+    _, robot = d.build(snap(1.0, state="failsafe", failsafe=FailsafeReason.ENCODER_FAULT))
+    assert robot.level == ERROR and "FAILSAFE (ENCODER_FAULT)" in robot.message
+    reset = Event(0.5, "reset", "boot_id 0x00000007 -> 0x00000008")
+    _, robot = d.build(snap(2.0, state="disarmed", last_reset=reset, resets=1, rearmed_since_reset=False))
+    assert robot.level == WARN and "0x00000008" in robot.message and dict(robot.values)["board resets"] == "1"
+    link, _ = d.build(snap(3.0, feedback_age_s=0.8, feedback_expected_s=0.5))
+    assert link.level == ERROR and link.message.startswith("no FEEDBACK for 0.8 s")
+    link, robot = d.build(snap(4.0, connection="reconnecting", connection_error="port gone", attempts=3, host=None))
+    assert link.level == ERROR and "port gone" in link.message and "3 failed attempts" in link.message
+    assert (robot.level, robot.message) == (STALE, "no connection")
+
+
+# -- connection ------------------------------------------------------------------------------------
+def test_connection_retries_with_doubling_delays_then_connects() -> None:
+    calls: list[float] = []
+    connected = threading.Event()
+    clock = __import__("time").monotonic
+
+    def connect() -> Robot:
+        calls.append(clock())
+        if len(calls) <= 3:
+            raise TransportError("no such port", "/dev/ttyACM9")
+        return Robot.connect("emu://diffdrive-tb6612?clock=virtual")
+
+    conn = Connection(connect, on_connected=lambda r: connected.set(), on_lost=lambda r, w: None, delay_s=0.05)
+    conn.start()
+    assert connected.wait(5)
+    robot = conn.stop()
+    assert robot is not None
+    robot.close()
+    gaps = [b - a for a, b in itertools.pairwise(calls)]
+    assert [round(g / 0.05) for g in gaps] == [1, 2, 4]
+    assert conn.fatal is None and conn.attempts == 0
+
+
+def test_connection_gives_up_on_errors_a_retry_cannot_fix() -> None:
+    def connect() -> Robot:
+        return Robot.connect("emu://no-such-robot")
+
+    conn = Connection(connect, on_connected=lambda r: None, on_lost=lambda r, w: None)
+    conn.start()
+    assert conn.stop() is None
+    assert conn.state == "closed" and conn.fatal is not None and "no-such-robot" in str(conn.fatal)
+
+
+# -- the command -----------------------------------------------------------------------------------
+def test_command_without_rclpy_says_how_to_install(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from roverlink import cli
+    from roverlink.commands import ros2
+
+    monkeypatch.setattr(ros2, "missing_modules", lambda: ["rclpy"])
+    assert cli.main(["ros2", "--url", "emu://"]) == 2
+    err = capsys.readouterr().err
+    assert "cannot import rclpy" in err and "pip install 'roverlink[ros2]'" in err and "/opt/ros/jazzy" in err
+
+
+def test_console_script_takes_the_same_arguments_as_the_command(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`roverlink.commands.ros2:main` (for `ros2 run`) parses the command's own arguments."""
+    from roverlink.commands import ros2
+
+    seen: list[Any] = []
+    monkeypatch.setattr(ros2, "cmd_ros2", lambda args: seen.append(args) or 0)
+    assert ros2.main(["--url", "emu://", "--profile", "picar", "--ros-args", "-p", "publish_tf:=false"]) == 0
+    assert (seen[0].url, seen[0].profile, seen[0].ros_args) == ("emu://", "picar", ["-p", "publish_tf:=false"])
+    with pytest.raises(SystemExit):
+        ros2.main(["--profile", "no-such-robot"])
+    assert "roverlink ros2: error" in capsys.readouterr().err
+
+
+def test_the_sdk_and_other_commands_never_import_ros() -> None:
+    code = (
+        "import sys, host_sdk, roverlink.cli;"
+        "roverlink.cli.build_parser();"
+        "import roverlink.ros2.params, roverlink.ros2.driver, roverlink.ros2.diagnostics, roverlink.ros2.convert;"
+        "bad = sorted(m for m in sys.modules if m.split('.')[0] in ('rclpy', 'geometry_msgs', 'nav_msgs'));"
+        "assert not bad, bad"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT)

@@ -1,0 +1,136 @@
+"""`roverlink monitor` (read-only, plain and Textual) and `roverlink teleop` (keys, expiry), headless."""
+
+from __future__ import annotations
+
+import asyncio
+import math
+import time
+from collections.abc import Callable
+
+import pytest
+from textual_pilot import until
+
+from emulator.firmware.statemachine import SessionState
+from host_sdk import FeedbackSample, Robot
+from roverlink.cli import main
+from roverlink.commands.monitor import plain
+from roverlink.dashboard import Dashboard, lines
+from roverlink.teleop import TeleopController
+from roverlink.tui import DashboardApp, TeleopApp
+from tests.support.emulate import emulate
+
+PROFILES = ["diffdrive-tb6612", "diffdrive-bts7960", "picar"]
+
+
+@pytest.mark.parametrize("profile", PROFILES)
+def test_plain_monitor_is_read_only(profile: str, capsys: pytest.CaptureFixture[str]) -> None:
+    with Robot.connect(f"emu://{profile}?clock=virtual") as robot:
+        dashboard = Dashboard(robot)
+        assert plain(robot, dashboard, 0.5, 3.0) == 6
+        states = {t[2] for t in robot.emulator.truth.firmware.transitions}
+        assert SessionState.ARMED not in states
+        assert robot.stats.setpoints_sent == 0
+        text = "\n".join(lines(dashboard.snapshot()))
+        name = robot.identity.robot_name
+    out = capsys.readouterr().out
+    assert out.count(" s  disarmed  v ") == 6
+    assert name in text and "state DISARMED" in text
+    assert "board  rx" in text and "rtt" in text and "(the monitor never commands)" in text
+
+
+def test_monitor_command_with_live_view(capsys: pytest.CaptureFixture[str]) -> None:
+    url = "emu://diffdrive-tb6612?clock=virtual"
+    assert main(["monitor", url, "--plain", "--duration", "2", "--foxglove", "--foxglove-port", "0"]) == 0
+    captured = capsys.readouterr()
+    assert "live view: ws://127.0.0.1:" in captured.err
+    assert "recorded" in captured.out and "/roverlink/feedback" in captured.out
+
+
+def _wait(predicate: Callable[[], bool], timeout_s: float = 10.0) -> bool:
+    deadline = time.monotonic() + timeout_s
+    while not predicate():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.02)
+    return True
+
+
+def test_textual_monitor_headless() -> None:
+    with emulate("--quiet", "--profile", "picar") as board, Robot.connect(board.url) as robot:
+        app = DashboardApp(Dashboard(robot), hz=10)
+
+        async def run() -> str:
+            async with app.run_test() as pilot:
+                ok = await until(lambda: "feedback" not in str(app.query_one("#motion").render()).lower(), pilot)
+                assert ok
+                await until(lambda: "board  rx" in str(app.query_one("#link").render()), pilot)
+                text = "\n".join(str(app.query_one(f"#{w}").render()) for w in ("state", "motion", "link"))
+                await pilot.press("q")
+                return text
+
+        text = asyncio.run(run())
+        assert "AckermannPiCar" in text and "DISARMED" in text and "measured" in text and "board  rx" in text
+        assert not robot.armed
+
+
+@pytest.mark.parametrize("profile", PROFILES)
+def test_teleop_drives_while_keys_arrive_and_stops_when_they_stop(profile: str) -> None:
+    ackermann = profile == "picar"
+    with emulate("--quiet", "--profile", profile) as board, Robot.connect(board.url) as robot:
+        controller = TeleopController(robot, key_timeout_s=0.4)
+        app = TeleopApp(Dashboard(robot), controller)
+
+        async def hold(pilot: object, *keys: str, times: int = 10) -> list[FeedbackSample]:
+            """Press keys the way a held key repeats; the FEEDBACK seen meanwhile."""
+            seen: list[FeedbackSample] = []
+            unsubscribe = robot.on_feedback(seen.append)
+            for _ in range(times):
+                await pilot.press(*keys)  # type: ignore[attr-defined]
+                await pilot.pause(0.05)  # type: ignore[attr-defined]
+            unsubscribe()
+            return seen
+
+        async def run() -> None:
+            async with app.run_test() as pilot:
+                await pilot.press("enter")
+                # the PiCar's ESC window first; a refused arm leaves its reason in the message
+                assert await until(lambda: robot.armed, pilot), controller.message
+                driving = await hold(pilot, "up", times=20)
+                assert max(min(s.wheel_speeds_m_s[: 1 if ackermann else 2]) for s in driving) > 0.05
+                assert controller.setpoint is not None and controller.setpoint.linear_m_s > 0
+                # Released: within the key timeout the target drops to zero and the robot stops, still armed.
+                assert await until(lambda: max(abs(v) for v in robot.feedback.wheel_speeds_m_s) < 0.01, pilot)
+                assert robot.armed and robot.failsafe is None
+                await pilot.press("plus")
+                if ackermann:  # forward and left together: the servo steers left
+                    turning = await hold(pilot, "up", "left")
+                    assert max(s.steering_rad for s in turning) > 0.2
+                else:  # left in place: the right wheel forward, the left back
+                    turning = await hold(pilot, "left")
+                    assert max(s.wheel_speeds_m_s[1] for s in turning) > 0.05
+                    assert min(s.wheel_speeds_m_s[0] for s in turning) < -0.05
+                await pilot.press("space")
+                await pilot.press("x")
+                assert await until(lambda: not robot.armed, pilot)
+                await pilot.press("q")
+
+        asyncio.run(run())
+        assert robot.failsafe is None
+
+
+def test_teleop_controller_limits_and_expiry() -> None:
+    with Robot.connect("emu://picar?clock=virtual") as robot:
+        controller = TeleopController(robot, key_timeout_s=0.5, level=5)
+        controller.key("up")
+        controller.key("left")
+        v, steer = controller.target(robot.now())
+        assert v == pytest.approx(robot.config.max_wheel_speed_mm_s / 1000)
+        assert steer == pytest.approx(math.radians(35))  # the servo's travel to the left (90 -> 125 deg)
+        assert controller.target(robot.now() + 0.6) == (0.0, 0.0)
+        controller.key("minus")
+        assert "speed" in controller.message
+        assert controller.key("z") is None
+
+
+def test_teleop_refuses_without_a_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
+    assert main(["teleop", "emu://"]) == 2
