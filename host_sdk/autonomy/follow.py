@@ -196,7 +196,7 @@ class Follower:
         A `RobotPose` carries the speed the board measured; from a bare (x, y, theta) the speed is
         estimated from successive poses."""
         if isinstance(pose, RobotPose):
-            self._speed = pose.linear_m_s
+            self._smooth_speed(t, pose.linear_m_s)
             pose = pose.xyt
         else:
             self._estimate_speed(t, pose)
@@ -213,11 +213,18 @@ class Follower:
         return decision
 
     def _estimate_speed(self, t: float, pose: Pose2D) -> None:
-        """How fast it really moves (a command takes a while to become a speed), from the poses."""
+        """The speed from successive poses (for a caller with no measured speed)."""
         dt = t - self._t
         if dt > 0:
             moved = (pose[0] - self._pose[0]) * math.cos(pose[2]) + (pose[1] - self._pose[1]) * math.sin(pose[2])
-            self._speed += min(1.0, dt / 0.1) * (moved / dt - self._speed)
+            self._smooth_speed(t, moved / dt)
+
+    def _smooth_speed(self, t: float, speed_m_s: float) -> None:
+        """How fast it really moves (a command takes a while to become a speed), low-passed over 0.1 s:
+        the board measures each wheel over one feedback period, a few encoder counts at a crawl."""
+        dt = t - self._t
+        if dt > 0:
+            self._speed += min(1.0, dt / 0.1) * (speed_m_s - self._speed)
 
     def _step(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *,
               movers: Sequence[Mover]) -> Decision:  # fmt: skip
