@@ -28,7 +28,7 @@ p.add_argument("--duration", type=float, default=30.0, help="seconds (default 30
 args = p.parse_args()
 
 with Robot.connect(args.url, profile=args.profile, clamp=True, auto_rearm=True) as robot:
-    ports = getattr(robot.transport, "endpoints", {})  # an emu:// robot's own sensors
+    ports = robot.transport.endpoints  # an emu:// robot's own sensors (empty on a board)
     model = mount(args.profile or profile_of(robot) or "picar", "lidar").device
     lidar = Lidar.open(args.lidar or ports["lidar"], model)
     camera = CameraSource(int(args.camera) if (args.camera or "").isdigit() else args.camera or ports["camera"])

@@ -1,11 +1,13 @@
 """RoverLink host SDK: talk to a RoverLink robot (board, simulator or emulator) from Python.
 
-    from host_sdk import Robot
-
-    with Robot.connect("emu://") as robot:       # or "/dev/ttyACM0", "socket://host:port", ...
-        robot.arm()
-        robot.drive(0.2, 0.0)
-        print(robot.wait_feedback().pose)
+    >>> from host_sdk import Robot
+    >>> with Robot.connect("emu://?clock=virtual") as robot:  # or "/dev/ttyACM0", "socket://host:port", ...
+    ...     robot.arm()
+    ...     for _ in range(50):  # about a second: FEEDBACK comes at 50 Hz
+    ...         robot.drive(0.2, 0.0)
+    ...         sample = robot.wait_feedback()
+    ...     print(f"{sample.pose.x_m:.1f} m")
+    0.2 m
 
 See docs/sdk.md.
 """

@@ -4,11 +4,17 @@ Each check returns the value in the type the SDK computes with, or raises an `Ar
 (a TypeError: not a number, a bool where a number goes...) or a `CommandRangeError` (a ValueError:
 NaN, infinity, out of range) that names the argument, the value and what is allowed. `bool` is an
 `int` to Python but never a number here: `drive(True, 0)` is a bug, not 1 m/s.
+
+A number is any `numbers.Real` (int, float, Fraction, and numpy's integer and floating scalars such
+as `numpy.float32(0.2)`, which numpy registers there), so numpy is never imported for the check;
+complex numbers, strings and bools (numpy's too) are refused.
 """
 
 from __future__ import annotations
 
 import math
+import numbers
+import operator
 from collections.abc import Callable, Iterable
 from typing import Any, TypeVar
 
@@ -24,10 +30,6 @@ def _fmt(x: float) -> str:
     return f"{x:g}" if abs(x) < 1e15 else f"{x:.3e}"
 
 
-def _is_number(value: object) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
-
-
 def number(
     name: str,
     value: object,
@@ -40,9 +42,9 @@ def number(
     error: type[CommandRangeError] = CommandRangeError,
 ) -> float:
     """A finite real number in lo..hi (an end excluded when `lo_open`/`hi_open`)."""
-    if not _is_number(value):
+    # numpy.bool_ is no numbers.Real; Python's bool is (an int), so it is refused by name.
+    if not isinstance(value, numbers.Real) or isinstance(value, bool):
         raise ArgumentTypeError(name, value, _range_text(lo, hi, unit, lo_open, hi_open))
-    assert isinstance(value, (int, float))
     try:
         x = float(value)
     except OverflowError:  # an int beyond any float
@@ -72,12 +74,13 @@ def seconds(name: str, value: object, *, zero: bool = False, hi: float = MAX_WAI
 
 
 def integer(name: str, value: object, lo: int, hi: int, *, what: str = "an integer") -> int:
-    """An int (not a bool, not a float) in lo..hi."""
-    if not isinstance(value, int) or isinstance(value, bool):
+    """An integer (an int or a numpy integer; not a bool, not a float) in lo..hi, as an int."""
+    if not isinstance(value, numbers.Integral) or isinstance(value, bool):
         raise ArgumentTypeError(name, value, f"{what} in {lo}..{hi}")
-    if not lo <= value <= hi:
+    n = operator.index(value)
+    if not lo <= n <= hi:
         raise CommandRangeError(name, value, f"{what} in {lo}..{hi}")
-    return value
+    return n
 
 
 def flag(name: str, value: object) -> bool:

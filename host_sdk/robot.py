@@ -1,13 +1,15 @@
 """`Robot`: the object robot code holds. Connects, arms, drives, reads feedback and odometry.
 
-    from host_sdk import Robot
-
-    with Robot.connect("/dev/ttyACM0", profile="diffdrive-tb6612") as robot:
-        robot.arm()
-        while robot.odometry.pose.x_m < 1.0:
-            robot.drive(0.3, 0.0)              # m/s, rad/s; renew it at least every command_timeout_s
-            robot.wait_feedback()
-        robot.stop()
+    >>> from host_sdk import Robot
+    >>> url = "emu://diffdrive-tb6612?clock=virtual"  # a board: "/dev/ttyACM0"
+    >>> with Robot.connect(url, profile="diffdrive-tb6612") as robot:
+    ...     robot.arm()
+    ...     while robot.odometry.pose.x_m < 1.0:
+    ...         robot.drive(0.3, 0.0)  # m/s, rad/s; renew it at least every command_timeout_s
+    ...         sample = robot.wait_feedback()
+    ...     robot.stop()
+    ...     print(f"{robot.odometry.pose.x_m:.2f} m")
+    1.00 m
 
 Layering: a Transport (bytes) under the sans-I/O Session (host_sdk.session), run by a Runner
 (host_sdk.runner: one I/O thread on real ports and `emu://` on the wall clock, or inline on the
@@ -27,7 +29,7 @@ import dataclasses
 import math
 import threading
 from collections.abc import Callable, Iterator
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Literal, cast
 
 from host_sdk import checks
 from host_sdk.callbacks import Callbacks, FailsafeCallback, FeedbackCallback, LogCallback, ResetCallback
@@ -59,6 +61,9 @@ from host_sdk.transport import Transport, open_transport
 from protocol.generated.constants import FEEDBACK_HZ_DEFAULT, WATCHDOG_DEFAULT_MS
 from protocol.generated.enums import Capability, FailsafeReason, FeedbackMode
 from protocol.generated.messages import Arm, Disarm
+
+if TYPE_CHECKING:
+    from host_sdk.emulated import EmulatorHandle
 
 
 class OdometryView:
@@ -249,12 +254,14 @@ class Robot(DriveCalls, ConfigCalls):
         return self._transport
 
     @property
-    def emulator(self) -> Any:
-        """The in-process emulator behind an emu:// URL (the transport's `device`; None otherwise).
+    def emulator(self) -> EmulatorHandle | None:
+        """The in-process emulator behind an emu:// URL (the transport's `device`; None otherwise),
+        typed as what a program may use of it (host_sdk.emulated: truth, time, faults).
 
         On the virtual clock use it freely; on the real clock an I/O thread drives it, so wrap
         access in `with robot.transport.locked() as emu:`."""
-        return self._transport.device
+        # The emu:// plugin's device is an emulator.Emulator, which host_sdk must not import.
+        return cast("EmulatorHandle | None", self._transport.device)
 
     @property
     def virtual_clock(self) -> bool:

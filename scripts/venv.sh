@@ -36,10 +36,16 @@ if [[ ! -x "$VENV/bin/python" ]] || ! "$VENV/bin/python" -m pip --version >/dev/
     "$PYTHON" -m venv "$VENV"
 fi
 
-# Install (again) when pyproject.toml is newer than the last install with these extras.
-stamp="$VENV/.installed${EXTRAS:+-$EXTRAS}"
+# The editable install is a .pth file naming the checkout (setuptools' `compat` mode), not the
+# default import hook: type checkers cannot follow an import hook, so a robot program's
+# `mypy --strict` would not find host_sdk (tests/host_sdk/sdk/test_sdk_typing.py checks this).
+EDITABLE_MODE=compat
+# Install (again) when pyproject.toml is newer than the last install with these extras and this
+# mode (the mode in the stamp's name: a venv installed the old way is installed again).
+stamp="$VENV/.installed-$EDITABLE_MODE${EXTRAS:+-$EXTRAS}"
 if [[ ! -f "$stamp" || "$ROOT/pyproject.toml" -nt "$stamp" ]]; then
     echo "== installing roverlink${EXTRAS:+[$EXTRAS]} into $VENV"
-    "$VENV/bin/python" -m pip install -q --disable-pip-version-check -e "$ROOT${EXTRAS:+[$EXTRAS]}"
+    "$VENV/bin/python" -m pip install -q --disable-pip-version-check \
+        --config-settings editable_mode="$EDITABLE_MODE" -e "$ROOT${EXTRAS:+[$EXTRAS]}"
     touch "$stamp"
 fi

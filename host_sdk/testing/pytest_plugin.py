@@ -12,42 +12,39 @@ Fixtures:
 - `robot`: a `host_sdk.Robot` connected to an in-process emulator on a virtual clock, ready
   (disarmed unless `armed=True`). Time passes only while it waits: `robot.sleep(s)`,
   `robot.wait_feedback()`, requests. No threads, so runs are reproducible from the seed.
-- `emulator`: the `emulator.Emulator` behind it: `.truth` (ground truth: pose, wheel speeds,
-  firmware state), fault injection (`cut_link()`, `reset_mcu()`, `set_drop_rate()`, ...).
-  Calling `emulator.advance(s)` directly runs the robot while the host is frozen (the watchdog acts).
+- `emulator`: the `emulator.Emulator` behind it, typed as `host_sdk.emulated.EmulatorHandle`:
+  `.truth` (ground truth: pose, wheel speeds, firmware state), fault injection (`cut_link()`,
+  `reset_mcu()`, `set_drop_rate()`, ...). Calling `emulator.advance(s)` directly runs the robot
+  while the host is frozen (the watchdog acts).
 - `roverlink_options`: the dict the fixtures are built from; override it in a conftest.py, or set
   fields per test with `@pytest.mark.roverlink(profile="picar", seed=3, faults="drop=1e-3",
-  mode="lockstep", armed=True, watchdog_s=0.5, ...)`. Keys other than profile, seed, faults,
-  armed and eeprom go to `Robot.connect`.
+  mode="lockstep", armed=True, watchdog_s=0.5, imu="jy901", ...)`: the options of
+  `host_sdk.testing.emulated_robot` (an unknown key fails the test, naming it and listing them).
+
+In a Hypothesis ``@given`` test use `emulated_robot(...)` in the body instead of these fixtures
+(one robot per example; docs/sdk.md, "Property tests").
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from typing import Any
-from urllib.parse import quote
 
 import pytest
 
+from host_sdk.emulated import EmulatorHandle
 from host_sdk.robot import Robot
+from host_sdk.testing.emulated_robot import DEFAULTS, OPTIONS, check_options, emulated_robot, emulator_url
 
-DEFAULTS: dict[str, Any] = {"profile": "diffdrive-tb6612", "seed": 0, "faults": "", "armed": False, "eeprom": "saved"}
+__all__ = ["DEFAULTS", "emulator", "emulator_url", "robot", "roverlink_options"]
 
 
 def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line(
         "markers",
-        "roverlink(profile=..., seed=..., faults=..., mode=..., armed=..., **connect_options): "
-        "configure the emulated `robot` and `emulator` fixtures of the roverlink plugin",
+        f"roverlink(**options): configure the emulated `robot` and `emulator` fixtures of the roverlink "
+        f"plugin; options: {', '.join(OPTIONS)}",
     )
-
-
-def emulator_url(profile: str, seed: int = 0, faults: str = "", eeprom: str = "saved") -> str:
-    """The emu:// URL of a virtual-clock emulator."""
-    url = f"emu://{profile}?seed={seed}&clock=virtual&eeprom={eeprom}"
-    if faults:
-        url += "&faults=" + quote(faults, safe=",")
-    return url
 
 
 @pytest.fixture
@@ -55,6 +52,12 @@ def roverlink_options(request: pytest.FixtureRequest) -> dict[str, Any]:
     """Options of the emulated robot: DEFAULTS, updated by a @pytest.mark.roverlink(...) on the test."""
     options = dict(DEFAULTS)
     for marker in reversed(list(request.node.iter_markers("roverlink"))):
+        if marker.args:
+            pytest.fail(f"@pytest.mark.roverlink takes keywords only, not {marker.args!r}", pytrace=False)
+        try:
+            check_options(marker.kwargs, "@pytest.mark.roverlink")
+        except TypeError as exc:
+            pytest.fail(str(exc), pytrace=False)
         options.update(marker.kwargs)
     return options
 
@@ -62,20 +65,13 @@ def roverlink_options(request: pytest.FixtureRequest) -> dict[str, Any]:
 @pytest.fixture
 def robot(roverlink_options: dict[str, Any]) -> Iterator[Robot]:
     """A Robot on an in-process emulator with a virtual clock, connected and ready."""
-    options = dict(roverlink_options)
-    profile = options.pop("profile")
-    url = emulator_url(profile, options.pop("seed"), options.pop("faults"), options.pop("eeprom"))
-    armed = options.pop("armed")
-    bot = Robot.connect(url, profile=profile, **options)
-    try:
-        if armed:
-            bot.arm()
+    with emulated_robot(**roverlink_options) as bot:
         yield bot
-    finally:
-        bot.close()
 
 
 @pytest.fixture
-def emulator(robot: Robot) -> Any:
+def emulator(robot: Robot) -> EmulatorHandle:
     """The emulator.Emulator behind `robot`: ground truth (`.truth`) and fault injection."""
-    return robot.emulator
+    emu = robot.emulator
+    assert emu is not None, "the roverlink plugin's robot is always an emu:// one"
+    return emu

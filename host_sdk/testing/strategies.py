@@ -14,15 +14,24 @@ What is generated is always *valid*: it encodes without error and decodes back t
   fields bytes of at most N;
 * fixed arrays are tuples of exactly ``count`` elements.
 
-Fuzz your own code with them, e.g. a handler that must accept any telemetry the board can send::
+Fuzz your own code with them, e.g. a handler that must accept any telemetry the board can send
+(here the SDK's own odometry, fed every FEEDBACK a board may send; a test that fails shows the
+smallest one that breaks it):
 
-    from hypothesis import given
-    from host_sdk import messages
-    from host_sdk.testing import strategies as rls
+    >>> from hypothesis import given, settings
+    >>> from host_sdk import messages
+    >>> from host_sdk.odometry import Odometry
+    >>> from host_sdk.profiles import kinematics_for
+    >>> from host_sdk.testing import strategies as rls
+    >>> @settings(max_examples=20)
+    ... @given(rls.message(messages.Feedback))
+    ... def test_odometry_starts_where_the_first_sample_is(fb: messages.Feedback) -> None:
+    ...     odometry = Odometry(kinematics_for("diffdrive-tb6612"))
+    ...     pose = odometry.update(fb.encoder_counts, fb.mcu_time_us)
+    ...     assert (pose.x_m, pose.y_m) == (0.0, 0.0)
+    >>> test_odometry_starts_where_the_first_sample_is()
 
-    @given(rls.message(messages.Feedback))
-    def test_odometry_never_crashes(fb: messages.Feedback) -> None:
-        Odometry().update(fb)
+and code that reads bytes, with the frames that were sent and the bytes a port carries for them::
 
     @given(rls.streams(max_frames=20))
     def test_reader_sees_every_frame(stream: rls.Stream) -> None:
@@ -31,6 +40,13 @@ Fuzz your own code with them, e.g. a handler that must accept any telemetry the 
         assert reader.received == [f.message for f in stream.frames]
 
 ``frames()`` and ``streams()`` give what a port would carry, for testing code that reads bytes.
+
+``drive_commands(profile)`` and ``command_sequences(profile)`` give what a robot program sends:
+`Twist`, `WheelSpeeds` or `AckermannCommand` values (host_sdk.testing.commands) within the
+robot's limits (its firmware's default configuration), or beyond them with ``in_range=False``;
+a sequence is a list of `Step` (command, seconds) to drive with `run_steps` on an
+`emulated_robot` (docs/sdk.md, "Property tests").
+
 hypothesis is needed only here: ``import host_sdk`` never imports it (install the ``dev`` extra).
 """
 
@@ -38,6 +54,7 @@ from __future__ import annotations
 
 import enum
 import functools
+import math
 import operator
 import struct
 from collections.abc import Iterable
@@ -46,11 +63,22 @@ from typing import Any, NamedTuple, TypeVar, cast
 from hypothesis import strategies as st
 
 from host_sdk.framing import Frame, encode_frame
+from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.limits import DriveLimits
+from host_sdk.profiles import RobotProfile, get_profile, kinematics_for
+from host_sdk.testing.commands import AckermannCommand, DriveCommand, Step, Twist, WheelSpeeds
 from protocol.codec.message import FieldInfo, Message
 from protocol.generated.messages import ALL_MESSAGES
 
 __all__ = [
+    "AckermannCommand",
+    "DriveCommand",
+    "Step",
     "Stream",
+    "Twist",
+    "WheelSpeeds",
+    "command_sequences",
+    "drive_commands",
     "field_values",
     "frames",
     "message",
@@ -210,3 +238,94 @@ def streams(
     """
     items = st.lists(frames() if of is None else of, min_size=min_frames, max_size=max_frames)
     return items.map(_stream)
+
+
+# == drive commands ================================================================================
+_BEYOND = 3.0
+"""Out-of-range values reach this many times the limit."""
+_PAST = 1e-3
+"""Out-of-range values are at least this far past the limit (well past the checks' rounding slack)."""
+
+
+def _within(lo: float, hi: float) -> st.SearchStrategy[float]:
+    return st.floats(min_value=lo, max_value=hi, allow_nan=False, allow_infinity=False)
+
+
+def _beyond(limit: float) -> st.SearchStrategy[float]:
+    """Values of either sign past `limit` (>= 0) by at least `_PAST`."""
+    past = _within(limit + _PAST, max(limit, _PAST) * _BEYOND + _PAST)
+    return st.one_of(past, past.map(operator.neg))
+
+
+def _diff_commands(kin: DiffDrive, limits: DriveLimits, top: float, in_range: bool) -> st.SearchStrategy[DriveCommand]:
+    if in_range:
+        wheels = st.builds(WheelSpeeds, _within(-top, top), _within(-top, top))
+        return st.one_of(wheels, wheels.map(lambda w: Twist(*kin.twist(w.left_m_s, w.right_m_s))))
+    limit, anything = limits.max_speed_m_s, _within(-_BEYOND * top, _BEYOND * top)
+    fast = _beyond(limit)
+    return st.one_of(
+        st.builds(WheelSpeeds, fast, anything),
+        st.builds(WheelSpeeds, anything, fast),
+        st.builds(Twist, fast, _within(-1.0, 1.0)),
+    )
+
+
+def _ackermann_commands(
+    kin: Ackermann, limits: DriveLimits, top: float, in_range: bool
+) -> st.SearchStrategy[DriveCommand]:
+    right, left = limits.steer_right_rad, limits.steer_left_rad
+    if in_range:
+        steered = st.builds(AckermannCommand, _within(-top, top), _within(-right, left))
+        as_twist = steered.map(lambda c: Twist(c.speed_m_s, kin.turn_rate(c.speed_m_s, c.steering_rad)))
+        return st.one_of(steered, as_twist)
+    speed, steer = _within(-top, top), _within(-right, left)
+    too_far = st.one_of(_within(left + _PAST, math.pi), _within(-math.pi, -right - _PAST))
+    return st.one_of(
+        st.builds(AckermannCommand, _beyond(limits.max_speed_m_s), steer),
+        st.builds(AckermannCommand, speed, too_far),
+    )
+
+
+def drive_commands(
+    profile: str | RobotProfile = "diffdrive-tb6612", *, in_range: bool = True, max_speed_m_s: float | None = None
+) -> st.SearchStrategy[DriveCommand]:
+    """Drive commands for the reference robot `profile`, against its firmware's default limits
+    (`DriveLimits.of(profile.config)`: what an ``emu://`` robot with a saved EEPROM has).
+
+    In range (the default): `WheelSpeeds` and `Twist` for a differential drive, `AckermannCommand`
+    and `Twist` for a steered robot, every wheel within ``max_speed_m_s`` (default: the limit),
+    the steering within the servo's travel: the robot accepts each one without clamping.
+    ``in_range=False``: commands with a speed or a steering angle beyond the limit, which the
+    robot refuses (CommandRangeError) or, with ``clamp=True``, brings inside.
+
+    >>> from hypothesis import given
+    >>> @given(drive_commands("picar"))
+    ... def test_a_steered_robot_gets_no_wheel_speeds(command: DriveCommand) -> None:
+    ...     assert isinstance(command, (AckermannCommand, Twist))
+    >>> test_a_steered_robot_gets_no_wheel_speeds()
+    """
+    prof = profile if isinstance(profile, RobotProfile) else get_profile(profile, argument="profile")
+    limits = DriveLimits.of(prof.config)
+    top = limits.max_speed_m_s if max_speed_m_s is None else min(max_speed_m_s, limits.max_speed_m_s)
+    if top < 0:
+        raise ValueError(f"max_speed_m_s must be >= 0, not {max_speed_m_s!r}")
+    kin = kinematics_for(prof)
+    if isinstance(kin, DiffDrive):
+        return _diff_commands(kin, limits, top, in_range)
+    return _ackermann_commands(kin, limits, top, in_range)
+
+
+def command_sequences(
+    profile: str | RobotProfile = "diffdrive-tb6612",
+    *,
+    commands: st.SearchStrategy[DriveCommand] | None = None,
+    min_steps: int = 1,
+    max_steps: int = 5,
+    min_duration_s: float = 0.05,
+    max_duration_s: float = 1.0,
+) -> st.SearchStrategy[list[Step]]:
+    """Lists of `Step` (command, duration): `commands` (default ``drive_commands(profile)``) each
+    held `min_duration_s`..`max_duration_s`, for `run_steps(robot, steps)`."""
+    durations = _within(min_duration_s, max_duration_s)
+    steps = st.builds(Step, drive_commands(profile) if commands is None else commands, durations)
+    return st.lists(steps, min_size=min_steps, max_size=max_steps)

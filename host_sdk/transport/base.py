@@ -7,6 +7,10 @@ from __future__ import annotations
 
 import abc
 import time
+from collections.abc import Mapping
+from types import MappingProxyType
+
+NO_ENDPOINTS: Mapping[str, str] = MappingProxyType({})
 
 
 class Transport(abc.ABC):
@@ -21,6 +25,13 @@ class Transport(abc.ABC):
     Robot.connect then takes the kinematics from the firmware's IDENTITY."""
     device: object | None = None
     """The in-process device behind the URL (an emulator: ground truth, fault injection), else None."""
+
+    @property
+    def endpoints(self) -> Mapping[str, str]:
+        """URLs of the sensors attached to the device behind this transport, by kind (`lidar`, `imu`,
+        `camera`, and `target`: an emu:// robot's, docs/sensors.md), for the SDK's sensor drivers
+        (host_sdk.sensors). Empty for a board on a cable."""
+        return NO_ENDPOINTS
 
     @abc.abstractmethod
     def read(self, timeout_s: float) -> bytes:

@@ -7,7 +7,7 @@ A package registers a scheme in the ``roverlink.transports`` entry point group:
 
 The target is called as ``open_url(url, baud)`` and returns an object with the Transport methods
 (`read(timeout_s)`, `write(data)`, `close()`, `clock()`) and attributes (`url`, `virtual`, and
-optionally `profile`, `device`, `locked()`). It need not import the SDK: `PluginTransport` adapts it,
+optionally `profile`, `device`, `endpoints`, `locked()`). It need not import the SDK: `PluginTransport` adapts it,
 turning an OSError from its I/O into TransportError. A ValueError it raises while opening (a bad
 URL parameter, an unknown profile) becomes a CommandRangeError naming the `url` with the plugin's
 explanation; other RoverLinkErrors pass through; anything else becomes a TransportError.
@@ -16,11 +16,11 @@ explanation; other RoverLinkErrors pass through; anything else becomes a Transpo
 from __future__ import annotations
 
 import importlib.metadata
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any, Protocol
 
 from host_sdk.errors import CommandRangeError, RoverLinkError, TransportError
-from host_sdk.transport.base import Transport
+from host_sdk.transport.base import NO_ENDPOINTS, Transport
 
 GROUP = "roverlink.transports"
 
@@ -72,6 +72,12 @@ class PluginTransport(Transport):
         self.virtual = bool(endpoint.virtual)
         self.profile = getattr(endpoint, "profile", None)
         self.device = getattr(endpoint, "device", None)
+
+    @property
+    def endpoints(self) -> Mapping[str, str]:
+        # Read through: the plugin may attach sensors after opening (roverlink.follow.emulated).
+        found = getattr(self.endpoint, "endpoints", None)
+        return found if isinstance(found, Mapping) else NO_ENDPOINTS
 
     def read(self, timeout_s: float) -> bytes:
         try:

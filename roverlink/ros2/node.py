@@ -15,6 +15,7 @@ import logging
 import threading
 import time
 from collections import deque
+from collections.abc import Mapping
 from typing import Any
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
@@ -171,7 +172,7 @@ class BridgeNode(Node):
         emu = self._emu_options()
         return None if emu is None else str(emu.profile)
 
-    def _start_sensors(self, endpoints: dict[str, str]) -> None:
+    def _start_sensors(self, endpoints: Mapping[str, str]) -> None:
         """The lidar and IMU the parameters name, or else the emulated ones of an emu:// robot."""
         p, started = self.params, {s.kind for s in self.sensors}
         lidar_url = p.lidar_url or endpoints.get("lidar", "")
@@ -238,7 +239,7 @@ class BridgeNode(Node):
             from roverlink.ros2.simulation import EmulatorInterface  # noqa: PLC0415 (only for emu://)
 
             self.extras.append(EmulatorInterface(self, self.connection, robot, p.odom_frame, p.base_frame))
-        self._start_sensors(getattr(robot.transport, "endpoints", None) or {})
+        self._start_sensors(robot.transport.endpoints)
         if p.auto_arm:
             robot.arm(wait_esc=False)
             self.get_logger().info("armed (auto_arm)")

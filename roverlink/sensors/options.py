@@ -93,7 +93,7 @@ def choose_sensors(args: argparse.Namespace, robot: Robot, kinds: Sequence[str] 
     attached."""
     if getattr(args, "no_sensors", False):
         return SensorChoice()
-    attached: dict[str, str] = dict(getattr(robot.transport, "endpoints", None) or {})
+    attached = robot.transport.endpoints
     endpoints = {kind: url for kind, url in attached.items() if kind in kinds}
     lidar = getattr(args, "lidar", None) or endpoints.get("lidar")
     imu = getattr(args, "imu", None) or endpoints.get("imu")

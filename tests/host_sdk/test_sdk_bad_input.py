@@ -117,3 +117,23 @@ def test_messages_say_what_is_wrong_in_the_users_terms() -> None:
     assert "0..9223372036854775808" in str(err.value) and "e+18" not in str(err.value)
     with pytest.raises(TransportError, match="it is a file, not a serial port"):
         Robot.connect(__file__)
+
+
+def test_numpy_scalars_are_numbers() -> None:
+    np = pytest.importorskip("numpy")
+    with Robot.connect(URL, watchdog_s=np.float32(0.5), feedback_hz=np.int64(50)) as robot:
+        robot.arm(timeout_s=np.float64(2.0))
+        robot.drive(np.float32(0.2), np.float16(0.0))
+        robot.set_wheel_speeds(np.float32(0.2), np.int32(0))
+        robot.sleep(np.float32(0.1))
+        assert robot.pid(wheel=np.int8(0)) is not None
+
+
+@pytest.mark.parametrize("bad", ["numpy.bool_(True)", "numpy.complex128(0.2)", "numpy.float32('nan')",
+                                 "numpy.float64('inf')", "complex(0.2, 0)", "'0.2'"])  # fmt: skip
+def test_numpy_scalars_that_are_no_finite_real_are_refused(bad: str) -> None:
+    numpy = pytest.importorskip("numpy")
+    value = eval(bad, {"numpy": numpy})
+    with Robot.connect(URL) as robot, pytest.raises(ArgumentError) as err:
+        robot.drive(value, 0.0)
+    assert err.value.argument == "linear_m_s"
