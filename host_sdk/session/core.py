@@ -72,6 +72,7 @@ class Session:
         self._setpoints = SetpointKeeper(options, wire, self._n)
         self._arming = Arming(self._emit)
         self._feedback = FeedbackTracker(kinematics)
+        # The queue asks whether the link is open only once running, after _life is made below.
         self._requests = RequestQueue(
             options,
             wire,
@@ -82,16 +83,16 @@ class Session:
             emit=self._emit,
         )
         parts = Parts(
-            options,
-            self._n,
-            wire,
-            handshake,
-            self._sync,
-            self._setpoints,
-            self._arming,
-            self._requests,
-            self._feedback,
-            self._emit,
+            options=options,
+            counters=self._n,
+            wire=wire,
+            handshake=handshake,
+            sync=self._sync,
+            setpoints=self._setpoints,
+            arming=self._arming,
+            requests=self._requests,
+            feedback=self._feedback,
+            emit=self._emit,
         )
         self._life = Lifecycle(parts)
         self._receiver = Receiver(parts, self._life)
