@@ -6,14 +6,13 @@ from host_sdk.session.events import (
     Failed,
     FailsafeEntered,
     FeedbackReceived,
-    LinkState,
     LogReceived,
     Opened,
     Ready,
     RequestFinished,
     ResetDetected,
-    SessionOptions,
 )
+from host_sdk.session.options import LinkState, SessionOptions
 from host_sdk.session.requests import Request
 from host_sdk.session.types import (
     FeedbackSample,

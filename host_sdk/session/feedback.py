@@ -27,10 +27,11 @@ _COUNT_BITS, _TICK_BITS = _bits("encoder_counts"), _bits("tick")
 
 
 class FeedbackTracker:
-    """Unwraps counts, MCU time and tick of consecutive FEEDBACK frames of one boot, and keeps the
-    odometry. The encoder counts are unwrapped here and nowhere else (odometry takes them unwrapped)."""
+    """Unwraps counts, MCU time and tick of consecutive FEEDBACK frames of one boot, keeps the
+    odometry and the latest sample. The encoder counts are unwrapped here and nowhere else
+    (odometry takes them unwrapped)."""
 
-    __slots__ = ("_counts", "_index", "_prev_steering", "_tick", "kinematics", "odometry")
+    __slots__ = ("_counts", "_index", "_latest", "_prev_steering", "_tick", "kinematics", "odometry")
 
     def __init__(self, kinematics: DiffDrive | Ackermann | None = None) -> None:
         self.kinematics = kinematics
@@ -39,6 +40,25 @@ class FeedbackTracker:
         self._prev_steering = 0.0
         self._counts = [Unwrapper(_COUNT_BITS) for _ in range(WHEEL_COUNT)]
         self._tick = Unwrapper(_TICK_BITS)
+        self._latest: FeedbackSample | None = None
+
+    @property
+    def latest(self) -> FeedbackSample | None:
+        """The latest sample (its `received_s` is when the latest FEEDBACK arrived)."""
+        return self._latest
+
+    def pose(self) -> Pose | None:
+        """The odometry's pose (None without kinematics)."""
+        odo = self.odometry
+        return odo.pose if odo is not None else None
+
+    def reset_pose(self, x_m: float, y_m: float, theta_rad: float) -> bool:
+        """Set the pose (counting goes on from the next sample); False without kinematics."""
+        odo = self.odometry
+        if odo is None:
+            return False
+        odo.reset(x_m, y_m, theta_rad)
+        return True
 
     def new_boot(self) -> None:
         """The board rebooted: its counters start again; the pose is kept and the counts re-anchored."""
@@ -68,7 +88,7 @@ class FeedbackTracker:
             pose = odo.pose
         self._prev_steering = steering
         self._index += 1
-        return FeedbackSample(
+        self._latest = sample = FeedbackSample(
             self._index,
             msg.boot_id,
             now,
@@ -84,3 +104,4 @@ class FeedbackTracker:
             msg.ack_seq,
             pose,
         )
+        return sample
