@@ -4,6 +4,7 @@ seq, answered by ACK, NACK or data."""
 from __future__ import annotations
 
 from host_sdk.errors import RequestTimeoutError, RoverLinkError, SessionResetError
+from host_sdk.limits import relimited
 from host_sdk.session.events import LinkState, RequestFinished
 from host_sdk.session.output import EPS, Output
 from protocol.codec.message import Message
@@ -95,6 +96,10 @@ class Requests(Output):
                 # Queued for a session that a reset ended: never apply it to the new one.
                 self._finish(req, None, SessionResetError(req.boot_id, self.boot_id, "before it was sent"))
                 continue
+            if isinstance(req.msg, SetConfig) and self._setpoint is not None:
+                # The board re-limits its running setpoint to a lowered speed limit; the repeats
+                # sent after this SET_CONFIG must carry the same values, or it refuses them.
+                self._setpoint = relimited(self._setpoint, req.msg.max_wheel_speed_mm_s)
             if (req.msg.MSG_ID, self._tx_seq) == self._last_reliable_key:
                 # The firmware would take this as a duplicate of the last request: burn the seq.
                 self._send_ping(now)

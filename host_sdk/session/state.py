@@ -25,9 +25,8 @@ from host_sdk.session.events import Event, LinkState, SessionOptions
 from host_sdk.session.feedback import FeedbackTracker
 from host_sdk.session.types import FeedbackSample, RobotIdentity
 from host_sdk.timesync import ClockSync
-from protocol.codec.message import Message
 from protocol.generated.enums import Capability, FailsafeReason, FeedbackMode
-from protocol.generated.messages import SetConfig
+from protocol.generated.messages import SetAckermann, SetConfig, SetWheelSpeeds
 
 if TYPE_CHECKING:
     from host_sdk.session.requests import Request
@@ -96,7 +95,7 @@ class SessionState:
         self._queue: deque[Request] = deque()
         self._inflight: Request | None = None
         self._last_reliable_key: tuple[int, int] | None = None
-        self._setpoint: Message | None = None
+        self._setpoint: SetWheelSpeeds | SetAckermann | None = None
         self._setpoint_seq = -1
         self._setpoint_expires = 0.0
         self._setpoint_sent = 0.0
