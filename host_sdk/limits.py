@@ -147,3 +147,22 @@ class DriveLimits:
             f"{lo:.3f}..{hi:.3f} rad/s at linear_m_s={linear:g} (steering {-right:.3f}..{left:.3f} rad)",
             "pass clamp=True to steer at the limit instead",
         )
+
+
+def relimited(setpoint: Setpoint, max_speed_mm_s: int) -> Setpoint:
+    """`setpoint` as the board re-limits a running one when max_wheel_speed_mm_s is lowered
+    (docs/control.md 4.4): both wheel speeds scaled by max / peak, rounded half away from zero;
+    an Ackermann speed clamped. The session repeats this one after a SET_CONFIG, so its repeats are
+    never refused under the new limit. Unchanged when within the limit."""
+    if isinstance(setpoint, SetAckermann):
+        speed = max(-max_speed_mm_s, min(max_speed_mm_s, setpoint.speed_mm_s))
+        return setpoint if speed == setpoint.speed_mm_s else SetAckermann(speed, setpoint.steering_mrad)
+    peak = max(abs(setpoint.left_mm_s), abs(setpoint.right_mm_s))
+    if peak <= max_speed_mm_s:
+        return setpoint
+    return SetWheelSpeeds(*(_div_round(v * max_speed_mm_s, peak) for v in (setpoint.left_mm_s, setpoint.right_mm_s)))
+
+
+def _div_round(a: int, b: int) -> int:
+    """a / b (b > 0) rounded half away from zero, in integers (as the firmware does it)."""
+    return (a + b // 2) // b if a >= 0 else -((-a + b // 2) // b)

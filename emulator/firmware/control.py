@@ -15,6 +15,26 @@ def round_half_away(x: float) -> int:
     return int(math.copysign(math.floor(abs(x) + 0.5), x))
 
 
+def div_round(a: int, b: int) -> int:
+    """Integer a / b (b > 0) rounded half away from zero, exactly as the C++ core's div_round."""
+    return (a + b // 2) // b if a >= 0 else -((-a + b // 2) // b)
+
+
+def limit_targets(targets: list[int], max_speed: int) -> list[int]:
+    """Section 4.4: targets beyond +-max_speed are brought inside by one factor for both wheels
+    (max_speed / peak, rounded half away from zero), so a turn keeps its curvature."""
+    peak = max(abs(t) for t in targets)
+    if peak <= max_speed:
+        return targets
+    return [div_round(t * max_speed, peak) for t in targets]
+
+
+def target_step(old: int, new: int) -> bool:
+    """Section 4.4: a change of target that resets the wheel's integrator: by more than half the
+    larger magnitude (a sign change always is)."""
+    return 2 * abs(new - old) > max(abs(old), abs(new))
+
+
 def ramp_step(ramped: N, target: N, accel_step: N, decel_step: N) -> N:
     """One tick of the ramp: toward `target` by at most `accel_step` when speeding up in the same
     direction (or from rest), else by at most `decel_step` (slowing, or reversing through zero).
@@ -54,11 +74,13 @@ class WheelPid:
             self.u = 0
             self.u_unsat = 0.0
             return 0, False
+        limit = float(max_effort)
+        # A lowered max_effort bounds the integrator from this tick on, integrating or not.
+        self.integral = max(-limit, min(limit, self.integral))
         e = ramped - measured
         p = gains.kp * e
         d = -gains.kd * (measured - m_prev) / dt
         u_unsat = gains.kf * ramped + p + self.integral + d
-        limit = float(max_effort)
         saturated = abs(u_unsat) > limit
         u = round_half_away(max(-limit, min(limit, u_unsat)))
         # Conditional integration: integrate when unsaturated, or when the error pulls back in.

@@ -289,8 +289,8 @@ class Firmware(ControlTick):
         if bad:
             self._nack(msg, seq, NackReason.OUT_OF_RANGE, min(bad))
             return
-        servo = self._servo_cdeg_for(msg.steering_mrad) if isinstance(msg, SetAckermann) else None
-        self.pending = Pending(seq, (speeds[0], speeds[1]), servo)
+        steer = msg.steering_mrad if isinstance(msg, SetAckermann) else None
+        self.pending = Pending(seq, (speeds[0], speeds[1]), steer)
 
     def _failsafe(self, event: SessionEvent, reason: FailsafeReason) -> None:
         self._fire(event, None, _Ctx(reason=reason))

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 from emulator.firmware.board import Board
 from emulator.firmware.config import Gains
-from emulator.firmware.control import WheelPid, ramp_step, round_half_away
+from emulator.firmware.control import WheelPid, limit_targets, ramp_step, round_half_away, target_step
 from emulator.firmware.lights import BLINK_PERIOD_TICKS, light_mask
 from emulator.firmware.session import Session
 from emulator.firmware.statemachine import SessionEvent, SessionState
@@ -46,7 +46,8 @@ class Pending:
 
     seq: int
     targets: tuple[int, int]
-    servo_cdeg: int | None
+    steering_mrad: int | None
+    """The front-wheel angle (SET_ACKERMANN); None keeps the current one."""
 
 
 class ControlTick:
@@ -90,6 +91,8 @@ class ControlTick:
         self.ack_seq = 0
         self.ack_tick = 0
         self.servo_cdeg = robot.config.steering_center_cdeg
+        self.steer_mrad = 0
+        """The latest setpoint's steering angle: the servo angle is re-limited from it every tick."""
         self.stall_ticks = [0] * WHEEL_COUNT
         self.encoder_fault = [False] * WHEEL_COUNT
         self._reset_integrator = [False] * WHEEL_COUNT
@@ -140,17 +143,29 @@ class ControlTick:
         self.counts = counts
 
     def _take_setpoint(self, armed: bool) -> bool:
-        """The pending setpoint becomes the targets (ARMED only); True when one was applied."""
+        """The pending setpoint becomes the targets (ARMED only); True when one was applied. Every
+        tick re-limits the targets and the steering to the config in effect (4.4): a lowered limit
+        applies at once, to the setpoint already running."""
         pending = self.pending
         self.pending = None
-        if pending is None or not armed:
-            return False
-        self.targets[0], self.targets[1] = pending.targets
-        if pending.servo_cdeg is not None:
-            self.servo_cdeg = pending.servo_cdeg
-        self.ack_seq = pending.seq
-        self.ack_tick = self.tick_count
-        return True
+        applied = pending is not None and armed
+        targets = list(self.targets)
+        if pending is not None and applied:
+            targets = list(pending.targets)
+            if pending.steering_mrad is not None:
+                self.steer_mrad = pending.steering_mrad
+            self.ack_seq = pending.seq
+            self.ack_tick = self.tick_count
+        targets = limit_targets(targets, self.config.max_wheel_speed_mm_s)
+        if any(target_step(old, new) for old, new in zip(self.targets, targets, strict=True)):
+            # A step to another operating point resets both integrators: what they learned at the
+            # old one (friction, deadband at those speeds) differs between the wheels and would
+            # steer the robot off the new course.
+            for pid in self.pids:
+                pid.reset()
+        self.targets = targets
+        self.servo_cdeg = self._servo_cdeg_for(self.steer_mrad)
+        return applied
 
     def _ramp_and_pid(self, armed: bool, esc_hold: bool) -> bool:
         """Ramp, in exact integers of 0.01 mm/s (a limit in mm/s^2 times 10 ms is the limit itself
@@ -303,6 +318,7 @@ class ControlTick:
         for pid in self.pids:
             pid.reset()
         self.stall_ticks = [0] * WHEEL_COUNT
+        self.steer_mrad = 0
         self.servo_cdeg = self.config.steering_center_cdeg
         if self.config.safe_state is not SafeState.RAMP_DOWN or not any(self.ramped_units):
             self.ramped_units = [0] * WHEEL_COUNT

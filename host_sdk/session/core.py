@@ -81,6 +81,7 @@ class Session:
             boot_id=lambda: handshake.boot_id,
             burn_seq=self._sync.send_ping,
             emit=self._emit,
+            on_send=self._setpoints.request_sent,
         )
         parts = Parts(
             options=options,

@@ -41,6 +41,7 @@ class RequestQueue:
         boot_id: Callable[[], int | None],
         burn_seq: Callable[[float], None],
         emit: Callable[[Event], None],
+        on_send: Callable[[Message], None] = lambda _msg: None,
     ) -> None:
         self._options = options
         self._wire = wire
@@ -49,6 +50,8 @@ class RequestQueue:
         self._boot_id = boot_id
         self._burn_seq = burn_seq
         self._emit = emit
+        self._on_send = on_send
+        """Told of each request as it first goes out (a SET_CONFIG re-limits the running setpoint)."""
         self._queue: deque[Request] = deque()
         self._inflight: Request | None = None
         self._last_key: tuple[int, int] | None = None
@@ -115,6 +118,7 @@ class RequestQueue:
                 # Queued for a session that a reset ended: never apply it to the new one.
                 self.finish(req, None, SessionResetError(req.boot_id, boot_id, "before it was sent"))
                 continue
+            self._on_send(req.msg)
             if (req.msg.MSG_ID, self._wire.next_seq) == self._last_key:
                 # The firmware would take this as a duplicate of the last request: burn the seq.
                 self._burn_seq(now)

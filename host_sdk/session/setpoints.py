@@ -5,10 +5,12 @@ armed board's watchdog fails safe when the user's program stops commanding."""
 from __future__ import annotations
 
 from host_sdk.errors import NackError
+from host_sdk.limits import relimited
 from host_sdk.session.counters import HostCounters
 from host_sdk.session.options import EPS, SessionOptions
 from host_sdk.session.wire import Wire
-from protocol.generated.messages import SetAckermann, SetWheelSpeeds
+from protocol.codec.message import Message
+from protocol.generated.messages import SetAckermann, SetConfig, SetWheelSpeeds
 
 
 class SetpointKeeper:
@@ -35,6 +37,13 @@ class SetpointKeeper:
     def last_seq(self) -> int:
         """The seq of the last setpoint frame sent (-1 before the first)."""
         return self._seq
+
+    def request_sent(self, msg: Message) -> None:
+        """A reliable request goes out. The board re-limits its running setpoint to a lowered speed
+        limit (docs/control.md 4.4): the repeats sent after a SET_CONFIG carry the same values, or
+        it refuses them."""
+        if isinstance(msg, SetConfig) and self._setpoint is not None:
+            self._setpoint = relimited(self._setpoint, msg.max_wheel_speed_mm_s)
 
     def command(self, msg: SetWheelSpeeds | SetAckermann, now: float, hold_s: float | None) -> int:
         """Send `msg` now and keep it live for `hold_s` (None: command_timeout). Returns its seq."""

@@ -384,7 +384,7 @@ class SetConfig(Message):
     decel_limit_mm_s2: int
     """Largest setpoint decrease per second (also the RAMP_DOWN rate). [mm/s^2]"""
     max_wheel_speed_mm_s: int
-    """Setpoints beyond this are refused with NACK(OUT_OF_RANGE). [mm/s]"""
+    """Setpoints beyond this are refused with NACK(OUT_OF_RANGE); lowering it re-limits the running setpoint at the next tick. [mm/s]"""
     max_effort_permille: int
     """Motor effort limit (PID output clamp). [0.1 %]"""
     encoder_cpr: int
@@ -1063,7 +1063,7 @@ class Config(Message):
     decel_limit_mm_s2: int
     """Largest setpoint decrease per second (also the RAMP_DOWN rate). [mm/s^2]"""
     max_wheel_speed_mm_s: int
-    """Setpoints beyond this are refused with NACK(OUT_OF_RANGE). [mm/s]"""
+    """Setpoints beyond this are refused with NACK(OUT_OF_RANGE); lowering it re-limits the running setpoint at the next tick. [mm/s]"""
     max_effort_permille: int
     """Motor effort limit (PID output clamp). [0.1 %]"""
     encoder_cpr: int

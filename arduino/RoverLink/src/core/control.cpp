@@ -34,6 +34,8 @@ uint32_t mul_round(uint16_t x, uint8_t whole, uint32_t frac) {
 
 int16_t pid_step(const Gains& g, float r, int16_t m, int16_t m_prev, float max_effort, float& integral,
                  bool& saturated) {
+    // A lowered max_effort bounds the integrator from this tick on, integrating or not.
+    integral = integral > max_effort ? max_effort : (integral < -max_effort ? -max_effort : integral);
     const float e = r - static_cast<float>(m);
     // Derivative on the measurement (no kick on setpoint steps): -kd * (m - m_prev) / dt.
     const float d = g.kd * static_cast<float>((static_cast<int32_t>(m_prev) - m) * static_cast<int32_t>(proto::CONTROL_RATE_HZ));
@@ -52,6 +54,27 @@ int16_t pid_step(const Gains& g, float r, int16_t m, int16_t m_prev, float max_e
         u = -max_effort;
     }
     return round_to_i16(u);
+}
+
+void limit_targets(int16_t (&t)[proto::WHEEL_COUNT], uint16_t max_speed) {
+    static_assert(proto::WHEEL_COUNT == 2, "two targets");
+    const int32_t a = t[0] < 0 ? -static_cast<int32_t>(t[0]) : t[0];
+    const int32_t b = t[1] < 0 ? -static_cast<int32_t>(t[1]) : t[1];
+    const int32_t peak = a > b ? a : b;
+    if (peak <= max_speed) {
+        return;
+    }
+    for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
+        // |t| <= peak <= 32768 and max_speed <= 20000 (spec): the product fits an int32.
+        t[w] = static_cast<int16_t>(div_round(static_cast<int32_t>(t[w]) * max_speed, peak));
+    }
+}
+
+bool target_step(int16_t from, int16_t to) {
+    const int32_t f = from < 0 ? -static_cast<int32_t>(from) : from;
+    const int32_t g = to < 0 ? -static_cast<int32_t>(to) : to;
+    const int32_t d = static_cast<int32_t>(to) - from;
+    return 2 * (d < 0 ? -d : d) > (f > g ? f : g);
 }
 
 ROVERLINK_NOINLINE int32_t ramp_step(int32_t ramped, int32_t target, uint16_t up, uint16_t down) {

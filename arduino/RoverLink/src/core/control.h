@@ -49,10 +49,17 @@ inline void gains_to(proto::SetPid& p, const Gains& g) {
 
 // One wheel's velocity PID (section 4.6) on r = ramped setpoint and m = measured speed (mm/s).
 // `integral` is the controller's memory and `saturated` is set when the output was clamped. The
-// integrator is conditionally integrated after the output is computed, and clamped to
-// +-max_effort. Returns u, rounded, in -max..max.
+// integrator is first held within +-max_effort (a lowered limit bounds it at once), then
+// conditionally integrated after the output is computed. Returns u, rounded, in -max..max.
 int16_t pid_step(const Gains& g, float r, int16_t m, int16_t m_prev, float max_effort, float& integral,
                  bool& saturated);
+
+// Section 4.4: the targets `t` re-limited to +-max_speed; when either is beyond it, both are scaled
+// by max_speed / peak (rounded half away from zero), so a turn keeps its curvature.
+void limit_targets(int16_t (&t)[proto::WHEEL_COUNT], uint16_t max_speed);
+// Section 4.4: a target step from `from` to `to` (the integrators are reset): a change of more than
+// half the larger magnitude (a sign change always is).
+bool target_step(int16_t from, int16_t to);
 
 // Ramp (section 4.5), in integers of 0.01 mm/s, where a limit in mm/s^2 times dt (10 ms) is the
 // limit itself: `ramped` moved toward `target` by at most `up` (speeding up in the same direction,

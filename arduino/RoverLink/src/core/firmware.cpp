@@ -260,19 +260,33 @@ ROVERLINK_OUT_OF_LINE void Firmware::control_tick(uint16_t periods, uint32_t now
     // comes with each wheel below: nothing the watchdog's safe state does touches it.)
     session_.check_watchdog(now);
 
-    // 4. The latest setpoint, if one arrived (only ever stored while ARMED).
+    // 4. The latest setpoint, if one arrived (only ever stored while ARMED), re-limited every tick
+    // to the config in effect: a lowered max_wheel_speed_mm_s applies to the targets at once.
     const bool armed = session_.armed();
     bool applied = false;
+    static_assert(proto::WHEEL_COUNT == 2, "one target per wheel");
+    int16_t next[proto::WHEEL_COUNT] = {v.wheels[0].target, v.wheels[1].target};
     if (v.has_pending && armed) {
-        v.wheels[0].target = v.pending[0];
-        v.wheels[1].target = v.pending[1];
-        static_assert(proto::WHEEL_COUNT == 2, "one target per wheel");
+        next[0] = v.pending[0];
+        next[1] = v.pending[1];
         v.steer_mrad = v.pending_steer;
         v.ack_seq = v.pending_seq;
         v.ack_tick = v.tick;
         applied = true;
     }
     v.has_pending = false;
+    control::limit_targets(next, v.cfg.max_wheel_speed_mm_s);
+    // A step of either wheel to another operating point resets both integrators: what they learned
+    // at the old one (friction, deadband at those speeds) differs between the wheels and would
+    // steer the robot off the new course (docs/control.md 4.4).
+    const bool step = control::target_step(v.wheels[0].target, next[0]) ||
+                      control::target_step(v.wheels[1].target, next[1]);
+    for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
+        if (step) {
+            v.wheels[w].integral = 0.0f;
+        }
+        v.wheels[w].target = next[w];
+    }
 
     // The ESC's arming window: neutral only, the loop held at rest, until esc_arm_ms after boot.
     if (!v.esc_ready && now - v.boot_us >= static_cast<uint32_t>(v.cfg.esc_arm_ms) * 1000u) {

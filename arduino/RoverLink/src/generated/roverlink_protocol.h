@@ -365,7 +365,7 @@ struct ROVERLINK_PACKED SetConfig {
     SafeState safe_state;  // Motor behaviour in FAILSAFE and when disarmed.
     uint16_t accel_limit_mm_s2;  // Largest setpoint increase per second. [mm/s^2]
     uint16_t decel_limit_mm_s2;  // Largest setpoint decrease per second (also the RAMP_DOWN rate). [mm/s^2]
-    uint16_t max_wheel_speed_mm_s;  // Setpoints beyond this are refused with NACK(OUT_OF_RANGE). [mm/s]
+    uint16_t max_wheel_speed_mm_s;  // Setpoints beyond this are refused with NACK(OUT_OF_RANGE); lowering it re-limits the running setpoint at the next tick. [mm/s]
     uint16_t max_effort_permille;  // Motor effort limit (PID output clamp). [0.1 %]
     uint16_t encoder_cpr;  // Encoder counts per wheel revolution after decoding and gearing. [counts/rev]
     uint8_t encoder_invert;  // Bit i set: wheel i's encoder counts the other way.
@@ -627,7 +627,7 @@ struct ROVERLINK_PACKED Config {
     SafeState safe_state;  // Motor behaviour in FAILSAFE and when disarmed.
     uint16_t accel_limit_mm_s2;  // Largest setpoint increase per second. [mm/s^2]
     uint16_t decel_limit_mm_s2;  // Largest setpoint decrease per second (also the RAMP_DOWN rate). [mm/s^2]
-    uint16_t max_wheel_speed_mm_s;  // Setpoints beyond this are refused with NACK(OUT_OF_RANGE). [mm/s]
+    uint16_t max_wheel_speed_mm_s;  // Setpoints beyond this are refused with NACK(OUT_OF_RANGE); lowering it re-limits the running setpoint at the next tick. [mm/s]
     uint16_t max_effort_permille;  // Motor effort limit (PID output clamp). [0.1 %]
     uint16_t encoder_cpr;  // Encoder counts per wheel revolution after decoding and gearing. [counts/rev]
     uint8_t encoder_invert;  // Bit i set: wheel i's encoder counts the other way.
