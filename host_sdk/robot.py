@@ -26,7 +26,6 @@ waiting) without the lock held; they must not block for long, nor wait for the b
 from __future__ import annotations
 
 import dataclasses
-import math
 import threading
 from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Literal, cast
@@ -42,11 +41,11 @@ from host_sdk.errors import (
 )
 from host_sdk.kinematics import Ackermann, DiffDrive, KinematicsError
 from host_sdk.limits import DriveLimits
-from host_sdk.odometry import MAX_POSITION_M, Pose
 from host_sdk.options import check_connect
 from host_sdk.profiles import get_profile, kinematics_for, profile_for_example
 from host_sdk.robot_config import ConfigCalls
 from host_sdk.robot_drive import DriveCalls
+from host_sdk.robot_odometry import OdometryView
 from host_sdk.runner import runner_for
 from host_sdk.session import (
     FeedbackSample,
@@ -64,48 +63,6 @@ from protocol.generated.messages import Arm, Disarm
 
 if TYPE_CHECKING:
     from host_sdk.emulated import EmulatorHandle
-
-
-class OdometryView:
-    """The robot's odometry: pose and body velocity from cumulative encoder counts (thread-safe view)."""
-
-    def __init__(self, robot: Robot) -> None:
-        self._robot = robot
-
-    @property
-    def pose(self) -> Pose:
-        """x, y (m), theta (rad, unwrapped), linear and angular velocity, MCU time of the last sample."""
-        with self._robot._lock:
-            self._robot._check_open()
-            pose = self._robot._session.pose()
-        if pose is None:
-            raise self._unsupported()
-        return pose
-
-    def reset(self, x_m: float = 0.0, y_m: float = 0.0, theta_rad: float = 0.0) -> None:
-        """Set the pose (default: the origin); counting goes on from the next sample."""
-        pose = zip(_POSE, (x_m, y_m, theta_rad), strict=True)
-        values = [checks.number(n, v, -MAX_POSITION_M, MAX_POSITION_M) for n, v in pose]
-        with self._robot._lock:
-            self._robot._check_open()
-            if not self._robot._session.reset_pose(*values):
-                raise self._unsupported()
-
-    @staticmethod
-    def _unsupported() -> UnsupportedError:
-        return UnsupportedError(
-            "odometry needs the robot's kinematics: pass profile=... or kinematics=... to Robot.connect"
-        )
-
-    def __repr__(self) -> str:
-        try:
-            p = self.pose
-        except RoverLinkError:
-            return "<Odometry unavailable>"
-        return f"<Odometry x={p.x_m:.3f} m y={p.y_m:.3f} m theta={math.degrees(p.theta_rad):.1f} deg>"
-
-
-_POSE = ("x_m", "y_m", "theta_rad")
 
 
 class Robot(DriveCalls, ConfigCalls):
@@ -195,7 +152,7 @@ class Robot(DriveCalls, ConfigCalls):
         self._clamp = checks.flag("clamp", clamp)
         self._last_command_seq: int | None = None
         self._limits: tuple[RobotConfig | None, DriveLimits | None] = (None, None)
-        self.odometry = OdometryView(self)
+        self.odometry = OdometryView(self._lock, self._check_open, self._session)
         """Pose and body velocities from the wheel encoders; `odometry.reset()` sets the origin."""
 
     def _open(self, timeout_s: float) -> None:
