@@ -15,7 +15,7 @@ from collections.abc import Callable
 
 import pytest
 from conformance_backends import BACKENDS, Host, make_backend, wire
-from test_scenarios import TICK_MS, open_session
+from conformance_scenarios import TICK_MS, open_session
 
 from host_sdk import messages
 from protocol.generated.enums import Status

@@ -1,0 +1,227 @@
+"""The conformance suite's steps and its link scenarios (boot, handshake, arming, failsafe, reset,
+reliable requests, lockstep, driving): each runs on a backend and returns what is compared."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from conformance_backends import Host, wire
+
+from host_sdk import messages
+from host_sdk.framing import Frame, FrameDecoder
+from protocol.codec.message import Message
+from protocol.generated.constants import SPEC_HASH
+from protocol.generated.enums import FeedbackMode, IdentityReason, Status
+from protocol.generated.profiles import PROFILES
+from tests.support.hostlink import hello
+
+TICK_MS = 10
+BOOT_TIMEOUT_MS = 2500
+
+
+def decode(hex_frame: object) -> Message:
+    """A frame from ``wire()`` back to its message."""
+    assert isinstance(hex_frame, str)
+    frames = [e for e in FrameDecoder().feed(bytes.fromhex(hex_frame)) if isinstance(e, Frame)]
+    assert len(frames) == 1
+    return frames[0].message
+
+
+def answer(hex_frame: object) -> tuple[str, int, int]:
+    """("ACK", 0, 0) or ("NACK", reason, detail)."""
+    m = decode(hex_frame)
+    if isinstance(m, messages.Nack):
+        return "NACK", m.reason, m.detail
+    assert isinstance(m, messages.Ack), m
+    return "ACK", 0, 0
+
+
+def boot(h: Host) -> messages.Identity:
+    _, ident = h.wait_for(messages.Identity, BOOT_TIMEOUT_MS, lambda m: m.reason == IdentityReason.BOOT)
+    assert isinstance(ident, messages.Identity)
+    return ident
+
+
+def tick_origin(h: Host) -> int:
+    """The host time of the firmware's tick 0 (its boot), as its FEEDBACK shows it: the arrival of
+    the first FEEDBACK of tick >= 5 (the first ticks may run late behind the boot's EEPROM write)
+    minus that many ticks. Later than the true instant by up to that FEEDBACK's line time (3.5 ms
+    at 115200 baud). Not the boot IDENTITY's arrival: how long after tick 0 it goes out differs
+    between backends (the model starts its clock before the boot counter's EEPROM write, the C++
+    core after it; the native build's EEPROM takes no time, simavr's 3.4 ms per byte)."""
+    for t, m in h.timed(Message):
+        if isinstance(m, messages.Feedback) and m.tick >= 5:
+            return t - m.tick * TICK_MS * 1000
+    raise AssertionError(f"{h.b.name}: no FEEDBACK of tick >= 5 yet")
+
+
+def open_session(h: Host, mode: FeedbackMode = FeedbackMode.STREAM, arm: bool = True) -> messages.Identity:
+    b = boot(h)
+    ident = h.request(hello(mode))
+    assert isinstance(ident, messages.Identity) and ident.reason == IdentityReason.HELLO_ACCEPTED
+    if arm:
+        ack = h.request(messages.Arm(b.boot_id))
+        assert isinstance(ack, messages.Ack), ack
+    return ident
+
+
+# -- scenarios: each returns what is compared ----------------------------------------------------------
+def sc_boot(h: Host) -> dict[str, object]:
+    ident = boot(h)
+    _, log = h.wait_for(messages.Log, 200)
+    return {"identity": wire(dataclasses.replace(ident, robot_name="")), "name": ident.robot_name, "log": wire(log)}
+
+
+def sc_handshake(h: Host) -> dict[str, object]:
+    boot(h)
+    rejected = h.request(hello(spec_hash=SPEC_HASH ^ 0xFFFF))
+    accepted = h.request(hello())
+    assert isinstance(rejected, messages.Identity) and isinstance(accepted, messages.Identity)
+    return {
+        "rejected_reason": rejected.reason,
+        "accepted_reason": accepted.reason,
+        "rejected": wire(dataclasses.replace(rejected, robot_name="")),
+        "accepted": wire(dataclasses.replace(accepted, robot_name="")),
+    }
+
+
+def sc_arm_and_refusals(h: Host) -> dict[str, object]:
+    b = boot(h)
+    out: dict[str, object] = {}
+    out["setpoint_idle"] = wire(h.request(messages.SetWheelSpeeds(100, 100)))
+    out["arm_idle"] = wire(h.request(messages.Arm(b.boot_id)))
+    h.request(hello())
+    out["setpoint_disarmed"] = wire(h.request(messages.SetWheelSpeeds(100, 100)))
+    out["arm_wrong_boot"] = wire(h.request(messages.Arm(b.boot_id ^ 1)))
+    out["arm"] = wire(h.request(messages.Arm(b.boot_id)))
+    out["too_fast"] = wire(h.request(messages.SetWheelSpeeds(100, 30000)))
+    out["disarm"] = wire(h.request(messages.Disarm()))
+    return out
+
+
+def sc_failsafe(h: Host) -> dict[str, object]:
+    ident = open_session(h)
+    last = 0
+    for _ in range(30):
+        last = h.send(messages.SetWheelSpeeds(200, 200))
+        h.run_ms(TICK_MS)
+    t_last = h.sent_at[last]
+    t_fs, fb = h.wait_for(messages.Feedback, 1000, lambda m: bool(m.status & Status.FAILSAFE))
+    assert isinstance(fb, messages.Feedback)
+    latched = h.request(messages.SetWheelSpeeds(100, 100))
+    h.run_ms(100)
+    still = [m for _, m in h.since(messages.Feedback, h.b.now_us - 50_000)]
+    rearm = h.request(messages.Arm(ident.boot_id))
+    seq = h.send(messages.SetWheelSpeeds(100, 100))
+    _, after = h.wait_for(messages.Feedback, 5 * TICK_MS, lambda m: m.ack_seq == seq)
+    return {
+        "delay_ms": (t_fs - t_last) / 1000,
+        "reason": fb.failsafe_reason,
+        "effort_zero": fb.effort_permille == (0, 0),
+        "latched_nack": wire(latched),
+        "still_failsafe": all(m.status & Status.FAILSAFE for m in still if isinstance(m, messages.Feedback)),
+        "rearm": wire(rearm),
+        "after_rearm": bool(after.status & Status.ARMED),  # type: ignore[attr-defined]
+    }
+
+
+def sc_reset_mid_session(h: Host) -> dict[str, object]:
+    first = open_session(h)
+    for _ in range(10):
+        h.send(messages.SetWheelSpeeds(150, 150))
+        h.run_ms(TICK_MS)
+    h.b.reset()
+    second = boot(h)
+    nack = h.request(messages.SetWheelSpeeds(100, 100))
+    stale_arm = h.request(messages.Arm(first.boot_id))
+    return {
+        "new_boot_id": second.boot_id != first.boot_id,
+        "boot": wire(dataclasses.replace(second, robot_name="")),
+        "nack": wire(nack),
+        "stale_arm": wire(stale_arm),
+    }
+
+
+def sc_reliable_config(h: Host) -> dict[str, object]:
+    open_session(h, arm=False)
+    config = h.request(messages.GetConfig())
+    assert isinstance(config, messages.Config)
+    fields = {f.name: getattr(config, f.name) for f in messages.SetConfig.FIELDS}
+    fields["accel_limit_mm_s2"] = 1500
+    new = messages.SetConfig(**fields)
+    seq = h.seq
+    first = h.request(new, seq=seq)
+    h.seq = (seq + 1) & 0xFF
+    dup = h.request(new, seq=seq)  # the same (msg_id, seq): answered again, not applied again
+    readback = h.request(messages.GetConfig())
+    stats = h.request(messages.GetLinkStats())
+    bad = dict(fields, steering_min_cdeg=9000, steering_center_cdeg=100)
+    invalid = h.request(messages.SetConfig(**bad))
+    pid = h.request(messages.GetPid(0))
+    assert isinstance(stats, messages.LinkStats)
+    return {
+        "config": wire(config),
+        "ack": wire(first),
+        "dup": wire(dup),
+        "readback": wire(readback),
+        "duplicates": stats.duplicates,
+        "invalid": wire(invalid),
+        "pid": wire(pid),
+    }
+
+
+def sc_lockstep(h: Host) -> dict[str, object]:
+    ident = open_session(h, FeedbackMode.LOCKSTEP)
+    h.run_ms(50)
+    start = h.b.now_us
+    acks = []
+    for _ in range(20):
+        seq = h.send(messages.SetWheelSpeeds(200, 200))
+        _, fb = h.wait_for(messages.Feedback, 3 * TICK_MS, lambda m, s=seq: m.ack_seq == s)
+        acks.append(fb.ack_seq == seq)  # type: ignore[attr-defined]
+    h.run_ms(100)  # no setpoint: no FEEDBACK (the watchdog fires, then FEEDBACK carries FAILSAFE)
+    fbs = h.since(messages.Feedback, start)
+    return {
+        "mode": ident.feedback_mode,
+        "all_answered": all(acks),
+        "one_per_setpoint": len([m for _, m in fbs if not m.status & Status.FAILSAFE]) == 20,  # type: ignore[attr-defined]
+    }
+
+
+def sc_drive(h: Host, profile: str) -> dict[str, object]:
+    """PID step response and odometry: 1.5 s at a constant setpoint from rest."""
+    ident = open_session(h)
+    p = PROFILES[profile]
+    ackermann = str(p.kinematics) == "ackermann"
+    setpoint = 300
+    if ackermann:
+        # The ESC arming window holds the drive at rest: wait it out (esc_arm_ms from boot), with
+        # zero setpoints feeding the watchdog.
+        for _ in range(p.config.esc_arm_ms // TICK_MS):
+            h.send(messages.SetAckermann(0, 0))
+            h.run_ms(TICK_MS)
+    t0 = h.b.now_us
+    truth0 = h.b.truth()
+    speeds: list[tuple[float, int]] = []
+    counts: list[tuple[int, ...]] = []
+    for _ in range(150):
+        if ackermann:
+            h.send(messages.SetAckermann(setpoint, 0))
+        else:
+            h.send(messages.SetWheelSpeeds(setpoint, setpoint))
+        h.run_ms(TICK_MS)
+    for t, m in h.since(messages.Feedback, t0):
+        assert isinstance(m, messages.Feedback)
+        if m.ack_tick and m.status & Status.ARMED:
+            speeds.append(((t - t0) / 1e6, m.wheel_speed_mm_s[0]))
+            counts.append(m.encoder_counts)
+    truth = h.b.truth()
+    del ident
+    return {
+        "speeds": speeds,
+        "counts": counts,
+        "distance_truth_m": math.hypot(truth.x_m - truth0.x_m, truth.y_m - truth0.y_m),
+        "edges_truth": truth.encoder_edges,
+        "setpoint": setpoint,
+    }
