@@ -27,6 +27,7 @@ from typing import TextIO
 import numpy as np
 
 from host_sdk import PROFILES, RoverLinkError
+from host_sdk.extras import MissingDependencyError, require
 from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress
@@ -130,8 +131,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
                 return 2
             template = None
             if args.template is not None:
-                import cv2  # noqa: PLC0415 (the vision extra)
-
+                cv2 = require("cv2", "vision", "--template")
                 image = cv2.imread(str(args.template), cv2.IMREAD_COLOR)
                 if image is None:
                     print(f"roverlink follow: cannot read the image {args.template}", file=sys.stderr)
@@ -141,6 +141,8 @@ def cmd_follow(args: argparse.Namespace) -> int:
             ports = RobotPorts(args.url, args.lidar, camera, args.imu, args.lidar_model, args.baud)
             metrics = run_robot(ports, args.profile, template=template, select=args.select, pilot=args.pilot,
                                 settings=settings, progress=progress, record=record)  # fmt: skip
+    except MissingDependencyError:
+        raise  # cli.main names the extra
     except (RoverLinkError, ValueError, OSError, RuntimeError) as exc:
         print(f"roverlink follow: {exc}", file=sys.stderr)
         return 1
