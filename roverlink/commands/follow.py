@@ -108,7 +108,8 @@ def _summary(m: FollowMetrics) -> str:
         err = f"{m.follow_error_mean_m:.2f} m mean, {m.follow_error_max_m:.2f} m max"
     reacq = ", ".join(f"{v:.1f} s" for v in m.reacquisitions_s) or "none"
     first = "never" if m.first_sight_s is None else f"{m.first_sight_s:.1f} s"
-    return (f"{m.pilot} on {m.profile} ({m.world}), {m.duration_s:.1f} s: collisions {m.collisions}, "
+    hits = "collisions unknown" if m.collisions is None else f"collisions {m.collisions}"
+    return (f"{m.pilot} on {m.profile} ({m.world or m.url}), {m.duration_s:.1f} s: {hits}, "
             f"first sight {first}, target in view {view} (tracked {tracked}), following error {err}, "
             f"reacquisitions {reacq}, {m.distance_m:.1f} m driven")  # fmt: skip
 
