@@ -19,8 +19,8 @@ _RATES = {
 }
 _DIRECTIONS = {"h2m": "host to MCU", "m2h": "MCU to host"}
 _WORDS = {
-    "reset": "board reset (reset pin)",
-    "dtr_reset": "board reset by DTR (port opened)",
+    "reset": "board reset: {} (reset pin)",
+    "dtr_reset": "board reset: {}",
     "brownout": "fault: brown-out, board held in reset {}",
     "cut": "fault: link cut ({})",
     "restore": "link restored ({})",
