@@ -8,6 +8,9 @@ same root.
 
 from __future__ import annotations
 
+import importlib
+from types import ModuleType
+
 
 class RoverLinkError(Exception):
     """Root of every error RoverLink raises (codec, SDK, emulator, tools)."""
@@ -58,3 +61,33 @@ class ArgumentError(RoverLinkError, ValueError):
 
 class ArgumentTypeError(ArgumentError, TypeError):
     """A bad argument of the wrong type (a str where a number goes, a bool where a count goes...)."""
+
+
+TOOLS_EXTRAS = ("tui", "plot", "foxglove")
+"""The extras the `tools` extra gathers (pyproject.toml; tests/system/test_readme.py checks)."""
+
+
+class MissingDependencyError(RoverLinkError, ImportError):
+    """A feature needs an optional dependency that is not installed; names the extra to install.
+
+    It lives at the root so the SDK and the emulator raise the same error (`import_optional`)
+    and a tool reports both in one line."""
+
+    def __init__(self, module: str, extra: str, what: str) -> None:
+        self.module = module
+        self.extra = extra
+        every_tool = " (or 'roverlink[tools]' for every tool)" if extra in TOOLS_EXTRAS else ""
+        super().__init__(
+            f"{what} needs the Python package {module!r}, which is not installed: "
+            f"pip install 'roverlink[{extra}]'{every_tool}"
+        )
+
+
+def import_optional(module: str, extra: str, what: str) -> ModuleType:
+    """`importlib.import_module(module)`, or MissingDependencyError naming the extra."""
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        if exc.name is not None and not module.startswith(exc.name.split(".")[0]):
+            raise  # the package is there but one of its own imports failed: show that
+        raise MissingDependencyError(module, extra, what) from exc

@@ -6,6 +6,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
+from host_sdk.extras import MissingDependencyError
 from roverlink import __version__
 from roverlink.commands import COMMANDS
 
@@ -21,7 +22,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
-    result: int = args.func(args)
+    try:
+        result: int = args.func(args)
+    except MissingDependencyError as exc:
+        # An extra the command needs is not installed: one line naming it, not a traceback.
+        print(f"roverlink {args.command}: {exc}", file=sys.stderr)
+        return 1
     return result
 
 

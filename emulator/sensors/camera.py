@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from emulator.world.raycast import cast
 from emulator.world.scene import PATTERNS, Scene
+from protocol.errors import import_optional
 from protocol.sensors import CameraSpec, Mount
 
 LAYERS = 4
@@ -77,8 +78,7 @@ class Renderer:
     def render(self, scene: Scene, pose: tuple[float, float, float], yaw_rate: float,
                rng: np.random.Generator) -> NDArray[np.uint8]:  # fmt: skip
         """The BGR image the camera sees from the robot pose (x, y, heading) in the world."""
-        import cv2  # noqa: PLC0415 (OpenCV is the vision extra)
-
+        cv2 = import_optional("cv2", "vision", "the emulated camera")
         x, y, th = pose
         m = self.mount
         cam_x = x + math.cos(th) * m.x_m - math.sin(th) * m.y_m

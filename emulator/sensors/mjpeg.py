@@ -27,6 +27,7 @@ from emulator.rng import Streams
 from emulator.sensors.camera import CameraOptions, Renderer
 from emulator.sensors.lidar import PoseAt
 from emulator.world.scene import Scene
+from protocol.errors import import_optional
 from protocol.sensors import CameraSpec, Mount
 
 BOUNDARY = "roverlinkframe"
@@ -74,6 +75,8 @@ class CameraDevice:
 
     def __init__(self, spec: CameraSpec, mount: Mount, options: CameraOptions, streams: Streams,
                  yaw_rate: Callable[[], float]) -> None:  # fmt: skip
+        # OpenCV encodes every frame: without it, fail when the camera is attached, not at its first frame.
+        import_optional("cv2", "vision", "the emulated camera")
         self.spec = spec
         self.options = options
         self.renderer = Renderer(spec, mount, options)
@@ -104,8 +107,7 @@ class CameraDevice:
         return round(index * 1e6 / self.options.fps)
 
     def update(self, scene: Scene, until_us: int, pose_at: PoseAt) -> None:
-        import cv2  # noqa: PLC0415 (the vision extra)
-
+        cv2 = import_optional("cv2", "vision", "the emulated camera")
         while self.frame_time_us(self._index) < until_us:
             t = self.frame_time_us(self._index)
             self._index += 1

@@ -27,6 +27,7 @@ from emulator.errors import EmulatorValueError
 from emulator.sensors.mjpeg import CameraDevice, Frame
 from emulator.sensors.rig import IMUS, LIDARS, SensorRig, attach, camera_options
 from emulator.sensors.target import render_target
+from protocol.errors import import_optional
 
 SENSOR_PARAMS = ("world", "lidar", "lidar_hz", "imu", "camera")
 BUFFERED_FRAMES = 4
@@ -172,8 +173,7 @@ def open_url(url: str, baud: int = 0) -> DeviceEndpoint:
 
 def target_part(rig: SensorRig) -> bytes:
     """The world's target as one MJPEG part (frame 1), rendered by the rig's camera model."""
-    import cv2  # noqa: PLC0415 (the vision extra, as for the camera itself)
-
+    cv2 = import_optional("cv2", "vision", "the emulated camera")
     template = render_target(rig.world.scene, rig.mount_for("camera", "pi-camera-v2"))
     ok, jpeg = cv2.imencode(".jpg", template.image, [cv2.IMWRITE_JPEG_QUALITY, 95])
     if not ok:

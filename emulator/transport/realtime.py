@@ -15,7 +15,9 @@ import time
 from collections.abc import Callable, Sequence
 from typing import Protocol, TextIO
 
+from emulator.transport.serve_log import collision_line, fault_line, stamp
 from emulator.truth import FaultRecord
+from emulator.world.world import Collision
 
 
 class Endpoint(Protocol):
@@ -87,8 +89,11 @@ def serve(
     virt0 = device.now_us
     connected = False
     busy_s = 0.0
-    reported_faults = len(device.faults)
+    reported_faults = 0  # the standing ones too (a drop rate from the start)
     reported_boots = 0  # the power-on boot too
+    reported_collisions = 0
+    # Only the Python emulator has a world (--world): the robot's collisions in it.
+    collisions: Sequence[Collision] = getattr(getattr(device, "world", None), "collisions", ())
     lag_warned = False
 
     def say(text: str) -> None:
@@ -127,8 +132,11 @@ def serve(
         if log is not None:
             report_faults(device.faults[reported_faults:], say)
             reported_faults = len(device.faults)
+            for hit in collisions[reported_collisions:]:
+                say(collision_line(hit))
+            reported_collisions = len(collisions)
             for boot_id in device.boot_ids[reported_boots:]:
-                say(f"t={device.now_us / 1e6:.3f}s boot, boot_id 0x{boot_id:08X}")
+                say(f"{stamp(device.now_us)} boot, boot_id 0x{boot_id:08X}")
             reported_boots = len(device.boot_ids)
         endpoint.wait(0.001 if connected else 0.01)
     simulated_s = (device.now_us - virt0) / 1e6
@@ -152,5 +160,6 @@ def _pump(port: Endpoint, peripheral: SerialPeripheral, now_us: int, say: Callab
 def report_faults(records: Sequence[FaultRecord], say: Callable[[str], None]) -> None:
     """Progress lines for fault records (not every flipped, dropped or inserted byte)."""
     for record in records:
-        if record.kind not in ("bitflip", "drop", "insert"):
-            say(f"t={record.time_us / 1e6:.3f}s fault {record.kind} {record.detail}")
+        line = fault_line(record)
+        if line is not None:
+            say(line)

@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from host_sdk.extras import require
 from host_sdk.perception.avoidance import Footprint
 from host_sdk.perception.camera import CameraModel
 
@@ -411,6 +412,4 @@ class _DistanceField:
 
 
 def _cv2() -> Any:
-    import cv2  # noqa: PLC0415 (the vision extra)
-
-    return cv2
+    return require("cv2", "vision", "the planner's clearance field")

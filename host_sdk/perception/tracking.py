@@ -36,6 +36,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk.errors import CommandRangeError
+from host_sdk.extras import require
 from host_sdk.perception.camera import CameraModel
 
 Image = NDArray[np.uint8]
@@ -98,9 +99,7 @@ class TrackerParams:
 
 
 def _cv2() -> Any:
-    import cv2  # noqa: PLC0415 (the vision extra)
-
-    return cv2
+    return require("cv2", "vision", "the tracker")
 
 
 class Tracker:

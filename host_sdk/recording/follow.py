@@ -16,6 +16,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from host_sdk.autonomy import FollowPilot
+from host_sdk.extras import require
 
 TOPIC_SCAN = "/scan"
 TOPIC_IMAGE = "/camera/image/compressed"
@@ -92,8 +93,7 @@ class FollowSource:
             out.compressed_image(TOPIC_IMAGE, frame.time_s, frame_id="camera", fmt="jpeg", data=self._jpeg(frame.image))
 
     def _jpeg(self, image: np.ndarray) -> bytes:
-        import cv2  # noqa: PLC0415 (the vision extra)
-
+        cv2 = require("cv2", "vision", "recording the camera")
         picture = image.copy()
         track = self.pilot.last_track
         if track is not None and track.box is not None:

@@ -22,6 +22,7 @@ import math
 from collections.abc import Callable, Mapping
 from typing import Any
 
+from host_sdk.extras import require
 from host_sdk.recording.schemas import (
     FRAME_BASE,
     FRAME_CAMERA,
@@ -60,8 +61,7 @@ def frame_jpeg(frame: CameraFrame) -> bytes:
     """The frame's JPEG: as the stream carried it, else encoded (OpenCV, quality 85)."""
     if frame.jpeg is not None:
         return frame.jpeg
-    import cv2  # noqa: PLC0415 (loaded already: the camera source opened it)
-
+    cv2 = require("cv2", "vision", "recording the camera")  # loaded already: the camera source opened it
     ok, data = cv2.imencode(".jpg", frame.image, [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
     if not ok:
         raise ValueError(f"frame {frame.seq}: OpenCV could not encode it as JPEG")

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from host_sdk.extras import require
 from host_sdk.sensors.errors import SensorClosedError, SensorTimeoutError
 from host_sdk.sensors.mjpeg import JpegPart, MjpegParser
 from host_sdk.transport import Transport
@@ -71,9 +72,7 @@ class CameraFrame:
 class CameraSource:
     def __init__(self, source: int | str, *, width: int | None = None, height: int | None = None,
                  fps: float | None = None, timeout_s: float = 5.0) -> None:  # fmt: skip
-        import cv2  # noqa: PLC0415 (the vision extra)
-
-        self._cv2 = cv2
+        self._cv2 = cv2 = require("cv2", "vision", "the camera")
         self.source = source
         self.frames = 0
         self.dropped = 0

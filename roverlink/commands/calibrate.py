@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 
 from host_sdk import Robot, RobotConfig, RoverLinkError
+from host_sdk.extras import MissingDependencyError
 from host_sdk.sensors import Sensors
 from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
 from roverlink.argtypes import usage_lines
@@ -123,6 +124,8 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
                 if hit is not None:  # the emulated robot drove into its world: say so, not just the failsafe
                     print(f"the emulated robot hit {hit}: give it room (world=empty)", file=sys.stderr)
                 raise
+    except MissingDependencyError:
+        raise  # cli.main names the extra
     except (RoverLinkError, EOFError, ValueError, TimeoutError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

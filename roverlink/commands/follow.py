@@ -27,6 +27,7 @@ from typing import TextIO
 import numpy as np
 
 from host_sdk import PROFILES, RoverLinkError
+from host_sdk.extras import MissingDependencyError, require
 from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress
@@ -107,7 +108,8 @@ def _summary(m: FollowMetrics) -> str:
         err = f"{m.follow_error_mean_m:.2f} m mean, {m.follow_error_max_m:.2f} m max"
     reacq = ", ".join(f"{v:.1f} s" for v in m.reacquisitions_s) or "none"
     first = "never" if m.first_sight_s is None else f"{m.first_sight_s:.1f} s"
-    return (f"{m.pilot} on {m.profile} ({m.world}), {m.duration_s:.1f} s: collisions {m.collisions}, "
+    hits = "collisions unknown" if m.collisions is None else f"collisions {m.collisions}"
+    return (f"{m.pilot} on {m.profile} ({m.world or m.url}), {m.duration_s:.1f} s: {hits}, "
             f"first sight {first}, target in view {view} (tracked {tracked}), following error {err}, "
             f"reacquisitions {reacq}, {m.distance_m:.1f} m driven")  # fmt: skip
 
@@ -130,8 +132,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
                 return 2
             template = None
             if args.template is not None:
-                import cv2  # noqa: PLC0415 (the vision extra)
-
+                cv2 = require("cv2", "vision", "--template")
                 image = cv2.imread(str(args.template), cv2.IMREAD_COLOR)
                 if image is None:
                     print(f"roverlink follow: cannot read the image {args.template}", file=sys.stderr)
@@ -141,6 +142,8 @@ def cmd_follow(args: argparse.Namespace) -> int:
             ports = RobotPorts(args.url, args.lidar, camera, args.imu, args.lidar_model, args.baud)
             metrics = run_robot(ports, args.profile, template=template, select=args.select, pilot=args.pilot,
                                 settings=settings, progress=progress, record=record)  # fmt: skip
+    except MissingDependencyError:
+        raise  # cli.main names the extra
     except (RoverLinkError, ValueError, OSError, RuntimeError) as exc:
         print(f"roverlink follow: {exc}", file=sys.stderr)
         return 1

@@ -7,6 +7,7 @@ import dataclasses
 import sys
 
 from host_sdk import RoverLinkError
+from host_sdk.extras import MissingDependencyError
 from roverlink.console import add_robot_args, connect
 
 
@@ -43,6 +44,8 @@ def cmd_info(args: argparse.Namespace) -> int:
             rtt = robot.stats.rtt
             if rtt is not None:
                 print(f"round trip {rtt.min_s * 1000:.2f} ms")
+    except MissingDependencyError:
+        raise  # cli.main names the extra
     except RoverLinkError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

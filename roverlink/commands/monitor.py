@@ -16,6 +16,7 @@ import argparse
 import sys
 
 from host_sdk import Robot, RoverLinkError
+from host_sdk.extras import MissingDependencyError
 from host_sdk.recording import Recorder
 from roverlink.commands.record import POLL_S, add_foxglove_args, announce_live_view
 from roverlink.console import add_robot_args, connect
@@ -47,6 +48,8 @@ def plain(robot: Robot, dashboard: Dashboard, period_s: float, duration_s: float
 def cmd_monitor(args: argparse.Namespace) -> int:
     """Live read-only view: state, wheels, odometry, link statistics, LOG lines."""
     tty = sys.stdout.isatty() and not args.plain
+    if tty:  # before connecting: a missing Textual is named at once
+        from roverlink.tui import DashboardApp  # noqa: PLC0415 (Textual is an extra, loaded for the terminal view only)
     try:
         with connect(args, feedback_hz=args.rate) as robot, open_sensors(choose_sensors(args, robot)) as sensors:
             recorder = None
@@ -61,8 +64,6 @@ def cmd_monitor(args: argparse.Namespace) -> int:
             poll = recorder.poll if recorder is not None else None
             try:
                 if tty:
-                    from roverlink.tui import DashboardApp  # noqa: PLC0415 (Textual is an extra, loaded for the terminal view only)
-
                     DashboardApp(dashboard, on_refresh=poll).run()
                     print("\n".join(lines(dashboard.snapshot())))
                 else:
@@ -71,6 +72,8 @@ def cmd_monitor(args: argparse.Namespace) -> int:
                 dashboard.close()
                 if recorder is not None:
                     print("\n".join(recorder.close().lines()))
+    except MissingDependencyError:
+        raise  # cli.main names the extra
     except (RoverLinkError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

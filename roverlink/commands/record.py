@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import TextIO
 
 from host_sdk import Robot, RoverLinkError
+from host_sdk.extras import MissingDependencyError
 from host_sdk.recording import Recorder, RecordingSummary
 from roverlink.console import Progress, add_robot_args, bar, connect
 from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
@@ -98,6 +99,8 @@ def cmd_record(args: argparse.Namespace) -> int:
                 for line in choice.lines():
                     print(f"  with the {line}")
                 summary = record(robot, recorder, args.duration, Progress())
+    except MissingDependencyError:
+        raise  # cli.main names the extra
     except (RoverLinkError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

@@ -11,6 +11,7 @@ import argparse
 import sys
 
 from host_sdk import RoverLinkError
+from host_sdk.extras import MissingDependencyError
 from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
 from roverlink.console import add_robot_args, connect
 from roverlink.dashboard import Dashboard, lines
@@ -36,6 +37,8 @@ def cmd_teleop(args: argparse.Namespace) -> int:
             stats = robot.stats
             print("\n".join(lines(dashboard.snapshot())))
             print(f"summary: {stats.setpoints_sent} setpoints sent, {stats.feedback_received} FEEDBACK received")
+    except MissingDependencyError:
+        raise  # cli.main names the extra
     except RoverLinkError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 from host_sdk import PidGains, Robot, RoverLinkError
+from host_sdk.extras import MissingDependencyError, require
 from protocol.generated.constants import FEEDBACK_HZ_MAX
 from roverlink.console import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
 from roverlink.emulated import place_on_stand
@@ -138,6 +139,8 @@ def _plot(reports: list[WheelReport], path: Path, title: str) -> str:
 def cmd_tune(args: argparse.Namespace) -> int:
     """Step-test each wheel's speed loop; compare gains; --auto proposes, applies, verifies, saves."""
     prompter = ConsolePrompter(assume_yes=args.yes)
+    if args.plot:  # drawn after minutes of step tests: know before them that it can be
+        require("matplotlib", "plot", "the tune plot (--plot FILE.png; --plot '' draws none)")
     try:
         with connect(args, feedback_hz=FEEDBACK_HZ_MAX) as robot:  # every tick: the step's finest record
             limit = robot.config.max_wheel_speed_mm_s / 1000
@@ -163,6 +166,8 @@ def cmd_tune(args: argparse.Namespace) -> int:
                 name = robot.identity.robot_name or "robot"
                 print(_plot(reports, Path(args.plot), f"{name}: velocity steps"))
             summary = apply_proposals(robot, args, reports, prompter) if args.auto else []
+    except MissingDependencyError:
+        raise  # cli.main names the extra
     except (RoverLinkError, EOFError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

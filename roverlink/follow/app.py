@@ -100,7 +100,7 @@ def run_emulated(profile: str, world: str | Path, *, pilot: str = "roverlink", s
         lidar = Lidar.open(em.endpoints["lidar"], em.lidar_model)
         camera = CameraSource(em.endpoints["camera"])
         imu_port = Jy901.open(em.endpoints["imu"]) if imu else None
-        metrics = FollowMetrics(chosen.name, profile, str(world))
+        metrics = FollowMetrics(chosen.name, profile, world=str(world))
         with recording(robot, chosen, record) as on_step:
             return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
                               follow_gap_m=gap_for(settings, geo), imu=imu_port, truth=em.truth.sample,
@@ -142,7 +142,7 @@ def run_robot(ports: RobotPorts, profile: str, *, template: NDArray[np.uint8] | 
         chosen = make_pilot(pilot, geo, template, settings)
         lidar = Lidar.open(ports.lidar, ports.lidar_model or LIDAR_FOR.get(profile, "rplidar-a1"))
         imu = Jy901.open(ports.imu) if ports.imu else None
-        metrics = FollowMetrics(chosen.name, profile, ports.url)
+        metrics = FollowMetrics(chosen.name, profile, url=ports.url)
         with recording(robot, chosen, record) as on_step:
             return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
                               follow_gap_m=gap_for(settings, geo), imu=imu, progress=progress,

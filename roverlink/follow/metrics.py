@@ -32,12 +32,16 @@ class TruthSample:
 class FollowMetrics:
     pilot: str
     profile: str
-    world: str
+    world: str | None = None
+    """On the emulator: the world the run was in (a scenario file, random:SEED); None on a robot."""
+    url: str | None = None
+    """On a robot: the board's port or URL; None on the emulator."""
     duration_s: float = 0.0
     distance_m: float = 0.0
-    collisions: int = 0
-    collided_with: list[str] = field(default_factory=list)
-    run_into: int = 0
+    collisions: int | None = None
+    """Contacts with obstacles or the target: only the emulator's truth knows them (None: unknown)."""
+    collided_with: list[str] | None = None
+    run_into: int | None = None
     """Of the collisions, those in which the robot stood or moved away (the target walked into it)."""
     first_sight_s: float | None = None
     """When the tracker first had the target (None: never)."""
@@ -59,7 +63,13 @@ class FollowMetrics:
     follow_gap_m: float = 0.5
     """The gap the following error is measured against."""
     ground_truth: bool = False
-    """True on the emulator: collisions, in-view share and gaps come from its truth."""
+    """True on the emulator: collisions, in-view share and gaps come from its truth. False on a
+    robot: what only the truth knows (collisions, what was hit, the in-view share) is None."""
+
+    def with_truth(self) -> None:
+        """The run has ground truth: its collisions are counted from none."""
+        self.ground_truth = True
+        self.collisions, self.collided_with, self.run_into = 0, [], 0
 
     def to_json(self) -> dict[str, Any]:
         out = asdict(self)

@@ -29,7 +29,8 @@ def run_follow(robot: Robot, lidar: Lidar, camera: CameraSource, pilot: Pilot, *
                on_step: Callable[[float], None] | None = None) -> FollowMetrics:  # fmt: skip
     """Run `pilot` for `duration_s` of the robot's clock; returns the filled `metrics`."""
     recorder = MetricsRecorder(metrics, follow_gap_m)
-    metrics.ground_truth = truth is not None
+    if truth is not None:
+        metrics.with_truth()
     metrics.follow_gap_m = follow_gap_m
     loop = ControlLoop(robot, pilot, lidar=lidar, camera=camera, imu=imu, period_s=period_s)
     t0 = loop.start()

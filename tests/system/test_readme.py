@@ -5,7 +5,10 @@ from __future__ import annotations
 import contextlib
 import io
 import re
+import tomllib
 from pathlib import Path
+
+from protocol.errors import TOOLS_EXTRAS, MissingDependencyError
 
 README = Path(__file__).resolve().parents[2] / "README.md"
 
@@ -51,3 +54,31 @@ def test_readme_commands_exist() -> None:
     assert "roverlink roundtrip" in text
     ci = (README.parent / ".ci" / "run").read_text(encoding="utf-8")
     assert [ln for ln in ci.splitlines() if ln and not ln.startswith(("#", "set ", "cd "))] == ["bash scripts/test.sh"]
+
+
+def _pyproject_extras() -> dict[str, list[str]]:
+    with (README.parent / "pyproject.toml").open("rb") as f:
+        extras: dict[str, list[str]] = tomllib.load(f)["project"]["optional-dependencies"]
+    return extras
+
+
+def test_readme_install_names_every_extra_and_no_other() -> None:
+    text = README.read_text(encoding="utf-8")
+    install = re.search(r"## Install\n(.*?)\n## ", text, re.S)
+    assert install, "README has no Install section"
+    table = set(re.findall(r"^\| `([a-z0-9-]+)` \|", install.group(1), re.M))
+    named = {e for group in re.findall(r"roverlink\[([a-z0-9,-]+)\]", text) for e in group.split(",")}
+    named |= {e for group in re.findall(r"-e '\.\[([a-z0-9,-]+)\]'", text) for e in group.split(",")}
+    extras = set(_pyproject_extras())
+    assert table == extras, f"README's extras table {sorted(table)} != pyproject.toml's {sorted(extras)}"
+    assert named <= extras, f"README installs extras pyproject.toml does not have: {sorted(named - extras)}"
+    assert "PYTHON=/usr/bin/python3 bash scripts/demo.sh" in install.group(1)
+    assert 'PYTHON="${PYTHON:-python3}"' in (README.parent / "scripts" / "venv.sh").read_text(encoding="utf-8")
+
+
+def test_the_tools_extra_is_the_extras_its_messages_name() -> None:
+    """MissingDependencyError offers 'roverlink[tools]' for exactly the extras `tools` gathers."""
+    extras = _pyproject_extras()
+    assert sorted(extras["tools"]) == sorted(req for name in TOOLS_EXTRAS for req in extras[name])
+    assert "'roverlink[tools]'" in str(MissingDependencyError("textual", "tui", "x"))
+    assert "'roverlink[tools]'" not in str(MissingDependencyError("cv2", "vision", "the camera"))

@@ -39,7 +39,9 @@ def test_follow_on_ptys_and_an_http_camera(served: dict[str, str], tmp_path: Pat
     assert done.returncode == 0, done.stderr
     m = json.loads(done.stdout)
     assert m["duration_s"] == pytest.approx(6.0, abs=0.2)
-    assert not m["ground_truth"] and m["collisions"] == 0  # a robot has no truth to count them from
+    assert not m["ground_truth"] and m["collisions"] is None  # a robot has no truth to count them from
+    assert m["collided_with"] is None and m["in_view_fraction"] is None
+    assert m["url"] == served["board"] and m["world"] is None
     assert m["first_sight_s"] is not None and m["first_sight_s"] < 2.0
     assert m["tracked_fraction"] > 0.8
     assert m["follow_error_mean_m"] is not None  # from the tracker's and the lidar's gap

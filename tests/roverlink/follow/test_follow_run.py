@@ -31,7 +31,7 @@ def test_poses_between_control_steps_are_interpolated_not_rounded() -> None:
 
 
 def test_the_time_to_decide_a_step_is_reported_as_mean_and_99th_percentile() -> None:
-    recorder = MetricsRecorder(FollowMetrics("roverlink", "picar", "random:0"), 0.9)
+    recorder = MetricsRecorder(FollowMetrics("roverlink", "picar", world="random:0"), 0.9)
     for i in range(200):  # 1 ms a step, and two slow steps of 9 ms
         recorder.decided(0.009 if i in (50, 150) else 0.001)
     assert recorder.m.decide_ms_mean == pytest.approx(1.08)
