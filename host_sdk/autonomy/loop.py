@@ -72,8 +72,10 @@ class ControlLoop:
         return pose
 
     def step(self) -> Step:
-        """One period's work, without waiting."""
-        assert self._frames is not None, "start() the loop first"
+        """One period's work, without waiting (the first call starts the loop if `start()` was not)."""
+        if self._frames is None:
+            self.start()
+        assert self._frames is not None
         robot, pilot, poses = self.robot, self.pilot, self.poses
         t = robot.now()
         pose = poses.update(t)
