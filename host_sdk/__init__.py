@@ -11,6 +11,7 @@ See docs/sdk.md.
 """
 
 from host_sdk import enums, messages
+from host_sdk.aio import AsyncRobot, FeedbackStream
 from host_sdk.errors import (
     ArgumentError,
     ArgumentTypeError,
@@ -47,6 +48,7 @@ __all__ = [
     "Ackermann",
     "ArgumentError",
     "ArgumentTypeError",
+    "AsyncRobot",
     "CodecError",
     "CommandRangeError",
     "ConnectTimeoutError",
@@ -55,6 +57,7 @@ __all__ = [
     "EncodeError",
     "FailsafeError",
     "FeedbackSample",
+    "FeedbackStream",
     "FeedbackTimeoutError",
     "IncompatibleFirmwareError",
     "KinematicsError",
