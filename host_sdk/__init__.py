@@ -13,6 +13,7 @@ See docs/sdk.md.
 """
 
 from host_sdk import enums, messages
+from host_sdk.aio import AsyncRobot, FeedbackStream
 from host_sdk.errors import (
     ArgumentError,
     ArgumentTypeError,
@@ -49,6 +50,7 @@ __all__ = [
     "Ackermann",
     "ArgumentError",
     "ArgumentTypeError",
+    "AsyncRobot",
     "CodecError",
     "CommandRangeError",
     "ConnectTimeoutError",
@@ -57,6 +59,7 @@ __all__ = [
     "EncodeError",
     "FailsafeError",
     "FeedbackSample",
+    "FeedbackStream",
     "FeedbackTimeoutError",
     "IncompatibleFirmwareError",
     "KinematicsError",

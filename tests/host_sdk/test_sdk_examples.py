@@ -3,10 +3,13 @@ works for a user's own test file."""
 
 from __future__ import annotations
 
+import json
 import re
 import runpy
+import shlex
 import subprocess
 import sys
+import urllib.request
 from pathlib import Path
 
 import pytest
@@ -98,3 +101,49 @@ def test_demo_plot_names_the_robot_and_the_course(tmp_path: Path, monkeypatch: p
     assert main(["demo", "--fast", "--profile", "picar", "--side", "0.8", "--plot", str(target)]) == 0
     assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert titles and "picar" in titles[-1] and "0.8 m square" in titles[-1] and "stream" in titles[-1]
+
+
+ASYNC_SERVER = EXAMPLES / "async_server.py"
+
+
+def async_server_commands() -> list[list[str]]:
+    """The arguments of the emulator command lines in examples/async_server.py's docstring."""
+    doc = runpy.run_path(str(ASYNC_SERVER))["__doc__"]
+    lines = re.findall(r"^python examples/async_server\.py([^#\n]*)", doc, re.M)
+    return [args for args in map(shlex.split, lines) if not args or args[0].startswith("emu://")]
+
+
+def test_the_async_server_example_documents_both_clocks() -> None:
+    urls = [args[0] if args else "emu://" for args in async_server_commands()]
+    assert urls == ["emu://", "emu://diffdrive-tb6612?clock=virtual"]
+
+
+@pytest.mark.parametrize("args", async_server_commands(), ids=["real-clock", "virtual-clock"])
+def test_the_async_server_example_serves_odometry_while_it_drives(args: list[str]) -> None:
+    """Run as documented, with a short --seconds (robot clock) and any free port; fetch the JSON once."""
+    seconds = "20" if "clock=virtual" in " ".join(args) else "2"
+    command = [sys.executable, str(ASYNC_SERVER), *args, "--port", "0", "--seconds", seconds]
+    with subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as proc:
+        try:
+            assert proc.stdout is not None
+            first = proc.stdout.readline()  # printed once the server listens, before driving
+            port = re.fullmatch(r"serving http://127\.0\.0\.1:(\d+)/odometry\n", first)
+            assert port, first
+            with urllib.request.urlopen(f"http://127.0.0.1:{port.group(1)}/odometry", timeout=30) as response:
+                odometry = json.load(response)
+            out, err = proc.communicate(timeout=120)
+        finally:
+            proc.kill()
+    assert {"x_m", "y_m", "theta_rad", "linear_m_s", "angular_rad_s", "time_s", "state"} <= odometry.keys()
+    assert proc.returncode == 0, err
+    done = re.search(r"^done: x=([-+.\d]+) m y=([-+.\d]+) m", out, re.M)
+    assert done and abs(float(done.group(1))) + abs(float(done.group(2))) > 0.1  # it drove
+
+
+def test_the_asyncio_section_of_the_sdk_doc_runs_as_documented(capsys: pytest.CaptureFixture[str]) -> None:
+    doc = (EXAMPLES.parent / "docs" / "sdk.md").read_text(encoding="utf-8")
+    section = doc[doc.index("## asyncio") : doc.index("## Layering")]
+    code = re.findall(r"```python\n(.*?)```", section, re.S)[0]
+    exec(compile(code, "docs/sdk.md", "exec"), {})
+    claimed = re.search(r"print\(.*\)\s+# (.*)", code)
+    assert claimed and capsys.readouterr().out.strip() == claimed.group(1)
