@@ -12,8 +12,9 @@
 See docs/sdk.md.
 """
 
+from typing import TYPE_CHECKING, Any
+
 from host_sdk import enums, messages
-from host_sdk.aio import AsyncRobot, FeedbackStream
 from host_sdk.errors import (
     ArgumentError,
     ArgumentTypeError,
@@ -83,3 +84,15 @@ __all__ = [
     "messages",
 ]
 __version__ = "0.1.0"
+
+if TYPE_CHECKING:
+    from host_sdk.aio import AsyncRobot, FeedbackStream
+
+
+def __getattr__(name: str) -> Any:
+    # asyncio is imported only by programs that use it: `import host_sdk` stays small on a Pi.
+    if name in ("AsyncRobot", "FeedbackStream"):
+        from host_sdk import aio  # noqa: PLC0415
+
+        return getattr(aio, name)
+    raise AttributeError(f"module 'host_sdk' has no attribute {name!r}")

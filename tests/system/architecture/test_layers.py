@@ -84,6 +84,15 @@ def test_importing_the_sdk_loads_no_emulator_and_no_tools() -> None:
     assert out.stdout.strip() == ""
 
 
+def test_importing_the_sdk_loads_asyncio_only_for_async_programs() -> None:
+    import subprocess
+    import sys
+
+    code = "import sys, host_sdk; print('asyncio' in sys.modules); host_sdk.AsyncRobot; print('asyncio' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
+    assert out.stdout.split() == ["False", "True"]
+
+
 def test_firmware_library_includes_run_one_way() -> None:
     """The Arduino library's folders: wire <- generated <- codec <- core, and hal beside core's
     foot; an #include never points up."""
