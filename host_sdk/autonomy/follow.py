@@ -45,7 +45,7 @@ from host_sdk.perception.avoidance import AvoidanceParams, Avoider, Footprint, P
 from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.motion import Mover
 from host_sdk.perception.tracking import Track
-from host_sdk.pose import Pose2D, RobotPose
+from host_sdk.pose import Pose2D
 
 F64 = NDArray[np.float64]
 
@@ -161,7 +161,7 @@ class Follower:
         self._last = (0.0, 0.0)
         """The command decided last (linear, angular)."""
         self._speed = 0.0
-        """The speed the robot moves at, m/s (measured by the board, or estimated from the poses)."""
+        """The speed measured from the poses, m/s."""
         self._gave_up = False
         """Looking where the target was predicted to go showed nothing to do: search."""
         self._direction = (0.0, -math.inf)
@@ -189,17 +189,10 @@ class Follower:
         self._pose: Pose2D = (0.0, 0.0, 0.0)
 
     # -- the step -------------------------------------------------------------------------------------
-    def step(self, t: float, px: F64, py: F64, track: Track | None, pose: RobotPose | Pose2D, *,
+    def step(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *,
              movers: Sequence[Mover] = ()) -> Decision:  # fmt: skip
         """One control step: obstacle points in the base frame now, the latest track, the odometry pose,
-        and what moves in the scan (`MotionDetector`), which is where a lost target is looked for.
-        A `RobotPose` carries the speed the board measured; from a bare (x, y, theta) the speed is
-        estimated from successive poses."""
-        if isinstance(pose, RobotPose):
-            self._smooth_speed(t, pose.linear_m_s)
-            pose = pose.xyt
-        else:
-            self._estimate_speed(t, pose)
+        and what moves in the scan (`MotionDetector`), which is where a lost target is looked for."""
         decision = self._step(t, px, py, track, pose, movers=movers)
         v, w = decision.linear_m_s, decision.angular_rad_s
         if self._arcs is not None and v != 0.0:  # a car drives the arc its steering reaches nearest
@@ -212,23 +205,12 @@ class Follower:
         self._last = (decision.linear_m_s, decision.angular_rad_s)
         return decision
 
-    def _estimate_speed(self, t: float, pose: Pose2D) -> None:
-        """The speed from successive poses (for a caller with no measured speed)."""
-        dt = t - self._t
-        if dt > 0:
-            moved = (pose[0] - self._pose[0]) * math.cos(pose[2]) + (pose[1] - self._pose[1]) * math.sin(pose[2])
-            self._smooth_speed(t, moved / dt)
-
-    def _smooth_speed(self, t: float, speed_m_s: float) -> None:
-        """How fast it really moves (a command takes a while to become a speed), low-passed over 0.1 s:
-        the board measures each wheel over one feedback period, a few encoder counts at a crawl."""
-        dt = t - self._t
-        if dt > 0:
-            self._speed += min(1.0, dt / 0.1) * (speed_m_s - self._speed)
-
     def _step(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *,
               movers: Sequence[Mover]) -> Decision:  # fmt: skip
         dt = max(0.0, t - self._t)
+        if dt > 0:  # how fast it really moves (a command takes a while to become a speed)
+            moved = (pose[0] - self._pose[0]) * math.cos(pose[2]) + (pose[1] - self._pose[1]) * math.sin(pose[2])
+            self._speed += min(1.0, dt / 0.1) * (moved / dt - self._speed)
         self._t, self._pose = t, pose
         p = self.params
         px, py = np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64)

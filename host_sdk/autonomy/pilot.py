@@ -111,6 +111,9 @@ class FollowPilot:
                 track = tr
                 if tr.bearing_rad is not None:  # the robot has turned since the frame was taken
                     track = dataclasses.replace(tr, bearing_rad=tr.bearing_rad - (pose.theta_rad - seen_at.theta_rad))
-        decision = self.follower.step(pose.time_s, px, py, track, pose, movers=self.movers)
+        # The follower estimates the speed it plans from from successive poses, as its planner was
+        # tuned with: planning from the board's measured speed (pose.linear_m_s) changed decisions
+        # and led to contacts in 2 of 20 benchmark worlds (docs/autonomy.md).
+        decision = self.follower.step(pose.time_s, px, py, track, pose.xyt, movers=self.movers)
         self.decision = decision
         return decision.linear_m_s, decision.angular_rad_s, decision.mode.value
