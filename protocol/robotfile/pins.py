@@ -104,7 +104,8 @@ def read(reader: Reader, v: dict[str, Any], channels: int) -> Wiring:
         if singles[section] is not None and table is not None:
             rc[section] = (singles[section] or 0, str(table["pin"]))
     if rc and p.board is not None:
-        first = next(iter(rc))
+        timed = {n for _, channels in rules.BOARD_PINS[p.board].rc_timers for n in channels}
+        first = next((k for k, (n, _) in rc.items() if n not in timed), list(rc)[-1])  # the pin off every timer
         p.rule(
             rules.rc_problem({"esc" if k == "esc" else "servo": x for k, x in rc.items()}, p.board), (first, ("pin",))
         )
