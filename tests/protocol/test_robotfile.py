@@ -117,3 +117,15 @@ def test_calibration_overrides_nominal_values(tmp_path: Path) -> None:
     )
     config = load(path).config()
     assert (config.wheel_diameter_um, config.steering_center_cdeg) == (66200, 9150)
+
+
+def test_docs_describe_every_key() -> None:
+    from protocol.robotfile.schema import SECTIONS
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "robot-file.md").read_text(encoding="utf-8")
+    for section, keys in SECTIONS.items():
+        heading = f"### [{section}]" if section else "### Top level"
+        assert heading in doc
+        body = doc.split(heading, 1)[1].split("\n### ", 1)[0]
+        for k in keys:
+            assert f"| `{k.name}` | {k.type} |" in body, (section, k.name)
