@@ -41,6 +41,7 @@ from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.odometry import Pose
 from host_sdk.profiles import PROFILES, kinematics_for
 from host_sdk.robot import Robot
+from host_sdk.robot_description import RobotDescription, RobotFileError
 from host_sdk.session import FeedbackSample, LinkStatistics, PidGains, RobotConfig, RobotIdentity
 from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 
@@ -74,6 +75,8 @@ __all__ = [
     "Robot",
     "RobotClosedError",
     "RobotConfig",
+    "RobotDescription",
+    "RobotFileError",
     "RobotIdentity",
     "RoverLinkError",
     "SessionResetError",

@@ -25,6 +25,7 @@ __all__ = [
     "RobotProfile",
     "get_profile",
     "kinematics_for",
+    "kinematics_from",
     "profile_for_example",
     "steering_angles",
     "steering_limits",
@@ -86,14 +87,19 @@ def kinematics_for(profile: str | RobotProfile, config: SetConfig | None = None)
     prof = profile if isinstance(profile, RobotProfile) else get_profile(profile, argument="profile")
     if config is not None:
         checks.instance("config", config, SetConfig, "a RobotConfig (robot.config), or None for the profile's")
-    cfg = config or prof.config
-    radius = cfg.wheel_diameter_um / 2e6
-    if prof.kinematics == "diff":
-        return DiffDrive(wheel_radius_m=radius, track_m=prof.track_m, counts_per_rev=cfg.encoder_cpr)
-    right, left = steering_limits(cfg)
+    return kinematics_from(prof.kinematics, prof.track_m, prof.wheelbase_m, config or prof.config)
+
+
+def kinematics_from(kind: str, track_m: float, wheelbase_m: float, config: SetConfig) -> DiffDrive | Ackermann:
+    """DiffDrive ("diff") or Ackermann ("ackermann") from a robot's geometry and firmware `config`
+    (wheel diameter, counts per revolution, steering range): reference robots and robot files alike."""
+    radius = config.wheel_diameter_um / 2e6
+    if kind == "diff":
+        return DiffDrive(wheel_radius_m=radius, track_m=track_m, counts_per_rev=config.encoder_cpr)
+    right, left = steering_limits(config)
     return Ackermann(
-        wheelbase_m=prof.wheelbase_m,
+        wheelbase_m=wheelbase_m,
         wheel_radius_m=radius,
-        counts_per_rev=cfg.encoder_cpr,
+        counts_per_rev=config.encoder_cpr,
         max_steering_rad=min(max(left, right), math.radians(89)) or math.radians(25),  # the model needs < 90 deg
     )

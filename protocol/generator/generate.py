@@ -7,7 +7,7 @@ import tempfile
 from pathlib import Path
 
 from protocol.generator import hardware, loader, robots
-from protocol.generator.emit import cpp, docs, python, vectors
+from protocol.generator.emit import cpp, docs, python, robot_files, vectors
 from protocol.generator.emit import hardware as hardware_outputs
 from protocol.generator.emit import robots as robot_outputs
 from protocol.generator.hardware import Hardware
@@ -34,6 +34,7 @@ def render(spec: Spec, robot_list: tuple[Robot, ...], contract: Hardware) -> dic
     for emitter in (python, cpp, docs, vectors):
         out.update(emitter.emit(spec))
     out.update(robot_outputs.emit(spec, robot_list))
+    out.update(robot_files.emit(robot_list))
     out.update(hardware_outputs.emit(contract))
     return dict(sorted(out.items()))
 

@@ -22,16 +22,40 @@ class BoardPins:
     """Pin number of A0."""
     analog: int
     """A0..A<analog-1>."""
+    pwm: frozenset[int]
+    """analogWrite() pins (a timer's compare output): motor drivers' speed inputs."""
+    rc_timers: tuple[tuple[str, tuple[int, ...]], ...]
+    """16-bit timers the RC pulse layer (hal/avr/rc_pulses.h) drives, and their channels' pins."""
+    interrupts: frozenset[int]
+    """External interrupt (INTn) pins."""
+    pin_change: frozenset[int]
+    """Pin-change interrupt pins (the variant's digitalPinToPCICR)."""
 
 
-# The boards' Arduino pin numbering (the Arduino core's variants): board facts, not robot facts.
-BOARD_PINS = {"UNO": BoardPins(20, 14, 6), "MEGA2560": BoardPins(70, 54, 16)}
+# The boards' Arduino pin numbering and timers (the Arduino core's variants, and the pins
+# rc_pulses.h drives; Mega Timer1's pin 13 is also Timer0's, so it is left out): board facts.
+BOARD_PINS = {
+    "UNO": BoardPins(
+        20, 14, 6, frozenset({3, 5, 6, 9, 10, 11}), (("Timer1", (9, 10)),), frozenset({2, 3}), frozenset(range(20))
+    ),
+    "MEGA2560": BoardPins(
+        70,
+        54,
+        16,
+        frozenset({*range(2, 14), 44, 45, 46}),
+        (("Timer1", (11, 12)), ("Timer3", (5, 2, 3)), ("Timer4", (6, 7, 8)), ("Timer5", (46, 45, 44))),
+        frozenset({2, 3, 18, 19, 20, 21}),
+        frozenset({10, 11, 12, 13, 50, 51, 52, 53, *range(62, 70)}),
+    ),
+}
 SERIAL_PINS = (0, 1)  # USART0: the host link
 DRIVERS: dict[str, tuple[str, ...]] = {
     "TB6612": ("pwm", "in1", "in2", "standby"),
     "L298N": ("pwm", "in1", "in2"),
     "BTS7960": ("rpwm", "lpwm", "r_en", "l_en"),
 }
+PWM_ROLES = ("pwm", "rpwm", "lpwm")
+"""Driver inputs that take a PWM signal."""
 ENCODER = ("a", "b")
 SHARED_ROLES = {"TB6612": ("standby",)}
 """Roles whose pin the channels of one robot may share (TB6612: one STBY for both channels)."""
@@ -66,6 +90,54 @@ class Wiring:
         return ("left", "right") if max(len(self.motors), len(self.encoders)) == 2 else ("motor",)
 
 
+def resolve_pin(value: Any, board: str) -> tuple[int | None, str]:
+    """The pin number of `value` (9, "A0") on `board`, or None and why it is not a usable pin."""
+    b = BOARD_PINS[board]
+    if isinstance(value, str) and value.startswith("A") and value[1:].isdigit() and int(value[1:]) < b.analog:
+        number = b.first_analog + int(value[1:])
+    elif isinstance(value, int) and not isinstance(value, bool) and 0 <= value < b.digital:
+        number = value
+    else:
+        return None, f"{value!r} is not a pin of the {board} (0..{b.digital - 1} or A0..A{b.analog - 1})"
+    if number in SERIAL_PINS:
+        return None, f"pin {number} is the serial port's (the host link)"
+    return number, ""
+
+
+def _names(pins: frozenset[int] | tuple[int, ...]) -> str:
+    return ", ".join(str(p) for p in sorted(pins))
+
+
+def pwm_problem(number: int, label: str, board: str) -> str:
+    """Why pin `number` cannot drive a motor driver's PWM input on `board` ("" if it can)."""
+    pwm = BOARD_PINS[board].pwm
+    return "" if number in pwm else f"pin {label} has no PWM output on the {board} (PWM pins: {_names(pwm)})"
+
+
+def encoder_problem(number: int, label: str, board: str) -> str:
+    """Why pin `number` cannot count encoder edges on `board` ("" if it can): the AVR encoder needs
+    an external or a pin-change interrupt on both channels."""
+    b = BOARD_PINS[board]
+    if number in b.interrupts or number in b.pin_change:
+        return ""
+    return (
+        f"pin {label} cannot interrupt on the {board} (encoder pins need an external interrupt: "
+        f"{_names(b.interrupts)}, or a pin-change interrupt: {_names(b.pin_change)})"
+    )
+
+
+def rc_problem(pins: dict[str, tuple[int, str]], board: str) -> str:
+    """Why the RC pins (role -> (number, label)) cannot all be pulsed by one 16-bit timer of `board`
+    ("" if they can): the firmware's RC pulses come from a timer's compare channels, not software."""
+    timers = BOARD_PINS[board].rc_timers
+    numbers = {n for n, _ in pins.values()}
+    if any(numbers <= set(channels) for _, channels in timers):
+        return ""
+    allowed = "; ".join(f"{name}: pins {_names(channels)}" for name, channels in timers)
+    wired = ", ".join(f"{role} {label}" for role, (_, label) in pins.items())
+    return f"{wired}: the ESC and servo pulses need the pins of one 16-bit timer ({allowed})"
+
+
 class _Parser:
     def __init__(self, path: str, entry: str, board: str) -> None:
         self.path = path
@@ -78,17 +150,14 @@ class _Parser:
         return SpecError(self.path, f"{self.entry}.{where}", problem)
 
     def pin(self, value: Any, where: str) -> Pin:
-        b = self.board
-        if isinstance(value, str) and value.startswith("A") and value[1:].isdigit() and int(value[1:]) < b.analog:
-            number = b.first_analog + int(value[1:])
-        elif isinstance(value, int) and not isinstance(value, bool) and 0 <= value < b.digital:
-            number = value
-        else:
-            allowed = f"0..{b.digital - 1} or A0..A{b.analog - 1}"
-            raise self.fail(where, f"{value!r} is not a pin of the {self.board_name} ({allowed})")
-        if number in SERIAL_PINS:
-            raise self.fail(where, f"pin {number} is the serial port's (the host link)")
+        number, problem = resolve_pin(value, self.board_name)
+        if number is None:
+            raise self.fail(where, problem)
         return Pin(number, str(value))
+
+    def check(self, where: str, problem: str) -> None:
+        if problem:
+            raise self.fail(where, problem)
 
     def claim(self, pin: Pin, where: str, share: str | None = None) -> None:
         """Each pin serves one part; `share` names a role several channels may share (TB6612 STBY)."""
@@ -109,6 +178,11 @@ class _Parser:
         if set(raw) != keys:
             raise self.fail(where, f"keys must be exactly: {', '.join(sorted(keys))}")
         pins = tuple((role, self.pin(raw[role], f"{where}.{role}")) for role in roles)
+        for role, pin in pins:
+            if role in PWM_ROLES:
+                self.check(f"{where}.{role}", pwm_problem(pin.number, pin.label, self.board_name))
+            if kind == "encoder":
+                self.check(f"{where}.{role}", encoder_problem(pin.number, pin.label, self.board_name))
         for role, pin in pins:
             if role == "l_en" and pin == dict(pins)["r_en"]:
                 continue  # R_EN and L_EN of one BTS7960 may share a pin
@@ -157,6 +231,9 @@ def parse(
         if key in table:
             singles[key] = pin = p.pin(table[key], key)
             p.claim(pin, key)
+    rc = {key: (pin.number, pin.label) for key, pin in singles.items() if pin is not None}
+    if rc:
+        p.check("esc" if "esc" in rc else "servo", rc_problem(rc, board))
     leds: list[tuple[str, Pin]] = []
     if "leds" in table:
         raw = table["leds"]

@@ -18,6 +18,7 @@ from roverlink.commands import (
     monitor,
     ports,
     record,
+    robot,
     ros2,
     roundtrip,
     spec,
@@ -28,6 +29,7 @@ from roverlink.commands import (
 COMMANDS: tuple[ModuleType, ...] = (
     demo,
     info,
+    robot,
     ports,
     emulate,
     firmware,

@@ -70,6 +70,13 @@ def test_three_reference_robots_with_the_design_parameters() -> None:
             "encoders = [{ a = 2, b = 3 }]",
             "1 listed, the capabilities ask for 2",
         ),
+        (
+            "servo = 10\n",
+            "servo = 6\n",
+            "the ESC and servo pulses need the pins of one 16-bit timer (Timer1: pins 9, 10)",
+        ),
+        ("pwm = 7, in1 = 24", "pwm = 40, in1 = 24", "motors[1].pwm: pin 40 has no PWM output on the MEGA2560"),
+        ("{ a = 18, b = 19 }", "{ a = 40, b = 19 }", "encoders[1].a: pin 40 cannot interrupt on the MEGA2560"),
     ],
 )
 def test_bad_robot_entries_are_refused(old: str, new: str, problem: str) -> None:

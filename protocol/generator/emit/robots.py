@@ -230,7 +230,12 @@ def _docs(spec: Spec, robots: tuple[Robot, ...]) -> str:
     o = [f"<!-- DO NOT EDIT: generated from {ROBOTS_PATH} and {spec.path} by `{GENERATOR}`. -->\n"]
     o.append(f"<!-- spec hash: 0x{spec.spec_hash:08X} -->\n\n# Reference robots\n\n")
     o.append("Each robot's defaults live once, in `protocol/spec/robots.toml`; the firmware example, the ")
-    o.append("emulator profile and the SDK's kinematics are generated from it.\n\n")
+    o.append("emulator profile and the SDK's kinematics are generated from it, and so is each robot's robot file ")
+    o.append("(`protocol/robots/<name>.toml`).\n\n")
+    o.append("To adapt one to your robot, copy its file with `roverlink robot new my_robot.toml --from <name>`, ")
+    o.append(
+        "change it, and run `roverlink robot check my_robot.toml` (every key: [robot-file.md](robot-file.md)).\n\n"
+    )
     o.append("| | " + " | ".join(f"`{r.name}`" for r in robots) + " |\n|---|" + "---|" * len(robots) + "\n")
     rows: list[tuple[str, list[str]]] = [
         ("firmware example", [f"`{r.example}`" for r in robots]),

@@ -1,0 +1,118 @@
+"""`roverlink robot`: start, check and explain a robot file (docs/robot-file.md).
+
+roverlink robot new my.toml --from picar   # a commented copy of a reference robot
+roverlink robot check my.toml              # exit 0 "my.toml: ok", or 2 and every problem
+roverlink robot show my.toml               # the figures the firmware and the host derive
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+from host_sdk import RobotDescription
+from protocol.robotfile import REFERENCES, RobotFileError, check, reference_path
+
+# `roverlink firmware build` sizes of the reference firmwares (docs/firmware.md, flash table):
+# the nearest one stands in for a robot file's firmware until it is built.
+REFERENCE_FLASH = {
+    ("uno", "ESC+servo"): ("AckermannPiCar", 14_618),
+    ("mega2560", "TB6612"): ("DiffDriveTB6612", 17_148),
+    ("mega2560", "L298N"): ("DiffDriveTB6612", 17_148),
+    ("mega2560", "BTS7960"): ("DiffDriveBTS7960", 16_258),
+}
+FLASH_SIZE = {"uno": 32_256, "mega2560": 253_952}  # bytes left by the bootloader
+
+
+def cmd_new(args: argparse.Namespace) -> int:
+    target = Path(args.file)
+    if target.exists() and not args.force:
+        print(f"roverlink robot new: {target} exists (--force to overwrite)", file=sys.stderr)
+        return 1
+    text = reference_path(args.source).read_text(encoding="utf-8")
+    # The copy is the user's own file: the generator's DO NOT EDIT line does not apply to it.
+    lines = [line for line in text.splitlines(keepends=True) if not line.startswith("# DO NOT EDIT")]
+    target.write_text("".join(lines), encoding="utf-8")
+    print(f"{target}: a copy of {args.source}; change it, then `roverlink robot check {target}`")
+    return 0
+
+
+def cmd_check(args: argparse.Namespace) -> int:
+    problems = check(args.file)
+    if problems:
+        for problem in problems:
+            print(problem)
+        return 2
+    print(f"{args.file}: ok")
+    return 0
+
+
+def _flash(robot: RobotDescription) -> str:
+    ref = REFERENCE_FLASH.get((robot.board, robot.drive.driver))
+    if ref is None:
+        return "no reference build to estimate from"
+    example, size = ref
+    share = 100 * size / FLASH_SIZE[robot.board]
+    return f"about {size:,} B ({share:.0f}% of {FLASH_SIZE[robot.board]:,} B), estimated from the {example} build"
+
+
+def cmd_show(args: argparse.Namespace) -> int:
+    try:
+        robot = RobotDescription.load(args.file)
+    except RobotFileError as exc:
+        print(exc, file=sys.stderr)
+        return 2
+    config = robot.config()
+    wheel_rps = robot.limits.max_wheel_speed_m_s / (math.pi * robot.wheel_diameter_m)
+    print(f"{robot.name}: {robot.drive.kind} drive ({robot.drive.driver}) on the {robot.board}")
+    print(f"  metres per count      {robot.metres_per_count * 1000:.4f} mm ({robot.counts_per_rev} counts/rev)")
+    print(f"  max wheel speed       {robot.limits.max_wheel_speed_m_s:g} m/s ({wheel_rps * 60:.0f} rpm)")
+    print(f"  kinematics            {robot.kinematics()}")
+    print(f"  capabilities          {robot.capabilities()!r}")
+    w = robot.wiring
+    pins = [f"{m.kind} {i}: " + ", ".join(f"{r} {p}" for r, p in m.pins) for i, m in enumerate(w.motors)]
+    pins += [f"encoder {i}: " + ", ".join(f"{r} {p}" for r, p in e.pins) for i, e in enumerate(w.encoders)]
+    pins += [f"{name} {pin}" for name, pin in (("esc", w.esc_pin), ("servo", w.servo_pin)) if pin is not None]
+    pins += [f"leds {', '.join(map(str, w.led_pins))}"] if w.led_pins else []
+    pins.append(f"entropy {w.entropy_pin}")
+    print("  pins                  " + "\n                        ".join(pins))
+    print(f"  SET_CONFIG            {config}")
+    print(f"  flash (estimate)      {_flash(robot)}")
+    print("  SRAM (estimate)       under half of the board's, as every reference build (docs/budgets.md)")
+    return 0
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    p = sub.add_parser(
+        "robot",
+        help="start, check and explain a robot file",
+        description="A robot file describes your robot (docs/robot-file.md): start one from a reference robot, "
+        "check it, show what the firmware and the host derive from it.",
+    )
+    actions = p.add_subparsers(dest="action", required=True, metavar="ACTION")
+    new = actions.add_parser(
+        "new",
+        help="write a commented copy of a reference robot's file",
+        description="Write FILE: a reference robot's file with every key explained, to change for your robot.",
+    )
+    new.add_argument("file", help="the robot file to write")
+    new.add_argument("--from", dest="source", choices=REFERENCES, required=True, help="the reference robot")
+    new.add_argument("--force", action="store_true", help="overwrite an existing file")
+    new.set_defaults(func=cmd_new)
+    chk = actions.add_parser(
+        "check",
+        help="exit 0 if the file is fine, else 2 listing every problem",
+        description="Check FILE: prints 'FILE: ok' (exit 0), or every problem with its line (exit 2).",
+    )
+    chk.add_argument("file", help="the robot file to check")
+    chk.set_defaults(func=cmd_check)
+    show = actions.add_parser(
+        "show",
+        help="print the derived figures (metres per count, speeds, pins, flash)",
+        description="What the firmware and the host derive from FILE: metres per count, the fastest wheel "
+        "speed, kinematics, pins per function, SET_CONFIG, and a flash/SRAM estimate from the reference builds.",
+    )
+    show.add_argument("file", help="the robot file to explain")
+    show.set_defaults(func=cmd_show)

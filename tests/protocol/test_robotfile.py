@@ -1,0 +1,131 @@
+"""Robot files (protocol.robotfile): the reference files round trip, and every check names the
+file, the key, its line, the value and what is allowed."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from protocol.generated.profiles import PROFILES
+from protocol.robotfile import REFERENCES, RobotFileError, check, load, reference_path
+from protocol.sensors import ROBOT_SENSORS
+
+
+def _variant(tmp_path: Path, name: str, old: str, new: str) -> Path:
+    text = reference_path(name).read_text(encoding="utf-8")
+    assert old in text
+    path = tmp_path / "robot.toml"
+    path.write_text(text.replace(old, new, 1), encoding="utf-8")
+    return path
+
+
+def _problems(path: Path) -> list[str]:
+    return [str(p) for p in check(path)]
+
+
+@pytest.mark.parametrize("name", REFERENCES)
+def test_reference_file_gives_the_reference_profile(name: str) -> None:
+    robot, profile = load(reference_path(name)), PROFILES[name]
+    assert robot.config() == profile.config
+    assert robot.pid_gains() == profile.pid
+    assert robot.wiring == profile.wiring
+    assert robot.capabilities() == profile.capabilities
+    assert robot.board_enum() == profile.board
+    assert robot.feedback_mode() == profile.feedback_mode
+    assert (robot.track_m, robot.geometry.wheelbase_m) == (profile.track_m, profile.wheelbase_m)
+    assert robot.sensors() == ROBOT_SENSORS[name]
+    assert reference_path(name).read_text(encoding="utf-8").startswith("# DO NOT EDIT")
+
+
+def test_unknown_key_names_the_nearest_and_its_line(tmp_path: Path) -> None:
+    path = _variant(tmp_path, "picar", "track_m = 0.16", "trak_m = 0.16")
+    line = (
+        path.read_text(encoding="utf-8")
+        .splitlines()
+        .index("trak_m = 0.16  # [m] Distance between the left and right wheels.")
+        + 1
+    )
+    problems = _problems(path)
+    assert f"{path}:{line}: geometry.trak_m: unknown key (did you mean 'track_m'?)" in problems
+    assert any("missing key 'geometry.track_m'" in p for p in problems)
+
+
+def test_wrong_type_and_out_of_range(tmp_path: Path) -> None:
+    path = _variant(tmp_path, "picar", "watchdog_s = 0.25", 'watchdog_s = "fast"')
+    assert any("limits.watchdog_s: = 'fast': expected a number (0.05..2 s)" in p for p in _problems(path))
+    path = _variant(tmp_path, "picar", "watchdog_s = 0.25", "watchdog_s = 5.0")
+    assert any("limits.watchdog_s: = 5.0: out of range (allowed: 0.05..2 s)" in p for p in _problems(path))
+
+
+def test_servo_off_timer1_on_the_uno_names_the_constraint(tmp_path: Path) -> None:
+    path = _variant(tmp_path, "picar", "pin = 10", "pin = 6")
+    (problem,) = _problems(path)
+    assert "esc 9, servo 6: the ESC and servo pulses need the pins of one 16-bit timer (Timer1: pins 9, 10)" in problem
+    assert problem.startswith(f"{path}:")
+
+
+def test_pin_used_twice(tmp_path: Path) -> None:
+    path = _variant(tmp_path, "diffdrive-tb6612", "in2 = 25", "in2 = 22")
+    assert any("drive.motors[1].in2: = 22: pin already serves drive.motors[0].in1 (one function per pin)" in p
+               for p in _problems(path))  # fmt: skip
+
+
+def test_encoder_pin_without_interrupt(tmp_path: Path) -> None:
+    path = _variant(tmp_path, "diffdrive-tb6612", "a = 18", "a = 40")
+    (problem,) = _problems(path)
+    assert "encoders.pins[1].a: pin 40 cannot interrupt on the MEGA2560" in problem
+
+
+def test_motor_pwm_pin_without_pwm(tmp_path: Path) -> None:
+    path = _variant(tmp_path, "diffdrive-tb6612", "pwm = 7", "pwm = 40")
+    assert any("drive.motors[1].pwm: pin 40 has no PWM output on the MEGA2560" in p for p in _problems(path))
+
+
+def test_unknown_board_suggests(tmp_path: Path) -> None:
+    path = _variant(tmp_path, "picar", 'board = "uno"', 'board = "unoo"')
+    assert f"{path}:7: board: = 'unoo': not one of uno, mega2560, native (did you mean 'uno'?)" in _problems(path)
+
+
+def test_board_lacking_a_pin_the_file_asks_for(tmp_path: Path) -> None:
+    path = _variant(tmp_path, "diffdrive-tb6612", 'board = "mega2560"', 'board = "uno"')
+    problems = _problems(path)
+    assert any("drive.motors[0].in1: = 22: 22 is not a pin of the UNO (0..19 or A0..A5)" in p for p in problems)
+    assert len(problems) > 5  # every problem, not the first
+
+
+def test_missing_file_and_not_toml(tmp_path: Path) -> None:
+    assert _problems(tmp_path / "none.toml") == [f"{tmp_path / 'none.toml'}: no such file"]
+    bad = tmp_path / "bad.toml"
+    bad.write_text('name = "x"\nboard = \n', encoding="utf-8")
+    (problem,) = _problems(bad)
+    assert problem.startswith(f"{bad}:2: not valid TOML")
+
+
+def test_load_raises_one_error_listing_all(tmp_path: Path) -> None:
+    path = _variant(tmp_path, "picar", "watchdog_s = 0.25", "watchdog_s = 9.0\nspeed = 1")
+    with pytest.raises(RobotFileError) as err:
+        load(path)
+    assert isinstance(err.value, ValueError)
+    assert len(err.value.problems) == 2
+    assert str(err.value).startswith(f"{path}: 2 problems\n")
+
+
+def test_calibration_overrides_nominal_values(tmp_path: Path) -> None:
+    path = _variant(
+        tmp_path, "picar", "# wheel_diameter_m = 0.065", "wheel_diameter_m = 0.0662\nsteering_trim_deg = 1.5"
+    )
+    config = load(path).config()
+    assert (config.wheel_diameter_um, config.steering_center_cdeg) == (66200, 9150)
+
+
+def test_docs_describe_every_key() -> None:
+    from protocol.robotfile.schema import SECTIONS
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "robot-file.md").read_text(encoding="utf-8")
+    for section, keys in SECTIONS.items():
+        heading = f"### [{section}]" if section else "### Top level"
+        assert heading in doc
+        body = doc.split(heading, 1)[1].split("\n### ", 1)[0]
+        for k in keys:
+            assert f"| `{k.name}` | {k.type} |" in body, (section, k.name)
