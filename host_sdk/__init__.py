@@ -37,6 +37,7 @@ from host_sdk.errors import (
     TransportError,
     UnsupportedError,
 )
+from host_sdk.gains_watch import PidGainsWarning
 from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.odometry import Pose
 from host_sdk.profiles import PROFILES, kinematics_for
@@ -70,6 +71,7 @@ __all__ = [
     "NackError",
     "NotArmedError",
     "PidGains",
+    "PidGainsWarning",
     "Pose",
     "RequestTimeoutError",
     "Robot",

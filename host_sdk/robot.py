@@ -153,6 +153,7 @@ class Robot(DriveCalls, ConfigCalls):
         self._last_command_seq: int | None = None
         self._limits: tuple[RobotConfig | None, DriveLimits | None] = (None, None)
         self.odometry = OdometryView(self._lock, self._check_open, self._session)
+        self._unwatch_gains: Callable[[], None] | None = None
         """Pose and body velocities from the wheel encoders; `odometry.reset()` sets the origin."""
 
     def _open(self, timeout_s: float) -> None:

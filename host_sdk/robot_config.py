@@ -9,13 +9,16 @@ from __future__ import annotations
 
 import dataclasses
 import threading
+from collections.abc import Callable
 from typing import Any
 
 from host_sdk import checks
+from host_sdk.callbacks import FeedbackCallback
 from host_sdk.errors import CommandRangeError, EncodeError, RoverLinkError
+from host_sdk.gains_watch import GainsWatch, warn_about_gains
 from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.runner import Runner
-from host_sdk.session import PidGains, RobotConfig, RobotIdentity, Session
+from host_sdk.session import FeedbackSample, PidGains, RobotConfig, RobotIdentity, Session
 from protocol.codec.message import Message
 from protocol.generated.constants import PID_ALL_WHEELS
 from protocol.generated.enums import Capability
@@ -43,6 +46,7 @@ class ConfigCalls:
     _lock: threading.RLock
     _rmw: threading.RLock
     _user_kinematics: DiffDrive | Ackermann | None
+    _unwatch_gains: Callable[[], None] | None
 
     @property
     def identity(self) -> RobotIdentity:
@@ -129,7 +133,26 @@ class ConfigCalls:
                 for w in range(wheels) if wheel is None else (wheel,):
                     gains = dataclasses.replace(self.pid(w), **given)
                     self._request(SetPid(wheel=w, **dataclasses.asdict(gains)))
-            return self.pid(wheel or 0)
+            result = self.pid(wheel or 0)
+        self._watch_gains(result)
+        return result
+
+    def _watch_gains(self, gains: PidGains) -> None:
+        """Watch the driving that follows new gains; warn when they make a wheel oscillate."""
+        if self._unwatch_gains is not None:
+            self._unwatch_gains()  # the gains it watched are gone
+        text = ", ".join(f"{name}={getattr(gains, name):g}" for name in _GAINS)
+        watch = GainsWatch(text, warn_about_gains)
+
+        def feed(sample: FeedbackSample) -> None:
+            watch.feed(sample)
+            if watch.finished:
+                unsubscribe()
+
+        self._unwatch_gains = unsubscribe = self.on_feedback(feed)
+
+    def on_feedback(self, callback: FeedbackCallback) -> Callable[[], None]:
+        raise NotImplementedError
 
     def save_config(self) -> None:
         """Write configuration and PID gains to the board's EEPROM (refused while armed: disarm first)."""
