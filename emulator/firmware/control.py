@@ -29,12 +29,6 @@ def limit_targets(targets: list[int], max_speed: int) -> list[int]:
     return [div_round(t * max_speed, peak) for t in targets]
 
 
-def target_step(old: int, new: int) -> bool:
-    """Section 4.4: a change of target that resets the wheel's integrator: by more than half the
-    larger magnitude (a sign change always is)."""
-    return 2 * abs(new - old) > max(abs(old), abs(new))
-
-
 def ramp_step(ramped: N, target: N, accel_step: N, decel_step: N) -> N:
     """One tick of the ramp: toward `target` by at most `accel_step` when speeding up in the same
     direction (or from rest), else by at most `decel_step` (slowing, or reversing through zero).

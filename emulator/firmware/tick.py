@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 from emulator.firmware.board import Board
 from emulator.firmware.config import Gains
-from emulator.firmware.control import WheelPid, limit_targets, ramp_step, round_half_away, target_step
+from emulator.firmware.control import WheelPid, limit_targets, ramp_step, round_half_away
 from emulator.firmware.lights import BLINK_PERIOD_TICKS, light_mask
 from emulator.firmware.session import Session
 from emulator.firmware.statemachine import SessionEvent, SessionState
@@ -156,14 +156,7 @@ class ControlTick:
                 self.steer_mrad = pending.steering_mrad
             self.ack_seq = pending.seq
             self.ack_tick = self.tick_count
-        targets = limit_targets(targets, self.config.max_wheel_speed_mm_s)
-        if any(target_step(old, new) for old, new in zip(self.targets, targets, strict=True)):
-            # A step to another operating point resets both integrators: what they learned at the
-            # old one (friction, deadband at those speeds) differs between the wheels and would
-            # steer the robot off the new course.
-            for pid in self.pids:
-                pid.reset()
-        self.targets = targets
+        self.targets = limit_targets(targets, self.config.max_wheel_speed_mm_s)
         self.servo_cdeg = self._servo_cdeg_for(self.steer_mrad)
         return applied
 

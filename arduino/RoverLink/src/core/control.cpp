@@ -70,13 +70,6 @@ void limit_targets(int16_t (&t)[proto::WHEEL_COUNT], uint16_t max_speed) {
     }
 }
 
-bool target_step(int16_t from, int16_t to) {
-    const int32_t f = from < 0 ? -static_cast<int32_t>(from) : from;
-    const int32_t g = to < 0 ? -static_cast<int32_t>(to) : to;
-    const int32_t d = static_cast<int32_t>(to) - from;
-    return 2 * (d < 0 ? -d : d) > (f > g ? f : g);
-}
-
 ROVERLINK_NOINLINE int32_t ramp_step(int32_t ramped, int32_t target, uint16_t up, uint16_t down) {
     const int32_t diff = target - ramped;
     // Speeding up (|target| > |ramped| on ramped's side of zero, or from 0) is exactly a step away

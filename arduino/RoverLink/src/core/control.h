@@ -57,9 +57,6 @@ int16_t pid_step(const Gains& g, float r, int16_t m, int16_t m_prev, float max_e
 // Section 4.4: the targets `t` re-limited to +-max_speed; when either is beyond it, both are scaled
 // by max_speed / peak (rounded half away from zero), so a turn keeps its curvature.
 void limit_targets(int16_t (&t)[proto::WHEEL_COUNT], uint16_t max_speed);
-// Section 4.4: a target step from `from` to `to` (the integrators are reset): a change of more than
-// half the larger magnitude (a sign change always is).
-bool target_step(int16_t from, int16_t to);
 
 // Ramp (section 4.5), in integers of 0.01 mm/s, where a limit in mm/s^2 times dt (10 ms) is the
 // limit itself: `ramped` moved toward `target` by at most `up` (speeding up in the same direction,

@@ -276,15 +276,7 @@ ROVERLINK_OUT_OF_LINE void Firmware::control_tick(uint16_t periods, uint32_t now
     }
     v.has_pending = false;
     control::limit_targets(next, v.cfg.max_wheel_speed_mm_s);
-    // A step of either wheel to another operating point resets both integrators: what they learned
-    // at the old one (friction, deadband at those speeds) differs between the wheels and would
-    // steer the robot off the new course (docs/control.md 4.4).
-    const bool step = control::target_step(v.wheels[0].target, next[0]) ||
-                      control::target_step(v.wheels[1].target, next[1]);
     for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
-        if (step) {
-            v.wheels[w].integral = 0.0f;
-        }
         v.wheels[w].target = next[w];
     }
 
