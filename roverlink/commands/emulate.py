@@ -18,11 +18,12 @@ import argparse
 import signal
 import sys
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any, TextIO
 
 from emulator.device import Emulator
 from emulator.errors import EmulatorError
-from emulator.profiles import PROFILE_NAMES, get_profile
+from emulator.profiles import PROFILE_NAMES, EmulatorProfile, get_profile
 from emulator.sensors.mjpeg import CameraDevice
 from emulator.sensors.rig import IMUS, LIDARS
 from emulator.transport.devices import SENSOR_PARAMS, sensor_options
@@ -30,6 +31,7 @@ from emulator.transport.http_camera import MjpegServer
 from emulator.transport.pty import PtyEndpoint
 from emulator.transport.realtime import Endpoint, SerialPeripheral, serve
 from emulator.transport.socket import SocketEndpoint
+from protocol.robotfile import RobotFileError
 from protocol.sensors import SensorSpecError
 from roverlink import argtypes, firmware
 
@@ -44,6 +46,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "other than 115200, which the firmware's Serial.begin() fixes, and the eeprom@T fault)",
     )
     p.add_argument("--profile", default="diffdrive-tb6612", choices=PROFILE_NAMES, help="reference robot to emulate")
+    p.add_argument(
+        "--robot",
+        metavar="FILE",
+        help="emulate the robot in this robot file instead (docs/robot-file.md; simavr: its firmware is built "
+        "from the file and its plant has the file's geometry)",
+    )
     p.add_argument(
         "--seed",
         type=argtypes.SEED,
@@ -139,6 +147,9 @@ def cmd_emulate(args: argparse.Namespace) -> int:
             print("error: --world, --lidar, --imu and --camera need --backend python", file=sys.stderr)
             return 2
         return _cmd_emulate_simavr(args)
+    if getattr(args, "robot", None):
+        print("error: --robot needs --backend simavr (the python backend takes emu://?robot=FILE)", file=sys.stderr)
+        return 2
     try:
         emu = Emulator(args.profile, args.seed, **_board_options(args))
         sensors = sensor_options(values)
@@ -229,15 +240,33 @@ def _open_endpoint(args: argparse.Namespace) -> tuple[Endpoint, Callable[[], boo
     return endpoint, lambda: stop_requested[0], None if args.quiet else sys.stderr
 
 
+def _simavr_firmware(args: argparse.Namespace) -> tuple[EmulatorProfile, Path]:
+    """The profile to emulate and its firmware's ELF: the reference robot's example, or the firmware
+    built from the robot file (checked first) with the plant the same file describes."""
+    from emulator.backends.simavr.robotfile import file_profile  # noqa: PLC0415 (optional backend)
+
+    if not getattr(args, "robot", None):
+        example = get_profile(args.profile).robot.example
+        return get_profile(args.profile), firmware.build_example(
+            example, out_dir=firmware.BUILD_ROOT / "simavr" / example
+        ).elf
+    robot = firmware.load_robot(args.robot)
+    sketch = firmware.build_sketch_dir(robot)
+    built = firmware.build_sketch(sketch, firmware.robot_board(robot, None), sketch.parent / "simavr")
+    return file_profile(robot, sketch.name), built.elf
+
+
 def _cmd_emulate_simavr(args: argparse.Namespace) -> int:
     from emulator.backends.simavr import SimavrError, SimavrRobot  # noqa: PLC0415 (optional backend)
 
     try:
-        example = get_profile(args.profile).robot.example
-        elf = firmware.build_example(example, out_dir=firmware.BUILD_ROOT / "simavr" / example).elf
-        robot = SimavrRobot(args.profile, elf=elf, seed=args.seed, **_board_options(args))
+        profile, elf = _simavr_firmware(args)
+        robot = SimavrRobot(profile, elf=elf, seed=args.seed, **_board_options(args))
     except (SimavrError, EmulatorError, firmware.FirmwareError) as exc:
         print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except RobotFileError as exc:
+        print(exc, file=sys.stderr)
         return 2
     try:
         endpoint, stopping, log = _open_endpoint(args)
@@ -247,8 +276,8 @@ def _cmd_emulate_simavr(args: argparse.Namespace) -> int:
         return 1
     if log is not None:
         print(
-            f"[simavr] {args.profile}: {robot.elf.name} on {robot.harness.wiring.mcu} at 16 MHz, seed {args.seed}, "
-            f"{args.baud} baud on {endpoint.name}; Ctrl-C to stop",
+            f"[simavr] {robot.profile.name}: {robot.elf.name} on {robot.harness.wiring.mcu} at 16 MHz, "
+            f"seed {args.seed}, {args.baud} baud on {endpoint.name}; Ctrl-C to stop",
             file=log,
             flush=True,
         )

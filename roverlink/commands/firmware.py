@@ -1,4 +1,5 @@
-"""`roverlink firmware build | flash`: the Arduino firmware without the Arduino IDE (roverlink.firmware)."""
+"""`roverlink firmware build | flash | sketch`: the Arduino firmware without the Arduino IDE
+(roverlink.firmware), for an example, a sketch of your own or a robot file (`--robot FILE`)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ from pathlib import Path
 
 from serial.tools import list_ports
 
+from protocol.robotfile import RobotFileError
 from roverlink.firmware import (
     BOARDS,
     BUILD_ROOT,
@@ -23,9 +25,13 @@ from roverlink.firmware import (
     UnknownNameError,
     avrdude_command,
     board_spec,
+    build_sketch_dir,
     example_board,
     example_dir,
     examples,
+    load_robot,
+    robot_board,
+    write_sketch,
 )
 
 
@@ -34,6 +40,11 @@ def _known_ports() -> list[str]:
 
 
 def _targets(args: argparse.Namespace) -> list[tuple[Path, BoardSpec]]:
+    if getattr(args, "robot", None):
+        # Checked before anything is written: a file with a problem builds and flashes nothing.
+        robot = load_robot(args.robot)
+        board_of_file = robot_board(robot, args.board)
+        return [(build_sketch_dir(robot), board_of_file)]
     board = board_spec(args.board) if args.board else None
     if args.sketch:
         if board is None:
@@ -48,13 +59,22 @@ def _targets(args: argparse.Namespace) -> list[tuple[Path, BoardSpec]]:
     return targets
 
 
+def _out(args: argparse.Namespace, sketch: Path, board: BoardSpec) -> Path:
+    """Where the ELF and HEX go: --out, else beside a robot file's sketch, else per sketch and board."""
+    if args.out:
+        return Path(args.out)
+    if getattr(args, "robot", None):
+        return sketch.parent / board.name  # not the example's own folder: that is the reference build's
+    return BUILD_ROOT / sketch.name / board.name
+
+
 def cmd_build(args: argparse.Namespace) -> int:
     """Compile examples (or a sketch) into ELF and HEX and print their flash and SRAM use."""
     targets = _targets(args)
     if args.out and len(targets) > 1:
         raise FirmwareError("--out needs a single --example or --sketch")
     for sketch, board in targets:
-        result = Builder(board, lto=not args.no_lto).build(sketch, Path(args.out) if args.out else None)
+        result = Builder(board, lto=not args.no_lto).build(sketch, _out(args, sketch, board))
         print(result.summary())
         print(f"  {result.hex}")
     return 0
@@ -63,11 +83,11 @@ def cmd_build(args: argparse.Namespace) -> int:
 def cmd_flash(args: argparse.Namespace) -> int:
     """Build an example (or sketch) and write it to a board through its bootloader with avrdude."""
     ((sketch, board),) = _targets(args)
-    out = Path(args.out) if args.out else BUILD_ROOT / sketch.name / board.name
-    hex_file = out.resolve() / f"{sketch.name}.hex"
+    hex_file = _out(args, sketch, board).resolve() / f"{sketch.name}.hex"
     if args.dry_run:
         which = f"--sketch {sketch}" if args.sketch else f"--example {sketch.name}"
-        print(f"# build first: roverlink firmware build {which} --board {board.name}")
+        which = f"--robot {args.robot}" if args.robot else f"{which} --board {board.name}"
+        print(f"# build first: roverlink firmware build {which}")
         print(shlex.join(avrdude_command(board, hex_file, args.port)))
         return 0
     avrdude = shutil.which("avrdude")
@@ -78,11 +98,21 @@ def cmd_flash(args: argparse.Namespace) -> int:
     if not Path(args.port).exists() and "://" not in args.port:
         ports = _known_ports()
         raise UnknownNameError("port", args.port, ports)
-    result = Builder(board, lto=not args.no_lto).build(sketch, Path(args.out) if args.out else None)
+    result = Builder(board, lto=not args.no_lto).build(sketch, _out(args, sketch, board))
     print(result.summary())
     cmd = avrdude_command(board, result.hex, args.port, avrdude)
     print(shlex.join(cmd), flush=True)
     return subprocess.run(cmd, check=False).returncode
+
+
+def cmd_sketch(args: argparse.Namespace) -> int:
+    """Write an Arduino IDE sketch folder for a robot file: the example that fits it, and the
+    robot_profile.h generated from the file."""
+    robot = load_robot(args.robot)
+    folder = write_sketch(robot, Path(args.folder), force=args.force)
+    print(f"{folder}: {folder.name}.ino and robot_profile.h for {robot.name} ({robot.board})")
+    print(f"  build it: roverlink firmware build --sketch {folder} --board {robot.board}")
+    return 0
 
 
 def _add_target_options(p: argparse.ArgumentParser, *, example_required: bool) -> None:
@@ -99,10 +129,20 @@ def _add_target_options(p: argparse.ArgumentParser, *, example_required: bool) -
         else f"example sketch of the library: {names} (default: every example)",
     )
     which.add_argument("--sketch", metavar="DIR", help="a sketch folder of your own (needs --board)")
+    which.add_argument(
+        "--robot",
+        metavar="FILE",
+        help="a robot file (docs/robot-file.md): the example that fits it with its robot_profile.h, for its board",
+    )
     p.add_argument(
         "--board", choices=sorted(BOARDS), help="target board (default: the one the example's robot profile names)"
     )
-    p.add_argument("--out", metavar="DIR", help="where the ELF and HEX go (default: build/firmware/<sketch>/<board>)")
+    p.add_argument(
+        "--out",
+        metavar="DIR",
+        help="where the ELF and HEX go (default: build/firmware/<sketch>/<board>; "
+        "--robot: build/firmware/robots/<file>/<board>)",
+    )
     p.add_argument("--no-lto", action="store_true", help="link without link-time optimisation")
 
 
@@ -113,7 +153,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         help="build and flash the Arduino firmware (needs avr-gcc)",
         description="Build the library's example sketches (or your own) with avr-gcc, and flash them with avrdude.",
     )
-    fw_sub = fw.add_subparsers(dest="firmware_command", required=True, metavar="{build,flash}")
+    fw_sub = fw.add_subparsers(dest="firmware_command", required=True, metavar="{build,flash,sketch}")
     build = fw_sub.add_parser("build", help=cmd_build.__doc__, description=cmd_build.__doc__)
     _add_target_options(build, example_required=False)
     build.set_defaults(func=_guarded(cmd_build))
@@ -122,6 +162,11 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     flash.add_argument("--port", required=True, help="serial port of the board, e.g. /dev/ttyACM0")
     flash.add_argument("--dry-run", action="store_true", help="print the avrdude command instead of running it")
     flash.set_defaults(func=_guarded(cmd_flash))
+    sketch = fw_sub.add_parser("sketch", help=cmd_sketch.__doc__, description=cmd_sketch.__doc__)
+    sketch.add_argument("--robot", metavar="FILE", required=True, help="the robot file (docs/robot-file.md)")
+    sketch.add_argument("folder", metavar="DIR", help="the sketch folder to write (its name names the .ino)")
+    sketch.add_argument("--force", action="store_true", help="overwrite the folder's .ino and robot_profile.h")
+    sketch.set_defaults(func=_guarded(cmd_sketch))
 
 
 def _guarded(command: Callable[[argparse.Namespace], int]) -> Callable[[argparse.Namespace], int]:
@@ -135,6 +180,9 @@ def _guarded(command: Callable[[argparse.Namespace], int]) -> Callable[[argparse
             return 1
         except FirmwareError as exc:
             print(f"error: {exc}", file=sys.stderr)
+            return 2
+        except RobotFileError as exc:
+            print(exc, file=sys.stderr)
             return 2
 
     run.__doc__ = command.__doc__

@@ -6,7 +6,8 @@
 
 boards.py names the boards and examples, toolchain.py finds avr-gcc and the Arduino core and holds
 the compiler flags, build.py compiles and links (with an object cache), flash.py writes through
-the bootloader. `roverlink firmware build|flash` (roverlink/commands/firmware.py) is the command.
+the bootloader, robot.py turns a robot file into a sketch (the fitting example with the file's
+robot_profile.h). `roverlink firmware build|flash|sketch` (roverlink/commands/firmware.py) is the command.
 """
 
 from roverlink.firmware.boards import (
@@ -26,6 +27,7 @@ from roverlink.firmware.boards import (
 )
 from roverlink.firmware.build import Builder, BuildResult, build_example, build_sketch
 from roverlink.firmware.flash import avrdude_command
+from roverlink.firmware.robot import build_sketch_dir, load_robot, robot_board, write_sketch
 from roverlink.firmware.toolchain import CORE_DIR_ENV, SIZE_FLAGS, Toolchain, arduino_core_dir
 
 __all__ = [
@@ -48,7 +50,11 @@ __all__ = [
     "board_spec",
     "build_example",
     "build_sketch",
+    "build_sketch_dir",
     "example_board",
     "example_dir",
     "examples",
+    "load_robot",
+    "robot_board",
+    "write_sketch",
 ]

@@ -25,8 +25,16 @@ import pytest
 
 from protocol.generated.profiles import PROFILES
 from roverlink import firmware
-from roverlink.cli import main as cli_main
-from tests.support.avr_build import EXAMPLES, LIBRARY, ROOT, build_sketch, report, require_toolchain, write_sketch
+from tests.support.avr_build import (
+    EXAMPLES,
+    LIBRARY,
+    ROOT,
+    build_sketch,
+    firmware_cli,
+    report,
+    require_toolchain,
+    write_sketch,
+)
 
 UNO_FREE_FRACTION = 0.50
 LINK_SESSION_FLASH_MAX = 4096
@@ -355,17 +363,8 @@ def test_sizes_agree_with_avr_size_c(example_builds: dict[str, firmware.BuildRes
     assert (int(program.group(1)), int(data.group(1))) == (result.flash_used, result.sram_used)
 
 
-def _cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
-    try:
-        code = cli_main(list(argv))
-    except SystemExit as exc:  # argparse's own errors
-        code = int(exc.code or 0)
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
 def test_unknown_example_names_the_allowed_ones(capsys: pytest.CaptureFixture[str]) -> None:
-    code, _, err = _cli(capsys, "firmware", "build", "--example", "NoSuchRobot")
+    code, _, err = firmware_cli(capsys, "firmware", "build", "--example", "NoSuchRobot")
     assert code == 2
     assert "'NoSuchRobot'" in err
     for name in EXAMPLES:
@@ -373,7 +372,7 @@ def test_unknown_example_names_the_allowed_ones(capsys: pytest.CaptureFixture[st
 
 
 def test_unknown_board_names_the_allowed_ones(capsys: pytest.CaptureFixture[str]) -> None:
-    code, _, err = _cli(capsys, "firmware", "build", "--board", "due")
+    code, _, err = firmware_cli(capsys, "firmware", "build", "--board", "due")
     assert code == 2
     assert "'due'" in err and "uno" in err and "mega2560" in err
     with pytest.raises(firmware.UnknownNameError, match=r"'leonardo'.*mega2560, uno"):
@@ -381,7 +380,7 @@ def test_unknown_board_names_the_allowed_ones(capsys: pytest.CaptureFixture[str]
 
 
 def test_sketch_needs_a_board(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
-    code, _, err = _cli(capsys, "firmware", "build", "--sketch", str(tmp_path))
+    code, _, err = firmware_cli(capsys, "firmware", "build", "--sketch", str(tmp_path))
     assert code == 2 and "--board" in err and "uno" in err
 
 
@@ -396,7 +395,7 @@ def test_sketch_needs_a_board(capsys: pytest.CaptureFixture[str], tmp_path: Path
 def test_flash_dry_run_prints_the_avrdude_command(
     capsys: pytest.CaptureFixture[str], tmp_path: Path, example: str, expected: str
 ) -> None:
-    code, out, _ = _cli(
+    code, out, _ = firmware_cli(
         capsys, "firmware", "flash", "--example", example, "--port", "/dev/ttyACM0", "--out", str(tmp_path), "--dry-run"
     )
     assert code == 0
@@ -431,5 +430,5 @@ def test_flash_without_avrdude_says_what_to_install(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
     monkeypatch.setenv("PATH", "/nonexistent")
-    code, _, err = _cli(capsys, "firmware", "flash", "--example", "AckermannPiCar", "--port", "/dev/ttyACM0")
+    code, _, err = firmware_cli(capsys, "firmware", "flash", "--example", "AckermannPiCar", "--port", "/dev/ttyACM0")
     assert code == 2 and "avrdude" in err and "apt-get install avrdude" in err

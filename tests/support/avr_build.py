@@ -8,6 +8,7 @@ import pytest
 
 from protocol.generated.profiles import PROFILES
 from roverlink import firmware
+from roverlink.cli import main as cli_main
 
 ROOT = Path(__file__).resolve().parents[2]
 LIBRARY = ROOT / "arduino" / "RoverLink"
@@ -40,3 +41,13 @@ def report(record_property: pytest.RecordProperty, result: firmware.BuildResult)
     print(f"\n  {result.summary()}")
     record_property(f"{result.name}.{result.board.name}.flash_bytes", result.flash_used)
     record_property(f"{result.name}.{result.board.name}.sram_bytes", result.sram_used)
+
+
+def firmware_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    """`roverlink ARGV` in-process: (exit status, stdout, stderr)."""
+    try:
+        code = cli_main(list(argv))
+    except SystemExit as exc:  # argparse's own errors
+        code = int(exc.code or 0)
+    out, err = capsys.readouterr()
+    return code, out, err

@@ -17,7 +17,7 @@ from emulator.errors import EmulatorValueError
 from emulator.faults import FaultSpec
 from emulator.firmware.config import BOOT_COUNTER_ADDR
 from emulator.injection import checked_board_options
-from emulator.profiles import get_profile
+from emulator.profiles import EmulatorProfile, get_profile
 from emulator.rng import Streams
 
 
@@ -34,7 +34,8 @@ class _SimavrMCU:
 
 
 class SimavrRobot(PlantLoop):
-    """A reference robot's example ELF in simavr with the profile's plant around it.
+    """A robot's example ELF in simavr with the profile's plant around it: a reference robot by
+    name, or a profile (a robot file's: `file_profile`) with the ELF built for it.
 
     `seed` (None: the harness's fixed board) draws what is random on a real board: the ADC0 noise
     the firmware mixes into its boot_id (`--adc0` of the harness) and the EEPROM boot counter it
@@ -43,7 +44,7 @@ class SimavrRobot(PlantLoop):
 
     def __init__(
         self,
-        profile: str = "diffdrive-tb6612",
+        profile: str | EmulatorProfile = "diffdrive-tb6612",
         *,
         elf: Path | None = None,
         harness: Path | None = None,
@@ -55,7 +56,7 @@ class SimavrRobot(PlantLoop):
         eeprom: str = "blank",
         bootloader_ms: int | None = None,
     ) -> None:
-        prof = get_profile(profile)
+        prof = get_profile(profile) if isinstance(profile, str) else profile
         if baud != BAUD:
             raise EmulatorValueError(
                 "baud", baud, f"{BAUD} with the simavr backend: the example's Serial.begin({BAUD}) is compiled in"

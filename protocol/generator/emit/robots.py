@@ -160,9 +160,9 @@ def pin_constants(w: Wiring) -> list[tuple[str, str, str]]:
     return out
 
 
-def _cpp_pins(w: Wiring) -> str:
+def _cpp_pins(w: Wiring, source: str) -> str:
     numbers = {p.label: p.number for p in _all_pins(w)}
-    o = ["// Wiring (robots.toml, [robots.wiring]): Arduino pin numbers (A<n> as its number on this board).\n"]
+    o = [f"// Wiring ({source}): Arduino pin numbers (A<n> as its number on this board).\n"]
     for name, label, what in pin_constants(w):
         analog = f" ({label})" if label.startswith("A") else ""
         o.append(f"static const uint8_t {name} = {numbers[label]};  // {what}{analog}\n")
@@ -184,12 +184,27 @@ def _cpp_value(field_enum: str | None, value: object, is_float: bool) -> str:
 
 
 def _cpp(spec: Spec, r: Robot) -> str:
-    o = [_banner(spec, "//")]
-    o.append(f"// Defaults of the {r.example} example ({r.name}): {r.doc}\n")
-    o.append("// Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.\n")
+    return profile_header(spec, r)
+
+
+def profile_header(spec: Spec, r: Robot, source: str | None = None) -> str:
+    """The example's robot_profile.h: from robots.toml (`source` None), or from the robot file at
+    `source`, whose robot name the firmware then reports (IDENTITY robot_name) instead of the example's."""
+    if source is None:
+        o = [_banner(spec, "//")]
+        o.append(f"// Defaults of the {r.example} example ({r.name}): {r.doc}\n")
+        o.append("// Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.\n")
+        name, wiring_from, checked = r.example, "robots.toml, [robots.wiring]", "robots.toml"
+    else:
+        o = [f"// DO NOT EDIT: generated from {source} by `roverlink firmware`; edit that file instead.\n"]
+        o.append(f"// spec hash: 0x{spec.spec_hash:08X}\n")
+        about = f": {r.doc}" if r.doc else ""
+        o.append(f"// Defaults of {r.name} ({r.example} example){about}\n")
+        o.append("// Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit the robot file.\n")
+        name, wiring_from, checked = r.name, source, "the robot file"
     guard = f"ROVERLINK_EXAMPLE_{r.example.upper()}_PROFILE_H"
     o.append(f"#ifndef {guard}\n#define {guard}\n\n#include <RoverLink.h>\n\nnamespace robot_profile {{\n\n")
-    o.append(f'static const char NAME[] = "{r.example}";\n')
+    o.append(f'static const char NAME[] = "{name}";\n')
     o.append(f"static const roverlink::proto::Board BOARD = roverlink::proto::Board::{r.board};\n")
     caps = " | ".join(f"roverlink::proto::Capability::{c}" for c in r.capabilities) or "0"
     o.append(f"static const uint16_t CAPABILITIES = {caps};\n")
@@ -197,8 +212,14 @@ def _cpp(spec: Spec, r: Robot) -> str:
         "static const roverlink::proto::FeedbackMode FEEDBACK_MODE = "
         f"roverlink::proto::FeedbackMode::{r.feedback_mode};\n\n"
     )
-    o.append(_cpp_pins(r.wiring))
-    o.append("// The configuration as a SET_CONFIG payload in flash, unpacked when asked for: a static struct\n")
+    o.append(_cpp_pins(r.wiring, wiring_from))
+    o.append(_cpp_defaults(r, checked))
+    o.append(f"#endif  // {guard}\n")
+    return "".join(o)
+
+
+def _cpp_defaults(r: Robot, checked: str) -> str:
+    o = ["// The configuration as a SET_CONFIG payload in flash, unpacked when asked for: a static struct\n"]
     o.append("// would cost SRAM for the whole run on AVR, and code setting each field more flash than this.\n")
     o.append("// static: two profiles linked into one test program must not merge.\n")
     o.append("static const uint8_t DEFAULT_CONFIG[] ROVERLINK_PROGMEM = {\n")
@@ -215,14 +236,13 @@ def _cpp(spec: Spec, r: Robot) -> str:
     o.append("    for (uint8_t i = 0; i < sizeof payload; ++i) {\n")
     o.append("        payload[i] = ROVERLINK_READ_BYTE(DEFAULT_CONFIG + i);\n    }\n")
     o.append("    roverlink::proto::SetConfig c = roverlink::proto::SetConfig();\n")
-    o.append("    roverlink::proto::unpack(payload, sizeof payload, c);  // valid: robots.toml is checked\n")
+    o.append(f"    roverlink::proto::unpack(payload, sizeof payload, c);  // valid: {checked} is checked\n")
     o.append("    return c;\n}\n\n")
     o.append("static inline roverlink::proto::SetPid default_pid() {\n    roverlink::proto::SetPid p;\n")
     o.append("    p.wheel = roverlink::proto::PID_ALL_WHEELS;\n")
     for f, v in r.pid:
         o.append(f"    p.{f.name} = {_cpp_value(None, v, True)};\n")
     o.append("    return p;\n}\n\n}  // namespace robot_profile\n\n")
-    o.append(f"#endif  // {guard}\n")
     return "".join(o)
 
 
