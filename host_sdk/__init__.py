@@ -43,6 +43,7 @@ from host_sdk.odometry import Pose
 from host_sdk.profiles import PROFILES, kinematics_for
 from host_sdk.robot import Robot
 from host_sdk.robot_description import RobotDescription, RobotFileError
+from host_sdk.robot_file_check import Mismatch, RobotMismatchError
 from host_sdk.session import FeedbackSample, LinkStatistics, PidGains, RobotConfig, RobotIdentity
 from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 
@@ -68,6 +69,7 @@ __all__ = [
     "KinematicsError",
     "LinkBrokenError",
     "LinkStatistics",
+    "Mismatch",
     "NackError",
     "NotArmedError",
     "PidGains",
@@ -80,6 +82,7 @@ __all__ = [
     "RobotDescription",
     "RobotFileError",
     "RobotIdentity",
+    "RobotMismatchError",
     "RoverLinkError",
     "SessionResetError",
     "TransportError",

@@ -28,6 +28,7 @@ from __future__ import annotations
 import dataclasses
 import threading
 from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import TYPE_CHECKING, Literal, cast
 
 from host_sdk import checks
@@ -44,7 +45,9 @@ from host_sdk.limits import DriveLimits
 from host_sdk.options import check_connect
 from host_sdk.profiles import get_profile, kinematics_for, profile_for_example
 from host_sdk.robot_config import ConfigCalls
+from host_sdk.robot_description import RobotDescription
 from host_sdk.robot_drive import DriveCalls
+from host_sdk.robot_file_check import Mismatch, RobotFileCheck, prepare
 from host_sdk.robot_odometry import OdometryView
 from host_sdk.runner import runner_for
 from host_sdk.session import (
@@ -76,6 +79,8 @@ class Robot(DriveCalls, ConfigCalls):
         *,
         profile: str | None = None,
         kinematics: DiffDrive | Ackermann | None = None,
+        robot: str | Path | RobotDescription | None = None,
+        allow_mismatch: bool = False,
         baud: int = 115200,
         watchdog_s: float = WATCHDOG_DEFAULT_MS / 1000,
         mode: Literal["stream", "lockstep"] = "stream",
@@ -94,6 +99,8 @@ class Robot(DriveCalls, ConfigCalls):
             spy:///dev/ttyUSB0), or an in-process emulator emu://PROFILE?seed=N&faults=...&clock=real|virtual.
         profile: reference robot name (host_sdk.profiles.PROFILES) for the kinematics; by default the
             firmware's example name (or the emu:// profile) picks it. kinematics: your own DiffDrive/Ackermann.
+        robot: your robot file (or its RobotDescription): kinematics from it, the board compared with it
+            (RobotMismatchError; allow_mismatch=True: a warning, in `mismatches`), its limits and gains set.
         watchdog_s: firmware watchdog requested in HELLO, within the firmware's range (WATCHDOG_MIN_MS..MAX_MS).
         mode: "stream" (FEEDBACK at feedback_hz) or "lockstep" (one FEEDBACK per setpoint).
         clamp: scale/clamp commands beyond the limits instead of raising CommandRangeError.
@@ -119,16 +126,21 @@ class Robot(DriveCalls, ConfigCalls):
             request_tries=request_tries,
             transport=transport,
         )
+        check = prepare(robot, profile, kinematics, allow_mismatch)
+        kinematics = check.description.kinematics() if check is not None else kinematics
         if transport is None:
             transport = open_transport(url, baud)
         options = dataclasses.replace(options, url=transport.url)
-        robot = cls(transport, options, profile=profile, kinematics=kinematics, clamp=clamp)
+        made = cls(transport, options, profile=profile, kinematics=kinematics, clamp=clamp)
+        made._file_check = check
         try:
-            robot._open(timeout_s)
+            made._open(timeout_s)
+            if check is not None:
+                check.apply(made)
         except BaseException:
-            robot._shutdown(disarm=False)
+            made._shutdown(disarm=False)
             raise
-        return robot
+        return made
 
     def __init__(
         self,
@@ -154,6 +166,7 @@ class Robot(DriveCalls, ConfigCalls):
         self._limits: tuple[RobotConfig | None, DriveLimits | None] = (None, None)
         self.odometry = OdometryView(self._lock, self._check_open, self._session)
         self._unwatch_gains: Callable[[], None] | None = None
+        self._file_check: RobotFileCheck | None = None
         """Pose and body velocities from the wheel encoders; `odometry.reset()` sets the origin."""
 
     def _open(self, timeout_s: float) -> None:
@@ -175,6 +188,8 @@ class Robot(DriveCalls, ConfigCalls):
                     "LOCKSTEP capability: connect with mode='stream'",
                     Capability.LOCKSTEP,
                 )
+            if self._file_check is not None:  # before the kinematics: their check names less
+                self._file_check.compare(identity, s.config, self.url)
             s.set_kinematics(self._resolve_kinematics())
 
     def _resolve_kinematics(self) -> DiffDrive | Ackermann | None:
@@ -256,6 +271,11 @@ class Robot(DriveCalls, ConfigCalls):
             config = self._session.config
             assert config is not None
             return config
+
+    @property
+    def mismatches(self) -> tuple[Mismatch, ...]:
+        """How the board differs from the robot file connected with allow_mismatch=True (else empty)."""
+        return self._file_check.mismatches if self._file_check is not None else ()
 
     @property
     def kinematics(self) -> DiffDrive | Ackermann | None:

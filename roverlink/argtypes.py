@@ -12,6 +12,7 @@ import shlex
 from collections.abc import Callable
 from pathlib import Path
 
+from host_sdk import RobotDescription, RobotFileError
 from host_sdk.calibration import CalibrationFile, KinematicsFileError, read_calibration
 
 
@@ -65,6 +66,15 @@ def kinematics_arg(text: str) -> CalibrationFile:
     except OSError as exc:
         raise argparse.ArgumentTypeError(f"{text}: {exc.strerror or exc}") from None
     except KinematicsFileError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def robot_file_arg(text: str) -> RobotDescription:
+    """argparse `type=` for --robot FILE: a bad robot file ends the command (exit 2) before it
+    connects, with every problem of the file."""
+    try:
+        return RobotDescription.load(text)
+    except RobotFileError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 

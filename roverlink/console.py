@@ -22,12 +22,14 @@ def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
     """The URL and the connection options every robot command takes."""
     p.add_argument("url", help="serial port or URL, e.g. /dev/ttyACM0, socket://host:port, emu://picar")
     p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
-    p.add_argument(
+    which = p.add_mutually_exclusive_group()
+    which.add_argument(
         "--profile",
         choices=sorted(PROFILES),
         default=None,
         help="reference robot, for its kinematics (default: the one the firmware names)",
     )
+    add_robot_file_args(which, p)
     p.add_argument(
         "--timeout",
         type=argtypes.number(0, 600, "s", lo_open=True),
@@ -35,6 +37,22 @@ def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
         help=f"how long to wait for the board, in s (default {timeout:g}; an Arduino's bootloader takes ~2)",
     )
     add_kinematics_arg(p)
+
+
+def add_robot_file_args(which: argparse._ActionsContainer, p: argparse._ActionsContainer) -> None:
+    """--robot FILE (in `which`: a group that excludes --profile) and --allow-mismatch."""
+    which.add_argument(
+        "--robot",
+        type=argtypes.robot_file_arg,
+        default=None,
+        metavar="FILE",
+        help="your robot file (docs/robot-file.md): its kinematics, limits and gains; the board is checked against it",
+    )
+    p.add_argument(
+        "--allow-mismatch",
+        action="store_true",
+        help="connect even if the board differs from --robot FILE (the differences are warned about)",
+    )
 
 
 def add_kinematics_arg(p: argparse.ArgumentParser) -> None:
@@ -57,12 +75,21 @@ def connect(args: argparse.Namespace, **options: object) -> Robot:
         profile=args.profile,
         timeout_s=args.timeout,
         kinematics=kinematics,
+        robot=getattr(args, "robot", None),
+        allow_mismatch=getattr(args, "allow_mismatch", False),
         **options,  # type: ignore[arg-type]
     )
+    warn_mismatches(robot)
     if cal is not None:
         for line in calibration_mismatch(cal, robot):
             print(f"note: {line}", file=sys.stderr)
     return robot
+
+
+def warn_mismatches(robot: Robot) -> None:
+    """One warning line per difference between the board and --robot FILE (--allow-mismatch)."""
+    for mismatch in robot.mismatches:
+        print(f"warning: {mismatch} (--allow-mismatch)", file=sys.stderr)
 
 
 def calibration_mismatch(cal: CalibrationFile, robot: Robot) -> list[str]:

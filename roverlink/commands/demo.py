@@ -25,12 +25,14 @@ from host_sdk import (
     LinkStatistics,
     Pose,
     Robot,
+    RobotDescription,
     RoverLinkError,
     UnsupportedError,
     enums,
 )
 from host_sdk.profiles import steering_limits
 from roverlink import argtypes
+from roverlink.console import add_robot_file_args, warn_mismatches
 
 _TURN_TOLERANCE_RAD = math.radians(1.0)
 
@@ -360,7 +362,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         description="Connect, arm and drive a square on odometry (an emulated robot unless --url is given), then "
         "compare odometry with ground truth and show the link statistics.",
     )
-    p.add_argument("--profile", choices=sorted(PROFILES), default=None, help="robot (default: diffdrive-tb6612)")
+    which = p.add_mutually_exclusive_group()
+    which.add_argument("--profile", choices=sorted(PROFILES), default=None, help="robot (default: diffdrive-tb6612)")
+    add_robot_file_args(which, p)
     p.add_argument("--url", "--port", dest="url", default=None, help="serial port or URL (default: the emulator)")
     p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
     p.add_argument(
@@ -383,11 +387,14 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
+    robot_file: RobotDescription | None = args.robot
     profile = args.profile or "diffdrive-tb6612"
-    mode: Literal["stream", "lockstep"] = (
-        "lockstep" if (args.mode or PROFILES[profile].feedback_mode.name) in ("lockstep", "LOCKSTEP") else "stream"
-    )
-    if mode == "lockstep" and args.url is None and not PROFILES[profile].capabilities & enums.Capability.LOCKSTEP:
+    if robot_file is not None:  # the file's name, feedback and capabilities stand for the profile's
+        profile, own_mode, caps = robot_file.name, robot_file.feedback.mode, robot_file.capabilities()
+    else:
+        own_mode, caps = PROFILES[profile].feedback_mode.name, PROFILES[profile].capabilities
+    mode: Literal["stream", "lockstep"] = "lockstep" if (args.mode or own_mode).lower() == "lockstep" else "stream"
+    if mode == "lockstep" and args.url is None and not caps & enums.Capability.LOCKSTEP:
         print(f"error: {profile} has no lockstep feedback: run the demo with --mode stream", file=sys.stderr)
         return 2
     if args.plot:  # before any driving: a missing matplotlib must not cost the whole course
@@ -400,12 +407,21 @@ def cmd_demo(args: argparse.Namespace) -> int:
         query = f"seed={args.seed}&clock={'virtual' if args.fast else 'real'}"
         if args.faults:
             query += "&faults=" + quote(args.faults, safe=",")
-        url = f"emu://{profile}?{query}"
+        # A robot file is emulated from the file itself (its geometry is the plant's).
+        url = f"emu://?robot={quote(robot_file.path)}&{query}" if robot_file else f"emu://{profile}?{query}"
     else:
         url = args.url
     print(f"RoverLink demo: {profile} on {url} ({mode} feedback)")
     try:
-        with Robot.connect(url, profile=profile, baud=args.baud, mode=mode) as robot:
+        with Robot.connect(
+            url,
+            profile=None if robot_file else profile,
+            robot=robot_file,
+            allow_mismatch=args.allow_mismatch,
+            baud=args.baud,
+            mode=mode,
+        ) as robot:
+            warn_mismatches(robot)
             ident = robot.identity
             s = robot.stats
             ready = f"{s.connect_time_s * 1000:.1f} ms" if s.connect_time_s is not None else "?"

@@ -1,4 +1,4 @@
-"""`roverlink ros2 --url URL [--profile NAME] [--ros-args ...]`: the ROS 2 bridge node (docs/ros2.md).
+"""`roverlink ros2 --url URL [--profile NAME | --robot FILE] [--ros-args ...]`: the ROS 2 bridge node (docs/ros2.md).
 
 rclpy is imported only here, when the command runs: without it the command says how to install
 it, and every other command works without ROS.
@@ -11,6 +11,7 @@ import sys
 from typing import Any
 
 from host_sdk import PROFILES
+from roverlink.console import add_robot_file_args
 from roverlink.ros2 import INSTALL_HINT, missing_modules
 
 _DESCRIPTION = __doc__.split("\n\n")[1]
@@ -29,6 +30,10 @@ def cmd_ros2(args: argparse.Namespace) -> int:
         overrides["url"] = args.url
     if args.profile is not None:
         overrides["profile"] = args.profile
+    if args.robot is not None:
+        overrides["robot_file"] = args.robot.path
+    if args.allow_mismatch:
+        overrides["allow_mismatch"] = True
     return run(args.ros_args or [], overrides)
 
 
@@ -46,9 +51,11 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 def _add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--url", default=None, help="serial port or URL (default: the url parameter, /dev/ttyACM0)")
-    p.add_argument(
+    which = p.add_mutually_exclusive_group()
+    which.add_argument(
         "--profile", choices=sorted(PROFILES), default=None, help="reference robot (default: from the firmware)"
     )
+    add_robot_file_args(which, p)  # the robot_file and allow_mismatch parameters
     p.add_argument(
         "--ros-args",
         nargs=argparse.REMAINDER,

@@ -28,7 +28,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from sensor_msgs.msg import JointState
 from std_srvs.srv import Trigger
 
-from host_sdk import FeedbackSample, Pose, Robot, RoverLinkError, SessionResetError
+from host_sdk import FeedbackSample, Pose, Robot, RobotDescription, RoverLinkError, SessionResetError
 from host_sdk.profiles import get_profile
 from host_sdk.transport import Transport
 from protocol.generated.enums import FailsafeReason, FeedbackMode
@@ -96,6 +96,8 @@ class BridgeNode(Node):
         for name in ("host_sdk", "roverlink.ros2"):
             logging.getLogger(name).addHandler(self._log_handler)
             logging.getLogger(name).setLevel(logging.INFO)
+        # Read once: a bad file ends the node before it connects (RobotFileError lists the problems).
+        self.robot_file = RobotDescription.load(p.robot_file) if p.robot_file else None
         self.mode = mode_for(p, self._profile_mode())
         self._pose_covariance = convert.covariance(p.pose_covariance_diagonal)
         self._twist_covariance = convert.covariance(p.twist_covariance_diagonal)
@@ -185,6 +187,8 @@ class BridgeNode(Node):
             self.sensors.append(ImuPublisher(self, imu_url, p.imu_frame))
 
     def _profile_mode(self) -> str | None:
+        if self.robot_file is not None:
+            return self.robot_file.feedback.mode
         name = self._profile_name()
         if name is None:
             return None
@@ -201,6 +205,8 @@ class BridgeNode(Node):
             p.url,
             transport=transport,
             profile=p.profile or None,
+            robot=self.robot_file,
+            allow_mismatch=p.allow_mismatch,
             baud=p.baud,
             watchdog_s=p.watchdog,
             mode="lockstep" if self.lockstep else "stream",

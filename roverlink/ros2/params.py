@@ -56,12 +56,19 @@ class ParamSpec:
 SPECS: tuple[ParamSpec, ...] = (
     ParamSpec("url", "/dev/ttyACM0", "serial port or URL of the board (emu://PROFILE for the emulator)"),
     ParamSpec("profile", "", "reference robot (empty: from the firmware's identity or the emu:// URL)"),
+    ParamSpec(
+        "robot_file",
+        "",
+        "your robot file (docs/robot-file.md; instead of profile): track, wheels and calibration for odom and "
+        "cmd_vel, limits and gains set on the board, the board checked against it",
+    ),
+    ParamSpec("allow_mismatch", False, "connect even if the board differs from robot_file (warned about)"),
     ParamSpec("baud", 115200, "line speed in bit/s", low=1200, high=2_000_000),
     ParamSpec(
         "mode",
         "auto",
-        "feedback mode: auto (the profile's), stream (the board sends FEEDBACK at odom_rate) or lockstep "
-        "(one FEEDBACK per command; the node commands at odom_rate)",
+        "feedback mode: auto (the robot file's or the profile's), stream (the board sends FEEDBACK at "
+        "odom_rate) or lockstep (one FEEDBACK per command; the node commands at odom_rate)",
         choices=("auto", "stream", "lockstep"),
     ),
     ParamSpec(
@@ -156,6 +163,8 @@ class BridgeParams:
 
     url: str
     profile: str
+    robot_file: str
+    allow_mismatch: bool
     baud: int
     mode: str
     watchdog: float
@@ -232,6 +241,8 @@ class BridgeParams:
                 params.reconnect_delay_max,
                 f">= reconnect_delay ({params.reconnect_delay:g})",
             )
+        if params.profile and params.robot_file:
+            raise CommandRangeError("parameter robot_file", params.robot_file, "empty when profile is set")
         for name in ("odom_frame", "base_frame", "lidar_frame", "imu_frame"):
             if not getattr(params, name):
                 raise CommandRangeError(f"parameter {name}", "", "a frame id (not empty)")

@@ -6,6 +6,7 @@ Waiting is always for a condition with a deadline, never a sleep.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import signal
@@ -14,7 +15,7 @@ import sys
 import threading
 import time
 import uuid
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -60,11 +61,13 @@ class BridgeProcess:
         params: dict[str, Any] | None = None,
         extra: Sequence[str] = (),
         profile: str | None = None,
+        robot_file: Path | None = None,
     ) -> None:
         self.namespace = namespace
         self.log_path = log_dir / f"{namespace.strip('/').replace('/', '_')}.log"
         args = [sys.executable, "-m", "roverlink", "ros2", "--url", url]
         args += ["--profile", profile] if profile else []
+        args += ["--robot", str(robot_file)] if robot_file else []
         args += ["--ros-args"]
         args += [
             "-r",
@@ -209,6 +212,19 @@ class Probe:
             last = time.monotonic()
             time.sleep(1.0 / rate_hz)  # pacing a publisher, not synchronising
         return last
+
+
+@contextlib.contextmanager
+def logged(proc: BridgeProcess, probe: Probe) -> Iterator[None]:
+    """Print the bridge's log if the body fails; close the probe and stop the bridge after it."""
+    try:
+        yield
+    except BaseException:
+        print(proc.log())
+        raise
+    finally:
+        probe.close()
+        proc.stop()
 
 
 def values(status: Any) -> dict[str, str]:

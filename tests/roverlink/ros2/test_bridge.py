@@ -25,7 +25,7 @@ from ros_env import require_ros
 
 require_ros()
 
-from bridge_harness import ROOT, BridgeProcess, Probe, stamp_s, values, yaw  # noqa: E402
+from bridge_harness import ROOT, BridgeProcess, Probe, logged, stamp_s, values, yaw  # noqa: E402
 from rcl_interfaces.srv import GetParameters  # noqa: E402
 from std_srvs.srv import SetBool  # noqa: E402
 
@@ -75,16 +75,10 @@ def bridge(request: pytest.FixtureRequest, ros: None, tmp_path_factory: pytest.T
     url = f"emu://{case.profile}?seed=1"
     proc = BridgeProcess(ns, url, tmp_path_factory.mktemp("ros2"), extra=extra, profile=case.profile)
     probe = Probe(ns)
-    try:
+    with logged(proc, probe):
         probe.wait_for("the bridge's services", lambda: probe.clients["arm"].wait_for_service(timeout_sec=0.1), 20)
         probe.wait_status("robot", lambda s: values(s).get("robot") == case.example, 20)
         yield Bridge(case, proc, probe)
-    except BaseException:
-        print(proc.log())
-        raise
-    finally:
-        probe.close()
-        proc.stop()
 
 
 def arm(probe: Probe) -> None:

@@ -19,7 +19,7 @@ from ros_env import require_ros
 
 require_ros()
 
-from bridge_harness import ROOT, BridgeProcess, Probe, values  # noqa: E402
+from bridge_harness import ROOT, BridgeProcess, Probe, logged, values  # noqa: E402
 
 from tests.support.emulate import EmulatorProcess  # noqa: E402
 
@@ -44,13 +44,9 @@ def served(ros: None, tmp_path: Path) -> Iterator[tuple[EmulatorServer, BridgePr
     probe = Probe(ns)
     servers = [server]
     try:
-        yield server, bridge, probe
-    except BaseException:
-        print(bridge.log())
-        raise
+        with logged(bridge, probe):
+            yield server, bridge, probe
     finally:
-        probe.close()
-        bridge.stop()
         for s in servers:
             if s.proc.poll() is None:
                 s.stop()
