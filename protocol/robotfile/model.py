@@ -244,8 +244,9 @@ class RobotFile:
             motor_invert=_bits(self.drive.motor_invert),
             wheel_diameter_um=round(self.wheel_diameter_m * 1e6),
             steering_center_cdeg=cdeg(steer.center_deg + trim),
-            steering_min_cdeg=cdeg(steer.min_deg),
-            steering_max_cdeg=cdeg(steer.max_deg),
+            # The trim moves the servo's travel with its centre, as calibration does on the board.
+            steering_min_cdeg=max(0, cdeg(steer.min_deg + trim)),
+            steering_max_cdeg=min(SetConfig.STEERING_MAX_CDEG_MAX, cdeg(steer.max_deg + trim)),
             steering_step_cdeg=cdeg(steer.step_deg),
             servo_min_us=us(steer.min_pulse_s),
             servo_max_us=us(steer.max_pulse_s),

@@ -2,8 +2,9 @@
 track width or steering, each measured by an observer (a person, or the emulator's truth; turns by
 the IMU when there is one).
 
-See roverlink.calibration.procedure for the steps and `roverlink calibrate` for the command; the
-file it writes is read by host_sdk.calibration.
+See roverlink.calibration.procedure for the steps and `roverlink calibrate` for the command; what
+it measures goes into a robot file's [calibration] (roverlink.calibration.robot_file, read by
+host_sdk.RobotDescription) or the JSON file host_sdk.calibration reads.
 """
 
 from roverlink.calibration.imu import ImuObserver, ImuTurn, measure_turn

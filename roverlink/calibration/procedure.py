@@ -89,6 +89,7 @@ class Calibration:
         distance_m: float = 2.0,
         turns: float = 1.0,
         track_m: float | None = None,
+        wheelbase_m: float | None = None,
         say: Callable[[str], None] = print,
         progress: Callable[[str, float], None] | None = None,
         tick: Callable[[], None] | None = None,
@@ -105,6 +106,8 @@ class Calibration:
         self.ackermann = not robot.identity.capabilities & Capability.DIFF_DRIVE
         profile = profile_for_example(robot.identity.robot_name)
         self.wheelbase_m = profile.wheelbase_m if profile is not None else 0.0
+        if wheelbase_m is not None:  # the robot file's: its own robot, not the firmware's reference
+            self.wheelbase_m = wheelbase_m
         default_track = profile.track_m if profile is not None else 0.0
         kin = robot.kinematics
         if track_m is None:

@@ -3,7 +3,9 @@ directions, encoder counts per revolution, wheel diameter, track width (differen
 steering centre and angle per servo step (Ackermann); a check drive; the configuration before and
 after; saved to EEPROM after confirmation. On `emu://` the emulator's ground truth answers the
 questions a person with a tape measure would. With an IMU (--imu PORT, or an emu:// URL's
-imu=jy901) its yaw measures the turns instead of a person.
+imu=jy901) its yaw measures the turns instead of a person. With --robot FILE the robot file's
+geometry is the start and the measured values go into its [calibration] (the JSON file of -o is
+then written only when asked for).
 """
 
 from __future__ import annotations
@@ -12,7 +14,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from host_sdk import Robot, RobotConfig, RoverLinkError
+from host_sdk import Robot, RobotConfig, RobotDescription, RobotFileError, RoverLinkError
+from host_sdk.enums import Capability
 from host_sdk.extras import MissingDependencyError
 from host_sdk.sensors import Sensors
 from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
@@ -28,9 +31,12 @@ from roverlink.calibration import (
     save_file,
     verify,
 )
+from roverlink.calibration.robot_file import measured, outside_section, write_measured
 from roverlink.console import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
 from roverlink.emulated import first_collision
 from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
+
+DEFAULT_OUTPUT = Path("calibration.json")
 
 SHOWN = (
     "motor_invert",
@@ -62,7 +68,27 @@ def before_after(result: CalibrationResult) -> list[str]:
     return lines
 
 
-def run_calibration(robot: Robot, args: argparse.Namespace, prompter: Prompter, sensors: Sensors | None = None) -> int:
+def _check_drive(robot: Robot, robot_file: RobotDescription | None) -> None:
+    """A robot file of another kind of drive than the board's: refused before anything moves."""
+    if robot_file is None:
+        return
+    board_diff = bool(robot.identity.capabilities & Capability.DIFF_DRIVE)
+    if board_diff != (robot_file.drive.kind == "differential"):
+        board_kind = "differential" if board_diff else "ackermann"
+        raise ValueError(
+            f"{robot_file.path}: drive.kind = {robot_file.drive.kind!r} but the board on {robot.url} "
+            f"drives {board_kind}: not this robot's file"
+        )
+
+
+def run_calibration(
+    robot: Robot,
+    args: argparse.Namespace,
+    prompter: Prompter,
+    sensors: Sensors | None = None,
+    robot_file: RobotDescription | None = None,
+) -> int:
+    _check_drive(robot, robot_file)
     observer: Observer = observer_for(robot, prompter)
     if isinstance(observer, EmulatorObserver):
         prompter.say("(emulator: its ground truth plays the person with the tape measure)")
@@ -70,12 +96,18 @@ def run_calibration(robot: Robot, args: argparse.Namespace, prompter: Prompter, 
         observer = ImuObserver(observer, robot, sensors)
         prompter.say(f"(the IMU on {sensors.imu.port.url} measures the turns: keep it level and away from steel)")
     progress = Progress()
+    track, wheelbase = None, None
+    if robot_file is not None:  # the file's geometry is the start (the board stores no track or wheelbase)
+        track = robot_file.track_m
+        wheelbase = robot_file.geometry.wheelbase_m or None
     cal = Calibration(
         robot,
         observer,
         revolutions=args.revolutions,
         distance_m=args.distance,
         turns=args.turns,
+        track_m=track,
+        wheelbase_m=wheelbase,
         say=prompter.say,
         progress=lambda what, f: progress.update(f"{what:<28} {bar(f)}"),
         tick=sensors.poll if sensors is not None else None,
@@ -85,20 +117,13 @@ def run_calibration(robot: Robot, args: argparse.Namespace, prompter: Prompter, 
         checks = verify(cal, result) if args.check else []
     finally:
         progress.done()
-    name = robot.identity.robot_name or "robot"
     lines = ["findings:", *(f"  {f}" for f in result.findings), "configuration (* changed):", *before_after(result)]
     if checks:
         lines += ["check with the new values:", *(f"  {c.line()}" for c in checks)]
     print("\n".join(lines))
-    summary = []
+    code, summary = 0, list[str]()
     if prompter.confirm("Keep the new values and save them to the board's EEPROM?"):
-        robot.save_config()
-        summary.append("board configuration saved to EEPROM")
-        if args.output:
-            path = save_file(args.output, result, name)
-            kept = "" if result.ackermann else " (with the track width, which the board does not store)"
-            summary.append(f"kinematics{kept} written to {path}")
-            summary += usage_lines(path, robot.url)
+        code, summary = _keep(robot, args, result, robot_file)
     else:
         restore(robot, result.config_before)
         summary.append("the board's configuration was put back as it was")
@@ -106,19 +131,65 @@ def run_calibration(robot: Robot, args: argparse.Namespace, prompter: Prompter, 
     if worst is not None:
         summary.append(f"odometry vs measured after calibration: worst {worst * 100:.2f} %")
     print("\n".join(["summary:", *(f"  {s}" for s in summary)]))
-    return 0
+    return code
+
+
+def _keep(
+    robot: Robot, args: argparse.Namespace, result: CalibrationResult, robot_file: RobotDescription | None
+) -> tuple[int, list[str]]:
+    """Save to EEPROM, then the host's files: the robot file's [calibration] (--robot), the JSON
+    calibration file (-o, or by default without --robot). (exit code, summary lines)"""
+    robot.save_config()
+    summary = ["board configuration saved to EEPROM"]
+    code = 0
+    if robot_file is not None:
+        try:
+            summary += write_robot_file(robot_file, result, robot.url)
+        except (OSError, ValueError) as exc:
+            summary.append(f"error: the robot file was not changed: {exc}")
+            code = 1
+    if args.output is not None or robot_file is None:
+        name = robot.identity.robot_name or "robot"
+        path = save_file(args.output or DEFAULT_OUTPUT, result, name)
+        kept = "" if result.ackermann else " (with the track width, which the board does not store)"
+        summary.append(f"kinematics{kept} written to {path}")
+        summary += usage_lines(path, robot.url)
+    return code, summary
+
+
+def write_robot_file(robot_file: RobotDescription, result: CalibrationResult, url: str) -> list[str]:
+    """The measured values into the robot file's [calibration]; summary lines."""
+    values = measured(result, robot_file)
+    path = write_measured(robot_file.path, values)
+    shown = ", ".join(f"{k} = {v}" for k, v in values.items())
+    lines = [
+        f"measured values written to {path} [calibration]: {shown}",
+        f"and in code: Robot.connect({url!r}, kinematics=host_sdk.RobotDescription.load({str(path)!r}).kinematics())",
+    ]
+    notes = outside_section(result, robot_file)
+    if notes:
+        lines.append(f"the board's EEPROM also differs from {path} where [calibration] has no key: to match, set")
+        lines += [f"  {note}" for note in notes]
+    return lines
 
 
 def cmd_calibrate(args: argparse.Namespace) -> int:
     """Guided calibration: directions, counts per revolution, wheel diameter, track or steering."""
     prompter = ConsolePrompter(assume_yes=args.yes)
+    robot_file = None
+    if getattr(args, "robot", None) is not None:
+        try:  # read and checked before connecting: a bad file drives nothing
+            robot_file = RobotDescription.load(Path(getattr(args.robot, "path", args.robot)))
+        except RobotFileError as exc:
+            print(exc, file=sys.stderr)
+            return 2
     try:
         with (
             connect(args, feedback_hz=FEEDBACK_HZ_DEFAULT) as robot,
             open_sensors(choose_sensors(args, robot, kinds=("imu",))) as sensors,
         ):
             try:
-                return run_calibration(robot, args, prompter, sensors)
+                return run_calibration(robot, args, prompter, sensors, robot_file)
             except RoverLinkError:
                 hit = first_collision(robot)
                 if hit is not None:  # the emulated robot drove into its world: say so, not just the failsafe
@@ -141,8 +212,21 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--distance", type=float, default=2.0, help="straight drive to measure, m (default 2)")
     p.add_argument("--turns", type=float, default=1.0, help="in-place turns to measure (default 1)")
     p.add_argument("--no-check", dest="check", action="store_false", help="skip the check drive at the end")
+    if not any("--robot" in a.option_strings for a in p._actions):  # unless the common robot arguments have it
+        p.add_argument(
+            "--robot",
+            type=Path,
+            default=None,
+            metavar="FILE",
+            help="robot file (docs/robot-file.md): start from its geometry, write the measured values "
+            "into its [calibration]",
+        )
     p.add_argument(
-        "-o", "--output", type=Path, default=Path("calibration.json"), help="host calibration file (kinematics)"
+        "-o",
+        "--output",
+        type=Path,
+        default=None,
+        help=f"host calibration file, JSON kinematics (default {DEFAULT_OUTPUT} without --robot)",
     )
     p.add_argument("--yes", action="store_true", help="keep and save the result without asking")
     add_sensor_args(p, kinds=("imu",), off="--no-imu")

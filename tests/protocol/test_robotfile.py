@@ -117,6 +117,8 @@ def test_calibration_overrides_nominal_values(tmp_path: Path) -> None:
     )
     config = load(path).config()
     assert (config.wheel_diameter_um, config.steering_center_cdeg) == (66200, 9150)
+    # The servo's travel moves with its centre, as `roverlink calibrate` moves it on the board.
+    assert (config.steering_min_cdeg, config.steering_max_cdeg) == (6650, 12650)
 
 
 def test_docs_describe_every_key() -> None:
