@@ -23,6 +23,7 @@ from typing import Any, TextIO
 from emulator.device import Emulator
 from emulator.errors import EmulatorError
 from emulator.profiles import PROFILE_NAMES, get_profile
+from emulator.robot_file import profile_from_file
 from emulator.sensors.mjpeg import CameraDevice
 from emulator.sensors.rig import IMUS, LIDARS
 from emulator.transport.devices import SENSOR_PARAMS, sensor_options
@@ -30,6 +31,7 @@ from emulator.transport.http_camera import MjpegServer
 from emulator.transport.pty import PtyEndpoint
 from emulator.transport.realtime import Endpoint, SerialPeripheral, serve
 from emulator.transport.socket import SocketEndpoint
+from protocol.robotfile import RobotFileError
 from protocol.sensors import SensorSpecError
 from roverlink import argtypes, firmware
 
@@ -44,6 +46,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "other than 115200, which the firmware's Serial.begin() fixes, and the eeprom@T fault)",
     )
     p.add_argument("--profile", default="diffdrive-tb6612", choices=PROFILE_NAMES, help="reference robot to emulate")
+    p.add_argument("--robot", metavar="FILE", help="emulate the robot a robot file describes, in place of --profile")
     p.add_argument(
         "--seed",
         type=argtypes.SEED,
@@ -140,11 +143,12 @@ def cmd_emulate(args: argparse.Namespace) -> int:
             return 2
         return _cmd_emulate_simavr(args)
     try:
-        emu = Emulator(args.profile, args.seed, **_board_options(args))
+        profile = profile_from_file(args.robot) if args.robot else args.profile
+        emu = Emulator(profile, args.seed, **_board_options(args))
         sensors = sensor_options(values)
         if sensors is not None:
             sensors.attach(emu, seed=args.seed)
-    except (EmulatorError, SensorSpecError) as exc:
+    except (EmulatorError, SensorSpecError, RobotFileError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     try:
@@ -155,7 +159,8 @@ def cmd_emulate(args: argparse.Namespace) -> int:
     extras, closers = _serve_sensors(emu, args.camera_port)
     if log is not None:
         print(
-            f"[emulator] {args.profile}, seed {args.seed}, {args.baud} baud on {endpoint.name}; Ctrl-C to stop",
+            f"[emulator] {args.robot or args.profile}, seed {args.seed}, {args.baud} baud on {endpoint.name}; "
+            "Ctrl-C to stop",
             file=log,
             flush=True,
         )
