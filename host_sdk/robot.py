@@ -44,6 +44,7 @@ from host_sdk.limits import DriveLimits
 from host_sdk.options import check_connect
 from host_sdk.profiles import get_profile, kinematics_for, profile_for_example
 from host_sdk.robot_config import ConfigCalls
+from host_sdk.robot_description import RobotDescription
 from host_sdk.robot_drive import DriveCalls
 from host_sdk.robot_odometry import OdometryView
 from host_sdk.runner import runner_for
@@ -93,7 +94,8 @@ class Robot(DriveCalls, ConfigCalls):
         url: a serial device (/dev/ttyACM0, COM3), any pyserial URL (socket://host:port, loop://,
             spy:///dev/ttyUSB0), or an in-process emulator emu://PROFILE?seed=N&faults=...&clock=real|virtual.
         profile: reference robot name (host_sdk.profiles.PROFILES) for the kinematics; by default the
-            firmware's example name (or the emu:// profile) picks it. kinematics: your own DiffDrive/Ackermann.
+            firmware's example name (or the emu:// profile, or the emu://?robot=PATH file) picks it.
+            kinematics: your own DiffDrive/Ackermann.
         watchdog_s: firmware watchdog requested in HELLO, within the firmware's range (WATCHDOG_MIN_MS..MAX_MS).
         mode: "stream" (FEEDBACK at feedback_hz) or "lockstep" (one FEEDBACK per setpoint).
         clamp: scale/clamp commands beyond the limits instead of raising CommandRangeError.
@@ -183,6 +185,8 @@ class Robot(DriveCalls, ConfigCalls):
         caps = s.identity.capabilities
         if self._user_kinematics is not None:
             kin: DiffDrive | Ackermann | None = self._user_kinematics
+        elif self._profile_name is None and self._transport.robot_file is not None:
+            kin = RobotDescription.load(self._transport.robot_file).kinematics()  # emu://?robot=PATH
         else:
             name = self._profile_name or self._transport.profile
             prof = (
