@@ -26,6 +26,7 @@ from emulator.plant.servo import ServoParams
 from emulator.plant.vehicle import BodyParams
 from protocol.generated.enums import Capability
 from protocol.generated.profiles import PROFILES, RobotProfile
+from protocol.sensors import ROBOT_SENSORS, RobotSensors
 
 
 @dataclass(frozen=True, slots=True)
@@ -61,10 +62,19 @@ class EmulatorProfile:
     plant: PlantParams
     physical: Physical = NOMINAL
     """How the robot is really built where it differs from its configuration (emulator.physical)."""
+    body: RobotSensors | None = None
+    """Footprint and sensor mounts; None: the reference robot's (protocol/spec/sensors.toml)."""
+    robot_file: str | None = None
+    """The robot file this profile was built from (emulator.robot_file), None for a reference robot."""
 
     @property
     def name(self) -> str:
         return self.robot.name
+
+    @property
+    def sensors(self) -> RobotSensors:
+        """Where the robot carries its sensors and how big it is (the world's collisions, the rig)."""
+        return self.body if self.body is not None else ROBOT_SENSORS[self.robot.name]
 
     @property
     def ackermann(self) -> bool:
@@ -148,6 +158,8 @@ class EmulatorProfile:
 
 _MEGA = BoardTiming(bootloader_ms=1500, eeprom_bytes=4096)
 _UNO = BoardTiming(bootloader_ms=1000, eeprom_bytes=1024)
+TIMINGS: dict[str, BoardTiming] = {"mega2560": _MEGA, "uno": _UNO, "native": _MEGA}
+"""Board timing by a robot file's `board` (the native core: the Mega's, the larger EEPROM)."""
 
 PLANTS: dict[str, PlantParams] = {
     # 6 V class metal gearmotor, 30:1, 13-pulse Hall encoder (13 * 4 * 30 = 1560 counts per wheel

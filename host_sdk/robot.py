@@ -16,11 +16,8 @@ Layering: a Transport (bytes) under the sans-I/O Session (host_sdk.session), run
 emulator's virtual clock), under this facade. Drive calls are checked and turned into setpoints
 by host_sdk.limits; every argument by host_sdk.checks.
 
-Threading: every public method may be called from any thread. One lock guards the session; calls
-that wait (connect, arm, requests, wait_feedback) wait on a condition variable without holding it.
-A configuration change (set_config, set_pid) is a read-modify-write done as one: concurrent changes
-to different fields all stick. Callbacks run on the I/O thread (inline: on the thread that is
-waiting) without the lock held; they must not block for long, nor wait for the board.
+Threading (docs/sdk.md): every public method may be called from any thread; callbacks run on the
+I/O thread without the lock held, and must not block for long nor wait for the board.
 """
 
 from __future__ import annotations
@@ -98,7 +95,8 @@ class Robot(DriveCalls, ConfigCalls):
         url: a serial device (/dev/ttyACM0, COM3), any pyserial URL (socket://host:port, loop://,
             spy:///dev/ttyUSB0), or an in-process emulator emu://PROFILE?seed=N&faults=...&clock=real|virtual.
         profile: reference robot name (host_sdk.profiles.PROFILES) for the kinematics; by default the
-            firmware's example name (or the emu:// profile) picks it. kinematics: your own DiffDrive/Ackermann.
+            firmware's example name (or the emu:// profile, or the emu://?robot=PATH file) picks it.
+            kinematics: your own DiffDrive/Ackermann.
         robot: your robot file (or its RobotDescription): kinematics from it, the board compared with it
             (RobotMismatchError; allow_mismatch=True: a warning, in `mismatches`), its limits and gains set.
         watchdog_s: firmware watchdog requested in HELLO, within the firmware's range (WATCHDOG_MIN_MS..MAX_MS).
@@ -198,6 +196,8 @@ class Robot(DriveCalls, ConfigCalls):
         caps = s.identity.capabilities
         if self._user_kinematics is not None:
             kin: DiffDrive | Ackermann | None = self._user_kinematics
+        elif self._profile_name is None and self._transport.robot_file is not None:
+            kin = RobotDescription.load(self._transport.robot_file).kinematics()  # emu://?robot=PATH
         else:
             name = self._profile_name or self._transport.profile
             prof = (

@@ -7,9 +7,10 @@
     data = rig.devices["lidar"].host_read(emu.now_us)
 
 Any device can go on any profile: it sits where the profile carries that kind of sensor
-(protocol/spec/sensors.toml), or, when the robot has none of that kind, at a default spot (a lidar
-on top of the pose point, an IMU at it, a camera at the front of the footprint). Every device is
-updated every BATCH_US of virtual time (after the physics step), producing what fell due since.
+(protocol/spec/sensors.toml; a robot file's [sensors.*]), or, when the robot has none of that
+kind, at a default spot (a lidar on top of the pose point, an IMU at it, a camera at the front of
+the footprint). Every device is updated every BATCH_US of virtual time (after the physics step),
+producing what fell due since.
 """
 
 from __future__ import annotations
@@ -49,7 +50,7 @@ class SensorRig:
         emu.clock.call_at(emu.now_us + BATCH_US, self._tick, PRIORITY_OTHER)
 
     def mount_for(self, kind: str, device_name: str) -> Mount:
-        return mount_on(self.emu.profile.name, kind, device_name)
+        return self.emu.profile.sensors.placed(kind, device_name)
 
     def _motion(self) -> tuple[float, float, float]:
         v = self.emu.plant.vehicle
@@ -126,7 +127,7 @@ def attach(
     for kind, name in (("lidar", lidar), ("imu", imu)):
         if name:
             device(name, kind)  # SensorSpecError (a ValueError) names the choices
-    rig = SensorRig(emu, World(scene, emu.profile.name))
+    rig = SensorRig(emu, World(scene, emu.profile.name, emu.profile.sensors))
     if lidar:
         rig.add("lidar", lidar, scan_hz=lidar_hz)
     if imu:

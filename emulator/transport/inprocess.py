@@ -7,11 +7,13 @@ The SDK finds this module through the `roverlink.transports` entry point `emu` a
     emu://picar?seed=3                      the Ackermann PiCar, random streams seeded with 3
     emu://diffdrive-bts7960?clock=virtual   virtual time: read() moves the emulator's clock
     emu://diffdrive-tb6612?faults=bitflip%3D1e-4,cut%402-2.5&dtr=1
+    emu://?robot=my_robot.toml&clock=virtual  the robot a robot file describes (emulator.robot_file)
 
 Query parameters (all optional):
 
 | name | values | default | meaning |
 |---|---|---|---|
+| robot | path | none | a robot file (docs/robot-file.md) in place of the profile name |
 | seed | integer | 0 | seed of every random stream in the emulator |
 | faults | fault spec (emulator.faults) | none | injected faults, URL-encoded (`=` as `%3D`, `@` as `%40`) |
 | clock | real, virtual | real | real: the emulator keeps pace with wall time; virtual: only `read()` moves time |
@@ -45,11 +47,12 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from urllib.parse import parse_qs, unquote, urlsplit
+from urllib.parse import parse_qs, quote, unquote, urlsplit
 
 from emulator.device import Emulator
 from emulator.errors import EmulatorError, EmulatorValueError
 from emulator.physical import FIELD_NAMES, NOMINAL, Physical, physical_from
+from emulator.robot_file import profile_from_file
 from emulator.transport.devices import SENSOR_PARAMS, SensorOptions, register, sensor_options, unregister
 
 
@@ -61,6 +64,7 @@ DEFAULT_PROFILE = "diffdrive-tb6612"
 STEP_US = 500
 """Virtual clock: how far one step of `read()` moves time while waiting for bytes."""
 _PARAMS = (
+    "robot",
     "seed",
     "faults",
     "clock",
@@ -81,6 +85,8 @@ class EmulatorOptions:
     """What an `emu://` URL asks for."""
 
     profile: str = DEFAULT_PROFILE
+    robot: str = ""
+    """A robot file's path (then `profile` is unused)."""
     seed: int = 0
     faults: str = ""
     clock: str = "real"
@@ -99,7 +105,7 @@ def parse_emu_url(url: str) -> EmulatorOptions:
     parts = urlsplit(url)
     if parts.scheme != "emu":
         raise EmulatorValueError("url", url, "an emu://PROFILE[?options] URL")
-    profile = unquote(parts.netloc or parts.path.strip("/")) or DEFAULT_PROFILE
+    profile = unquote(parts.netloc or parts.path.strip("/"))
     query = parse_qs(parts.query, keep_blank_values=True)
     for key, values in query.items():
         if key not in _PARAMS:
@@ -108,6 +114,10 @@ def parse_emu_url(url: str) -> EmulatorOptions:
     def one(key: str) -> str | None:
         values = query.get(key)
         return values[-1] if values else None
+
+    robot = one("robot")
+    if robot is not None and (profile or not robot):
+        raise EmulatorValueError("url parameter robot", robot, "a robot file's path, in place of a profile name")
 
     def number(key: str, kind: type[int] | type[float], default: float, lo: float, hi: float) -> float:
         text = one(key)
@@ -137,7 +147,8 @@ def parse_emu_url(url: str) -> EmulatorOptions:
     if eeprom not in ("blank", "saved"):
         raise EmulatorValueError("url parameter eeprom", eeprom, "blank or saved")
     return EmulatorOptions(
-        profile=profile,
+        profile=profile or DEFAULT_PROFILE,
+        robot=robot or "",
         seed=int(number("seed", int, 0, 0, 2**63)),
         faults=one("faults") or "",
         clock=clock,
@@ -167,8 +178,12 @@ class EmulatorTransport:
             raise EmulatorValueError("clock", clock, "'real' or 'virtual'")
         self.emulator = emulator
         self.device = emulator
-        self.profile = emulator.profile.name
-        self.url = url or f"emu://{emulator.profile.name}?seed={emulator.seed}&clock={clock}"
+        robot_file = emulator.profile.robot_file
+        self.robot_file = robot_file
+        """The robot file the emulated robot was built from (`robot=`), else None."""
+        self.profile = emulator.profile.name if robot_file is None else None
+        where = f"?robot={quote(robot_file)}&" if robot_file is not None else f"{emulator.profile.name}?"
+        self.url = url or f"emu://{where}seed={emulator.seed}&clock={clock}"
         self.virtual = clock == "virtual"
         self.speed = speed
         self.lock = threading.RLock()
@@ -180,10 +195,11 @@ class EmulatorTransport:
 
     @classmethod
     def from_url(cls, url: str, baud: int = 115200) -> EmulatorTransport:
-        """The emulator an `emu://` URL describes; EmulatorError (e.g. an unknown profile) if it cannot start."""
+        """The emulator an `emu://` URL describes; EmulatorError (e.g. an unknown profile) or
+        RobotFileError (a robot file's problems) if it cannot start."""
         options = parse_emu_url(url)
         emu = Emulator(
-            options.profile,
+            profile_from_file(options.robot) if options.robot else options.profile,
             seed=options.seed,
             faults=options.faults or None,
             baud=baud,

@@ -23,6 +23,9 @@ class Transport(abc.ABC):
     profile: str | None = None
     """The reference robot this transport is known to reach (an emulator's profile), else None:
     Robot.connect then takes the kinematics from the firmware's IDENTITY."""
+    robot_file: str | None = None
+    """The robot file (docs/robot-file.md) the device behind this transport was built from (an
+    `emu://?robot=PATH` emulator), else None: Robot.connect takes its kinematics from it."""
     device: object | None = None
     """The in-process device behind the URL (an emulator: ground truth, fault injection), else None."""
 

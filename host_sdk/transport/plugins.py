@@ -7,10 +7,11 @@ A package registers a scheme in the ``roverlink.transports`` entry point group:
 
 The target is called as ``open_url(url, baud)`` and returns an object with the Transport methods
 (`read(timeout_s)`, `write(data)`, `close()`, `clock()`) and attributes (`url`, `virtual`, and
-optionally `profile`, `device`, `endpoints`, `locked()`). It need not import the SDK: `PluginTransport` adapts it,
-turning an OSError from its I/O into TransportError. A ValueError it raises while opening (a bad
-URL parameter, an unknown profile) becomes a CommandRangeError naming the `url` with the plugin's
-explanation; other RoverLinkErrors pass through; anything else becomes a TransportError.
+optionally `profile`, `robot_file`, `device`, `endpoints`, `locked()`). It need not import the SDK:
+`PluginTransport` adapts it, turning an OSError from its I/O into TransportError. A ValueError it
+raises while opening (a bad URL parameter, an unknown profile, a robot file's problems) becomes a
+CommandRangeError naming the `url` with the plugin's explanation; other RoverLinkErrors pass
+through; anything else becomes a TransportError.
 """
 
 from __future__ import annotations
@@ -71,6 +72,7 @@ class PluginTransport(Transport):
         self.url = endpoint.url
         self.virtual = bool(endpoint.virtual)
         self.profile = getattr(endpoint, "profile", None)
+        self.robot_file = getattr(endpoint, "robot_file", None)
         self.device = getattr(endpoint, "device", None)
 
     @property

@@ -24,6 +24,7 @@ from typing import Any, TextIO
 from emulator.device import Emulator
 from emulator.errors import EmulatorError
 from emulator.profiles import PROFILE_NAMES, EmulatorProfile, get_profile
+from emulator.robot_file import profile_from_file
 from emulator.sensors.mjpeg import CameraDevice
 from emulator.sensors.rig import IMUS, LIDARS
 from emulator.transport.devices import SENSOR_PARAMS, sensor_options
@@ -49,8 +50,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--robot",
         metavar="FILE",
-        help="emulate the robot in this robot file instead (docs/robot-file.md; simavr: its firmware is built "
-        "from the file and its plant has the file's geometry)",
+        help="emulate the robot in this robot file instead of --profile (docs/robot-file.md; simavr: its "
+        "firmware is built from the file; both backends: the plant has the file's geometry)",
     )
     p.add_argument(
         "--seed",
@@ -147,15 +148,13 @@ def cmd_emulate(args: argparse.Namespace) -> int:
             print("error: --world, --lidar, --imu and --camera need --backend python", file=sys.stderr)
             return 2
         return _cmd_emulate_simavr(args)
-    if getattr(args, "robot", None):
-        print("error: --robot needs --backend simavr (the python backend takes emu://?robot=FILE)", file=sys.stderr)
-        return 2
     try:
-        emu = Emulator(args.profile, args.seed, **_board_options(args))
+        profile = profile_from_file(args.robot) if args.robot else args.profile
+        emu = Emulator(profile, args.seed, **_board_options(args))
         sensors = sensor_options(values)
         if sensors is not None:
             sensors.attach(emu, seed=args.seed)
-    except (EmulatorError, SensorSpecError) as exc:
+    except (EmulatorError, SensorSpecError, RobotFileError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     try:
@@ -166,7 +165,8 @@ def cmd_emulate(args: argparse.Namespace) -> int:
     extras, closers = _serve_sensors(emu, args.camera_port)
     if log is not None:
         print(
-            f"[emulator] {args.profile}, seed {args.seed}, {args.baud} baud on {endpoint.name}; Ctrl-C to stop",
+            f"[emulator] {args.robot or args.profile}, seed {args.seed}, {args.baud} baud on {endpoint.name}; "
+            "Ctrl-C to stop",
             file=log,
             flush=True,
         )
