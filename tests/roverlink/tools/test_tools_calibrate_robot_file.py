@@ -141,10 +141,13 @@ def test_declined_or_wrong_file_leaves_the_file_alone(
     assert main(["robot", "new", str(car), "--from", "picar"]) == 0
     capsys.readouterr()
     assert main(["calibrate", url, "--robot", str(car), "--yes"]) == 1
-    assert f"{car}: drive.kind = 'ackermann' but the board" in capsys.readouterr().err
+    err = capsys.readouterr().err  # refused at connect: the board is compared with the file
+    assert f"{car} does not describe the board" in err and "firmware build --robot" in err
     # A file with a problem: its problems, and no connection.
     path.write_text(before.replace("track_m = 0.2", "track_m = -1"), encoding="utf-8")
-    assert main(["calibrate", "emu://nosuchrobot", "--robot", str(path), "--yes"]) == 2
+    with pytest.raises(SystemExit) as ended:  # argparse refuses it, before anything connects
+        main(["calibrate", "emu://nosuchrobot", "--robot", str(path), "--yes"])
+    assert ended.value.code == 2
     assert f"{path}:31: geometry.track_m: = -1: out of range" in capsys.readouterr().err
 
 
