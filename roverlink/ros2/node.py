@@ -331,7 +331,10 @@ class BridgeNode(Node):
             return response
         try:
             driver.clear()
-            robot.arm(wait_esc=False)  # an ESC still in its arming window holds neutral by itself
+            try:
+                robot.arm(wait_esc=False)  # an ESC still in its arming window holds neutral by itself
+            except SessionResetError:  # a reset no call had met: on_reset put it in the diagnostics
+                robot.arm(wait_esc=False)
         except RoverLinkError as exc:
             response.success, response.message = False, str(exc)
             return response
