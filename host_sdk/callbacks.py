@@ -1,4 +1,5 @@
-"""The robot's callbacks (`on_feedback`, `on_reset`, `on_failsafe`, `on_log`) and their delivery."""
+"""The robot's callbacks (`on_feedback`, `on_reset`, `on_odometry_gap`, `on_failsafe`, `on_log`) and
+their delivery."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from host_sdk.session import (
     FeedbackReceived,
     FeedbackSample,
     LogReceived,
+    OdometryGap,
     ResetDetected,
 )
 from protocol.generated.enums import FailsafeReason, LogLevel
@@ -24,6 +26,7 @@ log = logging.getLogger("host_sdk")
 
 FeedbackCallback = Callable[[FeedbackSample], None]
 ResetCallback = Callable[[SessionResetError], None]
+OdometryGapCallback = Callable[[OdometryGap], None]
 FailsafeCallback = Callable[[FailsafeReason], None]
 LogCallback = Callable[[LogLevel, str], None]
 
@@ -42,6 +45,7 @@ class Callbacks:
         self._lock = threading.Lock()
         self.feedback: tuple[FeedbackCallback, ...] = ()
         self.reset: tuple[ResetCallback, ...] = ()
+        self.odometry_gap: tuple[OdometryGapCallback, ...] = ()
         self.failsafe: tuple[FailsafeCallback, ...] = ()
         self.log: tuple[LogCallback, ...] = ()
 
@@ -70,6 +74,9 @@ class Callbacks:
                     error = SessionResetError(event.old_boot_id, event.new_boot_id, event.why)
                     for reset_cb in self.reset:
                         reset_cb(error)
+                elif isinstance(event, OdometryGap):
+                    for gap_cb in self.odometry_gap:
+                        gap_cb(event)
                 elif isinstance(event, FailsafeEntered):
                     for fs_cb in self.failsafe:
                         fs_cb(event.reason)

@@ -55,6 +55,14 @@ class Pose:
     angular_rad_s: float
     mcu_time_us: int
     """Unwrapped MCU time of the latest sample (0 before the first)."""
+    gaps: int = 0
+    """Times counts were lost (a board reset: what the wheels turned while it rebooted is not
+    counted) since the pose was last set."""
+    position_uncertainty_m: float = 0.0
+    """How far the position may be off because of those gaps: the speed at the last sample before
+    each gap times the time without counts, summed (an estimate, not a bound)."""
+    heading_uncertainty_rad: float = 0.0
+    """The same for the heading: the turn rate at the last sample times the time without counts."""
 
     @property
     def heading_rad(self) -> float:
@@ -68,7 +76,20 @@ class Odometry:
     Not thread-safe by itself; the session calls `update` from its I/O thread under its lock.
     """
 
-    __slots__ = ("_counts", "_theta", "_time_us", "_v", "_w", "_wheels", "_x", "_y", "kinematics")
+    __slots__ = (
+        "_counts",
+        "_gaps",
+        "_heading_unc",
+        "_position_unc",
+        "_theta",
+        "_time_us",
+        "_v",
+        "_w",
+        "_wheels",
+        "_x",
+        "_y",
+        "kinematics",
+    )
 
     def __init__(self, kinematics: DiffDrive | Ackermann) -> None:
         checks.instance("kinematics", kinematics, (DiffDrive, Ackermann), "a DiffDrive or Ackermann")
@@ -77,15 +98,40 @@ class Odometry:
         self.reset()
 
     def reset(self, x_m: float = 0.0, y_m: float = 0.0, theta_rad: float = 0.0) -> None:
-        """Set the pose; the next sample only re-anchors the counts (no motion is integrated)."""
+        """Set the pose (known again: no gap, no uncertainty); the next sample only re-anchors the
+        counts (no motion is integrated)."""
         self._x, self._y, self._theta = (
             _coordinate("x_m", x_m),
             _coordinate("y_m", y_m),
             _coordinate("theta_rad", theta_rad),
         )
+        self._gaps = 0
+        self._position_unc = self._heading_unc = 0.0
+        self.reanchor()
+
+    def reanchor(self) -> None:
+        """The counts start again (a new boot): the pose, its gaps and uncertainty are kept, the
+        next sample only re-anchors the counts."""
         self._v = self._w = 0.0
         self._counts: Sequence[int] | None = None
         self._time_us: int | None = None
+
+    def restore(self, pose: Pose) -> None:
+        """Carry on from `pose` (its gaps and uncertainty too), e.g. with new kinematics."""
+        self.reset(pose.x_m, pose.y_m, pose.theta_rad)
+        self._gaps = pose.gaps
+        self._position_unc, self._heading_unc = pose.position_uncertainty_m, pose.heading_uncertainty_rad
+
+    def gap(self, duration_s: float) -> tuple[float, float]:
+        """Counts were lost for `duration_s` (a board reset): the pose is kept, its uncertainty grows
+        by what the robot would have moved going on at its last measured speed and turn rate, and
+        the counts re-anchor on the next sample. Returns that (position m, heading rad)."""
+        lost_m, lost_rad = abs(self._v) * duration_s, abs(self._w) * duration_s
+        self._gaps += 1
+        self._position_unc += lost_m
+        self._heading_unc += lost_rad
+        self.reanchor()
+        return lost_m, lost_rad
 
     def update(self, counts: Sequence[int], mcu_time_us: int, steering_rad: float = 0.0) -> Pose:
         """Add one sample: `counts` are each wheel's cumulative count, unwrapped (a differential
@@ -121,4 +167,14 @@ class Odometry:
 
     @property
     def pose(self) -> Pose:
-        return Pose(self._x, self._y, self._theta, self._v, self._w, self._time_us or 0)
+        return Pose(
+            self._x,
+            self._y,
+            self._theta,
+            self._v,
+            self._w,
+            self._time_us or 0,
+            self._gaps,
+            self._position_unc,
+            self._heading_unc,
+        )

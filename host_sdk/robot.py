@@ -24,14 +24,13 @@ from __future__ import annotations
 
 import dataclasses
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal, cast
 
 from host_sdk import checks
-from host_sdk.callbacks import Callbacks, FailsafeCallback, FeedbackCallback, LogCallback, ResetCallback
+from host_sdk.callbacks import Callbacks
 from host_sdk.errors import (
-    FeedbackTimeoutError,
     RequestTimeoutError,
     RobotClosedError,
     RoverLinkError,
@@ -44,6 +43,7 @@ from host_sdk.profiles import get_profile, kinematics_for, profile_for_example
 from host_sdk.robot_config import ConfigCalls
 from host_sdk.robot_description import RobotDescription
 from host_sdk.robot_drive import DriveCalls
+from host_sdk.robot_feedback import FeedbackCalls
 from host_sdk.robot_file_check import Mismatch, RobotFileCheck, prepare
 from host_sdk.robot_odometry import OdometryView
 from host_sdk.runner import runner_for
@@ -65,7 +65,7 @@ if TYPE_CHECKING:
     from host_sdk.emulated import EmulatorHandle
 
 
-class Robot(DriveCalls, ConfigCalls):
+class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
     """A connected RoverLink robot. Make one with `Robot.connect(url, ...)`; see the module docstring."""
 
     # == connecting ===============================================================================
@@ -357,17 +357,19 @@ class Robot(DriveCalls, ConfigCalls):
     def arm(self, timeout_s: float = 2.0, *, wait_esc: bool = True) -> None:
         """Enable the motors (ARM with this session's boot_id); clears a latched FAILSAFE.
 
-        Also acknowledges a reset reported since the last command. On a robot with an ESC still in
-        its power-up arming window, waits for the window to end first (wait_esc=False: don't; the
-        board then holds neutral until it ends). `timeout_s` bounds the wait for a session that is
-        re-opening after a reset. Raises NackError, RequestTimeoutError, SessionResetError.
+        A reset not yet reported is raised first (SessionResetError, once: arm again). On a robot
+        with an ESC still in its power-up arming window, waits for the window to end first
+        (wait_esc=False: don't; the board then holds neutral until it ends). `timeout_s` bounds the
+        wait for a session that is re-opening after a reset. Raises NackError, RequestTimeoutError, SessionResetError.
         """
         timeout = checks.seconds("timeout_s", timeout_s)
         checks.flag("wait_esc", wait_esc)
         runner, s = self._runner, self._session
         with self._lock:
             runner.check()
-            s.take_reset()
+            error = s.take_reset()
+            if error is not None:
+                raise error
         if not runner.wait(lambda: s.ready or runner.broken(), timeout):
             runner.check()
             raise RequestTimeoutError("ARM", 0, timeout)
@@ -387,65 +389,7 @@ class Robot(DriveCalls, ConfigCalls):
         with self._lock:
             self._runner.check()
             self._session.release()
-        self._request(Disarm())
-
-    # == feedback ==================================================================================
-    def wait_feedback(self, timeout_s: float = 1.0) -> FeedbackSample:
-        """The next FEEDBACK. In lockstep mode: the one answering the latest drive command.
-
-        Raises FeedbackTimeoutError (a TimeoutError) if none arrives within `timeout_s`."""
-        timeout = checks.seconds("timeout_s", timeout_s)
-        runner, s = self._runner, self._session
-        with self._lock:
-            runner.check()
-            start = s.latest.index if s.latest is not None else 0
-            lockstep = s.feedback_mode is FeedbackMode.LOCKSTEP
-            want = self._last_command_seq if lockstep and s.setpoint_live else None
-
-        def arrived() -> bool:
-            sample = s.latest
-            if sample is None or sample.index <= start:
-                return runner.broken()
-            return want is None or (sample.ack_seq - want) % 256 < 128 or runner.broken()
-
-        ok = runner.wait(arrived, timeout)
-        with self._lock:
-            runner.check()
-            sample = s.latest
-            if not ok or sample is None:
-                raise FeedbackTimeoutError(timeout, lockstep, s.setpoint_live)
-            return sample
-
-    def feedback_stream(self, timeout_s: float = 1.0) -> Iterator[FeedbackSample]:
-        """Yield FEEDBACK samples as they arrive, until the robot is closed.
-
-        A slow consumer sees the latest sample (some are skipped); use `on_feedback` to see every one."""
-        timeout = checks.seconds("timeout_s", timeout_s)
-
-        def samples() -> Iterator[FeedbackSample]:
-            while not self.closed:
-                try:
-                    yield self.wait_feedback(timeout)
-                except RobotClosedError:
-                    return
-
-        return samples()
-
-    def on_feedback(self, callback: FeedbackCallback) -> Callable[[], None]:
-        """Call `callback(sample)` for every FEEDBACK (on the I/O thread). Returns a function that unsubscribes."""
-        return self._callbacks.subscribe("feedback", callback)
-
-    def on_reset(self, callback: ResetCallback) -> Callable[[], None]:
-        """Call `callback(SessionResetError)` when a board reset is detected."""
-        return self._callbacks.subscribe("reset", callback)
-
-    def on_failsafe(self, callback: FailsafeCallback) -> Callable[[], None]:
-        """Call `callback(reason)` when the board enters FAILSAFE (or the host knows it must have)."""
-        return self._callbacks.subscribe("failsafe", callback)
-
-    def on_log(self, callback: LogCallback) -> Callable[[], None]:
-        """Call `callback(level, text)` for every LOG frame of the firmware (they also go to logging)."""
-        return self._callbacks.subscribe("log", callback)
+        self._runner.request(Disarm(), report_reset=False)  # cleanup: a reset is left to other calls
 
     def sleep(self, seconds: float) -> None:
         """Wait `seconds` on the session's clock: wall time, or virtual time with an emu://...?clock=virtual

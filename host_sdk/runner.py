@@ -19,7 +19,14 @@ import threading
 import time
 from collections.abc import Callable
 
-from host_sdk.errors import LinkBrokenError, RobotClosedError, RoverLinkError, TransportError, UnsupportedError
+from host_sdk.errors import (
+    LinkBrokenError,
+    RobotClosedError,
+    RoverLinkError,
+    SessionResetError,
+    TransportError,
+    UnsupportedError,
+)
 from host_sdk.session import Event, Request, Session
 from host_sdk.transport import Transport
 from protocol.codec.message import Message
@@ -138,19 +145,28 @@ class Runner:
         closes, or `timeout_s` passes on the session's clock. Returns `predicate()`."""
         raise NotImplementedError
 
-    def request(self, msg: Message) -> Message:
-        """Send a reliable request and wait for its answer; raises what the session or link says."""
+    def request(self, msg: Message, *, report_reset: bool = True) -> Message:
+        """Send a reliable request and wait for its answer; raises what the session or link says.
+
+        A reset not yet reported is raised first (SessionResetError, once) unless `report_reset`
+        is False (a DISARM: cleanup code must not trip on it). A request a reset fails reports it."""
         with self.lock:
             self.check()
             s = self.session
+            error = s.take_reset() if report_reset else None
+            if error is not None:
+                raise error
             req: Request = s.submit(msg, self.transport.clock())
             self.flush()
-            budget = req.budget_s + (0.0 if s.ready else REOPEN_BUDGET_S)
+            # The session fails the request itself; this bounds the wait, a reset's silence included.
+            budget = req.budget_s + s.options.reset_silence_s + (0.0 if s.ready else REOPEN_BUDGET_S)
         self.wait(lambda: req.done or self.broken(), budget)
         with self.lock:
             if not req.done:
                 s.cancel(req)
                 self.check()
+            if isinstance(req.error, SessionResetError):
+                s.take_reset()  # this request reports the reset: no later call does again
             if req.error is not None:
                 raise req.error
             assert req.reply is not None

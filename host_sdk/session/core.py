@@ -82,6 +82,7 @@ class Session:
             burn_seq=self._sync.send_ping,
             emit=self._emit,
             on_send=self._setpoints.request_sent,
+            silence_deadline=self.silence_deadline,
         )
         parts = Parts(
             options=options,
@@ -219,6 +220,27 @@ class Session:
     def take_reset(self) -> SessionResetError | None:
         """The SessionResetError to raise on the user's next command (once), if a reset happened."""
         return self._life.take_reset()
+
+    @property
+    def reset_pending(self) -> bool:
+        """A reset is known and not yet reported to the user."""
+        return self._life.reset_pending
+
+    def silence_deadline(self, now: float) -> float | None:
+        """When the board has gone quiet while the session is open (nothing at all heard for three
+        FEEDBACK periods; lockstep: for a request timeout): the time until which that silence may
+        still end in a boot announcement, `reset_silence_s` after the last frame (a reset in its
+        bootloader; past already when it has been silent longer). None while the board talks."""
+        last = self._wire.last_rx
+        if self._life.state is not LinkState.OPEN or last is None:
+            return None
+        identity = self._handshake.identity
+        quiet = self.options.request_timeout_s
+        if identity is not None and identity.feedback_mode is FeedbackMode.STREAM and identity.feedback_hz:
+            quiet = max(0.05, 3 / identity.feedback_hz)
+        if now - last < quiet:
+            return None
+        return last + self.options.reset_silence_s
 
     def take_command_error(self) -> RoverLinkError | None:
         """What the user's next drive command must raise, once: a reset not yet reported, or a

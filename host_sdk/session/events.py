@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from host_sdk.errors import RoverLinkError
+from host_sdk.odometry import Pose
 from host_sdk.session.requests import Request
 from host_sdk.session.types import FeedbackSample, RobotIdentity
 from protocol.generated.enums import FailsafeReason, LogLevel
@@ -27,6 +28,21 @@ class ResetDetected:
     old_boot_id: int
     new_boot_id: int | None
     why: str
+
+
+@dataclass(frozen=True, slots=True)
+class OdometryGap:
+    """Encoder counts were lost: the board was reset, and what the wheels turned between its last
+    FEEDBACK and its reboot is not counted. The pose is kept; its uncertainty grew."""
+
+    duration_s: float
+    """Time without counts: from the last FEEDBACK of the old boot to the reset being known."""
+    position_m: float
+    """What the position uncertainty grew by: the speed at the last sample times `duration_s`."""
+    heading_rad: float
+    """What the heading uncertainty grew by: the turn rate at the last sample times `duration_s`."""
+    pose: Pose
+    """The pose now, with its `gaps` count and uncertainty."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -57,4 +73,14 @@ class RequestFinished:
     request: Request
 
 
-Event = Opened | Ready | ResetDetected | FeedbackReceived | LogReceived | FailsafeEntered | Failed | RequestFinished
+Event = (
+    Opened
+    | Ready
+    | ResetDetected
+    | OdometryGap
+    | FeedbackReceived
+    | LogReceived
+    | FailsafeEntered
+    | Failed
+    | RequestFinished
+)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.odometry import Odometry, Pose
+from host_sdk.session.events import OdometryGap
 from host_sdk.session.types import FeedbackSample
 from host_sdk.timesync import ClockSync, Unwrapper
 from protocol.generated.constants import WHEEL_COUNT
@@ -65,8 +66,19 @@ class FeedbackTracker:
         self._counts = [Unwrapper(_COUNT_BITS) for _ in range(WHEEL_COUNT)]
         self._tick = Unwrapper(_TICK_BITS)
         if self.odometry is not None:
-            p = self.odometry.pose
-            self.odometry.reset(p.x_m, p.y_m, p.theta_rad)
+            self.odometry.reanchor()
+
+    def counts_lost(self, now: float) -> OdometryGap | None:
+        """The board was reset (known at `now`): the counts since its last FEEDBACK are lost. The
+        odometry records the gap (None without odometry, or before any FEEDBACK)."""
+        odo, latest = self.odometry, self._latest
+        gap = None
+        if odo is not None and latest is not None:
+            duration = max(0.0, now - latest.received_s)
+            position, heading = odo.gap(duration)  # from the speeds of the last sample
+            gap = OdometryGap(duration, position, heading, odo.pose)
+        self.new_boot()
+        return gap
 
     def set_kinematics(self, kinematics: DiffDrive | Ackermann | None) -> None:
         """New kinematics (e.g. the configuration changed the wheel size); the pose is kept."""
@@ -74,7 +86,7 @@ class FeedbackTracker:
         self.kinematics = kinematics
         self.odometry = Odometry(kinematics) if kinematics is not None else None
         if pose is not None and self.odometry is not None:
-            self.odometry.reset(pose.x_m, pose.y_m, pose.theta_rad)
+            self.odometry.restore(pose)
 
     def sample(self, msg: Feedback, now: float, clock: ClockSync) -> FeedbackSample:
         """The FeedbackSample of one FEEDBACK, received at host time `now`."""

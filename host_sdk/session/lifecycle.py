@@ -103,7 +103,7 @@ class Lifecycle:
         p.setpoints.drop()
         self._fail_pending(SessionResetError(old, new_boot_id, why), inflight_first=True)
         p.sync.reset()
-        p.feedback.new_boot()  # keep the pose, re-anchor the counts
+        gap = p.feedback.counts_lost(now)  # keep the pose, re-anchor the counts, widen its uncertainty
         p.wire.renumbered()
         p.handshake.restart(now)
         p.requests.forget_sent()
@@ -113,6 +113,8 @@ class Lifecycle:
         else:
             self._reset_pending = (old, new_boot_id, why)
         p.emit(ResetDetected(old, new_boot_id, why))
+        if gap is not None:
+            p.emit(gap)
         self.hello(now)
 
     def incompatible(self, msg: Identity) -> None:
@@ -137,6 +139,10 @@ class Lifecycle:
         self._error = error
         self._end(LinkState.BROKEN, error)
         self._p.emit(Failed(error))
+
+    @property
+    def reset_pending(self) -> bool:
+        return self._reset_pending is not None
 
     def take_reset(self) -> SessionResetError | None:
         """The SessionResetError to raise on the user's next command (once), if a reset happened."""

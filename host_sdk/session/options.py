@@ -44,6 +44,11 @@ class SessionOptions:
     """How often a live setpoint is repeated; None: watchdog_s / 4."""
     ping_interval_s: float = 1.0
     auto_rearm: bool = False
+    reset_silence_s: float = 2.0
+    """How long a board stays silent when it is reset before it announces its new boot: the
+    bootloader's time after a DTR or external reset (1.5 s on a Mega, 1 s on an Uno) and its setup,
+    rounded up. A wait for the board that meets a silence younger than this waits it out, as it
+    may end in a reset (docs/sdk.md, "Resets")."""
     url: str = ""
     baud: int = 0
 

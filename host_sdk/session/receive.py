@@ -63,7 +63,7 @@ class Receiver:
             self._on_identity(msg, now)
         elif isinstance(msg, Feedback):
             self._on_feedback(msg, now)
-        self._wire.received(seq)
+        self._wire.received(seq, now)
         if isinstance(msg, (Identity, Feedback)):
             return
         if isinstance(msg, Pong):

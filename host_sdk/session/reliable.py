@@ -42,6 +42,7 @@ class RequestQueue:
         burn_seq: Callable[[float], None],
         emit: Callable[[Event], None],
         on_send: Callable[[Message], None] = lambda _msg: None,
+        silence_deadline: Callable[[float], float | None] = lambda _now: None,
     ) -> None:
         self._options = options
         self._wire = wire
@@ -52,6 +53,8 @@ class RequestQueue:
         self._emit = emit
         self._on_send = on_send
         """Told of each request as it first goes out (a SET_CONFIG re-limits the running setpoint)."""
+        self._silence_deadline = silence_deadline
+        """Until when the board's silence at a given time may still end in a reset (None: it talks)."""
         self._queue: deque[Request] = deque()
         self._inflight: Request | None = None
         self._last_key: tuple[int, int] | None = None
@@ -134,6 +137,13 @@ class RequestQueue:
         req = self._inflight
         if req is None or now < req.deadline - EPS:
             return
+        if req.sent >= req.tries and self._link_open():
+            # Unanswered and the board gone quiet: it may be rebooting; a reset will fail the
+            # request with SessionResetError, else it times out when that silence is too long.
+            until = self._silence_deadline(now)
+            if until is not None and now < until - EPS:
+                req.deadline = until
+                return
         if req.sent >= req.tries or not self._link_open():
             self._n.request_timeouts += 1
             self._inflight = None

@@ -11,7 +11,7 @@ from protocol.codec.message import Message
 class Wire:
     """Everything the session sends goes through `send` and waits in a buffer until `take`."""
 
-    __slots__ = ("_decoder", "_last_tx", "_n", "_out", "_rx_seq", "_tx_seq")
+    __slots__ = ("_decoder", "_last_rx", "_last_tx", "_n", "_out", "_rx_seq", "_tx_seq")
 
     def __init__(self, counters: HostCounters) -> None:
         self._n = counters
@@ -20,6 +20,7 @@ class Wire:
         self._tx_seq = 0
         self._rx_seq: int | None = None
         self._last_tx = 0.0
+        self._last_rx: float | None = None
 
     @property
     def decoder(self) -> FrameDecoder:
@@ -35,6 +36,11 @@ class Wire:
     def last_tx(self) -> float:
         """When a frame was last sent."""
         return self._last_tx
+
+    @property
+    def last_rx(self) -> float | None:
+        """When a frame last arrived (None before the first)."""
+        return self._last_rx
 
     def send(self, msg: Message, now: float, seq: int | None = None) -> int:
         """Queue `msg` for the board, with the next seq or (a retry) `seq`; returns the seq."""
@@ -56,8 +62,9 @@ class Wire:
         self._out.clear()
         return data
 
-    def received(self, seq: int) -> None:
-        """A board frame numbered `seq` arrived: count the frames missing before it."""
+    def received(self, seq: int, now: float) -> None:
+        """A board frame numbered `seq` arrived at `now`: count the frames missing before it."""
+        self._last_rx = now
         last = self._rx_seq
         if last is not None:
             self._n.seq_gaps += (seq - last - 1) % 256

@@ -17,7 +17,6 @@ from collections.abc import Callable
 
 from host_sdk import (
     ConnectTimeoutError,
-    FeedbackTimeoutError,
     Robot,
     RobotClosedError,
     RoverLinkError,
@@ -28,6 +27,7 @@ from protocol.generated.messages import LinkStats
 log = logging.getLogger("roverlink.ros2")
 
 Connect = Callable[[], Robot]
+_UNUSABLE = ("broken", "incompatible", "closed")
 HEALTH_PERIOD_S = 0.1
 """How often the connection thread checks the port: how soon a lost port is noticed."""
 
@@ -138,12 +138,13 @@ class Connection:
         checks; a check that waits 1 ms for FEEDBACK raises at once when the port has failed."""
         next_stats = time.monotonic()
         while not self._stop.wait(HEALTH_PERIOD_S):
-            try:
-                robot.wait_feedback(0.001)
-            except FeedbackTimeoutError:
-                pass
-            except RoverLinkError as exc:  # the port failed, or the session did (a reconnect tells which)
-                return str(exc)
+            # Only a robot that cannot go on is asked why (a short wait raises it): a board reset is
+            # left to the driver's next command, and a quiet board is shown by the diagnostics.
+            if robot.state in _UNUSABLE:
+                try:
+                    robot.wait_feedback(0.001)
+                except RoverLinkError as exc:  # the port failed, or the session did (a reconnect tells which)
+                    return str(exc)
             now = time.monotonic()
             if now >= next_stats and self._may_poll_board():
                 next_stats = now + self.stats_period_s

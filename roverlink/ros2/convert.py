@@ -48,6 +48,18 @@ def covariance(diagonal: Sequence[float]) -> list[float]:
     return out
 
 
+def pose_covariance(diagonal: Sequence[float], pose: Pose) -> list[float]:
+    """The odom pose covariance: the configured `diagonal`, with the variance of what encoder
+    counts lost to board resets may have cost (the pose's uncertainty, taken as one standard
+    deviation) added to x, y and yaw."""
+    position, heading = pose.position_uncertainty_m**2, pose.heading_uncertainty_rad**2
+    grown = [float(v) for v in diagonal]
+    grown[0] += position
+    grown[1] += position
+    grown[5] += heading
+    return covariance(grown)
+
+
 def default_wheel_joints(kinematics: DiffDrive | Ackermann) -> tuple[str, ...]:
     if isinstance(kinematics, DiffDrive):
         return ("left_wheel_joint", "right_wheel_joint")

@@ -100,6 +100,7 @@ class BridgeNode(Node):
         self.robot_file = RobotDescription.load(p.robot_file) if p.robot_file else None
         self.mode = mode_for(p, self._profile_mode())
         self._pose_covariance = convert.covariance(p.pose_covariance_diagonal)
+        self._pose_uncertainty = (0.0, 0.0)
         self._twist_covariance = convert.covariance(p.twist_covariance_diagonal)
         self.lockstep = self.mode == "lockstep"
         self._events: deque[Event] = deque(maxlen=20)
@@ -295,7 +296,7 @@ class BridgeNode(Node):
             base_frame=p.base_frame,
             pose=pose,
             twist=convert.body_twist(kin, sample),
-            pose_covariance=self._pose_covariance,
+            pose_covariance=self._pose_covariance_of(pose),
             twist_covariance=self._twist_covariance,
         )
         self.odom_pub.publish(odom)
@@ -306,6 +307,14 @@ class BridgeNode(Node):
         js = JointState()
         convert.fill_joint_state(js, ns=ns, joints=joints.update(sample))
         self.joint_pub.publish(js)
+
+    def _pose_covariance_of(self, pose: Pose) -> list[float]:
+        """The configured covariance, grown by the pose's uncertainty (built again only when that changes)."""
+        key = (pose.position_uncertainty_m, pose.heading_uncertainty_rad)
+        if key != self._pose_uncertainty:
+            self._pose_uncertainty = key
+            self._pose_covariance = convert.pose_covariance(self.params.pose_covariance_diagonal, pose)
+        return self._pose_covariance
 
     # -- ROS callbacks (executor thread) -----------------------------------------------------------
     def _on_cmd_vel(self, msg: Any) -> None:
@@ -328,7 +337,10 @@ class BridgeNode(Node):
             return response
         try:
             driver.clear()
-            robot.arm(wait_esc=False)  # an ESC still in its arming window holds neutral by itself
+            try:
+                robot.arm(wait_esc=False)  # an ESC still in its arming window holds neutral by itself
+            except SessionResetError:  # a reset no call had met: on_reset put it in the diagnostics
+                robot.arm(wait_esc=False)
         except RoverLinkError as exc:
             response.success, response.message = False, str(exc)
             return response

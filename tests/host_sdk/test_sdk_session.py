@@ -8,7 +8,7 @@ from host_sdk import enums, messages
 from host_sdk.errors import IncompatibleFirmwareError, NackError, RequestTimeoutError, SessionResetError
 from host_sdk.framing import Frame, FrameDecoder, encode_frame
 from host_sdk.profiles import PROFILES
-from host_sdk.session import FailsafeEntered, LinkState, ResetDetected, Session, SessionOptions
+from host_sdk.session import FailsafeEntered, LinkState, Request, ResetDetected, Session, SessionOptions
 from protocol.codec.message import Message
 from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 
@@ -145,11 +145,42 @@ def test_reliable_request_is_retried_with_the_same_seq_then_times_out() -> None:
     req = session.submit(messages.GetPid(wheel=0), 1.0)
     seqs = []
     for k in range(0, 40):
+        board.send(board.feedback(), 1.0 + k * 0.01)  # the board talks: it only ignores the request
         session.poll(1.0 + k * 0.01)
         seqs += [seq for m, seq in board.sent() if isinstance(m, messages.GetPid)]
     assert len(seqs) == 3 and len(set(seqs)) == 1
     assert req.done and isinstance(req.error, RequestTimeoutError)
     assert session.stats(2.0).retries == 2 and session.stats(2.0).request_timeouts == 1
+
+
+def _silent_after_request(session: Session, board: Board, until: float) -> Request:
+    """The board talks until 1.0, a request goes out at 1.0, then the board says nothing until `until`."""
+    board.send(board.feedback(), 1.0)
+    req = session.submit(messages.GetPid(wheel=0), 1.0)
+    t = 1.0
+    while t < until and not req.done:
+        t = round(t + 0.01, 3)
+        session.poll(t)
+    board.sent()
+    return req
+
+
+def test_a_request_meeting_a_silence_younger_than_a_bootloader_waits_for_it_to_end() -> None:
+    session, board = opened(request_timeout_s=0.1, request_tries=3)
+    req = _silent_after_request(session, board, 2.0)
+    assert not req.done  # its tries are spent (0.3 s), but a reset may still announce itself
+    t = 2.0
+    while not req.done:
+        t = round(t + 0.01, 3)
+        session.poll(t)
+    assert isinstance(req.error, RequestTimeoutError) and t == pytest.approx(1.0 + 2.0, abs=0.011)
+
+
+def test_a_reset_during_that_silence_fails_the_request_with_the_reset_alone() -> None:
+    session, board = opened(request_timeout_s=0.1, request_tries=3)
+    req = _silent_after_request(session, board, 2.5)
+    board.send(board.identity(0, reason=enums.IdentityReason.BOOT, boot_id=0x0BADF00D), 2.5)
+    assert isinstance(req.error, SessionResetError) and session.stats(2.5).request_timeouts == 0
 
 
 def test_a_new_request_never_reuses_the_last_requests_msg_id_and_seq() -> None:

@@ -251,6 +251,24 @@ def test_board_reset_appears_in_diagnostics_and_odometry_continues(bridge: Bridg
         assert probe.wait_status("robot", lambda s: s.level == b"\x00", 4)
 
 
+def test_a_reset_while_moving_grows_the_odom_pose_covariance(bridge: Bridge) -> None:
+    """The counts of the reboot are lost; the pose says how much that may cost, and so does odom."""
+    probe = bridge.probe
+    arm(probe)
+    drive_until_moving(bridge)
+    before = probe.wait_message("odom", after=time.monotonic()).pose.covariance
+    probe.drive(0.2, 0.0, 0.3)
+    assert probe.call("reset_board").success  # within cmd_vel_timeout of the last twist: moving
+    probe.wait_status("robot", lambda s: "board reset" in s.message, 8)
+    arm(probe)  # a lockstep robot's odom comes with commands only
+    t = time.monotonic()
+    probe.drive(0.0, 0.0, 0.2)
+    after = probe.wait_message("odom", after=t, timeout_s=5).pose.covariance
+    # 0.2 m/s for a bootloader's 1.5 s or so: about 0.3 m of position uncertainty, 0.09 m^2
+    assert after[0] > before[0] + 0.02 and after[7] > before[7] + 0.02
+    assert after[35] >= before[35] and after[14] == before[14]  # z does not grow
+
+
 def test_arm_and_disarm_services(bridge: Bridge) -> None:
     probe = bridge.probe
     arm(probe)

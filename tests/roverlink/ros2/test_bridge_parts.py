@@ -17,7 +17,7 @@ from typing import Any
 
 import pytest
 
-from host_sdk import CommandRangeError, FeedbackSample, LinkStatistics, Robot, TransportError
+from host_sdk import CommandRangeError, FeedbackSample, LinkStatistics, Pose, Robot, TransportError
 from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.sensors import ImuSample
 from host_sdk.session.types import RobotIdentity
@@ -111,6 +111,17 @@ def test_quaternion_and_covariance() -> None:
     assert convert.yaw_quaternion(math.pi / 2) == pytest.approx((0, 0, math.sqrt(0.5), math.sqrt(0.5)))
     cov = convert.covariance([1, 2, 3, 4, 5, 6])
     assert [cov[i * 7] for i in range(6)] == [1, 2, 3, 4, 5, 6] and sum(cov) == 21
+
+
+def test_pose_covariance_grows_by_the_odometry_uncertainty() -> None:
+    diagonal = (0.001, 0.001, 0.001, 0.001, 0.001, 0.01)
+    known = Pose(1.0, 2.0, 0.5, 0.3, 0.1, 1000)
+    assert convert.pose_covariance(diagonal, known) == convert.covariance(diagonal)
+    after_reset = Pose(1.0, 2.0, 0.5, 0.3, 0.1, 1000, gaps=1, position_uncertainty_m=0.3, heading_uncertainty_rad=0.2)
+    cov = convert.pose_covariance(diagonal, after_reset)
+    assert cov[0] == cov[7] == pytest.approx(0.001 + 0.09)
+    assert cov[35] == pytest.approx(0.01 + 0.04)
+    assert cov[14] == cov[21] == cov[28] == 0.001 and sum(cov) == pytest.approx(sum(diagonal) + 0.22)
 
 
 def test_stamp_is_the_sample_time_not_the_read_time() -> None:

@@ -1,0 +1,130 @@
+"""Robot's feedback calls: the next FEEDBACK, a stream of them, and the callbacks.
+
+A board reset is reported once, as SessionResetError, by whichever call meets it first; the
+bootloader's silence before the new boot announces itself is part of it (docs/sdk.md, "Resets"):
+a wait for FEEDBACK that meets a silence younger than `reset_silence_s` waits it out instead of
+raising FeedbackTimeoutError, and ends with the reset when the new boot announces itself.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Iterator
+
+from host_sdk import checks
+from host_sdk.callbacks import (
+    Callbacks,
+    FailsafeCallback,
+    FeedbackCallback,
+    LogCallback,
+    OdometryGapCallback,
+    ResetCallback,
+)
+from host_sdk.errors import FeedbackTimeoutError, RobotClosedError
+from host_sdk.runner import Runner
+from host_sdk.session import FeedbackSample, Session
+from host_sdk.transport import Transport
+from protocol.generated.enums import FeedbackMode
+
+
+class FeedbackCalls:
+    """The feedback half of `Robot` (a mixin: Robot provides the runner, session and lock)."""
+
+    _runner: Runner
+    _session: Session
+    _transport: Transport
+    _lock: threading.RLock
+    _callbacks: Callbacks
+    _last_command_seq: int | None
+
+    @property
+    def closed(self) -> bool:
+        raise NotImplementedError
+
+    def wait_feedback(self, timeout_s: float = 1.0) -> FeedbackSample:
+        """The next FEEDBACK. In lockstep mode: the one answering the latest drive command.
+
+        Raises SessionResetError (once) if the board was reset, FeedbackTimeoutError (a
+        TimeoutError) if none arrives within `timeout_s`. A board that went silent less than
+        `reset_silence_s` (2 s) ago may be rebooting: the wait then goes on until that silence is
+        over, and raises SessionResetError if it ends in a new boot."""
+        return self._next_feedback(checks.seconds("timeout_s", timeout_s), report_reset=True)
+
+    def feedback_stream(self, timeout_s: float = 1.0) -> Iterator[FeedbackSample]:
+        """Yield FEEDBACK samples as they arrive, until the robot is closed. It goes on across a
+        board reset (the reset is left to the next drive call, wait_feedback, arm or request).
+
+        A slow consumer sees the latest sample (some are skipped); use `on_feedback` to see every one."""
+        timeout = checks.seconds("timeout_s", timeout_s)
+
+        def samples() -> Iterator[FeedbackSample]:
+            while not self.closed:
+                try:
+                    yield self._next_feedback(timeout, report_reset=False)
+                except RobotClosedError:
+                    return
+
+        return samples()
+
+    def _next_feedback(self, timeout: float, report_reset: bool) -> FeedbackSample:
+        runner, s = self._runner, self._session
+        with self._lock:
+            runner.check()
+            self._report_reset(report_reset)
+            start = s.latest.index if s.latest is not None else 0
+            lockstep = s.feedback_mode is FeedbackMode.LOCKSTEP
+            want = self._last_command_seq if lockstep and s.setpoint_live else None
+            owed = not lockstep or want is not None  # lockstep: only a command is answered
+
+        def fresh() -> FeedbackSample | None:
+            sample = s.latest
+            if sample is None or sample.index <= start:
+                return None
+            return sample if want is None or (sample.ack_seq - want) % 256 < 128 else None
+
+        def arrived() -> bool:
+            return fresh() is not None or (report_reset and s.reset_pending) or runner.broken()
+
+        if not runner.wait(arrived, timeout) and owed:
+            with self._lock:
+                now = self._transport.clock()
+                until = s.silence_deadline(now)
+                left = 0.0 if until is None else until - now
+            if left > 0:
+                runner.wait(arrived, left)  # the silence may be a reset: wait for its announcement
+        with self._lock:
+            runner.check()
+            self._report_reset(report_reset)
+            sample = fresh()
+            if sample is None:
+                raise FeedbackTimeoutError(timeout, lockstep, s.setpoint_live)
+            return sample
+
+    def _report_reset(self, report: bool) -> None:
+        """Raise the reset not yet reported (lock held), once."""
+        error = self._session.take_reset() if report else None
+        if error is not None:
+            raise error
+
+    # == callbacks ===================================================================================
+    def on_feedback(self, callback: FeedbackCallback) -> Callable[[], None]:
+        """Call `callback(sample)` for every FEEDBACK (on the I/O thread). Returns a function that unsubscribes."""
+        return self._callbacks.subscribe("feedback", callback)
+
+    def on_reset(self, callback: ResetCallback) -> Callable[[], None]:
+        """Call `callback(SessionResetError)` when a board reset is detected (it does not count as
+        reporting it: the next call still raises it)."""
+        return self._callbacks.subscribe("reset", callback)
+
+    def on_odometry_gap(self, callback: OdometryGapCallback) -> Callable[[], None]:
+        """Call `callback(OdometryGap)` when encoder counts were lost (a board reset): how long, and
+        how much the pose's uncertainty grew."""
+        return self._callbacks.subscribe("odometry_gap", callback)
+
+    def on_failsafe(self, callback: FailsafeCallback) -> Callable[[], None]:
+        """Call `callback(reason)` when the board enters FAILSAFE (or the host knows it must have)."""
+        return self._callbacks.subscribe("failsafe", callback)
+
+    def on_log(self, callback: LogCallback) -> Callable[[], None]:
+        """Call `callback(level, text)` for every LOG frame of the firmware (they also go to logging)."""
+        return self._callbacks.subscribe("log", callback)
