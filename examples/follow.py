@@ -8,6 +8,9 @@ On a robot (the board, the lidar and the camera; `--imu` adds the JY901's gyro t
 
     python examples/follow.py --url /dev/ttyACM0 --profile picar --lidar /dev/ttyUSB0 --camera 0 --template target.png
 
+Your own robot: `--robot my.toml` (docs/robot-file.md) in place of --profile; the board is checked
+against the file and the footprint, camera and lidar are the file's (as on `emu://?robot=my.toml&...`).
+
 An emulated robot with a camera serves a photo of its world's target (`endpoints["target"]`); on a
 robot, `--template` is your photo of what to follow. Only `host_sdk` is imported: docs/autonomy.md.
 """
@@ -18,18 +21,21 @@ import cv2
 
 from host_sdk import Robot
 from host_sdk.autonomy import ControlLoop, FollowPilot
-from host_sdk.geometry import mount, profile_of, robot_geometry
+from host_sdk.geometry import description_of, mount, profile_of, robot_geometry, sensor_mounts
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 
 p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-for option in ("--url", "--profile", "--lidar", "--camera", "--imu", "--template"):
+for option in ("--url", "--profile", "--robot", "--lidar", "--camera", "--imu", "--template"):
     p.add_argument(option)
 p.add_argument("--duration", type=float, default=30.0, help="seconds (default 30)")
 args = p.parse_args()
 
-with Robot.connect(args.url, profile=args.profile, clamp=True, auto_rearm=True) as robot:
+with Robot.connect(args.url, profile=args.profile, robot=args.robot, clamp=True, auto_rearm=True) as robot:
     ports = robot.transport.endpoints  # an emu:// robot's own sensors (empty on a board)
-    model = mount(args.profile or profile_of(robot) or "picar", "lidar").device
+    if description_of(robot) is not None:  # a robot file: its lidar
+        model = sensor_mounts(robot, ["lidar"])["lidar"].device
+    else:
+        model = mount(args.profile or profile_of(robot) or "picar", "lidar").device
     lidar = Lidar.open(args.lidar or ports["lidar"], model)
     camera = CameraSource(int(args.camera) if (args.camera or "").isdigit() else args.camera or ports["camera"])
     imu = Jy901.open(args.imu or ports["imu"]) if args.imu or "imu" in ports else None

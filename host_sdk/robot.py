@@ -39,12 +39,11 @@ from host_sdk.errors import (
 from host_sdk.kinematics import Ackermann, DiffDrive, KinematicsError
 from host_sdk.limits import DriveLimits
 from host_sdk.options import check_connect
-from host_sdk.profiles import get_profile, kinematics_for, profile_for_example
 from host_sdk.robot_config import ConfigCalls
 from host_sdk.robot_description import RobotDescription
 from host_sdk.robot_drive import DriveCalls
 from host_sdk.robot_feedback import FeedbackCalls
-from host_sdk.robot_file_check import Mismatch, RobotFileCheck, prepare
+from host_sdk.robot_file_check import Mismatch, RobotFileCheck, chosen_kinematics, prepare
 from host_sdk.robot_odometry import OdometryView
 from host_sdk.runner import runner_for
 from host_sdk.session import (
@@ -194,18 +193,7 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         s = self._session
         assert s.identity is not None and s.config is not None
         caps = s.identity.capabilities
-        if self._user_kinematics is not None:
-            kin: DiffDrive | Ackermann | None = self._user_kinematics
-        elif self._profile_name is None and self._transport.robot_file is not None:
-            kin = RobotDescription.load(self._transport.robot_file).kinematics()  # emu://?robot=PATH
-        else:
-            name = self._profile_name or self._transport.profile
-            prof = (
-                get_profile(name, argument="profile")
-                if name is not None
-                else profile_for_example(s.identity.robot_name)
-            )
-            kin = kinematics_for(prof, s.config) if prof is not None else None
+        kin = chosen_kinematics(self._user_kinematics, self._profile_name, self._transport, s.identity, s.config)
         if isinstance(kin, DiffDrive) and not caps & Capability.DIFF_DRIVE:
             raise UnsupportedError(
                 f"differential-drive kinematics, but the firmware on {self.url} cannot drive two wheels",
@@ -276,6 +264,11 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
     def mismatches(self) -> tuple[Mismatch, ...]:
         """How the board differs from the robot file connected with allow_mismatch=True (else empty)."""
         return self._file_check.mismatches if self._file_check is not None else ()
+
+    @property
+    def description(self) -> RobotDescription | None:
+        """The robot file connect(robot=) checked the board against (None: connected without one)."""
+        return self._file_check.description if self._file_check is not None else None
 
     @property
     def kinematics(self) -> DiffDrive | Ackermann | None:

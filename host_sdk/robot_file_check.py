@@ -23,9 +23,12 @@ from pathlib import Path
 
 from host_sdk import checks
 from host_sdk.errors import ArgumentError, RoverLinkError
+from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.profiles import get_profile, kinematics_for, profile_for_example
 from host_sdk.robot_config import ConfigCalls
 from host_sdk.robot_description import RobotDescription
 from host_sdk.session import RobotConfig, RobotIdentity
+from host_sdk.transport import Transport
 from protocol.generated.enums import Board, Capability
 from protocol.generated.profiles import PROFILES
 from protocol.robotfile import Calibration
@@ -147,6 +150,24 @@ def prepare(robot: object, profile: object, kinematics: object, allow_mismatch: 
         raise ArgumentError("robot", robot, allowed)
     desc = robot if isinstance(robot, RobotDescription) else RobotDescription.load(robot)  # type: ignore[arg-type]
     return RobotFileCheck(desc, mismatch_ok)
+
+
+def chosen_kinematics(
+    user: DiffDrive | Ackermann | None,
+    profile: str | None,
+    transport: Transport,
+    identity: RobotIdentity,
+    config: RobotConfig,
+) -> DiffDrive | Ackermann | None:
+    """The kinematics a connect uses: the caller's (or its robot file's), an emu://?robot=PATH
+    file's, the profile's (named, the emulator's, or the firmware example's), else None."""
+    if user is not None:
+        return user
+    if profile is None and transport.robot_file is not None:
+        return RobotDescription.load(transport.robot_file).kinematics()  # emu://?robot=PATH
+    name = profile or transport.profile
+    prof = get_profile(name, argument="profile") if name is not None else profile_for_example(identity.robot_name)
+    return kinematics_for(prof, config) if prof is not None else None
 
 
 def _f32(values: tuple[float, ...]) -> bytes:

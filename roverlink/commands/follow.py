@@ -4,6 +4,10 @@ On the emulator (virtual clock, as fast as the CPU allows):
 
     roverlink follow --world random:3 --profile picar --duration 60 --json
 
+Your own robot (docs/robot-file.md): `--robot my.toml` in place of --profile; on the emulator the
+emulated robot is the file's, on a robot the board is checked against it; the pilot's geometry (footprint,
+camera, lidar mount, steering) and the lidar model are the file's.
+
 On a robot (the board, the lidar, the camera and optionally the IMU):
 
     roverlink follow --url /dev/ttyACM0 --profile picar --lidar /dev/ttyUSB0 \\
@@ -28,6 +32,7 @@ import numpy as np
 
 from host_sdk import PROFILES, RoverLinkError
 from host_sdk.extras import MissingDependencyError, require
+from roverlink.console import add_robot_file_args
 from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress
@@ -61,7 +66,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--profile", choices=sorted(PROFILES), default="picar", help="reference robot (default picar)")
+    which = p.add_mutually_exclusive_group()
+    which.add_argument("--profile", choices=sorted(PROFILES), default="picar", help="reference robot (default picar)")
+    add_robot_file_args(which, p)
     p.add_argument("--duration", type=_positive, default=60.0, help="seconds to run (default 60)")
     p.add_argument("--pilot", choices=PILOTS, default="roverlink", help="whose behaviour drives (default roverlink)")
     p.add_argument("--follow-gap", type=_positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
@@ -81,7 +88,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, ...")
     r.add_argument("--baud", type=int, default=115200, help="the board's line speed (default 115200)")
     r.add_argument("--lidar", metavar="PORT", help="the lidar's port")
-    r.add_argument("--lidar-model", choices=("rplidar-a1", "ydlidar-f4"), help="default: the profile's")
+    r.add_argument("--lidar-model", choices=("rplidar-a1", "ydlidar-f4"), help="default: the profile's or file's")
     r.add_argument("--imu", metavar="PORT", help="the JY901's port (optional: fuses its gyro with odometry)")
     r.add_argument("--camera", metavar="SOURCE", help="V4L2 index or path, GStreamer pipeline, or URL")
     r.add_argument("--template", type=Path, metavar="IMAGE", help="an image of the target")
@@ -119,9 +126,10 @@ def cmd_follow(args: argparse.Namespace) -> int:
     settings = FollowSettings(args.follow_gap, args.max_speed, args.target_height, args.duration)
     record = RecordTo(args.foxglove, args.foxglove_live) if args.foxglove or args.foxglove_live else None
     progress = None if args.quiet else _progress(sys.stderr)
+    robot = args.robot or args.profile
     try:
         if args.url is None:
-            metrics = run_emulated(args.profile, args.world or f"random:{args.seed}", pilot=args.pilot, seed=args.seed,
+            metrics = run_emulated(robot, args.world or f"random:{args.seed}", pilot=args.pilot, seed=args.seed,
                                    camera_fps=args.camera_fps, imu=not args.no_imu, settings=settings,
                                    progress=progress, record=record)  # fmt: skip
         else:
@@ -139,8 +147,8 @@ def cmd_follow(args: argparse.Namespace) -> int:
                     return 2
                 template = np.asarray(image, dtype=np.uint8)
             camera = int(args.camera) if args.camera.isdigit() else args.camera
-            ports = RobotPorts(args.url, args.lidar, camera, args.imu, args.lidar_model, args.baud)
-            metrics = run_robot(ports, args.profile, template=template, select=args.select, pilot=args.pilot,
+            ports = RobotPorts(args.url, args.lidar, camera, args.imu, args.lidar_model, args.baud, args.allow_mismatch)
+            metrics = run_robot(ports, robot, template=template, select=args.select, pilot=args.pilot,
                                 settings=settings, progress=progress, record=record)  # fmt: skip
     except MissingDependencyError:
         raise  # cli.main names the extra

@@ -11,12 +11,13 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from host_sdk import Robot
+from host_sdk import Robot, RobotDescription
 from host_sdk.autonomy import FollowPilot, Pilot, follow_gap
-from host_sdk.geometry import RobotGeometry, geometry
+from host_sdk.geometry import RobotGeometry, robot_geometry
 from host_sdk.perception import Tracker
 from host_sdk.recording.follow import FollowSource
 from host_sdk.sensors import CameraSource, Jy901, Lidar
+from roverlink.console import warn_mismatches
 from roverlink.follow import emulated
 from roverlink.follow.baseline import PiCarBaseline
 from roverlink.follow.metrics import FollowMetrics
@@ -84,23 +85,39 @@ def make_pilot(kind: str, geo: RobotGeometry, template: NDArray[np.uint8], setti
     )  # fmt: skip
 
 
-def run_emulated(profile: str, world: str | Path, *, pilot: str = "roverlink", seed: int = 0, camera_fps: float = 15.0,
-                 imu: bool = True, settings: FollowSettings | None = None,
+def geometry_for(robot: Robot, which: str | RobotDescription) -> RobotGeometry:
+    """The pilot's geometry: the reference robot's mounts, or all of it from the robot file."""
+    if isinstance(which, RobotDescription):
+        return robot_geometry(robot, description=which)
+    return robot_geometry(robot, which)
+
+
+def _metrics(
+    pilot: str, which: str | RobotDescription, world: str | None = None, url: str | None = None
+) -> FollowMetrics:
+    if isinstance(which, RobotDescription):
+        return FollowMetrics(pilot, which.name, world=world, url=url, robot_file=which.path)
+    return FollowMetrics(pilot, which, world=world, url=url)
+
+
+def run_emulated(profile: str | RobotDescription, world: str | Path, *, pilot: str = "roverlink", seed: int = 0,
+                 camera_fps: float = 15.0, imu: bool = True, settings: FollowSettings | None = None,
                  progress: Callable[[Progress], None] | None = None,
                  record: RecordTo | None = None) -> FollowMetrics:  # fmt: skip
-    """One follow run on the emulator (virtual clock); the metrics, with the truth's figures."""
+    """One follow run on the emulator (virtual clock); the metrics, with the truth's figures.
+    `profile`: a reference robot, or a robot file's description (the emulated robot is the file's)."""
     settings = settings or FollowSettings()
     em = emulated.start(profile, world, seed=seed, camera_fps=camera_fps, imu=imu)
     robot = em.robot
     try:
         if settings.target_height_m is None:
             settings = replace(settings, target_height_m=em.template.height_m)
-        geo = geometry(profile, robot.kinematics, config=robot.config)
+        geo = geometry_for(robot, profile)
         chosen = make_pilot(pilot, geo, em.template.image, settings)
         lidar = Lidar.open(em.endpoints["lidar"], em.lidar_model)
         camera = CameraSource(em.endpoints["camera"])
         imu_port = Jy901.open(em.endpoints["imu"]) if imu else None
-        metrics = FollowMetrics(chosen.name, profile, world=str(world))
+        metrics = _metrics(chosen.name, profile, world=str(world))
         with recording(robot, chosen, record) as on_step:
             return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
                               follow_gap_m=gap_for(settings, geo), imu=imu_port, truth=em.truth.sample,
@@ -118,19 +135,26 @@ class RobotPorts:
     """A V4L2 index or path, a GStreamer pipeline, or a URL (host_sdk.sensors.CameraSource)."""
     imu: str | None = None
     lidar_model: str | None = None
-    """rplidar-a1 or ydlidar-f4 (default: the profile's)."""
+    """rplidar-a1 or ydlidar-f4 (default: the profile's or the robot file's)."""
     baud: int = 115200
+    allow_mismatch: bool = False
+    """With a robot file: connect even if the board differs from it (warned about)."""
 
 
-def run_robot(ports: RobotPorts, profile: str, *, template: NDArray[np.uint8] | None = None,
+def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: NDArray[np.uint8] | None = None,
               select: tuple[float, float, float, float] | None = None, pilot: str = "roverlink",
               settings: FollowSettings | None = None, progress: Callable[[Progress], None] | None = None,
               record: RecordTo | None = None) -> FollowMetrics:  # fmt: skip
-    """Follow on a real robot: the target is a template image, or a region `select`ed in the first frame."""
+    """Follow on a real robot: the target is a template image, or a region `select`ed in the first frame.
+    `profile`: a reference robot, or a robot file's description (compared with the board, its limits
+    and gains applied; the geometry, lidar model and footprint are the file's)."""
     settings = settings or FollowSettings()
     if (template is None) == (select is None):
         raise ValueError("give the target as a template image or as a region of the first frame (not both)")
-    robot = Robot.connect(ports.url, profile=profile, baud=ports.baud, clamp=True, auto_rearm=True)
+    desc, name = (profile, None) if isinstance(profile, RobotDescription) else (None, profile)
+    robot = Robot.connect(ports.url, profile=name, robot=desc, baud=ports.baud,
+                          allow_mismatch=ports.allow_mismatch, clamp=True, auto_rearm=True)  # fmt: skip
+    warn_mismatches(robot)
     camera = lidar = imu = None
     try:
         camera = CameraSource(ports.camera)
@@ -138,11 +162,11 @@ def run_robot(ports: RobotPorts, profile: str, *, template: NDArray[np.uint8] | 
             x, y, w, h = (round(v) for v in select)
             template = camera.read(5.0).image[y : y + h, x : x + w].copy()
         assert template is not None
-        geo = geometry(profile, robot.kinematics, config=robot.config)
+        geo = geometry_for(robot, profile)
         chosen = make_pilot(pilot, geo, template, settings)
-        lidar = Lidar.open(ports.lidar, ports.lidar_model or LIDAR_FOR.get(profile, "rplidar-a1"))
+        lidar = Lidar.open(ports.lidar, ports.lidar_model or emulated.lidar_for(profile))
         imu = Jy901.open(ports.imu) if ports.imu else None
-        metrics = FollowMetrics(chosen.name, profile, url=ports.url)
+        metrics = _metrics(chosen.name, profile, url=ports.url)
         with recording(robot, chosen, record) as on_step:
             return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
                               follow_gap_m=gap_for(settings, geo), imu=imu, progress=progress,

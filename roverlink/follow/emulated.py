@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from emulator import Emulator
+from emulator.robot_file import profile_from_file
 from emulator.sensors import attach
 from emulator.sensors.camera import CameraOptions
 from emulator.sensors.target import TargetTemplate, render_target
@@ -23,9 +24,9 @@ from emulator.transport.devices import register
 from emulator.transport.inprocess import EmulatorTransport
 from emulator.world.raycast import nearest
 from emulator.world.scene import Scene
-from host_sdk import Robot
+from host_sdk import Robot, RobotDescription
 from host_sdk.transport.plugins import PluginTransport
-from protocol.sensors import DEVICES, ROBOT_SENSORS, CameraSpec, Mount
+from protocol.sensors import DEVICES, CameraSpec, Mount
 from roverlink.follow.metrics import TruthSample
 
 RUN_INTO_M_S = 0.02
@@ -46,31 +47,43 @@ class EmulatedRobot:
     truth: TruthProbe
 
 
-def start(profile: str, world: str | Path, *, seed: int = 0, camera_fps: float = 15.0, imu: bool = True,
-          faults: str | None = None) -> EmulatedRobot:  # fmt: skip
-    """Connect (virtual clock) to an emulated `profile` in `world` with its sensors attached."""
-    emu = Emulator(profile, seed=seed, faults=faults, eeprom="saved")
-    lidar = LIDAR_FOR.get(profile, "rplidar-a1")
-    rig = attach(emu, world, lidar=lidar, imu="jy901" if imu else None,
-                 camera=CameraOptions(fps=camera_fps))  # fmt: skip
-    transport = EmulatorTransport(emu, clock="virtual", url=f"emu://{profile}?seed={seed}&clock=virtual")
+def lidar_for(robot: str | RobotDescription) -> str:
+    """The lidar model a reference robot carries, or the one its robot file names."""
+    if isinstance(robot, RobotDescription):
+        return robot.sensors().placed("lidar").device
+    return LIDAR_FOR.get(robot, "rplidar-a1")
+
+
+def start(profile: str | RobotDescription, world: str | Path, *, seed: int = 0, camera_fps: float = 15.0,
+          imu: bool = True, faults: str | None = None) -> EmulatedRobot:  # fmt: skip
+    """Connect (virtual clock) to an emulated `profile` (a reference robot, or the robot a robot
+    file describes: connected with the file, as on a real robot) in `world` with its sensors attached."""
+    desc = profile if isinstance(profile, RobotDescription) else None
+    model = profile_from_file(desc.path) if desc is not None else profile
+    assert not isinstance(model, RobotDescription)
+    emu = Emulator(model, seed=seed, faults=faults, eeprom="saved")
+    cam = desc.camera if desc is not None else None
+    size = {"width": cam.width, "height": cam.height} if cam is not None else {}
+    rig = attach(emu, world, lidar=lidar_for(profile), imu="jy901" if imu else None,
+                 camera=CameraOptions(fps=camera_fps, **size))  # fmt: skip
+    transport = EmulatorTransport(emu, clock="virtual")
     transport.endpoints = register(transport)
-    robot = Robot.connect(transport.url, profile=profile, transport=PluginTransport(transport), clamp=True,
-                          auto_rearm=True)  # fmt: skip
+    robot = Robot.connect(transport.url, profile=None if desc else emu.profile.name, robot=desc,
+                          transport=PluginTransport(transport), clamp=True, auto_rearm=True)  # fmt: skip
     cm = rig.mount_for("camera", "pi-camera-v2")
     spec = DEVICES["pi-camera-v2"]
     assert isinstance(spec, CameraSpec)
     scene = rig.world.scene
-    return EmulatedRobot(robot, emu, scene, dict(transport.endpoints), lidar, render_target(scene, cm),
-                         TruthProbe(emu, profile, cm, spec.hfov_deg))  # fmt: skip
+    return EmulatedRobot(robot, emu, scene, dict(transport.endpoints), lidar_for(profile), render_target(scene, cm),
+                         TruthProbe(emu, cm, spec.hfov_deg))  # fmt: skip
 
 
 class TruthProbe:
     """The emulator's ground truth as the metrics want it."""
 
-    def __init__(self, emu: Emulator, profile: str, camera_mount: Mount, hfov_deg: float) -> None:
+    def __init__(self, emu: Emulator, camera_mount: Mount, hfov_deg: float) -> None:
         self.emu = emu
-        self.body = ROBOT_SENSORS[profile]
+        self.body = emu.profile.sensors
         self.mount = camera_mount
         self.half_fov = math.radians(hfov_deg) / 2
 

@@ -65,6 +65,8 @@ class FollowMetrics:
     ground_truth: bool = False
     """True on the emulator: collisions, in-view share and gaps come from its truth. False on a
     robot: what only the truth knows (collisions, what was hit, the in-view share) is None."""
+    robot_file: str | None = None
+    """The robot file the run's robot was described by (`profile` is then its name)."""
 
     def with_truth(self) -> None:
         """The run has ground truth: its collisions are counted from none."""

@@ -36,3 +36,20 @@ def test_the_example_follows_on_the_emulator_as_documented() -> None:
     assert modes - {"waiting", "stop"}, modes  # it decided to do something
     moved = max(abs(float(x)) + abs(float(y)) for _, _, x, y in lines)
     assert moved > 0.1  # and the robot drove
+
+
+def test_the_example_takes_a_robot_file(tmp_path: Path) -> None:
+    from protocol.robotfile import reference_path
+
+    mine = tmp_path / "mine.toml"
+    mine.write_text(reference_path("picar").read_text())
+    url = "emu://picar?world=random:3&lidar=ydlidar-f4&imu=jy901&camera=320x240&clock=virtual"
+    done = subprocess.run([sys.executable, str(EXAMPLE), "--url", url, "--robot", str(mine), "--duration", "2"],
+                          capture_output=True, text=True, timeout=300, check=False)  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert len(re.findall(r"^\s*[\d.]+ s  \w+", done.stdout, re.M)) == 2
+    bad = tmp_path / "bad.toml"
+    bad.write_text(mine.read_text().replace('kind = "ackermann"', 'kind = "differential"', 1))
+    done = subprocess.run([sys.executable, str(EXAMPLE), "--url", url, "--robot", str(bad), "--duration", "2"],
+                          capture_output=True, text=True, timeout=300, check=False)  # fmt: skip
+    assert done.returncode != 0 and str(bad) in done.stderr  # another robot: not driven
