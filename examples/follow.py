@@ -12,7 +12,8 @@ Your own robot: `--robot my.toml` (docs/robot-file.md) in place of --profile; th
 against the file and the footprint, camera and lidar are the file's (as on `emu://?robot=my.toml&...`).
 
 An emulated robot with a camera serves a photo of its world's target (`endpoints["target"]`); on a
-robot, `--template` is your photo of what to follow. Only `host_sdk` is imported: docs/autonomy.md.
+robot, `--template` is your photo of what to follow. It runs for `--duration` seconds (30). Only
+`host_sdk` is imported: docs/autonomy.md.
 """
 
 import argparse

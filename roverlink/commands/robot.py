@@ -32,9 +32,15 @@ def cmd_new(args: argparse.Namespace) -> int:
         print(f"roverlink robot new: {target} exists (--force to overwrite)", file=sys.stderr)
         return 1
     text = reference_path(args.source).read_text(encoding="utf-8")
-    # The copy is the user's own file: the generator's DO NOT EDIT line does not apply to it.
+    # The copy is the user's own file: the generator's header (DO NOT EDIT, "the reference robot")
+    # does not apply to it.
     lines = [line for line in text.splitlines(keepends=True) if not line.startswith("# DO NOT EDIT")]
-    target.write_text("".join(lines), encoding="utf-8")
+    header = [
+        f"# Your robot, started from the reference robot {args.source} (the format: docs/robot-file.md).\n",
+        f"# Change it, then `roverlink robot check {target}`; `name` is what firmware built from it reports.\n",
+    ]
+    body = [line for line in lines if not line.startswith(("# Robot file of the reference", "# Start your own robot"))]
+    target.write_text("".join(header + body), encoding="utf-8")
     print(f"{target}: a copy of {args.source}; change it, then `roverlink robot check {target}`")
     return 0
 
