@@ -3,6 +3,7 @@
 roverlink robot new my.toml --from picar   # a commented copy of a reference robot
 roverlink robot check my.toml              # exit 0 "my.toml: ok", or 2 and every problem
 roverlink robot show my.toml               # the figures the firmware and the host derive
+roverlink robot ros2-config my.toml --out config/  # the node's, SLAM Toolbox's and Nav2's parameters
 """
 
 from __future__ import annotations
@@ -64,11 +65,18 @@ def _flash(robot: RobotDescription) -> str:
     return f"about {size:,} B ({share:.0f}% of {FLASH_SIZE[robot.board]:,} B), estimated from the {example} build"
 
 
-def cmd_show(args: argparse.Namespace) -> int:
+def _load(path: str) -> RobotDescription | None:
+    """The robot file, or None after printing its problems."""
     try:
-        robot = RobotDescription.load(args.file)
+        return RobotDescription.load(path)
     except RobotFileError as exc:
         print(exc, file=sys.stderr)
+        return None
+
+
+def cmd_show(args: argparse.Namespace) -> int:
+    robot = _load(args.file)
+    if robot is None:
         return 2
     config = robot.config()
     wheel_rps = robot.limits.max_wheel_speed_m_s / (math.pi * robot.wheel_diameter_m)
@@ -87,6 +95,20 @@ def cmd_show(args: argparse.Namespace) -> int:
     print(f"  SET_CONFIG            {config}")
     print(f"  flash (estimate)      {_flash(robot)}")
     print("  SRAM (estimate)       under half of the board's, as every reference build (docs/budgets.md)")
+    return 0
+
+
+def cmd_ros2_config(args: argparse.Namespace) -> int:
+    from roverlink.ros2.configs import write  # noqa: PLC0415 (only this action needs it)
+
+    robot = _load(args.file)
+    if robot is None:
+        return 2
+    if args.max_speed is not None and args.max_speed <= 0:
+        print(f"roverlink robot ros2-config: --max-speed {args.max_speed:g}: must be > 0 m/s", file=sys.stderr)
+        return 2
+    for path in write(robot, Path(args.out), args.max_speed, args.odom_topic):
+        print(path)
     return 0
 
 
@@ -122,3 +144,27 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     )
     show.add_argument("file", help="the robot file to explain")
     show.set_defaults(func=cmd_show)
+    _add_ros2_config(actions)
+
+
+def _add_ros2_config(actions: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    from roverlink.ros2.robotfacts import FILTERED_ODOM, TOPICS  # noqa: PLC0415 (plain Python, no ROS)
+
+    cfg = actions.add_parser(
+        "ros2-config",
+        help="write the ROS 2 node's, SLAM Toolbox's and Nav2's parameters files for the robot",
+        description="Write roverlink.yaml, slam_toolbox.yaml and nav2.yaml into OUT for FILE's robot: its "
+        "footprint, speed and acceleration limits, a car's tightest turn, its lidar (docs/ros2.md).",
+    )
+    cfg.add_argument("file", help="the robot file")
+    cfg.add_argument("--out", "-o", default=".", help="the folder to write into (default: here)")
+    cfg.add_argument(
+        "--max-speed", type=float, default=None, help="m/s Nav2 may ask for (default: the file's max wheel speed)"
+    )
+    cfg.add_argument(
+        "--odom-topic",
+        choices=(TOPICS["odom"], FILTERED_ODOM),
+        default=TOPICS["odom"],
+        help="Nav2's odometry: the node's odom, or an EKF's odometry/filtered",
+    )
+    cfg.set_defaults(func=cmd_ros2_config)
