@@ -83,6 +83,8 @@ class ImuSpec:
     mag_sigma_mg: float
     heading_filter_s: float
     angle_sigma_deg: float
+    heading_sigma_deg: float
+    """Accuracy of the module's own yaw (9-axis, magnetometer calibrated)."""
     kind: str = "imu"
 
 

@@ -179,6 +179,23 @@ class PoseEkf:
         h[TH] = h[PSI] = 1.0
         self._update(h, _wrap(heading_rad - self.x[TH] - self.x[PSI]), r, gate=False)
 
+    def set_pose(self, x_m: float, y_m: float, theta_rad: float, time_s: float | None = None) -> None:
+        """Put the pose at (x, y, theta), known again (as at the start); the gyro bias and the wheels'
+        turn scale learned so far are kept, and so is a magnetometer's offset to the new heading.
+        With `time_s` the pose is the one at that time: the next odometry step starts there (the
+        gyro's turn before it is dropped, as a wheel odometry reset drops the counts before it)."""
+        for name, value in (("x_m", x_m), ("y_m", y_m), ("theta_rad", theta_rad), ("time_s", time_s or 0.0)):
+            if not math.isfinite(value):
+                raise CommandRangeError(name, value, "a finite number")
+        if time_s is not None:
+            self.time_s = self._gyro_mark = time_s
+            self._gyro_turn = 0.0
+        turn = theta_rad - self.x[TH]
+        self.x[X], self.x[Y], self.x[TH] = x_m, y_m, theta_rad
+        self.x[PSI] = _wrap(self.x[PSI] - turn)
+        self.P[:3, :] = self.P[:, :3] = 0.0
+        self.P[X, X] = self.P[Y, Y] = self.P[TH, TH] = 1e-6
+
     # -- the filter ---------------------------------------------------------------------------------
     def _predict(self, ds: float, gyro_turn: float, gyro_dt: float, *, wheel_turn: float, dt: float) -> None:
         p = self.params

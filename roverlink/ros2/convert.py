@@ -184,9 +184,25 @@ def fill_laser_scan(msg: Any, *, ns: int, frame: str, scan: RegularScan) -> None
     msg.intensities = [float(i) for i in scan.intensities]
 
 
-def fill_imu(msg: Any, *, ns: int, frame: str, sample: ImuSample) -> None:
-    """sensor_msgs/Imu from one JY901 output period. What the module was not set to send gets
-    covariance[0] = -1 (the message's "not provided"); the rest an unknown (zero) covariance."""
+@dataclass(frozen=True, slots=True)
+class ImuCovariance:
+    """Diagonals (x, y, z) of the three covariances of sensor_msgs/Imu."""
+
+    orientation: tuple[float, ...]
+    angular_velocity: tuple[float, ...]
+    linear_acceleration: tuple[float, ...]
+
+
+def _diagonal3(values: Sequence[float]) -> list[float]:
+    out = [0.0] * 9
+    for i, value in enumerate(values):
+        out[i * 4] = float(value)
+    return out
+
+
+def fill_imu(msg: Any, *, ns: int, frame: str, sample: ImuSample, covariance: ImuCovariance) -> None:
+    """sensor_msgs/Imu from one JY901 output period, with `covariance`'s diagonals. What the module
+    was not set to send gets covariance[0] = -1 (the message's "not provided")."""
     set_stamp(msg.header.stamp, ns)
     msg.header.frame_id = frame
     q: tuple[float, float, float, float] | None = None
@@ -196,15 +212,28 @@ def fill_imu(msg: Any, *, ns: int, frame: str, sample: ImuSample) -> None:
     elif sample.angle is not None:
         q = euler_quaternion(*sample.angle)
     if q is None:
-        msg.orientation_covariance[0] = -1.0
+        msg.orientation_covariance = [-1.0] + [0.0] * 8
     else:
         o = msg.orientation
         o.x, o.y, o.z, o.w = q
-    for value, vector, cov in (
-        (sample.gyro, msg.angular_velocity, msg.angular_velocity_covariance),
-        (sample.accel, msg.linear_acceleration, msg.linear_acceleration_covariance),
+        msg.orientation_covariance = _diagonal3(covariance.orientation)
+    for value, vector, name, diagonal in (
+        (sample.gyro, msg.angular_velocity, "angular_velocity_covariance", covariance.angular_velocity),
+        (sample.accel, msg.linear_acceleration, "linear_acceleration_covariance", covariance.linear_acceleration),
     ):
         if value is None:
-            cov[0] = -1.0
+            setattr(msg, name, [-1.0] + [0.0] * 8)
         else:
             vector.x, vector.y, vector.z = value
+            setattr(msg, name, _diagonal3(diagonal))
+
+
+def fused_pose_covariance(pose_3x3: Sequence[float], diagonal: Sequence[float]) -> list[float]:
+    """The 6x6 pose covariance of odometry/filtered: x, y and yaw (with their cross terms) from the
+    EKF's 3x3 covariance of (x, y, theta), z, roll and pitch from `diagonal` (the 2D robot's)."""
+    out = covariance(diagonal)
+    axes = (0, 1, 5)  # x, y, yaw in the 6x6 (x, y, z, roll, pitch, yaw)
+    for i, row in enumerate(axes):
+        for j, col in enumerate(axes):
+            out[row * 6 + col] = float(pose_3x3[i * 3 + j])
+    return out

@@ -15,6 +15,7 @@ clock; the tests drive it against the emulator on its virtual clock.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol
@@ -37,19 +38,36 @@ class Drivable(Protocol):
     ) -> None: ...
 
 
+_SDK_ARM = re.compile(r"call robot\.arm\(\)(?: first| when ready| to drive again)?")
+
+
+def arm_hint(service: str) -> str:
+    """What to do instead of the SDK's `robot.arm()`, on the graph: the node's ~/arm service."""
+    return f"call the {service} service (ros2 service call {service} std_srvs/srv/Trigger)"
+
+
+def in_ros_words(text: str, arm_service: str) -> str:
+    """An SDK message with its `call robot.arm() ...` advice naming the node's `arm_service` (its
+    fully qualified name) instead: a ROS user arms through the service, not the Python API."""
+    return _SDK_ARM.sub(arm_hint(arm_service), text) if arm_service else text
+
+
 class RefusalLog:
     """Logs refused commands once per burst: the first refusal, a change of reason, and how many
-    were refused when commands are accepted again (a 20 Hz teleop would otherwise flood the log)."""
+    were refused when commands are accepted again (a 20 Hz teleop would otherwise flood the log).
+    With `arm_service` (e.g. /roverlink/arm) the SDK's advice to call robot.arm() names it instead."""
 
-    def __init__(self, warn: Callable[[str], None], info: Callable[[str], None]) -> None:
+    def __init__(self, warn: Callable[[str], None], info: Callable[[str], None], arm_service: str = "") -> None:
         self._warn = warn
         self._info = info
+        self.arm_service = arm_service
         self._reason: str | None = None
         self._burst = 0
         self.total = 0
         self.last = ""
 
     def refused(self, reason: str, text: str) -> None:
+        text = in_ros_words(text, self.arm_service)
         self.total += 1
         self._burst += 1
         self.last = text

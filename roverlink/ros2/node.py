@@ -19,7 +19,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from geometry_msgs.msg import TransformStamped, Twist, TwistStamped
+from geometry_msgs.msg import Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.node import Node
@@ -32,10 +32,10 @@ from host_sdk import FeedbackSample, Pose, Robot, RobotDescription, RoverLinkErr
 from host_sdk.profiles import get_profile
 from host_sdk.transport import Transport
 from protocol.generated.enums import FailsafeReason, FeedbackMode
-from roverlink.ros2 import convert
+from roverlink.ros2 import convert, fused
 from roverlink.ros2.connection import Connection
 from roverlink.ros2.diagnostics import DiagnosticsBuilder, Event, Snapshot
-from roverlink.ros2.driver import Driver, RefusalLog
+from roverlink.ros2.driver import Driver, RefusalLog, arm_hint, in_ros_words
 from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for
 from roverlink.ros2.sensors import ImuPublisher, LidarPublisher, SensorPublisher
 
@@ -137,7 +137,8 @@ class BridgeNode(Node):
         self.create_service(Trigger, "~/arm", self._on_arm)
         self.create_service(Trigger, "~/disarm", self._on_disarm)
 
-        self.refusals = RefusalLog(self.get_logger().warning, self.get_logger().info)
+        self.arm_service = f"{self.get_fully_qualified_name()}/arm"
+        self.refusals = RefusalLog(self.get_logger().warning, self.get_logger().info, self.arm_service)
         self.driver: Driver | None = None
         self._driver_lock = threading.Lock()
         self.diagnostics = DiagnosticsBuilder(self.get_fully_qualified_name().lstrip("/"))
@@ -150,6 +151,8 @@ class BridgeNode(Node):
             stats_period_s=1.0 / p.diagnostics_rate,
             may_poll_board=self._may_poll_board,
         )
+        self.fusion = fused.start(self, self.connection, p, self._emu_options(), (self.tf_pub, self._tf_type))
+        self.pose_services = fused.PoseServices(self, self.connection, p, self.fusion)
         # Lockstep: the tick sends every setpoint. Stream: it only notices an expired cmd_vel and
         # renews the zero-speed hold, so 20 Hz is enough (the SDK repeats live setpoints itself).
         period = 1.0 / p.odom_rate if self.lockstep else STREAM_TICK_S
@@ -185,7 +188,7 @@ class BridgeNode(Node):
             self.sensors.append(LidarPublisher(self, lidar_url, model, p.lidar_frame, p.scan_bins))
         imu_url = p.imu_url or endpoints.get("imu", "")
         if imu_url and "imu" not in started:
-            self.sensors.append(ImuPublisher(self, imu_url, p.imu_frame))
+            self.sensors.append(ImuPublisher(self, imu_url, p, self.fusion))
 
     def _profile_mode(self) -> str | None:
         if self.robot_file is not None:
@@ -272,7 +275,7 @@ class BridgeNode(Node):
         self._resets += 1
         self._event("reset", f"boot_id 0x{error.old_boot_id:08X} -> {new}")
         self._rearmed_since_reset = self.params.auto_arm
-        self.get_logger().warning(f"board reset: {error}")
+        self.get_logger().warning(f"board reset: {in_ros_words(str(error), self.arm_service)}")
 
     def _on_failsafe(self, reason: FailsafeReason) -> None:
         self._failsafes += 1
@@ -282,28 +285,18 @@ class BridgeNode(Node):
     def _on_feedback(self, sample: FeedbackSample) -> None:
         robot, joints, kin = self.connection.robot, self._joints, self._kinematics
         pose = sample.pose
-        if robot is None or joints is None or pose is None:
+        if robot is None or joints is None or pose is None or not self.pose_services.accept(sample):
             return
         self._feedback_times.append(sample.received_s)
         self._last_pose = pose
         p = self.params
         ns = convert.stamp_ns(sample.host_time_s, robot.now(), self.get_clock().now().nanoseconds)
-        odom = Odometry()
-        convert.fill_odometry(
-            odom,
-            ns=ns,
-            odom_frame=p.odom_frame,
-            base_frame=p.base_frame,
-            pose=pose,
-            twist=convert.body_twist(kin, sample),
-            pose_covariance=self._pose_covariance_of(pose),
-            twist_covariance=self._twist_covariance,
-        )
-        self.odom_pub.publish(odom)
-        if self.tf_pub is not None:
-            tf = TransformStamped()
-            convert.fill_transform(tf, ns=ns, odom_frame=p.odom_frame, base_frame=p.base_frame, pose=pose)
-            self.tf_pub.publish(self._tf_type(transforms=[tf]))
+        twist = convert.body_twist(kin, sample)
+        if self.fusion is not None:
+            self.fusion.on_feedback(sample, twist)
+        tf = (self.tf_pub if p.tf_from == "odom" else None, self._tf_type)
+        covariances = (self._pose_covariance_of(pose), self._twist_covariance)
+        fused.publish_odometry(p, self.odom_pub, tf, ns=ns, pose=pose, twist=twist, covariances=covariances)
         js = JointState()
         convert.fill_joint_state(js, ns=ns, joints=joints.update(sample))
         self.joint_pub.publish(js)
@@ -356,7 +349,7 @@ class BridgeNode(Node):
         if robot is None or driver is None:
             response.success, response.message = False, f"no connection to {self.params.url}"
             return response
-        driver.hold_off = "the robot was disarmed through ~/disarm: call ~/arm to drive"
+        driver.hold_off = f"the robot was disarmed through ~/disarm: {arm_hint(self.arm_service)} to drive"
         driver.clear()
         try:
             robot.disarm()

@@ -12,6 +12,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from host_sdk.errors import CommandRangeError
+from host_sdk.sensors.wit import G
 from protocol.generated.constants import (
     FEEDBACK_HZ_DEFAULT,
     FEEDBACK_HZ_MAX,
@@ -29,6 +30,19 @@ LIDARS = tuple(name for name, spec in DEVICES.items() if spec.kind == "lidar")
 DEFAULT_COVARIANCE = (0.001, 0.001, 0.001, 0.001, 0.001, 0.01)
 """Diagonal of pose and twist covariance (x, y, z, roll, pitch, yaw), as ros2_control's
 diff_drive_controller has it."""
+
+
+def _jy901_variance(figure: str, scale: float) -> float:
+    """The square of one of the JY901's datasheet figures (protocol/spec/sensors.toml) times `scale`."""
+    sigma = float(getattr(DEVICES["jy901"], figure)) * scale
+    return float(f"{sigma * sigma:.3g}")
+
+
+_DEG = math.pi / 180
+IMU_ORIENTATION_VARIANCE = [_jy901_variance(k, _DEG) for k in ("angle_sigma_deg",) * 2 + ("heading_sigma_deg",)]
+"""roll, pitch: the static angle accuracy; yaw: the heading accuracy with a calibrated magnetometer."""
+IMU_GYRO_VARIANCE = [_jy901_variance("gyro_sigma_dps", _DEG)] * 3
+IMU_ACCEL_VARIANCE = [_jy901_variance("accel_sigma_g", G)] * 3
 
 
 @dataclass(frozen=True, slots=True)
@@ -49,7 +63,8 @@ class ParamSpec:
         if isinstance(self.default, bool):
             return "true or false"
         if isinstance(self.default, list):
-            return "a list of 6 numbers >= 0" if "covariance" in self.name else "a list of names"
+            n = len(self.default)
+            return f"a list of {n} numbers >= 0" if "covariance" in self.name else "a list of names"
         return "a string"
 
 
@@ -97,7 +112,7 @@ SPECS: tuple[ParamSpec, ...] = (
     ParamSpec(
         "odom_qos",
         "reliable",
-        "QoS of odom and joint_states: reliable, or sensor_data (best effort)",
+        "QoS of odom, joint_states and odometry/filtered: reliable, or sensor_data (best effort)",
         choices=("reliable", "sensor_data"),
     ),
     ParamSpec("qos_depth", 10, "history depth of the publishers and the cmd_vel subscription", low=1, high=1000),
@@ -129,6 +144,28 @@ SPECS: tuple[ParamSpec, ...] = (
     ParamSpec("scan_bins", 360, "scan: the revolution binned on this many evenly spaced angles", low=8, high=8192),
     ParamSpec("imu_url", "", "the JY901 IMU's port (empty: none, or the emulated one of an emu:// robot)"),
     ParamSpec("imu_frame", "imu_link", "frame of imu (the IMU's mount, from your URDF)"),
+    ParamSpec(
+        "imu_orientation_covariance_diagonal",
+        IMU_ORIENTATION_VARIANCE,
+        "imu orientation variances (roll, pitch, yaw) in rad^2: the JY901 datasheet's accuracy",
+    ),
+    ParamSpec(
+        "imu_angular_velocity_covariance_diagonal",
+        IMU_GYRO_VARIANCE,
+        "imu angular velocity variances (x, y, z) in (rad/s)^2: the JY901 datasheet's gyro stability",
+    ),
+    ParamSpec(
+        "imu_linear_acceleration_covariance_diagonal",
+        IMU_ACCEL_VARIANCE,
+        "imu acceleration variances (x, y, z) in (m/s^2)^2: the JY901 datasheet's accelerometer stability",
+    ),
+    ParamSpec(
+        "tf_from",
+        "odom",
+        "what /tf's odom_frame -> base_frame is: odom (wheel odometry) or fused (the EKF's odometry/filtered; "
+        "needs an IMU)",
+        choices=("odom", "fused"),
+    ),
 )
 
 BY_NAME = {spec.name: spec for spec in SPECS}
@@ -147,7 +184,8 @@ def _number(spec: ParamSpec, value: object) -> float:
 
 
 def _covariance(spec: ParamSpec, value: object) -> tuple[float, ...]:
-    if not isinstance(value, Sequence) or isinstance(value, str) or len(value) != 6:
+    size = len(spec.default) if isinstance(spec.default, list) else 6
+    if not isinstance(value, Sequence) or isinstance(value, str) or len(value) != size:
         raise _bad(spec, value)
     out = []
     for item in value:
@@ -193,6 +231,10 @@ class BridgeParams:
     scan_bins: int
     imu_url: str
     imu_frame: str
+    imu_orientation_covariance_diagonal: tuple[float, ...]
+    imu_angular_velocity_covariance_diagonal: tuple[float, ...]
+    imu_linear_acceleration_covariance_diagonal: tuple[float, ...]
+    tf_from: str
 
     @classmethod
     def defaults(cls, **overrides: ParamValue) -> BridgeParams:

@@ -14,16 +14,17 @@ import contextlib
 import dataclasses
 import threading
 import time
-from typing import Any
+from typing import Any, Protocol
 
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, qos_profile_sensor_data
 from sensor_msgs.msg import Imu, LaserScan
 
 from host_sdk import RoverLinkError
-from host_sdk.sensors import Jy901, Lidar
+from host_sdk.sensors import ImuSample, Jy901, Lidar
 from roverlink.ros2 import convert
 from roverlink.ros2.diagnostics import ERROR, OK, WARN, Report
+from roverlink.ros2.params import BridgeParams
 
 _BEST_EFFORT = qos_profile_sensor_data.reliability
 RETRY_S = 1.0
@@ -131,18 +132,33 @@ class LidarPublisher(SensorPublisher):
         self.pub.publish(msg)
 
 
+class ImuListener(Protocol):
+    """Takes each IMU sample too (the EKF), with the port's clock read right after it arrived."""
+
+    def on_imu(self, sample: ImuSample, port_now: float) -> None: ...
+
+
 class ImuPublisher(SensorPublisher):
     kind = "imu"
 
-    def __init__(self, node: Node, url: str, frame: str) -> None:
+    def __init__(self, node: Node, url: str, params: BridgeParams, listener: ImuListener | None = None) -> None:
         self.pub = node.create_publisher(Imu, "imu", QoSProfile(depth=10, reliability=_BEST_EFFORT))
-        super().__init__(node, url, frame)
+        self.covariance = convert.ImuCovariance(
+            params.imu_orientation_covariance_diagonal,
+            params.imu_angular_velocity_covariance_diagonal,
+            params.imu_linear_acceleration_covariance_diagonal,
+        )
+        self.listener = listener
+        super().__init__(node, url, params.imu_frame)
 
     def _open(self) -> Jy901:
         return Jy901.open(self.url)
 
     def _read_and_publish(self, imu: Any) -> None:
         sample = imu.read(timeout_s=QUIET_S)
+        if self.listener is not None:
+            self.listener.on_imu(sample, imu.port.clock())
         msg = Imu()
-        convert.fill_imu(msg, ns=self.stamp_ns(imu, sample.t), frame=self.frame, sample=sample)
+        ns = self.stamp_ns(imu, sample.t)
+        convert.fill_imu(msg, ns=ns, frame=self.frame, sample=sample, covariance=self.covariance)
         self.pub.publish(msg)

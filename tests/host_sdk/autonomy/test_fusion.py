@@ -145,6 +145,26 @@ def test_gyro_samples_read_after_the_odometry_steps_they_cover_count_once() -> N
     assert ekf.pose.theta_rad == pytest.approx(rate * 4.0, rel=0.01)
 
 
+def test_set_pose_starts_the_pose_again_and_keeps_the_learnt_bias() -> None:
+    bias = math.radians(0.5)
+    ekf = PoseEkf()
+    t = run(ekf, 10.0, speed=0.0, turn_rate=0.0, bias=bias)
+    t = run(ekf, 4.0, speed=0.3, turn_rate=0.5, bias=bias, start_s=t)
+    learnt = ekf.pose.gyro_bias_rad_s
+    assert ekf.pose.covariance[0, 0] > 2e-6  # grown from 1e-6 by the drive
+    ekf.set_pose(1.0, -2.0, 0.3, time_s=t + 0.5)  # the pose at a later time: the gyro before it is dropped
+    for k in range(1, 101):
+        ekf.add_gyro(t + k / RATE_HZ, 0.5 + bias)  # still turning until then
+    p = ekf.pose
+    assert (p.x_m, p.y_m, p.theta_rad, p.gyro_bias_rad_s) == (1.0, -2.0, 0.3, learnt)
+    assert np.all(np.abs(p.covariance) <= 1e-6)
+    ekf.add_gyro(t + 0.52, 0.5 + bias)
+    p = ekf.add_odometry(t + 0.52, 0.006, 0.01)
+    assert p.theta_rad == pytest.approx(0.31, abs=1e-3) and not p.slipping  # only the 20 ms after it
+    with pytest.raises(CommandRangeError, match="y_m"):
+        ekf.set_pose(0.0, math.nan, 0.0)
+
+
 def test_covariance_stays_symmetric_and_positive() -> None:
     ekf = PoseEkf()
     run(ekf, 20.0, speed=0.3, turn_rate=0.4, bias=0.01, rng=np.random.default_rng(1))

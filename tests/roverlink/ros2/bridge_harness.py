@@ -113,6 +113,7 @@ class Probe:
         self.clients = {
             "arm": self.node.create_client(Trigger, "roverlink/arm"),
             "disarm": self.node.create_client(Trigger, "roverlink/disarm"),
+            "reset_odometry": self.node.create_client(Trigger, "roverlink/reset_odometry"),
             "reset_board": self.node.create_client(Trigger, "roverlink/emulator/reset_board"),
             "cut_link": self.node.create_client(SetBool, "roverlink/emulator/cut_link"),
         }

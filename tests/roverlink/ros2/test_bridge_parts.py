@@ -26,7 +26,7 @@ from protocol.generated.messages import LinkStats
 from roverlink.ros2 import convert
 from roverlink.ros2.connection import Connection
 from roverlink.ros2.diagnostics import ERROR, OK, STALE, WARN, DiagnosticsBuilder, Event, Snapshot
-from roverlink.ros2.driver import Driver, RefusalLog
+from roverlink.ros2.driver import Driver, RefusalLog, arm_hint, in_ros_words
 from roverlink.ros2.params import SPECS, BridgeParams
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -52,6 +52,9 @@ def test_default_parameters_are_valid_and_conventional() -> None:
         ("wheel_joints", "left"),
         ("odom_frame", ""),
         ("no_such_parameter", 1),
+        ("imu_orientation_covariance_diagonal", [0.1] * 6),
+        ("imu_linear_acceleration_covariance_diagonal", [0.1, 0.1, -0.1]),
+        ("tf_from", "ekf"),
     ],
 )
 def test_bad_parameters_are_refused_by_name(name: str, value: object) -> None:
@@ -185,12 +188,27 @@ def test_imu_message_from_a_jy901_sample() -> None:
         quaternion=None,
         temperature_c=None,
     )
-    convert.fill_imu(msg, ns=1_500_000_000, frame="imu_link", sample=sample)
+    covariance = convert.ImuCovariance((0.1, 0.2, 0.3), (0.4, 0.5, 0.6), (0.7, 0.8, 0.9))
+    convert.fill_imu(msg, ns=1_500_000_000, frame="imu_link", sample=sample, covariance=covariance)
     assert (msg.header.stamp.sec, msg.header.stamp.nanosec, msg.header.frame_id) == (1, 500_000_000, "imu_link")
     q = msg.orientation
     assert (q.x, q.y, q.z, q.w) == pytest.approx((0, 0, math.sqrt(0.5), math.sqrt(0.5)))  # from the angles
     assert msg.angular_velocity_covariance[0] == -1.0  # the gyro was not sent: "not provided"
-    assert (msg.linear_acceleration.z, msg.linear_acceleration_covariance[0]) == (9.8, 0.0)
+    assert msg.orientation_covariance == [0.1, 0, 0, 0, 0.2, 0, 0, 0, 0.3]  # the parameters' diagonals
+    assert msg.linear_acceleration.z == 9.8
+    assert msg.linear_acceleration_covariance == [0.7, 0, 0, 0, 0.8, 0, 0, 0, 0.9]
+
+
+def test_imu_covariance_defaults_are_the_jy901_datasheet_figures() -> None:
+    from protocol.sensors import DEVICES
+
+    jy901, p = DEVICES["jy901"], BridgeParams.defaults()
+    angle, heading = math.radians(jy901.angle_sigma_deg), math.radians(jy901.heading_sigma_deg)  # type: ignore[union-attr]
+    assert p.imu_orientation_covariance_diagonal == pytest.approx((angle**2, angle**2, heading**2), rel=0.01)
+    gyro = math.radians(jy901.gyro_sigma_dps)  # type: ignore[union-attr]
+    assert p.imu_angular_velocity_covariance_diagonal == pytest.approx((gyro**2,) * 3, rel=0.01)
+    accel = jy901.accel_sigma_g * 9.80665  # type: ignore[union-attr]
+    assert p.imu_linear_acceleration_covariance_diagonal == pytest.approx((accel**2,) * 3, rel=0.01)
 
 
 def test_laser_scan_from_a_binned_scan() -> None:
@@ -285,6 +303,22 @@ def test_refused_commands_are_logged_once_per_burst(robot: Robot) -> None:
     driver.hold_off = "disarmed through ~/disarm"
     driver.command(0.1, 0.0, robot.now())
     assert len(logged) == 4 and "~/disarm" in logged[3]
+
+
+def test_refusals_name_the_arm_service_not_the_python_api(robot: Robot) -> None:
+    logged: list[str] = []
+    refusals = RefusalLog(logged.append, logged.append, "/robot1/roverlink/arm")
+    driver = Driver(robot, refusals, timeout_s=0.5, on_timeout="stop", lockstep=False, period_s=0.02)
+    robot.disarm()
+    driver.command(0.1, 0.0, robot.now())
+    hint = "call the /robot1/roverlink/arm service (ros2 service call /robot1/roverlink/arm std_srvs/srv/Trigger)"
+    assert len(logged) == 1 and hint in logged[0] and "robot.arm()" not in logged[0], logged
+    assert refusals.last == "the robot is not armed: " + hint
+    for sdk_words in (
+        "the session is re-opening after a reset; call robot.arm() when ready",
+        "the robot is in FAILSAFE (COMM_TIMEOUT); call robot.arm() to drive again",
+    ):
+        assert in_ros_words(sdk_words, "/roverlink/arm").endswith(arm_hint("/roverlink/arm"))
 
 
 def test_zero_hold_never_arms_a_disarmed_robot() -> None:
