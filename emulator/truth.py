@@ -27,7 +27,7 @@ class FaultRecord:
     """bitflip, drop, insert, noise, cut, restore, reset, dtr_reset, bootloader_garbage, brownout,
     stall, unstall, encoder_disconnect, encoder_reconnect, eeprom_fail, eeprom_ok, traction,
     bitflip_rate, drop_rate, insert_rate (a rate was set), stand, rx_overrun (an effect: host bytes lost
-    in the MCU's full receive buffer)."""
+    in the MCU's full receive buffer), sensor_fail (an emulated sensor's update raised: it is dead)."""
     detail: str
 
 

@@ -125,7 +125,10 @@ class LidarModel:
         else:
             t, _, _ = shoot(angles + self.beam_offset(np.full(angles.shape, 1000.0)))
             t, shape, cos = shoot(angles + self.beam_offset(np.where(np.isfinite(t), t * 1000, 1000.0)))
-        refl = np.where(shape >= 0, scene.reflectivity[np.maximum(shape, 0)], 0.0)
+        # Only hits index the scene's shapes (an empty world has none: nothing to gather from).
+        hit = shape >= 0
+        refl = np.zeros(t.shape)
+        refl[hit] = scene.reflectivity[shape[hit]]
         return t, cos, refl
 
     def _measure(

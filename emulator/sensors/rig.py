@@ -10,7 +10,9 @@ Any device can go on any profile: it sits where the profile carries that kind of
 (protocol/spec/sensors.toml; a robot file's [sensors.*]), or, when the robot has none of that
 kind, at a default spot (a lidar on top of the pose point, an IMU at it, a camera at the front of
 the footprint). Every device is updated every BATCH_US of virtual time (after the physics step),
-producing what fell due since.
+producing what fell due since. A device whose update raises is marked failed and stops sending
+(`SensorRig.failed`; a `sensor_fail` record in the emulator's log): the board and the other devices
+carry on.
 """
 
 from __future__ import annotations
@@ -45,6 +47,8 @@ class SensorRig:
         self.emu = emu
         self.world = world
         self.devices: dict[str, Device] = {}
+        self.failed: dict[str, str] = {}
+        """Devices (by kind) whose update raised, and the exception: they send nothing more."""
         emu.world = world
         emu.sensors = self
         emu.clock.call_at(emu.now_us + BATCH_US, self._tick, PRIORITY_OTHER)
@@ -86,9 +90,24 @@ class SensorRig:
         now = self.emu.now_us
         scene = self.world.scene
         scene.set_time(now / 1e6)  # the target where it is now (the world moves it lazily)
-        for dev in self.devices.values():
-            dev.update(scene, now, self.world.pose_at)
+        for kind, dev in self.devices.items():
+            if kind in self.failed:
+                continue
+            try:
+                dev.update(scene, now, self.world.pose_at)
+            except Exception as exc:  # a device's bug must not stop the clock it shares
+                self._fail(kind, dev, now, exc)
         self.emu.clock.call_at(now + BATCH_US, self._tick, PRIORITY_OTHER)
+
+    def _fail(self, kind: str, dev: Device, now_us: int, exc: Exception) -> None:
+        """A device whose update raised goes dead, as a real one would: it is updated no more, its
+        line is cut (nothing it still had queued arrives), and the emulator's log says why. The
+        board and the other devices carry on: they share the clock the exception would have
+        stopped."""
+        self.failed[kind] = f"{type(exc).__name__}: {exc}"
+        if isinstance(dev, SerialSensor):
+            dev.tx.set_cut(True, now_us)
+        self.emu._log(now_us, "sensor_fail", f"{kind} {self.failed[kind]}")
 
 
 def mount_on(profile: str, kind: str, device_name: str) -> Mount:

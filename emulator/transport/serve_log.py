@@ -33,6 +33,7 @@ _WORDS = {
     "eeprom_ok": "EEPROM writes work again{}",
     "traction": "fault: traction {}",
     "rx_overrun": "MCU receive buffer overrun: {}",
+    "sensor_fail": "fault: emulated device failed, it sends nothing more: {}",
 }
 
 

@@ -4,7 +4,8 @@ Each protocol is a sans-I/O parser (`receive_data(bytes, t)`, then its events), 
 that owns the port (a host_sdk.transport Transport, opened by `open_transport` as the board's is):
 
 - `Lidar`: RPLIDAR A1 (`rplidar.RPLidarParser`) and YDLIDAR F4 (`ydlidar.YDLidarParser`), whole
-  revolutions as `LidarScan` with a time on every point;
+  revolutions as `LidarScan` with a time on every point; `LaserScanner` (laserscan.py) re-cuts them
+  at the rear into REP-117 `LaserScanData`, the fields of a ROS LaserScan;
 - `Jy901`: the WIT standard protocol (`wit.WitParser`), samples in SI units, configuration;
 - `CameraSource`: frames over OpenCV (V4L2, GStreamer, URLs; MJPEG byte streams via
   `mjpeg.MjpegParser`), with capture times and dropped-frame counts.
@@ -22,6 +23,7 @@ from host_sdk.sensors.camera import CameraFrame, CameraSource, gstreamer_pipelin
 from host_sdk.sensors.errors import SensorClosedError, SensorOpenError, SensorTimeoutError
 from host_sdk.sensors.hub import CameraStatus, ImuStatus, LidarStatus, Sensors, SensorStatus
 from host_sdk.sensors.imu import Jy901
+from host_sdk.sensors.laserscan import LaserScanData, LaserScanner
 from host_sdk.sensors.lidar import Lidar
 from host_sdk.sensors.reader import DeviceReader, FrameGrabber
 from host_sdk.sensors.scan import LidarCounters, LidarScan, RegularScan
@@ -36,6 +38,8 @@ __all__ = [
     "ImuSample",
     "ImuStatus",
     "Jy901",
+    "LaserScanData",
+    "LaserScanner",
     "Lidar",
     "LidarCounters",
     "LidarScan",

@@ -151,10 +151,15 @@ class RPLidarParser(LidarParserBase):
             return True
         self._resyncing = False
         nodes = raw[:good].astype(np.int64)
+        # A node goes on the wire when measured; by t every byte from the last node begun had arrived.
+        last = (len(buf) + 4) // 5 - 1 if good == whole else good - 1
+        self.arrival.period_s = self.sample_period_s
+        self.arrival.bound(last, t, len(buf) - 5 * last)
         del buf[: good * 5]
         # Nodes still in the buffer arrived at t as well: each decoded node is that much earlier.
         later = len(buf) // 5
         times = point_times(t, good + later, self.sample_period_s)[:good]
+        measured = self.arrival.times(good)
         angle = angle_q6[:good] / 64.0
         dist = (nodes[:, 3] | (nodes[:, 4] << 8)) / 4.0
         # A revolution starts just past 0 degrees (nodes are under 2 degrees apart at any scan rate),
@@ -168,7 +173,7 @@ class RPLidarParser(LidarParserBase):
                 start[i] = False
                 self.counters.framing_errors += 1
         self._node_count += good
-        self._points(angle, dist, nodes[:, 0] >> 2, times, start)
+        self._points(angle, dist, nodes[:, 0] >> 2, times, start, measured=measured)
         return True
 
 

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from host_sdk.sensors.arrival import ArrivalClock
 from protocol.sensors import LidarSpec
 
 F64 = NDArray[np.float64]
@@ -88,9 +89,13 @@ class LidarScan:
     qualities: NDArray[np.int64]
     """Return strength as the device reports it (RPLIDAR 0..63; YDLIDAR F4: none, 0)."""
     times_s: F64
-    """When each point was measured."""
+    """When each point's bytes arrived, spread back over the read by the device's sample period
+    (what the autonomy code is tuned on)."""
     range_min_m: float
     range_max_m: float
+    measured_s: F64 | None = None
+    """When each point was measured: `times_s` less the transport delay, timed as a steady stream
+    (host_sdk.sensors.arrival); None where the scan was built without it (then `times_s`)."""
 
     def __len__(self) -> int:
         return int(self.angles_rad.shape[0])
@@ -103,6 +108,11 @@ class LidarScan:
     @property
     def duration_s(self) -> float:
         return float(self.times_s[-1] - self.times_s[0]) if len(self) > 1 else 0.0
+
+    @property
+    def measurement_times_s(self) -> F64:
+        """`measured_s`, or `times_s` where there is none."""
+        return self.times_s if self.measured_s is None else self.measured_s
 
     @property
     def valid(self) -> NDArray[np.bool_]:
@@ -170,12 +180,13 @@ class ScanAssembler:
     _ranges: list[F64] = field(default_factory=list)
     _quality: list[NDArray[np.int64]] = field(default_factory=list)
     _times: list[F64] = field(default_factory=list)
+    _measured: list[F64] = field(default_factory=list)
     _started: bool = False
     scans: int = 0
     partial: int = 0
 
     def add(self, angle_deg: F64, range_mm: F64, quality: NDArray[np.int64], times: F64,
-            start: NDArray[np.bool_]) -> list[LidarScan]:  # fmt: skip
+            start: NDArray[np.bool_], *, measured: F64 | None = None) -> list[LidarScan]:  # fmt: skip
         """Points in arrival order; returns the revolutions they complete."""
         out: list[LidarScan] = []
         cuts = set(np.flatnonzero(start).tolist())
@@ -193,6 +204,7 @@ class ScanAssembler:
             self._ranges.append(range_mm[lo:hi])
             self._quality.append(quality[lo:hi])
             self._times.append(times[lo:hi])
+            self._measured.append((times if measured is None else measured)[lo:hi])
         return out
 
     def _finish(self) -> LidarScan | None:
@@ -212,9 +224,10 @@ class ScanAssembler:
             times_s=np.concatenate(self._times),
             range_min_m=self.range_min_m,
             range_max_m=self.range_max_m,
+            measured_s=np.concatenate(self._measured),
         )
         self.scans += 1
-        self._angles, self._ranges, self._quality, self._times = [], [], [], []
+        self._angles, self._ranges, self._quality, self._times, self._measured = [], [], [], [], []
         return scan
 
 
@@ -237,6 +250,8 @@ class LidarParserBase:
         self._streaming = False
         self._events: list[Any] = []
         self._scans = ScanAssembler(spec.name, spec.clockwise, spec.range_min_m, spec.range_max_m)
+        self.arrival = ArrivalClock(self.sample_period_s, spec.baud)
+        """Measurement times of the points (their `times_s` are arrival-based)."""
 
     @property
     def scanning(self) -> bool:
@@ -252,6 +267,7 @@ class LidarParserBase:
         self._buf.clear()
         self._answer = None
         self._streaming = False
+        self.arrival.reset()
 
     def events(self) -> list[Any]:
         """The events parsed so far (each returned once)."""
@@ -278,9 +294,9 @@ class LidarParserBase:
         raise NotImplementedError
 
     def _points(self, angle: F64, dist_mm: F64, quality: NDArray[np.int64], times: F64,
-                start: NDArray[np.bool_]) -> None:  # fmt: skip
+                start: NDArray[np.bool_], *, measured: F64) -> None:  # fmt: skip
         self.counters.points += angle.shape[0]
-        scans = self._scans.add(angle, dist_mm, quality, times, start)
+        scans = self._scans.add(angle, dist_mm, quality, times, start, measured=measured)
         self.counters.scans += len(scans)
         self.counters.partial_scans = self._scans.partial
         self._events.extend(scans)
@@ -289,3 +305,4 @@ class LidarParserBase:
         if n > 0:
             del self._buf[:n]
             self.counters.bytes_discarded += n
+            self.arrival.reset()  # bytes lost: the sample count no longer maps to time

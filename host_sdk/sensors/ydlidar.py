@@ -99,13 +99,16 @@ class YDLidarParser(LidarParserBase):
 
     def _packet(self, t: float) -> bool | None:
         buf = self._buf
-        if len(buf) < 10:
+        if len(buf) < 4:
             return None
         ct, lsn = buf[2], buf[3]
         if lsn == 0 or lsn > MAX_SAMPLES or ((ct & 1) and lsn != 1):
             self.counters.framing_errors += 1
             self._discard(1)
             return False
+        # The F4 sends a packet once its last sample is measured (the header holds that sample's
+        # angle and the checksum): every byte from the packet's first on had arrived by t.
+        self.arrival.bound(lsn - 1, t, len(buf))
         size = 10 + 2 * lsn
         if len(buf) < size:
             return None
@@ -138,7 +141,8 @@ class YDLidarParser(LidarParserBase):
                 self.scan_hz = (ct >> 1) / 10
         later = self._pending_samples()
         times = point_times(t, lsn + later, self.sample_period_s)[:lsn]
-        self._points(angle, dist, np.zeros(lsn, dtype=np.int64), times, start)
+        measured = self.arrival.times(lsn)
+        self._points(angle, dist, np.zeros(lsn, dtype=np.int64), times, start, measured=measured)
 
     def _pending_samples(self) -> int:
         """Samples of whole packets still in the buffer (they arrived at the same t)."""

@@ -170,7 +170,8 @@ def euler_quaternion(roll: float, pitch: float, yaw: float) -> tuple[float, floa
 
 
 def fill_laser_scan(msg: Any, *, ns: int, frame: str, scan: RegularScan) -> None:
-    """sensor_msgs/LaserScan from a binned scan (NaN or +inf: no return in that bin)."""
+    """sensor_msgs/LaserScan from a binned scan; `ns` is ray 0's time (a LaserScanData, the node's,
+    carries REP 117's -inf / +inf / NaN classes: host_sdk.sensors.laserscan)."""
     set_stamp(msg.header.stamp, ns)
     msg.header.frame_id = frame
     n = len(scan.ranges_m)

@@ -2,9 +2,11 @@
 
 Each device runs on a thread of its own with its host_sdk.sensors driver (docs/sensors.md): open,
 start, read, publish; a device that fails or goes quiet is closed and opened again a second later,
-and says so in its own diagnostics status. Stamps are the driver's times (when the data arrived,
-spread over a revolution by the device's sample period for a lidar), mapped to ROS time like
-odometry's. Against `emu://...&lidar=MODEL&imu=jy901` the emulated devices are used unless a
+and says so in its own diagnostics status (any exception: an unexpected one is logged as such,
+once, and the thread carries on). Stamps are the driver's times, mapped to ROS time like
+odometry's: an IMU sample's arrival; a scan's ray 0's measurement time, with `time_increment` the
+signed time from ray to ray (host_sdk.sensors.laserscan: one revolution per message, cut at the
+rear). Against `emu://...&lidar=MODEL&imu=jy901` the emulated devices are used unless a
 `lidar_url`/`imu_url` parameter names another port.
 """
 
@@ -21,7 +23,7 @@ from rclpy.qos import QoSProfile, qos_profile_sensor_data
 from sensor_msgs.msg import Imu, LaserScan
 
 from host_sdk import RoverLinkError
-from host_sdk.sensors import ImuSample, Jy901, Lidar
+from host_sdk.sensors import ImuSample, Jy901, LaserScanner, Lidar
 from roverlink.ros2 import convert
 from roverlink.ros2.diagnostics import ERROR, OK, WARN, Report
 from roverlink.ros2.params import BridgeParams
@@ -44,6 +46,8 @@ class SensorPublisher:
         self.count = 0
         self.opened = 0
         self.error = ""
+        self._logged = ""
+        """The failure last logged (cleared by a published message)."""
         self.last_s: float | None = None
         self._times: list[float] = []
         self._device: Any = None
@@ -75,20 +79,30 @@ class SensorPublisher:
                     now = time.monotonic()
                     self.count += 1
                     self.last_s = now
+                    self._logged = ""
                     self._times = [t for t in self._times[-50:] if t > now - 5.0] + [now]
-            except (RoverLinkError, OSError) as exc:
+            except Exception as exc:  # any failure: report it, reopen, never die
                 if not self._stop.is_set():
-                    if str(exc) != self.error:
-                        self.node.get_logger().warning(f"{self.kind} on {self.url}: {exc}; retrying")
-                    self.error = str(exc)
+                    self._failed(exc)
             finally:
                 self._close()
             self._stop.wait(RETRY_S)
 
+    def _failed(self, exc: Exception) -> None:
+        """Log a failure once (until it changes) and show it in the diagnostics status. A device's
+        own errors are expected (unplugged, silent); anything else is a bug, named as such."""
+        expected = isinstance(exc, RoverLinkError | OSError)
+        text = str(exc) if expected else f"unexpected {type(exc).__name__}: {exc}"
+        if text != self._logged:  # once per failure, not once per retry
+            self._logged = text
+            log = self.node.get_logger()
+            (log.warning if expected else log.error)(f"{self.kind} on {self.url}: {text}; retrying")
+        self.error = text
+
     def _close(self) -> None:
         device, self._device = self._device, None
         if device is not None:
-            with contextlib.suppress(RoverLinkError, OSError):
+            with contextlib.suppress(Exception):  # what failed may fail to close too: never kill the thread
                 device.close()
 
     def close(self) -> None:
@@ -117,19 +131,23 @@ class LidarPublisher(SensorPublisher):
 
     def __init__(self, node: Node, url: str, model: str, frame: str, bins: int) -> None:
         self.model, self.bins = model, bins
+        self.scanner = LaserScanner(bins, clockwise=True)
         self.pub = node.create_publisher(LaserScan, "scan", QoSProfile(depth=5, reliability=_BEST_EFFORT))
         super().__init__(node, url, frame)
 
     def _open(self) -> Lidar:
         lidar = Lidar.open(self.url, self.model)
+        self.scanner = LaserScanner(self.bins, clockwise=lidar.spec.clockwise)  # afresh on each open
         lidar.start()
         return lidar
 
     def _read_and_publish(self, lidar: Any) -> None:
-        scan = lidar.read_scan(timeout_s=QUIET_S).regular(self.bins)
-        msg = LaserScan()
-        convert.fill_laser_scan(msg, ns=self.stamp_ns(lidar, scan.time_s), frame=self.frame, scan=scan)
-        self.pub.publish(msg)
+        # One message per revolution, cut at the rear (host_sdk.sensors.laserscan): stamp and
+        # time_increment are the rays' measurement times.
+        for scan in self.scanner.push(lidar.read_scan(timeout_s=QUIET_S)):
+            msg = LaserScan()
+            convert.fill_laser_scan(msg, ns=self.stamp_ns(lidar, scan.time_s), frame=self.frame, scan=scan)
+            self.pub.publish(msg)
 
 
 class ImuListener(Protocol):

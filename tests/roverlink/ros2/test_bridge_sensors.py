@@ -4,12 +4,14 @@ while the robot spins in place."""
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import math
 import statistics
 import time
 import uuid
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 from ros_env import require_ros
@@ -23,16 +25,15 @@ from sensor_msgs.msg import Imu, LaserScan  # noqa: E402
 URL = "emu://diffdrive-bts7960?seed=2&world=random:2&lidar=rplidar-a1&imu=jy901"
 
 
-@pytest.fixture(scope="module")
-def sensed(ros: None, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Probe]:
-    ns = f"/sensors_{uuid.uuid4().hex[:6]}"
-    proc = BridgeProcess(ns, URL, tmp_path_factory.mktemp("ros2"))
+@contextlib.contextmanager
+def _bridge(prefix: str, url: str, log_dir: Path) -> Iterator[Probe]:
+    """A bridge on `url` and a probe subscribed to its `scan` and `imu` (its log printed on failure)."""
+    ns = f"/{prefix}_{uuid.uuid4().hex[:6]}"
+    proc = BridgeProcess(ns, url, log_dir)
     probe = Probe(ns)
     probe.subscribe("scan", LaserScan, "scan", qos_profile_sensor_data)
     probe.subscribe("imu", Imu, "imu", qos_profile_sensor_data)
     try:
-        probe.wait_status("lidar", lambda s: s.level == b"\x00", 20)
-        probe.wait_status("imu", lambda s: s.level == b"\x00", 5)
         yield probe
     except BaseException:
         print(proc.log())
@@ -40,6 +41,14 @@ def sensed(ros: None, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Prob
     finally:
         probe.close()
         assert proc.stop() == 0
+
+
+@pytest.fixture(scope="module")
+def sensed(ros: None, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Probe]:
+    with _bridge("sensors", URL, tmp_path_factory.mktemp("ros2")) as probe:
+        probe.wait_status("lidar", lambda s: s.level == b"\x00", 20)
+        probe.wait_status("imu", lambda s: s.level == b"\x00", 5)
+        yield probe
 
 
 def test_scan_is_a_laserscan_of_the_room(sensed: Probe) -> None:
@@ -86,3 +95,22 @@ def test_sensor_diagnostics(sensed: Probe) -> None:
         assert status.level == b"\x00" and status.message.endswith("Hz")
         v = values(status)
         assert v["url"].startswith("emudev://") and int(v[f"{kind} messages"]) > 0
+
+
+def test_an_open_world_scans_plus_inf_with_a_stamp_per_revolution(ros: None, tmp_path: Path) -> None:
+    """REP 117 through a real bridge: nothing in range is +inf (NaN only where no sample fell);
+    one revolution per message, cut at the rear, stamped with ray 0's measurement time."""
+    with _bridge("open", "emu://diffdrive-bts7960?seed=2&world=empty&lidar=rplidar-a1", tmp_path) as probe:
+        probe.wait_for("6 scans", lambda: len(probe.since("scan")) >= 6, 20)
+        scans = [r.msg for r in probe.since("scan")]
+        for scan in scans:
+            assert scan.angle_min == pytest.approx(-math.pi) and len(scan.ranges) == 360
+            assert scan.angle_increment == pytest.approx(2 * math.pi / 360)
+            assert scan.time_increment == pytest.approx(-scan.scan_time / 360, rel=0.05)  # clockwise
+            assert not any(math.isfinite(r) or r < 0 for r in scan.ranges)
+            assert sum(math.isinf(r) for r in scan.ranges) > 0.9 * 360, "open: +inf, not NaN"
+        # The emulator runs on the wall clock here: a busy machine jitters single periods.
+        stamps = [stamp_s(m.header.stamp) for m in scans]
+        period = statistics.median(b - a for a, b in itertools.pairwise(stamps))
+        assert period == pytest.approx(statistics.median(s.scan_time for s in scans), rel=0.2)
+        assert all(b > a for a, b in itertools.pairwise(stamps))
