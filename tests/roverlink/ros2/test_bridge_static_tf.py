@@ -39,7 +39,7 @@ def late_frames(probe: Probe, tf2_msgs: Path, ns: str, expected: set[str]) -> di
     """Subscribe now, after the node published, and return the transforms it gets, by child frame."""
     from tf2_msgs.msg import TFMessage
 
-    assert probe.node.count_publishers(f"{ns}/tf_static") == 1
+    probe.wait_for("the node's /tf_static publisher", lambda: probe.node.count_publishers(f"{ns}/tf_static") == 1, 10)
     probe.subscribe("tf_static", TFMessage, f"{ns}/tf_static", LATE)
 
     def got() -> dict[str, Any] | None:
@@ -100,8 +100,8 @@ def test_publish_static_tf_false_publishes_none(ros: None, tf2_msgs: Path, tmp_p
     url = "emu://diffdrive-bts7960?seed=1&lidar=rplidar-a1&imu=jy901"
     proc, probe, ns = start(tmp_path, url, params={"publish_static_tf": "false"})
     with logged(proc, probe):
-        probe.subscribe("tf_static", TFMessage, f"{ns}/tf_static", LATE)
         connected(probe, "DiffDriveBTS7960")
+        probe.subscribe("tf_static", TFMessage, f"{ns}/tf_static", LATE)  # late: would get what was sent
         after = time.monotonic()
         probe.wait_for("two diagnostics reports", lambda: len(probe.since("diagnostics", after)) >= 2, 10)
         assert probe.node.count_publishers(f"{ns}/tf_static") == 0
