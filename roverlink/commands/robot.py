@@ -4,6 +4,7 @@ roverlink robot new my.toml --from picar   # a commented copy of a reference rob
 roverlink robot check my.toml              # exit 0 "my.toml: ok", or 2 and every problem
 roverlink robot show my.toml               # the figures the firmware and the host derive
 roverlink robot ros2-config my.toml --out config/  # the node's, SLAM Toolbox's and Nav2's parameters
+roverlink robot urdf my.toml -o my.urdf    # a URDF for robot_state_publisher (docs/ros2.md)
 """
 
 from __future__ import annotations
@@ -65,12 +66,21 @@ def _flash(robot: RobotDescription) -> str:
     return f"about {size:,} B ({share:.0f}% of {FLASH_SIZE[robot.board]:,} B), estimated from the {example} build"
 
 
-def _load(path: str) -> RobotDescription | None:
-    """The robot file, or None after printing its problems."""
+def _load(name: str) -> RobotDescription | None:
+    """A robot file, or a reference robot's name (when no file of that name exists); None after
+    printing what is wrong and how to fix it."""
     try:
-        return RobotDescription.load(path)
+        if name in REFERENCES and not Path(name).exists():
+            return RobotDescription.load(reference_path(name))
+        return RobotDescription.load(name)
     except RobotFileError as exc:
-        print(exc, file=sys.stderr)
+        fix = (
+            f"give a robot file (`roverlink robot new {name} --from NAME` starts one) or a reference robot: "
+            + ", ".join(REFERENCES)
+            if not Path(name).exists()
+            else f"fix the file (`roverlink robot check {name}` lists the same problems)"
+        )
+        print(f"{exc}\n{fix}", file=sys.stderr)
         return None
 
 
@@ -112,6 +122,21 @@ def cmd_ros2_config(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_urdf(args: argparse.Namespace) -> int:
+    from roverlink.ros2.urdf import build_urdf  # noqa: PLC0415 (only this action needs it)
+
+    robot = _load(args.file)
+    if robot is None:
+        return 2
+    text = build_urdf(robot)
+    if args.output is None:
+        sys.stdout.write(text)
+        return 0
+    Path(args.output).write_text(text, encoding="utf-8")
+    print(f"{args.output}: URDF of {robot.name}; publish it with robot_state_publisher (docs/ros2.md)")
+    return 0
+
+
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser(
         "robot",
@@ -144,6 +169,16 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     )
     show.add_argument("file", help="the robot file to explain")
     show.set_defaults(func=cmd_show)
+    urdf = actions.add_parser(
+        "urdf",
+        help="write a URDF of the robot for robot_state_publisher",
+        description="A URDF of FILE (a robot file, or a reference robot's name): base_link at the pose point on "
+        "the ground, base_footprint, the body from the footprint, the wheels on the joints the ROS 2 node's "
+        "joint_states names, and each sensor's frame at its mount (docs/ros2.md).",
+    )
+    urdf.add_argument("file", help=f"the robot file, or a reference robot: {', '.join(REFERENCES)}")
+    urdf.add_argument("-o", "--output", default=None, metavar="OUT", help="write it here (default: print it)")
+    urdf.set_defaults(func=cmd_urdf)
     _add_ros2_config(actions)
 
 

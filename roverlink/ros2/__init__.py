@@ -1,8 +1,9 @@
 """The ROS 2 bridge: a RoverLink robot as a ROS 2 node (`roverlink ros2`; docs/ros2.md).
 
-Only `roverlink.ros2.node`, `run` and `simulation` import rclpy and the message packages, and
-nothing imports them until `roverlink ros2` runs: the SDK and the other commands never need ROS.
-`params`, `convert`, `driver`, `diagnostics` and `connection` are plain Python.
+Only `roverlink.ros2.node`, `run`, `simulation`, `sensors` and `static_tf` import rclpy and the
+message packages, and nothing imports them until `roverlink ros2` runs: the SDK and the other
+commands never need ROS. `params`, `convert`, `driver`, `diagnostics`, `connection`, `frames` and
+`urdf` (`roverlink robot urdf`) are plain Python.
 """
 
 from __future__ import annotations

@@ -32,8 +32,7 @@ from roverlink.ros2 import convert
 from roverlink.ros2.connection import Connection
 from roverlink.ros2.fusion import FusedOdometry, Fusion, PoseGate, check_tf_from, imu_expected, imu_time
 from roverlink.ros2.params import BridgeParams
-
-FILTERED_TOPIC = "odometry/filtered"
+from roverlink.ros2.robotfacts import FILTERED_ODOM as FILTERED_TOPIC
 
 
 def start(

@@ -38,6 +38,7 @@ from roverlink.ros2.diagnostics import DiagnosticsBuilder, Event, Snapshot
 from roverlink.ros2.driver import Driver, RefusalLog, arm_hint, in_ros_words
 from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for
 from roverlink.ros2.sensors import ImuPublisher, LidarPublisher, SensorPublisher
+from roverlink.ros2.static_tf import StaticTf
 
 NODE_NAME = "roverlink"
 TF_QOS_DEPTH = 100  # what tf2_ros's TransformBroadcaster uses
@@ -132,6 +133,8 @@ class BridgeNode(Node):
                 "ros-jazzy-tf2-msgs from a ROS 2 distribution, or build it into this environment with "
                 "`python -m roverlink.ros2.interfaces --prefix $VIRTUAL_ENV` (docs/ros2.md)"
             )
+        static_type = tf_message_type() if p.publish_static_tf else None
+        self.static_tf = None if static_type is None else StaticTf(self, static_type, p, self.robot_file)
         cmd_type = TwistStamped if p.use_stamped_vel else Twist
         self.create_subscription(cmd_type, "cmd_vel", self._on_cmd_vel, p.qos_depth)
         self.create_service(Trigger, "~/arm", self._on_arm)
@@ -160,6 +163,7 @@ class BridgeNode(Node):
         self.create_timer(period, self._tick)
         self.create_timer(1.0 / p.diagnostics_rate, self._publish_diagnostics)
         self._start_sensors({})  # those named by parameters; an emulated robot's when it connects
+        self._publish_static_tf(None)
         self.connection.start()
         self.get_logger().info(f"connecting to {p.url} ({self.mode} feedback at {p.odom_rate} Hz)")
 
@@ -189,6 +193,10 @@ class BridgeNode(Node):
         imu_url = p.imu_url or endpoints.get("imu", "")
         if imu_url and "imu" not in started:
             self.sensors.append(ImuPublisher(self, imu_url, p, self.fusion))
+
+    def _publish_static_tf(self, robot: Robot | None) -> None:
+        if self.static_tf is not None:
+            self.static_tf.update(robot, self._profile_name(), [s.kind for s in self.sensors])
 
     def _profile_mode(self) -> str | None:
         if self.robot_file is not None:
@@ -250,6 +258,7 @@ class BridgeNode(Node):
 
             self.extras.append(EmulatorInterface(self, self.connection, robot, p.odom_frame, p.base_frame))
         self._start_sensors(robot.transport.endpoints)
+        self._publish_static_tf(robot)
         if p.auto_arm:
             robot.arm(wait_esc=False)
             self.get_logger().info("armed (auto_arm)")

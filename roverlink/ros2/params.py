@@ -102,6 +102,12 @@ SPECS: tuple[ParamSpec, ...] = (
     ParamSpec("base_frame", "base_link", "the robot's body frame (child of odom_frame)"),
     ParamSpec("publish_tf", True, "publish odom_frame -> base_frame on /tf (off when an EKF publishes it)"),
     ParamSpec(
+        "publish_static_tf",
+        True,
+        "publish base_frame -> base_footprint and the sensors' frames at their mounts on /tf_static (off when "
+        "robot_state_publisher publishes the URDF of `roverlink robot urdf`)",
+    ),
+    ParamSpec(
         "odom_rate",
         FEEDBACK_HZ_DEFAULT,
         "odom and joint_states rate in Hz (the board's feedback rate)",
@@ -140,10 +146,10 @@ SPECS: tuple[ParamSpec, ...] = (
     ),
     ParamSpec("lidar_url", "", "the lidar's port (empty: none, or the emulated one of an emu:// robot)"),
     ParamSpec("lidar_model", LIDARS[0], f"the lidar: {' or '.join(LIDARS)}", choices=LIDARS),
-    ParamSpec("lidar_frame", "laser", "frame of scan (the lidar's mount, from your URDF)"),
+    ParamSpec("lidar_frame", "laser", "frame of scan (placed at the lidar's mount on /tf_static, or by your URDF)"),
     ParamSpec("scan_bins", 360, "scan: the revolution binned on this many evenly spaced angles", low=8, high=8192),
     ParamSpec("imu_url", "", "the JY901 IMU's port (empty: none, or the emulated one of an emu:// robot)"),
-    ParamSpec("imu_frame", "imu_link", "frame of imu (the IMU's mount, from your URDF)"),
+    ParamSpec("imu_frame", "imu_link", "frame of imu (placed at the IMU's mount on /tf_static, or by your URDF)"),
     ParamSpec(
         "imu_orientation_covariance_diagonal",
         IMU_ORIENTATION_VARIANCE,
@@ -212,6 +218,7 @@ class BridgeParams:
     odom_frame: str
     base_frame: str
     publish_tf: bool
+    publish_static_tf: bool
     odom_rate: int
     diagnostics_rate: float
     odom_qos: str

@@ -75,6 +75,8 @@ class BridgeProcess:
             "-r",
             f"/tf:={namespace}/tf",
             "-r",
+            f"/tf_static:={namespace}/tf_static",
+            "-r",
             f"/diagnostics:={namespace}/diagnostics",
         ]
         for key, value in (params or {}).items():

@@ -440,6 +440,7 @@ def test_the_sdk_and_other_commands_never_import_ros() -> None:
         "import sys, host_sdk, roverlink.cli;"
         "roverlink.cli.build_parser();"
         "import roverlink.ros2.params, roverlink.ros2.driver, roverlink.ros2.diagnostics, roverlink.ros2.convert;"
+        "import roverlink.ros2.frames, roverlink.ros2.urdf;"
         "bad = sorted(m for m in sys.modules if m.split('.')[0] in ('rclpy', 'geometry_msgs', 'nav_msgs'));"
         "assert not bad, bad"
     )
