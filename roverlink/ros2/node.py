@@ -34,7 +34,7 @@ from host_sdk.transport import Transport
 from protocol.generated.enums import FailsafeReason, FeedbackMode
 from roverlink.ros2 import convert
 from roverlink.ros2.connection import Connection
-from roverlink.ros2.diagnostics import DiagnosticsBuilder, Event, Snapshot
+from roverlink.ros2.diagnostics import DiagnosticsBuilder, Event, Snapshot, feedback_expected_s
 from roverlink.ros2.driver import Driver, RefusalLog
 from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for
 from roverlink.ros2.sensors import ImuPublisher, LidarPublisher, SensorPublisher
@@ -400,12 +400,11 @@ class BridgeNode(Node):
         board = c.board
         try:
             state = robot.state
-            # Lockstep: FEEDBACK answers commands only. Re-opening after a reset: the board is booting.
-            idle = state == "connecting" or (self.lockstep and not (state == "armed" and self.driver is not None))
+            commanding = self.driver is not None
             return dataclasses.replace(
                 snap,
                 feedback_age_s=robot.feedback_age_s,
-                feedback_expected_s=None if idle else max(0.5, 5.0 / self.params.odom_rate),
+                feedback_expected_s=feedback_expected_s(state, self.lockstep, commanding, self.params.odom_rate),
                 identity=robot.identity,
                 state=state,
                 failsafe=robot.failsafe,
