@@ -1,6 +1,6 @@
 """A lockstep robot that is never armed: the bridge publishes odom and the odom -> base_link
 transform at `odom_rate` from the first second, as SLAM needs them before anything drives (a
-lockstep board streams FEEDBACK while it is not armed).
+lockstep board streams FEEDBACK while it is not armed), and a cut link is a silence in diagnostics.
 
 Rates are read from the header stamps (the MCU's clock), so a busy test machine does not make them
 flaky; a stamp-based window is the first second after the first message.
@@ -21,6 +21,7 @@ from ros_env import require_ros
 require_ros()
 
 from bridge_harness import BridgeProcess, Probe, logged, stamp_s, values  # noqa: E402
+from std_srvs.srv import SetBool  # noqa: E402
 
 ODOM_RATE = 25
 """Not the board's configured 50 Hz: the rate must be the session's, the node's odom_rate."""
@@ -64,3 +65,8 @@ def test_a_disarmed_lockstep_robot_publishes_odom_and_tf_at_odom_rate(ros: None,
         link, robot = probe.status("link"), probe.status("robot")
         assert values(robot)["state"] == "disarmed" and values(link)["feedback mode"] == "lockstep"
         assert link.level == b"\x00", link.message
+        # FEEDBACK is owed while disarmed: a cut link is a silence the diagnostics report.
+        assert probe.call("cut_link", SetBool.Request(data=True)).success
+        probe.wait_status("link", lambda s: s.message.startswith("no FEEDBACK") and s.level == b"\x02", 4)
+        assert probe.call("cut_link", SetBool.Request(data=False)).success
+        probe.wait_status("link", lambda s: s.level == b"\x00", 6)

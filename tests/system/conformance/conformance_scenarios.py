@@ -240,7 +240,7 @@ def sc_lockstep_disarmed(h: Host) -> dict[str, object]:
     t_last = h.b.now_us
     h.run_ms(PROFILES["diffdrive-tb6612"].config.watchdog_ms + 500)
     fbs = h.since(messages.Feedback, t_last)
-    assert isinstance(fbs[0][1], messages.Feedback)
+    assert fbs and isinstance(fbs[0][1], messages.Feedback), f"{h.b.name}: no FEEDBACK after the watchdog"
     t_fs = fbs[0][0]
     out["failsafe_first_reason"] = fbs[0][1].failsafe_reason
     out["failsafe"] = _streamed(h.since(messages.Feedback, t_fs), h.b.now_us // 1000 - t_fs // 1000)
