@@ -225,12 +225,14 @@ class KinematicsError(CommandRangeError):
 class FeedbackTimeoutError(RoverLinkError, TimeoutError):
     """No FEEDBACK arrived in time. Attributes: `timeout_s`, `lockstep`."""
 
-    def __init__(self, timeout_s: float, lockstep: bool = False, command_live: bool = True) -> None:
+    def __init__(
+        self, timeout_s: float, lockstep: bool = False, command_live: bool = True, *, armed: bool = True
+    ) -> None:
         self.timeout_s = timeout_s
         self.lockstep = lockstep
         hint = (
-            "in lockstep mode the board sends FEEDBACK only in answer to a setpoint: drive first"
-            if lockstep and not command_live
+            "in lockstep mode an armed board sends FEEDBACK only in answer to a setpoint: drive first"
+            if lockstep and armed and not command_live
             else "the link may be cut or the board stopped"
         )
         super().__init__(f"no FEEDBACK within {timeout_s:g} s; {hint}")

@@ -99,7 +99,8 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         robot: your robot file (or its RobotDescription): kinematics from it, the board compared with it
             (RobotMismatchError; allow_mismatch=True: a warning, in `mismatches`), its limits and gains set.
         watchdog_s: firmware watchdog requested in HELLO, within the firmware's range (WATCHDOG_MIN_MS..MAX_MS).
-        mode: "stream" (FEEDBACK at feedback_hz) or "lockstep" (one FEEDBACK per setpoint).
+        mode: "stream" (FEEDBACK at feedback_hz) or "lockstep" (one FEEDBACK per setpoint while
+            armed; at feedback_hz while not armed).
         clamp: scale/clamp commands beyond the limits instead of raising CommandRangeError.
         auto_rearm: after a board reset (or a watchdog failsafe), re-arm by itself instead of
             raising on the next command.
@@ -310,7 +311,8 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
     @property
     def feedback_age_s(self) -> float | None:
         """Seconds since the last FEEDBACK arrived (None before the first): a board in its bootloader,
-        a cut cable or a lockstep robot with no command in flight all go quiet."""
+        a cut cable or an armed lockstep robot with no command in flight all go quiet (a lockstep
+        robot that is not armed streams at feedback_hz, as in stream mode)."""
         with self._lock:
             last = self._session.last_feedback_s
             return None if last is None else self._transport.clock() - last

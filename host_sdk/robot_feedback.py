@@ -42,7 +42,8 @@ class FeedbackCalls:
         raise NotImplementedError
 
     def wait_feedback(self, timeout_s: float = 1.0) -> FeedbackSample:
-        """The next FEEDBACK. In lockstep mode: the one answering the latest drive command.
+        """The next FEEDBACK. In lockstep mode while armed: the one answering the latest drive
+        command (a lockstep board streams at feedback_hz while it is not armed, as in stream mode).
 
         Raises SessionResetError (once) if the board was reset, FeedbackTimeoutError (a
         TimeoutError) if none arrives within `timeout_s`. A board that went silent less than
@@ -73,8 +74,10 @@ class FeedbackCalls:
             self._report_reset(report_reset)
             start = s.latest.index if s.latest is not None else 0
             lockstep = s.feedback_mode is FeedbackMode.LOCKSTEP
-            want = self._last_command_seq if lockstep and s.setpoint_live else None
-            owed = not lockstep or want is not None  # lockstep: only a command is answered
+            armed = s.armed
+            want = self._last_command_seq if lockstep and armed and s.setpoint_live else None
+            # Lockstep while armed: only a command is answered. Otherwise the board streams.
+            owed = not (lockstep and armed) or want is not None
 
         def fresh() -> FeedbackSample | None:
             sample = s.latest
@@ -97,7 +100,7 @@ class FeedbackCalls:
             self._report_reset(report_reset)
             sample = fresh()
             if sample is None:
-                raise FeedbackTimeoutError(timeout, lockstep, s.setpoint_live)
+                raise FeedbackTimeoutError(timeout, lockstep, s.setpoint_live, armed=armed)
             return sample
 
     def _report_reset(self, report: bool) -> None:

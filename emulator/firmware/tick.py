@@ -122,8 +122,10 @@ class ControlTick:
         self._check_encoders()  # 8. faults
         self._show_lights()
         self._blink = (self._blink + 1) % BLINK_PERIOD_TICKS
-        # 9. Feedback.
-        if self.session.open and self.feedback_mode is FeedbackMode.LOCKSTEP:
+        # 9. Feedback. Lockstep answers setpoints only while ARMED and streams out of it; the
+        # countdown is held meanwhile, so the first tick out of ARMED streams one at once.
+        if self.session.state is SessionState.ARMED and self.feedback_mode is FeedbackMode.LOCKSTEP:
+            self._fb_countdown = 1
             if applied:
                 self._send_feedback(now)
         else:

@@ -59,7 +59,7 @@ class Arming:
 
     def predict_failsafe(self, quiet_s: float, watchdog_s: float) -> None:
         # Nothing sent for a watchdog period (plus two ticks) while armed: the board has failed
-        # safe by now, whether or not its FEEDBACK saying so gets through (lockstep sends none).
+        # safe by now, whether or not its FEEDBACK saying so gets through (a cut cable).
         if self._armed and quiet_s > watchdog_s + 0.02:
             self.enter_failsafe(FailsafeReason.COMM_TIMEOUT, predicted=True)
 

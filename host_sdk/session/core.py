@@ -228,15 +228,18 @@ class Session:
 
     def silence_deadline(self, now: float) -> float | None:
         """When the board has gone quiet while the session is open (nothing at all heard for three
-        FEEDBACK periods; lockstep: for a request timeout): the time until which that silence may
-        still end in a boot announcement, `reset_silence_s` after the last frame (a reset in its
-        bootloader; past already when it has been silent longer). None while the board talks."""
+        FEEDBACK periods; lockstep while armed, when FEEDBACK answers setpoints only: for a request
+        timeout): the time until which that silence may still end in a boot announcement,
+        `reset_silence_s` after the last frame (a reset in its bootloader; past already when it has
+        been silent longer). None while the board talks."""
         last = self._wire.last_rx
         if self._life.state is not LinkState.OPEN or last is None:
             return None
         identity = self._handshake.identity
         quiet = self.options.request_timeout_s
-        if identity is not None and identity.feedback_mode is FeedbackMode.STREAM and identity.feedback_hz:
+        # A lockstep board streams too while it is not armed.
+        streaming = identity is not None and (identity.feedback_mode is FeedbackMode.STREAM or not self.armed)
+        if identity is not None and streaming and identity.feedback_hz:
             quiet = max(0.05, 3 / identity.feedback_hz)
         if now - last < quiet:
             return None

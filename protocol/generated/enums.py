@@ -47,7 +47,7 @@ class FeedbackMode(enum.IntEnum):
     STREAM = 0
     """FEEDBACK at a fixed rate; setpoints whenever the host likes."""
     LOCKSTEP = 1
-    """Exactly one FEEDBACK answers each applied setpoint."""
+    """While ARMED, exactly one FEEDBACK answers each applied setpoint (none without one); while the session is open but not ARMED, FEEDBACK streams at feedback_hz as in STREAM, the first in the first tick out of ARMED."""
 
 
 class SafeState(enum.IntEnum):

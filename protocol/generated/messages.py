@@ -1259,7 +1259,7 @@ _LINK_STATS_RX_OVERRUNS = slot_setter(LinkStats, "rx_overruns")
 
 @dataclass(frozen=True, slots=True)
 class Feedback(Message):
-    """FEEDBACK (0x90, mcu to host, telemetry): Robot state at one control tick: in stream mode at the session rate, in lockstep mode once per applied setpoint."""
+    """FEEDBACK (0x90, mcu to host, telemetry): Robot state at one control tick. Streamed every round(CONTROL_RATE_HZ / feedback_hz) ticks: before any HELLO at the config's rate; in a stream session at the session's feedback_hz; in a lockstep session while it is not ARMED (DISARMED, FAILSAFE) as in stream mode, the first in the first tick out of ARMED. In a lockstep session while ARMED: exactly one in each tick that applied a setpoint, none in any other."""
 
     MSG_ID: ClassVar[int] = 0x90
     NAME: ClassVar[str] = "FEEDBACK"

@@ -37,6 +37,15 @@ FAILSAFE_HINTS = {
 }
 
 
+def feedback_expected_s(state: str, lockstep: bool, commanding: bool, odom_rate: float) -> float | None:
+    """How often FEEDBACK must arrive now (None: none is due). An open session streams it, a
+    lockstep one too while it is not armed; an armed lockstep robot answers commands only, so it is
+    due then only while the node commands it. Re-opening after a reset: the board is booting."""
+    if state == "connecting" or (lockstep and state == "armed" and not commanding):
+        return None
+    return max(0.5, 5.0 / odom_rate)
+
+
 @dataclass(frozen=True, slots=True)
 class Event:
     """Something the node saw happen: a board reset, a failsafe, a lost or re-made connection."""
@@ -85,7 +94,7 @@ class Snapshot:
     feedback_age_s: float | None = None
     """Seconds since the last FEEDBACK (None before the first)."""
     feedback_expected_s: float | None = None
-    """FEEDBACK should arrive at least this often now (None: none is due, e.g. lockstep while idle)."""
+    """FEEDBACK should arrive at least this often now (None: none is due, e.g. while re-opening)."""
     refused: int = 0
     last_refusal: str = ""
     tf: str = ""

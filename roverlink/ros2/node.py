@@ -34,7 +34,7 @@ from host_sdk.transport import Transport
 from protocol.generated.enums import FailsafeReason, FeedbackMode
 from roverlink.ros2 import convert, fused
 from roverlink.ros2.connection import Connection
-from roverlink.ros2.diagnostics import DiagnosticsBuilder, Event, Snapshot
+from roverlink.ros2.diagnostics import DiagnosticsBuilder, Event, Snapshot, feedback_expected_s
 from roverlink.ros2.driver import Driver, RefusalLog, arm_hint, in_ros_words
 from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for
 from roverlink.ros2.sensors import ImuPublisher, LidarPublisher, SensorPublisher
@@ -117,24 +117,7 @@ class BridgeNode(Node):
         self.sensors: list[SensorPublisher] = []
         """scan and imu publishers, one thread each (roverlink.ros2.sensors)."""
 
-        odom_qos = QoSProfile(depth=p.qos_depth, reliability=ReliabilityPolicy.RELIABLE)
-        if p.odom_qos == "sensor_data":
-            odom_qos = QoSProfile(depth=p.qos_depth, reliability=qos_profile_sensor_data.reliability)
-        self.odom_pub = self.create_publisher(Odometry, "odom", odom_qos)
-        self.joint_pub = self.create_publisher(JointState, "joint_states", odom_qos)
-        self.diag_pub = self.create_publisher(DiagnosticArray, "/diagnostics", QoSProfile(depth=10))
-        self._tf_type: Any = tf_message_type() if p.publish_tf else None
-        self.tf_pub: Any = None
-        if self._tf_type is not None:
-            self.tf_pub = self.create_publisher(self._tf_type, "/tf", QoSProfile(depth=TF_QOS_DEPTH))
-        if p.publish_tf and self._tf_type is None:
-            self.get_logger().warning(
-                "publish_tf is true but tf2_msgs is not installed, so /tf is not published: install "
-                "ros-jazzy-tf2-msgs from a ROS 2 distribution, or build it into this environment with "
-                "`python -m roverlink.ros2.interfaces --prefix $VIRTUAL_ENV` (docs/ros2.md)"
-            )
-        static_type = tf_message_type() if p.publish_static_tf else None
-        self.static_tf = None if static_type is None else StaticTf(self, static_type, p, self.robot_file)
+        self._create_publishers(p)
         cmd_type = TwistStamped if p.use_stamped_vel else Twist
         self.create_subscription(cmd_type, "cmd_vel", self._on_cmd_vel, p.qos_depth)
         self.create_service(Trigger, "~/arm", self._on_arm)
@@ -166,6 +149,27 @@ class BridgeNode(Node):
         self._publish_static_tf(None)
         self.connection.start()
         self.get_logger().info(f"connecting to {p.url} ({self.mode} feedback at {p.odom_rate} Hz)")
+
+    def _create_publishers(self, p: BridgeParams) -> None:
+        """odom, joint_states, /diagnostics, /tf and /tf_static (the last two need tf2_msgs)."""
+        odom_qos = QoSProfile(depth=p.qos_depth, reliability=ReliabilityPolicy.RELIABLE)
+        if p.odom_qos == "sensor_data":
+            odom_qos = QoSProfile(depth=p.qos_depth, reliability=qos_profile_sensor_data.reliability)
+        self.odom_pub = self.create_publisher(Odometry, "odom", odom_qos)
+        self.joint_pub = self.create_publisher(JointState, "joint_states", odom_qos)
+        self.diag_pub = self.create_publisher(DiagnosticArray, "/diagnostics", QoSProfile(depth=10))
+        self._tf_type: Any = tf_message_type() if p.publish_tf else None
+        self.tf_pub: Any = None
+        if self._tf_type is not None:
+            self.tf_pub = self.create_publisher(self._tf_type, "/tf", QoSProfile(depth=TF_QOS_DEPTH))
+        if p.publish_tf and self._tf_type is None:
+            self.get_logger().warning(
+                "publish_tf is true but tf2_msgs is not installed, so /tf is not published: install "
+                "ros-jazzy-tf2-msgs from a ROS 2 distribution, or build it into this environment with "
+                "`python -m roverlink.ros2.interfaces --prefix $VIRTUAL_ENV` (docs/ros2.md)"
+            )
+        static_type = tf_message_type() if p.publish_static_tf else None
+        self.static_tf = None if static_type is None else StaticTf(self, static_type, p, self.robot_file)
 
     # -- connecting ----------------------------------------------------------------------------
     def _emu_options(self) -> Any:
@@ -402,12 +406,11 @@ class BridgeNode(Node):
         board = c.board
         try:
             state = robot.state
-            # Lockstep: FEEDBACK answers commands only. Re-opening after a reset: the board is booting.
-            idle = state == "connecting" or (self.lockstep and not (state == "armed" and self.driver is not None))
+            commanding = self.driver is not None
             return dataclasses.replace(
                 snap,
                 feedback_age_s=robot.feedback_age_s,
-                feedback_expected_s=None if idle else max(0.5, 5.0 / self.params.odom_rate),
+                feedback_expected_s=feedback_expected_s(state, self.lockstep, commanding, self.params.odom_rate),
                 identity=robot.identity,
                 state=state,
                 failsafe=robot.failsafe,

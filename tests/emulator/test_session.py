@@ -296,6 +296,30 @@ def test_lockstep_one_feedback_per_applied_setpoint() -> None:
     assert second in answers and first not in answers
 
 
+def test_lockstep_streams_while_not_armed_from_the_first_tick_out_of_armed() -> None:
+    host = Host(Emulator("diffdrive-bts7960", seed=3))
+    host.session(mode=enums.FeedbackMode.LOCKSTEP, hz=20, arm=False)
+    start = len(host.of(messages.Feedback))
+    host.run(1.0)
+    disarmed = host.of(messages.Feedback)[start:]
+    assert len(disarmed) >= 20 and {b.tick - a.tick for a, b in itertools.pairwise(disarmed)} == {5}
+    assert all(fb.status & Status.LOCKSTEP and not fb.status & Status.ARMED for fb in disarmed)
+    assert isinstance(host.request(messages.Arm(disarmed[0].boot_id)), messages.Ack)
+    seq = host.send(messages.SetWheelSpeeds(0, 0))
+    answer = host.wait_for(messages.Feedback, 0.05)
+    assert answer.ack_seq == seq and answer.status & Status.ARMED
+    start = len(host.of(messages.Feedback))
+    host.run(0.1)  # armed, no setpoint, within the watchdog: silent
+    assert len(host.of(messages.Feedback)) == start
+    assert isinstance(host.request(messages.Disarm()), messages.Ack)
+    host.run(0.015)  # the first tick out of ARMED streams one (the period is 50 ms)
+    assert len(host.of(messages.Feedback)) == start + 1
+    host.run(0.5)
+    after = host.of(messages.Feedback)[start:]
+    assert len(after) >= 10 and {b.tick - a.tick for a, b in itertools.pairwise(after)} == {5}
+    assert not any(fb.status & Status.ARMED for fb in after)
+
+
 @pytest.mark.parametrize(("hz", "expected"), [(50, 100), (100, 200), (30, 67), (7, 14)])
 def test_stream_rate_follows_feedback_hz(hz: int, expected: int) -> None:
     host = Host(Emulator("diffdrive-tb6612", seed=4))

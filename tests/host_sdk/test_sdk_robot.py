@@ -5,6 +5,7 @@ Uses the `robot` and `emulator` fixtures of the roverlink pytest plugin (host_sd
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 import threading
@@ -20,6 +21,7 @@ from host_sdk.errors import (
     CommandRangeError,
     ConnectTimeoutError,
     FailsafeError,
+    FeedbackTimeoutError,
     IncompatibleFirmwareError,
     NackError,
     NotArmedError,
@@ -326,6 +328,36 @@ def test_lockstep_on_firmware_without_it_is_unsupported(roverlink_options: dict[
 
 
 # -- threads and descriptors -----------------------------------------------------------------------------
+@pytest.mark.roverlink(profile="diffdrive-bts7960", mode="lockstep")
+def test_a_lockstep_robot_streams_while_not_armed_and_answers_each_command_while_armed(robot: Robot) -> None:
+    assert robot.mode == "lockstep" and robot.state == "disarmed"
+    period = round(1 / (robot.identity.feedback_hz * TICK_S))
+    disarmed = [robot.wait_feedback(timeout_s=0.2) for _ in range(10)]  # no command in flight
+    assert {b.tick - a.tick for a, b in itertools.pairwise(disarmed)} == {period}
+    assert not any(f.armed for f in disarmed)
+    robot.arm()
+    answered = []
+    for k in range(5):
+        robot.drive(0.05 * k, 0.0)
+        answered.append(robot.wait_feedback(timeout_s=0.2))  # the one answering this command
+    assert all(f.armed for f in answered) and len({f.ack_seq for f in answered}) == 5
+    robot.sleep(robot.watchdog_s + 0.05)  # no command: the watchdog fails the board safe
+    failsafe = [robot.wait_feedback(timeout_s=0.2) for _ in range(5)]
+    assert robot.state == "failsafe" and all(f.failsafe_reason for f in failsafe)
+    assert {b.tick - a.tick for a, b in itertools.pairwise(failsafe)} == {period}
+
+
+@pytest.mark.roverlink(profile="diffdrive-bts7960", mode="lockstep")
+def test_a_silent_disarmed_lockstep_robot_is_a_silence_as_in_stream_mode(robot: Robot, emulator: Any) -> None:
+    robot.wait_feedback()
+    emulator.cut_link("m2h")
+    last = robot.now()
+    with pytest.raises(FeedbackTimeoutError, match="the link may be cut") as error:
+        robot.wait_feedback(timeout_s=0.5)
+    assert error.value.lockstep
+    assert robot.now() - last == pytest.approx(2.0, abs=0.05)  # waited out as a reset's silence
+
+
 def _fds() -> int:
     return len(os.listdir("/proc/self/fd"))
 

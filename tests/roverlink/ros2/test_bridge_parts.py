@@ -25,7 +25,16 @@ from protocol.generated.enums import Board, Capability, FailsafeReason, Feedback
 from protocol.generated.messages import LinkStats
 from roverlink.ros2 import convert
 from roverlink.ros2.connection import Connection
-from roverlink.ros2.diagnostics import ERROR, OK, STALE, WARN, DiagnosticsBuilder, Event, Snapshot
+from roverlink.ros2.diagnostics import (
+    ERROR,
+    OK,
+    STALE,
+    WARN,
+    DiagnosticsBuilder,
+    Event,
+    Snapshot,
+    feedback_expected_s,
+)
 from roverlink.ros2.driver import Driver, RefusalLog, arm_hint, in_ros_words
 from roverlink.ros2.params import SPECS, BridgeParams
 
@@ -372,6 +381,19 @@ def test_levels_for_failsafe_reset_silence_and_no_connection() -> None:
     link, robot = d.build(snap(4.0, connection="reconnecting", connection_error="port gone", attempts=3, host=None))
     assert link.level == ERROR and "port gone" in link.message and "3 failed attempts" in link.message
     assert (robot.level, robot.message) == (STALE, "no connection")
+
+
+@pytest.mark.parametrize("state", ["disarmed", "failsafe"])
+def test_a_silent_lockstep_robot_out_of_armed_is_an_error_as_in_stream_mode(state: str) -> None:
+    """A lockstep board streams FEEDBACK whenever it is not armed: its silence is a cut cable or a hang."""
+    due = feedback_expected_s(state, lockstep=True, commanding=False, odom_rate=50.0)
+    assert due == feedback_expected_s(state, lockstep=False, commanding=False, odom_rate=50.0) == 0.5
+    link, _ = DiagnosticsBuilder("roverlink").build(snap(1.0, state=state, feedback_age_s=0.8, feedback_expected_s=due))
+    assert link.level == ERROR and link.message.startswith("no FEEDBACK for 0.8 s")
+    # Armed, a lockstep board answers commands only: due while the node commands it, not otherwise.
+    assert feedback_expected_s("armed", lockstep=True, commanding=True, odom_rate=50.0) == 0.5
+    assert feedback_expected_s("armed", lockstep=True, commanding=False, odom_rate=50.0) is None
+    assert feedback_expected_s("connecting", lockstep=False, commanding=True, odom_rate=50.0) is None
 
 
 # -- connection ------------------------------------------------------------------------------------

@@ -20,6 +20,7 @@ from conformance_scenarios import (
     sc_failsafe,
     sc_handshake,
     sc_lockstep,
+    sc_lockstep_disarmed,
     sc_reliable_config,
     sc_reset_mid_session,
 )
@@ -35,6 +36,7 @@ SCENARIOS = {
     "reset_mid_session": sc_reset_mid_session,
     "reliable_config": sc_reliable_config,
     "lockstep": sc_lockstep,
+    "lockstep_disarmed": sc_lockstep_disarmed,
     "duplicate_arm": sc_duplicate_arm,
     "encoder_fault": sc_encoder_fault,
     "save_config": sc_save_config,

@@ -4,6 +4,7 @@ reliable requests, lockstep, driving): each runs on a backend and returns what i
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 
 from conformance_backends import Host, wire
@@ -187,6 +188,63 @@ def sc_lockstep(h: Host) -> dict[str, object]:
         "all_answered": all(acks),
         "one_per_setpoint": len([m for _, m in fbs if not m.status & Status.FAILSAFE]) == 20,  # type: ignore[attr-defined]
     }
+
+
+LOCKSTEP_STREAM_HZ = 25
+"""sc_lockstep_disarmed's feedback_hz: every 4 ticks, unlike the config's 50 Hz."""
+
+
+def _streamed(fbs: list[tuple[int, Message]], ms: int) -> dict[str, object]:
+    """What FEEDBACKs streamed for `ms` show: how many (per second), the tick gaps, the status bits."""
+    got = [m for _, m in fbs if isinstance(m, messages.Feedback)]
+    return {
+        "per_s_ok": abs(len(got) - LOCKSTEP_STREAM_HZ * ms / 1000) <= 1,
+        "gaps": sorted({(b.tick - a.tick) % 65536 for a, b in itertools.pairwise(got)}),
+        "status": sorted({int(m.status) for m in got}),
+    }
+
+
+def sc_lockstep_disarmed(h: Host) -> dict[str, object]:
+    """Lockstep out of ARMED: FEEDBACK streams at feedback_hz (DISARMED, FAILSAFE); while ARMED one
+    per applied setpoint and none without. A state change is seen at once: the first tick out of
+    ARMED streams."""
+    b = boot(h)
+    ident = h.request(hello(FeedbackMode.LOCKSTEP, LOCKSTEP_STREAM_HZ))
+    assert isinstance(ident, messages.Identity) and ident.feedback_mode == FeedbackMode.LOCKSTEP
+    out: dict[str, object] = {}
+    t0 = h.b.now_us
+    h.run_ms(500)
+    out["disarmed"] = _streamed(h.since(messages.Feedback, t0), 500)
+
+    def armed_phase(key: str, setpoints: int) -> None:
+        assert isinstance(h.request(messages.Arm(b.boot_id)), messages.Ack)
+        t = h.b.now_us  # every FEEDBACK sent before the ACK arrived before it
+        h.run_ms(50)  # no setpoint, within the watchdog
+        silent = not h.since(messages.Feedback, t)
+        answered = 0
+        for k in range(setpoints):
+            seq = h.send(messages.SetWheelSpeeds(10 * k, 0))
+            h.run_ms(2 * TICK_MS)
+            fbs = [m for _, m in h.since(messages.Feedback, h.sent_at[seq])]
+            answered += int(len(fbs) == 1 and fbs[0].ack_seq == seq)  # type: ignore[attr-defined]
+        out[key] = {"silent_without_setpoint": silent, "answered": answered}
+
+    armed_phase("armed", 10)
+    assert isinstance(h.request(messages.Disarm()), messages.Ack)
+    t_ack = h.b.now_us
+    h.run_ms(500)
+    fbs = h.since(messages.Feedback, t_ack)
+    out["disarmed_again"] = _streamed(fbs, 500)
+    out["first_within_a_tick"] = bool(fbs) and fbs[0][0] - t_ack <= (TICK_MS + 5) * 1000
+    armed_phase("armed_again", 5)
+    t_last = h.b.now_us
+    h.run_ms(PROFILES["diffdrive-tb6612"].config.watchdog_ms + 500)
+    fbs = h.since(messages.Feedback, t_last)
+    assert fbs and isinstance(fbs[0][1], messages.Feedback), f"{h.b.name}: no FEEDBACK after the watchdog"
+    t_fs = fbs[0][0]
+    out["failsafe_first_reason"] = fbs[0][1].failsafe_reason
+    out["failsafe"] = _streamed(h.since(messages.Feedback, t_fs), h.b.now_us // 1000 - t_fs // 1000)
+    return out
 
 
 def sc_drive(h: Host, profile: str) -> dict[str, object]:

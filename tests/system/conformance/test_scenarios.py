@@ -21,7 +21,7 @@ from conformance_backends import BACKENDS, Backend, make_backend
 from conformance_runner import PROFILE, reference, run
 from conformance_scenarios import TICK_MS
 
-from protocol.generated.enums import FailsafeReason, FeedbackMode
+from protocol.generated.enums import FailsafeReason, FeedbackMode, Status
 from protocol.generated.profiles import PROFILES
 
 BOOT_TIMEOUT_MS = 2500
@@ -86,6 +86,25 @@ def test_lockstep(tb6612: Backend) -> None:
     got = run(tb6612, "lockstep")
     assert got == reference("lockstep")
     assert got["mode"] == FeedbackMode.LOCKSTEP and got["all_answered"] and got["one_per_setpoint"]
+
+
+def test_lockstep_streams_out_of_armed(tb6612: Backend) -> None:
+    got = run(tb6612, "lockstep_disarmed")
+    assert got == reference("lockstep_disarmed")
+    session = Status.SESSION | Status.LOCKSTEP
+
+    def streamed(key: str, want: Status) -> None:
+        phase = got[key]
+        assert isinstance(phase, dict) and phase["per_s_ok"] and phase["gaps"] == [4], (key, phase)
+        assert all(s & (want | Status.ARMED) == want for s in phase["status"]), (key, phase)
+
+    streamed("disarmed", session)
+    streamed("disarmed_again", session)
+    streamed("failsafe", session | Status.FAILSAFE)
+    for key, setpoints in (("armed", 10), ("armed_again", 5)):
+        assert got[key] == {"silent_without_setpoint": True, "answered": setpoints}, key
+    assert got["first_within_a_tick"]
+    assert got["failsafe_first_reason"] == FailsafeReason.COMM_TIMEOUT
 
 
 # -- physics: within tolerances ------------------------------------------------------------------------------

@@ -317,7 +317,7 @@ ROVERLINK_OUT_OF_LINE void Firmware::control_tick(uint16_t periods, uint32_t now
         v.blink = 0;
     }
 
-    // 9. Feedback: stream (always in IDLE) on a countdown; lockstep once per applied setpoint.
+    // 9. Feedback: lockstep while ARMED once per applied setpoint; otherwise streamed on a countdown.
     if (session_.feedback_due(applied)) {
         send_feedback(now);
     }

@@ -341,7 +341,10 @@ uint8_t SessionCore::session_status() const {
 }
 
 bool SessionCore::feedback_due(bool applied, uint8_t config_hz) {
-    if (in_session() && v_.mode == proto::FeedbackMode::LOCKSTEP) {
+    // Lockstep answers setpoints only while ARMED; out of ARMED it streams like stream mode. The
+    // countdown is held at 0 meanwhile, so the first tick out of ARMED streams one at once.
+    if (armed() && v_.mode == proto::FeedbackMode::LOCKSTEP) {
+        v_.fb_countdown = 0;
         return applied;
     }
     if (v_.fb_countdown != 0) {

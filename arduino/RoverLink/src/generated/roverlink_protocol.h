@@ -73,7 +73,7 @@ struct Capability {
 // How FEEDBACK is scheduled.
 enum class FeedbackMode : uint8_t {
     STREAM = 0,  // FEEDBACK at a fixed rate; setpoints whenever the host likes.
-    LOCKSTEP = 1,  // Exactly one FEEDBACK answers each applied setpoint.
+    LOCKSTEP = 1,  // While ARMED, exactly one FEEDBACK answers each applied setpoint (none without one); while the session is open but not ARMED, FEEDBACK streams at feedback_hz as in STREAM, the first in the first tick out of ARMED.
 };
 inline bool is_valid_FeedbackMode(uint8_t value) {
     return value <= 1;
@@ -691,7 +691,7 @@ inline bool unpack(const uint8_t* payload, uint8_t len, LinkStats& m) {
 // or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const LinkStats&) { return ALL_FIELDS_VALID; }  // no ranged field
 
-// FEEDBACK (0x90, mcu to host, telemetry): Robot state at one control tick: in stream mode at the session rate, in lockstep mode once per applied setpoint.
+// FEEDBACK (0x90, mcu to host, telemetry): Robot state at one control tick. Streamed every round(CONTROL_RATE_HZ / feedback_hz) ticks: before any HELLO at the config's rate; in a stream session at the session's feedback_hz; in a lockstep session while it is not ARMED (DISARMED, FAILSAFE) as in stream mode, the first in the first tick out of ARMED. In a lockstep session while ARMED: exactly one in each tick that applied a setpoint, none in any other.
 struct ROVERLINK_PACKED Feedback {
     enum : uint8_t { ID = 0x90, CRC_EXTRA = 0x3F, PAYLOAD_SIZE = 33, PAYLOAD_MAX = 33 };
     enum : int16_t { EFFORT_PERMILLE_MIN = -1000, EFFORT_PERMILLE_MAX = 1000 };

@@ -1303,6 +1303,89 @@ static void test_lockstep() {
     CHECK_EQ(h.count<proto::Feedback>(), 0u);
 }
 
+// FEEDBACKs `ticks` apart, each with the status bits in `want` and none in `not_want`.
+static bool spaced(const std::vector<proto::Feedback>& fbs, uint16_t ticks, uint8_t want, uint8_t not_want) {
+    for (size_t k = 0; k < fbs.size(); ++k) {
+        if ((fbs[k].status & want) != want || (fbs[k].status & not_want) != 0) {
+            return false;
+        }
+        if (k > 0 && static_cast<uint16_t>(fbs[k].tick - fbs[k - 1].tick) != ticks) {
+            return false;
+        }
+    }
+    return true;
+}
+
+static void test_lockstep_out_of_armed() {
+    using proto::Status;
+    const uint8_t session = Status::SESSION | Status::LOCKSTEP;
+    CONTEXT("lockstep, DISARMED: FEEDBACK streams at the session's feedback_hz");
+    Sim s(BTS7960, 45);
+    Host h(s);
+    s.advance_us(5000);  // requests between ticks
+    open_session(h, FeedbackMode::LOCKSTEP, 25, 100);
+    quiet_pid(h);
+    h.clear();
+    h.run(1000000);
+    std::vector<proto::Feedback> fbs = h.all<proto::Feedback>();
+    CHECK_EQ(fbs.size(), 25u);
+    CHECK(spaced(fbs, 4, session, Status::ARMED | Status::FAILSAFE));
+
+    CONTEXT("lockstep, ARMED: none without a setpoint, exactly one per applied setpoint");
+    h.send(arm_msg(s.fw->boot_id()));
+    h.run();
+    CHECK(s.fw->state() == SessionState::ARMED);
+    h.clear();
+    h.run(40000);  // within the 100 ms watchdog
+    CHECK_EQ(h.count<proto::Feedback>(), 0u);
+    uint16_t applied_tick = 0;
+    for (int k = 0; k < 5; ++k) {
+        h.clear();
+        const uint8_t seq = h.send(wheels(static_cast<int16_t>(20 * k), 0));
+        h.run(10000);
+        fbs = h.all<proto::Feedback>();
+        CHECK_EQ(fbs.size(), 1u);
+        CHECK(!fbs.empty() && fbs[0].ack_seq == seq && (fbs[0].status & Status::ARMED));
+        applied_tick = fbs.empty() ? 0 : fbs[0].tick;
+    }
+
+    CONTEXT("lockstep, DISARM: the first FEEDBACK in the first tick out of ARMED, then at feedback_hz");
+    h.clear();
+    const uint8_t disarm = h.send(proto::Disarm());
+    h.run();
+    CHECK(acked(h, proto::Disarm::ID, disarm) && s.fw->state() == SessionState::DISARMED);
+    h.clear();
+    h.run(1000000);
+    fbs = h.all<proto::Feedback>();
+    CHECK_EQ(fbs.size(), 25u);
+    CHECK(!fbs.empty() && fbs[0].tick == static_cast<uint16_t>(applied_tick + 1));
+    CHECK(spaced(fbs, 4, session, Status::ARMED | Status::FAILSAFE));
+
+    CONTEXT("lockstep, armed again: back to one per setpoint at once, none without");
+    h.send(arm_msg(s.fw->boot_id()));
+    h.run();
+    h.clear();
+    h.run(40000);
+    CHECK_EQ(h.count<proto::Feedback>(), 0u);
+    for (int k = 0; k < 3; ++k) {
+        h.clear();
+        const uint8_t seq = h.send(wheels(0, static_cast<int16_t>(20 * k)));
+        h.run(10000);
+        fbs = h.all<proto::Feedback>();
+        CHECK_EQ(fbs.size(), 1u);
+        CHECK(!fbs.empty() && fbs[0].ack_seq == seq && fbs[0].tick == fbs[0].ack_tick);
+    }
+
+    CONTEXT("lockstep, FAILSAFE: the watchdog's tick sends one, then FEEDBACK streams at feedback_hz");
+    h.clear();
+    h.run(1000000);  // no setpoint: the 100 ms watchdog expires
+    CHECK(s.fw->state() == SessionState::FAILSAFE);
+    fbs = h.all<proto::Feedback>();
+    CHECK(fbs.size() >= 22u && fbs.size() <= 23u);  // 0.9 s at 25 Hz after the watchdog's 0.1 s
+    CHECK(spaced(fbs, 4, session | Status::FAILSAFE, Status::ARMED));
+    CHECK(!fbs.empty() && fbs[0].failsafe_reason == FailsafeReason::COMM_TIMEOUT);
+}
+
 static void test_stream_rates() {
     struct Case {
         uint8_t hz;
@@ -1887,6 +1970,7 @@ int main() {
     test_output_limits();
     test_ramp_in_loop();
     test_lockstep();
+    test_lockstep_out_of_armed();
     test_stream_rates();
     test_feedback_contents();
     test_steering_and_esc();
