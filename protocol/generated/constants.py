@@ -1,11 +1,11 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x198EFDDA
+# spec hash: 0x522F713F
 """Protocol constants."""
 
 from typing import Final
 
-PROTOCOL_VERSION: Final = 1
-SPEC_HASH: Final = 0x198EFDDA
+PROTOCOL_VERSION: Final = 2
+SPEC_HASH: Final = 0x522F713F
 MAX_PAYLOAD: Final = 64
 MAX_BODY: Final = 68
 """Longest decoded frame: msg_id, seq, payload, CRC."""

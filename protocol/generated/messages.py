@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x198EFDDA
+# spec hash: 0x522F713F
 """Message classes: frozen, slotted dataclasses with pack() and unpack()."""
 
 from __future__ import annotations

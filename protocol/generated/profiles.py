@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x198EFDDA
+# spec hash: 0x522F713F
 """Reference robot profiles: firmware defaults, kinematics and feedback mode, by name."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x198EFDDA
+// spec hash: 0x522F713F
 // Defaults of the DiffDriveBTS7960 example (diffdrive-bts7960): 3D-printed SLAM robot: Mega 2560, two BTS7960 drivers (RPWM/LPWM), 19.2:1 gearmotors with 64 CPR encoders, lockstep command/feedback.
 // Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.
 #ifndef ROVERLINK_EXAMPLE_DIFFDRIVEBTS7960_PROFILE_H

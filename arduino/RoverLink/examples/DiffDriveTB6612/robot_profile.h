@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x198EFDDA
+// spec hash: 0x522F713F
 // Defaults of the DiffDriveTB6612 example (diffdrive-tb6612): ros_arduino_bridge-style differential-drive car: Mega 2560, TB6612 (or L298N), two quadrature encoders, four turn-signal LEDs, stream feedback.
 // Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.
 #ifndef ROVERLINK_EXAMPLE_DIFFDRIVETB6612_PROFILE_H

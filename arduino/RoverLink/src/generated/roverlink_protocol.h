@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x198EFDDA
+// spec hash: 0x522F713F
 // RoverLink protocol: constants, enums, message structs (packed wire images) and their checks,
 // pack/unpack, dispatch, state table.
 #ifndef ROVERLINK_GENERATED_PROTOCOL_H
@@ -18,8 +18,8 @@
 namespace roverlink {
 namespace proto {
 
-static const uint8_t PROTOCOL_VERSION = 1;
-static const uint32_t SPEC_HASH = 0x198EFDDAUL;
+static const uint8_t PROTOCOL_VERSION = 2;
+static const uint32_t SPEC_HASH = 0x522F713FUL;
 static const uint8_t MAX_PAYLOAD = 64;
 static const uint8_t MAX_BODY = 68;  // msg_id + seq + payload + crc
 static const uint8_t MAX_FRAME = 70;  // COBS-encoded body + delimiter
