@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import contextlib
 import http.client
+import socket
 import threading
 import time
 import urllib.parse
@@ -20,8 +21,9 @@ from host_sdk.transport import Transport
 QUEUED_FRAMES = 8
 """Frames an HTTP stream keeps for a reader that falls behind (older ones are dropped, as a V4L2
 queue drops them); the emulator's byte stream keeps its own."""
-READ_SLICE_S = 0.25
-"""How long the HTTP reading thread waits for bytes before it looks at its stop flag again."""
+STALLS = 3
+"""Times in a row an HTTP stream may send nothing for `timeout_s` (each time it is requested again)
+before it counts as ended."""
 
 
 class ByteStreamBackend:
@@ -72,6 +74,7 @@ class HttpMjpegBackend:
         self._ended: str | None = None
         self._frames = 0
         self.skipped = 0
+        self._sock: socket.socket | None = None
         self._conn, response = self._request()
         kind = response.headers.get_content_type()
         self._snapshot = kind == "image/jpeg"
@@ -81,8 +84,6 @@ class HttpMjpegBackend:
                 f"camera {url}: the server sent {kind}, not an MJPEG stream (multipart/x-mixed-replace) or a JPEG"
             )
         self.detail = "HTTP JPEG snapshots" if self._snapshot else "HTTP MJPEG stream"
-        if not self._snapshot and self._conn.sock is not None:  # short reads: the thread sees `close()` in time
-            self._conn.sock.settimeout(READ_SLICE_S)
         self._thread = threading.Thread(target=self._run, args=(response,), name="roverlink-camera-http", daemon=True)
         self._thread.start()
 
@@ -93,6 +94,7 @@ class HttpMjpegBackend:
         conn = factory(parts.hostname or "", parts.port, timeout=self._timeout_s)
         try:
             conn.request("GET", path, headers={"Accept": "multipart/x-mixed-replace, image/jpeg"})
+            self._sock = conn.sock  # (the connection lets go of it when the response reads to the close)
             response = conn.getresponse()
         except OSError as exc:
             conn.close()
@@ -103,23 +105,33 @@ class HttpMjpegBackend:
         return conn, response
 
     def _run(self, response: http.client.HTTPResponse) -> None:
+        stalls = 0
         try:
             while not self._stop.is_set():
                 if self._snapshot:
                     self._snapshot_once(response)
-                    response = self._next_snapshot()
+                    response = self._again()
                     continue
                 try:
                     data = response.read1(65536)
                 except TimeoutError:
+                    # A socket file that timed out cannot be read again: ask for the stream anew.
+                    stalls += 1
+                    if stalls >= STALLS:
+                        raise SensorClosedError(f"nothing came for {STALLS} x {self._timeout_s:g} s") from None
+                    response = self._again()
                     continue
                 if not data:
+                    if self._stop.is_set():
+                        return
                     raise SensorClosedError(f"the server closed the stream after {self._frames} frames")
+                stalls = 0
                 self._parser.receive_data(data, time.monotonic())
                 self._keep([Capture(p.t, jpeg=p.jpeg, counter=p.frame, device_t=p.timestamp)
                             for p in self._parser.parts()])  # fmt: skip
         except (OSError, http.client.HTTPException) as exc:  # SensorClosedError and SensorOpenError too
-            self._end(str(exc) or type(exc).__name__)
+            if not self._stop.is_set():
+                self._end(str(exc) or type(exc).__name__)
         finally:
             self._conn.close()
 
@@ -129,8 +141,9 @@ class HttpMjpegBackend:
         if body[:2] == b"\xff\xd8":
             self._keep([Capture(time.monotonic(), jpeg=body)])
 
-    def _next_snapshot(self) -> http.client.HTTPResponse:
-        if self.fps:  # pace the requests at the asked rate; otherwise as fast as the server answers
+    def _again(self) -> http.client.HTTPResponse:
+        """The next snapshot, or the stream asked for again after a stall."""
+        if self._snapshot and self.fps:  # pace the requests at the asked rate; else as fast as answered
             self._stop.wait(1.0 / self.fps)
         self._conn.close()
         self._conn, response = self._request()
@@ -169,6 +182,10 @@ class HttpMjpegBackend:
 
     def close(self) -> None:
         self._stop.set()
+        sock = self._sock
+        if sock is not None:  # wakes the reading thread from its wait for bytes
+            with contextlib.suppress(OSError):
+                sock.shutdown(socket.SHUT_RDWR)
         self._thread.join(timeout=2.0)
         with contextlib.suppress(OSError):
             self._conn.close()

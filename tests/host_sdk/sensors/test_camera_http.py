@@ -4,6 +4,7 @@ X-Frame/X-Timestamp, a URL that answers one JPEG per request, a server that clos
 from __future__ import annotations
 
 import threading
+import time
 from collections.abc import Callable, Iterator
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 
@@ -131,3 +132,45 @@ def test_wrong_answers_name_what_came(serve: Callable[[Handler], str]) -> None:
         CameraSource(serve(missing))
     with pytest.raises(SensorOpenError, match=r"http://127.0.0.1:1/stream: could not connect"):
         CameraSource("http://127.0.0.1:1/stream", timeout_s=2.0)  # nothing listens on port 1
+
+
+def test_a_slow_camera_keeps_streaming_and_close_does_not_wait_for_it(serve: Callable[[Handler], str]) -> None:
+    done = threading.Event()
+
+    def two_fps(h: BaseHTTPRequestHandler) -> None:
+        h.send_response(200)
+        h.send_header("Content-Type", "multipart/x-mixed-replace; boundary=frame")
+        h.end_headers()
+        for n in range(1, 4):
+            h.wfile.write(part(jpeg(30 * n), {"X-Frame": str(n)}))
+            h.wfile.flush()
+            if done.wait(0.5):  # a camera at 2 frames per second
+                return
+        done.wait(10)
+
+    with CameraSource(serve(two_fps), timeout_s=3.0) as cam:
+        frames = [cam.read(3.0) for _ in range(3)]  # half a second apart: no read gives up between
+        assert [f.seq for f in frames] == [1, 2, 3] and cam.dropped == 0
+        started = time.monotonic()
+    assert time.monotonic() - started < 1.0  # close woke the reader, which was waiting for bytes
+    done.set()
+
+
+def test_a_stream_that_stalls_is_asked_for_again(serve: Callable[[Handler], str]) -> None:
+    requests = [0]
+    done = threading.Event()
+
+    def stalls_once(h: BaseHTTPRequestHandler) -> None:
+        requests[0] += 1
+        first = requests[0] == 1
+        multipart([part(jpeg(60 if first else 120), {"X-Frame": "1" if first else "7"})])(h)
+        if first:
+            done.wait(10)  # then nothing: the client gives up on this connection
+
+    try:
+        with CameraSource(serve(stalls_once), timeout_s=0.5) as cam:
+            first, second = cam.read(3.0), cam.read(3.0)
+        assert requests[0] == 2 and abs(int(second.image.mean()) - 120) <= 2
+        assert first.seq == 1 and second.seq == 2
+    finally:
+        done.set()
