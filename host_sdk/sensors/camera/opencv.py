@@ -32,7 +32,7 @@ class OpenCvBackend:
                  timeout_s: float) -> None:  # fmt: skip
         self._cv2 = cv2 = require("cv2", "vision", "the camera")
         self.source = text = str(source)
-        if isinstance(source, int) or text.startswith("/dev/video"):
+        if isinstance(source, int) or text.startswith(("/dev/video", "/dev/v4l/")):
             path = f"/dev/video{source}" if isinstance(source, int) else text
             check_device(path)
             cap = cv2.VideoCapture(source, cv2.CAP_V4L2)

@@ -22,10 +22,12 @@ from host_sdk.transport.plugins import open_plugin
 
 PICAMERA2 = re.compile(r"picamera2(?::(\d+))?")
 SHORTHAND = re.compile(rf"({'|'.join(re.escape(k) for k in PIPELINES)})(?::(\d+))?")
+V4L2_PATHS = ("/dev/video", "/dev/v4l/")
+"""/dev/videoN, and the stable names udev gives them (/dev/v4l/by-id/..., /dev/v4l/by-path/...)."""
 SOURCES = (
-    "picamera2[:N], a V4L2 device (N or /dev/videoN), libcamera or jetson-csi[:N] (GStreamer), a GStreamer "
-    "pipeline (text with '!'), an http:// MJPEG URL, another URL OpenCV opens (rtsp://...), or a video file "
-    "or image folder (a path or file://)"
+    "picamera2[:N], a V4L2 device (N, /dev/videoN or /dev/v4l/by-id/...), libcamera or jetson-csi[:N] "
+    "(GStreamer), a GStreamer pipeline (text with '!'), an http:// MJPEG URL, another URL OpenCV opens "
+    "(rtsp://...), or a video file or image folder (a path or file://)"
 )
 
 
@@ -50,7 +52,7 @@ def open_backend(source: int | str, *, width: int | None, height: int | None, fp
         return ReplayBackend(path, fps=fps)
     if scheme and (port := open_plugin(source, 0)) is not None:  # a plugin's byte stream (emudev://)
         return ByteStreamBackend(port)
-    if scheme or "!" in source or source.startswith("/dev/video"):
+    if scheme or "!" in source or source.startswith(V4L2_PATHS):
         return OpenCvBackend(source, width=width, height=height, fps=fps, timeout_s=timeout_s)
     raise SensorOpenError(f"camera {source!r}: not a source this can open, nor an existing file: {SOURCES}")
 

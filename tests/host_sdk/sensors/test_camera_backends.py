@@ -113,6 +113,8 @@ def test_v4l2_device_missing_or_not_readable_names_the_fix(monkeypatch: pytest.M
         CameraSource("/dev/video99")
     with pytest.raises(SensorOpenError, match=r"/dev/video98: no such device"):
         CameraSource(98)
+    with pytest.raises(SensorOpenError, match=r"/dev/v4l/by-id/usb-cam-video-index0: no such device"):
+        CameraSource("/dev/v4l/by-id/usb-cam-video-index0")  # udev's stable name for a webcam
     from host_sdk.sensors.camera import opencv
 
     node = tmp_path / "video0"
