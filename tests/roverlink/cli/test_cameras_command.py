@@ -81,3 +81,24 @@ def test_picamera2_cameras_are_listed_and_probed(
     fake.stall = True
     assert main(["cameras", "--root", str(tmp_path), "--probe"]) == 1  # a camera that gives nothing fails
     assert "probe failed: picamera2:0: no camera frame within 5 s" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("camera", "says"),
+    [
+        (
+            "libcamera",
+            "was built without GStreamer, so the pipeline cannot open; on a Raspberry Pi use --camera picamera2",
+        ),
+        ("picamera2", "sudo apt install python3-picamera2"),
+        ("/dev/video99", "/dev/video99: no such device"),
+    ],
+)
+def test_a_tool_given_a_camera_it_cannot_open_says_what_is_missing(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str], camera: str, says: str
+) -> None:
+    fake_picamera2.hide(monkeypatch)
+    argv = ["record", "emu://picar?clock=virtual", "-o", str(tmp_path / "run.mcap"), "--duration", "0.1"]
+    assert main([*argv, "--camera", camera]) == 1
+    err = capsys.readouterr().err
+    assert says in err and err.count("\n") == 1  # one line, no traceback
