@@ -7,12 +7,13 @@ that owns the port (a host_sdk.transport Transport, opened by `open_transport` a
   revolutions as `LidarScan` with a time on every point; `LaserScanner` (laserscan.py) re-cuts them
   at the rear into REP-117 `LaserScanData`, the fields of a ROS LaserScan;
 - `Jy901`: the WIT standard protocol (`wit.WitParser`), samples in SI units, configuration;
-- `CameraSource`: frames over OpenCV (V4L2, GStreamer, URLs; MJPEG byte streams via
-  `mjpeg.MjpegParser`), with capture times and dropped-frame counts.
+- `CameraSource`: frames from picamera2, V4L2, GStreamer (where OpenCV has it), MJPEG over HTTP
+  and byte streams (`mjpeg.MjpegParser`), or a replay, with capture times and dropped-frame counts
+  (the `camera` package, a module per route).
 
 The same classes open real devices (`/dev/ttyUSB0`, `/dev/video0`) and an emulator's devices
 (the `emudev://` URLs an `emu://` robot lists in `transport.endpoints`). numpy is the only
-dependency here; OpenCV is imported by the camera source when it opens.
+dependency here; OpenCV (and picamera2) are imported by the camera source when it opens.
 
 `Sensors` (hub.py) reads a lidar, an IMU and a camera together beside the robot's loop and keeps
 their status; `DeviceReader` and `FrameGrabber` (reader.py) are its pieces: a thread per device on a

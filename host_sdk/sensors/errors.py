@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from host_sdk.errors import RoverLinkError
+from host_sdk.extras import MissingDependencyError
 
 
 class SensorTimeoutError(RoverLinkError, TimeoutError):
@@ -21,3 +22,16 @@ class SensorClosedError(RoverLinkError, ConnectionError):
 
 class SensorOpenError(RoverLinkError, OSError):
     """A sensor could not be opened; names the kind of device, where, and why."""
+
+
+class CameraBackendError(MissingDependencyError):
+    """A camera route's software is missing (a module, or a feature the OpenCV build lacks): names
+    the source, the missing piece, and what to install. An ImportError, as MissingDependencyError
+    is, so a tool reports it in one line."""
+
+    def __init__(self, source: str, missing: str, install: str) -> None:
+        self.source = source
+        self.module = missing
+        self.install = install
+        self.extra = ""
+        super(MissingDependencyError, self).__init__(f"camera {source}: {missing}; {install}")

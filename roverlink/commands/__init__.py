@@ -9,6 +9,7 @@ from types import ModuleType
 
 from roverlink.commands import (
     calibrate,
+    cameras,
     decode,
     demo,
     emulate,
@@ -31,6 +32,7 @@ COMMANDS: tuple[ModuleType, ...] = (
     info,
     robot,
     ports,
+    cameras,
     emulate,
     firmware,
     monitor,

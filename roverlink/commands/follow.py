@@ -11,7 +11,7 @@ camera, lidar mount, steering) and the lidar model are the file's.
 On a robot (the board, the lidar, the camera and optionally the IMU):
 
     roverlink follow --url /dev/ttyACM0 --profile picar --lidar /dev/ttyUSB0 \\
-        --camera "libcamerasrc ! ... ! appsink" --template target.png --target-height 0.3
+        --camera picamera2 --template target.png --target-height 0.3
 
 Progress goes to stderr once a second; with --json the metrics are printed on stdout at the end
 (duration, collisions (emulator), the share of the time the target was in view, following error,
@@ -36,6 +36,7 @@ from roverlink.console import add_robot_file_args
 from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress
+from roverlink.sensors.options import CAMERA_HELP, camera_source
 
 
 def _positive(text: str) -> float:
@@ -90,7 +91,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     r.add_argument("--lidar", metavar="PORT", help="the lidar's port")
     r.add_argument("--lidar-model", choices=("rplidar-a1", "ydlidar-f4"), help="default: the profile's or file's")
     r.add_argument("--imu", metavar="PORT", help="the JY901's port (optional: fuses its gyro with odometry)")
-    r.add_argument("--camera", metavar="SOURCE", help="V4L2 index or path, GStreamer pipeline, or URL")
+    r.add_argument("--camera", metavar="SOURCE", help=CAMERA_HELP)
     r.add_argument("--template", type=Path, metavar="IMAGE", help="an image of the target")
     r.add_argument("--select", type=_box, metavar="X,Y,W,H", help="the target's box in the first frame")
     r.add_argument("--target-height", type=_positive, metavar="M", help="the target's height (gives its range)")
@@ -146,8 +147,15 @@ def cmd_follow(args: argparse.Namespace) -> int:
                     print(f"roverlink follow: cannot read the image {args.template}", file=sys.stderr)
                     return 2
                 template = np.asarray(image, dtype=np.uint8)
-            camera = int(args.camera) if args.camera.isdigit() else args.camera
-            ports = RobotPorts(args.url, args.lidar, camera, args.imu, args.lidar_model, args.baud, args.allow_mismatch)
+            ports = RobotPorts(
+                args.url,
+                args.lidar,
+                camera_source(args.camera),
+                args.imu,
+                args.lidar_model,
+                args.baud,
+                args.allow_mismatch,
+            )
             metrics = run_robot(ports, robot, template=template, select=args.select, pilot=args.pilot,
                                 settings=settings, progress=progress, record=record)  # fmt: skip
     except MissingDependencyError:

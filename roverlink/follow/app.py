@@ -132,7 +132,7 @@ class RobotPorts:
     """The board."""
     lidar: str
     camera: str | int
-    """A V4L2 index or path, a GStreamer pipeline, or a URL (host_sdk.sensors.CameraSource)."""
+    """Any host_sdk.sensors.CameraSource source: picamera2, a V4L2 index or path, jetson-csi, a pipeline, a URL."""
     imu: str | None = None
     lidar_model: str | None = None
     """rplidar-a1 or ydlidar-f4 (default: the profile's or the robot file's)."""
@@ -157,12 +157,13 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
     warn_mismatches(robot)
     camera = lidar = imu = None
     try:
-        camera = CameraSource(ports.camera)
+        geo = geometry_for(robot, profile)
+        # asked at the size the pilot's camera model has (a device that cannot set it gives its own)
+        camera = CameraSource(ports.camera, width=geo.camera.width, height=geo.camera.height)
         if select is not None:
             x, y, w, h = (round(v) for v in select)
             template = camera.read(5.0).image[y : y + h, x : x + w].copy()
         assert template is not None
-        geo = geometry_for(robot, profile)
         chosen = make_pilot(pilot, geo, template, settings)
         lidar = Lidar.open(ports.lidar, ports.lidar_model or emulated.lidar_for(profile))
         imu = Jy901.open(ports.imu) if ports.imu else None

@@ -18,8 +18,6 @@ from dataclasses import dataclass
 
 from host_sdk import Robot
 from host_sdk.profiles import profile_for_example
-from host_sdk.sensors import gstreamer_pipeline
-from host_sdk.sensors.camera import PIPELINES
 from host_sdk.sensors.hub import Sensors, short_source
 from host_sdk.sensors.imu import DEFAULT_BAUD
 from host_sdk.sensors.lidar import MODELS
@@ -29,8 +27,10 @@ from roverlink.emulated import emulator_of
 
 KINDS = ("lidar", "imu", "camera")
 CAMERA_HELP = (
-    "a V4L2 device (/dev/video0, or its number), libcamera or jetson-csi (the usual GStreamer pipeline for a "
-    "Raspberry Pi or Jetson CSI camera), any GStreamer pipeline (text with '!'), or a URL (http://.../stream.mjpg)"
+    "picamera2[:N] (a Raspberry Pi camera on Raspberry Pi OS), a V4L2 device (/dev/video0, or its number), "
+    "jetson-csi or libcamera (the usual GStreamer pipeline, with an OpenCV built with GStreamer), any GStreamer "
+    "pipeline (text with '!'), an MJPEG URL (http://.../stream), or a video file or image folder to replay; "
+    "`roverlink cameras` lists this machine's"
 )
 
 
@@ -80,12 +80,8 @@ def add_sensor_args(p: argparse.ArgumentParser, kinds: Sequence[str] = KINDS, of
 
 
 def camera_source(text: str) -> str | int:
-    """A --camera value as CameraSource takes it."""
-    if text.isdigit():
-        return int(text)
-    if text in PIPELINES:
-        return gstreamer_pipeline(text)
-    return text
+    """A --camera value as CameraSource takes it (a V4L2 device's number as an int)."""
+    return int(text) if text.isdigit() else text
 
 
 def choose_sensors(args: argparse.Namespace, robot: Robot, kinds: Sequence[str] = KINDS) -> SensorChoice:

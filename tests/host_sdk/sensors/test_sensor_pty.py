@@ -113,9 +113,12 @@ def test_cv2_videocapture_opens_the_camera_url_unchanged(served: dict[str, list[
         assert ok and image.shape == (240, 320, 3)
     finally:
         cap.release()
-    with CameraSource(url) as cam:
-        frame = cam.read()
+    with CameraSource(url) as cam:  # the SDK's own MJPEG reader: the emulator's headers are kept
+        frame, after = cam.read(5.0), cam.read(5.0)
+        assert cam.detail == "HTTP MJPEG stream"
     assert frame.image.shape == (240, 320, 3) and frame.seq == 1
+    assert frame.device_time_s is not None and after.device_time_s is not None
+    assert after.device_time_s > frame.device_time_s and frame.jpeg is not None
 
 
 @pytest.mark.parametrize(
