@@ -95,6 +95,12 @@ class LaserScanner:
         self.cut_rad = -math.pi - self.increment / 2
         """The rear cut: the boundary behind ray 0 (rays are at the middle of their bins)."""
         self.count = 0
+        self.refitted = 0
+        """Revolutions whose measured times did not lie on a line at the device's rate (bursty
+        reads): timed at that rate instead."""
+        self.retimed = 0
+        """Messages whose time would have gone back past the one before (moved after it)."""
+        self._last_stamp: float | None = None
         self._pending: _Points | None = None
         self._last: tuple[float, float, float] | None = None  # (angle, progress, time) of the last point
         self._done = -1  # revolutions (by progress // 2 pi) already cut off
@@ -104,6 +110,7 @@ class LaserScanner:
     def reset(self) -> None:
         """The stream broke (the lidar was reopened): start afresh, dropping what was pending."""
         self._pending, self._last, self._done = None, None, -1
+        self._last_stamp = None
 
     def push(self, scan: LidarScan) -> list[LaserScanData]:
         """A driver revolution in; the rear-cut revolutions it completes out."""
@@ -140,6 +147,7 @@ class LaserScanner:
         bins, inc = self.bins, self.increment
         returns = ~np.isnan(p.ranges)
         slope, intercept, on_returns = _time_line(p, returns)
+        slope, intercept = self._sane_line(p, slope, intercept)
         turn = _turn(p.progress)
         if on_returns and slope != 0:
             # A no-return sample sits where the beam pointed when it was measured, by the returns'
@@ -158,13 +166,21 @@ class LaserScanner:
         intensities = np.zeros(bins)
         ok = np.isfinite(ranges)
         np.maximum.at(intensities, idx[ok], p.qualities[ok].astype(np.float64))
+        stamp = float(intercept + slope * turn0)
+        scan_time = float(abs(slope) * 2 * math.pi)
+        if self._last_stamp is not None and stamp < self._last_stamp + scan_time / 2:
+            # Late reads bound the times loosely (a starved host): never let a message's time go
+            # back past the one before it.
+            stamp = self._last_stamp + scan_time
+            self.retimed += 1
+        self._last_stamp = stamp
         data = LaserScanData(
             angle_min=-math.pi,
             angle_increment=inc,
             ranges_m=out,
             intensities=intensities,
-            time_s=float(intercept + slope * turn0),
-            scan_time_s=float(abs(slope) * 2 * math.pi),
+            time_s=stamp,
+            scan_time_s=scan_time,
             time_increment_s=float(slope * self.sign * inc),
             range_min_m=scan.range_min_m,
             range_max_m=scan.range_max_m,
@@ -172,6 +188,21 @@ class LaserScanner:
         )
         self.count += 1
         return data
+
+    def _sane_line(self, p: _Points, slope: float, intercept: float) -> tuple[float, float]:
+        """The fitted time line, or, when reads came in bursts late enough to bend it (a slope off
+        the device's own sample spacing by more than a quarter, or backwards), the line at that
+        spacing through the points' median offset."""
+        times = p.times
+        if times.shape[0] < 3:
+            return slope, intercept
+        spacing = float(np.median(np.diff(times)))
+        expected = spacing * times.shape[0] / (2 * math.pi)
+        if expected > 0 and 0.75 * expected <= slope <= 1.25 * expected:
+            return slope, intercept
+        self.refitted += 1
+        turn = _turn(p.progress)
+        return expected, float(np.median(times - expected * turn))
 
 
 def _time_line(p: _Points, returns: NDArray[np.bool_]) -> tuple[float, float, bool]:

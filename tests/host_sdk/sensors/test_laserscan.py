@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -90,3 +91,26 @@ def test_a_gap_in_the_stream_starts_afresh() -> None:
 def test_bins_below_eight_are_refused() -> None:
     with pytest.raises(ValueError, match="bins = 4"):
         LaserScanner(4, clockwise=True)
+
+
+def test_late_reads_never_turn_the_time_line_round_or_send_a_message_back_in_time() -> None:
+    """A starved host reads in bursts: its upper-bound times jump. Each message keeps the device's
+    direction and rate, and no stamp goes back past the one before."""
+    scans = _stream(3.0, clockwise=True)
+    for index, late in ((5, "half"), (8, "all"), (9, "all")):
+        s = scans[index]
+        t = s.measurement_times_s.copy()
+        if late == "half":
+            t[t.shape[0] // 2 :] += 0.3
+        else:
+            t += 0.4
+        scans[index] = LidarScan(s.device, s.index, s.angles_rad, s.ranges_m, s.qualities, t, s.range_min_m,
+                                 s.range_max_m, measured_s=t)  # fmt: skip
+    scanner = LaserScanner(360, clockwise=True)
+    msgs = [m for scan in scans for m in scanner.push(scan)]
+    nominal = 1 / HZ / 360
+    for m in msgs:
+        assert -1.25 * nominal <= m.time_increment_s <= -0.75 * nominal
+    stamps = [m.time_s for m in msgs]
+    assert all(b > a for a, b in itertools.pairwise(stamps)), stamps
+    assert scanner.refitted >= 1 and scanner.retimed >= 1
