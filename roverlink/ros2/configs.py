@@ -20,8 +20,8 @@ from typing import Union
 from host_sdk import RobotDescription
 from protocol.robotfile import REFERENCES, reference_path
 from roverlink.ros2.nav2config import nav2_params
-from roverlink.ros2.params import BY_NAME, SPECS, ParamValue
-from roverlink.ros2.robotfacts import IMU_PORT, MAP_FRAME, TOPICS, RobotFacts, frame
+from roverlink.ros2.params import SPECS, ParamValue
+from roverlink.ros2.robotfacts import MAP_FRAME, TOPICS, RobotFacts, frame
 
 Scalar = bool | int | float | str
 Tree = Mapping[str, Union["Tree", Scalar, Sequence[Scalar]]]
@@ -42,9 +42,7 @@ def node_params(robot: RobotDescription, facts: RobotFacts) -> dict[str, ParamVa
     values["lidar_url"] = facts.lidar_port
     values["lidar_model"] = facts.lidar_model
     if robot.imu is not None:
-        values["imu_url"] = robot.imu.port or IMU_PORT
-    if "publish_static_tf" in BY_NAME:  # robot_state_publisher publishes the URDF's fixed joints
-        values["publish_static_tf"] = False
+        values["imu_url"] = robot.imu.port or ""
     return values
 
 

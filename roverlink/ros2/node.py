@@ -36,7 +36,7 @@ from roverlink.ros2 import convert, fused
 from roverlink.ros2.connection import Connection
 from roverlink.ros2.diagnostics import DiagnosticsBuilder, Event, Snapshot, feedback_expected_s
 from roverlink.ros2.driver import Driver, RefusalLog, arm_hint, in_ros_words
-from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for
+from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for, robot_url
 from roverlink.ros2.sensors import ImuPublisher, LidarPublisher, SensorPublisher
 from roverlink.ros2.static_tf import StaticTf
 
@@ -99,6 +99,7 @@ class BridgeNode(Node):
             logging.getLogger(name).setLevel(logging.INFO)
         # Read once: a bad file ends the node before it connects (RobotFileError lists the problems).
         self.robot_file = RobotDescription.load(p.robot_file) if p.robot_file else None
+        self.params = p = dataclasses.replace(p, url=robot_url(p))
         self.mode = mode_for(p, self._profile_mode())
         self._pose_covariance = convert.covariance(p.pose_covariance_diagonal)
         self._pose_uncertainty = (0.0, 0.0)
@@ -187,16 +188,30 @@ class BridgeNode(Node):
         return None if emu is None else str(emu.profile)
 
     def _start_sensors(self, endpoints: Mapping[str, str]) -> None:
-        """The lidar and IMU the parameters name, or else the emulated ones of an emu:// robot."""
+        """The lidar and IMU the parameters name, or else the emulated ones of an emu:// robot, or
+        else the robot file's (their `port`)."""
         p, started = self.params, {s.kind for s in self.sensors}
-        lidar_url = p.lidar_url or endpoints.get("lidar", "")
+        own = self.robot_file if self.robot_file is not None and not p.url.startswith("emu://") else None
+        ports = {
+            kind: getattr(dev, "port", "") or ""
+            for kind, dev in (("lidar", own and own.lidar), ("imu", own and own.imu))
+        }
+        lidar_url = p.lidar_url or endpoints.get("lidar", "") or ports["lidar"]
         if lidar_url and "lidar" not in started:
             emu = self._emu_options() if not p.lidar_url else None
             model = emu.sensors.lidar if emu is not None and emu.sensors is not None else p.lidar_model
+            if own is not None and own.lidar is not None and lidar_url == ports["lidar"]:
+                model = own.lidar.model
             self.sensors.append(LidarPublisher(self, lidar_url, model, p.lidar_frame, p.scan_bins))
-        imu_url = p.imu_url or endpoints.get("imu", "")
+        imu_url = p.imu_url or endpoints.get("imu", "") or ports["imu"]
         if imu_url and "imu" not in started:
             self.sensors.append(ImuPublisher(self, imu_url, p, self.fusion))
+        for kind, dev in (("lidar", own and own.lidar), ("imu", own and own.imu)):
+            if dev is not None and not endpoints and kind not in {s.kind for s in self.sensors}:
+                self.get_logger().warning(
+                    f"the robot file has a {kind} but no port for it: set [sensors.{kind}] port (e.g. a "
+                    f"/dev/serial/by-id/... path) or the {kind}_url parameter"
+                )
 
     def _publish_static_tf(self, robot: Robot | None) -> None:
         if self.static_tf is not None:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 from host_sdk.errors import CommandRangeError
 from host_sdk.sensors.wit import G
@@ -303,3 +304,14 @@ def mode_for(params: BridgeParams, profile_mode: str | None) -> str:
     if params.mode != "auto":
         return params.mode
     return profile_mode or "stream"
+
+
+def robot_url(params: BridgeParams) -> str:
+    """The URL to connect to: an emu:// robot is the robot file's (`emu://?robot=FILE`, the rest of
+    the URL kept), as `roverlink follow --robot` emulates it, so the emulated wheels, lidar and
+    camera sit where the file says and the node's odometry and /tf_static describe that robot."""
+    url, path = params.url, params.robot_file
+    if not (path and url.startswith("emu://")) or "robot=" in url:
+        return url
+    query = url.partition("?")[2]
+    return f"emu://?robot={Path(path).resolve()}" + (f"&{query}" if query else "")

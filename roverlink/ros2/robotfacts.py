@@ -23,13 +23,12 @@ FILTERED_ODOM = "odometry/filtered"
 """robot_localization's EKF output, the odometry topic Nav2 takes when an EKF fuses odom and imu."""
 MAP_FRAME = "map"
 """SLAM Toolbox's map frame (Nav2's global frame)."""
+MAX_TURN_PER_SCAN_RAD = math.radians(30)
+"""The turn rate Nav2 may ask for is capped at this much per lidar revolution: SLAM Toolbox matches
+each scan as if taken at one instant, and a scan smeared over a faster turn matches badly."""
 FOOTPRINT_SIDES = 12
 """A disc not centred on base_link becomes a polygon of this many sides around it (Nav2's
 robot_radius is centred on base_link)."""
-LIDAR_PORT = "/dev/ttyUSB0"
-"""The lidar's port when the robot file names none (a placeholder to change)."""
-IMU_PORT = "/dev/ttyUSB1"
-"""The IMU's, likewise."""
 
 
 def frame(name: str) -> str:
@@ -84,6 +83,7 @@ class RobotFacts:
         model = lidar.model if lidar is not None else str(BY_NAME["lidar_model"].default)
         spec = DEVICES[model]
         assert isinstance(spec, LidarSpec)
+        yaw = min(yaw, MAX_TURN_PER_SCAN_RAD * spec.scan_hz)
         polygon = footprint_polygon(robot)
         return cls(
             name=robot.name,
@@ -98,7 +98,7 @@ class RobotFacts:
             footprint=polygon,
             robot_radius_m=max(math.hypot(x, y) for x, y in polygon) if polygon else robot.footprint.disc()[0],
             lidar_model=model,
-            lidar_port=(lidar.port if lidar is not None else "") or LIDAR_PORT,
+            lidar_port=lidar.port if lidar is not None and lidar.port else "",
             lidar_range_m=(spec.range_min_m, spec.range_max_m),
             feedback_hz=robot.feedback.rate_hz,
         )

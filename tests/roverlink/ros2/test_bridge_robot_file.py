@@ -1,8 +1,9 @@
 """`roverlink ros2 --robot FILE`: the node's odometry and cmd_vel use the file's geometry.
 
-The emulated TB6612 robot is built wider than the reference (track_scale: its true track is
-0.25 m, not 0.2 m); a robot file saying so makes a turn in place come out right in odometry,
-where the reference profile's track would be 25 % off.
+A robot file copied from the TB6612 robot with 0.25 m of track (the reference's is 0.2 m) and a
+name of its own: against `emu://diffdrive-tb6612` the node emulates the file's robot (its name on
+the board says so), and a turn in place comes out right in odometry, where the reference
+profile's track would be 25 % off.
 """
 
 from __future__ import annotations
@@ -24,19 +25,21 @@ from protocol.robotfile import reference_path  # noqa: E402
 
 
 def wide_bridge(tmp_path: Path) -> tuple[BridgeProcess, Probe]:
-    """The node with a robot file saying 0.25 m of track, on the emulated TB6612 robot built that wide."""
+    """The node with a robot file saying 0.25 m of track, against the emulated TB6612 robot's URL."""
     text = reference_path("diffdrive-tb6612").read_text(encoding="utf-8")
     assert text.count("track_m = 0.2 ") == 1
     path = tmp_path / "wide.toml"
+    assert text.count('name = "diffdrive-tb6612"') == 1
+    text = text.replace('name = "diffdrive-tb6612"', 'name = "wide_tb6612"')
     path.write_text(text.replace("track_m = 0.2 ", "track_m = 0.25 "), encoding="utf-8")
     ns = f"/robot_file_{uuid.uuid4().hex[:6]}"
-    proc = BridgeProcess(ns, "emu://diffdrive-tb6612?seed=1&track_scale=1.25", tmp_path, robot_file=path)
+    proc = BridgeProcess(ns, "emu://diffdrive-tb6612?seed=1", tmp_path, robot_file=path)
     return proc, Probe(ns)
 
 
 def armed(probe: Probe) -> None:
     probe.wait_for("the bridge's services", lambda: probe.clients["arm"].wait_for_service(timeout_sec=0.1), 20)
-    probe.wait_status("robot", lambda s: values(s).get("robot") == "DiffDriveTB6612", 20)
+    probe.wait_status("robot", lambda s: values(s).get("robot") == "wide_tb6612", 20)
     assert probe.call("arm").success
 
 
@@ -97,8 +100,7 @@ def _error(probe: Probe) -> tuple[Any, float, float]:
 
 
 def test_a_square_and_a_full_turn_within_one_percent_with_the_files_track(ros: None, tmp_path: Path) -> None:
-    """The emulated robot's true track is 0.25 m (track_scale on the 0.2 m reference); the robot
-    file says 0.25 m. Odometry (the node's, through the file) ends within 1 % of the distance
+    """The emulated robot is the file's, 0.25 m of track (the reference's: 0.2 m). Odometry (the node's, through the file) ends within 1 % of the distance
     driven of the emulator's ground truth: a 1 m square, then a turn in place of 360 degrees."""
     proc, probe = wide_bridge(tmp_path)
     with logged(proc, probe):

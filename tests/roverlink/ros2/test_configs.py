@@ -20,10 +20,18 @@ import yaml
 
 from host_sdk import RobotDescription
 from protocol.robotfile import REFERENCES, reference_path
+from protocol.sensors import DEVICES, LidarSpec
 from roverlink.cli import main as cli_main
 from roverlink.ros2.configs import FILES, render
 from roverlink.ros2.params import BY_NAME, BridgeParams
-from roverlink.ros2.robotfacts import FILTERED_ODOM, MAP_FRAME, TOPICS, RobotFacts, footprint_polygon
+from roverlink.ros2.robotfacts import (
+    FILTERED_ODOM,
+    MAP_FRAME,
+    MAX_TURN_PER_SCAN_RAD,
+    TOPICS,
+    RobotFacts,
+    footprint_polygon,
+)
 
 ROOT = Path(__file__).resolve().parents[3]
 EXAMPLES = ROOT / "examples" / "ros2"
@@ -153,7 +161,8 @@ def test_the_node_file_is_a_valid_parameter_set_for_the_robot(robot: str) -> Non
     described = RobotDescription.load(reference_path(robot))
     assert params.profile == robot and params.odom_rate == round(described.feedback.rate_hz)
     if described.lidar is not None:
-        assert params.lidar_model == described.lidar.model and params.lidar_url
+        assert params.lidar_model == described.lidar.model and params.lidar_url == (described.lidar.port or "")
+    assert params.publish_static_tf  # the file alone places the sensors; bringup.launch.py turns it off
 
 
 @pytest.mark.parametrize("robot", REFERENCES)
@@ -215,6 +224,9 @@ def test_speed_and_acceleration_are_the_robot_files(robot: str) -> None:
         -lim.decel_m_s2,
     )
     turn = 2 * lim.max_wheel_speed_m_s / described.track_m  # in place, both wheels at their limit
+    lidar = DEVICES[described.lidar.model if described.lidar else BY_NAME["lidar_model"].default]
+    assert isinstance(lidar, LidarSpec)
+    turn = min(turn, MAX_TURN_PER_SCAN_RAD * lidar.scan_hz)  # a scan smeared over a fast turn matches badly
     assert mppi["wz_max"] == pytest.approx(turn, abs=1e-3)
     assert smoother["max_velocity"] == pytest.approx([lim.max_wheel_speed_m_s, 0.0, turn], abs=1e-3)
     assert smoother["max_accel"][0] == lim.accel_m_s2 and smoother["max_decel"][0] == -lim.decel_m_s2
