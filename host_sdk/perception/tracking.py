@@ -160,6 +160,7 @@ class Tracker:
         self._misses = 0
         self._phase = 0
         self._shift = 0.0
+        self._first = True
         self._seen_s: float | None = None if box is None else time_s
 
     @classmethod
@@ -182,8 +183,10 @@ class Tracker:
         (counter-clockwise) since the previous frame, if known."""
         dt = max(0.0, time_s - self.time_s)
         self.time_s = time_s
-        if self.box is None:
-            return self._redetect(image, time_s)
+        if self.box is None:  # the first frame of a tracker started from an image tries every scale
+            first, self._first = self._first, False
+            return self._redetect(image, time_s, every_scale=first)
+        self._first = False
         pred = self._predict(dt, rotation_rad)
         found = self._match_near(image, pred)
         agree = self.look.agreement(image, found[0]) if found is not None else 0.0
