@@ -27,7 +27,9 @@ runs over the same frames with OpenCV held to one thread. Per sequence and track
   "never" if it did not by the end;
 * **fps**: frames per second of process CPU time (best of `--repeat`).
 
-OpenCV's TrackerMIL always comes with opencv-python-headless; KCF and CSRT need opencv-contrib and
+OpenCV's generator is seeded before each OpenCV tracker's run: MIL samples its training patches at
+random, and its figures change with the seed (`--mil-seed`). OpenCV's TrackerMIL always comes with
+opencv-python-headless; KCF and CSRT need opencv-contrib and
 are measured when `cv2.TrackerKCF_create` / `cv2.TrackerCSRT_create` exist.
 """
 
@@ -62,8 +64,9 @@ def roverlink(seq: PhotoSequence) -> list[Box | None]:
     return [None, *(tracker.update(f.image, f.time_s).box for f in seq.frames[1:])]
 
 
-def opencv(make: Callable[[], object]) -> Run:
+def opencv(make: Callable[[], object], seed: int = 1) -> Run:
     def run(seq: PhotoSequence) -> list[Box | None]:
+        cv2.setRNGSeed(seed)  # MIL samples its training patches with OpenCV's global generator
         tracker = make()
         first = seq.frames[0]
         assert first.box is not None
@@ -78,10 +81,10 @@ def opencv(make: Callable[[], object]) -> Run:
     return run
 
 
-def trackers() -> tuple[list[tuple[str, Run]], list[str]]:
+def trackers(mil_seed: int) -> tuple[list[tuple[str, Run]], list[str]]:
     runs: list[tuple[str, Run]] = [
         ("RoverLink Tracker", roverlink),
-        ("OpenCV TrackerMIL", opencv(cv2.TrackerMIL_create)),  # type: ignore[attr-defined]
+        ("OpenCV TrackerMIL", opencv(cv2.TrackerMIL_create, mil_seed)),  # type: ignore[attr-defined]
     ]
     missing = []
     for name in ("KCF", "CSRT"):
@@ -89,7 +92,7 @@ def trackers() -> tuple[list[tuple[str, Run]], list[str]]:
         if make is None:
             missing.append(f"Tracker{name}")
         else:
-            runs.append((f"OpenCV Tracker{name}", opencv(make)))
+            runs.append((f"OpenCV Tracker{name}", opencv(make, mil_seed)))
     return runs, missing
 
 
@@ -134,8 +137,8 @@ def timed(run: Run, seq: PhotoSequence, repeat: int) -> tuple[list[Box | None], 
     return boxes, best
 
 
-def measure(names: tuple[str, ...] | None, repeat: int) -> tuple[list[Score], list[str]]:
-    runs, missing = trackers()
+def measure(names: tuple[str, ...] | None, repeat: int, mil_seed: int) -> tuple[list[Score], list[str]]:
+    runs, missing = trackers(mil_seed)
     scores = []
     for seq in sequences(names):
         for name, run in runs:
@@ -160,9 +163,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--sequence", action="append", choices=[s.name for s in SPECS], help="default: all")
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--json", action="store_true", help="print the figures as JSON")
+    ap.add_argument("--mil-seed", type=int, default=1, help="OpenCV's random seed for its trackers (default 1)")
     args = ap.parse_args(argv)
     cv2.setNumThreads(1)
-    scores, missing = measure(tuple(args.sequence) if args.sequence else None, args.repeat)
+    scores, missing = measure(tuple(args.sequence) if args.sequence else None, args.repeat, args.mil_seed)
     if args.json:
         print(json.dumps({"results": [asdict(s) for s in scores], "not_available": missing}, indent=2))
     else:
