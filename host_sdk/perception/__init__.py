@@ -8,7 +8,8 @@
   saw free space, clustered and confirmed.
 - `camera`: a pinhole camera model (`CameraModel`): pixels to bearings, size to range.
 - `tracking`: a fast template tracker with feature re-detection (`Tracker`, `Track`, `TrackState`);
-  it needs OpenCV (the `vision` extra), imported when a tracker is made.
+  it needs OpenCV (the `vision` extra), imported when a tracker is made. `appearance`: its model of
+  the object (the template's core, an adaptive copy anchored to the first, a colour signature).
 
 numpy is the only import here; see docs/autonomy.md.
 """

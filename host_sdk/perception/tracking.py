@@ -8,18 +8,23 @@ re-detection over the whole frame when the object is lost.
 
 Tracking (every frame): the object's box is predicted from its image velocity (plus, if given, the
 robot's own rotation since the last frame, which moves everything sideways by fx * tan(angle)); a
-window around it is cut out and scaled so the template is about `work_px` pixels across (small
-templates are matched at full resolution, big ones on a reduced copy: the cost stays flat with
-distance); the template is matched there with OpenCV's normalised cross-correlation (colour, mean
-removed per channel) at three scales, so the box follows the object as it nears or recedes. The
-best score is the confidence.
+window around it is cut out and scaled so the template's core is about `work_px` pixels across
+(the cost stays flat with distance); the core is matched there with OpenCV's normalised
+cross-correlation (colour, mean removed per channel) at three scales, so the box follows the object
+as it nears or recedes. The core (appearance.py) is the whole template for an image of the object,
+the central `region_core` of a user's box (whose corners are background). The template adapts on
+confident frames, anchored to the first one. A match keeps the track only if it is plausible: it
+correlates (`accept`), its core still correlates with the first template (`anchor_accept`: a track
+that slid onto the background fails this), and its colours are the object's (`colour`). A miss
+coasts on the prediction for `lost_after` - 1 frames (a brief occlusion), never off the picture.
 
-Re-detection (while lost, and at start-up from an image): ORB features of the template matched to
-the frame's with a ratio test and a RANSAC homography, as find_object_2d does; that needs texture,
-so when the template has too few features or the homography fails, a multi-scale correlation over
-the whole (reduced) frame stands in. Either way a candidate is accepted only if the correlation at
-its box reaches `accept_redetect`, stricter than what keeps a track alive, so clutter does not get
-"re-acquired".
+Re-detection (while lost, and at start-up from an image): ORB features of the template (a region's:
+those on the object, inside its ellipse) matched to the frame's with a ratio test and a RANSAC
+homography, as find_object_2d does; that needs texture, so when the template has too few features
+or the homography fails, a multi-scale correlation of the first template's core over the whole
+(reduced) frame stands in, near the last size for a while after a loss. Either way a candidate is
+accepted only if the correlation at its box reaches `accept_redetect`, stricter than what keeps a
+track alive, and its colours match, so clutter does not get "re-acquired".
 
 States: TRACKING, LOST, and REACQUIRED on the first frame of a track found again by re-detection.
 OpenCV is imported when a tracker is made (the `vision` extra).
@@ -28,7 +33,7 @@ OpenCV is imported when a tracker is made (the `vision` extra).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
 
@@ -37,6 +42,7 @@ from numpy.typing import NDArray
 
 from host_sdk.errors import CommandRangeError
 from host_sdk.extras import require
+from host_sdk.perception.appearance import Appearance, AppearanceParams
 from host_sdk.perception.camera import CameraModel
 
 Image = NDArray[np.uint8]
@@ -96,6 +102,18 @@ class TrackerParams:
     template taken at 0.8 m covers 0.3 m to 5 m this way."""
     redetect_per_frame: int = 4
     """Of those, how many one frame tries (in turn: all are covered every few frames while lost)."""
+    anchor_accept: float = 0.3
+    """Correlation of the match's core with the first template that a track needs: a track that slid
+    onto the background (the adaptive template with it) scores high against itself, not against this."""
+    redetect_near_s: float = 3.0
+    """For this long after a loss, the correlation fallback looks for the object at half to twice its
+    last size: it cannot have changed more, and a small self-similar part of it must not pass for it."""
+    region_core: float = 0.6
+    """Share of each side of a user's box (`from_region`) that is matched: its corners are background."""
+    colour: float = 0.55
+    """Colour agreement (1 - Bhattacharyya distance of hue-saturation histograms) of the match's core
+    with the first template's, to keep a track or re-detect one."""
+    appearance: AppearanceParams = field(default_factory=AppearanceParams)
 
 
 def _cv2() -> Any:
@@ -105,7 +123,7 @@ def _cv2() -> Any:
 class Tracker:
     def __init__(self, template: Image, camera: CameraModel, *, width_m: float | None = None,
                  height_m: float | None = None, params: TrackerParams | None = None,
-                 box: Box | None = None, time_s: float = 0.0) -> None:  # fmt: skip
+                 box: Box | None = None, time_s: float = 0.0, core: float = 1.0) -> None:  # fmt: skip
         if not (isinstance(template, np.ndarray) and template.ndim == 3 and template.shape[2] == 3):
             raise CommandRangeError("template", getattr(template, "shape", template), "a BGR image (H x W x 3)")
         p = params or TrackerParams()
@@ -116,7 +134,9 @@ class Tracker:
         self.params = p
         self.template = np.ascontiguousarray(template)
         self.size_m = (width_m, height_m)
-        self._tpl_cache: dict[tuple[int, int], Image] = {}
+        if not 0.2 <= core <= 1.0:
+            raise CommandRangeError("core", core, "0.2 to 1.0")
+        self.look = Appearance(self.cv2, self.template, core, p.appearance)
         self._orb = self.cv2.ORB_create(nfeatures=500, fastThreshold=10, edgeThreshold=11, patchSize=11)
         big = self.template
         if max(big.shape[:2]) < 120:  # enlarge small templates so ORB finds features on them
@@ -125,6 +145,9 @@ class Tracker:
         else:
             f = 1.0
         kp, des = self._orb.detectAndCompute(self.cv2.cvtColor(big, self.cv2.COLOR_BGR2GRAY), None)
+        if core < 1.0 and des is not None:  # a region's corners are background: keep the object's features
+            keep = [i for i, k in enumerate(kp) if _in_ellipse(k.pt, big.shape)]
+            kp, des = [kp[i] for i in keep], (des[keep] if keep else None)
         self._tpl_kp = np.array([k.pt for k in kp], dtype=np.float32).reshape(-1, 2) / f
         self._tpl_des = des
         self._matcher = self.cv2.BFMatcher(self.cv2.NORM_HAMMING)
@@ -136,6 +159,9 @@ class Tracker:
         self.lost_since: float | None = None if box is not None else time_s
         self._misses = 0
         self._phase = 0
+        self._shift = 0.0
+        self._first = True
+        self._seen_s: float | None = None if box is None else time_s
 
     @classmethod
     def from_region(cls, image: Image, box: Box, camera: CameraModel, **kwargs: Any) -> Tracker:
@@ -144,6 +170,7 @@ class Tracker:
         H, W = image.shape[:2]
         if not (x >= 0 and y >= 0 and w > 0 and h > 0 and x + w <= W and y + h <= H):
             raise CommandRangeError("box", box, f"a region inside the {W}x{H} image")
+        kwargs.setdefault("core", (kwargs.get("params") or TrackerParams()).region_core)
         return cls(image[y : y + h, x : x + w].copy(), camera, box=(x, y, w, h), **kwargs)
 
     @property
@@ -156,40 +183,53 @@ class Tracker:
         (counter-clockwise) since the previous frame, if known."""
         dt = max(0.0, time_s - self.time_s)
         self.time_s = time_s
-        if self.box is None:
-            return self._redetect(image, time_s)
+        if self.box is None:  # the first frame of a tracker started from an image tries every scale
+            first, self._first = self._first, False
+            return self._redetect(image, time_s, every_scale=first)
+        self._first = False
         pred = self._predict(dt, rotation_rad)
         found = self._match_near(image, pred)
-        if found is not None and found[1] >= self.params.accept:
+        agree = self.look.agreement(image, found[0]) if found is not None else 0.0
+        if found is not None and self._plausible(image, found, agree):
             box, score = found
             self._accept(box, dt)
+            self.look.learn(image, box, score, agree)
             self._misses = 0
             return self._track(TrackState.TRACKING, score)
         self._misses += 1
-        if self._misses < self.params.lost_after:
-            self.box = pred  # coast one frame on the prediction
+        if self._misses < self.params.lost_after and _visible(pred, image) >= 0.5:
+            self.box = pred  # coast on the prediction through a brief occlusion (not off the picture)
             return self._track(TrackState.TRACKING, found[1] if found else 0.0)
         self.box = None
         self.lost_since = time_s
         self.velocity = (0.0, 0.0)
         return self._redetect(image, time_s)
 
+    def _plausible(self, image: Image, found: tuple[Box, float], agree: float) -> bool:
+        """A match good enough to keep the track: it correlates, it still resembles the first
+        template, and its colours are the object's (a look-alike patch of background fails one)."""
+        p = self.params
+        return found[1] >= p.accept and agree >= p.anchor_accept and self.look.colour_match(image, found[0]) >= p.colour
+
     def _predict(self, dt: float, rotation_rad: float) -> Box:
         assert self.box is not None
         x, y, w, h = self.box
         shift = self.camera.fx * math.tan(rotation_rad) if rotation_rad else 0.0
+        self._shift = shift
         vx, vy = self.velocity
         return (x + vx * dt + shift, y + vy * dt, w, h)
 
     def _accept(self, box: Box, dt: float) -> None:
         if self.box is not None and dt > 0:
             (ox, oy), (nx, ny) = _centre(self.box), _centre(box)
-            vx, vy = (nx - ox) / dt, (ny - oy) / dt
+            # The object's own image motion: the camera's turn (the prediction's shift) is not repeated.
+            vx, vy = (nx - ox - self._shift) / dt, (ny - oy) / dt
             a = 0.5  # smoothing: a box jitters by a pixel or so from frame to frame
             self.velocity = (a * vx + (1 - a) * self.velocity[0], a * vy + (1 - a) * self.velocity[1])
         self.box = box
         self.scale = box[3] / self.template.shape[0]
         self.lost_since = None
+        self._seen_s = self.time_s
 
     def _track(self, state: TrackState, score: float) -> Track:
         box = self.box
@@ -207,16 +247,6 @@ class Tracker:
         return Track(TrackState.LOST, time_s, None, 0.0, None, None, time_s - since)
 
     # -- matching -----------------------------------------------------------------------------------
-    def _template_at(self, w: int, h: int) -> Image:
-        key = (w, h)
-        tpl = self._tpl_cache.get(key)
-        if tpl is None:
-            if len(self._tpl_cache) > 256:
-                self._tpl_cache.clear()
-            tpl = self.cv2.resize(self.template, (w, h), interpolation=self.cv2.INTER_AREA)
-            self._tpl_cache[key] = tpl
-        return tpl
-
     def _match_near(self, image: Image, pred: Box) -> tuple[Box, float] | None:
         """Best box near `pred` over three scales, and its correlation."""
         cv2, p = self.cv2, self.params
@@ -229,7 +259,7 @@ class Tracker:
         x0, y0, x1, y1 = max(0, wx0), max(0, wy0), min(W, wx1), min(H, wy1)
         if x1 - x0 < p.min_size_px or y1 - y0 < p.min_size_px:
             return None
-        f = min(1.0, p.work_px / max(w, h))
+        f = min(1.0, p.work_px / (max(w, h) * self.look.core))  # the core is matched at work_px
         window = image[y0:y1, x0:x1]
         # An object near the frame's edge may hang over it (close up, a tall target's top is cut):
         # the window is extended by repeating the edge, up to half the box, so it can still be matched
@@ -241,20 +271,32 @@ class Tracker:
             x0, y0 = x0 - left, y0 - top
         if f < 1.0:
             window = cv2.resize(window, None, fx=f, fy=f, interpolation=cv2.INTER_AREA)
-        best: tuple[float, float, float, float, float] | None = None
+        best = self._scan(window, f, (x0, y0), (w, h), anchor=False)
+        if best is None or best[1] < p.accept:  # the adaptive template may have drifted: the first one
+            first = self._scan(window, f, (x0, y0), (w, h), anchor=True)
+            if first is not None and (best is None or first[1] > best[1]):
+                best = first
+        return best
+
+    def _scan(self, window: Image, f: float, origin: tuple[int, int], size: tuple[float, float], *,
+              anchor: bool) -> tuple[Box, float] | None:  # fmt: skip
+        """The template's core at three scales round `size` over `window` (reduced by f): best box."""
+        cv2 = self.cv2
+        big, core = self.params.scale_step, self.look.core
+        best: tuple[Box, float] | None = None
         for s in (1 / big, 1.0, big):
-            tw, th = round(w * s * f), round(h * s * f)
+            tw, th = round(size[0] * s * core * f), round(size[1] * s * core * f)
             if tw < 4 or th < 4 or tw > window.shape[1] or th > window.shape[0]:
                 continue
-            res = cv2.matchTemplate(window, self._template_at(tw, th), cv2.TM_CCOEFF_NORMED)
+            res = cv2.matchTemplate(window, self.look.template(tw, th, anchor=anchor), cv2.TM_CCOEFF_NORMED)
             _, score, _, loc = cv2.minMaxLoc(res)
-            if best is None or score > best[0]:
+            if best is None or score > best[1]:
                 dx, dy = _subpixel(res, loc)
-                best = (score, (loc[0] + dx) / f + x0, (loc[1] + dy) / f + y0, tw / f, th / f)
-        if best is None:
-            return None
-        score, bx, by, bw, bh = best
-        return (bx, by, bw, bh), float(score)
+                bw, bh = tw / f / core, th / f / core
+                bx = (loc[0] + dx) / f + origin[0] - bw * (1 - core) / 2
+                by = (loc[1] + dy) / f + origin[1] - bh * (1 - core) / 2
+                best = ((bx, by, bw, bh), float(score))
+        return best
 
     def detect(self, image: Image, time_s: float) -> Track:
         """A detection from scratch over the whole frame at every scale at once (what `update` spreads
@@ -269,7 +311,11 @@ class Tracker:
             box = self._detect_correlation(image, every_scale=every_scale)
         if box is not None:
             refined = self._match_near(image, box)
-            if refined is not None and refined[1] >= self.params.accept_redetect:
+            if (
+                refined is not None
+                and refined[1] >= self.params.accept_redetect
+                and self.look.colour_match(image, refined[0]) >= self.params.colour
+            ):
                 self.box = None
                 self._accept(refined[0], 0.0)
                 self.velocity = (0.0, 0.0)
@@ -313,7 +359,10 @@ class Tracker:
         H, W = image.shape[:2]
         reduced: dict[float, Image] = {}
         best: tuple[float, Box] | None = None
-        scales = np.geomspace(*p.redetect_scales)
+        lo, hi, n = p.redetect_scales
+        if not every_scale and self._seen_s is not None and self.time_s - self._seen_s < p.redetect_near_s:
+            lo, hi, n = max(lo, self.scale / 2), min(hi, self.scale * 2), max(2, n // 2)
+        scales = np.geomspace(lo, hi, n)
         step = 1 if every_scale else max(1, scales.shape[0] // p.redetect_per_frame)
         turn = np.arange(0 if every_scale else self._phase, scales.shape[0], step)
         self._phase = (self._phase + 1) % max(1, scales.shape[0] // p.redetect_per_frame)
@@ -326,16 +375,34 @@ class Tracker:
             if frame is None:
                 frame = image if f == 1.0 else cv2.resize(image, None, fx=f, fy=f, interpolation=cv2.INTER_AREA)
                 reduced[f] = frame
-            tw_f, th_f = max(4, round(w * f)), max(4, round(h * f))
+            core = self.look.core
+            tw_f, th_f = max(4, round(w * core * f)), max(4, round(h * core * f))
             if tw_f > frame.shape[1] or th_f > frame.shape[0]:
                 continue
-            res = cv2.matchTemplate(frame, self._template_at(tw_f, th_f), cv2.TM_CCOEFF_NORMED)
+            res = cv2.matchTemplate(frame, self.look.template(tw_f, th_f, anchor=True), cv2.TM_CCOEFF_NORMED)
             _, score, _, loc = cv2.minMaxLoc(res)
             if best is None or score > best[0]:
-                best = (float(score), (loc[0] / f, loc[1] / f, tw_f / f, th_f / f))
+                bw, bh = tw_f / f / core, th_f / f / core
+                box = (loc[0] / f - bw * (1 - core) / 2, loc[1] / f - bh * (1 - core) / 2, bw, bh)
+                best = (float(score), box)
         if best is None or best[0] < p.accept:
             return None
         return best[1]
+
+
+def _in_ellipse(pt: tuple[float, float], shape: tuple[int, ...]) -> bool:
+    """Inside the ellipse inscribed in an image of `shape` (where a selected object is)."""
+    h, w = shape[:2]
+    return ((pt[0] - w / 2) / (w / 2)) ** 2 + ((pt[1] - h / 2) / (h / 2)) ** 2 <= 0.8
+
+
+def _visible(box: Box, image: Image) -> float:
+    """Share of the box inside the image."""
+    H, W = image.shape[:2]
+    x, y, w, h = box
+    iw = max(0.0, min(x + w, W) - max(x, 0.0))
+    ih = max(0.0, min(y + h, H) - max(y, 0.0))
+    return float(iw * ih / max(w * h, 1e-9))
 
 
 def _centre(box: Box) -> tuple[float, float]:

@@ -454,7 +454,9 @@ def test_follow_source_publishes_scan_camera_and_state() -> None:
 
     image = np.full((240, 320, 3), 90, dtype=np.uint8)
     cv2.rectangle(image, (150, 100), (170, 130), (255, 0, 255), -1)
-    pilot = FollowPilot(ScanFilter(), Tracker(image[100:131, 150:171].copy(), CAMERA), Follower(DIFF, CAMERA))
+    # The template holds the rectangle's outline: a flat patch of colour correlates equally well
+    # everywhere (the tracker would "find" it on the grey background, and now refuses to).
+    pilot = FollowPilot(ScanFilter(), Tracker(image[95:136, 145:176].copy(), CAMERA), Follower(DIFF, CAMERA))
     source = FollowSource(pilot, image_hz=2.0)
     out = FakePublisher()
     source.start(out)

@@ -1,0 +1,141 @@
+"""The tracker's model of what the object looks like: a template matched on the object's core, an
+adaptive copy anchored to the first one, and a colour signature.
+
+Why the core: a user's box round a real object holds background in its corners (nothing is a
+rectangle), and that background changes as the object moves; correlating the whole box, those
+corners drag the score down until the track is dropped. Matching the central part of the box (the
+`core` fraction of each side, 0.6 by default for a region, the whole template for an image that is
+only the object) keeps the score on the object. A core with too little contrast to correlate (a
+plain object) is widened back towards the whole box, whose edges then carry the match.
+
+Why two templates: the object's look drifts (it turns, the light changes), so the template follows
+it on confident frames (a running blend); a blend can slide onto the background, so it is only
+updated where the first template (the anchor) still agrees, and it is reset to the anchor when the
+two part. Matching falls back to the anchor when the adaptive template scores low.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+Image = NDArray[np.uint8]
+Box = tuple[float, float, float, float]
+
+
+@dataclass(frozen=True, slots=True)
+class AppearanceParams:
+    learn_rate: float = 0.08
+    """Weight of a new confident frame in the adaptive template."""
+    learn_above: float = 0.85
+    """Correlation a frame needs before the template learns from it."""
+    anchor_agree: float = 0.6
+    """Correlation the frame's core must have with the first template for the template to learn."""
+    reset_below: float = 0.5
+    """Adaptive and first template this far apart (correlation): back to the first."""
+    min_contrast: float = 10.0
+    """Grey-level standard deviation a core needs to be matched alone."""
+    hist_bins: tuple[int, int] = (16, 8)
+    """Hue and saturation bins of the colour signature."""
+
+
+class Appearance:
+    def __init__(self, cv2: Any, template: Image, core: float, params: AppearanceParams | None = None) -> None:
+        self.cv2 = cv2
+        self.params = params or AppearanceParams()
+        self.anchor = np.ascontiguousarray(template)
+        self.current = self.anchor.copy()
+        self.core = self._core_for(core)
+        self._cache: dict[tuple[int, int, bool], Image] = {}
+        self.signature = self.histogram(self.core_of(self.anchor))
+
+    def _core_for(self, core: float) -> float:
+        """Widen the core until it has contrast enough to correlate (a plain object's edges)."""
+        gray = self.cv2.cvtColor(self.anchor, self.cv2.COLOR_BGR2GRAY)
+        c = core
+        while c < 1.0 and float(self.core_of(gray, c).std()) < self.params.min_contrast:
+            c = min(1.0, c + 0.1)
+        return c
+
+    def core_of(self, image: NDArray[Any], core: float | None = None) -> NDArray[Any]:
+        c = self.core if core is None else core
+        h, w = image.shape[:2]
+        dx, dy = round(w * (1 - c) / 2), round(h * (1 - c) / 2)
+        return image[dy : h - dy, dx : w - dx]
+
+    def inset(self, w: float, h: float) -> tuple[float, float, float, float]:
+        """The core's offset and size inside a box of w x h."""
+        c = self.core
+        return w * (1 - c) / 2, h * (1 - c) / 2, w * c, h * c
+
+    def template(self, w: int, h: int, *, anchor: bool = False) -> Image:
+        """The core of the (adaptive or first) template at w x h pixels."""
+        key = (w, h, anchor)
+        tpl = self._cache.get(key)
+        if tpl is None:
+            if len(self._cache) > 256:
+                self._cache.clear()
+            src = self.core_of(self.anchor if anchor else self.current)
+            tpl = self.cv2.resize(src, (w, h), interpolation=self.cv2.INTER_AREA)
+            self._cache[key] = tpl
+        return tpl
+
+    def histogram(self, image: Image) -> NDArray[np.float32]:
+        cv2 = self.cv2
+        hsv = cv2.cvtColor(image, cv2.COLOR_BGR2HSV)
+        hist = cv2.calcHist([hsv], [0, 1], None, list(self.params.hist_bins), [0, 180, 0, 256])
+        return np.asarray(cv2.normalize(hist, None, 1.0, 0.0, cv2.NORM_L1), dtype=np.float32)
+
+    def colour_match(self, image: Image, box: Box) -> float:
+        """1 - Bhattacharyya distance between the box's core colours and the first template's."""
+        patch = _crop(image, box)
+        if patch is None:
+            return 0.0
+        d = self.cv2.compareHist(self.signature, self.histogram(self.core_of(patch)), self.cv2.HISTCMP_BHATTACHARYYA)
+        return 1.0 - float(d)
+
+    def agreement(self, image: Image, box: Box) -> float:
+        """Correlation of the box's core with the first template's (how much the track drifted)."""
+        patch = _crop(image, box, whole=True)
+        if patch is None:
+            return 1.0  # part off the picture: not measurable here, the match itself decided
+        th, tw = self.anchor.shape[:2]
+        patch = self.cv2.resize(patch, (tw, th), interpolation=self.cv2.INTER_AREA)
+        return self._ncc(self.core_of(patch), self.core_of(self.anchor))
+
+    def learn(self, image: Image, box: Box, score: float, agreement: float) -> None:
+        """Blend the object's look at `box` into the adaptive template, if the frame is trustworthy:
+        a high `score` and an `agreement` with the first template (see `agreement`)."""
+        p = self.params
+        if score < p.learn_above or agreement < p.anchor_agree:
+            return
+        patch = _crop(image, box, whole=True)
+        if patch is None:
+            return
+        th, tw = self.anchor.shape[:2]
+        patch = self.cv2.resize(patch, (tw, th), interpolation=self.cv2.INTER_AREA)
+        blend = self.cv2.addWeighted(self.current, 1 - p.learn_rate, patch, p.learn_rate, 0.0)
+        if self._ncc(self.core_of(blend), self.core_of(self.anchor)) < p.reset_below:
+            blend = self.anchor.copy()
+        self.current = blend
+        self._cache = {k: v for k, v in self._cache.items() if k[2]}
+
+    def _ncc(self, a: Image, b: Image) -> float:
+        res = self.cv2.matchTemplate(a, b, self.cv2.TM_CCOEFF_NORMED)
+        return float(res.max())
+
+
+def _crop(image: Image, box: Box, *, whole: bool = False) -> Image | None:
+    """The box's pixels; with `whole`, None unless the box lies inside the image."""
+    H, W = image.shape[:2]
+    x, y, w, h = box
+    x0, y0, x1, y1 = round(x), round(y), round(x + w), round(y + h)
+    if whole and (x0 < 0 or y0 < 0 or x1 > W or y1 > H):
+        return None
+    x0, y0, x1, y1 = max(0, x0), max(0, y0), min(W, x1), min(H, y1)
+    if x1 - x0 < 4 or y1 - y0 < 4:
+        return None
+    return image[y0:y1, x0:x1]
