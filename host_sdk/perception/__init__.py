@@ -9,6 +9,9 @@
 - `camera`: a pinhole camera model (`CameraModel`): pixels to bearings, size to range.
 - `tracking`: a fast template tracker with feature re-detection (`Tracker`, `Track`, `TrackState`);
   it needs OpenCV (the `vision` extra), imported when a tracker is made.
+- `detectors`, `class_tracker` (imported from their modules): people (HOG) and faces (Haar cascades)
+  in a frame, and a person or a face followed by the tracker and found again by the detector
+  (`ClassTracker`); OpenCV 4.
 
 numpy is the only import here; see docs/autonomy.md.
 """
