@@ -6,6 +6,7 @@ follow-while-avoiding behaviour: the scan filter, the motion detector, the camer
 `Follower` joined up.
 
     pilot = FollowPilot.for_robot(geometry(profile, robot.kinematics, config=robot.config), template)
+    pilot = FollowPilot.for_target(geometry(...), "person")     # or "face": detected, then tracked
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from numpy.typing import NDArray
 from host_sdk.autonomy.follow import Decision, Follower, FollowParams
 from host_sdk.geometry import RobotGeometry
 from host_sdk.perception import AvoidanceParams, MotionDetector, Mover, ObstacleScan, ScanFilter
+from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
 from host_sdk.perception.scan import move_points
 from host_sdk.perception.tracking import Track, Tracker
 from host_sdk.pose import RobotPose
@@ -56,7 +58,7 @@ class FollowPilot:
 
     name = "roverlink"
 
-    def __init__(self, scan_filter: ScanFilter, tracker: Tracker, follower: Follower) -> None:
+    def __init__(self, scan_filter: ScanFilter, tracker: FrameTracker, follower: Follower) -> None:
         self.scan_filter = scan_filter
         self.tracker = tracker
         self.follower = follower
@@ -77,6 +79,20 @@ class FollowPilot:
         """The pilot for a robot of `geometry` following what `template` (a BGR image) shows;
         `target_height_m`, the target's real height, gives the tracker a range estimate."""
         tracker = Tracker(template, geometry.camera, height_m=target_height_m)
+        return cls.with_tracker(geometry, tracker, follow_gap_m=follow_gap_m, max_speed_m_s=max_speed_m_s)
+
+    @classmethod
+    def for_target(cls, geometry: RobotGeometry, kind: str, *, follow_gap_m: float | None = None,
+                   max_speed_m_s: float = 0.45, target_height_m: float | None = None) -> FollowPilot:  # fmt: skip
+        """The pilot following a "person" or a "face": detected, tracked, and detected again when lost
+        (`ClassTracker`); `target_height_m` defaults to the kind's (1.7 m, 0.16 m)."""
+        tracker = ClassTracker(kind, geometry.camera, height_m=target_height_m)
+        return cls.with_tracker(geometry, tracker, follow_gap_m=follow_gap_m, max_speed_m_s=max_speed_m_s)
+
+    @classmethod
+    def with_tracker(cls, geometry: RobotGeometry, tracker: FrameTracker, *, follow_gap_m: float | None = None,
+                     max_speed_m_s: float = 0.45) -> FollowPilot:  # fmt: skip
+        """The pilot for a robot of `geometry` fed by any tracker (a `Tracker` or a `ClassTracker`)."""
         gap = follow_gap(geometry) if follow_gap_m is None else follow_gap_m
         params = FollowParams(follow_gap_m=gap, max_speed_m_s=max_speed_m_s)
         follower = Follower(geometry.footprint, geometry.camera, min_turn_radius_m=geometry.min_turn_radius_m,

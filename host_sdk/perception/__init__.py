@@ -10,6 +10,9 @@
 - `tracking`: a fast template tracker with feature re-detection (`Tracker`, `Track`, `TrackState`);
   it needs OpenCV (the `vision` extra), imported when a tracker is made. `appearance`: its model of
   the object (the template's core, an adaptive copy anchored to the first, a colour signature).
+- `detectors`, `class_tracker` (imported from their modules): people (HOG) and faces (Haar cascades)
+  in a frame, and a person or a face followed by the tracker and found again by the detector
+  (`ClassTracker`); OpenCV 4.
 
 numpy is the only import here; see docs/autonomy.md.
 """

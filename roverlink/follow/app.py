@@ -15,6 +15,7 @@ from host_sdk import Robot, RobotDescription
 from host_sdk.autonomy import FollowPilot, Pilot, follow_gap
 from host_sdk.geometry import RobotGeometry, robot_geometry
 from host_sdk.perception import Tracker
+from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
 from host_sdk.recording.follow import FollowSource
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 from roverlink.console import warn_mismatches
@@ -64,25 +65,34 @@ class FollowSettings:
     across the image, and the car has room to drive the arc that keeps it in view."""
     max_speed_m_s: float = 0.45
     target_height_m: float | None = None
-    """The tracked region's real height (gives the tracker a range estimate)."""
+    """The tracked region's real height (gives the tracker a range estimate; with `target`, the
+    kind's by default: 1.7 m for a person, 0.16 m for a face)."""
     duration_s: float = 60.0
+    target: str | None = None
+    """"person" or "face": the target is detected (host_sdk.perception.detectors) in place of a
+    template or a selected region, and detected again when the tracker has lost it."""
 
 
 def gap_for(settings: FollowSettings, geo: RobotGeometry) -> float:
     return follow_gap(geo) if settings.follow_gap_m is None else settings.follow_gap_m
 
 
-def make_pilot(kind: str, geo: RobotGeometry, template: NDArray[np.uint8], settings: FollowSettings) -> Pilot:
-    """RoverLink's behaviour ("roverlink") or the PiCar team's ("picar-2018") for this robot."""
-    if kind == "picar-2018":
-        tracker = Tracker(template, geo.camera, height_m=settings.target_height_m)
-        return PiCarBaseline(tracker, geo.camera, geo.lidar_mount, settings.max_speed_m_s)
-    if kind != "roverlink":
+def make_pilot(kind: str, geo: RobotGeometry, template: NDArray[np.uint8] | None, settings: FollowSettings) -> Pilot:
+    """RoverLink's behaviour ("roverlink") or the PiCar team's ("picar-2018") for this robot, following
+    what `template` shows or, with `settings.target`, a detected person or face."""
+    if kind not in PILOTS:
         raise ValueError(f"pilot {kind!r} is not allowed: one of {', '.join(PILOTS)}")
-    return FollowPilot.for_robot(
-        geo, template, follow_gap_m=settings.follow_gap_m, max_speed_m_s=settings.max_speed_m_s,
-        target_height_m=settings.target_height_m,
-    )  # fmt: skip
+    tracker: FrameTracker
+    if settings.target is not None:
+        tracker = ClassTracker(settings.target, geo.camera, height_m=settings.target_height_m)
+    elif template is not None:
+        tracker = Tracker(template, geo.camera, height_m=settings.target_height_m)
+    else:
+        raise ValueError("no target: give a template image or a target kind (person or face)")
+    if kind == "picar-2018":
+        return PiCarBaseline(tracker, geo.camera, geo.lidar_mount, settings.max_speed_m_s)
+    return FollowPilot.with_tracker(geo, tracker, follow_gap_m=settings.follow_gap_m,
+                                    max_speed_m_s=settings.max_speed_m_s)  # fmt: skip
 
 
 def geometry_for(robot: Robot, which: str | RobotDescription) -> RobotGeometry:
@@ -107,6 +117,9 @@ def run_emulated(profile: str | RobotDescription, world: str | Path, *, pilot: s
     """One follow run on the emulator (virtual clock); the metrics, with the truth's figures.
     `profile`: a reference robot, or a robot file's description (the emulated robot is the file's)."""
     settings = settings or FollowSettings()
+    if settings.target is not None:
+        raise ValueError(f"target {settings.target!r} needs a camera that sees people (a robot's): the emulated "
+                         "world's target is a rendered cylinder, which neither detector finds")  # fmt: skip
     em = emulated.start(profile, world, seed=seed, camera_fps=camera_fps, imu=imu)
     robot = em.robot
     try:
@@ -145,12 +158,14 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
               select: tuple[float, float, float, float] | None = None, pilot: str = "roverlink",
               settings: FollowSettings | None = None, progress: Callable[[Progress], None] | None = None,
               record: RecordTo | None = None) -> FollowMetrics:  # fmt: skip
-    """Follow on a real robot: the target is a template image, or a region `select`ed in the first frame.
+    """Follow on a real robot: the target is a template image, a region `select`ed in the first frame,
+    or a person or a face (`settings.target`) the detector picks.
     `profile`: a reference robot, or a robot file's description (compared with the board, its limits
     and gains applied; the geometry, lidar model and footprint are the file's)."""
     settings = settings or FollowSettings()
-    if (template is None) == (select is None):
-        raise ValueError("give the target as a template image or as a region of the first frame (not both)")
+    if sum(v is not None for v in (template, select, settings.target)) != 1:
+        raise ValueError("give the target as a template image, a region of the first frame or a kind "
+                         "(person or face): one of them")  # fmt: skip
     desc, name = (profile, None) if isinstance(profile, RobotDescription) else (None, profile)
     robot = Robot.connect(ports.url, profile=name, robot=desc, baud=ports.baud,
                           allow_mismatch=ports.allow_mismatch, clamp=True, auto_rearm=True)  # fmt: skip
@@ -163,7 +178,6 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
         if select is not None:
             x, y, w, h = (round(v) for v in select)
             template = camera.read(5.0).image[y : y + h, x : x + w].copy()
-        assert template is not None
         chosen = make_pilot(pilot, geo, template, settings)
         lidar = Lidar.open(ports.lidar, ports.lidar_model or emulated.lidar_for(profile))
         imu = Jy901.open(ports.imu) if ports.imu else None

@@ -12,7 +12,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk.autonomy.pilot import PoseAt
-from host_sdk.perception import CameraModel, LidarMount, Tracker
+from host_sdk.perception import CameraModel, LidarMount
+from host_sdk.perception.class_tracker import FrameTracker
 from host_sdk.perception.scan import bin_points
 from host_sdk.perception.tracking import Track, TrackState
 from host_sdk.pose import RobotPose
@@ -46,7 +47,7 @@ class PiCarBaseline:
     WHEELBASE_M = 0.26
     """The PiCar's, to turn a steering angle into a curvature on a differential drive too."""
 
-    def __init__(self, tracker: Tracker, camera: CameraModel, mount: LidarMount, speed_m_s: float,
+    def __init__(self, tracker: FrameTracker, camera: CameraModel, mount: LidarMount, speed_m_s: float,
                  *, bins: int = 500, period_s: float = 1.0) -> None:  # fmt: skip
         self.tracker = tracker
         self.camera = camera
