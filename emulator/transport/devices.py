@@ -97,9 +97,9 @@ def _camera_look(values: dict[str, str | None], camera: str | None) -> tuple[str
     """The camera's look and distractor count from URL/command-line values, checked."""
     look, text = values.get("look") or "plain", values.get("distractors") or None
     if look != "plain" and not camera:
-        raise EmulatorValueError("camera look", look, "a camera to apply to (camera=WxH)")
+        raise EmulatorValueError("camera look", look, "a camera to apply to (camera=WxH; --camera)")
     if text is not None and not camera:
-        raise EmulatorValueError("camera distractors", text, "a camera to apply to (camera=WxH)")
+        raise EmulatorValueError("camera distractors", text, "a camera to apply to (camera=WxH; --camera)")
     distractors = None
     if text is not None:
         try:
