@@ -113,6 +113,13 @@ def level_for(texels_per_pixel: NDArray[np.float32]) -> NDArray[np.int32]:
 def sample(flat: NDArray[np.float32], material: NDArray[np.int64] | np.int64, level: NDArray[np.int32],
            v: NDArray[np.float32], u: NDArray[np.float32]) -> NDArray[np.float32]:  # fmt: skip
     """Luminance factors at texture coordinates (v: rows, u: columns, in texels) of each pixel's
-    material and level (`flat`: load_textures() flattened)."""
-    index = ((material * LEVELS + level) * TEXELS + mirrored(v)) * TEXELS + mirrored(u)
-    return np.take(flat, index)
+    material and level (`flat`: load_textures() flattened), interpolated between the four nearest
+    texels (nearest-texel sampling turns a close surface into blocks)."""
+    v0, u0 = np.floor(v), np.floor(u)
+    fv, fu = v - v0, u - u0
+    base = (material * LEVELS + level) * TEXELS
+    row0, row1 = (base + mirrored(v0)) * TEXELS, (base + mirrored(v0 + 1)) * TEXELS
+    col0, col1 = mirrored(u0), mirrored(u0 + 1)
+    top = np.take(flat, row0 + col0) * (1 - fu) + np.take(flat, row0 + col1) * fu
+    bottom = np.take(flat, row1 + col0) * (1 - fu) + np.take(flat, row1 + col1) * fu
+    return np.asarray(top * (1 - fv) + bottom * fv, dtype=np.float32)
