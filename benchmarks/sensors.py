@@ -12,7 +12,7 @@ them; the wall-clock rates of the same runs are printed beside them.
   F4, so the bytes are the real wire format) fed to the SDK's parser in 4 KiB reads, as from a
   serial port; points per second of CPU, as a ratio to the device's point rate (the A1's 8,000
   samples/s in its fastest mode, the F4's 4,000).
-* **camera render**: frames per second of the emulated Pi Camera v2 at 320x240 and 640x480 in the
+* **camera render**: frames per second of the emulated Pi Camera v2 at 320x240 and 640x480, in each look, in the
   random:0 room, render plus JPEG encode (what a served frame costs), against the camera's 30 fps.
 * **emulator**: virtual seconds per wall second of the PiCar emulator with an RPLIDAR A1 at 10 Hz,
   the camera at 30 fps (320x240, rendered and encoded) and the JY901 at 200 Hz, against the same
@@ -30,7 +30,7 @@ import cv2
 
 from emulator import Emulator
 from emulator.sensors import attach
-from emulator.sensors.camera import CameraOptions
+from emulator.sensors.camera import LOOKS, CameraOptions
 from host_sdk.sensors import rplidar, ydlidar
 from protocol.sensors import DEVICES
 
@@ -93,9 +93,9 @@ def lidar_parse(model: str, seconds: float, repeat: int) -> tuple[float, float, 
     return cpu_rate, wall_rate, points
 
 
-def camera_fps(width: int, height: int, frames: int, repeat: int) -> tuple[float, float]:
+def camera_fps(width: int, height: int, frames: int, repeat: int, look: str = "plain") -> tuple[float, float]:
     emu = Emulator("picar", seed=0)
-    rig = attach(emu, "random:0", camera=CameraOptions(width=width, height=height))
+    rig = attach(emu, "random:0", camera=CameraOptions(width=width, height=height, look=look))
     cam = rig.devices["camera"]
     scene = rig.world.scene
     x, y, th = scene.start
@@ -103,7 +103,7 @@ def camera_fps(width: int, height: int, frames: int, repeat: int) -> tuple[float
     def run() -> tuple[float, float, float]:
         watch = Stopwatch()
         for i in range(frames):
-            image = cam.renderer.render(scene, (x, y, th + 0.01 * i), 0.3, cam.rng)
+            image = cam.renderer.render(scene, (x, y, th + 0.01 * i), 0.3, cam.rng, time_s=i / 30)
             cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, 85])
         return (frames, *watch.stop())
 
@@ -144,9 +144,11 @@ def main() -> None:
               f"{device_rate:,.0f}/s  ({wall:,.0f}/s; {points} points a pass)")  # fmt: skip
     fps_device = DEVICES["pi-camera-v2"].fps  # type: ignore[union-attr]
     print("camera render + JPEG encode (random:0 room)")
-    for w, h in ((320, 240), (640, 480)):
-        fps, wall = camera_fps(w, h, frames, repeat)
-        print(f"  {w}x{h}   {fps:8.1f} fps = {fps / fps_device:5.1f}x the camera's {fps_device:g} fps ({wall:.1f} fps)")
+    for look in LOOKS:
+        for w, h in ((320, 240), (640, 480)):
+            fps, wall = camera_fps(w, h, frames, repeat, look)
+            print(f"  {look:5s} {w}x{h}   {fps:8.1f} fps = {fps / fps_device:5.1f}x the camera's {fps_device:g} fps "
+                  f"({wall:.1f} fps; {1000 / fps:.1f} ms a frame)")  # fmt: skip
     bare, bare_wall = emulator_speed(seconds, repeat, sensors=False)
     full, full_wall = emulator_speed(seconds, repeat, sensors=True)
     print("emulator on the virtual clock (picar), virtual seconds per CPU second (per wall second)")

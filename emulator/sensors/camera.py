@@ -20,7 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from emulator.world.raycast import cast
+from emulator.errors import EmulatorValueError
+from emulator.world.raycast import F64, Hits, cast
 from emulator.world.scene import PATTERNS, Scene
 from protocol.errors import import_optional
 from protocol.sensors import CameraSpec, Mount
@@ -30,6 +31,8 @@ LAYERS = 4
 SKY = (205, 190, 175)
 FLOOR = ((96, 104, 110), (128, 136, 142))
 TILE_M = 0.5
+LOOKS = ("plain", "photo")
+MAX_DISTRACTORS = 8
 
 
 @dataclass(frozen=True, slots=True)
@@ -43,6 +46,47 @@ class CameraOptions:
     """Gain on the image (1: as rendered)."""
     exposure_s: float = 0.01
     """Exposure time, for the motion blur (0: none)."""
+    look: str = "plain"
+    """plain (flat colours and patterns) or photo (emulator/sensors/photo.py)."""
+    distractors: int | None = None
+    """Cylinders of the world painted like the target (photo look; None: the look's default)."""
+
+    def __post_init__(self) -> None:
+        if self.look not in LOOKS:
+            raise EmulatorValueError("camera look", self.look, " or ".join(LOOKS))
+        if self.distractors is not None and not 0 <= self.distractors <= MAX_DISTRACTORS:
+            raise EmulatorValueError("camera distractors", self.distractors, f"0..{MAX_DISTRACTORS}")
+
+
+@dataclass(frozen=True, slots=True)
+class Layers:
+    """The nearest surfaces of every image column, and which of them each pixel shows.
+
+    Per (column, layer), W x k, nearest first: `order` (the surface columns of `hits`), `t`
+    (distance along the column's ray, inf: none), `z` (perpendicular depth), `shape` (shape index),
+    `u` (position along the surface, metres). Per column: `dirs`, the ray's direction in the
+    world (W, 2). Per pixel, H x W: `mask` (the layers covering it, one bit each) and `layer` (the
+    nearest of them, -1: none)."""
+
+    k: int
+    hits: Hits
+    order: NDArray[np.int64]
+    t: F64
+    z: F64
+    shape: NDArray[np.int64]
+    u: F64
+    dirs: F64
+    mask: NDArray[np.int16]
+    layer: NDArray[np.int32]
+    col_index: NDArray[np.int32]
+
+    def cells(self, layer: NDArray[np.int32]) -> NDArray[np.int64]:
+        """Flat indices into (W, k) tables of each pixel's `layer` (any cell where it is -1)."""
+        return (self.col_index * self.k + np.maximum(layer, 0)).reshape(-1).astype(np.int64)
+
+    def pixel_shape(self) -> NDArray[np.int64]:
+        """(H, W) the shape each pixel shows (meaningless where `layer` is -1)."""
+        return np.take(self.shape.reshape(-1), self.cells(self.layer)).reshape(self.layer.shape)
 
 
 class Renderer:
@@ -76,8 +120,9 @@ class Renderer:
         self.background[:] = np.array(SKY, dtype=np.float32)
 
     def render(self, scene: Scene, pose: tuple[float, float, float], yaw_rate: float,
-               rng: np.random.Generator) -> NDArray[np.uint8]:  # fmt: skip
-        """The BGR image the camera sees from the robot pose (x, y, heading) in the world."""
+               rng: np.random.Generator, *, time_s: float = 0.0) -> NDArray[np.uint8]:  # fmt: skip
+        """The BGR image the camera sees from the robot pose (x, y, heading) in the world at
+        `time_s` (the photo look's lighting changes with it)."""
         cv2 = import_optional("cv2", "vision", "the emulated camera")
         x, y, th = pose
         m = self.mount
@@ -85,17 +130,22 @@ class Renderer:
         cam_y = y + math.sin(th) * m.x_m + math.cos(th) * m.y_m
         heading = th + m.yaw_rad
         img = self.background.copy()
-        self._floor(img, cam_x, cam_y, heading)
+        self._floor(img, scene, cam_x, cam_y, heading)
         self._surfaces(img, scene, cam_x, cam_y, heading)
         opts = self.options
-        if opts.exposure != 1.0:
-            img *= opts.exposure
+        img = self._expose(img, time_s, rng)
         blur = abs(yaw_rate) * opts.exposure_s * self.fx
         if blur >= 1.5:
             img = np.asarray(cv2.blur(img, (round(blur), 1)), dtype=np.float32)
         if opts.noise > 0:
             img += self._noise(rng)
         return np.clip(img, 0, 255).astype(np.uint8)
+
+    def _expose(self, img: NDArray[np.float32], time_s: float, rng: np.random.Generator) -> NDArray[np.float32]:
+        """The fixed gain (the photo look adds lighting drift and auto-exposure)."""
+        if self.options.exposure != 1.0:
+            img *= self.options.exposure
+        return img
 
     def _noise(self, rng: np.random.Generator) -> NDArray[np.float32]:
         """Luminance noise for one frame: a random window of a bank drawn once (4 frames of
@@ -107,7 +157,7 @@ class Renderer:
         r0, c0 = int(rng.integers(0, 3 * h)), int(rng.integers(0, w))
         return self._noise_bank[r0 : r0 + h, c0 : c0 + w, None]
 
-    def _floor(self, img: NDArray[np.float32], cam_x: float, cam_y: float, heading: float) -> None:
+    def _floor(self, img: NDArray[np.float32], scene: Scene, cam_x: float, cam_y: float, heading: float) -> None:
         z = self.floor_z32
         lateral = self.floor_lateral * z
         c, s = np.float32(math.cos(heading) / TILE_M), np.float32(math.sin(heading) / TILE_M)
@@ -117,12 +167,29 @@ class Renderer:
         img[self.floor_rows] = np.where(odd[..., None], self.floor_b, self.floor_a)
 
     def _surfaces(self, img: NDArray[np.float32], scene: Scene, cam_x: float, cam_y: float, heading: float) -> None:
+        self.target_bbox = None
+        lay = self._layers(scene, cam_x, cam_y, heading, img.shape[0])
+        if lay is None:
+            return
+        valid = lay.layer >= 0
+        painted = self._paint(img, scene, lay)
+        np.copyto(img, painted, where=valid[..., None])
+        if scene.target_index is not None:
+            seen = valid & (lay.pixel_shape() == scene.target_index) & self._opaque(lay)
+            rows, cols_seen = np.flatnonzero(seen.any(axis=1)), np.flatnonzero(seen.any(axis=0))
+            if rows.size:
+                self.target_bbox = (int(cols_seen[0]), int(rows[0]), int(cols_seen[-1]) + 1, int(rows[-1]) + 1)
+
+    def _layers(self, scene: Scene, cam_x: float, cam_y: float, heading: float, h: int) -> Layers | None:
+        """Which surface each pixel shows: the nearest LAYERS surfaces of every column, and per pixel
+        the nearest covering it (None: no surface in the scene)."""
         angles = heading + self.col_angle
         w = angles.shape[0]
         origins = np.tile([cam_x, cam_y], (w, 1))
-        hits = cast(scene, origins, np.column_stack([np.cos(angles), np.sin(angles)]))
+        dirs = np.column_stack([np.cos(angles), np.sin(angles)])
+        hits = cast(scene, origins, dirs)
         if hits.t.shape[1] == 0:
-            return
+            return None
         k = min(LAYERS, hits.t.shape[1])
         order = np.argsort(hits.t, axis=1)[:, :k]
         cols = np.arange(w)[:, None]
@@ -136,7 +203,6 @@ class Renderer:
         # Which layer each pixel shows, the nearest covering it: each layer's rows set its bit in a
         # per-pixel mask (a difference array summed down the columns), the lowest bit wins. Then
         # the pixels are coloured from per-(column, layer) tables: one gather per pixel.
-        h = img.shape[0]
         r0 = np.clip(np.ceil(top), 0, h).astype(np.int64)
         r1 = np.clip(np.floor(bottom) + 1, 0, h).astype(np.int64)
         span = finite & (r1 > r0)
@@ -144,27 +210,30 @@ class Renderer:
         cj, jj = np.nonzero(span)
         np.add.at(bits, (r0[cj, jj], cj), (1 << jj).astype(np.int16))
         np.add.at(bits, (r1[cj, jj], cj), -(1 << jj).astype(np.int16))
-        layer = _LOWEST_BIT[np.cumsum(bits[:h], axis=0, dtype=np.int16)]
-        valid = layer >= 0
-        cell = (self.col_index * k + np.maximum(layer, 0)).reshape(-1)  # index into (W * k) tables
+        mask = np.cumsum(bits[:h], axis=0, dtype=np.int16)
+        layer = LOWEST_BIT[mask]
+        return Layers(k, hits, order, t, z, shape, hits.u[cols, order], dirs, mask, layer, self.col_index)
+
+    def _paint(self, img: NDArray[np.float32], scene: Scene, lay: Layers) -> NDArray[np.float32]:
+        """The colour of every pixel's surface (pixels without one: anything)."""
+        layer = lay.layer
+        cols = np.arange(layer.shape[1])[:, None]
+        cell = lay.cells(layer)
         # Patterns from 1 cm texture tiles: the pixel's height above the floor and its position
         # along the surface pick a cell; the table holds both colours of every (column, layer).
-        zc = np.take((z / self.fy).astype(np.float32).reshape(-1), cell).reshape(layer.shape)
-        height = np.float32(h_cam) + self.rows32 * zc
+        zc = np.take((lay.z / self.fy).astype(np.float32).reshape(-1), cell).reshape(layer.shape)
+        height = np.float32(self.mount.z_m) + self.rows32 * zc
         iv = (height * 100).astype(np.int32) % TILE
-        iu = (np.take(hits.u[cols, order].astype(np.float32).reshape(-1), cell) * 100).astype(np.int32) % TILE
-        pattern = np.take(self.pattern_of(scene)[shape].reshape(-1), cell)
+        iu = (np.take(lay.u.astype(np.float32).reshape(-1), cell) * 100).astype(np.int32) % TILE
+        pattern = np.take(self.pattern_of(scene)[lay.shape].reshape(-1), cell)
         alt = TILES[pattern, iv.reshape(-1), iu]
-        shade = (0.55 + 0.45 * hits.cos_incidence[cols, order]).astype(np.float32)[..., None, None]
-        both = np.stack([self.colour_of(scene)[shape], self.colour2_of(scene)[shape]], axis=2) * shade
-        painted = np.take(both.reshape(-1, 3), cell * 2 + alt, axis=0).reshape(img.shape)
-        np.copyto(img, painted, where=valid[..., None])
-        self.target_bbox = None
-        if scene.target_index is not None:
-            seen = valid & (np.take(shape.reshape(-1), cell).reshape(layer.shape) == scene.target_index)
-            rows, cols_seen = np.flatnonzero(seen.any(axis=1)), np.flatnonzero(seen.any(axis=0))
-            if rows.size:
-                self.target_bbox = (int(cols_seen[0]), int(rows[0]), int(cols_seen[-1]) + 1, int(rows[-1]) + 1)
+        shade = (0.55 + 0.45 * lay.hits.cos_incidence[cols, lay.order]).astype(np.float32)[..., None, None]
+        both = np.stack([self.colour_of(scene)[lay.shape], self.colour2_of(scene)[lay.shape]], axis=2) * shade
+        return np.take(both.reshape(-1, 3), cell * 2 + alt, axis=0).reshape(img.shape)
+
+    def _opaque(self, lay: Layers) -> NDArray[np.bool_] | bool:
+        """Which target pixels count as seen (the plain look's target is solid)."""
+        return True
 
     def pattern_of(self, scene: Scene) -> NDArray[np.int64]:
         return np.array([PATTERNS.index(s.pattern) for s in scene.shapes], dtype=np.int64)
@@ -176,7 +245,7 @@ class Renderer:
         return np.array([s.colour2 for s in scene.shapes], dtype=np.float32)
 
 
-_LOWEST_BIT = np.array([-1] + [(i & -i).bit_length() - 1 for i in range(1, 1 << LAYERS)], dtype=np.int32)
+LOWEST_BIT = np.array([-1] + [(i & -i).bit_length() - 1 for i in range(1, 1 << LAYERS)], dtype=np.int32)
 """The nearest layer (lowest set bit) of each 4-bit coverage mask; -1: no layer."""
 
 

@@ -24,8 +24,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from emulator.rng import Streams
-from emulator.sensors.camera import CameraOptions, Renderer
+from emulator.sensors.camera import CameraOptions
 from emulator.sensors.lidar import PoseAt
+from emulator.sensors.photo import renderer_for
 from emulator.world.scene import Scene
 from protocol.errors import import_optional
 from protocol.sensors import CameraSpec, Mount
@@ -79,7 +80,7 @@ class CameraDevice:
         import_optional("cv2", "vision", "the emulated camera")
         self.spec = spec
         self.options = options
-        self.renderer = Renderer(spec, mount, options)
+        self.renderer = renderer_for(spec, mount, options)
         self.rng = np.random.Generator(np.random.PCG64(streams.get("sensor:camera").getrandbits(64)))
         self.yaw_rate = yaw_rate
         self.listeners: list[Callable[[Frame], None]] = []
@@ -114,14 +115,15 @@ class CameraDevice:
             if not (self.listeners or self.always):
                 continue
             x, y, th = pose_at(np.array([t], dtype=np.int64))
-            image = self.renderer.render(scene, (float(x[0]), float(y[0]), float(th[0])), self.yaw_rate(), self.rng)
+            pose = (float(x[0]), float(y[0]), float(th[0]))
+            image = self.renderer.render(scene, pose, self.yaw_rate(), self.rng, time_s=t / 1e6)
             self.last_image = image
             ok, jpeg = cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
             if not ok:  # pragma: no cover - OpenCV encodes any uint8 BGR image
                 continue
             self.seq += 1
             self.frames_rendered += 1
-            self._record_truth(scene, t, (float(x[0]), float(y[0]), float(th[0])))
+            self._record_truth(scene, t, pose)
             frame = Frame(self.seq, t, jpeg.tobytes())
             for listener in list(self.listeners):
                 listener(frame)

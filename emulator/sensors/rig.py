@@ -115,8 +115,9 @@ def mount_on(profile: str, kind: str, device_name: str) -> Mount:
     return ROBOT_SENSORS[profile].placed(kind, device_name)
 
 
-def camera_options(size: str | None = None, **extra: float) -> CameraOptions:
-    """CameraOptions from "WIDTHxHEIGHT" (one of the camera's sizes)."""
+def camera_options(size: str | None = None, *, look: str = "plain", distractors: int | None = None,
+                   **extra: float) -> CameraOptions:  # fmt: skip
+    """CameraOptions from "WIDTHxHEIGHT" (one of the camera's sizes), in `look`."""
     spec = DEVICES["pi-camera-v2"]
     assert isinstance(spec, CameraSpec)
     width, height = spec.width, spec.height
@@ -127,7 +128,7 @@ def camera_options(size: str | None = None, **extra: float) -> CameraOptions:
             raise EmulatorValueError("camera size", size, "WIDTHxHEIGHT, e.g. 320x240") from None
         if (width, height) not in spec.sizes:
             raise EmulatorValueError("camera size", size, " or ".join(f"{w}x{h}" for w, h in spec.sizes))
-    return CameraOptions(width=width, height=height, **extra)
+    return CameraOptions(width=width, height=height, look=look, distractors=distractors, **extra)
 
 
 def attach(

@@ -17,7 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from emulator.sensors.camera import CameraOptions, Renderer
+from emulator.sensors.camera import CameraOptions
+from emulator.sensors.photo import renderer_for
 from emulator.sensors.rig import mount_on
 from emulator.world.scene import Scene, make_scene
 from protocol.sensors import DEVICES, CameraSpec, Mount
@@ -38,8 +39,9 @@ def camera_mount(profile: str) -> Mount:
 
 
 def render_target(scene: Scene, mount: Mount, *, width: int = 320, height: int = 240,
-                  distance_m: float = 0.8) -> TargetTemplate:  # fmt: skip
-    """The scene's target seen from `distance_m` (to its front) by a camera at `mount`'s height."""
+                  distance_m: float = 0.8, look: str = "plain") -> TargetTemplate:  # fmt: skip
+    """The scene's target seen from `distance_m` (to its front) by a camera at `mount`'s height, in
+    the camera's `look`."""
     target = scene.target
     if target is None:
         raise ValueError(f"world {scene.name!r} has no target to follow")
@@ -47,10 +49,11 @@ def render_target(scene: Scene, mount: Mount, *, width: int = 320, height: int =
     assert isinstance(spec, CameraSpec)
     r = target.radius_m
     d = distance_m + r
-    alone = make_scene("template", [target.shape], [], [], [(d, 0.0, r)], cir_shape=[0], start=(0, 0, 0),
+    alone = make_scene(scene.name, [target.shape], [], [], [(d, 0.0, r)], cir_shape=[0], start=(0, 0, 0),
                        target=None)  # fmt: skip
     cam = Mount(mount.device, "camera", 0.0, 0.0, mount.z_m, 0.0)
-    renderer = Renderer(spec, cam, CameraOptions(width=width, height=height, noise=0.0, exposure_s=0.0))
+    options = CameraOptions(width=width, height=height, noise=0.0, exposure_s=0.0, look=look)
+    renderer = renderer_for(spec, cam, options)
     image = renderer.render(alone, (0.0, 0.0, 0.0), 0.0, np.random.default_rng(0))
     z = distance_m
     half = renderer.fx * math.tan(math.asin(r / d))

@@ -24,12 +24,13 @@ from urllib.parse import urlsplit
 
 from emulator.device import Emulator
 from emulator.errors import EmulatorValueError
+from emulator.sensors.camera import MAX_DISTRACTORS
 from emulator.sensors.mjpeg import CameraDevice, Frame
 from emulator.sensors.rig import IMUS, LIDARS, SensorRig, attach, camera_options
 from emulator.sensors.target import render_target
 from protocol.errors import import_optional
 
-SENSOR_PARAMS = ("world", "lidar", "lidar_hz", "imu", "camera")
+SENSOR_PARAMS = ("world", "lidar", "lidar_hz", "imu", "camera", "look", "distractors")
 BUFFERED_FRAMES = 4
 TARGET = "target"
 
@@ -54,9 +55,12 @@ class SensorOptions:
     imu: str | None = None
     camera: str | None = None
     """None, or WIDTHxHEIGHT."""
+    look: str = "plain"
+    """The camera's look: plain or photo (emulator/sensors/photo.py)."""
+    distractors: int | None = None
 
     def attach(self, emu: Emulator, seed: int) -> None:
-        opts = camera_options(self.camera) if self.camera else False
+        opts = camera_options(self.camera, look=self.look, distractors=self.distractors) if self.camera else False
         # A lidar or a camera needs something to see: a random room by default. An IMU alone does
         # not, and a room's walls would stop a robot driven for calibration: an open floor.
         world = self.world or (f"random:{seed}" if self.lidar or self.camera else "empty")
@@ -85,9 +89,26 @@ def sensor_options(values: dict[str, str | None]) -> SensorOptions | None:
         camera = None
     elif camera in ("1", "true"):
         camera = "320x240"
+    look, distractors = _camera_look(values, camera)
+    return SensorOptions(values.get("world") or None, lidar or None, hz, imu or None, camera, look, distractors)
+
+
+def _camera_look(values: dict[str, str | None], camera: str | None) -> tuple[str, int | None]:
+    """The camera's look and distractor count from URL/command-line values, checked."""
+    look, text = values.get("look") or "plain", values.get("distractors") or None
+    if look != "plain" and not camera:
+        raise EmulatorValueError("camera look", look, "a camera to apply to (camera=WxH; --camera)")
+    if text is not None and not camera:
+        raise EmulatorValueError("camera distractors", text, "a camera to apply to (camera=WxH; --camera)")
+    distractors = None
+    if text is not None:
+        try:
+            distractors = int(text)
+        except ValueError:
+            raise EmulatorValueError("camera distractors", text, f"0..{MAX_DISTRACTORS}") from None
     if camera:
-        camera_options(camera)  # checks the size
-    return SensorOptions(values.get("world") or None, lidar or None, hz, imu or None, camera)
+        camera_options(camera, look=look, distractors=distractors)  # checks the size, the look and the count
+    return look, distractors
 
 
 _REGISTRY: dict[str, _Transport] = {}
@@ -174,7 +195,9 @@ def open_url(url: str, baud: int = 0) -> DeviceEndpoint:
 def target_part(rig: SensorRig) -> bytes:
     """The world's target as one MJPEG part (frame 1), rendered by the rig's camera model."""
     cv2 = import_optional("cv2", "vision", "the emulated camera")
-    template = render_target(rig.world.scene, rig.mount_for("camera", "pi-camera-v2"))
+    camera = rig.devices["camera"]
+    look = camera.options.look if isinstance(camera, CameraDevice) else "plain"
+    template = render_target(rig.world.scene, rig.mount_for("camera", "pi-camera-v2"), look=look)
     ok, jpeg = cv2.imencode(".jpg", template.image, [cv2.IMWRITE_JPEG_QUALITY, 95])
     if not ok:
         raise OSError("the target's picture could not be encoded")

@@ -32,10 +32,12 @@ Query parameters (all optional):
 | lidar_hz | number | the device's | the lidar's scan rate |
 | imu | jy901 | none | attach the IMU (`endpoints["imu"]`) |
 | camera | 0, 1, WIDTHxHEIGHT | 0 | attach the camera (`endpoints["camera"]`: an MJPEG byte stream; 1 = 320x240) |
+| look | plain, photo | plain | how the camera renders (docs/emulator.md, "The camera's looks"); needs `camera` |
+| distractors | 0..8 | 0..2 by world | photo look: cylinders of the world painted like the target; needs `camera` |
 
-With any of the last five, `transport.endpoints` maps `lidar`, `imu`, `camera` (and `target`, the
-world's target as a photo for the tracker, with a camera) to the URLs the SDK's
-sensor drivers open (`host_sdk.sensors`), and `truth.world` has the robot's pose in the world, the
+With any of world, lidar, lidar_hz, imu or camera, `transport.endpoints` maps `lidar`, `imu`,
+`camera` (and `target`, the world's target as a photo for the tracker, with a camera) to the URLs
+the SDK's sensor drivers open (`host_sdk.sensors`), and `truth.world` has the robot's pose in the world, the
 target and every collision.
 """
 

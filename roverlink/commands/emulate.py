@@ -25,6 +25,7 @@ from emulator.device import Emulator
 from emulator.errors import EmulatorError
 from emulator.profiles import PROFILE_NAMES, EmulatorProfile, get_profile
 from emulator.robot_file import profile_from_file
+from emulator.sensors.camera import LOOKS, MAX_DISTRACTORS
 from emulator.sensors.mjpeg import CameraDevice
 from emulator.sensors.rig import IMUS, LIDARS
 from emulator.transport.devices import SENSOR_PARAMS, sensor_options
@@ -122,6 +123,19 @@ def _add_sensor_arguments(p: argparse.ArgumentParser) -> None:
         "--camera", nargs="?", const="320x240", metavar="WxH", help="serve the camera as MJPEG over HTTP (320x240)"
     )
     g.add_argument(
+        "--camera-look",
+        dest="look",
+        choices=LOOKS,
+        help="how the camera renders: plain (flat colours, the default) or photo (textures, light, auto-exposure)",
+    )
+    g.add_argument(
+        "--camera-distractors",
+        dest="distractors",
+        type=argtypes.integer(0, MAX_DISTRACTORS),
+        metavar="N",
+        help="photo look: paint N of the world's cylinders like the target (default: 0..2 by world)",
+    )
+    g.add_argument(
         "--camera-port",
         type=argtypes.integer(0, 65_535),
         default=0,
@@ -142,7 +156,8 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 def cmd_emulate(args: argparse.Namespace) -> int:
     values = {k: getattr(args, k, None) for k in SENSOR_PARAMS}
-    values["lidar_hz"] = None if values["lidar_hz"] is None else str(values["lidar_hz"])
+    for key in ("lidar_hz", "distractors"):
+        values[key] = None if values[key] is None else str(values[key])
     if getattr(args, "backend", "python") == "simavr":
         if any(values.values()):
             print("error: --world, --lidar, --imu and --camera need --backend python", file=sys.stderr)

@@ -34,6 +34,7 @@ from typing import TextIO
 
 import numpy as np
 
+from emulator.sensors.camera import LOOKS
 from host_sdk import PROFILES, RoverLinkError
 from host_sdk.extras import MissingDependencyError, require
 from host_sdk.perception.detectors import KINDS
@@ -89,6 +90,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     e.add_argument("--world", metavar="FILE|random:SEED", help="a scenario file or random:SEED (selects the emulator)")
     e.add_argument("--seed", type=int, default=0, help="the emulator's random seed (default 0)")
     e.add_argument("--camera-fps", type=_positive, default=15.0, help="emulated camera frame rate (default 15)")
+    e.add_argument("--camera-look", choices=LOOKS, default="plain",
+                   help="emulated camera: plain (flat colours, default) or photo (docs/emulator.md)")  # fmt: skip
     e.add_argument("--no-imu", action="store_true", help="no IMU: wheel odometry alone")
     r = p.add_argument_group("on a robot")
     r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, ...")
@@ -143,7 +146,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
                 return 2
             metrics = run_emulated(robot, args.world or f"random:{args.seed}", pilot=args.pilot, seed=args.seed,
                                    camera_fps=args.camera_fps, imu=not args.no_imu, settings=settings,
-                                   progress=progress, record=record)  # fmt: skip
+                                   camera_look=args.camera_look, progress=progress, record=record)  # fmt: skip
         else:
             missing = [name for name in ("lidar", "camera") if getattr(args, name) is None]
             if missing or sum(v is not None for v in (args.template, args.select, args.target)) != 1:

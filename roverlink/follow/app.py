@@ -112,15 +112,15 @@ def _metrics(
 
 def run_emulated(profile: str | RobotDescription, world: str | Path, *, pilot: str = "roverlink", seed: int = 0,
                  camera_fps: float = 15.0, imu: bool = True, settings: FollowSettings | None = None,
-                 progress: Callable[[Progress], None] | None = None,
+                 camera_look: str = "plain", progress: Callable[[Progress], None] | None = None,
                  record: RecordTo | None = None) -> FollowMetrics:  # fmt: skip
     """One follow run on the emulator (virtual clock); the metrics, with the truth's figures.
     `profile`: a reference robot, or a robot file's description (the emulated robot is the file's)."""
     settings = settings or FollowSettings()
     if settings.target is not None:
         raise ValueError(f"target {settings.target!r} needs a camera that sees people (a robot's): the emulated "
-                         "world's target is a rendered cylinder, which neither detector finds")  # fmt: skip
-    em = emulated.start(profile, world, seed=seed, camera_fps=camera_fps, imu=imu)
+                         "world's target is a rendered shape, which neither detector is made for")  # fmt: skip
+    em = emulated.start(profile, world, seed=seed, camera_fps=camera_fps, imu=imu, camera_look=camera_look)
     robot = em.robot
     try:
         if settings.target_height_m is None:

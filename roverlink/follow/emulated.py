@@ -10,7 +10,7 @@ truth (pose, target, collisions) for the metrics.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -55,7 +55,7 @@ def lidar_for(robot: str | RobotDescription) -> str:
 
 
 def start(profile: str | RobotDescription, world: str | Path, *, seed: int = 0, camera_fps: float = 15.0,
-          imu: bool = True, faults: str | None = None) -> EmulatedRobot:  # fmt: skip
+          imu: bool = True, faults: str | None = None, camera_look: str = "plain") -> EmulatedRobot:  # fmt: skip
     """Connect (virtual clock) to an emulated `profile` (a reference robot, or the robot a robot
     file describes: connected with the file, as on a real robot) in `world` with its sensors attached."""
     desc = profile if isinstance(profile, RobotDescription) else None
@@ -63,9 +63,10 @@ def start(profile: str | RobotDescription, world: str | Path, *, seed: int = 0, 
     assert not isinstance(model, RobotDescription)
     emu = Emulator(model, seed=seed, faults=faults, eeprom="saved")
     cam = desc.camera if desc is not None else None
-    size = {"width": cam.width, "height": cam.height} if cam is not None else {}
-    rig = attach(emu, world, lidar=lidar_for(profile), imu="jy901" if imu else None,
-                 camera=CameraOptions(fps=camera_fps, **size))  # fmt: skip
+    options = CameraOptions(fps=camera_fps, look=camera_look)
+    if cam is not None:
+        options = replace(options, width=cam.width, height=cam.height)
+    rig = attach(emu, world, lidar=lidar_for(profile), imu="jy901" if imu else None, camera=options)
     transport = EmulatorTransport(emu, clock="virtual")
     transport.endpoints = register(transport)
     robot = Robot.connect(transport.url, profile=None if desc else emu.profile.name, robot=desc,
@@ -74,7 +75,8 @@ def start(profile: str | RobotDescription, world: str | Path, *, seed: int = 0, 
     spec = DEVICES["pi-camera-v2"]
     assert isinstance(spec, CameraSpec)
     scene = rig.world.scene
-    return EmulatedRobot(robot, emu, scene, dict(transport.endpoints), lidar_for(profile), render_target(scene, cm),
+    template = render_target(scene, cm, look=camera_look)
+    return EmulatedRobot(robot, emu, scene, dict(transport.endpoints), lidar_for(profile), template,
                          TruthProbe(emu, cm, spec.hfov_deg))  # fmt: skip
 
 
