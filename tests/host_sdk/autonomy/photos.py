@@ -1,5 +1,5 @@
 """Real photographs for the person and face detectors' tests (their sources and licences:
-tests/data/photos/README-detectors.md), and the boxes measured on them by hand."""
+tests/data/photos/README.md), and the boxes measured on them by hand."""
 
 from __future__ import annotations
 
