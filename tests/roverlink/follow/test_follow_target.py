@@ -48,7 +48,7 @@ def test_one_target_only_and_none_on_the_emulator() -> None:
         run_robot(ports, "picar", select=(1, 1, 10, 10), settings=FollowSettings(target="face"))
     with pytest.raises(ValueError, match="one of them"):
         run_robot(ports, "picar")
-    with pytest.raises(ValueError, match="rendered cylinder"):
+    with pytest.raises(ValueError, match="rendered shape"):
         run_emulated("picar", "random:3", settings=FollowSettings(target="person"))
 
 
