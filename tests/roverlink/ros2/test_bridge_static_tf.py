@@ -81,7 +81,7 @@ def test_a_robot_files_moved_lidar(ros: None, tf2_msgs: Path, tmp_path: Path) ->
     path.write_text(text.replace("[sensors.imu]", LIDAR + "[sensors.imu]"), encoding="utf-8")
     proc, probe, ns = start(tmp_path, "emu://diffdrive-tb6612?seed=1", robot_file=path)
     with logged(proc, probe):
-        connected(probe, "DiffDriveTB6612")
+        connected(probe, "diffdrive-tb6612")  # the emulated robot is the file's (its name)
         names = {"base_footprint", "laser", "imu_link", "camera_link", "camera_optical_frame"}
         frames = late_frames(probe, tf2_msgs, ns, names)
         assert set(frames) == names
