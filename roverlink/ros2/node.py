@@ -192,22 +192,22 @@ class BridgeNode(Node):
         else the robot file's (their `port`)."""
         p, started = self.params, {s.kind for s in self.sensors}
         own = self.robot_file if self.robot_file is not None and not p.url.startswith("emu://") else None
-        ports = {
-            kind: getattr(dev, "port", "") or ""
-            for kind, dev in (("lidar", own and own.lidar), ("imu", own and own.imu))
-        }
+        files = {"lidar": own.lidar if own else None, "imu": own.imu if own else None}
+        ports = {kind: dev.port if dev is not None else "" for kind, dev in files.items()}
         lidar_url = p.lidar_url or endpoints.get("lidar", "") or ports["lidar"]
         if lidar_url and "lidar" not in started:
             emu = self._emu_options() if not p.lidar_url else None
             model = emu.sensors.lidar if emu is not None and emu.sensors is not None else p.lidar_model
-            if own is not None and own.lidar is not None and lidar_url == ports["lidar"]:
-                model = own.lidar.model
+            lidar = files["lidar"]
+            if lidar is not None and lidar_url == lidar.port:
+                model = lidar.model
             self.sensors.append(LidarPublisher(self, lidar_url, model, p.lidar_frame, p.scan_bins))
         imu_url = p.imu_url or endpoints.get("imu", "") or ports["imu"]
         if imu_url and "imu" not in started:
             self.sensors.append(ImuPublisher(self, imu_url, p, self.fusion))
-        for kind, dev in (("lidar", own and own.lidar), ("imu", own and own.imu)):
-            if dev is not None and not endpoints and kind not in {s.kind for s in self.sensors}:
+        running = {s.kind for s in self.sensors}
+        for kind, dev in files.items():
+            if dev is not None and not endpoints and kind not in running:
                 self.get_logger().warning(
                     f"the robot file has a {kind} but no port for it: set [sensors.{kind}] port (e.g. a "
                     f"/dev/serial/by-id/... path) or the {kind}_url parameter"
