@@ -1,7 +1,8 @@
 """The `roverlink` ROS 2 node: a RoverLink robot on the ROS 2 graph.
 
-Subscribes `cmd_vel`; publishes `odom`, `joint_states`, `/tf` and `/diagnostics`; serves `~/arm`
-and `~/disarm`. docs/ros2.md has the interface. Threads: the executor runs subscriptions,
+Subscribes `cmd_vel` (and `~/set_pose`); publishes `odom`, `joint_states`, `/tf`, `/tf_static`,
+`/diagnostics`, and with sensors `scan`, `imu` and `odometry/filtered`; serves `~/arm`, `~/disarm`
+and `~/reset_odometry`. docs/ros2.md has the interface. Threads: the executor runs subscriptions,
 services and timers; the SDK's I/O thread publishes each FEEDBACK as it arrives (odometry is
 stamped with the board's sample time, so it is published at once, not queued); the connection
 thread owns the Robot's lifetime (roverlink.ros2.connection).
