@@ -3,8 +3,10 @@
 A terminal sends no key-release, only repeats while a key is held (after an initial delay of up
 to half a second). So a direction key drives while its repeats keep arriving: each press renews
 that direction for `key_timeout_s`; when they stop, the target falls back to zero and the robot
-stops (the controller keeps sending zero, so the robot stays armed). If the program itself stops
-commanding, the SDK's command expiry and the board's watchdog put the robot in its safe state.
+stops (the controller keeps sending zero, so the robot stays armed). Each command stays live in
+the SDK only as long as the keys behind it (zero: ZERO_HOLD_S), so a busy UI that misses a few ticks
+does not fail the robot safe, while a program that stops commanding still does: the SDK's command
+expiry, then the board's watchdog.
 
 Limits and kinematics are the SDK's: speeds are fractions of the board's max_wheel_speed_mm_s,
 `drive(..., clamp=True)` keeps a differential-drive turn's curvature, Ackermann steering goes
@@ -43,6 +45,8 @@ KEYS = {
     "r": "arm",
     "x": "disarm",
 }
+ZERO_HOLD_S = 0.5
+"""How long a zero command stays live in the SDK (renewed by every tick while armed)."""
 HELP = "arrows/WASD drive (hold)  +/- speed  space stop  enter/r arm  x disarm  q quit"
 
 
@@ -125,20 +129,27 @@ class TeleopController:
         w = turn * 2 * self.speed_m_s / track
         return v, w
 
+    def hold_s(self, now: float) -> float:
+        """How long the current target stays what it is: until the first held key lapses."""
+        held = [h.until - now for h in (self._linear, self._turn) if h.value and h.until > now]
+        return max(min(held), 1e-3) if held else ZERO_HOLD_S
+
     def tick(self) -> None:
         """Send the current target (zero once the keys stopped); nothing while disarmed."""
         if not self.robot.armed or not self._busy.acquire(blocking=False):
             return
         try:
-            v, turn = self.target(self.robot.now())
+            now = self.robot.now()
+            v, turn = self.target(now)
+            hold = self.hold_s(now)
             if self.ackermann:
                 kin = self.robot.kinematics
                 steer = max(-math.pi / 2, min(math.pi / 2, turn))
-                self.robot.drive_ackermann(v, steer, clamp=True)
+                self.robot.drive_ackermann(v, steer, clamp=True, hold_s=hold)
                 wheelbase = kin.wheelbase_m if isinstance(kin, Ackermann) else 1.0
                 self.setpoint = Setpoint((v,), v, v * math.tan(steer) / wheelbase)
             else:
-                self.robot.drive(v, turn, clamp=True)
+                self.robot.drive(v, turn, clamp=True, hold_s=hold)
                 kin = self.robot.kinematics
                 half = turn * getattr(kin, "track_m", 0.2) / 2
                 self.setpoint = Setpoint((v - half, v + half), v, turn)

@@ -100,7 +100,7 @@ def test_teleop_drives_while_keys_arrive_and_stops_when_they_stop(profile: str) 
                 assert controller.setpoint is not None and controller.setpoint.linear_m_s > 0
                 # Released: within the key timeout the target drops to zero and the robot stops, still armed.
                 assert await until(lambda: max(abs(v) for v in robot.feedback.wheel_speeds_m_s) < 0.01, pilot)
-                assert robot.armed and robot.failsafe is None
+                assert robot.armed and robot.failsafe is None, robot.failsafe
                 await pilot.press("plus")
                 if ackermann:  # forward and left together: the servo steers left
                     turning = await hold(pilot, "up", "left")
@@ -130,6 +130,29 @@ def test_teleop_controller_limits_and_expiry() -> None:
         controller.key("minus")
         assert "speed" in controller.message
         assert controller.key("z") is None
+
+
+@pytest.mark.parametrize("profile", PROFILES)
+def test_teleop_rides_out_a_busy_ui_but_not_a_dead_one(profile: str) -> None:
+    """A UI that misses ticks for longer than the board's watchdog keeps the robot armed while a
+    key is live (and at zero after); a program that stops for good still fails the robot safe."""
+    with Robot.connect(f"emu://{profile}?clock=virtual") as robot:
+        robot.arm()
+        controller = TeleopController(robot, key_timeout_s=3 * robot.watchdog_s)
+        controller.key("up")
+        controller.tick()
+        robot.sleep(2 * robot.watchdog_s)  # no tick: the UI is busy, the key still live
+        assert robot.armed and robot.failsafe is None
+        assert robot.feedback.wheel_speeds_m_s[0] > 0.02
+        robot.sleep(robot.watchdog_s)  # the key lapses: the SDK stops repeating it...
+        controller.tick()  # ...and the next tick sends zero, held while the UI is busy again
+        robot.sleep(2 * robot.watchdog_s)
+        assert robot.armed and robot.failsafe is None
+        assert max(abs(v) for v in robot.feedback.wheel_speeds_m_s) < 0.05
+        controller.key("up")
+        controller.tick()
+        robot.sleep(controller.key_timeout_s + 2 * robot.watchdog_s)  # the program stopped
+        assert not robot.armed
 
 
 def test_teleop_refuses_without_a_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
