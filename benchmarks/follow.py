@@ -4,12 +4,14 @@ approach, on the same seeded random worlds, per profile, in one run.
     python benchmarks/follow.py                       # 50 worlds x 2 profiles x 2 pilots, 40 s each
     python benchmarks/follow.py --worlds 10 --jobs 2  # fewer worlds, two processes
     python benchmarks/follow.py --json results.json   # also every run's metrics
+    python benchmarks/follow.py --look photo          # the photographic camera (textures, light, look-alikes)
 
 Each run: `roverlink follow`'s loop (roverlink.follow) on the emulator's virtual clock, seed = the
 world's number, `random:SEED` (a walled room 4-7 x 3-5 m with 3-6 boxes and 2-4 cylinders, a target
 moving at 0.15-0.3 m/s round 3-4 waypoints, the robot somewhere in it facing anywhere), the
 profile's lidar (PiCar: YDLIDAR F4; diff-drive car: an RPLIDAR A1 on top), the Pi Camera v2 model at
-`--fps`, the JY901 at 200 Hz; the same template and detector for both pilots, the same top speed.
+`--fps` in the `--look` (plain: flat shapes; photo: textured walls and floor, shading, exposure
+drift, look-alike distractors), the JY901 at 200 Hz; the same template and detector for both pilots, the same top speed.
 
 Per profile and pilot: collisions (contacts recorded by the emulator: obstacles and the target,
 and how many of them the robot was run into: it stood or moved away, and the target walked into it),
@@ -35,22 +37,25 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
 
+from emulator.sensors.camera import LOOKS
 from roverlink.follow.app import FollowSettings, run_emulated
 
 PROFILES = ("picar", "diffdrive-tb6612")
 PILOTS = ("roverlink", "picar-2018")
 
 
-def one(job: tuple[str, str, int, float, float]) -> dict[str, Any]:
-    profile, pilot, seed, duration, fps = job
+def one(job: tuple[str, str, int, float, float, str]) -> dict[str, Any]:
+    profile, pilot, seed, duration, fps, look = job
     t0 = time.perf_counter()
     try:
         settings = FollowSettings(duration_s=duration)
-        m = run_emulated(profile, f"random:{seed}", pilot=pilot, seed=seed, camera_fps=fps, settings=settings)
+        m = run_emulated(profile, f"random:{seed}", pilot=pilot, seed=seed, camera_fps=fps, settings=settings,
+                          camera_look=look)  # fmt: skip
         out = m.to_json()
     except Exception as exc:  # a run that breaks is reported, not allowed to end the benchmark
         out = {"pilot": pilot, "profile": profile, "world": f"random:{seed}", "error": repr(exc)}
     out["seed"] = seed
+    out["look"] = look
     out["wall_s"] = round(time.perf_counter() - t0, 1)
     return out
 
@@ -87,9 +92,10 @@ def summarise(runs: list[dict[str, Any]]) -> dict[str, Any]:
     }
 
 
-def table(summary: dict[str, dict[str, dict[str, Any]]], worlds: int, duration: float) -> str:
+def table(summary: dict[str, dict[str, dict[str, Any]]], worlds: int, duration: float, look: str) -> str:
     rows = [
-        f"{worlds} worlds (random:0..{worlds - 1}) per profile, {duration:g} s each, virtual clock\n",
+        f"{worlds} worlds (random:0..{worlds - 1}) per profile, {duration:g} s each, "
+        f"camera look {look}, virtual clock\n",
         "| profile | pilot | collisions (worlds): obstacles + the target (of which run into) | saw the target "
         "| target in view, mean (min) "
         "| worlds >= 90 % in view | following error mean / worst | reacquisitions: count, mean / max "
@@ -118,6 +124,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--fps", type=float, default=15.0, help="camera frame rate (default 15)")
     ap.add_argument("--profile", action="append", choices=PROFILES, help="default: both")
     ap.add_argument("--pilot", action="append", choices=PILOTS, help="default: both")
+    ap.add_argument("--look", choices=LOOKS, default="plain", help="the emulated camera's look (default plain)")
     ap.add_argument("--jobs", type=int, default=1, help="processes (default 1)")
     ap.add_argument("--json", type=Path, help="write every run's metrics and the summary here")
     ap.add_argument("--from-json", type=Path, metavar="FILE", help="summarise the runs saved in FILE (no new runs)")
@@ -131,11 +138,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         summary: dict[str, dict[str, dict[str, Any]]] = {}
         for pr, pi in pairs:
             summary.setdefault(pr, {})[pi] = summarise([r for r in saved if r["profile"] == pr and r["pilot"] == pi])
-        print(table(summary, worlds, round(duration)))
+        looks = sorted({r.get("look", "plain") for r in saved})
+        print(table(summary, worlds, round(duration), "+".join(looks)))
         return 0
     profiles, pilots = args.profile or list(PROFILES), args.pilot or list(PILOTS)
     seeds = range(args.first, args.first + args.worlds)
-    jobs = [(pr, pi, s, args.duration, args.fps) for pr in profiles for s in seeds for pi in pilots]
+    jobs = [(pr, pi, s, args.duration, args.fps, args.look) for pr in profiles for s in seeds for pi in pilots]
     t0 = time.perf_counter()
     runs: list[dict[str, Any]] = []
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
@@ -148,7 +156,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                   f"({r['wall_s']} s)", file=sys.stderr, flush=True)  # fmt: skip
     summary = {pr: {pi: summarise([r for r in runs if r["profile"] == pr and r["pilot"] == pi]) for pi in pilots}
                for pr in profiles}  # fmt: skip
-    print(table(summary, args.worlds, args.duration))
+    print(table(summary, args.worlds, args.duration, args.look))
     print(f"\nwall time {time.perf_counter() - t0:.0f} s with {args.jobs} process(es)")
     if args.json:
         args.json.write_text(json.dumps({"summary": summary, "runs": runs}, indent=1))
