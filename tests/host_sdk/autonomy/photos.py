@@ -18,6 +18,13 @@ FACES: dict[str, tuple[float, float, float, float]] = {
     "astronaut_collins": (187, 75, 73, 103),
 }
 
+PERSONS: dict[str, list[tuple[float, float, float, float]]] = {
+    # x, y, w, h: top of the head to the soles, the widest of arms and legs, read off a 20-pixel grid.
+    "pedestrians_f050": [(125, 44, 55, 151), (201, 41, 54, 140)],  # walking side by side
+    "pedestrians_f525": [(134, 41, 49, 153)],  # standing, facing the camera
+    "pedestrians_f650": [(129, 46, 51, 142)],  # walking away
+}
+
 
 def photo(name: str) -> NDArray[np.uint8]:
     """A BGR photo: grace_hopper (matplotlib's sample data, installed with the dev extra) or one of

@@ -18,7 +18,7 @@ from host_sdk.perception.detectors import iou
 from host_sdk.perception.tracking import TrackerParams, TrackState
 from host_sdk.pose import RobotPose
 from host_sdk.sensors import CameraFrame
-from tests.host_sdk.autonomy.photos import FACES, needs_detectors, photo
+from tests.host_sdk.autonomy.photos import FACES, PERSONS, needs_detectors, photo
 
 pytestmark = needs_detectors
 
@@ -99,6 +99,24 @@ def test_the_detector_finds_it_again_when_the_template_does_not() -> None:
     seen = run_pilot(tracker)
     check_out_and_back(seen)
     assert tracker.acquisitions == 2  # at the start, and once back
+
+
+def test_a_person_picked_among_two_is_followed_as_the_camera_pans() -> None:
+    """Real pedestrians side by side: the detector's pick (the more central) is the one the tracker
+    then holds while the view pans 80 pixels, never the other person."""
+    import cv2
+
+    scene = cv2.resize(photo("pedestrians_f050"), (400, 300), interpolation=cv2.INTER_CUBIC)
+    picked, other = ([v * 1.25 for v in p] for p in PERSONS["pedestrians_f050"])
+    tracker = ClassTracker("person", CAMERA)
+    for i, x0 in enumerate(range(0, 84, 4)):
+        frame = np.ascontiguousarray(scene[30:270, x0 : x0 + 320])
+        track = tracker.update(frame, i / FPS)
+        assert track.found and track.box is not None, (i, track)
+        cx = track.box[0] + track.box[2] / 2
+        centres = [p[0] + p[2] / 2 - x0 for p in (picked, other)]
+        assert abs(cx - centres[0]) < picked[2] / 2 < abs(cx - centres[1]), (i, track.box, centres)
+    assert tracker.acquisitions == 1 and tracker.kind == "person"
 
 
 def test_range_from_the_kinds_height() -> None:

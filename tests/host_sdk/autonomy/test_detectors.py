@@ -19,7 +19,7 @@ from host_sdk.perception.detectors import (
     nms,
     pick,
 )
-from tests.host_sdk.autonomy.photos import FACES, needs_detectors, photo
+from tests.host_sdk.autonomy.photos import FACES, PERSONS, needs_detectors, photo
 
 
 @needs_detectors
@@ -50,6 +50,40 @@ def test_no_person_where_there_is_no_whole_body(name: str, work_width: int) -> N
     nobody), and at full resolution its SVM scores a helmet and a launch gantry 0.6-0.75, which the
     default threshold rejects."""
     assert detector_for("person", DetectorParams(work_width=work_width)).detect(photo(name)) == []
+
+
+def _on(box: tuple[float, ...], person: tuple[float, float, float, float]) -> bool:
+    """A HOG box on a hand-measured person: round the person's centre, a margin above and below
+    (the people detector's window is 64 x 128 round a body about 96 high)."""
+    x, y, w, h = box
+    cx, cy = person[0] + person[2] / 2, person[1] + person[3] / 2
+    return x <= cx <= x + w and y <= cy <= y + h and 1.0 <= h / person[3] <= 1.6
+
+
+@needs_detectors
+@pytest.mark.parametrize("name", sorted(PERSONS))
+@pytest.mark.parametrize("scale", [1, 2])
+def test_finds_each_whole_person_and_nothing_else(name: str, scale: int) -> None:
+    """Real pedestrians (a street camera's frames), at 320 x 240 and at 640 x 480 reduced to the
+    detector's working width: each person found, every box on a person."""
+    import cv2
+
+    image = photo(name)
+    if scale > 1:
+        image = cv2.resize(image, None, fx=scale, fy=scale, interpolation=cv2.INTER_CUBIC)
+    found = detector_for("person").detect(image)
+    people = [tuple(v * scale for v in p) for p in PERSONS[name]]
+    for person in people:
+        assert any(_on(d.box, person) for d in found), (name, person, found)  # type: ignore[arg-type]
+    assert all(any(_on(d.box, p) for p in people) for d in found), found  # type: ignore[arg-type]
+
+
+@needs_detectors
+def test_picks_the_more_central_of_two_people_of_one_size() -> None:
+    image = photo("pedestrians_f050")
+    best = pick(detector_for("person").detect(image), image.shape)
+    near_centre, off_centre = PERSONS["pedestrians_f050"]
+    assert best is not None and _on(best.box, near_centre) and not _on(best.box, off_centre)
 
 
 def test_nms_keeps_the_best_of_overlapping_boxes_and_drops_nested_ones() -> None:
