@@ -19,12 +19,14 @@ that slid onto the background fails this), and its colours are the object's (`co
 coasts on the prediction for `lost_after` - 1 frames (a brief occlusion), never off the picture.
 
 Re-detection (while lost, and at start-up from an image): ORB features of the template (a region's:
-those on the object, inside its ellipse) matched to the frame's with a ratio test and a RANSAC
-homography, as find_object_2d does; that needs texture, so when the template has too few features
+those on the object, inside its ellipse) matched to the frame's with a ratio test and a robust homography
+(OpenCV's USAC: a frame without the object costs a millisecond, not RANSAC's 2000 tries), as
+find_object_2d does; that needs texture, so when the template has too few features
 or the homography fails, a multi-scale correlation of the first template's core over the whole
 (reduced) frame stands in, near the last size for a while after a loss. Either way a candidate is
 accepted only if the correlation at its box reaches `accept_redetect`, stricter than what keeps a
-track alive, and its colours match, so clutter does not get "re-acquired".
+track alive, and its colours match (`colour_redetect`, also stricter), so clutter does not get
+"re-acquired".
 
 States: TRACKING, LOST, and REACQUIRED on the first frame of a track found again by re-detection.
 OpenCV is imported when a tracker is made (the `vision` extra).
@@ -102,6 +104,9 @@ class TrackerParams:
     template taken at 0.8 m covers 0.3 m to 5 m this way."""
     redetect_per_frame: int = 4
     """Of those, how many one frame tries (in turn: all are covered every few frames while lost)."""
+    redetect_max_zoom: float = 0.5
+    """The correlation fallback's frame is at most this share of full size (a small object's
+    candidate is refined at full size before it is accepted): what a lost frame costs."""
     anchor_accept: float = 0.3
     """Correlation of the match's core with the first template that a track needs: a track that slid
     onto the background (the adaptive template with it) scores high against itself, not against this."""
@@ -112,7 +117,10 @@ class TrackerParams:
     """Share of each side of a user's box (`from_region`) that is matched: its corners are background."""
     colour: float = 0.55
     """Colour agreement (1 - Bhattacharyya distance of hue-saturation histograms) of the match's core
-    with the first template's, to keep a track or re-detect one."""
+    with the first template's, to keep a track."""
+    colour_redetect: float = 0.6
+    """The same, to re-detect one: stricter, as `accept_redetect` is (a warm patch of background
+    scored 0.55 against a red cup's 0.66 and more)."""
     appearance: AppearanceParams = field(default_factory=AppearanceParams)
 
 
@@ -280,21 +288,33 @@ class Tracker:
 
     def _scan(self, window: Image, f: float, origin: tuple[int, int], size: tuple[float, float], *,
               anchor: bool) -> tuple[Box, float] | None:  # fmt: skip
-        """The template's core at three scales round `size` over `window` (reduced by f): best box."""
-        cv2 = self.cv2
+        """The template's core at three scales round `size` over `window` (reduced by f): best box.
+        The middle scale searches the whole window; the other two only round its peak (a 6 % change
+        of size moves the peak by a pixel or two), which makes a frame about twice as cheap."""
         big, core = self.params.scale_step, self.look.core
         best: tuple[Box, float] | None = None
-        for s in (1 / big, 1.0, big):
+        peak: tuple[int, int, int, int] | None = None  # the middle scale's x, y, w, h in the window
+        for s in (1.0, 1 / big, big):
             tw, th = round(size[0] * s * core * f), round(size[1] * s * core * f)
             if tw < 4 or th < 4 or tw > window.shape[1] or th > window.shape[0]:
                 continue
-            res = cv2.matchTemplate(window, self.look.template(tw, th, anchor=anchor), cv2.TM_CCOEFF_NORMED)
-            _, score, _, loc = cv2.minMaxLoc(res)
+            x0 = y0 = 0
+            area = window
+            if peak is not None:
+                r = 3  # pixels of slack round the peak, in the reduced window
+                px, py, pw, ph = peak
+                x0 = max(0, min(px + (pw - tw) // 2 - r, window.shape[1] - tw))
+                y0 = max(0, min(py + (ph - th) // 2 - r, window.shape[0] - th))
+                area = window[y0 : y0 + th + 2 * r, x0 : x0 + tw + 2 * r]
+            res = self.cv2.matchTemplate(area, self.look.template(tw, th, anchor=anchor), self.cv2.TM_CCOEFF_NORMED)
+            _, score, _, loc = self.cv2.minMaxLoc(res)
+            if s == 1.0:
+                peak = (loc[0], loc[1], tw, th)
             if best is None or score > best[1]:
                 dx, dy = _subpixel(res, loc)
                 bw, bh = tw / f / core, th / f / core
-                bx = (loc[0] + dx) / f + origin[0] - bw * (1 - core) / 2
-                by = (loc[1] + dy) / f + origin[1] - bh * (1 - core) / 2
+                bx = (x0 + loc[0] + dx) / f + origin[0] - bw * (1 - core) / 2
+                by = (y0 + loc[1] + dy) / f + origin[1] - bh * (1 - core) / 2
                 best = ((bx, by, bw, bh), float(score))
         return best
 
@@ -314,7 +334,7 @@ class Tracker:
             if (
                 refined is not None
                 and refined[1] >= self.params.accept_redetect
-                and self.look.colour_match(image, refined[0]) >= self.params.colour
+                and self.look.colour_match(image, refined[0]) >= self.params.colour_redetect
             ):
                 self.box = None
                 self._accept(refined[0], 0.0)
@@ -335,7 +355,7 @@ class Tracker:
             return None
         src = self._tpl_kp[[m.queryIdx for m in good]].reshape(-1, 1, 2)
         dst = np.array([kp[m.trainIdx].pt for m in good], dtype=np.float32).reshape(-1, 1, 2)
-        hom, inliers = cv2.findHomography(src, dst, cv2.RANSAC, 4.0)
+        hom, inliers = cv2.findHomography(src, dst, cv2.USAC_DEFAULT, 4.0)
         if hom is None or int(inliers.sum()) < 8:
             return None
         th, tw = self.template.shape[:2]
@@ -363,14 +383,15 @@ class Tracker:
         if not every_scale and self._seen_s is not None and self.time_s - self._seen_s < p.redetect_near_s:
             lo, hi, n = max(lo, self.scale / 2), min(hi, self.scale * 2), max(2, n // 2)
         scales = np.geomspace(lo, hi, n)
-        step = 1 if every_scale else max(1, scales.shape[0] // p.redetect_per_frame)
-        turn = np.arange(0 if every_scale else self._phase, scales.shape[0], step)
-        self._phase = (self._phase + 1) % max(1, scales.shape[0] // p.redetect_per_frame)
+        rounds = 1 if every_scale else math.ceil(scales.shape[0] / p.redetect_per_frame)
+        self._phase %= rounds
+        turn = np.arange(self._phase, scales.shape[0], rounds)
+        self._phase += 1
         for s in scales[turn]:
             w, h = tw * s, th * s
             if w > W or h > H or min(w, h) < p.min_size_px:
                 continue
-            f = round(min(1.0, p.work_px / max(w, h)), 2)
+            f = round(min(p.redetect_max_zoom, p.work_px / max(w, h)), 2)
             frame = reduced.get(f)
             if frame is None:
                 frame = image if f == 1.0 else cv2.resize(image, None, fx=f, fy=f, interpolation=cv2.INTER_AREA)
