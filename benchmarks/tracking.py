@@ -1,5 +1,6 @@
-"""Object tracking at 320x240 on real-photo sequences and the emulator's scenes, RoverLink's tracker
-against OpenCV's and find_object_2d's method, in one run, with the project's goals.
+"""Object tracking at 320x240 on real-photo sequences and the emulator's scenes, with the goals.
+
+RoverLink's tracker against OpenCV's and find_object_2d's method, in one run.
 
     python benchmarks/tracking.py                    # a few minutes
     python benchmarks/tracking.py --quick            # a smoke run: shorter emulator clips, one repeat
