@@ -8,10 +8,12 @@ picture and comes back. Every frame goes through JPEG at quality 60, as an MJPEG
     for seq in sequences():
         for frame in seq.frames:
             frame.image, frame.time_s, frame.box   # box: the truth (x, y, w, h), None while out of view
+            frame.visible                            # share of the target seen: in the frame, not behind the pole
 
 The truth box is the bounding box of the target's visible alpha (> 0.5) clipped to the frame; it is
 None while less than 30 % of the target is inside the frame. A pole in front does not make it None
-(the object's box includes its occluded part, as in the usual tracking benchmarks).
+(the object's box includes its occluded part, as in the usual tracking benchmarks); it lowers
+`visible`, the share of the target's alpha that is inside the frame and not behind the pole.
 """
 
 from __future__ import annotations
@@ -84,6 +86,8 @@ class Frame:
     image: np.ndarray
     time_s: float
     box: Box | None
+    visible: float = 1.0
+    """Share (0..1) of the target's alpha inside the frame and not behind the pole."""
 
 
 @dataclass(frozen=True)
@@ -165,8 +169,13 @@ def _render(spec: Spec, p: dict[str, np.ndarray], i: int, rng: np.random.Generat
     full_area = float(alpha.sum()) * s * s
     a3 = a[..., None]
     frame = frame * (1 - a3) + obj * a3
-    if spec.occlusion is not None:
-        frame = _pole(spec, frame, bg, p, i)
+    pole = _pole_span(spec, p, i)
+    hidden = 0.0
+    if pole is not None:
+        x0, x1 = pole
+        strip = bg[: SIZE[1], x1 - x0 : 2 * (x1 - x0)].astype(np.float32)  # a piece of the scene
+        frame[: strip.shape[0], x0:x1] = strip[:, : x1 - x0]
+        hidden = float(a[: strip.shape[0], x0:x1].sum())
     frame = frame * np.float32(p["gain"][i]) + 2.0 * rng.standard_normal(frame.shape, dtype=np.float32)
     image = np.clip(frame, 0, 255).astype(np.uint8)
     ok, jpeg = cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, spec.jpeg])
@@ -177,25 +186,24 @@ def _render(spec: Spec, p: dict[str, np.ndarray], i: int, rng: np.random.Generat
         ys, xs = np.nonzero(a > 0.5)
         x0, y0, x1, y1 = xs.min(), ys.min(), xs.max() + 1, ys.max() + 1
         box = (float(x0), float(y0), float(x1 - x0), float(y1 - y0))
-    return Frame(sent, i / FPS, box)
+    visible = float(min(1.0, (float(a.sum()) - hidden) / full_area))
+    return Frame(sent, i / FPS, box, visible)
 
 
-def _pole(spec: Spec, frame: np.ndarray, bg: np.ndarray, p: dict[str, np.ndarray], i: int) -> np.ndarray:
-    """A vertical bar of another part of the background photo, crossing the target left to right."""
-    assert spec.occlusion is not None
+def _pole_span(spec: Spec, p: dict[str, np.ndarray], i: int) -> tuple[int, int] | None:
+    """The columns of frame `i` that a vertical bar (another part of the background photo) covers
+    as it crosses the target left to right; None when there is no bar."""
+    if spec.occlusion is None:
+        return None
     start, length, frac = spec.occlusion
     if not start <= i < start + length:
-        return frame
+        return None
     w_obj = spec.height_px * p["scale"][i] * 1.2
     width = max(4, round(frac * w_obj))
     progress = (i - start + 0.5) / length
     x0 = round(p["x"][i] - w_obj / 2 - width / 2 + progress * w_obj)
     x0c, x1c = max(0, x0), min(SIZE[0], x0 + width)
-    if x1c <= x0c:
-        return frame
-    strip = bg[: SIZE[1], x1c - x0c : 2 * (x1c - x0c)].astype(np.float32)  # a piece of the scene
-    frame[: strip.shape[0], x0c:x1c] = strip[:, : x1c - x0c]
-    return frame
+    return (x0c, x1c) if x1c > x0c else None
 
 
 def build(spec: Spec) -> Sequence:

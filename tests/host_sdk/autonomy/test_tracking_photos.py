@@ -2,10 +2,10 @@
 object whose box holds background, a cluttered real scene, pan, scale, rotation, exposure, a pole in
 front, out of the picture and back, JPEG q60. Seeded: the same frames every run.
 
-The floors sit a little below what the tracker does (benchmarks/tracking_photos.py prints it:
-slide 100 %, easy 89 %, medium 88 %, hard 75 % kept) and at or above what OpenCV's TrackerMIL does on
-the same frames (100, 73, 20, 68 %, OpenCV's seed 1), slide excepted (97 %: MIL keeps every frame
-there too); docs/autonomy.md has the table."""
+The floors sit a little below what the tracker does (benchmarks/tracking.py prints it: slide 100 %,
+easy 89 %, medium 87 %, hard 75 % kept) and at or above what OpenCV's TrackerMIL does on the same
+frames (100, 72, 20, 39 %, OpenCV's seed 1), slide excepted (97 %: MIL keeps every frame there too);
+docs/autonomy.md has the table."""
 
 from __future__ import annotations
 
