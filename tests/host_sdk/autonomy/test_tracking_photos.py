@@ -3,7 +3,7 @@ object whose box holds background, a cluttered real scene, pan, scale, rotation,
 front, out of the picture and back, JPEG q60. Seeded: the same frames every run.
 
 The floors sit a little below what the tracker does (benchmarks/tracking.py prints it: slide 100 %,
-easy 89 %, medium 87 %, hard 75 % kept) and at or above what OpenCV's TrackerMIL does on the same
+easy 89 %, medium 87 %, hard 82 % kept) and at or above what OpenCV's TrackerMIL does on the same
 frames (100, 72, 20, 39 %, OpenCV's seed 1), slide excepted (97 %: MIL keeps every frame there too);
 docs/autonomy.md has the table."""
 
@@ -19,7 +19,7 @@ from tests.support.photo_sequences import SPECS as PHOTO_SPECS
 from tests.support.photo_sequences import Sequence, build, iou
 
 CAMERA = CameraModel.pi_camera_v2(320, 240)
-FLOORS = {"slide": 0.97, "easy": 0.8, "medium": 0.75, "hard": 0.68}
+FLOORS = {"slide": 0.97, "easy": 0.8, "medium": 0.75, "hard": 0.78}
 
 
 @pytest.fixture(scope="module")
