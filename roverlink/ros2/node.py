@@ -30,14 +30,15 @@ from sensor_msgs.msg import JointState
 from std_srvs.srv import Trigger
 
 from host_sdk import FeedbackSample, Pose, Robot, RobotDescription, RoverLinkError, SessionResetError
-from host_sdk.profiles import get_profile
+from host_sdk.profiles import PROFILES, get_profile
 from host_sdk.transport import Transport
 from protocol.generated.enums import FailsafeReason, FeedbackMode
+from protocol.robotfile import reference_path
 from roverlink.ros2 import convert, fused
 from roverlink.ros2.connection import Connection
 from roverlink.ros2.diagnostics import DiagnosticsBuilder, Event, Snapshot, feedback_expected_s
 from roverlink.ros2.driver import Driver, RefusalLog, arm_hint, in_ros_words
-from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for, robot_url
+from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for, odom_rate_for, robot_url
 from roverlink.ros2.sensors import ImuPublisher, LidarPublisher, SensorPublisher
 from roverlink.ros2.static_tf import StaticTf
 
@@ -101,6 +102,7 @@ class BridgeNode(Node):
         # Read once: a bad file ends the node before it connects (RobotFileError lists the problems).
         self.robot_file = RobotDescription.load(p.robot_file) if p.robot_file else None
         self.params = p = dataclasses.replace(p, url=robot_url(p))
+        self.params = p = dataclasses.replace(p, odom_rate=odom_rate_for(p, self._described()))
         self.mode = mode_for(p, self._profile_mode())
         self._pose_covariance = convert.covariance(p.pose_covariance_diagonal)
         self._pose_uncertainty = (0.0, 0.0)
@@ -217,6 +219,13 @@ class BridgeNode(Node):
     def _publish_static_tf(self, robot: Robot | None) -> None:
         if self.static_tf is not None:
             self.static_tf.update(robot, self._profile_name(), [s.kind for s in self.sensors])
+
+    def _described(self) -> RobotDescription | None:
+        """The robot file, or the reference robot's file for a reference profile."""
+        if self.robot_file is not None:
+            return self.robot_file
+        name = self._profile_name()
+        return RobotDescription.load(reference_path(name)) if name in PROFILES else None
 
     def _profile_mode(self) -> str | None:
         if self.robot_file is not None:

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from host_sdk.errors import CommandRangeError
+from host_sdk.robot_description import RobotDescription
 from host_sdk.sensors.wit import G
 from protocol.generated.constants import (
     FEEDBACK_HZ_DEFAULT,
@@ -110,9 +111,10 @@ SPECS: tuple[ParamSpec, ...] = (
     ),
     ParamSpec(
         "odom_rate",
-        FEEDBACK_HZ_DEFAULT,
-        "odom and joint_states rate in Hz (the board's feedback rate)",
-        low=1,
+        0,
+        "odom and joint_states rate in Hz (the board's feedback rate); 0: the robot file's [feedback] "
+        "rate_hz (a reference robot's for a profile)",
+        low=0,
         high=FEEDBACK_HZ_MAX,
     ),
     ParamSpec("diagnostics_rate", 1.0, "diagnostics rate in Hz", low=0.1, high=10),
@@ -304,6 +306,16 @@ def mode_for(params: BridgeParams, profile_mode: str | None) -> str:
     if params.mode != "auto":
         return params.mode
     return profile_mode or "stream"
+
+
+def odom_rate_for(params: BridgeParams, robot: RobotDescription | None) -> int:
+    """The rate to ask for: the parameter, or with 0 the robot's feedback rate (a robot file's, or
+    the reference robot's), else FEEDBACK_HZ_DEFAULT."""
+    if params.odom_rate:
+        return params.odom_rate
+    if robot is None:
+        return FEEDBACK_HZ_DEFAULT
+    return max(1, min(FEEDBACK_HZ_MAX, round(robot.feedback.rate_hz)))
 
 
 def robot_url(params: BridgeParams) -> str:

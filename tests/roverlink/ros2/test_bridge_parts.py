@@ -21,6 +21,7 @@ from host_sdk import CommandRangeError, FeedbackSample, LinkStatistics, Pose, Ro
 from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.sensors import ImuSample
 from host_sdk.session.types import RobotIdentity
+from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
 from protocol.generated.enums import Board, Capability, FailsafeReason, FeedbackMode, Status
 from protocol.generated.messages import LinkStats
 from roverlink.ros2 import convert
@@ -36,7 +37,7 @@ from roverlink.ros2.diagnostics import (
     feedback_expected_s,
 )
 from roverlink.ros2.driver import Driver, RefusalLog, arm_hint, in_ros_words
-from roverlink.ros2.params import SPECS, BridgeParams
+from roverlink.ros2.params import SPECS, BridgeParams, odom_rate_for
 
 ROOT = Path(__file__).resolve().parents[3]
 
@@ -45,7 +46,22 @@ ROOT = Path(__file__).resolve().parents[3]
 def test_default_parameters_are_valid_and_conventional() -> None:
     p = BridgeParams.defaults()
     assert (p.odom_frame, p.base_frame, p.publish_tf, p.auto_arm) == ("odom", "base_link", True, False)
-    assert p.cmd_vel_timeout == 0.5 and p.odom_rate == 50 and p.diagnostics_rate == 1.0
+    assert p.cmd_vel_timeout == 0.5 and p.odom_rate == 0 and p.diagnostics_rate == 1.0
+
+
+def test_odom_rate_zero_is_the_robots_own_feedback_rate(tmp_path: Path) -> None:
+    """`--robot FILE` alone runs at the file's rate, a reference profile at its robot's; a rate set
+    by the user wins; a board the node knows nothing of gets the spec's default."""
+    from host_sdk import RobotDescription
+    from protocol.robotfile import reference_path
+
+    bts = RobotDescription.load(reference_path("diffdrive-bts7960"))
+    tb = RobotDescription.load(reference_path("diffdrive-tb6612"))
+    auto = BridgeParams.defaults()
+    assert (bts.feedback.rate_hz, tb.feedback.rate_hz) == (100.0, 50.0)
+    assert odom_rate_for(auto, bts) == 100 and odom_rate_for(auto, tb) == 50
+    assert odom_rate_for(auto, None) == FEEDBACK_HZ_DEFAULT
+    assert odom_rate_for(BridgeParams.from_values({"odom_rate": 30}), bts) == 30
 
 
 @pytest.mark.parametrize(
@@ -54,6 +70,7 @@ def test_default_parameters_are_valid_and_conventional() -> None:
         ("mode", "fast"),
         ("odom_rate", 2.5),
         ("odom_rate", 500),
+        ("odom_rate", -1),
         ("watchdog", float("nan")),
         ("publish_tf", 1),
         ("pose_covariance_diagonal", [0.1] * 5),

@@ -1,6 +1,7 @@
 """`roverlink ros2 --robot FILE`: the node's odometry and cmd_vel use the file's geometry.
 
-A robot file copied from the TB6612 robot with 0.25 m of track (the reference's is 0.2 m) and a
+A robot file copied from the TB6612 robot with 0.25 m of track (the reference's is 0.2 m), a
+feedback rate of 100 Hz (the reference's 50 Hz; the node takes it, no odom_rate given) and a
 name of its own: against `emu://diffdrive-tb6612` the node emulates the file's robot (its name on
 the board says so), and a turn in place comes out right in odometry, where the reference
 profile's track would be 25 % off.
@@ -31,6 +32,8 @@ def wide_bridge(tmp_path: Path) -> tuple[BridgeProcess, Probe]:
     path = tmp_path / "wide.toml"
     assert text.count('name = "diffdrive-tb6612"') == 1
     text = text.replace('name = "diffdrive-tb6612"', 'name = "wide_tb6612"')
+    assert text.count("rate_hz = 50.0 ") == 1
+    text = text.replace("rate_hz = 50.0 ", "rate_hz = 100.0 ")  # no odom_rate given: the node takes this
     path.write_text(text.replace("track_m = 0.2 ", "track_m = 0.25 "), encoding="utf-8")
     ns = f"/robot_file_{uuid.uuid4().hex[:6]}"
     proc = BridgeProcess(ns, "emu://diffdrive-tb6612?seed=1", tmp_path, robot_file=path)
@@ -47,6 +50,7 @@ def test_odometry_uses_the_files_track(ros: None, tmp_path: Path) -> None:
     proc, probe = wide_bridge(tmp_path)
     with logged(proc, probe):
         armed(probe)
+        assert "stream feedback at 100 Hz" in proc.log()
         start = yaw(probe.wait_message("truth").pose.pose.orientation)
         odom_start = yaw(probe.wait_message("odom").pose.pose.orientation)
         probe.drive(0.0, 1.0, 1.5)
