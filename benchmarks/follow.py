@@ -1,5 +1,7 @@
-"""Follow-while-avoiding on the emulator: RoverLink's behaviour against the PiCar team's published
-approach, on the same seeded random worlds, per profile, in one run.
+"""Follow-while-avoiding on the emulator, RoverLink against the PiCar team's approach.
+
+RoverLink's behaviour against the PiCar team's published approach, on the same seeded random
+worlds, per profile, in one run.
 
     python benchmarks/follow.py                       # 50 worlds x 2 profiles x 2 pilots, 40 s each
     python benchmarks/follow.py --worlds 10 --jobs 2  # fewer worlds, two processes
@@ -139,7 +141,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         for pr, pi in pairs:
             summary.setdefault(pr, {})[pi] = summarise([r for r in saved if r["profile"] == pr and r["pilot"] == pi])
         looks = sorted({r.get("look", "plain") for r in saved})
-        print(table(summary, worlds, round(duration), "+".join(looks)))
+        if len(looks) > 1:
+            print(f"{args.from_json} mixes camera looks ({', '.join(looks)}): summarise one look per file",
+                  file=sys.stderr)  # fmt: skip
+            return 2
+        print(table(summary, worlds, round(duration), looks[0]))
         return 0
     profiles, pilots = args.profile or list(PROFILES), args.pilot or list(PILOTS)
     seeds = range(args.first, args.first + args.worlds)

@@ -47,6 +47,9 @@ KEYS = {
 }
 ZERO_HOLD_S = 0.5
 """How long a zero command stays live in the SDK (renewed by every tick while armed)."""
+DRIVE_HOLD_MAX_S = 0.6
+"""A driving command lives at most this long in the SDK, whatever `key_timeout_s`: how long a hung
+teleop keeps the robot going (then the board's watchdog)."""
 HELP = "arrows/WASD drive (hold)  +/- speed  space stop  enter/r arm  x disarm  q quit"
 
 
@@ -130,9 +133,10 @@ class TeleopController:
         return v, w
 
     def hold_s(self, now: float) -> float:
-        """How long the current target stays what it is: until the first held key lapses."""
+        """How long the current target stays what it is: until the first held key lapses (at most
+        DRIVE_HOLD_MAX_S)."""
         held = [h.until - now for h in (self._linear, self._turn) if h.value and h.until > now]
-        return max(min(held), 1e-3) if held else ZERO_HOLD_S
+        return max(min(*held, DRIVE_HOLD_MAX_S), 1e-3) if held else ZERO_HOLD_S
 
     def tick(self) -> None:
         """Send the current target (zero once the keys stopped); nothing while disarmed."""

@@ -7,14 +7,14 @@
 # Everything Python runs in the checkout's own virtual environment (.venv, made by scripts/venv.sh
 # with the `dev` extra, and the ROS 2 wheels of `ros2` and `ros2-build` for the bridge's tests):
 # the system's Python is never installed into. Debian packages the tests
-# need (the AVR toolchain, simavr, the Arduino core, python3-venv) are installed with apt-get when
-# missing (sudo when not root).
+# need (the AVR toolchain, simavr, the Arduino core, python3-venv; opencv-doc for the street-camera
+# clip the person detector's tests read) are installed with apt-get when missing (sudo when not root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 source scripts/debian-packages.sh
 install_debian_packages g++ make gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev libelf-dev \
-    clang-14 libfuzzer-14-dev libclang-rt-14-dev llvm-14
+    clang-14 libfuzzer-14-dev libclang-rt-14-dev llvm-14 opencv-doc
 
 # shellcheck source=scripts/venv.sh
 source scripts/venv.sh dev,ros2,ros2-build

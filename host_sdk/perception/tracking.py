@@ -85,6 +85,11 @@ class Track:
         return x + w / 2, y + h / 2
 
 
+MIN_MATCH_PX = 6
+"""Re-detection's correlation never shrinks a template's core below this many pixels a side (a far
+object's few pixels would no longer say what it is, and the box found would be the wrong size)."""
+
+
 @dataclass(frozen=True, slots=True)
 class TrackerParams:
     work_px: int = 28
@@ -391,7 +396,11 @@ class Tracker:
             w, h = tw * s, th * s
             if w > W or h > H or min(w, h) < p.min_size_px:
                 continue
-            f = round(min(p.redetect_max_zoom, p.work_px / max(w, h)), 2)
+            full = min(1.0, p.work_px / max(w, h))
+            f = min(p.redetect_max_zoom, full)
+            if min(w, h) * self.look.core * f < MIN_MATCH_PX:
+                f = max(f, min(full, MIN_MATCH_PX / (min(w, h) * self.look.core)))  # a far object stays matchable
+            f = round(f, 2)
             frame = reduced.get(f)
             if frame is None:
                 frame = image if f == 1.0 else cv2.resize(image, None, fx=f, fy=f, interpolation=cv2.INTER_AREA)

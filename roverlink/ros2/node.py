@@ -224,6 +224,9 @@ class BridgeNode(Node):
         """The robot file, or the reference robot's file for a reference profile."""
         if self.robot_file is not None:
             return self.robot_file
+        emu = self._emu_options()
+        if emu is not None and emu.robot:  # emu://?robot=FILE
+            return RobotDescription.load(emu.robot)
         name = self._profile_name()
         return RobotDescription.load(reference_path(name)) if name in PROFILES else None
 

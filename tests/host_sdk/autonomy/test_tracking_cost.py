@@ -76,3 +76,26 @@ def test_a_lost_frame_fits_its_homography_with_usac(easy: Any) -> None:
         if frame is gone[-1]:
             break
     assert counting.homography_methods and set(counting.homography_methods) == {cv2.USAC_DEFAULT}
+
+
+@pytest.mark.parametrize("scale", [0.16, 0.2, 0.5])
+def test_a_far_object_is_found_again_at_its_size(scale: float) -> None:
+    """Re-detection works on a reduced frame; an object a few pixels across is still matched at
+    full size, not lost or boxed at the wrong size (a template taken at 0.8 m, the object at 5 m)."""
+    import cv2
+
+    rng = np.random.default_rng(3)
+    template = np.zeros((80, 48, 3), np.uint8)
+    for i, colour in enumerate([(40, 40, 220), (40, 200, 230), (200, 60, 40), (40, 40, 220)]):
+        template[i * 20 : (i + 1) * 20] = colour  # bands, as the emulator's targets
+    scene = cv2.resize(build(SPECS[0]).frames[0].image, (320, 240))
+    frame = scene.copy()
+    h, w = round(80 * scale), round(48 * scale)
+    x, y = 201, 97
+    frame[y : y + h, x : x + w] = cv2.resize(template, (w, h), interpolation=cv2.INTER_AREA)
+    frame = np.clip(frame + rng.normal(0, 2, frame.shape), 0, 255).astype(np.uint8)
+    track = Tracker(template, CAMERA).detect(frame, 0.0)
+    assert track.found and track.box is not None
+    bx, by, bw, bh = track.box
+    assert abs(bx + bw / 2 - (x + w / 2)) <= 2 and abs(by + bh / 2 - (y + h / 2)) <= 2, track.box
+    assert bh == pytest.approx(h, rel=0.15), track.box

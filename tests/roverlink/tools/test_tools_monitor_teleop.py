@@ -138,13 +138,13 @@ def test_teleop_rides_out_a_busy_ui_but_not_a_dead_one(profile: str) -> None:
     key is live (and at zero after); a program that stops for good still fails the robot safe."""
     with Robot.connect(f"emu://{profile}?clock=virtual") as robot:
         robot.arm()
-        controller = TeleopController(robot, key_timeout_s=3 * robot.watchdog_s)
+        controller = TeleopController(robot, key_timeout_s=2.2 * robot.watchdog_s)
         controller.key("up")
         controller.tick()
         robot.sleep(2 * robot.watchdog_s)  # no tick: the UI is busy, the key still live
         assert robot.armed and robot.failsafe is None
         assert robot.feedback.wheel_speeds_m_s[0] > 0.02
-        robot.sleep(robot.watchdog_s)  # the key lapses: the SDK stops repeating it...
+        robot.sleep(0.4 * robot.watchdog_s)  # the key lapses: the SDK stops repeating it...
         controller.tick()  # ...and the next tick sends zero, held while the UI is busy again
         robot.sleep(2 * robot.watchdog_s)
         assert robot.armed and robot.failsafe is None
