@@ -80,35 +80,40 @@ def test_teleop_drives_while_keys_arrive_and_stops_when_they_stop(profile: str) 
         controller = TeleopController(robot, key_timeout_s=0.4)
         app = TeleopApp(Dashboard(robot), controller)
 
-        async def hold(pilot: object, *keys: str, times: int = 10) -> list[FeedbackSample]:
-            """Press keys the way a held key repeats; the FEEDBACK seen meanwhile."""
+        async def hold(pilot: object, *keys: str, done: Callable[[FeedbackSample], bool]) -> bool:
+            """Press keys the way a held key repeats until a FEEDBACK shows `done` (a deadline of
+            5 s: a loaded machine may answer late, a broken one never)."""
             seen: list[FeedbackSample] = []
             unsubscribe = robot.on_feedback(seen.append)
-            for _ in range(times):
-                await pilot.press(*keys)  # type: ignore[attr-defined]
-                await pilot.pause(0.05)  # type: ignore[attr-defined]
-            unsubscribe()
-            return seen
+            deadline = time.monotonic() + 5.0
+            try:
+                while not any(done(s) for s in seen) and time.monotonic() < deadline:
+                    await pilot.press(*keys)  # type: ignore[attr-defined]
+                    await pilot.pause(0.05)  # type: ignore[attr-defined]
+            finally:
+                unsubscribe()
+            return any(done(s) for s in seen)
+
+        def why() -> str:
+            return f"{robot!r} failsafe {robot.failsafe}, teleop: {controller.message!r} {controller.setpoint}"
 
         async def run() -> None:
             async with app.run_test() as pilot:
                 await pilot.press("enter")
                 # the PiCar's ESC window first; a refused arm leaves its reason in the message
                 assert await until(lambda: robot.armed, pilot), controller.message
-                driving = await hold(pilot, "up", times=20)
-                assert max(min(s.wheel_speeds_m_s[: 1 if ackermann else 2]) for s in driving) > 0.05
+                n = 1 if ackermann else 2
+                assert await hold(pilot, "up", done=lambda s: min(s.wheel_speeds_m_s[:n]) > 0.05), why()
                 assert controller.setpoint is not None and controller.setpoint.linear_m_s > 0
                 # Released: within the key timeout the target drops to zero and the robot stops, still armed.
                 assert await until(lambda: max(abs(v) for v in robot.feedback.wheel_speeds_m_s) < 0.01, pilot)
-                assert robot.armed and robot.failsafe is None, robot.failsafe
+                assert robot.armed and robot.failsafe is None, why()
                 await pilot.press("plus")
                 if ackermann:  # forward and left together: the servo steers left
-                    turning = await hold(pilot, "up", "left")
-                    assert max(s.steering_rad for s in turning) > 0.2
+                    assert await hold(pilot, "up", "left", done=lambda s: s.steering_rad > 0.2), why()
                 else:  # left in place: the right wheel forward, the left back
-                    turning = await hold(pilot, "left")
-                    assert max(s.wheel_speeds_m_s[1] for s in turning) > 0.05
-                    assert min(s.wheel_speeds_m_s[0] for s in turning) < -0.05
+                    turning = lambda s: s.wheel_speeds_m_s[1] > 0.05 and s.wheel_speeds_m_s[0] < -0.05  # noqa: E731
+                    assert await hold(pilot, "left", done=turning), why()
                 await pilot.press("space")
                 await pilot.press("x")
                 assert await until(lambda: not robot.armed, pilot)
