@@ -32,7 +32,7 @@ class FeedbackTracker:
     odometry and the latest sample. The encoder counts are unwrapped here and nowhere else
     (odometry takes them unwrapped)."""
 
-    __slots__ = ("_counts", "_index", "_latest", "_prev_steering", "_tick", "kinematics", "odometry")
+    __slots__ = ("_counts", "_index", "_latest", "_prev_steering", "_stamp", "_tick", "kinematics", "odometry")
 
     def __init__(self, kinematics: DiffDrive | Ackermann | None = None) -> None:
         self.kinematics = kinematics
@@ -42,6 +42,7 @@ class FeedbackTracker:
         self._counts = [Unwrapper(_COUNT_BITS) for _ in range(WHEEL_COUNT)]
         self._tick = Unwrapper(_TICK_BITS)
         self._latest: FeedbackSample | None = None
+        self._stamp = -float("inf")
 
     @property
     def latest(self) -> FeedbackSample | None:
@@ -100,11 +101,16 @@ class FeedbackTracker:
             pose = odo.pose
         self._prev_steering = steering
         self._index += 1
+        # The board's sampling time on the host's clock, never before the previous sample's: the
+        # clock fit moves as PONGs arrive (the first from receive time to the fitted line, a queued
+        # round trip shifting the line), and consumers of the stamps (tf2, odometry) need order.
+        stamp = clock.host_s_of(mcu_us) if clock.synced else now
+        self._stamp = stamp = stamp if stamp > self._stamp else self._stamp + 1e-6
         self._latest = sample = FeedbackSample(
             self._index,
             msg.boot_id,
             now,
-            clock.host_s_of(mcu_us) if clock.synced else now,
+            stamp,
             mcu_us,
             self._tick.step(msg.tick),
             msg.status,

@@ -68,7 +68,8 @@ class FeedbackSample:
     received_s: float
     """Host clock when the frame arrived."""
     host_time_s: float
-    """Host clock at the MCU tick that produced it (time-synced; `received_s` until the first PONG)."""
+    """Host clock at the MCU tick that produced it (time-synced; `received_s` until the first PONG;
+    never earlier than the previous sample's, though the clock fit moves)."""
     mcu_time_us: int
     """MCU clock at that tick, unwrapped."""
     tick: int

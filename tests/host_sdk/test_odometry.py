@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import pytest
@@ -83,6 +84,39 @@ def test_counts_and_time_wrapping_on_the_wire_keep_the_pose_continuous() -> None
     assert pose is not None and pose.mcu_time_us == 2**32 + 50_000
     assert pose.x_m == pytest.approx(400 * ROBOT.metres_per_count)
     assert pose.linear_m_s == pytest.approx(400 * ROBOT.metres_per_count / 0.1)
+
+
+class _MovingClock(ClockSync):
+    """A clock sync whose fitted line the test sets (offset in seconds, host = mcu - offset)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.offset_s: float | None = None
+
+    @property
+    def synced(self) -> bool:
+        return self.offset_s is not None
+
+    def host_s_of(self, mcu_us_unwrapped: int) -> float:
+        assert self.offset_s is not None
+        return mcu_us_unwrapped / 1e6 - self.offset_s
+
+
+def test_sample_stamps_never_go_back_as_the_clock_fit_moves() -> None:
+    """Stamped with the receive time until the first PONG, then with the fitted line (the board's
+    sampling time, earlier than receipt), then a refit that moves the line 90 ms back: the stamps
+    keep their order (tf2 and the ROS node's odometry drop or warn about stamps that go back)."""
+    tracker, clock = FeedbackTracker(ROBOT), _MovingClock()
+    stamps = []
+    for i in range(12):
+        if i == 3:
+            clock.offset_s = 1.0 - 10.0 + 0.03  # the first PONG: sampling is 30 ms before receipt
+        if i == 6:
+            clock.offset_s += 0.09  # a refit moves the line back
+        stamps.append(tracker.sample(_feedback((0, 0), 1_000_000 + 20_000 * i), 10.0 + 0.02 * i, clock).host_time_s)
+    assert all(b > a for a, b in itertools.pairwise(stamps)), stamps
+    assert stamps[4] == pytest.approx(10.08 - 0.03)  # the fitted line, where it does not go back
+    assert stamps[11] == pytest.approx(10.22 - 0.12)  # and again once it has caught up
 
 
 def test_turn_in_place_and_velocities() -> None:
