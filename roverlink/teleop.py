@@ -6,7 +6,9 @@ that direction for `key_timeout_s`; when they stop, the target falls back to zer
 stops (the controller keeps sending zero, so the robot stays armed). Each command stays live in
 the SDK only as long as the keys behind it (zero: ZERO_HOLD_S), so a busy UI that misses a few ticks
 does not fail the robot safe, while a program that stops commanding still does: the SDK's command
-expiry, then the board's watchdog.
+expiry, then the board's watchdog. The commands go out from the controller's own thread (`start`),
+not from the UI's event loop: a render or a slow terminal never delays the zero that follows a
+released key.
 
 Limits and kinematics are the SDK's: speeds are fractions of the board's max_wheel_speed_mm_s,
 `drive(..., clamp=True)` keeps a differential-drive turn's curvature, Ackermann steering goes
@@ -50,6 +52,8 @@ ZERO_HOLD_S = 0.5
 DRIVE_HOLD_MAX_S = 0.6
 """A driving command lives at most this long in the SDK, whatever `key_timeout_s`: how long a hung
 teleop keeps the robot going (then the board's watchdog)."""
+TICK_HZ = 20.0
+"""How often the controller's thread sends the current command."""
 HELP = "arrows/WASD drive (hold)  +/- speed  space stop  enter/r arm  x disarm  q quit"
 
 
@@ -60,7 +64,8 @@ class _Held:
 
 
 class TeleopController:
-    """Turns keys into drive commands; `tick()` sends the current one (call it at ~20 Hz)."""
+    """Turns keys into drive commands; `tick()` sends the current one: `start()` calls it at
+    TICK_HZ from a thread of its own, or call it yourself at about that rate."""
 
     def __init__(self, robot: Robot, *, key_timeout_s: float = 0.6, level: int = 1) -> None:
         self.robot = robot
@@ -72,6 +77,8 @@ class TeleopController:
         self.message = HELP
         self.setpoint: Setpoint | None = None
         self._busy = threading.Lock()
+        self._ticking = threading.Event()
+        self._ticker: threading.Thread | None = None
 
     @property
     def speed_m_s(self) -> float:
@@ -137,6 +144,26 @@ class TeleopController:
         DRIVE_HOLD_MAX_S)."""
         held = [h.until - now for h in (self._linear, self._turn) if h.value and h.until > now]
         return max(min(*held, DRIVE_HOLD_MAX_S), 1e-3) if held else ZERO_HOLD_S
+
+    def start(self) -> None:
+        """Send the current command every 1/TICK_HZ from a thread of the controller's own
+        (the robot's real clock), until `close()`."""
+        if self._ticker is not None:
+            return
+        self._ticking.clear()
+        self._ticker = threading.Thread(target=self._run, name="teleop ticker", daemon=True)
+        self._ticker.start()
+
+    def close(self) -> None:
+        """Stop the thread `start()` began (the last command then expires as any other)."""
+        self._ticking.set()
+        if self._ticker is not None:
+            self._ticker.join()
+            self._ticker = None
+
+    def _run(self) -> None:
+        while not self._ticking.wait(1 / TICK_HZ):
+            self.tick()
 
     def tick(self) -> None:
         """Send the current target (zero once the keys stopped); nothing while disarmed."""

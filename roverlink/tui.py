@@ -66,7 +66,8 @@ class DashboardApp(App):  # type: ignore[misc]
 
 
 class TeleopApp(DashboardApp):
-    """Keyboard driving over the dashboard; commands go out at 20 Hz from a timer."""
+    """Keyboard driving over the dashboard; the controller's own thread sends the commands, so
+    a busy UI does not delay them."""
 
     # Priority bindings: the arrow keys would otherwise scroll before the app sees them.
     BINDINGS = [  # noqa: RUF012 (Textual's class attribute)
@@ -82,16 +83,16 @@ class TeleopApp(DashboardApp):
 
     def on_mount(self) -> None:
         super().on_mount()
-        self.set_interval(0.05, self._tick)
+        self.controller.start()
 
-    def _tick(self) -> None:
-        self.controller.tick()
-        self.dashboard.setpoint = self.controller.setpoint
+    def on_unmount(self) -> None:
+        self.controller.close()
 
     def action_drive(self, key: str) -> None:
         self.controller.key(key)
         self.sub_title = self.controller.message
 
     def refresh_view(self) -> None:
+        self.dashboard.setpoint = self.controller.setpoint
         super().refresh_view()
         self.sub_title = self.controller.message

@@ -32,6 +32,7 @@ def cmd_teleop(args: argparse.Namespace) -> int:
             try:
                 TeleopApp(dashboard, controller).run()
             finally:
+                controller.close()
                 robot.stop()
                 dashboard.close()
             stats = robot.stats

@@ -160,5 +160,30 @@ def test_teleop_rides_out_a_busy_ui_but_not_a_dead_one(profile: str) -> None:
         assert not robot.armed
 
 
+def test_teleop_commands_do_not_wait_for_a_stalled_ui() -> None:
+    """The UI's event loop blocks (a slow terminal, a long render) right after a key is released:
+    the controller's own thread still sends the zero, so the robot stops and stays armed."""
+    with emulate("--quiet", "--profile", "diffdrive-tb6612") as board, Robot.connect(board.url) as robot:
+        controller = TeleopController(robot, key_timeout_s=0.3)
+        app = TeleopApp(Dashboard(robot), controller)
+
+        async def run() -> None:
+            async with app.run_test() as pilot:
+                await pilot.press("enter")
+                assert await until(lambda: robot.armed, pilot), controller.message
+                deadline = time.monotonic() + 5.0
+                while robot.feedback.wheel_speeds_m_s[0] < 0.05 and time.monotonic() < deadline:
+                    await pilot.press("up")
+                    await pilot.pause(0.05)
+                assert robot.feedback.wheel_speeds_m_s[0] >= 0.05, controller.message
+                # The stall: key lapse (0.3 s) + the board's watchdog, with no event-loop turn at all.
+                time.sleep(controller.key_timeout_s + 3 * robot.watchdog_s)
+                assert robot.armed and robot.failsafe is None, f"{robot!r} failsafe {robot.failsafe}"
+                assert max(abs(v) for v in robot.feedback.wheel_speeds_m_s) < 0.05
+                await pilot.press("q")
+
+        asyncio.run(run())
+
+
 def test_teleop_refuses_without_a_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
     assert main(["teleop", "emu://"]) == 2
