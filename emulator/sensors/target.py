@@ -6,7 +6,10 @@ straight ahead at a known distance with nothing around it, and the box the cylin
 cropped. An `emu://` robot with a camera serves that picture as its `target` endpoint (one JPEG in
 the camera's MJPEG format), so a robot program reads it as it would read a photo. The crop stays
 inside the silhouette: the template holds only the target's own pixels, so it matches the target
-against any background.
+against any background. The photographic look's figure is not a box (a head on a tapered body):
+its template is a cut-out, BGRA with the figure's pixels opaque (found against the same view
+rendered without it), as a user's photo with its background removed would be; its `target`
+endpoint serves it as the MJPEG format allows, on the plain backdrop.
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ from protocol.sensors import DEVICES, CameraSpec, Mount
 @dataclass(frozen=True, slots=True)
 class TargetTemplate:
     image: NDArray[np.uint8]
+    """BGR, or BGRA (a cut-out: alpha 255 on the target) for a look whose target is not a box."""
     width_m: float
     """The target's width and height (what the tracker's range estimate uses)."""
     height_m: float
@@ -63,6 +67,11 @@ def render_target(scene: Scene, mount: Mount, *, width: int = 320, height: int =
     x0, x1 = math.ceil(renderer.cx - half + inset_x), math.floor(renderer.cx + half - inset_x)
     y0, y1 = math.ceil(max(0.0, top + inset_y)), math.floor(min(height - 1.0, bottom - inset_y))
     crop = image[y0 : y1 + 1, x0 : x1 + 1].copy()
+    if look != "plain":
+        empty = make_scene(scene.name, [], [], [], [], cir_shape=[], start=(0, 0, 0), target=None)
+        backdrop = renderer.render(empty, (0.0, 0.0, 0.0), 0.0, np.random.default_rng(0))[y0 : y1 + 1, x0 : x1 + 1]
+        figure = np.abs(crop.astype(np.int16) - backdrop.astype(np.int16)).max(axis=2) > 8
+        crop = np.dstack([crop, np.where(figure, 255, 0).astype(np.uint8)])
     # The crop's rows are a slice of the target's height: scale the known height to what it spans.
     span_m = (y1 + 1 - y0) * z / renderer.fy
     return TargetTemplate(crop, 2 * r * (x1 + 1 - x0) / (2 * half), span_m, distance_m)

@@ -198,7 +198,7 @@ def target_part(rig: SensorRig) -> bytes:
     camera = rig.devices["camera"]
     look = camera.options.look if isinstance(camera, CameraDevice) else "plain"
     template = render_target(rig.world.scene, rig.mount_for("camera", "pi-camera-v2"), look=look)
-    ok, jpeg = cv2.imencode(".jpg", template.image, [cv2.IMWRITE_JPEG_QUALITY, 95])
+    ok, jpeg = cv2.imencode(".jpg", template.image[..., :3], [cv2.IMWRITE_JPEG_QUALITY, 95])
     if not ok:
         raise OSError("the target's picture could not be encoded")
     return Frame(1, 0, jpeg.tobytes()).part()

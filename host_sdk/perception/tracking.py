@@ -136,16 +136,22 @@ def _cv2() -> Any:
 class Tracker:
     def __init__(self, template: Image, camera: CameraModel, *, width_m: float | None = None,
                  height_m: float | None = None, params: TrackerParams | None = None,
-                 box: Box | None = None, time_s: float = 0.0, core: float = 1.0) -> None:  # fmt: skip
-        if not (isinstance(template, np.ndarray) and template.ndim == 3 and template.shape[2] == 3):
-            raise CommandRangeError("template", getattr(template, "shape", template), "a BGR image (H x W x 3)")
+                 box: Box | None = None, time_s: float = 0.0, core: float | None = None) -> None:  # fmt: skip
+        if not (isinstance(template, np.ndarray) and template.ndim == 3 and template.shape[2] in (3, 4)):
+            raise CommandRangeError("template", getattr(template, "shape", template),
+                                    "a BGR image (H x W x 3) or a BGRA cut-out (H x W x 4)")  # fmt: skip
         p = params or TrackerParams()
         if min(template.shape[:2]) < p.min_size_px:
             raise CommandRangeError("template", template.shape[:2], f"at least {p.min_size_px} pixels on each side")
         self.cv2 = _cv2()
         self.camera = camera
         self.params = p
-        self.template = np.ascontiguousarray(template)
+        # A cut-out (alpha: the object's pixels) is matched on the largest central part that is the
+        # object; a plain image is all object; a user's region sets its own core.
+        opaque = template[..., 3] >= 128 if template.shape[2] == 4 else None
+        if core is None:
+            core = 1.0 if opaque is None else cutout_core(opaque)
+        self.template = np.ascontiguousarray(template[..., :3])
         self.size_m = (width_m, height_m)
         if not 0.2 <= core <= 1.0:
             raise CommandRangeError("core", core, "0.2 to 1.0")
@@ -158,8 +164,9 @@ class Tracker:
         else:
             f = 1.0
         kp, des = self._orb.detectAndCompute(self.cv2.cvtColor(big, self.cv2.COLOR_BGR2GRAY), None)
-        if core < 1.0 and des is not None:  # a region's corners are background: keep the object's features
-            keep = [i for i, k in enumerate(kp) if _in_ellipse(k.pt, big.shape)]
+        if des is not None and (core < 1.0 or opaque is not None):  # keep the object's features
+            keep = [i for i, k in enumerate(kp)
+                    if (_in_ellipse(k.pt, big.shape) if opaque is None else _on(opaque, k.pt, f))]  # fmt: skip
             kp, des = [kp[i] for i in keep], (des[keep] if keep else None)
         self._tpl_kp = np.array([k.pt for k in kp], dtype=np.float32).reshape(-1, 2) / f
         self._tpl_des = des
@@ -418,6 +425,23 @@ class Tracker:
         if best is None or best[0] < p.accept:
             return None
         return best[1]
+
+
+def cutout_core(opaque: NDArray[np.bool_], *, solid: float = 0.9) -> float:
+    """The largest share of each side whose central part is at least `solid` object (0.2 at least)."""
+    h, w = opaque.shape
+    for c in np.arange(1.0, 0.19, -0.05):
+        dx, dy = round(w * (1 - c) / 2), round(h * (1 - c) / 2)
+        part = opaque[dy : h - dy, dx : w - dx]
+        if part.size and float(part.mean()) >= solid:
+            return float(round(c, 2))
+    return 0.2
+
+
+def _on(opaque: NDArray[np.bool_], pt: tuple[float, float], f: float) -> bool:
+    """A keypoint of the template enlarged by f lies on the cut-out's object."""
+    x, y = min(int(pt[0] / f), opaque.shape[1] - 1), min(int(pt[1] / f), opaque.shape[0] - 1)
+    return bool(opaque[y, x])
 
 
 def _in_ellipse(pt: tuple[float, float], shape: tuple[int, ...]) -> bool:
