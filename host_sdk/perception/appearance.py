@@ -12,10 +12,23 @@ Why two templates: the object's look drifts (it turns, the light changes), so th
 it on confident frames (a running blend); a blend can slide onto the background, so it is only
 updated where the first template (the anchor) still agrees, and it is reset to the anchor when the
 two part. Matching falls back to the anchor when the adaptive template scores low.
+
+Why grey plus chromaticity: a surface turned another way to the light is darker or brighter, and
+the shading changes its grey pattern (a figure lit from the side correlates 0.3 with its photo
+lit from the front, in grey); shading scales a pixel's three channels alike, so the shares of blue
+and green in it (chromaticity) do not change. Correlation runs on grey and those two shares
+(`match_space`): the grey keeps a plain or grey object's edges, the chromaticity keeps a coloured
+one's pattern under any light. This is the colour-attributes idea of the DCF family (KCF-CN).
+
+Why a mask: a cut-out (a photo with its background removed) says which pixels are the object. Its
+colour signature counts only those, and a candidate box is measured over the same pixels, so the
+colours of whatever stands behind the object (a brick wall, another one's background) count for
+nothing on either side.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -43,14 +56,19 @@ class AppearanceParams:
 
 
 class Appearance:
-    def __init__(self, cv2: Any, template: Image, core: float, params: AppearanceParams | None = None) -> None:
+    def __init__(self, cv2: Any, template: Image, core: float, params: AppearanceParams | None = None, *,
+                 mask: NDArray[np.bool_] | None = None) -> None:  # fmt: skip
         self.cv2 = cv2
         self.params = params or AppearanceParams()
         self.anchor = np.ascontiguousarray(template)
         self.current = self.anchor.copy()
         self.core = self._core_for(core)
-        self._cache: dict[tuple[int, int, bool], Image] = {}
-        self.signature = self.histogram(self.core_of(self.anchor))
+        self._cache: dict[tuple[int, int, bool], NDArray[np.float32]] = {}
+        self.chroma_weight = chroma_weight(cv2, self.core_of(self.anchor))
+        """How much the colour shares count beside grey in `match_space` (see chroma_weight)."""
+        self.mask = None if mask is None else np.where(mask, 255, 0).astype(np.uint8)
+        """The object's pixels of a cut-out template (255), or None: all of it."""
+        self.signature = self.histogram(self.core_of(self.anchor), self._mask_core(self.anchor.shape))
 
     def _core_for(self, core: float) -> float:
         """Widen the core until it has contrast enough to correlate (a plain object's edges)."""
@@ -71,31 +89,44 @@ class Appearance:
         c = self.core
         return w * (1 - c) / 2, h * (1 - c) / 2, w * c, h * c
 
-    def template(self, w: int, h: int, *, anchor: bool = False) -> Image:
-        """The core of the (adaptive or first) template at w x h pixels."""
+    def template(self, w: int, h: int, *, anchor: bool = False) -> NDArray[np.float32]:
+        """The core of the (adaptive or first) template at w x h pixels, in `match_space`."""
         key = (w, h, anchor)
         tpl = self._cache.get(key)
         if tpl is None:
             if len(self._cache) > 256:
                 self._cache.clear()
             src = self.core_of(self.anchor if anchor else self.current)
-            tpl = self.cv2.resize(src, (w, h), interpolation=self.cv2.INTER_AREA)
+            tpl = self.space(self.cv2.resize(src, (w, h), interpolation=self.cv2.INTER_AREA))
             self._cache[key] = tpl
         return tpl
 
-    def histogram(self, image: Image) -> NDArray[np.float32]:
+    def histogram(self, image: Image, mask: NDArray[np.uint8] | None = None) -> NDArray[np.float32]:
         cv2 = self.cv2
         hsv = cv2.cvtColor(image, cv2.COLOR_BGR2HSV)
-        hist = cv2.calcHist([hsv], [0, 1], None, list(self.params.hist_bins), [0, 180, 0, 256])
+        hist = cv2.calcHist([hsv], [0, 1], mask, list(self.params.hist_bins), [0, 180, 0, 256])
         return np.asarray(cv2.normalize(hist, None, 1.0, 0.0, cv2.NORM_L1), dtype=np.float32)
 
+    def _mask_core(self, shape: tuple[int, ...]) -> NDArray[np.uint8] | None:
+        """The cut-out's mask over the core of an image of `shape` (None: no mask)."""
+        if self.mask is None:
+            return None
+        mask = self.cv2.resize(self.mask, (shape[1], shape[0]), interpolation=self.cv2.INTER_NEAREST)
+        return np.ascontiguousarray(self.core_of(mask))
+
     def colour_match(self, image: Image, box: Box) -> float:
-        """1 - Bhattacharyya distance between the box's core colours and the first template's."""
-        patch = _crop(image, box)
+        """1 - Bhattacharyya distance between the box's core colours and the first template's (a
+        cut-out's: over the object's own pixels)."""
+        patch = _crop(image, box, whole=self.mask is not None)
         if patch is None:
-            return 0.0
-        d = self.cv2.compareHist(self.signature, self.histogram(self.core_of(patch)), self.cv2.HISTCMP_BHATTACHARYYA)
-        return 1.0 - float(d)
+            patch = _crop(image, box)
+            if patch is None:
+                return 0.0
+            mask = None  # part off the picture: the mask's pixels do not line up, count all
+        else:
+            mask = self._mask_core(patch.shape)
+        hist = self.histogram(np.ascontiguousarray(self.core_of(patch)), mask)
+        return 1.0 - float(self.cv2.compareHist(self.signature, hist, self.cv2.HISTCMP_BHATTACHARYYA))
 
     def agreement(self, image: Image, box: Box) -> float:
         """Correlation of the box's core with the first template's (how much the track drifted)."""
@@ -123,9 +154,38 @@ class Appearance:
         self.current = blend
         self._cache = {k: v for k, v in self._cache.items() if k[2]}
 
+    def space(self, image: Image) -> NDArray[np.float32]:
+        """`image` in this object's `match_space`."""
+        return match_space(self.cv2, image, self.chroma_weight)
+
     def _ncc(self, a: Image, b: Image) -> float:
-        res = self.cv2.matchTemplate(a, b, self.cv2.TM_CCOEFF_NORMED)
+        res = self.cv2.matchTemplate(self.space(a), self.space(b), self.cv2.TM_CCOEFF_NORMED)
         return float(res.max())
+
+
+def match_space(cv2: Any, image: Image, chroma_weight: float = 1.0) -> NDArray[np.float32]:
+    """What correlation compares: grey and the blue and green shares of each pixel (0-255 times
+    `chroma_weight`; CHROMA_FLOOR keeps a dark pixel's noise from looking like a strong colour).
+    OpenCV's per-pixel operations: this runs on every frame's search window."""
+    b, g, r = cv2.split(image.astype(np.float32))
+    total = cv2.add(cv2.add(b, g), r) + 3 * CHROMA_FLOOR
+    k = 255.0 * chroma_weight
+    shares = (cv2.divide(b + CHROMA_FLOOR, total, scale=k), cv2.divide(g + CHROMA_FLOOR, total, scale=k))
+    grey = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY).astype(np.float32)
+    return np.asarray(cv2.merge([grey, *shares]), dtype=np.float32)
+
+
+CHROMA_FLOOR = 8.0
+
+
+def chroma_weight(cv2: Any, template: Image) -> float:
+    """The colour shares' weight for a template: the contrast of its shares relative to its grey
+    contrast, at most 1. A coloured pattern (stripes of two paints) is carried by its shares and
+    they count fully; a mostly grey object (a cup, a face) keeps grey in charge, where a colourful
+    background's shares would otherwise only add noise to the correlation."""
+    shares = match_space(cv2, template)[..., 1:]
+    grey = float(cv2.cvtColor(template, cv2.COLOR_BGR2GRAY).std())
+    return min(1.0, math.sqrt(float(shares.var(axis=(0, 1)).sum())) / max(grey, 1.0))
 
 
 def _crop(image: Image, box: Box, *, whole: bool = False) -> Image | None:

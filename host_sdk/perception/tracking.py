@@ -155,7 +155,7 @@ class Tracker:
         self.size_m = (width_m, height_m)
         if not 0.2 <= core <= 1.0:
             raise CommandRangeError("core", core, "0.2 to 1.0")
-        self.look = Appearance(self.cv2, self.template, core, p.appearance)
+        self.look = Appearance(self.cv2, self.template, core, p.appearance, mask=opaque)
         self._orb = self.cv2.ORB_create(nfeatures=500, fastThreshold=10, edgeThreshold=11, patchSize=11)
         big = self.template
         if max(big.shape[:2]) < 120:  # enlarge small templates so ORB finds features on them
@@ -272,6 +272,8 @@ class Tracker:
         cv2, p = self.cv2, self.params
         H, W = image.shape[:2]
         x, y, w, h = pred
+        if not (p.min_size_px <= min(w, h) and max(w / W, h / H) <= 2.0) or _visible(pred, image) <= 0.0:
+            return None  # not an object this camera can show (a degenerate homography's box)
         m = p.search
         big = p.scale_step
         wx0, wy0 = int(x - m * w * big), int(y - m * h * big)
@@ -291,14 +293,15 @@ class Tracker:
             x0, y0 = x0 - left, y0 - top
         if f < 1.0:
             window = cv2.resize(window, None, fx=f, fy=f, interpolation=cv2.INTER_AREA)
-        best = self._scan(window, f, (x0, y0), (w, h), anchor=False)
+        space = self.look.space(window)
+        best = self._scan(space, f, (x0, y0), (w, h), anchor=False)
         if best is None or best[1] < p.accept:  # the adaptive template may have drifted: the first one
-            first = self._scan(window, f, (x0, y0), (w, h), anchor=True)
+            first = self._scan(space, f, (x0, y0), (w, h), anchor=True)
             if first is not None and (best is None or first[1] > best[1]):
                 best = first
         return best
 
-    def _scan(self, window: Image, f: float, origin: tuple[int, int], size: tuple[float, float], *,
+    def _scan(self, window: NDArray[np.float32], f: float, origin: tuple[int, int], size: tuple[float, float], *,
               anchor: bool) -> tuple[Box, float] | None:  # fmt: skip
         """The template's core at three scales round `size` over `window` (reduced by f): best box.
         The middle scale searches the whole window; the other two only round its peak (a 6 % change
@@ -378,6 +381,8 @@ class Tracker:
         w, h = float(x1 - x0), float(y1 - y0)
         if w < self.params.min_size_px or h < self.params.min_size_px or not np.isfinite(pts).all():
             return None
+        if max(w / image.shape[1], h / image.shape[0]) > 2.0 or _visible((float(x0), float(y0), w, h), image) < 0.5:
+            return None  # a homography from a few clustered matches can throw the box anywhere
         # A homography of a template onto a rigid object keeps its aspect ratio roughly.
         if not 0.5 < (w / h) / (tw / th) < 2.0:
             return None
@@ -389,7 +394,7 @@ class Tracker:
         cv2, p = self.cv2, self.params
         th, tw = self.template.shape[:2]
         H, W = image.shape[:2]
-        reduced: dict[float, Image] = {}
+        reduced: dict[float, NDArray[np.float32]] = {}
         best: tuple[float, Box] | None = None
         lo, hi, n = p.redetect_scales
         if not every_scale and self._seen_s is not None and self.time_s - self._seen_s < p.redetect_near_s:
@@ -410,7 +415,8 @@ class Tracker:
             f = round(f, 2)
             frame = reduced.get(f)
             if frame is None:
-                frame = image if f == 1.0 else cv2.resize(image, None, fx=f, fy=f, interpolation=cv2.INTER_AREA)
+                frame = self.look.space(image if f == 1.0 else cv2.resize(image, None, fx=f, fy=f,
+                                                                         interpolation=cv2.INTER_AREA))  # fmt: skip
                 reduced[f] = frame
             core = self.look.core
             tw_f, th_f = max(4, round(w * core * f)), max(4, round(h * core * f))

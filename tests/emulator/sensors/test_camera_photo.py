@@ -134,27 +134,33 @@ def test_the_light_level_drifts_and_auto_exposure_lags_a_turn() -> None:
     assert after[5] < after[15] < after[45]
 
 
-def test_the_target_photo_is_the_rendered_target() -> None:
+def test_the_target_photo_is_the_rendered_target_cut_out() -> None:
     scene = target_scene()
     template = render_target(scene, MOUNT, look="photo")
     plain = render_target(scene, MOUNT)
-    assert template.image.shape == plain.image.shape and not np.array_equal(template.image, plain.image)
-    # Seen from 0.8 m in the camera's frames, with noise: the template is found, on the target.
+    assert template.image.shape == (*plain.image.shape[:2], 4)
+    bgr, alpha = np.ascontiguousarray(template.image[..., :3]), template.image[..., 3]
+    assert not np.array_equal(bgr, plain.image)
+    # A cut-out: the figure's body is opaque, the background beside its head is not.
+    h, w = alpha.shape
+    assert (alpha[h // 2 :, w // 4 : 3 * w // 4] == 255).mean() > 0.95
+    assert (alpha[: h // 8, : w // 6] == 0).mean() > 0.9 and (alpha[: h // 8, -(w // 6) :] == 0).mean() > 0.9
+    # Seen from 0.8 m in the camera's frames, with noise: the cut-out is found, on the target.
     r = renderer("photo")
     frame = render(r, scene, (1.32 - 0.12 - 0.8 - MOUNT.x_m, 0.0, 0.0))
-    match = cv2.matchTemplate(frame, template.image, cv2.TM_CCOEFF_NORMED)
+    match = cv2.matchTemplate(frame, bgr, cv2.TM_CCORR_NORMED, mask=cv2.merge([alpha] * 3))
     _, best, _, (mx, my) = cv2.minMaxLoc(match)
     assert r.target_bbox is not None
     x0, y0, x1, _ = r.target_bbox
-    assert best > 0.9 and x0 <= mx and mx + template.image.shape[1] <= x1 + 1 and y0 <= my, (best, mx, my)
-    # The emulator's `target` endpoint serves that photo for a photo-look camera.
+    assert best > 0.9 and x0 <= mx and mx + w <= x1 + 1 and y0 <= my, (best, mx, my)
+    # The emulator's `target` endpoint serves that photo for a photo-look camera (JPEG: no alpha).
     emu = Emulator("picar", seed=1)
     rig = attach(emu, scene, camera=camera_options("320x240", look="photo"))
     part = target_part(rig)
     jpeg = part[part.index(b"\r\n\r\n") + 4 : -2]
     served = cv2.imdecode(np.frombuffer(jpeg, np.uint8), cv2.IMREAD_COLOR)
-    assert served.shape == template.image.shape
-    assert np.abs(served.astype(np.int16) - template.image).mean() < 8  # JPEG's loss
+    assert served.shape == bgr.shape
+    assert np.abs(served.astype(np.int16) - bgr).mean() < 8  # JPEG's loss
     assert np.abs(served.astype(np.int16) - plain.image).mean() > 20
 
 

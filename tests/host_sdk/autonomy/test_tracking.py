@@ -14,8 +14,9 @@ from emulator.world import load_world
 from emulator.world.scene import Scene
 from host_sdk.errors import CommandRangeError
 from host_sdk.perception.camera import CameraModel
-from host_sdk.perception.tracking import Tracker, TrackState
+from host_sdk.perception.tracking import Tracker, TrackState, cutout_core
 from protocol.sensors import DEVICES
+from tests.support.photo_sequences import iou
 
 MOUNT = camera_mount("picar")
 CAMERA = CameraModel.pi_camera_v2(320, 240, mount_x_m=MOUNT.x_m)
@@ -173,6 +174,96 @@ def test_feature_redetection_finds_a_textured_object_under_a_homography() -> Non
     assert Tracker(template, CAMERA).update(textured(8, 240, 320), 0.0).state is TrackState.LOST
 
 
+def figure(h: int, w: int) -> tuple[np.ndarray, np.ndarray]:
+    """A bottle-shaped object (a round head on a wider body) in magenta and yellow bands, with
+    fine texture: its pixels and its mask (what is the object)."""
+    import cv2
+
+    rng = np.random.default_rng(5)
+    img = np.zeros((h, w, 3), np.uint8)
+    for i in range(6):  # bands, BGR
+        img[i * h // 6 : (i + 1) * h // 6] = (200, 30, 200) if i % 2 else (30, 200, 220)
+    img = np.clip(img.astype(np.int16) + rng.integers(-25, 26, (h, w, 1)), 0, 255).astype(np.uint8)
+    mask = np.zeros((h, w), np.uint8)
+    cv2.circle(mask, (w // 2, h // 5), w // 4, 255, -1)
+    cv2.fillConvexPoly(mask, np.array([[w // 4, h // 3], [3 * w // 4, h // 3], [w - 1, h - 1], [0, h - 1]]), 255)
+    return img, mask > 0
+
+
+def test_a_cut_out_template_counts_only_the_object() -> None:
+    """A photo with its background removed (BGRA): matched on the object's solid part, its colours
+    measured over the object's own pixels, so the grey it was photographed on and the orange wall it
+    now stands before count for nothing (counting them, the colours disagree and it is refused)."""
+    import cv2
+
+    body, mask = figure(96, 64)
+    on_grey = np.where(mask[..., None], body, np.uint8(128))
+    cut_out = np.dstack([on_grey, np.where(mask, 255, 0).astype(np.uint8)])
+    rng = np.random.default_rng(6)
+    wall = np.clip(np.array([40, 90, 170]) + rng.integers(-30, 31, (240, 320, 1)), 0, 255).astype(np.uint8)
+    frame = wall.copy()
+    small_body = cv2.resize(body, (32, 48), interpolation=cv2.INTER_AREA)
+    small_mask = cv2.resize(mask.astype(np.uint8), (32, 48), interpolation=cv2.INTER_NEAREST) > 0
+    frame[100:148, 200:232][small_mask] = small_body[small_mask]
+    tracker = Tracker(cut_out, CAMERA)
+    assert 0.5 <= tracker.look.core < 1.0  # the solid middle, not the head's corners
+    assert all(mask[int(y), int(x)] for x, y in tracker._tpl_kp)  # features on the object only
+    track = tracker.detect(frame, 0.0)
+    assert track.state is TrackState.REACQUIRED and track.box is not None
+    assert track.box == pytest.approx((200, 100, 32, 48), abs=3.0)
+    with_mask = tracker.look.colour_match(frame, track.box)
+    without = Tracker(on_grey, CAMERA, core=tracker.look.core).look.colour_match(frame, track.box)
+    assert with_mask >= tracker.params.colour_redetect and with_mask > without + 0.1, (with_mask, without)
+    # The same wall without the object: nothing is found.
+    assert Tracker(cut_out, CAMERA).detect(wall, 0.0).state is TrackState.LOST
+
+
+def test_cut_out_core() -> None:
+    _, mask = figure(96, 64)
+    core = cutout_core(mask)
+    h, w = mask.shape
+    dx, dy = round(w * (1 - core) / 2), round(h * (1 - core) / 2)
+    assert mask[dy : h - dy, dx : w - dx].mean() >= 0.9
+    assert cutout_core(np.ones((40, 30), bool)) == 1.0
+    assert cutout_core(np.zeros((40, 30), bool)) == 0.2
+
+
+def test_a_coloured_object_lit_from_the_side_is_still_found() -> None:
+    """Photographed in even light, met with the light from one side (its far half at a third of
+    the brightness): its grey pattern is not what the photo shows, its colours' shares are. Grey or
+    BGR correlation refuses it (below accept_redetect); grey plus shares keeps it."""
+    import cv2
+
+    body, _ = figure(96, 64)
+    rng = np.random.default_rng(9)
+    frame = np.clip(np.array([120, 125, 130]) + rng.integers(-40, 41, (240, 320, 1)), 0, 255).astype(np.uint8)
+    seen = cv2.resize(body, (40, 60), interpolation=cv2.INTER_AREA).astype(np.float32)
+    seen *= np.linspace(1.0, 0.33, 40, dtype=np.float32)[None, :, None] ** 1.5
+    frame[90:150, 150:190] = seen.astype(np.uint8)
+    tracker = Tracker(body, CAMERA)
+    track = tracker.detect(frame, 0.0)
+    assert track.state is TrackState.REACQUIRED and track.box is not None, track
+    assert iou(track.box, (150, 90, 40, 60)) > 0.75, track.box
+    bgr = cv2.matchTemplate(frame[90:150, 150:190], cv2.resize(body, (40, 60)), cv2.TM_CCOEFF_NORMED)
+    assert float(bgr.max()) < tracker.params.accept_redetect  # what plain BGR correlation scores
+    assert tracker.look.chroma_weight == 1.0  # a pattern of two paints: the shares carry it
+
+
+def test_a_grey_object_keeps_grey_in_charge() -> None:
+    grey_cup = np.repeat(textured(3, 60, 40).mean(axis=2, keepdims=True), 3, axis=2).astype(np.uint8)
+    grey_cup[..., 2] = np.clip(grey_cup[..., 2].astype(np.int16) + 6, 0, 255).astype(np.uint8)  # a warm tint
+    assert Tracker(grey_cup, CAMERA).look.chroma_weight < 0.2
+
+
+def test_an_absurd_box_is_dropped_not_allocated() -> None:
+    """A homography from a few clustered feature matches can throw a box kilometres wide; matching
+    round it would pad the window to gigabytes (cv2.error). It is not an object: nothing found."""
+    tracker = Tracker(textured(7, 90, 120), CAMERA)
+    frame = textured(8, 240, 320)
+    for box in ((-5000.0, -8000.0, 20000.0, 30000.0), (400.0, 10.0, 40.0, 40.0), (10.0, 10.0, 1.0, 900.0)):
+        assert tracker._match_near(frame, box) is None
+
+
 def test_camera_model_geometry() -> None:
     cam = CameraModel.pi_camera_v2(320, 240)
     assert cam.fx == pytest.approx(160 / math.tan(math.radians(31.1)))
@@ -189,6 +280,8 @@ def test_bad_templates_and_regions_are_refused() -> None:
         Tracker(np.zeros((20, 20), dtype=np.uint8), CAMERA)
     with pytest.raises(CommandRangeError, match="template"):
         Tracker(np.zeros((3, 20, 3), dtype=np.uint8), CAMERA)
+    with pytest.raises(CommandRangeError, match="BGRA cut-out"):
+        Tracker(np.zeros((20, 20, 2), dtype=np.uint8), CAMERA)
     with pytest.raises(CommandRangeError, match="box"):
         Tracker.from_region(np.zeros((240, 320, 3), dtype=np.uint8), (300, 10, 40, 40), CAMERA)
     with pytest.raises(CommandRangeError, match="fx"):
