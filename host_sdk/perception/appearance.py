@@ -68,6 +68,17 @@ class Appearance:
         """How much the colour shares count beside grey in `match_space` (see chroma_weight)."""
         self.mask = None if mask is None else np.where(mask, 255, 0).astype(np.uint8)
         """The object's pixels of a cut-out template (255), or None: all of it."""
+        self._figure_at = mask
+        self._figure: NDArray[np.float32] | None = None
+        """A cut-out's figure in match space, mean removed (the pixels of `mask`)."""
+        self._figure_norm = 0.0
+        self._surround: NDArray[np.uint8] | None = None
+        """A cut-out's background pixels at least two pixels from the figure's edge (255)."""
+        if mask is not None and mask.any():
+            self._surround = cv2.erode(np.where(mask, 0, 255).astype(np.uint8), np.ones((5, 5), np.uint8))
+            figure = self.space(self.anchor)[mask]
+            self._figure = figure - figure.mean(axis=0)
+            self._figure_norm = float((self._figure * self._figure).sum())
         self.signature = self.histogram(self.core_of(self.anchor), self._mask_core(self.anchor.shape))
 
     def _core_for(self, core: float) -> float:
@@ -126,6 +137,37 @@ class Appearance:
         else:
             mask = self._mask_core(patch.shape)
         hist = self.histogram(np.ascontiguousarray(self.core_of(patch)), mask)
+        return 1.0 - float(self.cv2.compareHist(self.signature, hist, self.cv2.HISTCMP_BHATTACHARYYA))
+
+    def figure_match(self, image: Image, box: Box) -> float:
+        """A cut-out's correlation with `box` over the object's whole figure, its outline included
+        (1.0 without a cut-out; 0 off the picture). The core the search matches is the figure's
+        solid middle, which a look-alike of another shape can share (a cylinder in the figure's
+        stripes); the figure's head and shoulders it cannot."""
+        if self._figure is None:
+            return 1.0
+        patch = _crop(image, box, whole=True)
+        if patch is None:
+            return 0.0
+        th, tw = self.anchor.shape[:2]
+        seen = self.space(self.cv2.resize(patch, (tw, th), interpolation=self.cv2.INTER_AREA))[self._figure_at]
+        seen -= seen.mean(axis=0)
+        norm = math.sqrt(float((seen * seen).sum()) * self._figure_norm)
+        return float((seen * self._figure).sum() / norm) if norm > 0 else 0.0
+
+    def surround_match(self, image: Image, box: Box) -> float:
+        """How much what surrounds a cut-out's figure inside `box` (its background pixels, away from
+        the edge) has the object's colours, as `colour_match` measures; 0 without a cut-out. The
+        object stands before something else; the inside of a bigger look-alike (a wide cylinder in
+        the figure's stripes, close up) has the object's colours there too."""
+        patch = _crop(image, box, whole=True)
+        if self._surround is None or patch is None:
+            return 0.0
+        size = (patch.shape[1], patch.shape[0])
+        surround = self.cv2.resize(self._surround, size, interpolation=self.cv2.INTER_NEAREST)
+        if int(np.count_nonzero(surround)) < 16:
+            return 0.0  # too few pixels to say
+        hist = self.histogram(np.ascontiguousarray(patch), surround)
         return 1.0 - float(self.cv2.compareHist(self.signature, hist, self.cv2.HISTCMP_BHATTACHARYYA))
 
     def agreement(self, image: Image, box: Box) -> float:

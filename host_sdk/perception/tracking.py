@@ -126,6 +126,14 @@ class TrackerParams:
     colour_redetect: float = 0.6
     """The same, to re-detect one: stricter, as `accept_redetect` is (a warm patch of background
     scored 0.55 against a red cup's 0.66 and more)."""
+    figure_redetect: float = 0.85
+    """A cut-out template's correlation over its whole figure that a re-detected candidate must
+    reach: on the photographic emulator camera the target scored 0.84-0.92 (median 0.91), a cylinder
+    painted in its stripes 0.70-0.84 (median 0.76)."""
+    surround_redetect: float = 0.3
+    """At most this much may what surrounds a cut-out's figure in a re-detected box have the
+    object's colours (`surround_match`): the target scored at most 0.26, the inside of a wide
+    cylinder in its stripes, close up, 0.37 and more."""
     appearance: AppearanceParams = field(default_factory=AppearanceParams)
 
 
@@ -350,6 +358,8 @@ class Tracker:
                 refined is not None
                 and refined[1] >= self.params.accept_redetect
                 and self.look.colour_match(image, refined[0]) >= self.params.colour_redetect
+                and self.look.figure_match(image, refined[0]) >= self.params.figure_redetect
+                and self.look.surround_match(image, refined[0]) <= self.params.surround_redetect
             ):
                 self.box = None
                 self._accept(refined[0], 0.0)

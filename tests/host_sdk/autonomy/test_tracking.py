@@ -218,6 +218,37 @@ def test_a_cut_out_template_counts_only_the_object() -> None:
     assert Tracker(cut_out, CAMERA).detect(wall, 0.0).state is TrackState.LOST
 
 
+def test_a_cut_out_is_not_re_detected_on_a_look_alike_of_another_shape() -> None:
+    """A cylinder painted in the figure's bands matches its solid middle as well as the figure
+    does; the figure's head (where the cylinder has sky) or its surroundings (where a close,
+    wide one has more bands) tell them apart."""
+    import cv2
+
+    body, mask = figure(96, 64)
+    cut_out = np.dstack([np.where(mask[..., None], body, np.uint8(128)), np.where(mask, 255, 0).astype(np.uint8)])
+    rng = np.random.default_rng(6)
+    wall = np.clip(np.array([40, 90, 170]) + rng.integers(-30, 31, (240, 320, 1)), 0, 255).astype(np.uint8)
+    wall[:90] = (210, 200, 190)  # sky above the wall
+
+    def with_object(pixels: np.ndarray, where: np.ndarray, x: int, y: int) -> np.ndarray:
+        frame = wall.copy()
+        h, w = where.shape
+        frame[y : y + h, x : x + w][where] = pixels[where]
+        return frame
+
+    small = cv2.resize(body, (40, 60), interpolation=cv2.INTER_AREA)
+    small_mask = cv2.resize(mask.astype(np.uint8), (40, 60), interpolation=cv2.INTER_NEAREST) > 0
+    the_figure = with_object(small, small_mask, 140, 80)
+    cylinder = np.ones((60, 40), bool)
+    cylinder[: 60 // 3 - 2] = False  # a cylinder as high as the figure's shoulders: sky where its head is
+    short = with_object(small, cylinder, 140, 80)
+    close = with_object(cv2.resize(body, (200, 220), interpolation=cv2.INTER_AREA), np.ones((220, 200), bool), 60, 10)
+    assert Tracker(cut_out, CAMERA).detect(the_figure, 0.0).state is TrackState.REACQUIRED
+    for look_alike in (short, close):
+        tracker = Tracker(cut_out, CAMERA)
+        assert tracker.detect(look_alike, 0.0).state is TrackState.LOST
+
+
 def test_cut_out_core() -> None:
     _, mask = figure(96, 64)
     core = cutout_core(mask)
