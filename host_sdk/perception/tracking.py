@@ -3,6 +3,7 @@ re-detection over the whole frame when the object is lost.
 
     tracker = Tracker.from_region(first_frame, (x, y, w, h), camera, height_m=0.3)   # a user's box
     tracker = Tracker(template_image, camera, width_m=0.24, height_m=0.3)           # or an image
+    tracker = Tracker(bgra_cut_out, camera, height_m=0.3)             # or one without its background
     track = tracker.update(frame.image, frame.time_s)
     track.state, track.bearing_rad, track.range_m, track.confidence
 
@@ -10,9 +11,11 @@ Tracking (every frame): the object's box is predicted from its image velocity (p
 robot's own rotation since the last frame, which moves everything sideways by fx * tan(angle)); a
 window around it is cut out and scaled so the template's core is about `work_px` pixels across
 (the cost stays flat with distance); the core is matched there with OpenCV's normalised
-cross-correlation (colour, mean removed per channel) at three scales, so the box follows the object
+cross-correlation (grey plus chromaticity, mean removed per channel: appearance.py says why) at
+three scales, so the box follows the object
 as it nears or recedes. The core (appearance.py) is the whole template for an image of the object,
-the central `region_core` of a user's box (whose corners are background). The template adapts on
+the central `region_core` of a user's box (whose corners are background), the solid middle of a
+cut-out (BGRA, alpha on the object). The template adapts on
 confident frames, anchored to the first one. A match keeps the track only if it is plausible: it
 correlates (`accept`), its core still correlates with the first template (`anchor_accept`: a track
 that slid onto the background fails this), and its colours are the object's (`colour`). A miss
@@ -26,7 +29,8 @@ or the homography fails, a multi-scale correlation of the first template's core 
 (reduced) frame stands in, near the last size for a while after a loss. Either way a candidate is
 accepted only if the correlation at its box reaches `accept_redetect`, stricter than what keeps a
 track alive, and its colours match (`colour_redetect`, also stricter), so clutter does not get
-"re-acquired".
+"re-acquired"; a cut-out's candidate must also fit its whole figure (`figure_redetect`) with none
+of its colours round it (`surround_redetect`), so a look-alike of another shape does not either.
 
 States: TRACKING, LOST, and REACQUIRED on the first frame of a track found again by re-detection.
 OpenCV is imported when a tracker is made (the `vision` extra).
