@@ -18,11 +18,10 @@ robot, `--template` is your photo of what to follow. It runs for `--duration` se
 
 import argparse
 
-import cv2
-
 from host_sdk import Robot
 from host_sdk.autonomy import ControlLoop, FollowPilot
 from host_sdk.geometry import description_of, mount, profile_of, robot_geometry, sensor_mounts
+from host_sdk.perception.tracking import read_template
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 
 p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -40,7 +39,7 @@ with Robot.connect(args.url, profile=args.profile, robot=args.robot, clamp=True,
     lidar = Lidar.open(args.lidar or ports["lidar"], model)
     camera = CameraSource(int(args.camera) if (args.camera or "").isdigit() else args.camera or ports["camera"])
     imu = Jy901.open(args.imu or ports["imu"]) if args.imu or "imu" in ports else None
-    photo = cv2.imread(args.template) if args.template else CameraSource(ports["target"]).read().image
+    photo = read_template(args.template) if args.template else CameraSource(ports["target"]).read().image
     pilot = FollowPilot.for_robot(robot_geometry(robot, args.profile), photo)
     with ControlLoop(robot, pilot, lidar=lidar, camera=camera, imu=imu) as loop:
         shown = 0.0

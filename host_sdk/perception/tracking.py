@@ -41,6 +41,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from enum import Enum
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -445,6 +446,23 @@ class Tracker:
         if best is None or best[0] < p.accept:
             return None
         return best[1]
+
+
+def read_template(path: str | Path) -> Image:
+    """A template image from a file: BGR, or BGRA when the file has transparency (a PNG with the
+    background removed: the tracker then matches the object's pixels only). Raises
+    CommandRangeError naming the file when it cannot be read as an image."""
+    cv2 = _cv2()
+    image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    if image is None:
+        raise CommandRangeError("template", str(path), "an image file OpenCV can read (PNG, JPEG, ...)")
+    if image.dtype != np.uint8:  # 16-bit PNG
+        image = (image / 257).astype(np.uint8)
+    if image.ndim == 2:
+        image = cv2.cvtColor(image, cv2.COLOR_GRAY2BGR)
+    elif image.shape[2] == 4 and int(image[..., 3].min()) == 255:
+        image = image[..., :3]  # an alpha channel that hides nothing
+    return np.ascontiguousarray(image)
 
 
 def cutout_core(opaque: NDArray[np.bool_], *, solid: float = 0.9) -> float:

@@ -32,12 +32,12 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TextIO
 
-import numpy as np
-
 from emulator.sensors.camera import LOOKS
 from host_sdk import PROFILES, RoverLinkError
+from host_sdk.errors import CommandRangeError
 from host_sdk.extras import MissingDependencyError, require
 from host_sdk.perception.detectors import KINDS
+from host_sdk.perception.tracking import read_template
 from roverlink.console import add_robot_file_args
 from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
@@ -100,7 +100,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     r.add_argument("--lidar-model", choices=("rplidar-a1", "ydlidar-f4"), help="default: the profile's or file's")
     r.add_argument("--imu", metavar="PORT", help="the JY901's port (optional: fuses its gyro with odometry)")
     r.add_argument("--camera", metavar="SOURCE", help=CAMERA_HELP)
-    r.add_argument("--template", type=Path, metavar="IMAGE", help="an image of the target")
+    r.add_argument(
+        "--template",
+        type=Path,
+        metavar="IMAGE",
+        help="an image of the target (a PNG with its background transparent: the object's pixels only)",
+    )
     r.add_argument("--select", type=_box, metavar="X,Y,W,H", help="the target's box in the first frame")
     r.add_argument("--target", choices=KINDS, help="follow a detected person or face (in place of --template/--select)")
     r.add_argument("--target-height", type=_positive, metavar="M",
@@ -155,12 +160,12 @@ def cmd_follow(args: argparse.Namespace) -> int:
                 return 2
             template = None
             if args.template is not None:
-                cv2 = require("cv2", "vision", "--template")
-                image = cv2.imread(str(args.template), cv2.IMREAD_COLOR)
-                if image is None:
+                require("cv2", "vision", "--template")
+                try:
+                    template = read_template(args.template)
+                except CommandRangeError:
                     print(f"roverlink follow: cannot read the image {args.template}", file=sys.stderr)
                     return 2
-                template = np.asarray(image, dtype=np.uint8)
             ports = RobotPorts(
                 args.url,
                 args.lidar,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,7 +15,7 @@ from emulator.world import load_world
 from emulator.world.scene import Scene
 from host_sdk.errors import CommandRangeError
 from host_sdk.perception.camera import CameraModel
-from host_sdk.perception.tracking import Tracker, TrackState, cutout_core
+from host_sdk.perception.tracking import Tracker, TrackState, cutout_core, read_template
 from protocol.sensors import DEVICES
 from tests.support.photo_sequences import iou
 
@@ -247,6 +248,28 @@ def test_a_cut_out_is_not_re_detected_on_a_look_alike_of_another_shape() -> None
     for look_alike in (short, close):
         tracker = Tracker(cut_out, CAMERA)
         assert tracker.detect(look_alike, 0.0).state is TrackState.LOST
+
+
+def test_template_files(tmp_path: Path) -> None:
+    """A PNG with its background transparent gives a cut-out; an opaque alpha, grey or 16-bit file
+    a plain BGR template; anything else an error naming the file."""
+    import cv2
+
+    body, mask = figure(96, 64)
+    cv2.imwrite(str(tmp_path / "cut.png"), np.dstack([body, np.where(mask, 255, 0).astype(np.uint8)]))
+    cv2.imwrite(str(tmp_path / "opaque.png"), np.dstack([body, np.full(mask.shape, 255, np.uint8)]))
+    cv2.imwrite(str(tmp_path / "grey.png"), body[..., 1])
+    cv2.imwrite(str(tmp_path / "deep.png"), body.astype(np.uint16) * 257)
+    (tmp_path / "notes.txt").write_text("not an image")
+    cut = read_template(tmp_path / "cut.png")
+    assert cut.shape == (96, 64, 4) and np.array_equal(cut[..., 3] == 255, mask)
+    assert Tracker(cut, CAMERA).look.mask is not None
+    assert read_template(tmp_path / "opaque.png").shape == (96, 64, 3)
+    assert read_template(tmp_path / "grey.png").shape == (96, 64, 3)
+    deep = read_template(tmp_path / "deep.png")
+    assert deep.dtype == np.uint8 and np.array_equal(deep, body)
+    with pytest.raises(CommandRangeError, match="notes.txt"):
+        read_template(tmp_path / "notes.txt")
 
 
 def test_cut_out_core() -> None:

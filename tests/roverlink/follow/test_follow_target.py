@@ -62,3 +62,6 @@ def test_the_command_line_checks_the_target(capsys: pytest.CaptureFixture[str], 
         main([*robot, "--target", "cat"])
     assert exc.value.code == 2
     assert "invalid choice: 'cat'" in capsys.readouterr().err
+    (tmp_path / "target.png").write_text("not an image")
+    assert main([*robot, "--template", str(tmp_path / "target.png")]) == 2
+    assert f"cannot read the image {tmp_path / 'target.png'}" in capsys.readouterr().err
