@@ -131,10 +131,11 @@ class TrackerParams:
     colour_redetect: float = 0.6
     """The same, to re-detect one: stricter, as `accept_redetect` is (a warm patch of background
     scored 0.55 against a red cup's 0.66 and more)."""
-    figure_redetect: float = 0.85
-    """A cut-out template's correlation over its whole figure that a re-detected candidate must
-    reach: on the photographic emulator camera the target scored 0.84-0.92 (median 0.91), a cylinder
-    painted in its stripes 0.70-0.84 (median 0.76)."""
+    figure_redetect: float = 0.82
+    """A cut-out template's correlation over its whole figure (`figure_match`) that a re-detected
+    candidate must reach: on the photographic emulator camera the target's candidates scored
+    0.82-0.97, a cylinder painted in its stripes (sky where the figure's head is) 0.70-0.86, and no
+    such candidate passed this and `surround_redetect` together."""
     surround_redetect: float = 0.3
     """At most this much may what surrounds a cut-out's figure in a re-detected box have the
     object's colours (`surround_match`): the target scored at most 0.26, the inside of a wide
