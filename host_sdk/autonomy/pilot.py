@@ -76,7 +76,7 @@ class FollowPilot:
     @classmethod
     def for_robot(cls, geometry: RobotGeometry, template: NDArray[np.uint8], *, follow_gap_m: float | None = None,
                   max_speed_m_s: float = 0.45, target_height_m: float | None = None) -> FollowPilot:  # fmt: skip
-        """The pilot for a robot of `geometry` following what `template` (a BGR image) shows;
+        """The pilot for a robot of `geometry` following what `template` (BGR, or a BGRA cut-out) shows;
         `target_height_m`, the target's real height, gives the tracker a range estimate."""
         tracker = Tracker(template, geometry.camera, height_m=target_height_m)
         return cls.with_tracker(geometry, tracker, follow_gap_m=follow_gap_m, max_speed_m_s=max_speed_m_s)

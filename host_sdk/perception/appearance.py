@@ -58,12 +58,17 @@ class AppearanceParams:
 class Appearance:
     def __init__(self, cv2: Any, template: Image, core: float, params: AppearanceParams | None = None, *,
                  mask: NDArray[np.bool_] | None = None) -> None:  # fmt: skip
+        if mask is not None:
+            mask = np.asarray(mask, dtype=bool)
+            if mask.shape != template.shape[:2]:
+                raise ValueError(f"mask: shape {mask.shape}, the template's is {template.shape[:2]}")
         self.cv2 = cv2
         self.params = params or AppearanceParams()
         self.anchor = np.ascontiguousarray(template)
         self.current = self.anchor.copy()
         self.core = self._core_for(core)
         self._cache: dict[tuple[int, int, bool], NDArray[np.float32]] = {}
+        self._anchor_space: NDArray[np.float32] | None = None
         self.chroma_weight = chroma_weight(cv2, self.core_of(self.anchor))
         """How much the colour shares count beside grey in `match_space` (see chroma_weight)."""
         self.mask = None if mask is None else np.where(mask, 255, 0).astype(np.uint8)
@@ -73,12 +78,16 @@ class Appearance:
         """A cut-out's figure in match space, mean removed (the pixels of `mask`)."""
         self._figure_norm = 0.0
         self._surround: NDArray[np.uint8] | None = None
-        """A cut-out's background pixels at least two pixels from the figure's edge (255)."""
+        """A cut-out's background pixels at least three pixels from the figure's edge (255)."""
         if mask is not None and mask.any():
             self._surround = cv2.erode(np.where(mask, 0, 255).astype(np.uint8), np.ones((5, 5), np.uint8))
             figure = self.space(self.anchor)[mask]
-            self._figure = figure - figure.mean(axis=0)
-            self._figure_norm = float((self._figure * self._figure).sum())
+            figure -= figure.mean(axis=0)
+            # A figure with too little contrast of its own (a plain cup) has no pattern to check:
+            # correlating it would correlate noise.
+            if float(figure.std(axis=0).max()) >= self.params.min_contrast:
+                self._figure = figure
+                self._figure_norm = float((figure * figure).sum())
         self.signature = self.histogram(self.core_of(self.anchor), self._mask_core(self.anchor.shape))
 
     def _core_for(self, core: float) -> float:
@@ -190,7 +199,11 @@ class Appearance:
             return 1.0  # part off the picture: not measurable here, the match itself decided
         th, tw = self.anchor.shape[:2]
         patch = self.cv2.resize(patch, (tw, th), interpolation=self.cv2.INTER_AREA)
-        return self._ncc(self.core_of(patch), self.core_of(self.anchor))
+        if self._anchor_space is None:
+            self._anchor_space = self.space(np.ascontiguousarray(self.core_of(self.anchor)))
+        res = self.cv2.matchTemplate(self.space(np.ascontiguousarray(self.core_of(patch))), self._anchor_space,
+                                     self.cv2.TM_CCOEFF_NORMED)  # fmt: skip
+        return float(res.max())
 
     def learn(self, image: Image, box: Box, score: float, agreement: float) -> None:
         """Blend the object's look at `box` into the adaptive template, if the frame is trustworthy:

@@ -134,12 +134,12 @@ class TrackerParams:
     figure_redetect: float = 0.82
     """A cut-out template's correlation over its whole figure (`figure_match`) that a re-detected
     candidate must reach: on the photographic emulator camera the target's candidates scored
-    0.82-0.97, a cylinder painted in its stripes (sky where the figure's head is) 0.70-0.86, and no
-    such candidate passed this and `surround_redetect` together."""
+    0.82-0.97, a cylinder painted in its stripes (sky where the figure's head is) 0.70-0.86."""
     surround_redetect: float = 0.3
     """At most this much may what surrounds a cut-out's figure in a re-detected box have the
-    object's colours (`surround_match`): the target scored at most 0.26, the inside of a wide
-    cylinder in its stripes, close up, 0.37 and more."""
+    object's colours (`surround_match`): the target scored at most 0.29, the inside of a wide
+    cylinder in its stripes, close up, 0.37 and more. Tuned on the emulator's figure only: on real
+    photos an object before a background of much its colours can score more (docs/autonomy.md)."""
     appearance: AppearanceParams = field(default_factory=AppearanceParams)
 
 
@@ -163,6 +163,11 @@ class Tracker:
         # A cut-out (alpha: the object's pixels) is matched on the largest central part that is the
         # object; a plain image is all object; a user's region sets its own core.
         opaque = template[..., 3] >= 128 if template.shape[2] == 4 else None
+        if opaque is not None and opaque.all():
+            opaque = None  # an alpha that hides nothing: a plain image
+        if opaque is not None and cutout_core(opaque) < 0.3:
+            raise CommandRangeError("template", f"a cut-out {float(opaque.mean()) * 100:.0f} % opaque",
+                                    "a cut-out whose middle is the object (its alpha >= 128 there)")  # fmt: skip
         if core is None:
             core = 1.0 if opaque is None else cutout_core(opaque)
         self.template = np.ascontiguousarray(template[..., :3])
@@ -451,19 +456,21 @@ class Tracker:
 
 def read_template(path: str | Path) -> Image:
     """A template image from a file: BGR, or BGRA when the file has transparency (a PNG with the
-    background removed: the tracker then matches the object's pixels only). Raises
+    background removed: the tracker then matches the object's pixels only; alpha below 128 is
+    background). Raises
     CommandRangeError naming the file when it cannot be read as an image."""
     cv2 = _cv2()
     image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
     if image is None:
         raise CommandRangeError("template", str(path), "an image file OpenCV can read (PNG, JPEG, ...)")
-    if image.dtype != np.uint8:  # 16-bit PNG
-        image = (image / 257).astype(np.uint8)
-    if image.ndim == 2:
-        image = cv2.cvtColor(image, cv2.COLOR_GRAY2BGR)
-    elif image.shape[2] == 4 and int(image[..., 3].min()) == 255:
-        image = image[..., :3]  # an alpha channel that hides nothing
-    return np.ascontiguousarray(image)
+    if image.ndim == 3 and image.shape[2] == 4 and int(image[..., 3].min()) < 128:
+        if image.dtype == np.uint16:
+            image = ((image.astype(np.uint32) + 128) >> 8).clip(0, 255).astype(np.uint8)
+        if image.dtype != np.uint8:
+            raise CommandRangeError("template", f"{path} ({image.dtype})", "an 8- or 16-bit image")
+        return np.ascontiguousarray(image)
+    # No transparency: OpenCV's colour read (8-bit BGR, a JPEG's EXIF orientation applied).
+    return np.ascontiguousarray(cv2.imread(str(path), cv2.IMREAD_COLOR))
 
 
 def cutout_core(opaque: NDArray[np.bool_], *, solid: float = 0.9) -> float:

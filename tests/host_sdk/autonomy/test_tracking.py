@@ -240,14 +240,36 @@ def test_a_cut_out_is_not_re_detected_on_a_look_alike_of_another_shape() -> None
     small = cv2.resize(body, (40, 60), interpolation=cv2.INTER_AREA)
     small_mask = cv2.resize(mask.astype(np.uint8), (40, 60), interpolation=cv2.INTER_NEAREST) > 0
     the_figure = with_object(small, small_mask, 140, 80)
-    cylinder = np.ones((60, 40), bool)
-    cylinder[: 60 // 3 - 2] = False  # a cylinder as high as the figure's shoulders: sky where its head is
-    short = with_object(small, cylinder, 140, 80)
+    headless = small_mask.copy()
+    headless[: 60 // 3 - 2] = False  # the figure's body and shoulders, the wall where its head is
+    no_head = with_object(small, headless, 140, 80)
     close = with_object(cv2.resize(body, (200, 220), interpolation=cv2.INTER_AREA), np.ones((220, 200), bool), 60, 10)
     assert Tracker(cut_out, CAMERA).detect(the_figure, 0.0).state is TrackState.REACQUIRED
-    for look_alike in (short, close):
-        tracker = Tracker(cut_out, CAMERA)
-        assert tracker.detect(look_alike, 0.0).state is TrackState.LOST
+    # Each check catches its own look-alike: the figure check the headless one (its surroundings
+    # are the wall), the surround check the close one (its figure fits: stripes everywhere).
+    tracker = Tracker(cut_out, CAMERA)
+    assert tracker.detect(no_head, 0.0).state is TrackState.LOST
+    assert tracker.look.surround_match(no_head, (140, 80, 40, 60)) <= tracker.params.surround_redetect
+    tracker = Tracker(cut_out, CAMERA)
+    assert tracker.detect(close, 0.0).state is TrackState.LOST
+
+
+def test_a_plain_cut_out_has_no_figure_to_check() -> None:
+    """The figure check correlates a cut-out's own pattern; a plain object (a red cup, shaded)
+    has none, and correlating it would correlate noise: the check is skipped (1.0), where a
+    patterned figure's is not."""
+    import cv2
+
+    h, w = 90, 60
+    mask = np.zeros((h, w), np.uint8)
+    cv2.ellipse(mask, (w // 2, h // 2), (w // 2 - 2, h // 2 - 2), 0, 0, 360, 255, -1)
+    shade = np.linspace(1.0, 0.9, w, dtype=np.float32)[None, :, None]
+    cup = (np.full((h, w, 3), (40, 40, 200), np.float32) * shade).astype(np.uint8)
+    wall = np.full((240, 320, 3), 128, np.uint8)
+    assert Tracker(np.dstack([cup, mask]), CAMERA).look.figure_match(wall, (100, 60, 40, 60)) == 1.0
+    body, figure_mask = figure(96, 64)
+    patterned = np.dstack([body, np.where(figure_mask, 255, 0).astype(np.uint8)])
+    assert Tracker(patterned, CAMERA).look.figure_match(wall, (100, 60, 40, 60)) < 0.5
 
 
 def test_template_files(tmp_path: Path) -> None:
@@ -268,8 +290,11 @@ def test_template_files(tmp_path: Path) -> None:
     assert read_template(tmp_path / "grey.png").shape == (96, 64, 3)
     deep = read_template(tmp_path / "deep.png")
     assert deep.dtype == np.uint8 and np.array_equal(deep, body)
-    with pytest.raises(CommandRangeError, match="notes.txt"):
+    with pytest.raises(CommandRangeError, match=r"notes\.txt"):
         read_template(tmp_path / "notes.txt")
+    empty = np.dstack([body, np.zeros(mask.shape, np.uint8)])
+    with pytest.raises(CommandRangeError, match="0 % opaque"):  # all background: nothing to track
+        Tracker(empty, CAMERA)
 
 
 def test_cut_out_core() -> None:

@@ -39,7 +39,7 @@ def test_follow_on_ptys_and_an_http_camera(served: dict[str, str], tmp_path: Pat
     assert done.returncode == 0, done.stderr
     m = json.loads(done.stdout)
     # It ran for the time asked and then stopped (a step that ends late on a loaded machine adds to it).
-    assert 6.0 - 0.05 <= m["duration_s"] < 6.0 + 5.0
+    assert 6.0 - 0.05 <= m["duration_s"] < 6.0 + 3.0
     assert not m["ground_truth"] and m["collisions"] is None  # a robot has no truth to count them from
     assert m["collided_with"] is None and m["in_view_fraction"] is None
     assert m["url"] == served["board"] and m["world"] is None
