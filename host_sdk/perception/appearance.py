@@ -149,22 +149,15 @@ class Appearance:
         return 1.0 - float(self.cv2.compareHist(self.signature, hist, self.cv2.HISTCMP_BHATTACHARYYA))
 
     def figure_match(self, image: Image, box: Box) -> float:
-        """A cut-out's best correlation over its whole figure, its outline included, round `box`
-        (sizes 6 % apart, shifts of 4 % of the size: a box found on the figure's middle fits its
-        outline to a few pixels); 1.0 without a cut-out, 0 off the picture. The core the search
+        """A cut-out's correlation with `box` over its whole figure, head and shoulders included
+        (1.0 without a cut-out or for a plain figure; 0 off the picture). The core the search
         matches is the figure's solid middle, which a look-alike of another shape can share (a
-        cylinder in the figure's stripes); the figure's head and shoulders it cannot."""
+        cylinder in the figure's stripes); the figure's head and shoulders it cannot. Measured at
+        the box as found: searching a few sizes and shifts round it fitted the look-alikes better
+        too (the PiCar's time with the target in view fell from 89 % to 79 % over 37 worlds)."""
         if self._figure is None:
             return 1.0
-        x, y, w, h = box
-        best = 0.0
-        for s in (1 / 1.06, 1.0, 1.06):
-            sw, sh = w * s, h * s
-            for dx in (-0.04, 0.0, 0.04):
-                for dy in (-0.04, 0.0, 0.04):
-                    fit = (x + (w - sw) / 2 + dx * w, y + (h - sh) / 2 + dy * h, sw, sh)
-                    best = max(best, self._figure_at_box(image, fit))
-        return best
+        return self._figure_at_box(image, box)
 
     def _figure_at_box(self, image: Image, box: Box) -> float:
         assert self._figure is not None and self._figure_at is not None

@@ -131,10 +131,11 @@ class TrackerParams:
     colour_redetect: float = 0.6
     """The same, to re-detect one: stricter, as `accept_redetect` is (a warm patch of background
     scored 0.55 against a red cup's 0.66 and more)."""
-    figure_redetect: float = 0.82
+    figure_redetect: float = 0.85
     """A cut-out template's correlation over its whole figure (`figure_match`) that a re-detected
-    candidate must reach: on the photographic emulator camera the target's candidates scored
-    0.82-0.97, a cylinder painted in its stripes (sky where the figure's head is) 0.70-0.86."""
+    candidate must reach: on the photographic emulator camera the target scored 0.84-0.97 (0.82-0.85
+    close up and lit from the side), a cylinder painted in its stripes (sky where the figure's head
+    is) 0.70-0.84."""
     surround_redetect: float = 0.3
     """At most this much may what surrounds a cut-out's figure in a re-detected box have the
     object's colours (`surround_match`): the target scored at most 0.29, the inside of a wide
