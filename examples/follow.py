@@ -21,7 +21,7 @@ import argparse
 from host_sdk import Robot
 from host_sdk.autonomy import ControlLoop, FollowPilot
 from host_sdk.geometry import description_of, mount, profile_of, robot_geometry, sensor_mounts
-from host_sdk.perception.tracking import read_template
+from host_sdk.perception.template import read_template
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 
 p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)

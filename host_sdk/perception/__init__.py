@@ -9,7 +9,8 @@
 - `camera`: a pinhole camera model (`CameraModel`): pixels to bearings, size to range.
 - `tracking`: a fast template tracker with feature re-detection (`Tracker`, `Track`, `TrackState`);
   it needs OpenCV (the `vision` extra), imported when a tracker is made. `appearance`: its model of
-  the object (the template's core, an adaptive copy anchored to the first, a colour signature).
+  the object (the template's core, an adaptive copy anchored to the first, a colour signature);
+  `template`: template files (`read_template`: a PNG with a transparent background is a cut-out).
 - `detectors`, `class_tracker` (imported from their modules): people (HOG) and faces (Haar cascades)
   in a frame, and a person or a face followed by the tracker and found again by the detector
   (`ClassTracker`); OpenCV 4.

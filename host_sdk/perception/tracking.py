@@ -41,7 +41,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from enum import Enum
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -51,6 +50,7 @@ from host_sdk.errors import CommandRangeError
 from host_sdk.extras import require
 from host_sdk.perception.appearance import Appearance, AppearanceParams
 from host_sdk.perception.camera import CameraModel
+from host_sdk.perception.template import cutout_core, on_cutout
 
 Image = NDArray[np.uint8]
 Box = tuple[float, float, float, float]
@@ -186,7 +186,7 @@ class Tracker:
         kp, des = self._orb.detectAndCompute(self.cv2.cvtColor(big, self.cv2.COLOR_BGR2GRAY), None)
         if des is not None and (core < 1.0 or opaque is not None):  # keep the object's features
             keep = [i for i, k in enumerate(kp)
-                    if (_in_ellipse(k.pt, big.shape) if opaque is None else _on(opaque, k.pt, f))]  # fmt: skip
+                    if (_in_ellipse(k.pt, big.shape) if opaque is None else on_cutout(opaque, k.pt, f))]  # fmt: skip
             kp, des = [kp[i] for i in keep], (des[keep] if keep else None)
         self._tpl_kp = np.array([k.pt for k in kp], dtype=np.float32).reshape(-1, 2) / f
         self._tpl_des = des
@@ -453,42 +453,6 @@ class Tracker:
         if best is None or best[0] < p.accept:
             return None
         return best[1]
-
-
-def read_template(path: str | Path) -> Image:
-    """A template image from a file: BGR, or BGRA when the file has transparency (a PNG with the
-    background removed: the tracker then matches the object's pixels only; alpha below 128 is
-    background). Raises
-    CommandRangeError naming the file when it cannot be read as an image."""
-    cv2 = _cv2()
-    image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
-    if image is None:
-        raise CommandRangeError("template", str(path), "an image file OpenCV can read (PNG, JPEG, ...)")
-    if image.ndim == 3 and image.shape[2] == 4 and int(image[..., 3].min()) < 128:
-        if image.dtype == np.uint16:
-            image = ((image.astype(np.uint32) + 128) >> 8).clip(0, 255).astype(np.uint8)
-        if image.dtype != np.uint8:
-            raise CommandRangeError("template", f"{path} ({image.dtype})", "an 8- or 16-bit image")
-        return np.ascontiguousarray(image)
-    # No transparency: OpenCV's colour read (8-bit BGR, a JPEG's EXIF orientation applied).
-    return np.ascontiguousarray(cv2.imread(str(path), cv2.IMREAD_COLOR))
-
-
-def cutout_core(opaque: NDArray[np.bool_], *, solid: float = 0.9) -> float:
-    """The largest share of each side whose central part is at least `solid` object (0.2 at least)."""
-    h, w = opaque.shape
-    for c in np.arange(1.0, 0.19, -0.05):
-        dx, dy = round(w * (1 - c) / 2), round(h * (1 - c) / 2)
-        part = opaque[dy : h - dy, dx : w - dx]
-        if part.size and float(part.mean()) >= solid:
-            return float(round(c, 2))
-    return 0.2
-
-
-def _on(opaque: NDArray[np.bool_], pt: tuple[float, float], f: float) -> bool:
-    """A keypoint of the template enlarged by f lies on the cut-out's object."""
-    x, y = min(int(pt[0] / f), opaque.shape[1] - 1), min(int(pt[1] / f), opaque.shape[0] - 1)
-    return bool(opaque[y, x])
 
 
 def _in_ellipse(pt: tuple[float, float], shape: tuple[int, ...]) -> bool:

@@ -37,7 +37,7 @@ from host_sdk import PROFILES, RoverLinkError
 from host_sdk.errors import CommandRangeError
 from host_sdk.extras import MissingDependencyError, require
 from host_sdk.perception.detectors import KINDS
-from host_sdk.perception.tracking import read_template
+from host_sdk.perception.template import read_template
 from roverlink.console import add_robot_file_args
 from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics

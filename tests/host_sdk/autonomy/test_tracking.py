@@ -15,7 +15,8 @@ from emulator.world import load_world
 from emulator.world.scene import Scene
 from host_sdk.errors import CommandRangeError
 from host_sdk.perception.camera import CameraModel
-from host_sdk.perception.tracking import Tracker, TrackState, cutout_core, read_template
+from host_sdk.perception.template import cutout_core, read_template
+from host_sdk.perception.tracking import Tracker, TrackState
 from protocol.sensors import DEVICES
 from tests.support.photo_sequences import iou
 
