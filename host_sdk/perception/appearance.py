@@ -145,8 +145,7 @@ class Appearance:
             mask = None  # part off the picture: the mask's pixels do not line up, count all
         else:
             mask = self._mask_core(patch.shape)
-        hist = self.histogram(np.ascontiguousarray(self.core_of(patch)), mask)
-        return 1.0 - float(self.cv2.compareHist(self.signature, hist, self.cv2.HISTCMP_BHATTACHARYYA))
+        return self._like_signature(self.histogram(np.ascontiguousarray(self.core_of(patch)), mask))
 
     def figure_match(self, image: Image, box: Box) -> float:
         """A cut-out's correlation with `box` over its whole figure, head and shoulders included
@@ -155,12 +154,8 @@ class Appearance:
         cylinder in the figure's stripes); the figure's head and shoulders it cannot. Measured at
         the box as found: searching a few sizes and shifts round it fitted the look-alikes better
         too (the PiCar's time with the target in view fell from 89 % to 79 % over 37 worlds)."""
-        if self._figure is None:
+        if self._figure is None or self._figure_at is None:
             return 1.0
-        return self._figure_at_box(image, box)
-
-    def _figure_at_box(self, image: Image, box: Box) -> float:
-        assert self._figure is not None and self._figure_at is not None
         patch = _crop(image, box, whole=True)
         if patch is None:
             return 0.0
@@ -182,7 +177,10 @@ class Appearance:
         surround = self.cv2.resize(self._surround, size, interpolation=self.cv2.INTER_NEAREST)
         if int(np.count_nonzero(surround)) < 16:
             return 0.0  # too few pixels to say
-        hist = self.histogram(np.ascontiguousarray(patch), surround)
+        return self._like_signature(self.histogram(np.ascontiguousarray(patch), surround))
+
+    def _like_signature(self, hist: NDArray[np.float32]) -> float:
+        """1 - Bhattacharyya distance between `hist` and the first template's colours."""
         return 1.0 - float(self.cv2.compareHist(self.signature, hist, self.cv2.HISTCMP_BHATTACHARYYA))
 
     def agreement(self, image: Image, box: Box) -> float:
@@ -192,11 +190,7 @@ class Appearance:
             return 1.0  # part off the picture: not measurable here, the match itself decided
         th, tw = self.anchor.shape[:2]
         patch = self.cv2.resize(patch, (tw, th), interpolation=self.cv2.INTER_AREA)
-        if self._anchor_space is None:
-            self._anchor_space = self.space(np.ascontiguousarray(self.core_of(self.anchor)))
-        res = self.cv2.matchTemplate(self.space(np.ascontiguousarray(self.core_of(patch))), self._anchor_space,
-                                     self.cv2.TM_CCOEFF_NORMED)  # fmt: skip
-        return float(res.max())
+        return self._to_anchor(patch)
 
     def learn(self, image: Image, box: Box, score: float, agreement: float) -> None:
         """Blend the object's look at `box` into the adaptive template, if the frame is trustworthy:
@@ -210,7 +204,7 @@ class Appearance:
         th, tw = self.anchor.shape[:2]
         patch = self.cv2.resize(patch, (tw, th), interpolation=self.cv2.INTER_AREA)
         blend = self.cv2.addWeighted(self.current, 1 - p.learn_rate, patch, p.learn_rate, 0.0)
-        if self._ncc(self.core_of(blend), self.core_of(self.anchor)) < p.reset_below:
+        if self._to_anchor(blend) < p.reset_below:
             blend = self.anchor.copy()
         self.current = blend
         self._cache = {k: v for k, v in self._cache.items() if k[2]}
@@ -219,9 +213,13 @@ class Appearance:
         """`image` in this object's `match_space`."""
         return match_space(self.cv2, image, self.chroma_weight)
 
-    def _ncc(self, a: Image, b: Image) -> float:
-        res = self.cv2.matchTemplate(self.space(a), self.space(b), self.cv2.TM_CCOEFF_NORMED)
-        return float(res.max())
+    def _to_anchor(self, image: Image) -> float:
+        """Correlation of `image`'s core (template-sized) with the first template's core (whose
+        match space is computed once)."""
+        if self._anchor_space is None:
+            self._anchor_space = self.space(np.ascontiguousarray(self.core_of(self.anchor)))
+        core = self.space(np.ascontiguousarray(self.core_of(image)))
+        return float(self.cv2.matchTemplate(core, self._anchor_space, self.cv2.TM_CCOEFF_NORMED).max())
 
 
 def match_space(cv2: Any, image: Image, chroma_weight: float = 1.0) -> NDArray[np.float32]:
