@@ -22,7 +22,8 @@ from host_sdk.perception.avoidance import AvoidanceParams, Avoider, Footprint, P
 from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.motion import MotionDetector, MotionParams, Mover
 from host_sdk.perception.scan import LidarMount, ObstacleScan, RawScan, ScanFilter
-from host_sdk.perception.tracking import Track, Tracker, TrackerParams, TrackState
+from host_sdk.perception.tracker_params import TrackerParams
+from host_sdk.perception.tracking import Track, Tracker, TrackState
 
 __all__ = [
     "AvoidanceParams",

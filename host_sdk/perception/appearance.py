@@ -179,6 +179,11 @@ class Appearance:
             return 0.0  # too few pixels to say
         return self._like_signature(self.histogram(np.ascontiguousarray(patch), surround))
 
+    def fits_figure(self, image: Image, box: Box, figure_min: float, surround_max: float) -> bool:
+        """A cut-out's whole figure at `box` fits (`figure_match` >= `figure_min`) with none of its
+        colours round it (`surround_match` <= `surround_max`); always True without a cut-out."""
+        return self.figure_match(image, box) >= figure_min and self.surround_match(image, box) <= surround_max
+
     def _like_signature(self, hist: NDArray[np.float32]) -> float:
         """1 - Bhattacharyya distance between `hist` and the first template's colours."""
         return 1.0 - float(self.cv2.compareHist(self.signature, hist, self.cv2.HISTCMP_BHATTACHARYYA))

@@ -36,7 +36,8 @@ from host_sdk.perception.detectors import (
     detector_for,
     pick,
 )
-from host_sdk.perception.tracking import Track, Tracker, TrackerParams, TrackState
+from host_sdk.perception.tracker_params import TrackerParams
+from host_sdk.perception.tracking import Track, Tracker, TrackState
 
 
 class FrameTracker(Protocol):

@@ -30,7 +30,9 @@ or the homography fails, a multi-scale correlation of the first template's core 
 accepted only if the correlation at its box reaches `accept_redetect`, stricter than what keeps a
 track alive, and its colours match (`colour_redetect`, also stricter), so clutter does not get
 "re-acquired"; a cut-out's candidate must also fit its whole figure (`figure_redetect`) with none
-of its colours round it (`surround_redetect`), so a look-alike of another shape does not either.
+of its colours round it (`surround_redetect`), so a look-alike of another shape does not either. A
+cut-out's track that stops fitting its figure (`figure_keep`, `surround_keep`, looser) for `doubt_s`
+is dropped: the object went behind a look-alike and the match slid onto it.
 
 States: TRACKING, LOST, and REACQUIRED on the first frame of a track found again by re-detection.
 OpenCV is imported when a tracker is made (the `vision` extra).
@@ -39,7 +41,7 @@ OpenCV is imported when a tracker is made (the `vision` extra).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from enum import Enum
 from typing import Any
 
@@ -48,9 +50,10 @@ from numpy.typing import NDArray
 
 from host_sdk.errors import CommandRangeError
 from host_sdk.extras import require
-from host_sdk.perception.appearance import Appearance, AppearanceParams
+from host_sdk.perception.appearance import Appearance
 from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.template import cutout_core, on_cutout
+from host_sdk.perception.tracker_params import TrackerParams
 
 Image = NDArray[np.uint8]
 Box = tuple[float, float, float, float]
@@ -93,55 +96,6 @@ class Track:
 MIN_MATCH_PX = 6
 """Re-detection's correlation never shrinks a template's core below this many pixels a side (a far
 object's few pixels would no longer say what it is, and the box found would be the wrong size)."""
-
-
-@dataclass(frozen=True, slots=True)
-class TrackerParams:
-    work_px: int = 28
-    """Template size (largest side, pixels) the matching runs at."""
-    search: float = 1.0
-    """Search window margin around the predicted box, in box sizes."""
-    scale_step: float = 1.06
-    accept: float = 0.5
-    """Correlation that keeps a track alive."""
-    accept_redetect: float = 0.72
-    """Correlation a re-detected candidate must reach."""
-    lost_after: int = 2
-    """Consecutive frames below `accept` before the track is declared lost."""
-    min_size_px: int = 6
-    redetect_scales: tuple[float, float, int] = (0.15, 2.5, 12)
-    """Scales the correlation fallback tries: smallest, largest (times the template), how many. A
-    template taken at 0.8 m covers 0.3 m to 5 m this way."""
-    redetect_per_frame: int = 4
-    """Of those, how many one frame tries (in turn: all are covered every few frames while lost)."""
-    redetect_max_zoom: float = 0.5
-    """The correlation fallback's frame is at most this share of full size (a small object's
-    candidate is refined at full size before it is accepted): what a lost frame costs."""
-    anchor_accept: float = 0.3
-    """Correlation of the match's core with the first template that a track needs: a track that slid
-    onto the background (the adaptive template with it) scores high against itself, not against this."""
-    redetect_near_s: float = 3.0
-    """For this long after a loss, the correlation fallback looks for the object at half to twice its
-    last size: it cannot have changed more, and a small self-similar part of it must not pass for it."""
-    region_core: float = 0.6
-    """Share of each side of a user's box (`from_region`) that is matched: its corners are background."""
-    colour: float = 0.55
-    """Colour agreement (1 - Bhattacharyya distance of hue-saturation histograms) of the match's core
-    with the first template's, to keep a track."""
-    colour_redetect: float = 0.6
-    """The same, to re-detect one: stricter, as `accept_redetect` is (a warm patch of background
-    scored 0.55 against a red cup's 0.66 and more)."""
-    figure_redetect: float = 0.85
-    """A cut-out template's correlation over its whole figure (`figure_match`) that a re-detected
-    candidate must reach: on the photographic emulator camera the target scored 0.84-0.97 (0.82-0.85
-    close up and lit from the side), a cylinder painted in its stripes (sky where the figure's head
-    is) 0.70-0.84."""
-    surround_redetect: float = 0.3
-    """At most this much may what surrounds a cut-out's figure in a re-detected box have the
-    object's colours (`surround_match`): the target scored at most 0.29, the inside of a wide
-    cylinder in its stripes, close up, 0.37 and more. Tuned on the emulator's figure only: on real
-    photos an object before a background of much its colours can score more (docs/autonomy.md)."""
-    appearance: AppearanceParams = field(default_factory=AppearanceParams)
 
 
 def _cv2() -> Any:
@@ -201,6 +155,7 @@ class Tracker:
         self._phase = 0
         self._shift = 0.0
         self._first = True
+        self._doubt_since: float | None = None
         self._seen_s: float | None = None if box is None else time_s
 
     @classmethod
@@ -230,10 +185,11 @@ class Tracker:
         pred = self._predict(dt, rotation_rad)
         found = self._match_near(image, pred)
         agree = self.look.agreement(image, found[0]) if found is not None else 0.0
-        if found is not None and self._plausible(image, found, agree):
+        if found is not None and self._plausible(image, found, agree) and not self._doubted(image, found[0]):
             box, score = found
             self._accept(box, dt)
-            self.look.learn(image, box, score, agree)
+            if self._doubt_since is None:  # a frame that does not fit the figure teaches nothing
+                self.look.learn(image, box, score, agree)
             self._misses = 0
             return self._track(TrackState.TRACKING, score)
         self._misses += 1
@@ -243,6 +199,7 @@ class Tracker:
         self.box = None
         self.lost_since = time_s
         self.velocity = (0.0, 0.0)
+        self._doubt_since = None
         return self._redetect(image, time_s)
 
     def _plausible(self, image: Image, found: tuple[Box, float], agree: float) -> bool:
@@ -250,6 +207,19 @@ class Tracker:
         template, and its colours are the object's (a look-alike patch of background fails one)."""
         p = self.params
         return found[1] >= p.accept and agree >= p.anchor_accept and self.look.colour_match(image, found[0]) >= p.colour
+
+    def _doubted(self, image: Image, box: Box) -> bool:
+        """True once a cut-out's track has not fitted its whole figure for `doubt_s`: it slid onto
+        a look-alike that shares the figure's middle (a cylinder in its stripes that hid it). The
+        match and its colours cannot say so; the figure's outline can. Not judged partly off the
+        picture, where the figure cannot be seen whole."""
+        p = self.params
+        if _visible(box, image) < 0.999 or self.look.fits_figure(image, box, p.figure_keep, p.surround_keep):
+            self._doubt_since = None
+            return False
+        if self._doubt_since is None:
+            self._doubt_since = self.time_s
+        return self.time_s - self._doubt_since >= p.doubt_s
 
     def _predict(self, dt: float, rotation_rad: float) -> Box:
         assert self.box is not None
@@ -370,8 +340,7 @@ class Tracker:
                 refined is not None
                 and refined[1] >= self.params.accept_redetect
                 and self.look.colour_match(image, refined[0]) >= self.params.colour_redetect
-                and self.look.figure_match(image, refined[0]) >= self.params.figure_redetect
-                and self.look.surround_match(image, refined[0]) <= self.params.surround_redetect
+                and self.look.fits_figure(image, refined[0], self.params.figure_redetect, self.params.surround_redetect)
             ):
                 self.box = None
                 self._accept(refined[0], 0.0)

@@ -15,7 +15,8 @@ from host_sdk.errors import CommandRangeError
 from host_sdk.perception import CameraModel, Footprint, ScanFilter
 from host_sdk.perception.class_tracker import ClassTracker, ClassTrackerParams
 from host_sdk.perception.detectors import iou
-from host_sdk.perception.tracking import TrackerParams, TrackState
+from host_sdk.perception.tracker_params import TrackerParams
+from host_sdk.perception.tracking import TrackState
 from host_sdk.pose import RobotPose
 from host_sdk.sensors import CameraFrame
 from tests.host_sdk.autonomy.photos import FACES, PERSONS, needs_detectors, photo

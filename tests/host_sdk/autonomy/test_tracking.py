@@ -255,6 +255,58 @@ def test_a_cut_out_is_not_re_detected_on_a_look_alike_of_another_shape() -> None
     assert tracker.detect(close, 0.0).state is TrackState.LOST
 
 
+def test_a_cut_out_track_that_slid_onto_a_look_alike_is_dropped() -> None:
+    """The figure walks behind a wide cylinder painted in its bands: its solid middle matches the
+    cylinder as well as the figure, so the match slides onto the cylinder and holds there. The
+    figure's outline does not fit (bands where its head's surroundings should be): after `doubt_s`
+    the track is dropped, and the cylinder is not re-detected. A look-alike only behind the figure
+    for less than `doubt_s` does not drop it."""
+    import cv2
+
+    from host_sdk.perception.tracker_params import TrackerParams
+
+    body, mask = figure(96, 64)
+    cut_out = np.dstack([np.where(mask[..., None], body, np.uint8(128)), np.where(mask, 255, 0).astype(np.uint8)])
+    rng = np.random.default_rng(6)
+    wall = np.clip(np.array([40, 90, 170]) + rng.integers(-30, 31, (240, 320, 1)), 0, 255).astype(np.uint8)
+    wall[:90] = (210, 200, 190)
+    small = cv2.resize(body, (40, 60), interpolation=cv2.INTER_AREA)
+    small_mask = cv2.resize(mask.astype(np.uint8), (40, 60), interpolation=cv2.INTER_NEAREST) > 0
+    cylinder = cv2.resize(body, (90, 60), interpolation=cv2.INTER_AREA)
+
+    def frame(*, cylinder_in_front: bool, cylinder_behind: bool) -> np.ndarray:
+        img = wall.copy()
+        if cylinder_behind:
+            img[80:140, 115:205] = cylinder
+        img[80:140, 140:180][small_mask] = small[small_mask]
+        if cylinder_in_front:
+            img[80:140, 115:205] = cylinder
+        return img
+
+    def run(params: TrackerParams, script: list[tuple[bool, bool]]) -> list[TrackState]:
+        tracker = Tracker(cut_out, CAMERA, params=params)
+        states = []
+        for i, (front, behind) in enumerate(script):
+            states.append(tracker.update(frame(cylinder_in_front=front, cylinder_behind=behind), i / 30).state)
+        return states
+
+    p = TrackerParams()
+    alone = [(False, False)] * 15
+    hidden = alone + [(True, False)] * round(30 * (p.doubt_s + 1.5))
+    states = run(p, hidden)
+    assert states[14] is TrackState.TRACKING
+    dropped = states.index(TrackState.LOST, 15)
+    assert dropped <= 15 + round(30 * p.doubt_s) + p.lost_after, states
+    assert set(states[dropped:]) == {TrackState.LOST}, states  # and the cylinder is not taken for it
+    # Without the check, the track stays on the cylinder.
+    unchecked = run(TrackerParams(figure_keep=0.0, surround_keep=1.0), hidden)
+    assert unchecked[-1] is TrackState.TRACKING
+    # In front of the cylinder briefly, the figure is kept.
+    passing = alone + [(False, True)] * round(30 * p.doubt_s * 0.6) + alone
+    assert set(run(p, passing)[14:]) == {TrackState.TRACKING}
+    assert TrackState.LOST in run(TrackerParams(doubt_s=0.1), passing)  # it does not fit the figure there
+
+
 def test_a_plain_cut_out_has_no_figure_to_check() -> None:
     """The figure check correlates a cut-out's own pattern; a plain object (a red cup, shaded)
     has none, and correlating it would correlate noise: the check is skipped (1.0), where a
