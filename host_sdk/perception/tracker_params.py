@@ -55,13 +55,13 @@ class TrackerParams:
     photos an object before a background of much its colours can score more (docs/autonomy.md)."""
     figure_keep: float = 0.75
     """A tracked cut-out whose whole-figure fit stays below this (or whose surround stays above
-    `surround_keep`) for `doubt_s` is dropped. Looser than re-detection's: tracking follows the
+    `surround_keep`) for `misfit_s` is dropped. Looser than re-detection's: tracking follows the
     object through turns and shading (the target scored 0.83 and more in 99 % of its tracked frames
     on the photographic camera, 0.63 at worst)."""
     surround_keep: float = 0.45
     """See `figure_keep`: the target in front of a cylinder in its stripes scored up to 0.54 for
     0.8 s; a track on the cylinder itself 0.53-0.78 for as long as it lasted."""
-    doubt_s: float = 1.5
+    misfit_s: float = 1.5
     """How long a cut-out's track may not fit its figure before it is dropped: the longest such
     stretch on the target was 0.9 s; the tracks that had slid onto a cylinder lasted 5-35 s."""
     appearance: AppearanceParams = field(default_factory=AppearanceParams)

@@ -31,7 +31,7 @@ accepted only if the correlation at its box reaches `accept_redetect`, stricter 
 track alive, and its colours match (`colour_redetect`, also stricter), so clutter does not get
 "re-acquired"; a cut-out's candidate must also fit its whole figure (`figure_redetect`) with none
 of its colours round it (`surround_redetect`), so a look-alike of another shape does not either. A
-cut-out's track that stops fitting its figure (`figure_keep`, `surround_keep`, looser) for `doubt_s`
+cut-out's track that stops fitting its figure (`figure_keep`, `surround_keep`, looser) for `misfit_s`
 is dropped: the object went behind a look-alike and the match slid onto it.
 
 States: TRACKING, LOST, and REACQUIRED on the first frame of a track found again by re-detection.
@@ -155,7 +155,7 @@ class Tracker:
         self._phase = 0
         self._shift = 0.0
         self._first = True
-        self._doubt_since: float | None = None
+        self._misfit_since: float | None = None
         self._seen_s: float | None = None if box is None else time_s
 
     @classmethod
@@ -185,10 +185,10 @@ class Tracker:
         pred = self._predict(dt, rotation_rad)
         found = self._match_near(image, pred)
         agree = self.look.agreement(image, found[0]) if found is not None else 0.0
-        if found is not None and self._plausible(image, found, agree) and not self._doubted(image, found[0]):
+        if found is not None and self._plausible(image, found, agree) and not self._misfits(image, found[0]):
             box, score = found
             self._accept(box, dt)
-            if self._doubt_since is None:  # a frame that does not fit the figure teaches nothing
+            if self._misfit_since is None:  # a frame that does not fit the figure teaches nothing
                 self.look.learn(image, box, score, agree)
             self._misses = 0
             return self._track(TrackState.TRACKING, score)
@@ -199,7 +199,7 @@ class Tracker:
         self.box = None
         self.lost_since = time_s
         self.velocity = (0.0, 0.0)
-        self._doubt_since = None
+        self._misfit_since = None
         return self._redetect(image, time_s)
 
     def _plausible(self, image: Image, found: tuple[Box, float], agree: float) -> bool:
@@ -208,18 +208,18 @@ class Tracker:
         p = self.params
         return found[1] >= p.accept and agree >= p.anchor_accept and self.look.colour_match(image, found[0]) >= p.colour
 
-    def _doubted(self, image: Image, box: Box) -> bool:
-        """True once a cut-out's track has not fitted its whole figure for `doubt_s`: it slid onto
+    def _misfits(self, image: Image, box: Box) -> bool:
+        """True once a cut-out's track has not fitted its whole figure for `misfit_s`: it slid onto
         a look-alike that shares the figure's middle (a cylinder in its stripes that hid it). The
         match and its colours cannot say so; the figure's outline can. Not judged partly off the
         picture, where the figure cannot be seen whole."""
         p = self.params
         if _visible(box, image) < 0.999 or self.look.fits_figure(image, box, p.figure_keep, p.surround_keep):
-            self._doubt_since = None
+            self._misfit_since = None
             return False
-        if self._doubt_since is None:
-            self._doubt_since = self.time_s
-        return self.time_s - self._doubt_since >= p.doubt_s
+        if self._misfit_since is None:
+            self._misfit_since = self.time_s
+        return self.time_s - self._misfit_since >= p.misfit_s
 
     def _predict(self, dt: float, rotation_rad: float) -> Box:
         assert self.box is not None

@@ -258,9 +258,9 @@ def test_a_cut_out_is_not_re_detected_on_a_look_alike_of_another_shape() -> None
 def test_a_cut_out_track_that_slid_onto_a_look_alike_is_dropped() -> None:
     """The figure walks behind a wide cylinder painted in its bands: its solid middle matches the
     cylinder as well as the figure, so the match slides onto the cylinder and holds there. The
-    figure's outline does not fit (bands where its head's surroundings should be): after `doubt_s`
+    figure's outline does not fit (bands where its head's surroundings should be): after `misfit_s`
     the track is dropped, and the cylinder is not re-detected. A look-alike only behind the figure
-    for less than `doubt_s` does not drop it."""
+    for less than `misfit_s` does not drop it."""
     import cv2
 
     from host_sdk.perception.tracker_params import TrackerParams
@@ -292,19 +292,19 @@ def test_a_cut_out_track_that_slid_onto_a_look_alike_is_dropped() -> None:
 
     p = TrackerParams()
     alone = [(False, False)] * 15
-    hidden = alone + [(True, False)] * round(30 * (p.doubt_s + 1.5))
+    hidden = alone + [(True, False)] * round(30 * (p.misfit_s + 1.5))
     states = run(p, hidden)
     assert states[14] is TrackState.TRACKING
     dropped = states.index(TrackState.LOST, 15)
-    assert dropped <= 15 + round(30 * p.doubt_s) + p.lost_after, states
+    assert dropped <= 15 + round(30 * p.misfit_s) + p.lost_after, states
     assert set(states[dropped:]) == {TrackState.LOST}, states  # and the cylinder is not taken for it
     # Without the check, the track stays on the cylinder.
     unchecked = run(TrackerParams(figure_keep=0.0, surround_keep=1.0), hidden)
     assert unchecked[-1] is TrackState.TRACKING
     # In front of the cylinder briefly, the figure is kept.
-    passing = alone + [(False, True)] * round(30 * p.doubt_s * 0.6) + alone
+    passing = alone + [(False, True)] * round(30 * p.misfit_s * 0.6) + alone
     assert set(run(p, passing)[14:]) == {TrackState.TRACKING}
-    assert TrackState.LOST in run(TrackerParams(doubt_s=0.1), passing)  # it does not fit the figure there
+    assert TrackState.LOST in run(TrackerParams(misfit_s=0.1), passing)  # it does not fit the figure there
 
 
 def test_a_plain_cut_out_has_no_figure_to_check() -> None:
