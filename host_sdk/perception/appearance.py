@@ -179,6 +179,10 @@ class Appearance:
             return 0.0  # too few pixels to say
         return self._like_signature(self.histogram(np.ascontiguousarray(patch), surround))
 
+    def sees_whole(self, image: Image, box: Box) -> bool:
+        """`box` lies inside the picture (what `figure_match` and `surround_match` need)."""
+        return _crop(image, box, whole=True) is not None
+
     def fits_figure(self, image: Image, box: Box, figure_min: float, surround_max: float) -> bool:
         """A cut-out's whole figure at `box` fits (`figure_match` >= `figure_min`) with none of its
         colours round it (`surround_match` <= `surround_max`); always True without a cut-out."""

@@ -59,9 +59,9 @@ class TrackerParams:
     object through turns and shading (the target scored 0.83 and more in 99 % of its tracked frames
     on the photographic camera, 0.63 at worst)."""
     surround_keep: float = 0.45
-    """See `figure_keep`: the target in front of a cylinder in its stripes scored up to 0.54 for
-    0.8 s; a track on the cylinder itself 0.53-0.78 for as long as it lasted."""
+    """See `figure_keep`: the target standing before a cylinder in its stripes scored up to 0.54; a
+    track on such a cylinder itself 0.53-0.78 for as long as it lasted."""
     misfit_s: float = 1.5
     """How long a cut-out's track may not fit its figure before it is dropped: the longest such
-    stretch on the target was 0.9 s; the tracks that had slid onto a cylinder lasted 5-35 s."""
+    stretch on the target was 0.9 s; four tracks that had slid onto a cylinder lasted 5-35 s."""
     appearance: AppearanceParams = field(default_factory=AppearanceParams)

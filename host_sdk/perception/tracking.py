@@ -32,7 +32,8 @@ track alive, and its colours match (`colour_redetect`, also stricter), so clutte
 "re-acquired"; a cut-out's candidate must also fit its whole figure (`figure_redetect`) with none
 of its colours round it (`surround_redetect`), so a look-alike of another shape does not either. A
 cut-out's track that stops fitting its figure (`figure_keep`, `surround_keep`, looser) for `misfit_s`
-is dropped: the object went behind a look-alike and the match slid onto it.
+is dropped (after `lost_after` - 1 frames of coasting): the object went behind a look-alike and the
+match slid onto it.
 
 States: TRACKING, LOST, and REACQUIRED on the first frame of a track found again by re-detection.
 OpenCV is imported when a tracker is made (the `vision` extra).
@@ -54,6 +55,8 @@ from host_sdk.perception.appearance import Appearance
 from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.template import cutout_core, on_cutout
 from host_sdk.perception.tracker_params import TrackerParams
+
+__all__ = ["Box", "Image", "Track", "TrackState", "Tracker", "TrackerParams"]
 
 Image = NDArray[np.uint8]
 Box = tuple[float, float, float, float]
@@ -155,7 +158,8 @@ class Tracker:
         self._phase = 0
         self._shift = 0.0
         self._first = True
-        self._misfit_since: float | None = None
+        self._misfit_s = 0.0
+        """How long the track has not fitted its figure (`_misfits`)."""
         self._seen_s: float | None = None if box is None else time_s
 
     @classmethod
@@ -185,10 +189,10 @@ class Tracker:
         pred = self._predict(dt, rotation_rad)
         found = self._match_near(image, pred)
         agree = self.look.agreement(image, found[0]) if found is not None else 0.0
-        if found is not None and self._plausible(image, found, agree) and not self._misfits(image, found[0]):
+        if found is not None and self._plausible(image, found, agree) and not self._misfits(image, found[0], dt):
             box, score = found
             self._accept(box, dt)
-            if self._misfit_since is None:  # a frame that does not fit the figure teaches nothing
+            if self._misfit_s == 0.0:  # a frame that does not fit the figure teaches nothing
                 self.look.learn(image, box, score, agree)
             self._misses = 0
             return self._track(TrackState.TRACKING, score)
@@ -199,7 +203,6 @@ class Tracker:
         self.box = None
         self.lost_since = time_s
         self.velocity = (0.0, 0.0)
-        self._misfit_since = None
         return self._redetect(image, time_s)
 
     def _plausible(self, image: Image, found: tuple[Box, float], agree: float) -> bool:
@@ -208,18 +211,19 @@ class Tracker:
         p = self.params
         return found[1] >= p.accept and agree >= p.anchor_accept and self.look.colour_match(image, found[0]) >= p.colour
 
-    def _misfits(self, image: Image, box: Box) -> bool:
+    def _misfits(self, image: Image, box: Box, dt: float) -> bool:
         """True once a cut-out's track has not fitted its whole figure for `misfit_s`: it slid onto
         a look-alike that shares the figure's middle (a cylinder in its stripes that hid it). The
-        match and its colours cannot say so; the figure's outline can. Not judged partly off the
-        picture, where the figure cannot be seen whole."""
+        match and its colours cannot say so; the figure's outline can. Partly off the picture the
+        figure cannot be seen whole: the count pauses there."""
         p = self.params
-        if _visible(box, image) < 0.999 or self.look.fits_figure(image, box, p.figure_keep, p.surround_keep):
-            self._misfit_since = None
+        if not self.look.sees_whole(image, box):
+            return self._misfit_s >= p.misfit_s
+        if self.look.fits_figure(image, box, p.figure_keep, p.surround_keep):
+            self._misfit_s = 0.0
             return False
-        if self._misfit_since is None:
-            self._misfit_since = self.time_s
-        return self.time_s - self._misfit_since >= p.misfit_s
+        self._misfit_s += dt
+        return self._misfit_s >= p.misfit_s
 
     def _predict(self, dt: float, rotation_rad: float) -> Box:
         assert self.box is not None
@@ -346,6 +350,7 @@ class Tracker:
                 self._accept(refined[0], 0.0)
                 self.velocity = (0.0, 0.0)
                 self._misses = 0
+                self._misfit_s = 0.0
                 return self._track(TrackState.REACQUIRED, refined[1])
         return self._lost(time_s)
 

@@ -283,11 +283,14 @@ def test_a_cut_out_track_that_slid_onto_a_look_alike_is_dropped() -> None:
             img[80:140, 115:205] = cylinder
         return img
 
+    learnt: list[np.ndarray] = []
+
     def run(params: TrackerParams, script: list[tuple[bool, bool]]) -> list[TrackState]:
         tracker = Tracker(cut_out, CAMERA, params=params)
         states = []
         for i, (front, behind) in enumerate(script):
             states.append(tracker.update(frame(cylinder_in_front=front, cylinder_behind=behind), i / 30).state)
+            learnt.append(tracker.look.current.copy())
         return states
 
     p = TrackerParams()
@@ -296,11 +299,15 @@ def test_a_cut_out_track_that_slid_onto_a_look_alike_is_dropped() -> None:
     states = run(p, hidden)
     assert states[14] is TrackState.TRACKING
     dropped = states.index(TrackState.LOST, 15)
-    assert dropped <= 15 + round(30 * p.misfit_s) + p.lost_after, states
+    assert 15 + round(30 * p.misfit_s) <= dropped <= 15 + round(30 * p.misfit_s) + p.lost_after, states
     assert set(states[dropped:]) == {TrackState.LOST}, states  # and the cylinder is not taken for it
-    # Without the check, the track stays on the cylinder.
+    # What the track saw on the cylinder did not teach the adaptive template anything.
+    assert all(np.array_equal(learnt[16], later) for later in learnt[17:dropped]), "learnt from a misfit"
+    # Without the check, the track stays on the cylinder (and learns from it).
+    learnt.clear()
     unchecked = run(TrackerParams(figure_keep=0.0, surround_keep=1.0), hidden)
     assert unchecked[-1] is TrackState.TRACKING
+    assert not np.array_equal(learnt[16], learnt[-1])
     # In front of the cylinder briefly, the figure is kept.
     passing = alone + [(False, True)] * round(30 * p.misfit_s * 0.6) + alone
     assert set(run(p, passing)[14:]) == {TrackState.TRACKING}
