@@ -77,11 +77,14 @@ class Appearance:
         self._figure: NDArray[np.float32] | None = None
         """A cut-out's figure in match space, mean removed (the pixels of `mask`)."""
         self._figure_norm = 0.0
+        self._figure_space: NDArray[np.float32] | None = None
+        """The cut-out in match space (for a figure partly off the picture)."""
         self._surround: NDArray[np.uint8] | None = None
         """A cut-out's background pixels at least three pixels from the figure's edge (255)."""
         if mask is not None and mask.any():
             self._surround = cv2.erode(np.where(mask, 0, 255).astype(np.uint8), np.ones((5, 5), np.uint8))
-            figure = self.space(self.anchor)[mask]
+            self._figure_space = self.space(self.anchor)
+            figure = self._figure_space[mask]
             figure -= figure.mean(axis=0)
             # A figure with too little contrast of its own (a plain cup) has no pattern to check:
             # correlating it would correlate noise.
@@ -149,35 +152,69 @@ class Appearance:
 
     def figure_match(self, image: Image, box: Box) -> float:
         """A cut-out's correlation with `box` over its whole figure, head and shoulders included
-        (1.0 without a cut-out or for a plain figure; 0 off the picture). The core the search
-        matches is the figure's solid middle, which a look-alike of another shape can share (a
-        cylinder in the figure's stripes); the figure's head and shoulders it cannot. Measured at
-        the box as found: searching a few sizes and shifts round it fitted the look-alikes better
-        too (the PiCar's time with the target in view fell from 89 % to 79 % over 37 worlds)."""
+        (1.0 without a cut-out or for a plain figure). The core the search matches is the figure's
+        solid middle, which a look-alike of another shape can share (a cylinder in the figure's
+        stripes); the figure's head and shoulders it cannot. Measured at the box as found:
+        searching a few sizes and shifts round it fitted the look-alikes better too (the PiCar's
+        time with the target in view fell from 89 % to 79 % over 37 worlds). A box partly off the
+        picture is measured over the figure's pixels inside it, if at least FIGURE_SEEN of them
+        are (a close target at the edge of the view); else 0."""
         if self._figure is None or self._figure_at is None:
             return 1.0
-        patch = _crop(image, box, whole=True)
-        if patch is None:
+        part = self._seen_part(image, box)
+        if part is None:
             return 0.0
-        th, tw = self.anchor.shape[:2]
-        seen = self.space(self.cv2.resize(patch, (tw, th), interpolation=self.cv2.INTER_AREA))[self._figure_at]
+        patch, (rows, cols), whole = part
+        at = self._figure_at[rows, cols]
+        if not whole and np.count_nonzero(at) < FIGURE_SEEN * np.count_nonzero(self._figure_at):
+            return 0.0
+        size = (cols.stop - cols.start, rows.stop - rows.start)
+        seen = self.space(self.cv2.resize(patch, size, interpolation=self.cv2.INTER_AREA))[at]
         seen -= seen.mean(axis=0)
-        norm = math.sqrt(float((seen * seen).sum()) * self._figure_norm)
-        return float((seen * self._figure).sum() / norm) if norm > 0 else 0.0
+        figure, figure_norm = self._figure, self._figure_norm
+        if not whole:
+            assert self._figure_space is not None
+            figure = self._figure_space[rows, cols][at]
+            figure -= figure.mean(axis=0)
+            figure_norm = float((figure * figure).sum())
+        norm = math.sqrt(float((seen * seen).sum()) * figure_norm)
+        return float((seen * figure).sum() / norm) if norm > 0 else 0.0
 
     def surround_match(self, image: Image, box: Box) -> float:
         """How much what surrounds a cut-out's figure inside `box` (its background pixels, away from
         the edge) has the object's colours, as `colour_match` measures; 0 without a cut-out. The
         object stands before something else; the inside of a bigger look-alike (a wide cylinder in
-        the figure's stripes, close up) has the object's colours there too."""
-        patch = _crop(image, box, whole=True)
-        if self._surround is None or patch is None:
+        the figure's stripes, close up) has the object's colours there too. Over the part of the
+        box inside the picture."""
+        part = self._seen_part(image, box)
+        if self._surround is None or part is None:
             return 0.0
+        patch, (rows, cols), _ = part
         size = (patch.shape[1], patch.shape[0])
-        surround = self.cv2.resize(self._surround, size, interpolation=self.cv2.INTER_NEAREST)
+        surround = self.cv2.resize(np.ascontiguousarray(self._surround[rows, cols]), size,
+                                   interpolation=self.cv2.INTER_NEAREST)  # fmt: skip
         if int(np.count_nonzero(surround)) < 16:
             return 0.0  # too few pixels to say
         return self._like_signature(self.histogram(np.ascontiguousarray(patch), surround))
+
+    def _seen_part(self, image: Image, box: Box) -> tuple[Image, tuple[slice, slice], bool] | None:
+        """The box's pixels inside the picture, the same part of the template (rows and columns at
+        the template's size) and whether that is all of it; None if only a sliver is inside."""
+        th, tw = self.anchor.shape[:2]
+        patch = _crop(image, box, whole=True)
+        if patch is not None:
+            return patch, (slice(0, th), slice(0, tw)), True
+        patch = _crop(image, box)
+        x, y, w, h = box
+        if patch is None or w <= 0 or h <= 0:
+            return None
+        x0, y0 = max(0, round(x)), max(0, round(y))
+        u0, v0 = max(0, round((x0 - x) * tw / w)), max(0, round((y0 - y) * th / h))
+        u1 = min(tw, round((x0 + patch.shape[1] - x) * tw / w))
+        v1 = min(th, round((y0 + patch.shape[0] - y) * th / h))
+        if u1 - u0 < 4 or v1 - v0 < 4:
+            return None
+        return patch, (slice(v0, v1), slice(u0, u1)), False
 
     def sees_whole(self, image: Image, box: Box) -> bool:
         """`box` lies inside the picture (what `figure_match` and `surround_match` need)."""
@@ -244,6 +281,8 @@ def match_space(cv2: Any, image: Image, chroma_weight: float = 1.0) -> NDArray[n
 
 
 CHROMA_FLOOR = 8.0
+FIGURE_SEEN = 0.6
+"""The share of a cut-out's figure a box partly off the picture must show to be judged by it."""
 
 
 def chroma_weight(cv2: Any, template: Image) -> float:

@@ -24,9 +24,9 @@ coasts on the prediction for `lost_after` - 1 frames (a brief occlusion), never 
 Re-detection (while lost, and at start-up from an image): ORB features of the template (a region's:
 those on the object, inside its ellipse) matched to the frame's with a ratio test and a robust homography
 (OpenCV's USAC: a frame without the object costs a millisecond, not RANSAC's 2000 tries), as
-find_object_2d does; that needs texture, so when the template has too few features
-or the homography fails, a multi-scale correlation of the first template's core over the whole
-(reduced) frame stands in, near the last size for a while after a loss. Either way a candidate is
+find_object_2d does; that needs texture, so when the template has too few features, the homography
+fails or its candidate fails the checks below, a multi-scale correlation of the first template's core
+over the whole (reduced) frame stands in, near the last size for a while after a loss. Either way a candidate is
 accepted only if the correlation at its box reaches `accept_redetect`, stricter than what keeps a
 track alive, and its colours match (`colour_redetect`, also stricter), so clutter does not get
 "re-acquired"; a cut-out's candidate must also fit its whole figure (`figure_redetect`) with none
@@ -335,16 +335,23 @@ class Tracker:
         return self._redetect(image, time_s, every_scale=True)
 
     def _redetect(self, image: Image, time_s: float, *, every_scale: bool = False) -> Track:
-        box = self._detect_features(image) if self.has_features else None
-        if box is None:
-            box = self._detect_correlation(image, every_scale=every_scale)
-        if box is not None:
-            refined = self._match_near(image, box)
+        p = self.params
+        # The features' candidate first; if there is none, or it fails the checks (a homography from
+        # a few matches, half of them past the frame's edge, places a box badly), the correlation's.
+        tried: list[Box] = []
+        for find in ("features", "correlation"):
+            if find == "features":
+                box = self._detect_features(image) if self.has_features else None
+            else:
+                box = self._detect_correlation(image, every_scale=every_scale)
+            refined = None if box is None else self._match_near(image, box)
+            if refined is None or any(_same(refined[0], other) for other in tried):
+                continue
+            tried.append(refined[0])
             if (
-                refined is not None
-                and refined[1] >= self.params.accept_redetect
-                and self.look.colour_match(image, refined[0]) >= self.params.colour_redetect
-                and self.look.fits_figure(image, refined[0], self.params.figure_redetect, self.params.surround_redetect)
+                refined[1] >= p.accept_redetect
+                and self.look.colour_match(image, refined[0]) >= p.colour_redetect
+                and self.look.fits_figure(image, refined[0], p.figure_redetect, p.surround_redetect)
             ):
                 self.box = None
                 self._accept(refined[0], 0.0)
@@ -442,6 +449,11 @@ def _visible(box: Box, image: Image) -> float:
     iw = max(0.0, min(x + w, W) - max(x, 0.0))
     ih = max(0.0, min(y + h, H) - max(y, 0.0))
     return float(iw * ih / max(w * h, 1e-9))
+
+
+def _same(a: Box, b: Box) -> bool:
+    """Two boxes within a few pixels of each other (a candidate already judged)."""
+    return all(abs(u - v) <= 3.0 for u, v in zip(a, b, strict=True))
 
 
 def _centre(box: Box) -> tuple[float, float]:

@@ -255,6 +255,36 @@ def test_a_cut_out_is_not_re_detected_on_a_look_alike_of_another_shape() -> None
     assert tracker.detect(close, 0.0).state is TrackState.LOST
 
 
+def test_a_cut_out_partly_off_the_picture_is_re_detected_by_what_is_in_it() -> None:
+    """A close target at the edge of the view (a quarter of its box past the frame's edge): its
+    figure is checked over the part in the picture, so it is found; a headless look-alike at the
+    same place is still refused; and with less than FIGURE_SEEN of the figure in, nothing is."""
+    import cv2
+
+    body, mask = figure(96, 64)
+    cut_out = np.dstack([np.where(mask[..., None], body, np.uint8(128)), np.where(mask, 255, 0).astype(np.uint8)])
+    rng = np.random.default_rng(6)
+    wall = np.clip(np.array([40, 90, 170]) + rng.integers(-30, 31, (240, 320, 1)), 0, 255).astype(np.uint8)
+    wall[:60] = (210, 200, 190)
+    w, h = 80, 120
+    big = cv2.resize(body, (w, h), interpolation=cv2.INTER_AREA)
+    big_mask = cv2.resize(mask.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
+
+    def at_right_edge(where: np.ndarray, past: int) -> np.ndarray:
+        frame = wall.copy()
+        x = 320 - w + past
+        frame[60 : 60 + h, x:320][where[:, : w - past]] = big[:, : w - past][where[:, : w - past]]
+        return frame
+
+    track = Tracker(cut_out, CAMERA).detect(at_right_edge(big_mask, w // 4), 0.0)
+    assert track.state is TrackState.REACQUIRED and track.box is not None
+    assert track.box == pytest.approx((320 - w + w // 4, 60, w, h), abs=6.0)
+    headless = big_mask.copy()
+    headless[: h // 3 - 3] = False
+    assert Tracker(cut_out, CAMERA).detect(at_right_edge(headless, w // 4), 0.0).state is TrackState.LOST
+    assert Tracker(cut_out, CAMERA).detect(at_right_edge(big_mask, w // 2 + 8), 0.0).state is TrackState.LOST
+
+
 def test_a_cut_out_track_that_slid_onto_a_look_alike_is_dropped() -> None:
     """The figure walks behind a wide cylinder painted in its bands: its solid middle matches the
     cylinder as well as the figure, so the match slides onto the cylinder and holds there. The
