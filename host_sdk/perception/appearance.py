@@ -157,8 +157,8 @@ class Appearance:
         stripes); the figure's head and shoulders it cannot. Measured at the box as found:
         searching a few sizes and shifts round it fitted the look-alikes better too (the PiCar's
         time with the target in view fell from 89 % to 79 % over 37 worlds). A box partly off the
-        picture is measured over the figure's pixels inside it, if at least FIGURE_SEEN of them
-        are (a close target at the edge of the view); else 0."""
+        picture at the side is measured over the figure's pixels inside it, if at least
+        FIGURE_SEEN of them are (a close target at the edge of the view); else 0 (`_seen_part`)."""
         if self._figure is None or self._figure_at is None:
             return 1.0
         part = self._seen_part(image, box)
@@ -185,7 +185,7 @@ class Appearance:
         the edge) has the object's colours, as `colour_match` measures; 0 without a cut-out. The
         object stands before something else; the inside of a bigger look-alike (a wide cylinder in
         the figure's stripes, close up) has the object's colours there too. Over the part of the
-        box inside the picture."""
+        box inside the picture, as `figure_match`; 0 if the box is cut at the top or the bottom."""
         part = self._seen_part(image, box)
         if self._surround is None or part is None:
             return 0.0
@@ -199,7 +199,9 @@ class Appearance:
 
     def _seen_part(self, image: Image, box: Box) -> tuple[Image, tuple[slice, slice], bool] | None:
         """The box's pixels inside the picture, the same part of the template (rows and columns at
-        the template's size) and whether that is all of it; None if only a sliver is inside."""
+        the template's size) and whether that is all of it. A box cut at the frame's left or right
+        edge only: cut at the top or the bottom (or only a sliver inside), None. A figure's head, the
+        part a look-alike lacks, is what a box past the top edge loses."""
         th, tw = self.anchor.shape[:2]
         patch = _crop(image, box, whole=True)
         if patch is not None:
@@ -212,12 +214,12 @@ class Appearance:
         u0, v0 = max(0, round((x0 - x) * tw / w)), max(0, round((y0 - y) * th / h))
         u1 = min(tw, round((x0 + patch.shape[1] - x) * tw / w))
         v1 = min(th, round((y0 + patch.shape[0] - y) * th / h))
-        if u1 - u0 < 4 or v1 - v0 < 4:
-            return None
+        if u1 - u0 < 4 or v0 > 0 or v1 < th:
+            return None  # cut at the top or the bottom: the outline that tells look-alikes apart may be gone
         return patch, (slice(v0, v1), slice(u0, u1)), False
 
     def sees_whole(self, image: Image, box: Box) -> bool:
-        """`box` lies inside the picture (what `figure_match` and `surround_match` need)."""
+        """`box` lies inside the picture (the figure can be seen whole)."""
         return _crop(image, box, whole=True) is not None
 
     def fits_figure(self, image: Image, box: Box, figure_min: float, surround_max: float) -> bool:

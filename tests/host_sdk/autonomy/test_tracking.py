@@ -256,9 +256,10 @@ def test_a_cut_out_is_not_re_detected_on_a_look_alike_of_another_shape() -> None
 
 
 def test_a_cut_out_partly_off_the_picture_is_re_detected_by_what_is_in_it() -> None:
-    """A close target at the edge of the view (a quarter of its box past the frame's edge): its
+    """A close target at the side of the view (a quarter of its box past the frame's edge): its
     figure is checked over the part in the picture, so it is found; a headless look-alike at the
-    same place is still refused; and with less than FIGURE_SEEN of the figure in, nothing is."""
+    same place is still refused; with less than FIGURE_SEEN of the figure in, nothing is; and a box
+    past the top edge is not judged (the head, which a look-alike lacks, is what is lost there)."""
     import cv2
 
     body, mask = figure(96, 64)
@@ -283,6 +284,14 @@ def test_a_cut_out_partly_off_the_picture_is_re_detected_by_what_is_in_it() -> N
     headless[: h // 3 - 3] = False
     assert Tracker(cut_out, CAMERA).detect(at_right_edge(headless, w // 4), 0.0).state is TrackState.LOST
     assert Tracker(cut_out, CAMERA).detect(at_right_edge(big_mask, w // 2 + 8), 0.0).state is TrackState.LOST
+    # Past the top edge the head is what is lost: a headless look-alike or a striped block there,
+    # whose bodies fit the figure's, are not taken.
+    block = np.zeros_like(big_mask)
+    block[:, 12:68] = True
+    for look_alike in (headless, block):
+        top = np.clip(np.array([40, 90, 170]) + rng.integers(-30, 31, (240, 320, 1)), 0, 255).astype(np.uint8)
+        top[0 : h - 30, 120 : 120 + w][look_alike[30:]] = big[30:][look_alike[30:]]
+        assert Tracker(cut_out, CAMERA).detect(top, 0.0).state is TrackState.LOST
 
 
 def test_a_cut_out_track_that_slid_onto_a_look_alike_is_dropped() -> None:
