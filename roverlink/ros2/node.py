@@ -113,6 +113,8 @@ class BridgeNode(Node):
         self._resets = 0
         self._rearmed_since_reset = True
         self._last_pose: Pose | None = None
+        self._last_odom_ns = 0
+        """The last odom stamp published (ns): a sample not after it is not published."""
         self._joints: convert.JointTracker | None = None
         self._kinematics: Any = None
         self._feedback_times: deque[float] = deque(maxlen=200)
@@ -335,6 +337,9 @@ class BridgeNode(Node):
         twist = convert.body_twist(kin, sample)
         if self.fusion is not None:
             self.fusion.on_feedback(sample, twist)
+        if ns <= self._last_odom_ns:
+            return  # not after the last one published (samples read in a burst at start-up): ROS stamps advance
+        self._last_odom_ns = ns
         tf = (self.tf_pub if p.tf_from == "odom" else None, self._tf_type)
         covariances = (self._pose_covariance_of(pose), self._twist_covariance)
         fused.publish_odometry(p, self.odom_pub, tf, ns=ns, pose=pose, twist=twist, covariances=covariances)

@@ -76,7 +76,10 @@ def test_textual_monitor_headless() -> None:
 @pytest.mark.parametrize("profile", PROFILES)
 def test_teleop_drives_while_keys_arrive_and_stops_when_they_stop(profile: str) -> None:
     ackermann = profile == "picar"
-    with emulate("--quiet", "--profile", profile) as board, Robot.connect(board.url) as robot:
+    # A real pty and two processes on the wall clock: a 1 s watchdog, so a loaded test machine's
+    # scheduling pauses are not taken for teleop's (test_teleop_commands_do_not_wait_for_a_stalled_ui
+    # and the virtual-clock tests below hold teleop to the default watchdog).
+    with emulate("--quiet", "--profile", profile) as board, Robot.connect(board.url, watchdog_s=1.0) as robot:
         controller = TeleopController(robot, key_timeout_s=0.4)
         app = TeleopApp(Dashboard(robot), controller)
 
