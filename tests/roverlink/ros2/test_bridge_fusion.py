@@ -136,15 +136,26 @@ def test_tf_from_fused_is_the_filtered_pose(fused: Probe) -> None:
     t0 = time.monotonic()
     fused.drive(0.2, 0.5, 1.0)
     fused.wait_for("20 transforms", lambda: len(fused.since("tf", t0)) >= 20)
-    filtered = {
-        (m.header.stamp.sec, m.header.stamp.nanosec): pose3(m) for m in (r.msg for r in fused.since("filtered"))
-    }
     transforms = [tf for r in fused.since("tf", t0) for tf in r.msg.transforms]
+
+    def filtered_poses() -> dict[tuple[int, int], tuple[float, float, float]]:
+        return {
+            (m.header.stamp.sec, m.header.stamp.nanosec): pose3(m) for m in (r.msg for r in fused.since("filtered"))
+        }
+
+    def stamp_of(tf: Any) -> tuple[int, int]:
+        return tf.header.stamp.sec, tf.header.stamp.nanosec
+
+    # The two topics reach the probe through separate subscriptions, in either order: wait (with a
+    # deadline) for the filtered messages of the transforms already here.
+    def all_filtered() -> dict[tuple[int, int], tuple[float, float, float]] | None:
+        poses = filtered_poses()
+        return poses if all(stamp_of(tf) in poses for tf in transforms) else None
+
+    filtered = fused.wait_for("odometry/filtered at every transform's stamp", all_filtered, 5)
     for tf in transforms:  # every one is a fused pose (the wheel odometry's is not published)
         assert (tf.header.frame_id, tf.child_frame_id) == ("odom", "base_link")
-        stamp = (tf.header.stamp.sec, tf.header.stamp.nanosec)
-        assert stamp in filtered, "a transform at no odometry/filtered stamp"
-        x, y, theta = filtered[stamp]
+        x, y, theta = filtered[stamp_of(tf)]
         assert (tf.transform.translation.x, tf.transform.translation.y) == (x, y)
         assert math.remainder(yaw(tf.transform.rotation) - theta, math.tau) == pytest.approx(0.0, abs=1e-9)
     fused.drive(0.0, 0.0, 0.3)
