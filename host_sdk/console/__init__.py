@@ -36,7 +36,7 @@ class Console:
                  tracker: FrameTracker | None = None) -> None:  # fmt: skip
         self.robot = robot
         self.access = Access.for_host(host, token)
-        self.hub = Hub(command_lifetime_s=robot.config.watchdog_ms / 1000.0)
+        self.hub = Hub(command_lifetime_s=robot.watchdog_s)
         self.server = ConsoleServer(self.hub, self.access, port, on_stop=robot.disarm, jpeg_quality=jpeg_quality,
                                     max_speed=(max_speed_m_s, max_turn_rad_s))  # fmt: skip
         self.pilot = ConsolePilot(self.hub, robot, geometry, target_height_m=target_height_m,

@@ -32,6 +32,10 @@ class Frame:
     id: int
     time_s: float
     image: Image
+    jpeg: bytes | None = None
+    """The camera's own JPEG of it, if it sent one (an MJPEG stream): forwarded as it is."""
+    device_time_s: float | None = None
+    """The capture time the camera carried (`CameraFrame.device_time_s`)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -86,10 +90,11 @@ class Hub:
         self._listeners: list[Callable[[], None]] = []
 
     # -- the program's side -------------------------------------------------------------------------
-    def show_frame(self, image: Image, time_s: float, overlay: dict[str, Any] | None = None) -> Frame:
+    def show_frame(self, image: Image, time_s: float, overlay: dict[str, Any] | None = None, *,
+                   jpeg: bytes | None = None, device_time_s: float | None = None) -> Frame:  # fmt: skip
         """A new camera frame and what to draw on it (the track's box, state, confidence)."""
         with self._lock:
-            frame = Frame(self._next_id, time_s, image)
+            frame = Frame(self._next_id, time_s, image, jpeg, device_time_s)
             self._next_id += 1
             self._frames.append(frame)
             self._shown.frame = frame

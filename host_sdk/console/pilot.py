@@ -57,6 +57,8 @@ class ConsolePilot:
         self.health: dict[str, Any] = {}
         """Extra status lines for the page (rates, errors): the program fills it in."""
         self._frame: CameraFrame | None = None
+        self._fed: tuple[float, int] | None = None
+        self._feedback_hz = 0.0
 
     # -- the Pilot protocol -----------------------------------------------------------------------------
     def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
@@ -72,7 +74,7 @@ class ConsolePilot:
         tracker = self.follow.tracker
         if isinstance(tracker, ClassTracker):
             overlay["detections"] = [[round(v, 1) for v in d.box] for d in tracker.detections]
-        self.hub.show_frame(frame.image, frame.time_s, overlay)
+        self.hub.show_frame(frame.image, frame.time_s, overlay, jpeg=frame.jpeg, device_time_s=frame.device_time_s)
         return track
 
     def command(self, pose: RobotPose) -> tuple[float, float, str]:
@@ -121,7 +123,8 @@ class ConsolePilot:
             "following": self.following,
             "track": None if self.follow.last_track is None else self.follow.last_track.state.value,
             "pose": {"x": round(pose.x_m, 3), "y": round(pose.y_m, 3), "theta": round(pose.theta_rad, 4)},
-            "health": self.health,
+            "failsafe": None if self.robot.failsafe is None else self.robot.failsafe.name,
+            "health": {**self._link(pose.time_s), **self.health},
         }
         if scan is not None:
             x, y = scan.points_xy()
@@ -129,6 +132,20 @@ class ConsolePilot:
             step = max(1, len(keep) // SCAN_POINTS)
             state["scan"] = {"points": keep[::step], "range_m": 4.0, "footprint": self._footprint()}
         self.hub.show_state(**state)
+
+    def _link(self, now_s: float) -> dict[str, Any]:
+        """The link's health for the status panel: its state, the feedback rate, errors, round trip."""
+        robot, stats = self.robot, self.robot.stats
+        lines: dict[str, Any] = {"link": robot.state}
+        then = self._fed
+        self._fed = (now_s, stats.feedback_received)
+        if then is not None and now_s - then[0] > 0:
+            self._feedback_hz = 0.8 * self._feedback_hz + 0.2 * (stats.feedback_received - then[1]) / (now_s - then[0])
+            lines["feedback"] = f"{self._feedback_hz:.0f} Hz"
+        lines["link errors"] = stats.crc_errors + stats.cobs_errors + stats.length_errors + stats.seq_gaps
+        if stats.rtt is not None:
+            lines["round trip"] = f"{stats.rtt.mean_s * 1000:.1f} ms"
+        return lines
 
     def _footprint(self) -> list[tuple[float, float]]:
         fp = self.geometry.footprint

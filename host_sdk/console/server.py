@@ -102,7 +102,7 @@ class ConsoleServer:
         web = self.web
         self._changed = asyncio.Event()
 
-        @web.middleware
+        @web.middleware  # type: ignore[untyped-decorator]
         async def guard(request: Any, handler: Handler) -> Any:
             return await self._guard(request, handler)
 
@@ -188,7 +188,9 @@ class ConsoleServer:
         _, frame, _, _ = self.hub.latest()
         if frame is None:
             return None
-        if self._jpeg[0] != frame.id:  # encoded once per frame, whoever asks
+        if self._jpeg[0] != frame.id and frame.jpeg is not None:  # the camera's own: no encoding here
+            self._jpeg = (frame.id, frame.jpeg)
+        elif self._jpeg[0] != frame.id:  # encoded once per frame, whoever asks
             ok, buf = self.cv2.imencode(".jpg", frame.image, [self.cv2.IMWRITE_JPEG_QUALITY, self.jpeg_quality])
             if ok:
                 self._jpeg = (frame.id, buf.tobytes())

@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 
 from host_sdk import Robot, RobotDescription
 from host_sdk.autonomy import FollowPilot, Pilot, follow_gap
+from host_sdk.errors import CommandRangeError
 from host_sdk.geometry import RobotGeometry, robot_geometry
 from host_sdk.perception import Tracker
 from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
@@ -176,8 +177,13 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
         # asked at the size the pilot's camera model has (a device that cannot set it gives its own)
         camera = CameraSource(ports.camera, width=geo.camera.width, height=geo.camera.height)
         if select is not None:
+            image = camera.read(5.0).image
             x, y, w, h = (round(v) for v in select)
-            template = camera.read(5.0).image[y : y + h, x : x + w].copy()
+            H, W = image.shape[:2]
+            if not (x >= 0 and y >= 0 and w >= 6 and h >= 6 and x + w <= W and y + h <= H):
+                where = f"a box inside the camera's {W}x{H} frame, at least 6 pixels a side"
+                raise CommandRangeError("--select", ",".join(str(v) for v in (x, y, w, h)), where)
+            template = image[y : y + h, x : x + w].copy()
         chosen = make_pilot(pilot, geo, template, settings)
         lidar = Lidar.open(ports.lidar, ports.lidar_model or emulated.lidar_for(profile))
         imu = Jy901.open(ports.imu) if ports.imu else None

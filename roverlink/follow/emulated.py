@@ -55,9 +55,11 @@ def lidar_for(robot: str | RobotDescription) -> str:
 
 
 def start(profile: str | RobotDescription, world: str | Path, *, seed: int = 0, camera_fps: float = 15.0,
-          imu: bool = True, faults: str | None = None, camera_look: str = "plain") -> EmulatedRobot:  # fmt: skip
-    """Connect (virtual clock) to an emulated `profile` (a reference robot, or the robot a robot
-    file describes: connected with the file, as on a real robot) in `world` with its sensors attached."""
+          imu: bool = True, faults: str | None = None, camera_look: str = "plain",
+          clock: str = "virtual") -> EmulatedRobot:  # fmt: skip
+    """Connect to an emulated `profile` (a reference robot, or the robot a robot file describes:
+    connected with the file, as on a real robot) in `world` with its sensors attached; on the virtual
+    clock (as fast as the CPU allows) or the "real" one (wall time, for a person watching)."""
     desc = profile if isinstance(profile, RobotDescription) else None
     model = profile_from_file(desc.path) if desc is not None else profile
     assert not isinstance(model, RobotDescription)
@@ -67,7 +69,7 @@ def start(profile: str | RobotDescription, world: str | Path, *, seed: int = 0, 
     if cam is not None:
         options = replace(options, width=cam.width, height=cam.height)
     rig = attach(emu, world, lidar=lidar_for(profile), imu="jy901" if imu else None, camera=options)
-    transport = EmulatorTransport(emu, clock="virtual")
+    transport = EmulatorTransport(emu, clock=clock)
     transport.endpoints = register(transport)
     robot = Robot.connect(transport.url, profile=None if desc else emu.profile.name, robot=desc,
                           transport=PluginTransport(transport), clamp=True, auto_rearm=True)  # fmt: skip
