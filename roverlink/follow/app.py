@@ -19,7 +19,7 @@ from host_sdk.perception import Tracker
 from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
 from host_sdk.recording.follow import FollowSource
 from host_sdk.sensors import CameraSource, Jy901, Lidar
-from roverlink.console import warn_mismatches
+from roverlink.console import announce_live_view, warn_mismatches
 from roverlink.follow import emulated
 from roverlink.follow.baseline import PiCarBaseline
 from roverlink.follow.metrics import FollowMetrics
@@ -35,6 +35,8 @@ class RecordTo:
 
     mcap_path: Path | None = None
     serve: bool = False
+    host: str = "127.0.0.1"
+    port: int = 8765
 
 
 @contextlib.contextmanager
@@ -51,7 +53,9 @@ def recording(robot: Robot, pilot: Pilot, record: RecordTo | None) -> Iterator[C
         raise RuntimeError(f"recording needs host_sdk.recording and the foxglove extra ({exc})") from None
     sources = [FollowSource(pilot)] if isinstance(pilot, FollowPilot) else []
     recorder = library.Recorder.attach(robot, mcap_path=record.mcap_path, overwrite=True, serve=record.serve,
-                                       sources=sources)  # fmt: skip
+                                       host=record.host, port=record.port, sources=sources)  # fmt: skip
+    if record.serve:
+        announce_live_view(recorder)
     try:
         yield lambda _t: recorder.poll()
     finally:
