@@ -217,5 +217,5 @@ def announce_live_view(recorder: Recorder, out: TextIO | None = None) -> None:
         if sink.host in ("0.0.0.0", "::"):
             print(f"  from another machine: ws://{socket.gethostname()}.local:{sink.port}", file=stream, flush=True)
         print("  warning: the Foxglove server has no access control: anyone who can reach this address can "
-              "watch (it accepts no commands); an SSH tunnel keeps it private (docs/foxglove.md)",
+              "watch (it accepts no commands); an SSH tunnel keeps it private (docs/tools.md)",
               file=stream, flush=True)  # fmt: skip
