@@ -118,9 +118,12 @@ def measure(transport: str, seconds: float, fps: float) -> dict[str, float]:
     feeder.thread.start()
     page = browser()
     try:
-        url = f"http://127.0.0.1:{server.port}/" + ("stream.mjpg" if transport == "mjpeg" else "")
-        page.get(url)
-        if transport == "websocket":
+        url = f"http://127.0.0.1:{server.port}/"
+        if transport == "mjpeg":  # an <img> on the stream, as a page would show it (its load never ends)
+            page.get(url + "api/frame.jpg")
+            page.execute_script("document.body.innerHTML = `<img src='${arguments[0]}'>`", url + "stream.mjpg")
+        else:
+            page.get(url)
             deadline = time.monotonic() + 10
             while not page.execute_script("return Number(document.body.dataset.frame || 0)"):
                 assert time.monotonic() < deadline, "no frame on the page"

@@ -37,21 +37,30 @@ class ConsoleRun:
     devices: list[Lidar | CameraSource | Jy901]
     emulated: emulated.EmulatedRobot | None = None
     stopped: threading.Event = field(default_factory=threading.Event)
+    _running: threading.Event = field(default_factory=threading.Event)
+    _done: threading.Event = field(default_factory=threading.Event)
 
     def run(self, duration_s: float | None = None, on_step: Callable[[], None] | None = None) -> None:
         """Run the loop until `stopped` is set (or `duration_s` of the robot's time has passed)."""
         loop = self.loop
-        with loop:
-            while not self.stopped.is_set():
-                if duration_s is not None and self.robot.now() - loop.started_s >= duration_s:
-                    break
-                loop.step()
-                if on_step is not None:
-                    on_step()
-                loop.wait()
+        self._running.set()
+        try:
+            with loop:
+                while not self.stopped.is_set():
+                    if duration_s is not None and self.robot.now() - loop.started_s >= duration_s:
+                        break
+                    loop.step()
+                    if on_step is not None:
+                        on_step()
+                    loop.wait()
+        finally:
+            self._done.set()
 
     def close(self) -> None:
+        """Stop the loop (it stops the robot on its way out), then close everything."""
         self.stopped.set()
+        if self._running.is_set():  # run() in another thread: let it stop the robot before the port closes
+            self._done.wait(timeout=2.0 + 3 * self.loop.period_s)
         self.console.close()
         for device in self.devices:
             device.close()
@@ -70,10 +79,13 @@ def _assemble(robot: Robot, which: str | RobotDescription, settings: ConsoleSett
 
 
 def start_emulated(which: str | RobotDescription, world: str | Path, settings: ConsoleSettings, *, seed: int = 0,
-                   camera_fps: float = 15.0, imu: bool = True, camera_look: str = "plain") -> ConsoleRun:  # fmt: skip
-    """The console on an emulated robot in `world`, on the wall clock; listening once this returns."""
+                   camera_fps: float = 15.0, imu: bool = True, camera_look: str = "plain",
+                   watchdog_s: float | None = None) -> ConsoleRun:  # fmt: skip
+    """The console on an emulated robot in `world`, on the wall clock; listening once this returns.
+    Only the user arms it (no re-arming after a failsafe); `watchdog_s`: the board's (default the
+    firmware's), which is also how long a command from the page lives."""
     em = emulated.start(which, world, seed=seed, camera_fps=camera_fps, imu=imu, camera_look=camera_look,
-                        clock="real")  # fmt: skip
+                        clock="real", auto_rearm=False, watchdog_s=watchdog_s)  # fmt: skip
     try:
         lidar = Lidar.open(em.endpoints["lidar"], em.lidar_model)
         camera = CameraSource(em.endpoints["camera"])

@@ -72,6 +72,8 @@ class _Shown:
     frame: Frame | None = None
     overlay: dict[str, Any] = field(default_factory=dict)
     state: dict[str, Any] = field(default_factory=dict)
+    changed: dict[str, int] = field(default_factory=dict)
+    """Each state key's version when last shown: a page is sent only what changed since it looked."""
     version: int = 0
 
 
@@ -106,8 +108,10 @@ class Hub:
     def show_state(self, **state: Any) -> None:
         """Pose, scan, status...: JSON-able values, merged into what the page shows."""
         with self._lock:
-            self._shown.state.update(state)
-            self._shown.version += 1
+            shown = self._shown
+            shown.version += 1
+            shown.state.update(state)
+            shown.changed.update(dict.fromkeys(state, shown.version))
         self._notify()
 
     def take(self) -> Requests:
@@ -119,11 +123,13 @@ class Hub:
         return taken
 
     # -- the server's side --------------------------------------------------------------------------
-    def latest(self) -> tuple[int, Frame | None, dict[str, Any], dict[str, Any]]:
-        """(version, frame, its overlay, state): the newest of each."""
+    def latest(self, since: int = -1) -> tuple[int, Frame | None, dict[str, Any], dict[str, Any]]:
+        """(version, frame, its overlay, state): the newest of each; of the state, only the keys
+        shown after version `since` (all of it by default)."""
         with self._lock:
             s = self._shown
-            return s.version, s.frame, dict(s.overlay), dict(s.state)
+            state = {k: v for k, v in s.state.items() if s.changed[k] > since}
+            return s.version, s.frame, dict(s.overlay), state
 
     @property
     def version(self) -> int:

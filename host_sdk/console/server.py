@@ -248,12 +248,15 @@ class ConsoleServer:
 
     async def _send_loop(self, ws: Any) -> None:
         version, frame_id = -1, 0
+        mine: dict[str, Any] = {}
         while not ws.closed and not self._closing:
             await self._changes(version, lambda: self.hub.version)
-            version, frame, overlay, state = self.hub.latest()
-            state["driving"] = self.driver is ws
-            state["clients"] = self.clients
-            await ws.send_json({"type": "state", **state})
+            version, frame, overlay, state = self.hub.latest(since=version)  # only what changed (a scan is large)
+            now = {"driving": self.driver is ws, "clients": self.clients}
+            state |= {k: v for k, v in now.items() if mine.get(k) != v}
+            mine = now
+            if state:
+                await ws.send_json({"type": "state", **state})
             if frame is not None and frame.id != frame_id:
                 latest = self._jpeg_of_latest()
                 if latest is not None:

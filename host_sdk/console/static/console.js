@@ -37,13 +37,18 @@ function onMessage(msg) {
   if (msg.type === "hello") {
     view.maxSpeed = msg.max_speed;
     view.lifetime = msg.command_lifetime_s;
-  } else if (msg.type === "state") {
-    view.state = msg;
-    view.driving = msg.driving;
-    badge("role", msg.driving ? "driving" : "watching", msg.driving ? "driving" : "");
-    if (msg.pose) addTrail(msg.pose);
-    drawScan();
-    drawTrail();
+    view.state = {};
+  } else if (msg.type === "state") {  // only what changed since the last one
+    Object.assign(view.state, msg);
+    if ("driving" in msg) {
+      view.driving = msg.driving;
+      badge("role", msg.driving ? "driving" : "watching", msg.driving ? "driving" : "");
+    }
+    if (msg.pose) {
+      addTrail(msg.pose);
+      drawTrail();
+    }
+    if (msg.scan) drawScan();
     showStatus();
   } else if (msg.type === "overlay") {
     view.pending.set(msg.frame, msg);
@@ -281,6 +286,14 @@ pad.addEventListener("pointermove", (e) => { if (stick.active) moveStick(e); });
 const release = () => { stick.active = false; stick.x = stick.y = 0; knob.style.left = knob.style.top = "55px"; };
 pad.addEventListener("pointerup", release);
 pad.addEventListener("pointercancel", release);
+// A hidden tab's timers run once a second: its commands would come in bursts, so it stops driving.
+document.addEventListener("visibilitychange", () => {
+  if (document.hidden) {
+    keys.clear();
+    release();
+    if (view.driving) send({ type: "drive", linear: 0, angular: 0 });
+  }
+});
 
 function wanted() {
   // (forward, left) in -1..1 from whichever input is in use

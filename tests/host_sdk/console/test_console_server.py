@@ -216,3 +216,20 @@ def test_a_drive_command_lapses_after_its_lifetime() -> None:
     assert hub.take().drive is not None  # kept until it lapses
     now[0] = 0.26
     assert hub.take().drive is None
+
+
+def test_a_page_is_sent_only_the_state_that_changed_and_a_new_one_all_of_it(served: Served) -> None:
+    """A scan is 360 points: resending it with every 50 Hz pose would be most of the server's work."""
+    scan = {"points": [[1.0, 0.0]] * 360, "range_m": 4.0}
+    served.hub.show_state(scan=scan, pose={"x": 0.0, "y": 0.0, "theta": 0.0})
+    with served.socket() as ws:
+        first = receive(ws, "state")
+        assert first["scan"] == scan and first["pose"]["x"] == 0.0 and first["driving"] is False
+        served.hub.show_state(pose={"x": 0.5, "y": 0.0, "theta": 0.0})
+        update = receive(ws, "state")
+        assert update == {"type": "state", "pose": {"x": 0.5, "y": 0.0, "theta": 0.0}}
+        with served.socket() as late:  # a page opened later gets the whole state
+            state = receive(late, "state")
+            assert state["scan"] == scan and state["pose"]["x"] == 0.5 and state["clients"] == 2
+        served.hub.show_state(mode="idle")
+        assert {k for k in receive(ws, "state") if k != "clients"} == {"type", "mode"}
