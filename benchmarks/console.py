@@ -4,15 +4,21 @@
     python benchmarks/console.py --seconds 60
 
 A feeder thread plays the robot program: a 320x240 camera frame (a photo with a box moving across
-it) at 30 fps, a 360-point scan at 10 Hz and the pose at 50 Hz, shown through the console's `Hub`.
-Headless Chromium (Debian's) shows it: the console's page (frames over the WebSocket) in one run,
-the `/stream.mjpg` URL alone (MJPEG in an <img>) in the other. Measured:
+it) at 30 fps, a 360-point scan at 10 Hz and the pose at 50 Hz, shown through the console's `Hub`
+as raw images (as picamera2 and V4L2 give them: the server encodes each JPEG once). Headless
+Chromium (Debian's) shows it in three runs:
+
+- `websocket`: the console's page, frames and state over its WebSocket;
+- `frames`: the same page with no scan or pose (the frames' own cost);
+- `mjpeg`: the `/stream.mjpg` URL in an <img> (frames only, as MJPEG).
+
+Measured:
 
 - the console server thread's CPU time (from /proc: user + system) per second of wall time, as a
-  share of one core; it includes the JPEG encoding, which the server does (once per frame);
-- on the WebSocket page, camera-to-browser latency: from the frame being shown to the hub to its
-  being drawn on the page's canvas (both clocks are this machine's wall clock), median and 95th
-  percentile; frames drawn per second.
+  share of one core, JPEG encoding included;
+- on the page, camera-to-browser latency: from the frame being shown to the hub to its being drawn
+  on the page's canvas (both clocks are this machine's wall clock), median and 95th percentile;
+  frames drawn per second.
 
 The feeder's own cost (making frames and scans) is the robot program's and not counted.
 """
@@ -58,8 +64,8 @@ def backdrop() -> np.ndarray:
 class Feeder:
     """The robot program's side: frames at `fps`, scans at 10 Hz, poses at 50 Hz."""
 
-    def __init__(self, hub: Hub, fps: float) -> None:
-        self.hub, self.fps = hub, fps
+    def __init__(self, hub: Hub, fps: float, state: bool = True) -> None:
+        self.hub, self.fps, self.state = hub, fps, state
         self.scene = backdrop()
         self.shown: dict[int, float] = {}
         self.stop = threading.Event()
@@ -78,12 +84,12 @@ class Feeder:
                 frame = self.hub.show_frame(image, t, {"box": [x, 100, 40, 60], "state": "tracking",
                                                        "confidence": 0.9})  # fmt: skip
                 self.shown[frame.id] = time.time()
-            if tick % 15 == 0:
+            if self.state and tick % 15 == 0:
                 ranges = 2.0 + 0.5 * np.sin(angles * 3 + t)
                 points = [[round(float(r * math.cos(a)), 3), round(float(r * math.sin(a)), 3)]
                           for a, r in zip(angles, ranges, strict=True)]  # fmt: skip
                 self.hub.show_state(scan={"points": points, "range_m": 4.0})
-            if tick % 3 == 0:
+            if self.state and tick % 3 == 0:
                 self.hub.show_state(pose={"x": round(0.1 * t, 3), "y": 0.0, "theta": 0.0})
             tick += 1
             time.sleep(max(0.0, start + tick / 150.0 - time.monotonic()))
@@ -112,9 +118,9 @@ def measure(transport: str, seconds: float, fps: float) -> dict[str, float]:
     hub = Hub()
     server = ConsoleServer(hub, Access.for_host("127.0.0.1"), 0, on_stop=lambda: None)
     server.start()
-    assert server._thread is not None and server._thread.native_id is not None
-    tid = server._thread.native_id
-    feeder = Feeder(hub, fps)
+    tid = server.thread_id
+    assert tid is not None
+    feeder = Feeder(hub, fps, state=transport != "frames")
     feeder.thread.start()
     page = browser()
     try:
@@ -122,7 +128,7 @@ def measure(transport: str, seconds: float, fps: float) -> dict[str, float]:
         if transport == "mjpeg":  # an <img> on the stream, as a page would show it (its load never ends)
             page.get(url + "api/frame.jpg")
             page.execute_script("document.body.innerHTML = `<img src='${arguments[0]}'>`", url + "stream.mjpg")
-        else:
+        else:  # the console's page
             page.get(url)
             deadline = time.monotonic() + 10
             while not page.execute_script("return Number(document.body.dataset.frame || 0)"):
@@ -134,7 +140,7 @@ def measure(transport: str, seconds: float, fps: float) -> dict[str, float]:
         time.sleep(seconds)
         cpu1, t1 = thread_cpu_s(tid), time.monotonic()
         result = {"cpu_share": (cpu1 - cpu0) / (t1 - t0)}
-        if transport == "websocket":
+        if transport != "mjpeg":
             drawn = page.execute_script("return window.drawn")
             latencies = [at - feeder.shown[fid] * 1000 for fid, at in drawn if fid in feeder.shown]
             window = [d for d in drawn if d[1] >= drawn[-1][1] - seconds * 1000]
@@ -157,7 +163,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = p.parse_args(argv)
     print(f"console server, {WIDTH}x{HEIGHT} at {args.fps:g} fps, scan 10 Hz, pose 50 Hz, one headless Chromium")
     print(f"{'transport':<12}{'server CPU (one core)':>24}{'latency median':>18}{'p95':>10}{'drawn fps':>11}")
-    for transport in ("websocket", "mjpeg"):
+    for transport in ("websocket", "frames", "mjpeg"):
         r = measure(transport, args.seconds, args.fps)
         cpu = f"{100 * r['cpu_share']:.1f} %"
         if "latency_median_ms" in r:

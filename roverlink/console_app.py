@@ -50,11 +50,24 @@ class ConsoleRun:
                     if duration_s is not None and self.robot.now() - loop.started_s >= duration_s:
                         break
                     loop.step()
+                    self.console.pilot.health = self.sensor_health()
                     if on_step is not None:
                         on_step()
                     loop.wait()
         finally:
             self._done.set()
+
+    def sensor_health(self) -> dict[str, int]:
+        """The sensors' error counts, for the page's status panel."""
+        health: dict[str, int] = {}
+        for device in self.devices:
+            if isinstance(device, Lidar):
+                health["lidar errors"] = device.counters.framing_errors + device.counters.checksum_errors
+            elif isinstance(device, Jy901):
+                health["IMU errors"] = device.counters.checksum_errors
+            else:
+                health["camera frames dropped"] = device.dropped
+        return health
 
     def close(self) -> None:
         """Stop the loop (it stops the robot on its way out), then close everything."""

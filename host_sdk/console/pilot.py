@@ -59,13 +59,17 @@ class ConsolePilot:
         self._frame: CameraFrame | None = None
         self._fed: tuple[float, int] | None = None
         self._feedback_hz = 0.0
+        self._scan_shown: object | None = None
+        self._rates = {"scans": _Rate(), "camera": _Rate()}
 
     # -- the Pilot protocol -----------------------------------------------------------------------------
     def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
+        self._rates["scans"].tick(scan.time_s)
         self.follow.on_scan(scan, pose, pose_at=pose_at)
 
     def on_frame(self, frame: CameraFrame, pose: RobotPose) -> Track | None:
         self._frame = frame
+        self._rates["camera"].tick(frame.time_s)
         track = self.follow.on_frame(frame, pose)
         overlay: dict[str, Any] = {"state": track.state.value if self.has_target else None}
         if track.box is not None:
@@ -88,7 +92,7 @@ class ConsolePilot:
         elif self.following and self.has_target:
             linear, angular, mode = self.follow.command(pose)
         self.mode = mode
-        self._show(pose)
+        self._show(pose, (linear, angular))
         return linear, angular, mode
 
     # -- requests -------------------------------------------------------------------------------------
@@ -115,8 +119,9 @@ class ConsolePilot:
         if asked.arm and not self.robot.armed:
             self.robot.arm()
 
-    def _show(self, pose: RobotPose) -> None:
+    def _show(self, pose: RobotPose, motion: tuple[float, float]) -> None:
         scan = self.follow.last_scan
+        rates = {f"{name} rate": f"{r.hz:.1f} Hz" for name, r in self._rates.items() if r.hz is not None}
         state: dict[str, Any] = {
             "armed": self.robot.armed,
             "mode": self.mode,
@@ -124,9 +129,11 @@ class ConsolePilot:
             "track": None if self.follow.last_track is None else self.follow.last_track.state.value,
             "pose": {"x": round(pose.x_m, 3), "y": round(pose.y_m, 3), "theta": round(pose.theta_rad, 4)},
             "failsafe": None if self.robot.failsafe is None else self.robot.failsafe.name,
-            "health": {**self._link(pose.time_s), **self.health},
+            "health": {**self._link(pose.time_s), **rates, **self.health},
+            "motion": {"linear": round(motion[0], 3), "angular": round(motion[1], 3)},
         }
-        if scan is not None:
+        if scan is not None and scan is not self._scan_shown:  # a new revolution: only then (it is large)
+            self._scan_shown = scan
             x, y = scan.points_xy()
             keep = [(round(float(a), 3), round(float(b), 3)) for a, b in zip(x, y, strict=True) if math.isfinite(a)]
             step = max(1, len(keep) // SCAN_POINTS)
@@ -152,3 +159,17 @@ class ConsolePilot:
         r, cx = fp.radius_m, fp.x_m
         return [(round(cx + r * math.cos(a), 3), round(r * math.sin(a), 3)) for a in
                 (i * 2 * math.pi / 16 for i in range(16))]  # fmt: skip
+
+
+class _Rate:
+    """Events per second from their times (smoothed)."""
+
+    def __init__(self) -> None:
+        self.hz: float | None = None
+        self._last: float | None = None
+
+    def tick(self, t: float) -> None:
+        last, self._last = self._last, t
+        if last is not None and t > last:
+            now = 1.0 / (t - last)
+            self.hz = now if self.hz is None else 0.8 * self.hz + 0.2 * now

@@ -75,6 +75,11 @@ class ConsoleServer:
         if self._error is not None:
             raise self._error
 
+    @property
+    def thread_id(self) -> int | None:
+        """The server thread's native id (for per-thread CPU accounting), once started."""
+        return None if self._thread is None else self._thread.native_id
+
     def close(self) -> None:
         if self._unlisten is not None:
             self._unlisten()

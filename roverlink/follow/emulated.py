@@ -26,6 +26,7 @@ from emulator.world.raycast import nearest
 from emulator.world.scene import Scene
 from host_sdk import Robot, RobotDescription
 from host_sdk.transport.plugins import PluginTransport
+from protocol.generated.constants import WATCHDOG_DEFAULT_MS
 from protocol.sensors import DEVICES, CameraSpec, Mount
 from roverlink.follow.metrics import TruthSample
 
@@ -74,7 +75,7 @@ def start(profile: str | RobotDescription, world: str | Path, *, seed: int = 0, 
     transport.endpoints = register(transport)
     robot = Robot.connect(transport.url, profile=None if desc else emu.profile.name, robot=desc,
                           transport=PluginTransport(transport), clamp=True, auto_rearm=auto_rearm,
-                          **({} if watchdog_s is None else {"watchdog_s": watchdog_s}))  # fmt: skip
+                          watchdog_s=WATCHDOG_DEFAULT_MS / 1000 if watchdog_s is None else watchdog_s)  # fmt: skip
     cm = rig.mount_for("camera", "pi-camera-v2")
     spec = DEVICES["pi-camera-v2"]
     assert isinstance(spec, CameraSpec)

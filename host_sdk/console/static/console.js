@@ -48,7 +48,7 @@ function onMessage(msg) {
       addTrail(msg.pose);
       drawTrail();
     }
-    if (msg.scan) drawScan();
+    if (msg.scan || msg.motion) drawScan();
     showStatus();
   } else if (msg.type === "overlay") {
     view.pending.set(msg.frame, msg);
@@ -167,10 +167,8 @@ function drawScan() {
     c.arc(W / 2, H / 2, r * k, 0, 2 * Math.PI);
     c.stroke();
   }
-  c.fillStyle = "#90a4ae";
+  c.fillStyle = "#ffab40"; // what the avoider treats as obstacles (the filtered scan)
   for (const p of s.points || []) { const [x, y] = at(p); c.fillRect(x - 1, y - 1, 2, 2); }
-  c.fillStyle = "#ff5252";
-  for (const p of s.obstacles || []) { const [x, y] = at(p); c.fillRect(x - 1.5, y - 1.5, 3, 3); }
   if (s.footprint) {
     c.strokeStyle = "#69f0ae";
     c.beginPath();
@@ -178,15 +176,23 @@ function drawScan() {
     c.closePath();
     c.stroke();
   }
-  if (s.direction_rad != null) {
-    const d = s.direction_rad, [x, y] = at([Math.cos(d) * range * 0.8, Math.sin(d) * range * 0.8]);
+  const m = view.state.motion;
+  if (m && (m.linear || m.angular)) { // where the chosen command takes the robot in the next 2 s
     c.strokeStyle = "#40c4ff";
+    c.lineWidth = 2;
     c.beginPath();
-    c.moveTo(W / 2, H / 2);
-    c.lineTo(x, y);
+    c.moveTo(...at([0, 0]));
+    for (let i = 1; i <= 20; i++) {
+      const t = i * 0.1, th = m.angular * t;
+      const p = Math.abs(m.angular) < 1e-6 ? [m.linear * t, 0]
+        : m.linear === 0 ? [0.3 * Math.cos(th), 0.3 * Math.sin(th)]
+          : [m.linear / m.angular * Math.sin(th), m.linear / m.angular * (1 - Math.cos(th))];
+      c.lineTo(...at(p));
+    }
     c.stroke();
+    c.lineWidth = 1;
   }
-  $("scan-info").textContent = `${(s.points || []).length} points, ${(s.obstacles || []).length} obstacle`;
+  $("scan-info").textContent = `${(s.points || []).length} obstacle points`;
 }
 
 function addTrail(pose) {

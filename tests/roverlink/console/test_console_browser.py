@@ -174,7 +174,19 @@ def test_a_box_drawn_on_the_picture_starts_tracking_the_target(robot: tuple[Cons
     assert x0 <= cx <= x1 and y0 <= cy <= y1, (track.box, truth)
     until(lambda: "tracking" in browser.execute_script("return JSON.stringify(view.overlay)"),
           what="the tracked box drawn on the page")  # fmt: skip
+    # Follow it from the page: the robot drives to it (the target stands 1.6 m ahead).
+    start = pose_x(run)
+    browser.find_element("id", "arm").click()
+    browser.find_element("id", "follow").click()
+    until(lambda: pilot.following and run.robot.armed, what="following, armed, from the page")
+    until(lambda: pose_x(run) > start + 0.3, timeout_s=15, what="the robot driving to the target")
+    assert pilot.mode not in ("teleop", "idle", "disarmed")
+    until(lambda: "obstacle points" in browser.find_element("id", "scan-info").text, what="the scan drawn")
     browser.save_screenshot(str(SHOTS / "console-tracking.png"))
+    browser.find_element("id", "unfollow").click()
+    until(lambda: pilot.mode == "idle", what="following stopped from the page")
+    browser.find_element("id", "disarm").click()
+    until(lambda: not run.robot.armed, what="disarmed from the page")
 
 
 def pose_x(run: ConsoleRun) -> float:
@@ -204,6 +216,30 @@ def test_keyboard_teleop_drives_and_the_stop_button_disarms(robot: tuple[Console
     seen = len(steps.log)
     until(lambda: len(steps.log) >= seen + 10, what="ten more control steps")
     assert not run.robot.armed
+
+
+def test_the_on_screen_joystick_and_a_gamepad_drive_too(robot: tuple[ConsoleRun, Steps], browser: Any) -> None:
+    from selenium.webdriver.common.action_chains import ActionChains
+
+    run, _ = robot
+    open_page(browser, run)
+    browser.find_element("id", "arm").click()
+    until(lambda: run.robot.armed, what="armed from the page")
+    # The joystick: pressed and pushed up (forward), as a finger or the mouse does.
+    start = pose_x(run)
+    pad = browser.find_element("id", "joystick")
+    ActionChains(browser).move_to_element(pad).click_and_hold().move_by_offset(0, -50).perform()
+    until(lambda: pose_x(run) > start + 0.05, what="driven forward by the joystick")
+    ActionChains(browser).release().perform()
+    until(lambda: run.console.pilot.mode != "teleop", what="the joystick released")
+    # A gamepad's left stick pushed forward (the Gamepad API, as a connected pad reports it).
+    start = pose_x(run)
+    browser.execute_script("navigator.getGamepads = () => [{ axes: [0, -0.9, 0, 0], buttons: [] }];")
+    until(lambda: pose_x(run) > start + 0.05, what="driven forward by the gamepad")
+    browser.execute_script("navigator.getGamepads = () => [{ axes: [0, 0, 0, 0], buttons: [] }];")
+    until(lambda: run.console.pilot.mode != "teleop", what="the gamepad's stick centred")
+    browser.find_element("id", "stop").click()
+    until(lambda: not run.robot.armed, what="disarmed by STOP")
 
 
 def test_a_closed_or_frozen_tab_stops_the_robot_within_the_command_lifetime(
