@@ -30,15 +30,19 @@ import math
 import os
 import shutil
 import statistics
+import sys
 import threading
 import time
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 import cv2
 import numpy as np
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the checkout: its packages and test photos
 
 from host_sdk.console.access import Access
 from host_sdk.console.hub import Hub

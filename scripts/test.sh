@@ -48,5 +48,8 @@ python benchmarks/codec.py --quick --require-roverlink
 echo "== host receive-path benchmark (smoke run; full run: .venv/bin/python benchmarks/host.py)"
 python benchmarks/host.py --quick --rates 100
 
+echo "== console benchmark (smoke run; full run: .venv/bin/python benchmarks/console.py)"
+python benchmarks/console.py --seconds 2
+
 echo "== fuzzing (tests/firmware/fuzz: ${FUZZ_SECONDS:=60} s per target; SECURITY.md)"
 bash scripts/fuzz.sh --seconds "$FUZZ_SECONDS"
