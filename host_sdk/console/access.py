@@ -24,6 +24,7 @@ from urllib.parse import urlsplit
 from host_sdk.errors import CommandRangeError
 
 COOKIE = "roverlink_console_token"
+TOKEN_CHARACTERS = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_.~")
 LOOPBACK_NAMES = ("localhost",)
 
 
@@ -48,8 +49,11 @@ class Access:
     def for_host(cls, host: str, token: str | None = None) -> Access:
         """The rule for listening on `host`: a given token always counts; off loopback a random one
         is made when none is given."""
-        if token is not None and len(token) < 8:
-            raise CommandRangeError("token", f"{len(token)} characters", "at least 8 characters")
+        if token is not None and (len(token) < 8 or not set(token) <= TOKEN_CHARACTERS):
+            # the value itself is a secret: it is described, not echoed
+            unsafe = "" if set(token) <= TOKEN_CHARACTERS else ", some not URL-safe"
+            shown = f"a token of {len(token)} characters{unsafe}"
+            raise CommandRangeError("token", shown, "at least 8 of A-Z a-z 0-9 - _ . ~ (it goes in a URL as it is)")
         if token is None and not is_loopback(host):
             token = secrets.token_urlsafe(24)
         return cls(host, token)
@@ -62,17 +66,16 @@ class Access:
             return False
         return hmac.compare_digest(presented.encode(), self.token.encode())
 
-    def host_ok(self, host_header: str | None, port: int) -> bool:
+    def host_ok(self, host_header: str | None) -> bool:
         """The `Host` a request names is one this console answers to. Off loopback the token is the
-        guard (the robot's name on the network is not known here); on loopback only loopback names."""
+        guard (the robot's name on the network is not known here); on loopback only loopback names,
+        on any port (an SSH tunnel's local port may differ from the console's)."""
         if not is_loopback(self.host):
             return True
         if not host_header:
             return False
-        name, _, given_port = host_header.rpartition(":") if not host_header.endswith("]") else (host_header, "", "")
-        if not name:
-            name, given_port = host_header, ""
-        return is_loopback(name) and given_port in ("", str(port))
+        name = host_header.rpartition(":")[0] if not host_header.endswith("]") else host_header
+        return is_loopback(name or host_header)
 
     @staticmethod
     def origin_ok(origin: str | None, host_header: str | None) -> bool:

@@ -159,6 +159,12 @@ class Hub:
         with self._lock:
             self._requests.drive = None
 
+    def stop(self) -> None:
+        """STOP: no drive command and no following (arming again does not drive off by itself)."""
+        with self._lock:
+            self._requests.drive = None
+            self._requests.follow = False
+
     def listen(self, callback: Callable[[], None]) -> Callable[[], None]:
         """Call `callback` (from the program's thread) whenever something new is shown; returns the
         function that stops it."""

@@ -16,7 +16,7 @@ import math
 from typing import Any
 
 from host_sdk.autonomy.pilot import FollowPilot, PoseAt
-from host_sdk.console.hub import Hub, Requests
+from host_sdk.console.hub import Drive, Hub, Requests
 from host_sdk.geometry import RobotGeometry
 from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
 from host_sdk.perception.detectors import KINDS
@@ -88,12 +88,21 @@ class ConsolePilot:
         if not self.robot.armed:
             mode = "disarmed"
         elif asked.drive is not None:
-            linear, angular, mode = asked.drive.linear_m_s, asked.drive.angular_rad_s, "teleop"
+            linear, angular, mode = asked.drive.linear_m_s, self._steerable(asked.drive), "teleop"
         elif self.following and self.has_target:
             linear, angular, mode = self.follow.command(pose)
         self.mode = mode
         self._show(pose, (linear, angular))
         return linear, angular, mode
+
+    def _steerable(self, drive: Drive) -> float:
+        """The turn rate asked, as a car can drive it: none standing still, and no tighter than its
+        steering's tightest circle (a differential drive turns as asked)."""
+        r = self.geometry.min_turn_radius_m
+        if r <= 0:
+            return drive.angular_rad_s
+        most = abs(drive.linear_m_s) / r
+        return max(-most, min(most, drive.angular_rad_s))
 
     # -- requests -------------------------------------------------------------------------------------
     @property
@@ -126,7 +135,9 @@ class ConsolePilot:
             "armed": self.robot.armed,
             "mode": self.mode,
             "following": self.following,
-            "track": None if self.follow.last_track is None else self.follow.last_track.state.value,
+            "track": None
+            if self.follow.last_track is None or not self.has_target
+            else self.follow.last_track.state.value,
             "pose": {"x": round(pose.x_m, 3), "y": round(pose.y_m, 3), "theta": round(pose.theta_rad, 4)},
             "failsafe": None if self.robot.failsafe is None else self.robot.failsafe.name,
             "health": {**self._link(pose.time_s), **rates, **self.health},

@@ -22,7 +22,7 @@ from typing import Any
 
 from host_sdk.console.access import COOKIE, Access
 from host_sdk.console.hub import Drive, Hub, Select
-from host_sdk.errors import CommandRangeError
+from host_sdk.errors import CommandRangeError, TransportError
 from host_sdk.extras import require
 
 Handler = Callable[[Any], Awaitable[Any]]
@@ -72,8 +72,13 @@ class ConsoleServer:
         self._thread = threading.Thread(target=self._run, name="roverlink-console", daemon=True)
         self._thread.start()
         self._ready.wait()
-        if self._error is not None:
-            raise self._error
+        error = self._error
+        if isinstance(error, OSError):  # a name that does not resolve, an address not ours, a port in use
+            where = f"{self.access.host}:{self.port}"
+            reason = error.strerror or str(error)
+            raise TransportError(f"the console cannot listen on {where}: {reason}", where, error) from error
+        if error is not None:
+            raise error
 
     @property
     def thread_id(self) -> int | None:
@@ -159,7 +164,7 @@ class ConsoleServer:
 
     async def _guard(self, request: Any, handler: Handler) -> Any:
         web, access = self.web, self.access
-        if not access.host_ok(request.headers.get("Host"), self.port):
+        if not access.host_ok(request.headers.get("Host")):
             return web.Response(status=403, text="forbidden: this console answers to its loopback address only\n")
         if not access.allows(self._presented(request)):
             return web.Response(status=401, text="unauthorized: open the URL with ?token=... the console printed\n")
@@ -185,7 +190,7 @@ class ConsoleServer:
         return self.web.Response(body=body, content_type=kind, headers={"Cache-Control": "no-store"})
 
     async def _stop(self, request: Any) -> Any:
-        self.hub.stop_driving()
+        self.hub.stop()
         self.on_stop()
         return self.web.json_response({"stopped": True})
 
@@ -277,7 +282,7 @@ class ConsoleServer:
             await ws.send_json({"type": "error", "error": "a message must be JSON with a 'type'"})
             return
         if kind == "stop":  # anyone may stop
-            self.hub.stop_driving()
+            self.hub.stop()
             self.on_stop()
             return
         if kind not in ("drive", "select", "follow", "arm", "target"):
@@ -313,6 +318,7 @@ class ConsoleServer:
             hub.post(follow=bool(msg["on"]))
         elif kind == "arm":
             if not msg["on"]:
+                hub.stop()
                 self.on_stop()  # disarming is stopping: at once, from here
             hub.post(arm=bool(msg["on"]))
         elif kind == "target":

@@ -20,7 +20,8 @@ import sys
 
 from emulator.sensors.camera import LOOKS
 from host_sdk import PROFILES, RoverLinkError
-from host_sdk.console import is_loopback
+from host_sdk.console import Access, is_loopback
+from host_sdk.errors import CommandRangeError, TransportError
 from host_sdk.extras import MissingDependencyError, require
 from roverlink.console import add_robot_file_args
 from roverlink.console_app import ConsoleRun, ConsoleSettings, start_emulated, start_robot
@@ -57,7 +58,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--host", default="127.0.0.1",
                    help="address to listen on (default 127.0.0.1: this machine only; 0.0.0.0: every network, "
                         "with a token)")  # fmt: skip
-    p.add_argument("--port", type=_port, default=8080, help="TCP port (default 8080)")
+    p.add_argument("--port", type=_port, default=8080, help="TCP port (default 8080; 0: any free one)")
     p.add_argument("--token", help="the token clients must give (default: a random one off loopback)")
     p.add_argument("--duration", type=_positive, help="stop after this many seconds (default: at Ctrl-C)")
     p.add_argument("--max-speed", type=_positive, default=0.45, help="top speed, m/s (default 0.45)")
@@ -92,6 +93,11 @@ def urls(run: ConsoleRun) -> list[str]:
 
 def cmd_console(args: argparse.Namespace) -> int:
     require("aiohttp", "console", "roverlink console")
+    try:
+        Access.for_host(args.host, args.token)  # checked before anything starts
+    except CommandRangeError as exc:
+        print(f"roverlink console: --{exc}", file=sys.stderr)
+        return 2
     settings = ConsoleSettings(args.host, args.port, args.token, args.max_speed, args.target_height, args.follow_gap)
     which = args.robot or args.profile
     try:
@@ -109,6 +115,10 @@ def cmd_console(args: argparse.Namespace) -> int:
             run = start_robot(ports, which, settings)
     except MissingDependencyError:
         raise
+    except TransportError as exc:
+        hint = " (--host, --port)" if "console cannot listen" in str(exc) else ""
+        print(f"roverlink console: {exc}{hint}", file=sys.stderr)
+        return 1
     except (RoverLinkError, ValueError, OSError, RuntimeError) as exc:
         print(f"roverlink console: {exc}", file=sys.stderr)
         return 1

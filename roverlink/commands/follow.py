@@ -153,6 +153,11 @@ def cmd_follow(args: argparse.Namespace) -> int:
                 print("roverlink follow: --target needs a robot's camera (--url): the emulated target is a "
                       "rendered cylinder, not a person", file=sys.stderr)  # fmt: skip
                 return 2
+            given = [name for name in ("select", "template") if getattr(args, name) is not None]
+            if given:
+                print(f"roverlink follow: --{given[0]} is for a robot's camera (--url): on the emulator the target "
+                      "is the world's (roverlink console lets you draw it)", file=sys.stderr)  # fmt: skip
+                return 2
             metrics = run_emulated(robot, args.world or f"random:{args.seed}", pilot=args.pilot, seed=args.seed,
                                    camera_fps=args.camera_fps, imu=not args.no_imu, settings=settings,
                                    camera_look=args.camera_look, progress=progress, record=record)  # fmt: skip

@@ -1,5 +1,6 @@
 """`roverlink record URL -o FILE.mcap [--duration S] [--foxglove]`: record a robot and its sensors
-to MCAP, and optionally serve the same messages live to Foxglove on 127.0.0.1.
+to MCAP, and optionally serve the same messages live to Foxglove (on 127.0.0.1 unless --foxglove-host
+says otherwise).
 
 The sensors are those an `emu://` URL attached, or those named with --lidar/--imu/--camera
 (roverlink.sensors): a lidar's scans as foxglove.LaserScan, the camera's frames as

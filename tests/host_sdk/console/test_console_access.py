@@ -37,10 +37,11 @@ def test_is_loopback(host: str, loop: bool) -> None:
 
 def test_on_loopback_only_loopback_host_names_are_answered() -> None:
     a = Access.for_host("127.0.0.1")
-    assert a.host_ok("127.0.0.1:8080", 8080) and a.host_ok("localhost:8080", 8080) and a.host_ok("[::1]:8080", 8080)
-    assert not a.host_ok("evil.example:8080", 8080)  # a rebinding attacker's name
-    assert not a.host_ok("127.0.0.1:9999", 8080) and not a.host_ok(None, 8080)
-    assert Access.for_host("0.0.0.0").host_ok("robot.local:8080", 8080)  # there the token guards
+    assert a.host_ok("127.0.0.1:8080") and a.host_ok("localhost:8080") and a.host_ok("[::1]:8080")
+    assert a.host_ok("127.0.0.1:9090")  # an SSH tunnel from another local port
+    assert not a.host_ok("evil.example:8080")  # a rebinding attacker's name
+    assert not a.host_ok("evil.example") and not a.host_ok(None)
+    assert Access.for_host("0.0.0.0").host_ok("robot.local:8080")  # there the token guards
 
 
 def test_the_websocket_origin_must_be_the_page_itself() -> None:
@@ -49,3 +50,10 @@ def test_the_websocket_origin_must_be_the_page_itself() -> None:
     assert not Access.origin_ok("http://evil.example", "127.0.0.1:8080")
     assert not Access.origin_ok("http://127.0.0.1:8081", "127.0.0.1:8080")
     assert not Access.origin_ok("null", "127.0.0.1:8080")
+
+
+def test_a_token_that_would_not_survive_a_url_is_refused_without_echoing_it() -> None:
+    with pytest.raises(CommandRangeError) as exc:
+        Access.for_host("0.0.0.0", "ab cd&ef#gh")
+    assert "ab cd" not in str(exc.value) and "URL" in str(exc.value)
+    assert Access.for_host("0.0.0.0", "my-car_2.token~").token == "my-car_2.token~"

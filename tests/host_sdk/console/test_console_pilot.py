@@ -4,6 +4,7 @@ clip) and real OpenCV; the robot is a stand-in holding only what the pilot reads
 
 from __future__ import annotations
 
+from dataclasses import replace
 from types import SimpleNamespace
 from typing import Any
 
@@ -11,7 +12,7 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
-from host_sdk.console.hub import Hub, Select
+from host_sdk.console.hub import Drive, Hub, Select
 from host_sdk.console.pilot import ConsolePilot
 from host_sdk.geometry import geometry
 from host_sdk.perception.class_tracker import ClassTracker
@@ -104,3 +105,31 @@ def test_a_person_clicked_among_two_is_the_one_followed() -> None:
         track = show(p, image, i)
         assert track.found and track.box is not None
         assert iou(track.box, other) > 0.4 and iou(track.box, chosen_by_default) < 0.3, (i, track.box)
+
+
+def test_a_car_is_not_asked_to_turn_standing_still_nor_tighter_than_its_steering() -> None:
+    hub = Hub()
+    robot: Any = StandIn()
+    robot.armed = True
+    car = geometry("picar", None)
+    p = ConsolePilot(hub, robot, replace(car, min_turn_radius_m=0.5))
+    now = hub.clock()
+    hub.post(drive=Drive(0.0, 1.2, now))  # A or left arrow alone
+    assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == (0.0, 0.0)
+    hub.post(drive=Drive(0.3, 1.2, now))  # W and A: the tightest circle it steers
+    assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == pytest.approx((0.3, 0.6))
+    hub.post(drive=Drive(-0.3, -0.2, now))  # gentler than the tightest: as asked
+    assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == pytest.approx((-0.3, -0.2))
+    diff = ConsolePilot(hub, robot, geometry("diffdrive-tb6612", None))
+    hub.post(drive=Drive(0.0, 1.2, now))  # a differential drive spins in place
+    assert diff.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == (0.0, 1.2)
+
+
+def test_stop_ends_following_too() -> None:
+    p, hub = pilot()
+    hub.post(follow=True)
+    p.command(RobotPose(0.0, 0.0, 0.0, 0.0))
+    assert p.following
+    hub.stop()
+    p.command(RobotPose(0.0, 0.0, 0.0, 0.0))
+    assert not p.following

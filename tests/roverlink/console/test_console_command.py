@@ -80,3 +80,12 @@ def test_record_serves_its_live_view_on_the_address_asked_and_says_it_is_open(
     assert code == 0
     err = capsys.readouterr().err
     assert re.search(r"live view: ws://127\.0\.0\.1:\d+", err) and "no access control" not in err
+
+
+def test_bad_tokens_and_addresses_are_named_before_anything_starts(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["console", "--token", "abc"]) == 2
+    err = capsys.readouterr().err
+    assert "--token" in err and "at least 8" in err and "'abc'" not in err  # a secret is not echoed
+    assert main(["console", "--host", "nosuch.invalid", "--duration", "1"]) == 1
+    err = capsys.readouterr().err
+    assert "cannot listen on nosuch.invalid:8080" in err and "(--host, --port)" in err

@@ -56,6 +56,8 @@ def test_one_target_only_and_none_on_the_emulator() -> None:
 def test_the_command_line_checks_the_target(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     assert main(["follow", "--target", "face", "--duration", "1", "--quiet"]) == 2
     assert "--target needs a robot's camera" in capsys.readouterr().err
+    assert main(["follow", "--select", "140,90,40,60", "--duration", "1", "--quiet"]) == 2
+    assert "--select is for a robot's camera" in capsys.readouterr().err
     robot = ["follow", "--url", "/dev/null", "--lidar", "/dev/null", "--camera", "0"]
     assert main([*robot, "--target", "face", "--select", "1,1,10,10"]) == 2
     assert "one of --template, --select, --target" in capsys.readouterr().err
