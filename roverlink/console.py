@@ -8,14 +8,19 @@ seconds otherwise, so logs of a long run stay readable.
 from __future__ import annotations
 
 import argparse
+import socket
 import sys
 import time
-from typing import Protocol, TextIO
+from typing import TYPE_CHECKING, Protocol, TextIO
 
 from host_sdk import PROFILES, Robot
 from host_sdk.calibration import CalibrationFile
+from host_sdk.console.access import is_loopback
 from roverlink import argtypes
 from roverlink.argtypes import kinematics_arg
+
+if TYPE_CHECKING:
+    from host_sdk.recording import Recorder
 
 
 def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
@@ -195,3 +200,22 @@ def bar(fraction: float, width: int = 20) -> str:
     """A text progress bar: [#########-----------]."""
     filled = max(0, min(width, round(fraction * width)))
     return "[" + "#" * filled + "-" * (width - filled) + "]"
+
+
+LAYOUT_HINT = "docs/foxglove-layout.json"
+
+
+def announce_live_view(recorder: Recorder, out: TextIO | None = None) -> None:
+    """Print the live view's address (and, off loopback, that anyone on the network can watch it)."""
+    sink, stream = recorder.sink, out or sys.stderr
+    url = sink.url
+    if url is None:
+        return
+    print(f"live view: {url} (Foxglove: Open connection > Foxglove WebSocket; layout {LAYOUT_HINT})",
+          file=stream, flush=True)  # fmt: skip
+    if not is_loopback(sink.host):
+        if sink.host in ("0.0.0.0", "::"):
+            print(f"  from another machine: ws://{socket.gethostname()}.local:{sink.port}", file=stream, flush=True)
+        print("  warning: the Foxglove server has no access control: anyone who can reach this address can "
+              "watch (it accepts no commands); an SSH tunnel keeps it private (docs/tools.md)",
+              file=stream, flush=True)  # fmt: skip

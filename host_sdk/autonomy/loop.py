@@ -10,7 +10,8 @@ Per period (`period_s`, 20 Hz by default): complete lidar revolutions, the newes
 the IMU's samples are read without waiting; each goes to the pilot with the robot's pose at the time
 it was taken (`PoseSource`: the EKF's with an IMU, else wheel odometry); the pilot's twist is sent
 every period (setpoints are cheap, and renewing them keeps the board's watchdog fed). A failsafe
-(e.g. pushing against something) is counted and the robot re-armed.
+(e.g. pushing against something) is counted and the robot re-armed (unless `rearm=False`: then
+arming is left to the user).
 
 Waiting is `robot.sleep()`, so the same loop runs on a real robot (wall clock) and on the emulator's
 virtual clock (as fast as the CPU allows, deterministic).
@@ -47,8 +48,11 @@ class Step:
 
 class ControlLoop:
     def __init__(self, robot: Robot, pilot: Pilot, *, lidar: Lidar, camera: CameraSource, imu: Jy901 | None = None,
-                 period_s: float = 0.05) -> None:  # fmt: skip
+                 period_s: float = 0.05, rearm: bool = True) -> None:  # fmt: skip
         self.robot = robot
+        self.rearm = rearm
+        """Arm at the start and after a failsafe. False: arming is the user's (a console's Arm
+        button); a robot disarmed, by a failsafe or by the user, stays so until then."""
         self.pilot = pilot
         self.lidar = lidar
         self.camera = camera
@@ -62,8 +66,8 @@ class ControlLoop:
         self._tick = 0.0
 
     def start(self) -> RobotPose:
-        """Arm, start the lidar and the camera reader; the pose at the start."""
-        if not self.robot.armed:
+        """Arm (unless `rearm` is False), start the lidar and the camera reader; the pose at the start."""
+        if self.rearm and not self.robot.armed:
             self.robot.arm()
         self.lidar.start()
         self.started_s = self._tick = self.robot.now()
@@ -89,11 +93,13 @@ class ControlLoop:
         started = time.thread_time()
         linear, angular, mode = pilot.command(pose)
         decide_s = time.thread_time() - started
-        try:
-            robot.drive(linear, angular, clamp=True)
-        except NotArmedError:  # a failsafe (e.g. pushing against something): count it, re-arm
-            self.failsafes += 1
-            robot.arm()
+        if robot.armed or self.rearm:
+            try:
+                robot.drive(linear, angular, clamp=True)
+            except NotArmedError:  # a failsafe (e.g. pushing against something): count it, re-arm
+                self.failsafes += 1
+                if self.rearm:
+                    robot.arm()
         return Step(pose, linear, angular, mode, self._track, decide_s)
 
     def wait(self) -> None:

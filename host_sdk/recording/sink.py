@@ -94,6 +94,7 @@ class FoxgloveSink:
         self.time_base = time_base
         self.context = fg.Context()
         self.mcap_path = Path(mcap_path) if mcap_path is not None else None
+        self.host = host
         self._writer: Any = None
         self._server: Any = None
         self._lock = threading.Lock()
@@ -120,8 +121,12 @@ class FoxgloveSink:
 
     @property
     def url(self) -> str | None:
-        """ws:// address to open in Foxglove (None without a server)."""
-        return f"ws://127.0.0.1:{self.port}" if self._server is not None else None
+        """ws:// address to open in Foxglove (None without a server); on a wildcard address
+        (0.0.0.0), this machine's loopback one."""
+        if self._server is None:
+            return None
+        host = {"0.0.0.0": "127.0.0.1", "::": "[::1]"}.get(self.host, self.host)
+        return f"ws://{host}:{self.port}"
 
     # -- Publisher ------------------------------------------------------------------------------
     def json(self, topic: str, schema: dict[str, Any], message: dict[str, Any], time_s: float) -> None:

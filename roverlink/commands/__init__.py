@@ -10,6 +10,7 @@ from types import ModuleType
 from roverlink.commands import (
     calibrate,
     cameras,
+    console,
     decode,
     demo,
     emulate,
@@ -37,6 +38,7 @@ COMMANDS: tuple[ModuleType, ...] = (
     firmware,
     monitor,
     teleop,
+    console,
     calibrate,
     tune,
     record,

@@ -38,6 +38,7 @@ from host_sdk.errors import CommandRangeError
 from host_sdk.extras import MissingDependencyError, require
 from host_sdk.perception.detectors import KINDS
 from host_sdk.perception.template import read_template
+from roverlink.commands.record import add_foxglove_address_args
 from roverlink.console import add_robot_file_args
 from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
@@ -85,7 +86,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument(
         "--foxglove", metavar="FILE.mcap", type=Path, help="record the run (robot, scan, tracked camera, behaviour)"
     )
-    p.add_argument("--foxglove-live", action="store_true", help="serve the run to Foxglove live (ws://127.0.0.1:8765)")
+    p.add_argument("--foxglove-live", action="store_true", help="serve the run to Foxglove live (its URL is printed)")
+    add_foxglove_address_args(p)
     e = p.add_argument_group("on the emulator")
     e.add_argument("--world", metavar="FILE|random:SEED", help="a scenario file or random:SEED (selects the emulator)")
     e.add_argument("--seed", type=int, default=0, help="the emulator's random seed (default 0)")
@@ -140,7 +142,9 @@ def _summary(m: FollowMetrics) -> str:
 def cmd_follow(args: argparse.Namespace) -> int:
     """Follow a target with the camera while avoiding obstacles with the lidar."""
     settings = FollowSettings(args.follow_gap, args.max_speed, args.target_height, args.duration, args.target)
-    record = RecordTo(args.foxglove, args.foxglove_live) if args.foxglove or args.foxglove_live else None
+    record = None
+    if args.foxglove or args.foxglove_live:
+        record = RecordTo(args.foxglove, args.foxglove_live, args.foxglove_host, args.foxglove_port)
     progress = None if args.quiet else _progress(sys.stderr)
     robot = args.robot or args.profile
     try:
@@ -148,6 +152,11 @@ def cmd_follow(args: argparse.Namespace) -> int:
             if args.target is not None:
                 print("roverlink follow: --target needs a robot's camera (--url): the emulated target is a "
                       "rendered cylinder, not a person", file=sys.stderr)  # fmt: skip
+                return 2
+            given = [name for name in ("select", "template") if getattr(args, name) is not None]
+            if given:
+                print(f"roverlink follow: --{given[0]} is for a robot's camera (--url): on the emulator the target "
+                      "is the world's (roverlink console lets you draw it)", file=sys.stderr)  # fmt: skip
                 return 2
             metrics = run_emulated(robot, args.world or f"random:{args.seed}", pilot=args.pilot, seed=args.seed,
                                    camera_fps=args.camera_fps, imu=not args.no_imu, settings=settings,

@@ -18,8 +18,8 @@ import sys
 from host_sdk import Robot, RoverLinkError
 from host_sdk.extras import MissingDependencyError
 from host_sdk.recording import Recorder
-from roverlink.commands.record import POLL_S, add_foxglove_args, announce_live_view
-from roverlink.console import add_robot_args, connect
+from roverlink.commands.record import POLL_S, add_foxglove_args
+from roverlink.console import add_robot_args, announce_live_view, connect
 from roverlink.dashboard import Dashboard, lines, one_line
 from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
 
@@ -55,7 +55,12 @@ def cmd_monitor(args: argparse.Namespace) -> int:
             recorder = None
             if args.foxglove:
                 recorder = Recorder.attach(
-                    robot, serve=True, port=args.foxglove_port, board_stats=False, sensors=sensors
+                    robot,
+                    serve=True,
+                    host=args.foxglove_host,
+                    port=args.foxglove_port,
+                    board_stats=False,
+                    sensors=sensors,
                 )
                 announce_live_view(recorder)
             else:

@@ -1,5 +1,6 @@
 """`roverlink record URL -o FILE.mcap [--duration S] [--foxglove]`: record a robot and its sensors
-to MCAP, and optionally serve the same messages live to Foxglove on 127.0.0.1.
+to MCAP, and optionally serve the same messages live to Foxglove (on 127.0.0.1 unless --foxglove-host
+says otherwise).
 
 The sensors are those an `emu://` URL attached, or those named with --lidar/--imu/--camera
 (roverlink.sensors): a lidar's scans as foxglove.LaserScan, the camera's frames as
@@ -15,36 +16,30 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import TextIO
 
 from host_sdk import Robot, RoverLinkError
 from host_sdk.extras import MissingDependencyError
 from host_sdk.recording import Recorder, RecordingSummary
-from roverlink.console import Progress, add_robot_args, bar, connect
+from roverlink.console import LAYOUT_HINT, Progress, add_robot_args, announce_live_view, bar, connect
 from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
 
-LAYOUT_HINT = "docs/foxglove-layout.json"
 POLL_S = 0.05
 
 
-def add_foxglove_args(p: argparse.ArgumentParser) -> None:
-    """--foxglove and --foxglove-port, shared by record, monitor and follow."""
-    p.add_argument(
-        "--foxglove", action="store_true", help="serve a live Foxglove WebSocket view on 127.0.0.1 while running"
-    )
+def add_foxglove_args(p: argparse.ArgumentParser, *, serve_flag: str | None = "--foxglove") -> None:
+    """--foxglove (`serve_flag`), --foxglove-host and --foxglove-port, shared by record, monitor and follow."""
+    if serve_flag is not None:
+        p.add_argument(serve_flag, action="store_true", help="serve a live Foxglove WebSocket view while running")
+    add_foxglove_address_args(p)
+
+
+def add_foxglove_address_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--foxglove-host", default="127.0.0.1", metavar="HOST",
+                   help="address the live view listens on (default 127.0.0.1: this machine only; 0.0.0.0: every "
+                        "network, with no access control: docs/tools.md)")  # fmt: skip
     p.add_argument(
         "--foxglove-port", type=int, default=8765, metavar="PORT", help="port of the live view (default 8765; 0: any)"
     )
-
-
-def announce_live_view(recorder: Recorder, out: TextIO | None = None) -> None:
-    url = recorder.sink.url
-    if url is not None:
-        print(
-            f"live view: {url} (Foxglove: Open connection > Foxglove WebSocket; layout {LAYOUT_HINT})",
-            file=out or sys.stderr,
-            flush=True,
-        )
 
 
 def record(robot: Robot, recorder: Recorder, duration_s: float | None, progress: Progress) -> RecordingSummary:
@@ -90,6 +85,7 @@ def cmd_record(args: argparse.Namespace) -> int:
                     mcap_path=path,
                     overwrite=args.force,
                     serve=args.foxglove,
+                    host=args.foxglove_host,
                     port=args.foxglove_port,
                     sensors=sensors,
                 )

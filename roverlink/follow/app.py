@@ -13,12 +13,13 @@ from numpy.typing import NDArray
 
 from host_sdk import Robot, RobotDescription
 from host_sdk.autonomy import FollowPilot, Pilot, follow_gap
+from host_sdk.errors import CommandRangeError
 from host_sdk.geometry import RobotGeometry, robot_geometry
 from host_sdk.perception import Tracker
 from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
 from host_sdk.recording.follow import FollowSource
 from host_sdk.sensors import CameraSource, Jy901, Lidar
-from roverlink.console import warn_mismatches
+from roverlink.console import announce_live_view, warn_mismatches
 from roverlink.follow import emulated
 from roverlink.follow.baseline import PiCarBaseline
 from roverlink.follow.metrics import FollowMetrics
@@ -34,6 +35,8 @@ class RecordTo:
 
     mcap_path: Path | None = None
     serve: bool = False
+    host: str = "127.0.0.1"
+    port: int = 8765
 
 
 @contextlib.contextmanager
@@ -50,7 +53,9 @@ def recording(robot: Robot, pilot: Pilot, record: RecordTo | None) -> Iterator[C
         raise RuntimeError(f"recording needs host_sdk.recording and the foxglove extra ({exc})") from None
     sources = [FollowSource(pilot)] if isinstance(pilot, FollowPilot) else []
     recorder = library.Recorder.attach(robot, mcap_path=record.mcap_path, overwrite=True, serve=record.serve,
-                                       sources=sources)  # fmt: skip
+                                       host=record.host, port=record.port, sources=sources)  # fmt: skip
+    if record.serve:
+        announce_live_view(recorder)
     try:
         yield lambda _t: recorder.poll()
     finally:
@@ -176,8 +181,13 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
         # asked at the size the pilot's camera model has (a device that cannot set it gives its own)
         camera = CameraSource(ports.camera, width=geo.camera.width, height=geo.camera.height)
         if select is not None:
+            image = camera.read(5.0).image
             x, y, w, h = (round(v) for v in select)
-            template = camera.read(5.0).image[y : y + h, x : x + w].copy()
+            H, W = image.shape[:2]
+            if not (x >= 0 and y >= 0 and w >= 6 and h >= 6 and x + w <= W and y + h <= H):
+                where = f"a box inside the camera's {W}x{H} frame, at least 6 pixels a side"
+                raise CommandRangeError("--select", ",".join(str(v) for v in (x, y, w, h)), where)
+            template = image[y : y + h, x : x + w].copy()
         chosen = make_pilot(pilot, geo, template, settings)
         lidar = Lidar.open(ports.lidar, ports.lidar_model or emulated.lidar_for(profile))
         imu = Jy901.open(ports.imu) if ports.imu else None

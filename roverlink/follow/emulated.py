@@ -26,6 +26,7 @@ from emulator.world.raycast import nearest
 from emulator.world.scene import Scene
 from host_sdk import Robot, RobotDescription
 from host_sdk.transport.plugins import PluginTransport
+from protocol.generated.constants import WATCHDOG_DEFAULT_MS
 from protocol.sensors import DEVICES, CameraSpec, Mount
 from roverlink.follow.metrics import TruthSample
 
@@ -55,9 +56,12 @@ def lidar_for(robot: str | RobotDescription) -> str:
 
 
 def start(profile: str | RobotDescription, world: str | Path, *, seed: int = 0, camera_fps: float = 15.0,
-          imu: bool = True, faults: str | None = None, camera_look: str = "plain") -> EmulatedRobot:  # fmt: skip
-    """Connect (virtual clock) to an emulated `profile` (a reference robot, or the robot a robot
-    file describes: connected with the file, as on a real robot) in `world` with its sensors attached."""
+          imu: bool = True, faults: str | None = None, camera_look: str = "plain", clock: str = "virtual",
+          auto_rearm: bool = True, watchdog_s: float | None = None) -> EmulatedRobot:  # fmt: skip
+    """Connect to an emulated `profile` (a reference robot, or the robot a robot file describes:
+    connected with the file, as on a real robot) in `world` with its sensors attached; on the virtual
+    clock (as fast as the CPU allows) or the "real" one (wall time, for a person watching).
+    `auto_rearm` and `watchdog_s` (default: the firmware's) are passed to `Robot.connect`."""
     desc = profile if isinstance(profile, RobotDescription) else None
     model = profile_from_file(desc.path) if desc is not None else profile
     assert not isinstance(model, RobotDescription)
@@ -67,10 +71,11 @@ def start(profile: str | RobotDescription, world: str | Path, *, seed: int = 0, 
     if cam is not None:
         options = replace(options, width=cam.width, height=cam.height)
     rig = attach(emu, world, lidar=lidar_for(profile), imu="jy901" if imu else None, camera=options)
-    transport = EmulatorTransport(emu, clock="virtual")
+    transport = EmulatorTransport(emu, clock=clock)
     transport.endpoints = register(transport)
     robot = Robot.connect(transport.url, profile=None if desc else emu.profile.name, robot=desc,
-                          transport=PluginTransport(transport), clamp=True, auto_rearm=True)  # fmt: skip
+                          transport=PluginTransport(transport), clamp=True, auto_rearm=auto_rearm,
+                          watchdog_s=WATCHDOG_DEFAULT_MS / 1000 if watchdog_s is None else watchdog_s)  # fmt: skip
     cm = rig.mount_for("camera", "pi-camera-v2")
     spec = DEVICES["pi-camera-v2"]
     assert isinstance(spec, CameraSpec)

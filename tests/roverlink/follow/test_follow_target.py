@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from host_sdk import RobotDescription
@@ -55,6 +56,8 @@ def test_one_target_only_and_none_on_the_emulator() -> None:
 def test_the_command_line_checks_the_target(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     assert main(["follow", "--target", "face", "--duration", "1", "--quiet"]) == 2
     assert "--target needs a robot's camera" in capsys.readouterr().err
+    assert main(["follow", "--select", "140,90,40,60", "--duration", "1", "--quiet"]) == 2
+    assert "--select is for a robot's camera" in capsys.readouterr().err
     robot = ["follow", "--url", "/dev/null", "--lidar", "/dev/null", "--camera", "0"]
     assert main([*robot, "--target", "face", "--select", "1,1,10,10"]) == 2
     assert "one of --template, --select, --target" in capsys.readouterr().err
@@ -65,3 +68,15 @@ def test_the_command_line_checks_the_target(capsys: pytest.CaptureFixture[str], 
     (tmp_path / "target.png").write_text("not an image")
     assert main([*robot, "--template", str(tmp_path / "target.png")]) == 2
     assert f"cannot read the image {tmp_path / 'target.png'}" in capsys.readouterr().err
+
+
+def test_a_selected_box_outside_the_cameras_frame_is_refused(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    import cv2
+
+    cv2.imwrite(str(tmp_path / "0001.jpg"), np.zeros((240, 320, 3), np.uint8))  # a replayed 320x240 camera
+    robot = ["follow", "--url", "emu://picar?clock=virtual", "--lidar", "/dev/null", "--camera", str(tmp_path)]
+    assert main([*robot, "--select", "300,200,50,60"]) == 1  # found once the camera gave its frame
+    err = capsys.readouterr().err
+    assert "--select" in err and "300,200,50,60" in err and "320x240" in err, err

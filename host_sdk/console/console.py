@@ -1,0 +1,47 @@
+"""The console object: its server and the pilot a robot program runs (see the package's docs)."""
+
+from __future__ import annotations
+
+from host_sdk.console.access import Access
+from host_sdk.console.hub import Hub
+from host_sdk.console.pilot import ConsolePilot
+from host_sdk.console.server import ConsoleServer
+from host_sdk.geometry import RobotGeometry
+from host_sdk.perception.class_tracker import FrameTracker
+from host_sdk.robot import Robot
+
+
+class Console:
+    """The console for `robot`: its server (`host`, `port`; a `token` is needed off loopback and
+    made if not given) and the pilot its control loop runs (`pilot`)."""
+
+    def __init__(self, robot: Robot, geometry: RobotGeometry, *, host: str = "127.0.0.1", port: int = 8080,
+                 token: str | None = None, target_height_m: float | None = None, follow_gap_m: float | None = None,
+                 max_speed_m_s: float = 0.45, max_turn_rad_s: float = 2.0, jpeg_quality: int = 70,
+                 tracker: FrameTracker | None = None) -> None:  # fmt: skip
+        self.robot = robot
+        self.access = Access.for_host(host, token)
+        self.hub = Hub(command_lifetime_s=robot.watchdog_s)
+        self.server = ConsoleServer(self.hub, self.access, port, on_stop=robot.disarm, jpeg_quality=jpeg_quality,
+                                    max_speed=(max_speed_m_s, max_turn_rad_s))  # fmt: skip
+        self.pilot = ConsolePilot(self.hub, robot, geometry, target_height_m=target_height_m,
+                                  follow_gap_m=follow_gap_m, max_speed_m_s=max_speed_m_s, tracker=tracker)  # fmt: skip
+
+    def start(self) -> str:
+        """Listen; the URL to open (with the token, if one is needed)."""
+        self.server.start()
+        return self.url
+
+    @property
+    def url(self) -> str:
+        return self.access.url(self.server.port)
+
+    def close(self) -> None:
+        self.server.close()
+
+    def __enter__(self) -> Console:
+        self.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -1,0 +1,186 @@
+"""The pilot a console drives: the browser's teleop, arming and target, and the follow behaviour.
+
+Each control period it takes what the driving browser asked for (`Hub.take`) and shows what the
+robot sees (`Hub.show_frame`, `Hub.show_state`). A box drawn on a frame starts a tracker on that very
+frame (the hub still holds it) and the newest frames carry it on; a detection clicked does the
+same for a person or a face (`ClassTracker`, which detects the kind again when it is lost).
+
+What drives, in order: nothing while disarmed; the browser's drive command while it is fresh
+(it lapses after the board's watchdog period, so a frozen tab stops the robot); the follow
+behaviour while following; else standing still.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from host_sdk.autonomy.pilot import FollowPilot, PoseAt
+from host_sdk.console.hub import Drive, Hub, Requests
+from host_sdk.geometry import RobotGeometry
+from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
+from host_sdk.perception.detectors import KINDS
+from host_sdk.perception.tracking import Track, Tracker, TrackState
+from host_sdk.pose import RobotPose
+from host_sdk.robot import Robot
+from host_sdk.sensors import CameraFrame, LidarScan
+
+Image = Any
+SCAN_POINTS = 360
+"""At most this many scan points go to the page per revolution (one per degree)."""
+
+
+class NoTarget:
+    """The tracker before a target is chosen: never finds anything."""
+
+    def update(self, image: Image, time_s: float, *, rotation_rad: float = 0.0) -> Track:
+        return self.detect(image, time_s)
+
+    def detect(self, image: Image, time_s: float) -> Track:
+        return Track(TrackState.LOST, time_s, None, 0.0, None, None, 0.0)
+
+
+class ConsolePilot:
+    name = "console"
+
+    def __init__(self, hub: Hub, robot: Robot, geometry: RobotGeometry, *, target_height_m: float | None = None,
+                 follow_gap_m: float | None = None, max_speed_m_s: float = 0.45,
+                 tracker: FrameTracker | None = None) -> None:  # fmt: skip
+        self.hub = hub
+        self.robot = robot
+        self.geometry = geometry
+        self.target_height_m = target_height_m
+        self.follow = FollowPilot.with_tracker(geometry, tracker or NoTarget(), follow_gap_m=follow_gap_m,
+                                               max_speed_m_s=max_speed_m_s)  # fmt: skip
+        self.following = False
+        self.mode = "idle"
+        self.health: dict[str, Any] = {}
+        """Extra status lines for the page (rates, errors): the program fills it in."""
+        self._frame: CameraFrame | None = None
+        self._fed: tuple[float, int] | None = None
+        self._feedback_hz = 0.0
+        self._scan_shown: object | None = None
+        self._rates = {"scans": _Rate(), "camera": _Rate()}
+
+    # -- the Pilot protocol -----------------------------------------------------------------------------
+    def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
+        self._rates["scans"].tick(scan.time_s)
+        self.follow.on_scan(scan, pose, pose_at=pose_at)
+
+    def on_frame(self, frame: CameraFrame, pose: RobotPose) -> Track | None:
+        self._frame = frame
+        self._rates["camera"].tick(frame.time_s)
+        track = self.follow.on_frame(frame, pose)
+        overlay: dict[str, Any] = {"state": track.state.value if self.has_target else None}
+        if track.box is not None:
+            overlay["box"] = [round(v, 1) for v in track.box]
+            overlay["confidence"] = round(track.confidence, 3)
+        tracker = self.follow.tracker
+        if isinstance(tracker, ClassTracker):
+            overlay["detections"] = [[round(v, 1) for v in d.box] for d in tracker.detections]
+        self.hub.show_frame(frame.image, frame.time_s, overlay, jpeg=frame.jpeg, device_time_s=frame.device_time_s)
+        return track
+
+    def command(self, pose: RobotPose) -> tuple[float, float, str]:
+        asked = self.hub.take()
+        self._apply(asked)
+        linear, angular, mode = 0.0, 0.0, "idle"
+        if not self.robot.armed:
+            mode = "disarmed"
+        elif asked.drive is not None:
+            linear, angular, mode = asked.drive.linear_m_s, self._steerable(asked.drive), "teleop"
+        elif self.following and self.has_target:
+            linear, angular, mode = self.follow.command(pose)
+        self.mode = mode
+        self._show(pose, (linear, angular))
+        return linear, angular, mode
+
+    def _steerable(self, drive: Drive) -> float:
+        """The turn rate asked, as a car can drive it: none standing still, and no tighter than its
+        steering's tightest circle (a differential drive turns as asked)."""
+        r = self.geometry.min_turn_radius_m
+        if r <= 0:
+            return drive.angular_rad_s
+        most = abs(drive.linear_m_s) / r
+        return max(-most, min(most, drive.angular_rad_s))
+
+    # -- requests -------------------------------------------------------------------------------------
+    @property
+    def has_target(self) -> bool:
+        return not isinstance(self.follow.tracker, NoTarget)
+
+    def _apply(self, asked: Requests) -> None:
+        camera = self.geometry.camera
+        if asked.target_kind is not None and asked.target_kind in KINDS:
+            self.follow.tracker = ClassTracker(asked.target_kind, camera)
+        if asked.select is not None:
+            frame, box = asked.select.frame, asked.select.box
+            if isinstance(self.follow.tracker, ClassTracker):  # a detection clicked: that one, by its kind
+                tracker = self.follow.tracker
+                tracker.last_box = box
+                tracker.tracker = Tracker.from_region(frame.image, box, camera, height_m=tracker.height_m,
+                                                      time_s=frame.time_s)  # fmt: skip
+            else:
+                self.follow.tracker = Tracker.from_region(frame.image, box, camera, height_m=self.target_height_m,
+                                                          time_s=frame.time_s)  # fmt: skip
+        if asked.follow is not None:
+            self.following = asked.follow
+        if asked.arm and not self.robot.armed:
+            self.robot.arm()
+
+    def _show(self, pose: RobotPose, motion: tuple[float, float]) -> None:
+        scan = self.follow.last_scan
+        rates = {f"{name} rate": f"{r.hz:.1f} Hz" for name, r in self._rates.items() if r.hz is not None}
+        state: dict[str, Any] = {
+            "armed": self.robot.armed,
+            "mode": self.mode,
+            "following": self.following,
+            "track": None
+            if self.follow.last_track is None or not self.has_target
+            else self.follow.last_track.state.value,
+            "pose": {"x": round(pose.x_m, 3), "y": round(pose.y_m, 3), "theta": round(pose.theta_rad, 4)},
+            "failsafe": None if self.robot.failsafe is None else self.robot.failsafe.name,
+            "health": {**self._link(pose.time_s), **rates, **self.health},
+            "motion": {"linear": round(motion[0], 3), "angular": round(motion[1], 3)},
+        }
+        if scan is not None and scan is not self._scan_shown:  # a new revolution: only then (it is large)
+            self._scan_shown = scan
+            x, y = scan.points_xy()
+            keep = [(round(float(a), 3), round(float(b), 3)) for a, b in zip(x, y, strict=True) if math.isfinite(a)]
+            step = max(1, len(keep) // SCAN_POINTS)
+            state["scan"] = {"points": keep[::step], "range_m": 4.0, "footprint": self._footprint()}
+        self.hub.show_state(**state)
+
+    def _link(self, now_s: float) -> dict[str, Any]:
+        """The link's health for the status panel: its state, the feedback rate, errors, round trip."""
+        robot, stats = self.robot, self.robot.stats
+        lines: dict[str, Any] = {"link": robot.state}
+        then = self._fed
+        self._fed = (now_s, stats.feedback_received)
+        if then is not None and now_s - then[0] > 0:
+            self._feedback_hz = 0.8 * self._feedback_hz + 0.2 * (stats.feedback_received - then[1]) / (now_s - then[0])
+            lines["feedback"] = f"{self._feedback_hz:.0f} Hz"
+        lines["link errors"] = stats.crc_errors + stats.cobs_errors + stats.length_errors + stats.seq_gaps
+        if stats.rtt is not None:
+            lines["round trip"] = f"{stats.rtt.mean_s * 1000:.1f} ms"
+        return lines
+
+    def _footprint(self) -> list[tuple[float, float]]:
+        fp = self.geometry.footprint
+        r, cx = fp.radius_m, fp.x_m
+        return [(round(cx + r * math.cos(a), 3), round(r * math.sin(a), 3)) for a in
+                (i * 2 * math.pi / 16 for i in range(16))]  # fmt: skip
+
+
+class _Rate:
+    """Events per second from their times (smoothed)."""
+
+    def __init__(self) -> None:
+        self.hz: float | None = None
+        self._last: float | None = None
+
+    def tick(self, t: float) -> None:
+        last, self._last = self._last, t
+        if last is not None and t > last:
+            now = 1.0 / (t - last)
+            self.hz = now if self.hz is None else 0.8 * self.hz + 0.2 * now

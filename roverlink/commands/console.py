@@ -1,0 +1,135 @@
+"""`roverlink console`: the robot in a browser (camera with the tracked box, scan, pose, status;
+draw the target, follow, drive, arm, stop), served by the robot program (docs/console.md).
+
+On the emulator (wall clock, so a person can drive it):
+
+    roverlink console --world random:3 --profile picar
+
+On a robot, opened from a laptop on the same network (a token is made and printed in the URL):
+
+    roverlink console --url /dev/ttyACM0 --profile picar --lidar /dev/ttyUSB0 --camera picamera2 --host 0.0.0.0
+
+Runs until Ctrl-C (or --duration seconds).
+"""
+
+from __future__ import annotations
+
+import argparse
+import socket
+import sys
+
+from emulator.sensors.camera import LOOKS
+from host_sdk import PROFILES, RoverLinkError
+from host_sdk.console import Access, is_loopback
+from host_sdk.errors import CommandRangeError, TransportError
+from host_sdk.extras import MissingDependencyError, require
+from roverlink.console import add_robot_file_args
+from roverlink.console_app import ConsoleRun, ConsoleSettings, start_emulated, start_robot
+from roverlink.follow.app import RobotPorts
+from roverlink.sensors.options import CAMERA_HELP, camera_source
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"{text} is not allowed: a number > 0")
+    return value
+
+
+def _port(text: str) -> int:
+    if not text.isdigit() or not 0 <= int(text) <= 65535:
+        raise argparse.ArgumentTypeError(f"{text} is not allowed: a TCP port, 0 to 65535 (0: any free one)")
+    return int(text)
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    p = sub.add_parser(
+        "console",
+        help="the robot in a browser: camera, scan, pose, status; draw the target, follow, drive, stop",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    which = p.add_mutually_exclusive_group()
+    which.add_argument("--profile", choices=sorted(PROFILES), default="picar", help="reference robot (default picar)")
+    add_robot_file_args(which, p)
+    p.add_argument("--host", default="127.0.0.1",
+                   help="address to listen on (default 127.0.0.1: this machine only; 0.0.0.0: every network, "
+                        "with a token)")  # fmt: skip
+    p.add_argument("--port", type=_port, default=8080, help="TCP port (default 8080; 0: any free one)")
+    p.add_argument("--token", help="the token clients must give (default: a random one off loopback)")
+    p.add_argument("--duration", type=_positive, help="stop after this many seconds (default: at Ctrl-C)")
+    p.add_argument("--max-speed", type=_positive, default=0.45, help="top speed, m/s (default 0.45)")
+    p.add_argument("--follow-gap", type=_positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
+    p.add_argument("--target-height", type=_positive, metavar="M", help="the target's height (gives its range)")
+    e = p.add_argument_group("on the emulator")
+    e.add_argument("--world", metavar="FILE|random:SEED", help="a scenario file or random:SEED (default random:SEED)")
+    e.add_argument("--seed", type=int, default=0, help="the emulator's random seed (default 0)")
+    e.add_argument("--camera-fps", type=_positive, default=15.0, help="emulated camera frame rate (default 15)")
+    e.add_argument("--camera-look", choices=LOOKS, default="plain", help="emulated camera: plain or photo")
+    e.add_argument("--no-imu", action="store_true", help="no IMU: wheel odometry alone")
+    r = p.add_argument_group("on a robot")
+    r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, ...")
+    r.add_argument("--baud", type=int, default=115200, help="the board's line speed (default 115200)")
+    r.add_argument("--lidar", metavar="PORT", help="the lidar's port")
+    r.add_argument("--lidar-model", choices=("rplidar-a1", "ydlidar-f4"), help="default: the profile's or file's")
+    r.add_argument("--imu", metavar="PORT", help="the JY901's port (optional)")
+    r.add_argument("--camera", metavar="SOURCE", help=CAMERA_HELP)
+    p.set_defaults(func=cmd_console)
+
+
+def urls(run: ConsoleRun) -> list[str]:
+    """The URLs to open: this machine's, and off loopback the robot's name on the network too."""
+    access, port = run.console.access, run.console.server.port
+    found = [access.url(port)]
+    if not is_loopback(access.host):
+        name = socket.gethostname()
+        for other in (f"{name}.local", name) if access.host in ("0.0.0.0", "::") else ():
+            found.append(access.url(port, other))
+    return found
+
+
+def cmd_console(args: argparse.Namespace) -> int:
+    require("aiohttp", "console", "roverlink console")
+    try:
+        Access.for_host(args.host, args.token)  # checked before anything starts
+    except CommandRangeError as exc:
+        print(f"roverlink console: --{exc}", file=sys.stderr)
+        return 2
+    settings = ConsoleSettings(args.host, args.port, args.token, args.max_speed, args.target_height, args.follow_gap)
+    which = args.robot or args.profile
+    try:
+        if args.url is None:
+            world = args.world or f"random:{args.seed}"
+            run = start_emulated(which, world, settings, seed=args.seed, camera_fps=args.camera_fps,
+                                 imu=not args.no_imu, camera_look=args.camera_look)  # fmt: skip
+        else:
+            missing = [f"--{name}" for name in ("lidar", "camera") if getattr(args, name) is None]
+            if missing:
+                print(f"roverlink console: on a robot give {' and '.join(missing)}", file=sys.stderr)
+                return 2
+            ports = RobotPorts(args.url, args.lidar, camera_source(args.camera), args.imu, args.lidar_model,
+                               args.baud, args.allow_mismatch)  # fmt: skip
+            run = start_robot(ports, which, settings)
+    except MissingDependencyError:
+        raise
+    except TransportError as exc:
+        hint = " (--host, --port)" if "console cannot listen" in str(exc) else ""
+        print(f"roverlink console: {exc}{hint}", file=sys.stderr)
+        return 1
+    except (RoverLinkError, ValueError, OSError, RuntimeError) as exc:
+        print(f"roverlink console: {exc}", file=sys.stderr)
+        return 1
+    print("roverlink console: open " + "  or  ".join(urls(run)), file=sys.stderr, flush=True)
+    try:
+        run.run(args.duration)
+    except KeyboardInterrupt:
+        pass
+    except (RoverLinkError, OSError, RuntimeError) as exc:
+        print(f"roverlink console: {exc}", file=sys.stderr)
+        return 1
+    finally:
+        run.close()
+    return 0
