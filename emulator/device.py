@@ -157,6 +157,9 @@ class Emulator(FaultInjection):
         self.seed = seed
         self.board_id = board_id
         self.clock = VirtualClock()
+        self.realtime_us: Callable[[], int] | None = None
+        """On the real clock (set by EmulatorTransport): the emulated time that matches the wall clock
+        now. A device that renders (the camera) skips what is already stale when it falls behind."""
         self.streams = Streams(seed)
         self.physics_dt_us = physics_dt_us
         self.drift_ppb = round(drift_ppm * 1000)

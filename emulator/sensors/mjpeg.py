@@ -68,6 +68,10 @@ class Frame:
         return head.encode("ascii") + self.jpeg + b"\r\n"
 
 
+STALE_FRAMES = 2
+"""On the real clock, a frame more than this many periods behind the wall clock is skipped."""
+
+
 class CameraDevice:
     """Renders at `fps` on the virtual clock while anyone listens, and hands each JPEG to them."""
 
@@ -75,7 +79,8 @@ class CameraDevice:
     name = "camera"
 
     def __init__(self, spec: CameraSpec, mount: Mount, options: CameraOptions, streams: Streams,
-                 yaw_rate: Callable[[], float]) -> None:  # fmt: skip
+                 yaw_rate: Callable[[], float], *,
+                 realtime_us: Callable[[], Callable[[], int] | None] = lambda: None) -> None:  # fmt: skip
         # OpenCV encodes every frame: without it, fail when the camera is attached, not at its first frame.
         import_optional("cv2", "vision", "the emulated camera")
         self.spec = spec
@@ -88,6 +93,10 @@ class CameraDevice:
         """Render even with nobody listening (a served camera: a client may connect any time)."""
         self.seq = 0
         self.frames_rendered = 0
+        self.frames_skipped = 0
+        """Frames not rendered on the real clock because the emulator was behind the wall clock by
+        more than STALE_FRAMES periods (numbered all the same: a reader sees them as dropped)."""
+        self._realtime_us = realtime_us
         self._index = 0
         self.last_image: np.ndarray | None = None
         self.truth: dict[int, FrameTruth] = {}
@@ -102,17 +111,26 @@ class CameraDevice:
             cy = pose[1] + math.sin(pose[2]) * m.x_m + math.cos(pose[2]) * m.y_m
             distance = math.hypot(target[0] - cx, target[1] - cy)
         self.truth[self.seq] = FrameTruth(self.seq, t, pose, self.renderer.target_bbox, distance)
-        self.truth.pop(self.seq - TRUTH_FRAMES, None)
+        while len(self.truth) > TRUTH_FRAMES:  # the oldest first (frames skipped have none)
+            del self.truth[next(iter(self.truth))]
 
     def frame_time_us(self, index: int) -> int:
         return round(index * 1e6 / self.options.fps)
 
     def update(self, scene: Scene, until_us: int, pose_at: PoseAt) -> None:
         cv2 = import_optional("cv2", "vision", "the emulated camera")
+        wall = self._realtime_us()
+        stale_us = STALE_FRAMES * 1e6 / self.options.fps
         while self.frame_time_us(self._index) < until_us:
             t = self.frame_time_us(self._index)
             self._index += 1
             if not (self.listeners or self.always):
+                continue
+            # Behind the wall clock (a busy machine, a stall at start): rendering frames that are
+            # already stale would only fall further behind, as a real camera drops them instead.
+            if wall is not None and wall() - t > stale_us:
+                self.seq += 1
+                self.frames_skipped += 1
                 continue
             x, y, th = pose_at(np.array([t], dtype=np.int64))
             pose = (float(x[0]), float(y[0]), float(th[0]))

@@ -82,7 +82,7 @@ class SensorRig:
             assert isinstance(spec, CameraSpec)
             opts = options.get("camera_options")
             dev = CameraDevice(spec, mount, opts if isinstance(opts, CameraOptions) else CameraOptions(),
-                               emu.streams, self._yaw_rate)  # fmt: skip
+                               emu.streams, self._yaw_rate, realtime_us=lambda: emu.realtime_us)  # fmt: skip
         self.devices[kind] = dev
         return dev
 

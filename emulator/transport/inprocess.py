@@ -191,6 +191,8 @@ class EmulatorTransport:
         self.lock = threading.RLock()
         self._wall0 = time.monotonic()
         self._virtual0_us = emulator.now_us
+        if not self.virtual:
+            emulator.realtime_us = self._wall_us
         self._closed = False
         self.endpoints: dict[str, str] = {}
         """URLs of the attached sensors (`emudev://...`) by kind: lidar, imu, camera."""
@@ -224,8 +226,12 @@ class EmulatorTransport:
             return self.emulator.now_us / 1e6
         return time.monotonic()
 
+    def _wall_us(self) -> int:
+        """The emulated time that matches the wall clock now."""
+        return self._virtual0_us + int((time.monotonic() - self._wall0) * self.speed * 1e6)
+
     def _catch_up(self) -> None:
-        target = self._virtual0_us + int((time.monotonic() - self._wall0) * self.speed * 1e6)
+        target = self._wall_us()
         if target > self.emulator.now_us:
             self.emulator.advance_to_us(target)
 

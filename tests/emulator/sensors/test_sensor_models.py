@@ -4,6 +4,7 @@ limits, a scan skewed by the robot's turn, and the IMU's configuration commands.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -112,3 +113,28 @@ def test_jy901_configuration_commands_change_what_it_sends() -> None:
     dev.host_write(wit.unlock() + wit.calibrate("heading_zero"), emu.now_us)
     later = listen(0.2)
     assert later[-1].angle is not None and abs(later[-1].angle[2]) < math.radians(0.5)
+
+
+def test_a_camera_behind_the_wall_clock_skips_stale_frames_and_numbers_them() -> None:
+    """On the real clock, an emulator that fell behind (a stall at start, a busy machine) catches up
+    without rendering frames already stale, or it would fall further behind; a reader sees them as
+    dropped (the frame numbers jump). On the virtual clock every frame is rendered."""
+    from emulator.sensors.camera import CameraOptions
+    from emulator.sensors.mjpeg import STALE_FRAMES
+
+    def camera(realtime_us: int | None) -> Any:
+        emu = Emulator("picar", seed=1)
+        rig = attach(emu, "random:1", camera=CameraOptions(fps=30.0))
+        dev = rig.devices["camera"]
+        dev.always = True
+        if realtime_us is not None:
+            emu.realtime_us = lambda: realtime_us
+        emu.advance_to_us(2_000_000)
+        return dev
+
+    lagging = camera(2_000_000)  # the wall clock is at 2 s: every frame before 2 s - 2 periods is stale
+    assert 1 <= lagging.frames_rendered <= STALE_FRAMES  # the last ones only
+    assert lagging.seq == 60 and lagging.frames_skipped == 60 - lagging.frames_rendered
+    assert len(lagging.truth) == lagging.frames_rendered
+    virtual = camera(None)
+    assert virtual.frames_rendered == virtual.seq == 60 and virtual.frames_skipped == 0
