@@ -5,7 +5,8 @@ On the emulator (a PiCar in a random room, on the wall clock so a person can dri
 
     python examples/console.py --url 'emu://picar?world=random:3&lidar=ydlidar-f4&camera=320x240'
 
-On a robot, opened from a laptop on the same network (the printed URL carries the token):
+On a robot, opened from a laptop on the same network (it prints the URLs, the robot's name among
+them, each with the token):
 
     python examples/console.py --url /dev/ttyACM0 --profile picar --lidar /dev/ttyUSB0 --camera 0 --host 0.0.0.0
 
@@ -30,11 +31,13 @@ args = p.parse_args()
 
 with Robot.connect(args.url, profile=args.profile, clamp=True) as robot:
     ports = robot.transport.endpoints  # an emu:// robot's own sensors (empty on a board)
+    if not (args.lidar or "lidar" in ports) or not (args.camera or "camera" in ports):
+        raise SystemExit("give --lidar and --camera (or an emu:// URL with lidar=... and camera=...)")
     model = mount(args.profile or profile_of(robot) or "picar", "lidar").device
     lidar = Lidar.open(args.lidar or ports["lidar"], model)
     camera = CameraSource(int(args.camera) if (args.camera or "").isdigit() else args.camera or ports["camera"])
     with Console(robot, robot_geometry(robot, args.profile), host=args.host, port=args.port) as console:
-        print(f"open {console.url}", flush=True)
+        print("open " + "  or  ".join(console.urls), flush=True)  # with --host 0.0.0.0: the robot's name too
         # rearm=False: only the page arms the robot (not the start, not a failsafe).
         with ControlLoop(robot, console.pilot, lidar=lidar, camera=camera, rearm=False) as loop:
             try:

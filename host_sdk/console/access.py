@@ -51,8 +51,8 @@ class Access:
         is made when none is given."""
         if token is not None and (len(token) < 8 or not set(token) <= TOKEN_CHARACTERS):
             # the value itself is a secret: it is described, not echoed
-            unsafe = "" if set(token) <= TOKEN_CHARACTERS else ", some not URL-safe"
-            shown = f"a token of {len(token)} characters{unsafe}"
+            unsafe = not set(token) <= TOKEN_CHARACTERS
+            shown = "(hidden) with characters a URL changes" if unsafe else f"(hidden) of {len(token)} characters"
             raise CommandRangeError("token", shown, "at least 8 of A-Z a-z 0-9 - _ . ~ (it goes in a URL as it is)")
         if token is None and not is_loopback(host):
             token = secrets.token_urlsafe(24)

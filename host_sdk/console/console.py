@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import socket
+
 from host_sdk.console.access import Access
 from host_sdk.console.hub import Hub
 from host_sdk.console.pilot import ConsolePilot
@@ -34,7 +36,18 @@ class Console:
 
     @property
     def url(self) -> str:
+        """The URL to open on this machine (with the token, if one is needed)."""
         return self.access.url(self.server.port)
+
+    @property
+    def urls(self) -> list[str]:
+        """This machine's URL, and listening on every address the robot's name on the network too
+        (NAME.local and NAME, as the network may resolve either): what to print for a laptop."""
+        found = [self.url]
+        if self.access.host in ("0.0.0.0", "::"):
+            name = socket.gethostname()
+            found += [self.access.url(self.server.port, other) for other in (f"{name}.local", name)]
+        return found
 
     def close(self) -> None:
         self.server.close()

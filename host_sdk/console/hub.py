@@ -83,6 +83,7 @@ class Hub:
     def __init__(self, *, keep_frames: int = 60, command_lifetime_s: float = 0.25,
                  clock: Callable[[], float] = time.monotonic) -> None:  # fmt: skip
         self.command_lifetime_s = command_lifetime_s
+        self.keep_frames = keep_frames
         self.clock = clock
         self._lock = threading.Lock()
         self._frames: deque[Frame] = deque(maxlen=keep_frames)

@@ -96,13 +96,16 @@ class ConsolePilot:
         return linear, angular, mode
 
     def _steerable(self, drive: Drive) -> float:
-        """The turn rate asked, as a car can drive it: none standing still, and no tighter than its
-        steering's tightest circle (a differential drive turns as asked)."""
+        """The turn rate asked, as a car can drive it. The page's left/right is the steering: the
+        wheels turn that way whichever way the car drives (backing with "right" swings the nose left,
+        as a steering wheel does); none standing still, and no tighter than the steering's tightest
+        circle. A differential drive turns as asked."""
         r = self.geometry.min_turn_radius_m
         if r <= 0:
             return drive.angular_rad_s
+        asked = -drive.angular_rad_s if drive.linear_m_s < 0 else drive.angular_rad_s
         most = abs(drive.linear_m_s) / r
-        return max(-most, min(most, drive.angular_rad_s))
+        return max(-most, min(most, asked))
 
     # -- requests -------------------------------------------------------------------------------------
     @property

@@ -75,7 +75,7 @@ class ConsoleServer:
         error = self._error
         if isinstance(error, OSError):  # a name that does not resolve, an address not ours, a port in use
             where = f"{self.access.host}:{self.port}"
-            reason = error.strerror or str(error)
+            reason = (error.strerror or str(error)).rsplit(": ", 1)[-1]  # asyncio repeats the address first
             raise TransportError(f"the console cannot listen on {where}: {reason}", where, error) from error
         if error is not None:
             raise error
@@ -307,7 +307,12 @@ class ConsoleServer:
         elif kind == "select":
             frame = hub.frame(int(msg["frame"]))
             if frame is None:
-                raise CommandRangeError("frame", msg["frame"], "one of the last frames shown")
+                raise CommandRangeError(
+                    "frame",
+                    msg["frame"],
+                    f"one of the last {self.hub.keep_frames} frames shown "
+                    "(the picture the box was drawn on is gone: draw it again)",
+                )
             box = tuple(float(v) for v in msg["box"])
             h, w = frame.image.shape[:2]
             if len(box) != 4 or not (box[0] >= 0 and box[1] >= 0 and box[2] >= 6 and box[3] >= 6

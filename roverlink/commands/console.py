@@ -15,16 +15,15 @@ Runs until Ctrl-C (or --duration seconds).
 from __future__ import annotations
 
 import argparse
-import socket
 import sys
 
 from emulator.sensors.camera import LOOKS
 from host_sdk import PROFILES, RoverLinkError
-from host_sdk.console import Access, is_loopback
+from host_sdk.console import Access
 from host_sdk.errors import CommandRangeError, TransportError
 from host_sdk.extras import MissingDependencyError, require
 from roverlink.console import add_robot_file_args
-from roverlink.console_app import ConsoleRun, ConsoleSettings, start_emulated, start_robot
+from roverlink.console_app import ConsoleSettings, start_emulated, start_robot
 from roverlink.follow.app import RobotPorts
 from roverlink.sensors.options import CAMERA_HELP, camera_source
 
@@ -80,17 +79,6 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.set_defaults(func=cmd_console)
 
 
-def urls(run: ConsoleRun) -> list[str]:
-    """The URLs to open: this machine's, and off loopback the robot's name on the network too."""
-    access, port = run.console.access, run.console.server.port
-    found = [access.url(port)]
-    if not is_loopback(access.host):
-        name = socket.gethostname()
-        for other in (f"{name}.local", name) if access.host in ("0.0.0.0", "::") else ():
-            found.append(access.url(port, other))
-    return found
-
-
 def cmd_console(args: argparse.Namespace) -> int:
     require("aiohttp", "console", "roverlink console")
     try:
@@ -103,8 +91,10 @@ def cmd_console(args: argparse.Namespace) -> int:
     try:
         if args.url is None:
             world = args.world or f"random:{args.seed}"
+            # The emulator shares this process on the wall clock: a 1 s watchdog keeps a busy machine
+            # from failing it safe every few seconds (docs/console.md, "On the emulator").
             run = start_emulated(which, world, settings, seed=args.seed, camera_fps=args.camera_fps,
-                                 imu=not args.no_imu, camera_look=args.camera_look)  # fmt: skip
+                                 imu=not args.no_imu, camera_look=args.camera_look, watchdog_s=1.0)  # fmt: skip
         else:
             missing = [f"--{name}" for name in ("lidar", "camera") if getattr(args, name) is None]
             if missing:
@@ -122,7 +112,7 @@ def cmd_console(args: argparse.Namespace) -> int:
     except (RoverLinkError, ValueError, OSError, RuntimeError) as exc:
         print(f"roverlink console: {exc}", file=sys.stderr)
         return 1
-    print("roverlink console: open " + "  or  ".join(urls(run)), file=sys.stderr, flush=True)
+    print("roverlink console: open " + "  or  ".join(run.console.urls), file=sys.stderr, flush=True)
     try:
         run.run(args.duration)
     except KeyboardInterrupt:

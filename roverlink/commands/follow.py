@@ -108,7 +108,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         metavar="IMAGE",
         help="an image of the target (a PNG with its background transparent: the object's pixels only)",
     )
-    r.add_argument("--select", type=_box, metavar="X,Y,W,H", help="the target's box in the first frame")
+    r.add_argument("--select", type=_box, metavar="X,Y,W,H",
+                   help="the target's box in the first frame (or draw it live: roverlink console)")  # fmt: skip
     r.add_argument("--target", choices=KINDS, help="follow a detected person or face (in place of --template/--select)")
     r.add_argument("--target-height", type=_positive, metavar="M",
                    help="the target's height (gives its range; --target: default 1.7 person, 0.16 face)")  # fmt: skip

@@ -12,6 +12,10 @@ const view = {
   drag: null, state: {}, trail: [], frames: 0, framesAt: performance.now(), fps: 0,
 };
 
+// The token came in the URL; the page's own requests carry it in a cookie: keep it out of the
+// address bar and the history.
+if (new URLSearchParams(location.search).has("token")) history.replaceState(null, "", location.pathname);
+
 // -- the connection -------------------------------------------------------------------------------
 function connect() {
   const ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws");
@@ -62,7 +66,7 @@ async function onFrame(buffer) {
   const id = new DataView(buffer).getUint32(0, true);
   const blob = new Blob([new Uint8Array(buffer, 4)], { type: "image/jpeg" });
   const bitmap = await createImageBitmap(blob);
-  if (view.frame) view.frame.close();
+  if (view.frame && !(view.drag && view.drag.bitmap === view.frame)) view.frame.close();
   view.frame = bitmap;
   view.frameId = id;
   view.overlay = view.pending.get(id) || {};
@@ -85,9 +89,11 @@ async function onFrame(buffer) {
 
 // -- the camera and what is drawn on it ---------------------------------------------------------
 function drawCamera() {
-  if (!view.frame) return;
-  cam.drawImage(view.frame, 0, 0);
-  const o = view.overlay;
+  // While a box is drawn the picture stands still: the box is drawn on that frame and names it.
+  const shown = view.drag ? view.drag.bitmap : view.frame;
+  if (!shown) return;
+  cam.drawImage(shown, 0, 0);
+  const o = view.drag ? view.drag.overlay : view.overlay;
   cam.lineWidth = 2;
   cam.font = "12px system-ui, sans-serif";
   for (const d of o.detections || []) {
@@ -128,7 +134,8 @@ function dragBox() {
 
 camera.addEventListener("pointerdown", (e) => {
   camera.setPointerCapture(e.pointerId);
-  view.drag = { from: toImage(e), to: toImage(e), frame: view.frameId };
+  if (!view.frame) return;
+  view.drag = { from: toImage(e), to: toImage(e), frame: view.frameId, bitmap: view.frame, overlay: view.overlay };
 });
 camera.addEventListener("pointermove", (e) => {
   if (!view.drag) return;
@@ -138,14 +145,16 @@ camera.addEventListener("pointermove", (e) => {
 camera.addEventListener("pointerup", (e) => {
   if (!view.drag) return;
   view.drag.to = toImage(e);
-  const box = dragBox(), frame = view.drag.frame;
+  const box = dragBox(), frame = view.drag.frame, held = view.drag.bitmap, overlay = view.drag.overlay;
   view.drag = null;
+  if (held !== view.frame) held.close();
+  drawCamera();
   if (box[2] >= 6 && box[3] >= 6) {
     send({ type: "select", frame, box });
     return;
   }
   const [px, py] = toImage(e); // a click: a detection under it?
-  for (const d of view.overlay.detections || []) {
+  for (const d of overlay.detections || []) {
     if (px >= d[0] && px <= d[0] + d[2] && py >= d[1] && py <= d[1] + d[3]) {
       send({ type: "select", frame, box: d.map(Math.round) });
       return;

@@ -118,8 +118,8 @@ def test_a_car_is_not_asked_to_turn_standing_still_nor_tighter_than_its_steering
     assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == (0.0, 0.0)
     hub.post(drive=Drive(0.3, 1.2, now))  # W and A: the tightest circle it steers
     assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == pytest.approx((0.3, 0.6))
-    hub.post(drive=Drive(-0.3, -0.2, now))  # gentler than the tightest: as asked
-    assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == pytest.approx((-0.3, -0.2))
+    hub.post(drive=Drive(-0.3, -0.2, now))  # S and a little right: backing with the wheels to the right
+    assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == pytest.approx((-0.3, 0.2))  # the nose swings left
     diff = ConsolePilot(hub, robot, geometry("diffdrive-tb6612", None))
     hub.post(drive=Drive(0.0, 1.2, now))  # a differential drive spins in place
     assert diff.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == (0.0, 1.2)

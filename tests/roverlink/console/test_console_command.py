@@ -89,3 +89,9 @@ def test_bad_tokens_and_addresses_are_named_before_anything_starts(capsys: pytes
     assert main(["console", "--host", "nosuch.invalid", "--duration", "1"]) == 1
     err = capsys.readouterr().err
     assert "cannot listen on nosuch.invalid:8080" in err and "(--host, --port)" in err
+
+
+def test_the_console_runs_a_robot_file_on_the_emulator(capsys: pytest.CaptureFixture[str]) -> None:
+    robot_file = ROOT / "protocol" / "robots" / "picar.toml"
+    assert main(["console", "--robot", str(robot_file), "--port", "0", "--duration", "2", "--camera-fps", "5"]) == 0
+    assert re.search(r"open http://127\.0\.0\.1:\d+/$", capsys.readouterr().err.strip())
