@@ -20,6 +20,17 @@ def _fmt(x: float) -> str:
     return str(int(x)) if float(x).is_integer() else f"{x:g}"
 
 
+def positive(text: str) -> float:
+    """A number > 0 (seconds, metres, m/s...)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"{text} is not allowed: a number > 0")
+    return value
+
+
 def number(lo: float, hi: float, unit: str = "", *, lo_open: bool = False) -> Callable[[str], float]:
     """A finite number in lo..hi (lo excluded with `lo_open`)."""
     u = f" {unit}" if unit else ""

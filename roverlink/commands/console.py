@@ -22,20 +22,11 @@ from host_sdk import PROFILES, RoverLinkError
 from host_sdk.console import Access
 from host_sdk.errors import CommandRangeError, TransportError
 from host_sdk.extras import MissingDependencyError, require
+from roverlink.argtypes import positive
 from roverlink.console import add_robot_file_args
 from roverlink.console_app import ConsoleSettings, start_emulated, start_robot
 from roverlink.follow.app import RobotPorts
 from roverlink.sensors.options import CAMERA_HELP, camera_source
-
-
-def _positive(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"{text} is not allowed: a number > 0")
-    return value
 
 
 def _port(text: str) -> int:
@@ -59,14 +50,14 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
                         "with a token)")  # fmt: skip
     p.add_argument("--port", type=_port, default=8080, help="TCP port (default 8080; 0: any free one)")
     p.add_argument("--token", help="the token clients must give (default: a random one off loopback)")
-    p.add_argument("--duration", type=_positive, help="stop after this many seconds (default: at Ctrl-C)")
-    p.add_argument("--max-speed", type=_positive, default=0.45, help="top speed, m/s (default 0.45)")
-    p.add_argument("--follow-gap", type=_positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
-    p.add_argument("--target-height", type=_positive, metavar="M", help="the target's height (gives its range)")
+    p.add_argument("--duration", type=positive, help="stop after this many seconds (default: at Ctrl-C)")
+    p.add_argument("--max-speed", type=positive, default=0.45, help="top speed, m/s (default 0.45)")
+    p.add_argument("--follow-gap", type=positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
+    p.add_argument("--target-height", type=positive, metavar="M", help="the target's height (gives its range)")
     e = p.add_argument_group("on the emulator")
     e.add_argument("--world", metavar="FILE|random:SEED", help="a scenario file or random:SEED (default random:SEED)")
     e.add_argument("--seed", type=int, default=0, help="the emulator's random seed (default 0)")
-    e.add_argument("--camera-fps", type=_positive, default=15.0, help="emulated camera frame rate (default 15)")
+    e.add_argument("--camera-fps", type=positive, default=15.0, help="emulated camera frame rate (default 15)")
     e.add_argument("--camera-look", choices=LOOKS, default="plain", help="emulated camera: plain or photo")
     e.add_argument("--no-imu", action="store_true", help="no IMU: wheel odometry alone")
     r = p.add_argument_group("on a robot")

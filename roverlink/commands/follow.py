@@ -38,22 +38,13 @@ from host_sdk.errors import CommandRangeError
 from host_sdk.extras import MissingDependencyError, require
 from host_sdk.perception.detectors import KINDS
 from host_sdk.perception.template import read_template
+from roverlink.argtypes import positive
 from roverlink.commands.record import add_foxglove_address_args
 from roverlink.console import add_robot_file_args
 from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress
 from roverlink.sensors.options import CAMERA_HELP, camera_source
-
-
-def _positive(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"{text} is not allowed: a number > 0")
-    return value
 
 
 def _box(text: str) -> tuple[float, float, float, float]:
@@ -77,10 +68,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     which = p.add_mutually_exclusive_group()
     which.add_argument("--profile", choices=sorted(PROFILES), default="picar", help="reference robot (default picar)")
     add_robot_file_args(which, p)
-    p.add_argument("--duration", type=_positive, default=60.0, help="seconds to run (default 60)")
+    p.add_argument("--duration", type=positive, default=60.0, help="seconds to run (default 60)")
     p.add_argument("--pilot", choices=PILOTS, default="roverlink", help="whose behaviour drives (default roverlink)")
-    p.add_argument("--follow-gap", type=_positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
-    p.add_argument("--max-speed", type=_positive, default=0.45, help="top speed, m/s (default 0.45)")
+    p.add_argument("--follow-gap", type=positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
+    p.add_argument("--max-speed", type=positive, default=0.45, help="top speed, m/s (default 0.45)")
     p.add_argument("--json", action="store_true", help="print the metrics as JSON on stdout at the end")
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     p.add_argument(
@@ -91,7 +82,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     e = p.add_argument_group("on the emulator")
     e.add_argument("--world", metavar="FILE|random:SEED", help="a scenario file or random:SEED (selects the emulator)")
     e.add_argument("--seed", type=int, default=0, help="the emulator's random seed (default 0)")
-    e.add_argument("--camera-fps", type=_positive, default=15.0, help="emulated camera frame rate (default 15)")
+    e.add_argument("--camera-fps", type=positive, default=15.0, help="emulated camera frame rate (default 15)")
     e.add_argument("--camera-look", choices=LOOKS, default="plain",
                    help="emulated camera: plain (flat colours, default) or photo (docs/emulator.md)")  # fmt: skip
     e.add_argument("--no-imu", action="store_true", help="no IMU: wheel odometry alone")
@@ -111,7 +102,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     r.add_argument("--select", type=_box, metavar="X,Y,W,H",
                    help="the target's box in the first frame (or draw it live: roverlink console)")  # fmt: skip
     r.add_argument("--target", choices=KINDS, help="follow a detected person or face (in place of --template/--select)")
-    r.add_argument("--target-height", type=_positive, metavar="M",
+    r.add_argument("--target-height", type=positive, metavar="M",
                    help="the target's height (gives its range; --target: default 1.7 person, 0.16 face)")  # fmt: skip
     p.set_defaults(func=cmd_follow)
 
