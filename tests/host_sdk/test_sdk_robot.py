@@ -365,7 +365,9 @@ def _fds() -> int:
 def test_close_leaves_no_threads_or_descriptors_and_calls_are_thread_safe() -> None:
     threads, fds = set(threading.enumerate()), _fds()
     for _ in range(2):
-        with Robot.connect("emu://diffdrive-tb6612?speed=4") as robot:
+        # speed=4: the board's 0.25 s watchdog would be 62 ms of wall time, which a loaded machine's
+        # scheduling can miss with three threads driving; the watchdog is not what is tested here.
+        with Robot.connect("emu://diffdrive-tb6612?speed=4", watchdog_s=1.0) as robot:
             robot.arm()
             errors: list[BaseException] = []
 
