@@ -27,6 +27,8 @@ Input is a driver's `LidarScan` (host_sdk.sensors), anything shaped like a ROS `
   robot's motion) into that zone are kept: the lidar cannot say they are gone, and they are exactly
   the ones the robot is about to touch. They are dropped once they leave the zone (the lidar sees
   that part again) or after `blind_hold_s` (something that walked past is not a wall for ever).
+  Only the robot's own motion carries a point in: what walks into the zone of a robot standing still
+  moves by itself, and is no wall to stand still for.
 
 Everything is numpy over whole arrays: a revolution costs tens of microseconds.
 """
@@ -46,6 +48,9 @@ from host_sdk.errors import CommandRangeError
 from host_sdk.pose import Pose2D
 
 F64 = NDArray[np.float64]
+
+CARRIED_M = 0.001
+"""How much nearer the robot's own motion must have brought a point for the blind zone to keep it."""
 
 
 @runtime_checkable
@@ -280,7 +285,10 @@ class ScanFilter:
         xs, ys, born = [], [], []
         for x, y, then, t0 in ([(*self._last, None)] if self._last is not None else []) + self._blind:
             mx, my = move_points(x, y, then, here)
-            inside = np.hypot(mx - m.x_m, my - m.y_m) < raw.range_min_m + 0.02
+            near = np.hypot(mx - m.x_m, my - m.y_m)
+            inside = near < raw.range_min_m + 0.02
+            if t0 is None:  # newly swallowed: only if the robot's motion brought it nearer
+                inside &= near < np.hypot(x - m.x_m, y - m.y_m) - CARRIED_M
             xs.append(mx[inside])
             ys.append(my[inside])
             born.append(np.full(int(inside.sum()), raw.time_s) if t0 is None else t0[inside])

@@ -145,6 +145,26 @@ def test_points_swallowed_by_the_blind_zone_are_kept_for_a_while() -> None:
     assert gone.range_at(0.0, math.radians(5)) == math.inf
 
 
+def test_what_walks_into_the_blind_zone_of_a_standing_robot_is_not_kept() -> None:
+    """Someone walks up to a robot standing still, into the blind zone, and on: the lidar last saw
+    them at the zone's edge. A standing robot did not carry them in (they moved by themselves), so
+    nothing is remembered there: kept, it hemmed the robot in for `blind_hold_s` after they left."""
+    filt = ScanFilter(temporal=1, blind_hold_s=4.0)
+
+    def person_at(x: float, t: float) -> RawScan:
+        r = np.where(np.abs(ANGLES) < math.radians(8), x, np.nan)
+        return RawScan.from_arrays(ANGLES, r, range_min_m=0.12, range_max_m=12.0, time_s=t)
+
+    for i, x in enumerate((0.4, 0.25, 0.13)):
+        filt.update(person_at(x, 0.1 * i), pose=(0.0, 0.0, 0.0))
+    blind = RawScan.from_arrays(ANGLES, np.full(ANGLES.shape, np.nan), range_min_m=0.12, time_s=0.3)
+    assert filt.update(blind, pose=(0.0, 0.0, 0.0)).range_at(0.0, math.radians(5)) == math.inf
+    # The same edge point with the robot creeping 5 mm towards it is carried in, and kept.
+    filt.reset()
+    filt.update(person_at(0.13, 0.0), pose=(0.0, 0.0, 0.0))
+    assert filt.update(blind, pose=(0.005, 0.0, 0.0)).range_at(0.0, math.radians(5)) == pytest.approx(0.125, abs=0.01)
+
+
 def test_a_revolution_taken_while_spinning_is_deskewed_with_the_pose_of_each_return() -> None:
     # Spinning at 1.6 rad/s, a 0.125 s revolution's ends are 11 degrees apart, and they meet behind
     # the robot (the beam starts at -pi): a wall 1 m behind comes out torn in two unless each return
