@@ -27,14 +27,7 @@ def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
     """The URL and the connection options every robot command takes."""
     p.add_argument("url", help="serial port or URL, e.g. /dev/ttyACM0, socket://host:port, emu://picar")
     p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
-    which = p.add_mutually_exclusive_group()
-    which.add_argument(
-        "--profile",
-        choices=sorted(PROFILES),
-        default=None,
-        help="reference robot, for its kinematics (default: the one the firmware names)",
-    )
-    add_robot_file_args(which, p)
+    add_profile_args(p, help="reference robot, for its kinematics (default: the one the firmware names)")
     p.add_argument(
         "--timeout",
         type=argtypes.number(0, 600, "s", lo_open=True),
@@ -42,6 +35,13 @@ def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
         help=f"how long to wait for the board, in s (default {timeout:g}; an Arduino's bootloader takes ~2)",
     )
     add_kinematics_arg(p)
+
+
+def add_profile_args(p: argparse.ArgumentParser, *, help: str, default: str | None = None) -> None:
+    """--profile NAME or --robot FILE (one of them), and --allow-mismatch."""
+    which = p.add_mutually_exclusive_group()
+    which.add_argument("--profile", choices=sorted(PROFILES), default=default, help=help)
+    add_robot_file_args(which, p)
 
 
 def add_robot_file_args(which: argparse._ActionsContainer, p: argparse._ActionsContainer) -> None:

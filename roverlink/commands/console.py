@@ -18,12 +18,12 @@ import argparse
 import sys
 
 from emulator.sensors.camera import LOOKS
-from host_sdk import PROFILES, RoverLinkError
+from host_sdk import RoverLinkError
 from host_sdk.console import Access
 from host_sdk.errors import CommandRangeError, TransportError
 from host_sdk.extras import MissingDependencyError, require
 from roverlink.argtypes import positive
-from roverlink.console import add_robot_file_args
+from roverlink.console import add_profile_args
 from roverlink.console_app import ConsoleSettings, start_emulated, start_robot
 from roverlink.follow.app import RobotPorts
 from roverlink.sensors.options import CAMERA_HELP, camera_source
@@ -42,9 +42,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    which = p.add_mutually_exclusive_group()
-    which.add_argument("--profile", choices=sorted(PROFILES), default="picar", help="reference robot (default picar)")
-    add_robot_file_args(which, p)
+    add_profile_args(p, default="picar", help="reference robot (default picar)")
     p.add_argument("--host", default="127.0.0.1",
                    help="address to listen on (default 127.0.0.1: this machine only; 0.0.0.0: every network, "
                         "with a token)")  # fmt: skip

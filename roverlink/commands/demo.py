@@ -32,7 +32,7 @@ from host_sdk import (
 )
 from host_sdk.profiles import steering_limits
 from roverlink import argtypes
-from roverlink.console import add_robot_file_args, warn_mismatches
+from roverlink.console import add_profile_args, warn_mismatches
 
 _TURN_TOLERANCE_RAD = math.radians(1.0)
 
@@ -362,9 +362,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         description="Connect, arm and drive a square on odometry (an emulated robot unless --url is given), then "
         "compare odometry with ground truth and show the link statistics.",
     )
-    which = p.add_mutually_exclusive_group()
-    which.add_argument("--profile", choices=sorted(PROFILES), default=None, help="robot (default: diffdrive-tb6612)")
-    add_robot_file_args(which, p)
+    add_profile_args(p, help="robot (default: diffdrive-tb6612)")
     p.add_argument("--url", "--port", dest="url", default=None, help="serial port or URL (default: the emulator)")
     p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
     p.add_argument(

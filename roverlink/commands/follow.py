@@ -33,14 +33,14 @@ from pathlib import Path
 from typing import TextIO
 
 from emulator.sensors.camera import LOOKS
-from host_sdk import PROFILES, RoverLinkError
+from host_sdk import RoverLinkError
 from host_sdk.errors import CommandRangeError
 from host_sdk.extras import MissingDependencyError, require
 from host_sdk.perception.detectors import KINDS
 from host_sdk.perception.template import read_template
 from roverlink.argtypes import positive
 from roverlink.commands.record import add_foxglove_address_args
-from roverlink.console import add_robot_file_args
+from roverlink.console import add_profile_args
 from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress
@@ -65,9 +65,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    which = p.add_mutually_exclusive_group()
-    which.add_argument("--profile", choices=sorted(PROFILES), default="picar", help="reference robot (default picar)")
-    add_robot_file_args(which, p)
+    add_profile_args(p, default="picar", help="reference robot (default picar)")
     p.add_argument("--duration", type=positive, default=60.0, help="seconds to run (default 60)")
     p.add_argument("--pilot", choices=PILOTS, default="roverlink", help="whose behaviour drives (default roverlink)")
     p.add_argument("--follow-gap", type=positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")

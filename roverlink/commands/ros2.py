@@ -10,8 +10,7 @@ import argparse
 import sys
 from typing import Any
 
-from host_sdk import PROFILES
-from roverlink.console import add_robot_file_args
+from roverlink.console import add_profile_args
 from roverlink.ros2 import INSTALL_HINT, missing_modules
 
 _DESCRIPTION = __doc__.split("\n\n")[1]
@@ -51,11 +50,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 def _add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--url", default=None, help="serial port or URL (default: the url parameter, /dev/ttyACM0)")
-    which = p.add_mutually_exclusive_group()
-    which.add_argument(
-        "--profile", choices=sorted(PROFILES), default=None, help="reference robot (default: from the firmware)"
-    )
-    add_robot_file_args(which, p)  # the robot_file and allow_mismatch parameters
+    add_profile_args(p, help="reference robot (default: from the firmware)")  # + robot_file, allow_mismatch
     p.add_argument(
         "--ros-args",
         nargs=argparse.REMAINDER,
