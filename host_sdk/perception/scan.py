@@ -27,8 +27,10 @@ Input is a driver's `LidarScan` (host_sdk.sensors), anything shaped like a ROS `
   robot's motion) into that zone are kept: the lidar cannot say they are gone, and they are exactly
   the ones the robot is about to touch. They are dropped once they leave the zone (the lidar sees
   that part again) or after `blind_hold_s` (something that walked past is not a wall for ever).
-  Only the robot's own motion carries a point in: what walks into the zone of a robot standing still
-  moves by itself, and is no wall to stand still for.
+  Only the robot's own motion carries a point in (over the last `carried_window_s`, it must have
+  brought the point `carried_m` nearer; a creep of a few mm/s counts): what walks into the zone of a
+  robot standing still moves by itself, and is no wall to stand still for. Without poses nothing is
+  carried in, so nothing is kept.
 
 Everything is numpy over whole arrays: a revolution costs tens of microseconds.
 """
@@ -48,9 +50,6 @@ from host_sdk.errors import CommandRangeError
 from host_sdk.pose import Pose2D
 
 F64 = NDArray[np.float64]
-
-CARRIED_M = 0.001
-"""How much nearer the robot's own motion must have brought a point for the blind zone to keep it."""
 
 
 @runtime_checkable
@@ -220,7 +219,8 @@ class ScanFilter:
     """Temporal (motion-compensated median) and spatial filtering of successive revolutions."""
 
     def __init__(self, mount: LidarMount | None = None, *, bins: int = 360, temporal: int = 3,
-                 isolated_m: float = 0.1, keep_near_m: float = 1.0, blind_hold_s: float = 4.0) -> None:  # fmt: skip
+                 isolated_m: float = 0.1, keep_near_m: float = 1.0, blind_hold_s: float = 4.0,
+                 carried_m: float = 0.001, carried_window_s: float = 1.0) -> None:  # fmt: skip
         if not (isinstance(bins, int) and 36 <= bins <= 4096):
             raise CommandRangeError("bins", bins, "an integer in 36..4096")
         if not (isinstance(temporal, int) and 1 <= temporal <= 25):
@@ -231,6 +231,10 @@ class ScanFilter:
         self.isolated_m = isolated_m
         self.keep_near_m = keep_near_m
         self.blind_hold_s = blind_hold_s
+        self.carried_m = carried_m
+        self.carried_window_s = carried_window_s
+        self._poses: deque[tuple[float, Pose2D]] = deque()
+        """(time, pose) of the revolutions of the last `carried_window_s`, oldest first."""
         self.angles = -math.pi + (np.arange(bins) + 0.5) * 2 * math.pi / bins
         self._history: deque[tuple[F64, F64, Pose2D]] = deque(maxlen=temporal)
         self._last: tuple[F64, F64, Pose2D] | None = None
@@ -240,6 +244,7 @@ class ScanFilter:
         self._history.clear()
         self._last = None
         self._blind = []
+        self._poses.clear()
 
     def base_points(self, scan: RawScan | DriverScanLike | LaserScanLike) -> tuple[F64, F64, float]:
         """A revolution's returns as base-frame points, and its time."""
@@ -282,13 +287,19 @@ class ScanFilter:
         (long enough to back away from a wall, short enough that the target walking past is not
         remembered as a wall)."""
         m = self.mount
+        poses = self._poses
+        poses.append((raw.time_s, here))
+        while len(poses) > 2 and raw.time_s - poses[1][0] >= self.carried_window_s:
+            poses.popleft()
+        before = poses[0][1]
         xs, ys, born = [], [], []
         for x, y, then, t0 in ([(*self._last, None)] if self._last is not None else []) + self._blind:
             mx, my = move_points(x, y, then, here)
             near = np.hypot(mx - m.x_m, my - m.y_m)
             inside = near < raw.range_min_m + 0.02
-            if t0 is None:  # newly swallowed: only if the robot's motion brought it nearer
-                inside &= near < np.hypot(x - m.x_m, y - m.y_m) - CARRIED_M
+            if t0 is None:  # newly swallowed: only if the robot's own motion brought it nearer
+                px, py = move_points(mx, my, here, before)
+                inside &= near < np.hypot(px - m.x_m, py - m.y_m) - self.carried_m
             xs.append(mx[inside])
             ys.append(my[inside])
             born.append(np.full(int(inside.sum()), raw.time_s) if t0 is None else t0[inside])

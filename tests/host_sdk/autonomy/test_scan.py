@@ -165,6 +165,20 @@ def test_what_walks_into_the_blind_zone_of_a_standing_robot_is_not_kept() -> Non
     assert filt.update(blind, pose=(0.005, 0.0, 0.0)).range_at(0.0, math.radians(5)) == pytest.approx(0.125, abs=0.01)
 
 
+def test_a_wall_crept_up_to_slowly_is_kept_in_the_blind_zone() -> None:
+    """Creeping at 5 mm/s (0.5 mm per revolution at 10 Hz) up to a wall: its points enter the zone
+    less than a millimetre nearer than the revolution before, but the robot's motion over the last
+    second brought them in, so they are kept."""
+    filt = ScanFilter(temporal=1)
+    x, t = 0.0, 0.0
+    while 0.2 - x >= 0.12:  # the wall at 0.2 m, seen until it is nearer than the minimum range
+        wall = np.where(np.abs(ANGLES) < math.radians(8), (0.2 - x) / np.cos(ANGLES), np.nan)
+        filt.update(RawScan.from_arrays(ANGLES, wall, range_min_m=0.12, time_s=t), pose=(x, 0.0, 0.0))
+        x, t = x + 0.0005, t + 0.1
+    blind = RawScan.from_arrays(ANGLES, np.full(ANGLES.shape, np.nan), range_min_m=0.12, time_s=t)
+    assert filt.update(blind, pose=(x, 0.0, 0.0)).range_at(0.0, math.radians(5)) == pytest.approx(0.2 - x, abs=0.01)
+
+
 def test_a_revolution_taken_while_spinning_is_deskewed_with_the_pose_of_each_return() -> None:
     # Spinning at 1.6 rad/s, a 0.125 s revolution's ends are 11 degrees apart, and they meet behind
     # the robot (the beam starts at -pi): a wall 1 m behind comes out torn in two unless each return
