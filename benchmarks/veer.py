@@ -1,6 +1,6 @@
 """How far a differential-drive robot keeps turning when a turn is followed at once by a straight run.
 
-    python benchmarks/veer.py                       # the TB6612 robot, five turns (a few seconds)
+    python benchmarks/veer.py                       # the TB6612 robot, six turns (about 10 s)
     python benchmarks/veer.py --profile diffdrive-bts7960 --json veer.json
 
 Each case holds wheel speeds (left, right) for `--turn` seconds, then 300 mm/s on both wheels for 2 s,
@@ -70,16 +70,26 @@ def measure(profile: str, left: int, right: int, turn_s: float, pause_s: float) 
         return _hold(robot, STRAIGHT_MM_S, STRAIGHT_MM_S, STRAIGHT_S, kinematics.track_m)
 
 
+def _seconds(text: str) -> float:
+    value = float(text)
+    if not 0.1 <= value <= 60.0:
+        raise argparse.ArgumentTypeError(f"--turn {value:g} s: give 0.1..60 s")
+    return value
+
+
 def main() -> None:
     diff = sorted(name for name, p in PROFILES.items() if p.kinematics == "diff")
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--profile", choices=diff, default="diffdrive-tb6612")
-    ap.add_argument("--turn", type=float, default=3.0, help="seconds of turning before the straight run (default 3)")
+    ap.add_argument("--profile", choices=diff, default="diffdrive-tb6612", help="the robot (default diffdrive-tb6612)")
+    ap.add_argument("--turn", type=_seconds, default=3.0, help="seconds of turning before the straight run (default 3)")
     ap.add_argument("--json", type=Path, help="also write the figures here")
     args = ap.parse_args()
     rows = []
     print(f"{args.profile}: {args.turn:g} s turning, then {STRAIGHT_MM_S} mm/s straight for {STRAIGHT_S:g} s\n")
-    print("| turn (left, right mm/s) | veer | commanded by the ramps | by the controllers | after a 1 s pause |")
+    print(
+        "| turn (left, right mm/s) | veer, deg | commanded by the ramps | by the controllers "
+        "| after a 1 s pause at zero |"
+    )
     print("|---|---|---|---|---|")
     for left, right in CASES:
         veer, commanded = measure(args.profile, left, right, args.turn, 0.0)
@@ -87,11 +97,13 @@ def main() -> None:
         row = Veer(left, right, *(round(math.degrees(a), 2) for a in (veer, commanded, veer - commanded, paused)))
         rows.append(row)
         print(
-            f"| {left}, {right} | {row.veer_deg:+.2f} deg | {row.commanded_deg:+.2f} | {row.controllers_deg:+.2f} "
+            f"| {left}, {right} | {row.veer_deg:+.2f} | {row.commanded_deg:+.2f} | {row.controllers_deg:+.2f} "
             f"| {row.after_pause_deg:+.2f} |"
         )
     if args.json:
-        args.json.write_text(json.dumps([asdict(r) for r in rows], indent=1))
+        report = {"profile": args.profile, "turn_s": args.turn, "straight_mm_s": STRAIGHT_MM_S,
+                  "straight_s": STRAIGHT_S, "cases": [asdict(r) for r in rows]}  # fmt: skip
+        args.json.write_text(json.dumps(report, indent=1))
 
 
 if __name__ == "__main__":

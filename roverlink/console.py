@@ -27,7 +27,7 @@ def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
     """The URL and the connection options every robot command takes."""
     p.add_argument("url", help="serial port or URL, e.g. /dev/ttyACM0, socket://host:port, emu://picar")
     p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
-    add_profile_args(p, help="reference robot, for its kinematics (default: the one the firmware names)")
+    add_profile_args(p, help_text="reference robot, for its kinematics (default: the one the firmware names)")
     p.add_argument(
         "--timeout",
         type=argtypes.number(0, 600, "s", lo_open=True),
@@ -37,14 +37,14 @@ def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
     add_kinematics_arg(p)
 
 
-def add_profile_args(p: argparse.ArgumentParser, *, help: str, default: str | None = None) -> None:
+def add_profile_args(p: argparse.ArgumentParser, *, help_text: str, default: str | None = None) -> None:
     """--profile NAME or --robot FILE (one of them), and --allow-mismatch."""
     which = p.add_mutually_exclusive_group()
-    which.add_argument("--profile", choices=sorted(PROFILES), default=default, help=help)
-    add_robot_file_args(which, p)
+    which.add_argument("--profile", choices=sorted(PROFILES), default=default, help=help_text)
+    _add_robot_file_args(which, p)
 
 
-def add_robot_file_args(which: argparse._ActionsContainer, p: argparse._ActionsContainer) -> None:
+def _add_robot_file_args(which: argparse._ActionsContainer, p: argparse._ActionsContainer) -> None:
     """--robot FILE (in `which`: a group that excludes --profile) and --allow-mismatch."""
     which.add_argument(
         "--robot",

@@ -42,7 +42,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    add_profile_args(p, default="picar", help="reference robot (default picar)")
+    add_profile_args(p, default="picar", help_text="reference robot (default picar)")
     p.add_argument("--host", default="127.0.0.1",
                    help="address to listen on (default 127.0.0.1: this machine only; 0.0.0.0: every network, "
                         "with a token)")  # fmt: skip

@@ -362,7 +362,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         description="Connect, arm and drive a square on odometry (an emulated robot unless --url is given), then "
         "compare odometry with ground truth and show the link statistics.",
     )
-    add_profile_args(p, help="robot (default: diffdrive-tb6612)")
+    add_profile_args(p, help_text="robot (default: diffdrive-tb6612)")
     p.add_argument("--url", "--port", dest="url", default=None, help="serial port or URL (default: the emulator)")
     p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
     p.add_argument(

@@ -65,7 +65,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    add_profile_args(p, default="picar", help="reference robot (default picar)")
+    add_profile_args(p, default="picar", help_text="reference robot (default picar)")
     p.add_argument("--duration", type=positive, default=60.0, help="seconds to run (default 60)")
     p.add_argument("--pilot", choices=PILOTS, default="roverlink", help="whose behaviour drives (default roverlink)")
     p.add_argument("--follow-gap", type=positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")

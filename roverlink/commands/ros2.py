@@ -50,7 +50,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 def _add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--url", default=None, help="serial port or URL (default: the url parameter, /dev/ttyACM0)")
-    add_profile_args(p, help="reference robot (default: from the firmware)")  # + robot_file, allow_mismatch
+    add_profile_args(p, help_text="reference robot (default: from the firmware)")  # + robot_file, allow_mismatch
     p.add_argument(
         "--ros-args",
         nargs=argparse.REMAINDER,
