@@ -8,7 +8,7 @@ on the emulator's virtual clock. It reports the heading change during the straig
 emulator's truth) and splits it in two:
 
 - *commanded*: what the firmware's ramped setpoints themselves turn, (right - left) / track
-  integrated over the run: the ramp's share (docs/control.md, section 4.5);
+  integrated over the run: the ramp's share (docs/control.md, section 4, step 5);
 - *controllers*: the rest, what the wheel PIDs add (integrals learned at the turn's speeds, the
   motors' own lag).
 
