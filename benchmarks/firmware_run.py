@@ -105,7 +105,7 @@ def exercise(robot: SimavrRobot, elf: Path, example: str, profile: str) -> Run:
     # 2. Setpoint frames back to back for 1 s (the line's capacity).
     setpoints = _flood(link, setpoint(profile, 200))
     # 3. SET_PID frames back to back for 1 s (each answered by an ACK).
-    set_pids = _flood(link, messages.SetPid(255, 1.0, 6.0, 0.0, 1.5))
+    set_pids = _flood(link, messages.SetPid(255, 1.0, 6.0, 0.0, 1.5, 0.0))
     acks = sum(isinstance(f.message, messages.Ack) and f.message.req_id == messages.SetPid.MSG_ID for f in link.frames)
     if acks != set_pids.frames:
         raise SystemExit(f"BENCHMARK INVALID: {example}: {acks} ACKs to {set_pids.frames} SET_PID frames")

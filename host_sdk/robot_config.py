@@ -104,7 +104,7 @@ class ConfigCalls:
         checks.integer("wheel", wheel, 0, self._wheels() - 1, what="a wheel index")
         reply = self._request(GetPid(wheel=wheel))
         assert isinstance(reply, Pid)
-        return PidGains(reply.kp, reply.ki, reply.kd, reply.kf)
+        return PidGains(reply.kp, reply.ki, reply.kd, reply.kf, reply.ks)
 
     def set_pid(
         self,
@@ -113,6 +113,7 @@ class ConfigCalls:
         ki: float | None = None,
         kd: float | None = None,
         kf: float | None = None,
+        ks: float | None = None,
         wheel: int | None = None,
     ) -> PidGains:
         """Change PID gains of one wheel, or every wheel (wheel=None); unnamed gains keep each wheel's
@@ -120,7 +121,7 @@ class ConfigCalls:
         read back (of `wheel`, or wheel 0). Like set_config, one read-modify-write at a time."""
         wheels = self._wheels()
         checks.optional(checks.integer, "wheel", wheel, 0, wheels - 1, what="a wheel index (None: every wheel)")
-        named = {"kp": kp, "ki": ki, "kd": kd, "kf": kf}
+        named = {"kp": kp, "ki": ki, "kd": kd, "kf": kf, "ks": ks}
         given = {
             name: checks.number(name, value, _GAINS[name].lo, _GAINS[name].hi, unit=_GAINS[name].unit)
             for name, value in named.items()

@@ -131,11 +131,11 @@ class RobotFileCheck:
         changes = changes_for(self.description, robot.config)
         if changes:
             robot.set_config(**changes)
-        want = self.description.pid
         wheels = 2 if robot.identity.capabilities & Capability.DIFF_DRIVE else 1
         gains = [dataclasses.astuple(robot.pid(w)) for w in range(wheels)]
-        if any(_f32(got) != _f32((want.kp, want.ki, want.kd, want.kf)) for got in gains):
-            robot.set_pid(kp=want.kp, ki=want.ki, kd=want.kd, kf=want.kf)
+        wire = self.description.pid_gains()
+        if any(_f32(got) != _f32((wire.kp, wire.ki, wire.kd, wire.kf, wire.ks)) for got in gains):
+            robot.set_pid(kp=wire.kp, ki=wire.ki, kd=wire.kd, kf=wire.kf, ks=wire.ks)
 
 
 def prepare(robot: object, profile: object, kinematics: object, allow_mismatch: object) -> RobotFileCheck | None:

@@ -51,10 +51,11 @@ class Gains:
     ki: float
     kd: float
     kf: float
+    ks: float = 0.0
 
     @classmethod
     def of(cls, pid: SetPid) -> Gains:
-        return cls(f32(pid.kp), f32(pid.ki), f32(pid.kd), f32(pid.kf))
+        return cls(f32(pid.kp), f32(pid.ki), f32(pid.kd), f32(pid.kf), f32(pid.ks))
 
 
 def first_out_of_range(msg: Message) -> int | None:
@@ -130,7 +131,7 @@ def pid_wheel_ok(wheel: int) -> bool:
 def encode_image(config: SetConfig, gains: list[Gains]) -> bytes:
     body = _HEADER + config.pack()
     for wheel, g in enumerate(gains):
-        body += SetPid(wheel, g.kp, g.ki, g.kd, g.kf).pack()
+        body += SetPid(wheel, g.kp, g.ki, g.kd, g.kf, g.ks).pack()
     return body + crc16(body).to_bytes(2, "little")
 
 
@@ -154,5 +155,5 @@ def decode_image(raw: bytes) -> tuple[LoadResult, SetConfig | None, list[Gains] 
         offset += SetPid.PAYLOAD_SIZE
         if pid.wheel != wheel or first_out_of_range(pid) is not None:
             return LoadResult.INVALID, None, None
-        gains.append(Gains(pid.kp, pid.ki, pid.kd, pid.kf))
+        gains.append(Gains(pid.kp, pid.ki, pid.kd, pid.kf, pid.ks))
     return LoadResult.OK, config, gains

@@ -44,7 +44,8 @@ def ramp_step(ramped: N, target: N, accel_step: N, decel_step: N) -> N:
 
 
 class WheelPid:
-    """Velocity PID with feed-forward, derivative on measurement and conditional integration."""
+    """Velocity PID with feed-forward (setpoint and static friction), derivative on measurement and
+    conditional integration."""
 
     __slots__ = ("integral", "m_prev", "u", "u_unsat")
 
@@ -74,7 +75,10 @@ class WheelPid:
         e = ramped - measured
         p = gains.kp * e
         d = -gains.kd * (measured - m_prev) / dt
-        u_unsat = gains.kf * ramped + p + self.integral + d
+        # Static friction fed forward with the setpoint's sign: a wheel starting from rest or
+        # reversing gets its breakaway effort at once, not after the integrator has learnt it.
+        s = gains.ks if ramped > 0 else (-gains.ks if ramped < 0 else 0.0)
+        u_unsat = gains.kf * ramped + s + p + self.integral + d
         saturated = abs(u_unsat) > limit
         u = round_half_away(max(-limit, min(limit, u_unsat)))
         # Conditional integration: integrate when unsaturated, or when the error pulls back in.

@@ -82,7 +82,7 @@ def get_pid(fw: RequestTarget, msg: GetPid, seq: int) -> Message:
     if not 0 <= msg.wheel < WHEEL_COUNT:
         return nack(msg, seq, NackReason.OUT_OF_RANGE, 0)
     g = fw.gains[msg.wheel]
-    return Pid(req_seq=seq, wheel=msg.wheel, kp=g.kp, ki=g.ki, kd=g.kd, kf=g.kf)
+    return Pid(req_seq=seq, wheel=msg.wheel, kp=g.kp, ki=g.ki, kd=g.kd, kf=g.kf, ks=g.ks)
 
 
 def set_config(fw: RequestTarget, msg: SetConfig, seq: int) -> Message:

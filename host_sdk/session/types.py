@@ -106,6 +106,8 @@ class PidGains:
     ki: float
     kd: float
     kf: float
+    ks: float = 0.0
+    """Static-friction feed-forward: permille added with the setpoint's sign."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x522F713F
+# spec hash: 0x3416EC25
 """Enumerations and bit flags."""
 
 import enum

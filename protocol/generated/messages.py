@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x522F713F
+# spec hash: 0x3416EC25
 """Message classes: frozen, slotted dataclasses with pack() and unpack()."""
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ _STATUS: dict[int, Status] = {v: Status(v) for v in range(0x7F + 1) if not v & ~
 _S_HELLO = struct.Struct("<BIHBB")
 _S_PING = struct.Struct("<I")
 _S_ARM = struct.Struct("<I")
-_S_SET_PID = struct.Struct("<Bffff")
+_S_SET_PID = struct.Struct("<Bfffff")
 _S_GET_PID = struct.Struct("<B")
 _S_SET_CONFIG = struct.Struct("<HBHHHHHBBIHHHHHHHHHHB")
 _S_SET_WHEEL_SPEEDS = struct.Struct("<hh")
@@ -42,7 +42,7 @@ _S_IDENTITY = struct.Struct("<BI3BBHIIBBHBB")
 _S_PONG = struct.Struct("<II")
 _S_ACK = struct.Struct("<BB")
 _S_NACK = struct.Struct("<BBBB")
-_S_PID = struct.Struct("<BBffff")
+_S_PID = struct.Struct("<BBfffff")
 _S_CONFIG = struct.Struct("<BHBHHHHHBBIHHHHHHHHHHB")
 _S_LINK_STATS = struct.Struct("<BIIIIIIIIIII")
 _S_FEEDBACK = struct.Struct("<IIHBHBB2i2h2hh")
@@ -219,9 +219,9 @@ class SetPid(Message):
 
     MSG_ID: ClassVar[int] = 0x12
     NAME: ClassVar[str] = "SET_PID"
-    CRC_EXTRA: ClassVar[int] = 0xCA
-    PAYLOAD_SIZE: ClassVar[int] = 17
-    PAYLOAD_MAX: ClassVar[int] = 17
+    CRC_EXTRA: ClassVar[int] = 0x34
+    PAYLOAD_SIZE: ClassVar[int] = 21
+    PAYLOAD_MAX: ClassVar[int] = 21
     DIRECTION: ClassVar[Direction] = Direction.HOST_TO_MCU
     DELIVERY: ClassVar[Delivery] = Delivery.RELIABLE
     FIELDS: ClassVar[tuple[FieldInfo, ...]] = (
@@ -230,6 +230,7 @@ class SetPid(Message):
         FieldInfo('ki', 'f32', 'float', 0.0, 1000.0, unit='permille/mm'),
         FieldInfo('kd', 'f32', 'float', 0.0, 1000.0, unit='permille/(mm/s^2)'),
         FieldInfo('kf', 'f32', 'float', 0.0, 1000.0, unit='permille/(mm/s)'),
+        FieldInfo('ks', 'f32', 'float', 0.0, 1000.0, unit='permille'),
     )
 
     wheel: int
@@ -242,19 +243,21 @@ class SetPid(Message):
     """Derivative gain, on the measurement. [permille/(mm/s^2)]"""
     kf: float
     """Feed-forward gain on the setpoint. [permille/(mm/s)]"""
+    ks: float
+    """Static-friction feed-forward: the effort that starts the wheel, added with the setpoint's sign. [permille]"""
 
     def pack(self) -> bytes:
         try:
-            if 0.0 <= self.kp <= 1000.0 and 0.0 <= self.ki <= 1000.0 and 0.0 <= self.kd <= 1000.0 and 0.0 <= self.kf <= 1000.0 and bool not in set(map(type, (self.wheel, self.kp, self.ki, self.kd, self.kf,))):
-                return _S_SET_PID.pack(self.wheel, self.kp, self.ki, self.kd, self.kf)
+            if 0.0 <= self.kp <= 1000.0 and 0.0 <= self.ki <= 1000.0 and 0.0 <= self.kd <= 1000.0 and 0.0 <= self.kf <= 1000.0 and 0.0 <= self.ks <= 1000.0 and bool not in set(map(type, (self.wheel, self.kp, self.ki, self.kd, self.kf, self.ks,))):
+                return _S_SET_PID.pack(self.wheel, self.kp, self.ki, self.kd, self.kf, self.ks)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
         raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> SetPid:
-        if len(payload) != 17:
-            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 17")
+        if len(payload) != 21:
+            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 21")
         v = _S_SET_PID.unpack(payload)
         self = _new(cls)
         _SET_PID_WHEEL(self, v[0])
@@ -262,6 +265,7 @@ class SetPid(Message):
         _SET_PID_KI(self, v[2])
         _SET_PID_KD(self, v[3])
         _SET_PID_KF(self, v[4])
+        _SET_PID_KS(self, v[5])
         return self
 
 
@@ -270,6 +274,7 @@ _SET_PID_KP = slot_setter(SetPid, "kp")
 _SET_PID_KI = slot_setter(SetPid, "ki")
 _SET_PID_KD = slot_setter(SetPid, "kd")
 _SET_PID_KF = slot_setter(SetPid, "kf")
+_SET_PID_KS = slot_setter(SetPid, "ks")
 
 
 @dataclass(frozen=True, slots=True)
@@ -929,9 +934,9 @@ class Pid(Message):
 
     MSG_ID: ClassVar[int] = 0x85
     NAME: ClassVar[str] = "PID"
-    CRC_EXTRA: ClassVar[int] = 0x31
-    PAYLOAD_SIZE: ClassVar[int] = 18
-    PAYLOAD_MAX: ClassVar[int] = 18
+    CRC_EXTRA: ClassVar[int] = 0x09
+    PAYLOAD_SIZE: ClassVar[int] = 22
+    PAYLOAD_MAX: ClassVar[int] = 22
     DIRECTION: ClassVar[Direction] = Direction.MCU_TO_HOST
     DELIVERY: ClassVar[Delivery] = Delivery.RELIABLE
     FIELDS: ClassVar[tuple[FieldInfo, ...]] = (
@@ -941,6 +946,7 @@ class Pid(Message):
         FieldInfo('ki', 'f32', 'float', 0.0, 1000.0, unit='permille/mm'),
         FieldInfo('kd', 'f32', 'float', 0.0, 1000.0, unit='permille/(mm/s^2)'),
         FieldInfo('kf', 'f32', 'float', 0.0, 1000.0, unit='permille/(mm/s)'),
+        FieldInfo('ks', 'f32', 'float', 0.0, 1000.0, unit='permille'),
     )
 
     req_seq: int
@@ -955,19 +961,21 @@ class Pid(Message):
     """Derivative gain, on the measurement. [permille/(mm/s^2)]"""
     kf: float
     """Feed-forward gain on the setpoint. [permille/(mm/s)]"""
+    ks: float
+    """Static-friction feed-forward: the effort that starts the wheel, added with the setpoint's sign. [permille]"""
 
     def pack(self) -> bytes:
         try:
-            if 0.0 <= self.kp <= 1000.0 and 0.0 <= self.ki <= 1000.0 and 0.0 <= self.kd <= 1000.0 and 0.0 <= self.kf <= 1000.0 and bool not in set(map(type, (self.req_seq, self.wheel, self.kp, self.ki, self.kd, self.kf,))):
-                return _S_PID.pack(self.req_seq, self.wheel, self.kp, self.ki, self.kd, self.kf)
+            if 0.0 <= self.kp <= 1000.0 and 0.0 <= self.ki <= 1000.0 and 0.0 <= self.kd <= 1000.0 and 0.0 <= self.kf <= 1000.0 and 0.0 <= self.ks <= 1000.0 and bool not in set(map(type, (self.req_seq, self.wheel, self.kp, self.ki, self.kd, self.kf, self.ks,))):
+                return _S_PID.pack(self.req_seq, self.wheel, self.kp, self.ki, self.kd, self.kf, self.ks)
         except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
             pass
         raise first_invalid(self)
 
     @classmethod
     def unpack(cls, payload: bytes) -> Pid:
-        if len(payload) != 18:
-            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 18")
+        if len(payload) != 22:
+            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 22")
         v = _S_PID.unpack(payload)
         self = _new(cls)
         _PID_REQ_SEQ(self, v[0])
@@ -976,6 +984,7 @@ class Pid(Message):
         _PID_KI(self, v[3])
         _PID_KD(self, v[4])
         _PID_KF(self, v[5])
+        _PID_KS(self, v[6])
         return self
 
 
@@ -985,6 +994,7 @@ _PID_KP = slot_setter(Pid, "kp")
 _PID_KI = slot_setter(Pid, "ki")
 _PID_KD = slot_setter(Pid, "kd")
 _PID_KF = slot_setter(Pid, "kf")
+_PID_KS = slot_setter(Pid, "ks")
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x522F713F
+# spec hash: 0x3416EC25
 """construct declarations of every payload: an independent oracle for the codec in tests,
 and the field-by-field view behind `roverlink decode`."""
 
@@ -16,7 +16,7 @@ PAYLOADS: dict[int, Any] = {
     0x02: Struct("host_time_us" / Int32ul),  # PING
     0x10: Struct("boot_id" / Int32ul),  # ARM
     0x11: Struct(),  # DISARM
-    0x12: Struct("wheel" / Int8ul, "kp" / Float32l, "ki" / Float32l, "kd" / Float32l, "kf" / Float32l),  # SET_PID
+    0x12: Struct("wheel" / Int8ul, "kp" / Float32l, "ki" / Float32l, "kd" / Float32l, "kf" / Float32l, "ks" / Float32l),  # SET_PID
     0x13: Struct("wheel" / Int8ul),  # GET_PID
     0x14: Struct("watchdog_ms" / Int16ul, "safe_state" / Int8ul, "accel_limit_mm_s2" / Int16ul, "decel_limit_mm_s2" / Int16ul, "max_wheel_speed_mm_s" / Int16ul, "max_effort_permille" / Int16ul, "encoder_cpr" / Int16ul, "encoder_invert" / Int8ul, "motor_invert" / Int8ul, "wheel_diameter_um" / Int32ul, "steering_center_cdeg" / Int16ul, "steering_min_cdeg" / Int16ul, "steering_max_cdeg" / Int16ul, "steering_step_cdeg" / Int16ul, "servo_min_us" / Int16ul, "servo_max_us" / Int16ul, "esc_min_us" / Int16ul, "esc_neutral_us" / Int16ul, "esc_max_us" / Int16ul, "esc_arm_ms" / Int16ul, "feedback_hz" / Int8ul),  # SET_CONFIG
     0x15: Struct(),  # GET_CONFIG
@@ -29,7 +29,7 @@ PAYLOADS: dict[int, Any] = {
     0x82: Struct("host_time_us" / Int32ul, "mcu_time_us" / Int32ul),  # PONG
     0x83: Struct("req_id" / Int8ul, "req_seq" / Int8ul),  # ACK
     0x84: Struct("req_id" / Int8ul, "req_seq" / Int8ul, "reason" / Int8ul, "detail" / Int8ul),  # NACK
-    0x85: Struct("req_seq" / Int8ul, "wheel" / Int8ul, "kp" / Float32l, "ki" / Float32l, "kd" / Float32l, "kf" / Float32l),  # PID
+    0x85: Struct("req_seq" / Int8ul, "wheel" / Int8ul, "kp" / Float32l, "ki" / Float32l, "kd" / Float32l, "kf" / Float32l, "ks" / Float32l),  # PID
     0x86: Struct("req_seq" / Int8ul, "watchdog_ms" / Int16ul, "safe_state" / Int8ul, "accel_limit_mm_s2" / Int16ul, "decel_limit_mm_s2" / Int16ul, "max_wheel_speed_mm_s" / Int16ul, "max_effort_permille" / Int16ul, "encoder_cpr" / Int16ul, "encoder_invert" / Int8ul, "motor_invert" / Int8ul, "wheel_diameter_um" / Int32ul, "steering_center_cdeg" / Int16ul, "steering_min_cdeg" / Int16ul, "steering_max_cdeg" / Int16ul, "steering_step_cdeg" / Int16ul, "servo_min_us" / Int16ul, "servo_max_us" / Int16ul, "esc_min_us" / Int16ul, "esc_neutral_us" / Int16ul, "esc_max_us" / Int16ul, "esc_arm_ms" / Int16ul, "feedback_hz" / Int8ul),  # CONFIG
     0x87: Struct("req_seq" / Int8ul, "frames_ok" / Int32ul, "crc_errors" / Int32ul, "cobs_errors" / Int32ul, "length_errors" / Int32ul, "unknown_ids" / Int32ul, "value_errors" / Int32ul, "bytes_discarded" / Int32ul, "seq_gaps" / Int32ul, "duplicates" / Int32ul, "frames_sent" / Int32ul, "rx_overruns" / Int32ul),  # LINK_STATS
     0x90: Struct("boot_id" / Int32ul, "mcu_time_us" / Int32ul, "tick" / Int16ul, "ack_seq" / Int8ul, "ack_tick" / Int16ul, "status" / Int8ul, "failsafe_reason" / Int8ul, "encoder_counts" / Array(2, Int32sl), "wheel_speed_mm_s" / Array(2, Int16sl), "effort_permille" / Array(2, Int16sl), "steering_mrad" / Int16sl),  # FEEDBACK
@@ -66,7 +66,7 @@ CRC_EXTRA: dict[int, int] = {
     0x02: 0x8B,
     0x10: 0x2A,
     0x11: 0x95,
-    0x12: 0xCA,
+    0x12: 0x34,
     0x13: 0x6F,
     0x14: 0xF8,
     0x15: 0x59,
@@ -79,7 +79,7 @@ CRC_EXTRA: dict[int, int] = {
     0x82: 0xE6,
     0x83: 0x34,
     0x84: 0xC6,
-    0x85: 0x31,
+    0x85: 0x09,
     0x86: 0x18,
     0x87: 0xA1,
     0x90: 0x3F,

@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x522F713F
+# spec hash: 0x3416EC25
 """Reference robot profiles: firmware defaults, kinematics and feedback mode, by name."""
 
 from __future__ import annotations
@@ -89,7 +89,7 @@ PROFILES: dict[str, RobotProfile] = {
         wheel_diameter_m=0.064,
         encoder_cpr=1560,
         config=SetConfig(watchdog_ms=250, safe_state=SafeState.BRAKE, accel_limit_mm_s2=1000, decel_limit_mm_s2=2000, max_wheel_speed_mm_s=600, max_effort_permille=1000, encoder_cpr=1560, encoder_invert=2, motor_invert=2, wheel_diameter_um=64000, steering_center_cdeg=9000, steering_min_cdeg=9000, steering_max_cdeg=9000, steering_step_cdeg=0, servo_min_us=500, servo_max_us=2500, esc_min_us=1000, esc_neutral_us=1500, esc_max_us=2000, esc_arm_ms=0, feedback_hz=50),
-        pid=SetPid(wheel=255, kp=1.0, ki=6.0, kd=0.0, kf=1.5),
+        pid=SetPid(wheel=255, kp=1.0, ki=6.0, kd=0.0, kf=1.25, ks=70.0),
         wiring=Wiring(
             motors=(WiredPart("TB6612", (("pwm", 6), ("in1", 22), ("in2", 23), ("standby", 26),)), WiredPart("TB6612", (("pwm", 7), ("in1", 24), ("in2", 25), ("standby", 26),)),),
             encoders=(WiredPart("encoder", (("a", 2), ("b", 3),)), WiredPart("encoder", (("a", 18), ("b", 19),)),),
@@ -112,7 +112,7 @@ PROFILES: dict[str, RobotProfile] = {
         wheel_diameter_m=0.09,
         encoder_cpr=1216,
         config=SetConfig(watchdog_ms=250, safe_state=SafeState.RAMP_DOWN, accel_limit_mm_s2=1500, decel_limit_mm_s2=3000, max_wheel_speed_mm_s=1000, max_effort_permille=1000, encoder_cpr=1216, encoder_invert=0, motor_invert=0, wheel_diameter_um=90000, steering_center_cdeg=9000, steering_min_cdeg=9000, steering_max_cdeg=9000, steering_step_cdeg=0, servo_min_us=500, servo_max_us=2500, esc_min_us=1000, esc_neutral_us=1500, esc_max_us=2000, esc_arm_ms=0, feedback_hz=100),
-        pid=SetPid(wheel=255, kp=0.6, ki=4.0, kd=0.0, kf=0.75),
+        pid=SetPid(wheel=255, kp=0.6, ki=4.0, kd=0.0, kf=0.62, ks=62.0),
         wiring=Wiring(
             motors=(WiredPart("BTS7960", (("rpwm", 2), ("lpwm", 3), ("r_en", 22), ("l_en", 23),)), WiredPart("BTS7960", (("rpwm", 6), ("lpwm", 7), ("r_en", 24), ("l_en", 25),)),),
             encoders=(WiredPart("encoder", (("a", 62), ("b", 63),)), WiredPart("encoder", (("a", 64), ("b", 65),)),),
@@ -135,7 +135,7 @@ PROFILES: dict[str, RobotProfile] = {
         wheel_diameter_m=0.065,
         encoder_cpr=720,
         config=SetConfig(watchdog_ms=250, safe_state=SafeState.BRAKE, accel_limit_mm_s2=2000, decel_limit_mm_s2=4000, max_wheel_speed_mm_s=2000, max_effort_permille=600, encoder_cpr=720, encoder_invert=0, motor_invert=0, wheel_diameter_um=65000, steering_center_cdeg=9000, steering_min_cdeg=6500, steering_max_cdeg=12500, steering_step_cdeg=1500, servo_min_us=500, servo_max_us=2500, esc_min_us=1000, esc_neutral_us=1500, esc_max_us=2000, esc_arm_ms=3000, feedback_hz=50),
-        pid=SetPid(wheel=255, kp=0.3, ki=1.5, kd=0.0, kf=0.4),
+        pid=SetPid(wheel=255, kp=0.3, ki=1.5, kd=0.0, kf=0.33, ks=85.0),
         wiring=Wiring(
             motors=(),
             encoders=(WiredPart("encoder", (("a", 2), ("b", 3),)),),

@@ -109,7 +109,7 @@ def robot(r: Reader, data: dict[str, Any]) -> model.RobotFile:
         ),
         geometry=model.Geometry(**geo) if geo else model.Geometry(0.0, 0.0, 0.0, 1.0),
         limits=model.Limits(**lim) if lim else model.Limits(0.0, 0.0, 0.0, 0.0, 0.0, "brake"),
-        pid=model.Pid(**(v["pid"] or {"kp": 1.0, "ki": 0.0, "kd": 0.0, "kf": 0.0})),
+        pid=model.Pid(**(v["pid"] or {"kp": 1.0, "ki": 0.0, "kd": 0.0, "kf": 0.0, "ks": 0.0})),
         feedback=model.Feedback(**feedback),
         wiring=wiring,
         lidar=_serial(v["sensors.lidar"]),

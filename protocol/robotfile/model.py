@@ -81,6 +81,7 @@ class Pid:
     ki: float
     kd: float
     kf: float
+    ks: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -260,7 +261,7 @@ class RobotFile:
     def pid_gains(self, wheel: int = 255) -> SetPid:
         """SET_PID with the file's gains (wheel 255: all wheels)."""
         p = self.pid
-        return SetPid(wheel=wheel, kp=p.kp, ki=p.ki, kd=p.kd, kf=p.kf)
+        return SetPid(wheel=wheel, kp=p.kp, ki=p.ki, kd=p.kd, kf=p.kf, ks=p.ks * 1000)
 
     def mounts(self) -> tuple[Mount, ...]:
         """The sensors' mounts, as protocol.sensors describes them (lidar, imu, camera)."""

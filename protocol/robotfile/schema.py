@@ -192,6 +192,15 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
         Key("ki", "float", "effort/m", "Integral gain.", 0.0, *_range("ki", 1, SetPid)),
         Key("kd", "float", "effort/(m/s^2)", "Derivative gain, on the measurement.", 0.0, *_range("kd", 1, SetPid)),
         Key("kf", "float", "effort/(m/s)", "Feed-forward gain on the setpoint.", 0.0, *_range("kf", 1, SetPid)),
+        Key(
+            "ks",
+            "float",
+            "",
+            "Static-friction feed-forward: the effort (a fraction of full) that starts a wheel, added with "
+            "the setpoint's sign.",
+            0.0,
+            *_range("ks", 0.001, SetPid),
+        ),
     ),
     "feedback": (
         Key(

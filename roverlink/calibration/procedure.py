@@ -176,7 +176,7 @@ class Calibration:
         for wheel in range(wheel_count(self.robot)):
             config = self._config
             gains = self.robot.pid(wheel)
-            open_loop = PidGains(kp=0.0, ki=0.0, kd=0.0, kf=gains.kf or 1.0)
+            open_loop = PidGains(kp=0.0, ki=0.0, kd=0.0, kf=gains.kf or 1.0, ks=gains.ks)
             self.observer.mark()
             before = self._counts()
             with gains_applied(self.robot, wheel, open_loop):

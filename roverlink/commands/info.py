@@ -34,7 +34,7 @@ def cmd_info(args: argparse.Namespace) -> int:
             wheels = 2 if ident.capabilities & ident.capabilities.DIFF_DRIVE else 1
             for wheel in range(wheels):
                 g = robot.pid(wheel)
-                print(f"PID wheel {wheel}: kp {g.kp:g}, ki {g.ki:g}, kd {g.kd:g}, kf {g.kf:g}")
+                print(f"PID wheel {wheel}: kp {g.kp:g}, ki {g.ki:g}, kd {g.kd:g}, kf {g.kf:g}, ks {g.ks:g}")
             kin = robot.kinematics
             if kin is not None:
                 cal = args.kinematics

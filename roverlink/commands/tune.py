@@ -6,6 +6,7 @@ after confirmation, verified with a new step and saved to EEPROM if asked.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -23,8 +24,8 @@ DEFAULT_SPEED_FRACTION = 0.4
 
 
 def parse_gains(text: str) -> PidGains:
-    """ "KP,KI,KD,KF" (or "kp=1,ki=6,kf=1.5"; unnamed gains 0) as PidGains."""
-    names = ("kp", "ki", "kd", "kf")
+    """ "KP,KI,KD,KF[,KS]" (or "kp=1,ki=6,kf=1.5"; unnamed gains 0) as PidGains."""
+    names = ("kp", "ki", "kd", "kf", "ks")
     values = dict.fromkeys(names, 0.0)
     parts = [p for p in text.replace(" ", "").split(",") if p]
     try:
@@ -34,12 +35,14 @@ def parse_gains(text: str) -> PidGains:
                 if key not in values:
                     raise ValueError(key)
                 values[key] = float(value)
-        elif len(parts) == 4:
-            values = dict(zip(names, (float(p) for p in parts), strict=True))
+        elif len(parts) in (4, 5):
+            values |= dict(zip(names, (float(p) for p in parts), strict=False))
         else:
             raise ValueError(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: gains as KP,KI,KD,KF or kp=..,ki=..,kd=..,kf=..") from None
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: gains as KP,KI,KD,KF[,KS] or kp=..,ki=..,kd=..,kf=..,ks=.."
+        ) from None
     return PidGains(**values)
 
 
@@ -56,7 +59,9 @@ def _stand(robot: Robot, prompter: Prompter, speed: float) -> bool:
 def _print_trials(report: WheelReport, out: list[str]) -> None:
     for trial in report.trials:
         g = trial.response.gains
-        out.append(f"  {trial.response.label:<10} kp {g.kp:<7g} ki {g.ki:<7g} kd {g.kd:<5g} kf {g.kf:<7g}")
+        out.append(
+            f"  {trial.response.label:<10} kp {g.kp:<7g} ki {g.ki:<7g} kd {g.kd:<5g} kf {g.kf:<7g} ks {g.ks:<5g}"
+        )
         out.append(f"             {trial.metrics.row()}")
 
 
@@ -96,7 +101,7 @@ def apply_proposals(
     if not prompter.confirm("Apply the proposed gains?"):
         return ["gains left as they were"]
     for wheel, gains in proposals:
-        robot.set_pid(kp=gains.kp, ki=gains.ki, kd=gains.kd, kf=gains.kf, wheel=wheel)
+        robot.set_pid(**dataclasses.asdict(gains), wheel=wheel)
     tuner = Tuner(robot, speed_m_s=args.speed, hold_s=args.hold, lift_ramp=not args.keep_ramp)
     with tuner.session():
         for wheel, gains in proposals:
@@ -116,6 +121,7 @@ def _auto_lines(report: WheelReport) -> list[str]:
     assert auto is not None
     lines = [
         f"  model: {auto.model.describe()}",
+        *([f"  feed-forward: {auto.design.line.describe()}"] if auto.design.line is not None else []),
         f"  {auto.design.candidates} candidates ranked on the model (roverlink.tuning.design); "
         f"the best {len(auto.tried)} stepped on the robot",
     ]
@@ -124,7 +130,9 @@ def _auto_lines(report: WheelReport) -> list[str]:
         lines.append("  proposal: keep the current gains (no candidate settled faster with < 10 % overshoot)")
     else:
         assert auto.chosen is not None
-        lines.append(f"  proposal: {auto.chosen.response.label}: kp {g.kp:g} ki {g.ki:g} kd {g.kd:g} kf {g.kf:g}")
+        lines.append(
+            f"  proposal: {auto.chosen.response.label}: kp {g.kp:g} ki {g.ki:g} kd {g.kd:g} kf {g.kf:g} ks {g.ks:g}"
+        )
     return lines
 
 

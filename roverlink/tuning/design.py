@@ -5,11 +5,12 @@ feed-forward, and its integrator keeps integrating while the speed rises, so SIM
 overshoot by 15-35 % on these wheels. The rule used here:
 
 1. Start from SIMC (tau_c = theta_e): kp0 = tau / (K * 2 theta_e), Ti0 = min(tau, 8 theta_e), and
-   the feed-forward kf0 that holds the test speed on the model.
-2. Simulate the firmware's loop on the model (100 Hz ticks; effort = kf*sp + kp*e + integral,
+   the feed-forward (kf0, ks0): the line of efforts the wheel held (roverlink.tuning.feedforward),
+   or without it the model's.
+2. Simulate the firmware's loop on the model (100 Hz ticks; effort = kf*sp + ks + kp*e + integral,
    clamped to max_effort with conditional integration, as docs/control.md states it; speed
-   measured over each tick) for kp in kp0 * {0.4 .. 1.5}, Ti in Ti0 * {1 .. 16}, kf in kf0 * {0.8 .. 1.0}, and
-   the gains in use (so the proposal is never worse than them on the model).
+   measured over each tick) for kp in kp0 * {0.4 .. 1.5}, Ti in Ti0 * {1 .. 16},
+   (kf, ks) in (kf0, ks0) * {0.8 .. 1.0}, and the gains in use (so the proposal is never worse than them on the model).
 3. Rank the candidates by their 5 % settling time (to the tick) among those whose overshoot is
    at most 5 % (half the 10 % the tools promise, for the model's error); ties go to the smaller
    integral of absolute error.
@@ -29,7 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from host_sdk import PidGains
-from roverlink.tuning.fopdt import CONTROL_PERIOD_S, Fopdt, simc_gains
+from roverlink.tuning.feedforward import StaticLine
+from roverlink.tuning.fopdt import CONTROL_PERIOD_S, Fopdt, feed_forward, simc_gains
 from roverlink.tuning.metrics import SETTLING_BAND, FloatArray
 
 MAX_OVERSHOOT = 0.05
@@ -52,6 +54,8 @@ class Design:
     ranked: tuple[PidGains, ...] = ()
     """The best candidates on the model, best first (the proposal is the first): what
     `Tuner.auto` tries on the robot."""
+    line: StaticLine | None = None
+    """The efforts held, the feed-forward's source (None: the model's)."""
 
 
 def simulate(
@@ -59,17 +63,22 @@ def simulate(
     gains: list[PidGains],
     step_mm_s: float,
     max_effort: float,
+    *,
     hold_s: float = 0.6,
+    line: StaticLine | None = None,
 ) -> tuple[FloatArray, FloatArray]:
-    """Measured speeds (mm/s, one row per gain set, one column per tick) for a step from rest."""
+    """Measured speeds (mm/s, one row per gain set, one column per tick) for a step from rest. The
+    model's steady speed is on `line` when given (the efforts held), else on the model's own."""
     n = len(gains)
     kp = np.array([g.kp for g in gains])
     ki = np.array([g.ki for g in gains])
     kf = np.array([g.kf for g in gains])
+    ks = np.array([g.ks for g in gains]) * np.sign(step_mm_s)
     dt = CONTROL_PERIOD_S / _SUBSTEPS
     # The fit's dead time saw the speed as measured over a tick; half a tick of it is that.
     delay = max(0, round((model.theta_s - CONTROL_PERIOD_S / 2) / dt))
-    offset = model.u2 - model.y2 / model.gain  # effort at which the model's speed would be 0
+    # The effort at which the model's speed would be 0, and its steady speed per effort.
+    offset, gain = (model.u2 - model.y2 / model.gain, model.gain) if line is None else (line.ks, 1 / line.kf)
     ticks = round(hold_s / CONTROL_PERIOD_S)
     y = np.zeros(n)
     integral = np.zeros(n)
@@ -79,7 +88,7 @@ def simulate(
     decay = np.exp(-dt / model.tau_s)
     for k in range(ticks):
         e = step_mm_s - measured
-        u_unsat = kf * step_mm_s + kp * e + integral
+        u_unsat = kf * step_mm_s + ks + kp * e + integral
         u = np.clip(u_unsat, -max_effort, max_effort)
         saturated = np.abs(u_unsat) > max_effort
         grow = ~saturated | ((u_unsat > max_effort) & (e < 0)) | ((u_unsat < -max_effort) & (e > 0))
@@ -88,7 +97,7 @@ def simulate(
         for _ in range(_SUBSTEPS):
             pipeline.append(u)
             applied = pipeline.pop(0)
-            target = np.maximum(model.gain * (applied - offset), 0.0)
+            target = np.maximum(gain * (applied - offset), 0.0)
             y = target + (y - target) * decay
             acc += y
         measured = acc / _SUBSTEPS
@@ -111,18 +120,25 @@ def design_gains(
     max_effort_permille: float,
     *,
     current: PidGains | None = None,
+    line: StaticLine | None = None,
 ) -> Design:
-    """The rule in the module docstring. `current`: the gains in use, also a candidate."""
+    """The rule in the module docstring. `current`: the gains in use, also a candidate; `line`: the
+    efforts the wheel held (roverlink.tuning.feedforward)."""
     simc = simc_gains(model)
-    kf0 = (model.u2 + (step_mm_s - model.y2) / model.gain) / step_mm_s
+    if line is not None:
+        kf0, ks0 = line.kf, line.ks
+    else:
+        kf0, ks0 = feed_forward(model)
+        if ks0 == 0.0:  # the line through the origin, at the step's speed
+            kf0 = (model.u2 + (step_mm_s - model.y2) / model.gain) / step_mm_s
     ti0 = simc.kp / simc.ki
     grid = [
-        PidGains(kp=simc.kp * a, ki=simc.kp * a / (ti0 * b), kd=0.0, kf=kf0 * c)
+        PidGains(kp=simc.kp * a, ki=simc.kp * a / (ti0 * b), kd=0.0, kf=kf0 * c, ks=ks0 * c)
         for a, b, c in itertools.product(KP_FACTORS, TI_FACTORS, KF_FACTORS)
     ]
     if current is not None:
         grid.append(current)
-    speeds, t = simulate(model, grid, step_mm_s, max_effort_permille)
+    speeds, t = simulate(model, grid, step_mm_s, max_effort_permille, line=line)
     settling, overshoot = _settled(speeds, t, step_mm_s)
     iae = np.abs(speeds / step_mm_s - 1.0).sum(axis=1) * CONTROL_PERIOD_S
     allowed = np.nonzero(overshoot <= max(MAX_OVERSHOOT, float(overshoot.min())))[0]
@@ -130,11 +146,13 @@ def design_gains(
     ranked = tuple(_typed_gains(grid[i]) for i in order if grid[i] is not current)[:RANKED]
     best = order[0]
     gains = current if grid[best] is current and current is not None else _typed_gains(grid[best])
-    return Design(gains, float(settling[best]), float(overshoot[best]), float(iae[best]), simc, len(grid), ranked)
+    return Design(
+        gains, float(settling[best]), float(overshoot[best]), float(iae[best]), simc, len(grid), ranked, line
+    )
 
 
 def _typed_gains(g: PidGains) -> PidGains:
-    return PidGains(kp=_typed(g.kp), ki=_typed(g.ki), kd=0.0, kf=_typed(g.kf))
+    return PidGains(kp=_typed(g.kp), ki=_typed(g.ki), kd=0.0, kf=_typed(g.kf), ks=_typed(g.ks))
 
 
 def _typed(x: float) -> float:

@@ -19,8 +19,12 @@ period of extra dead time (theta_e = theta + T/2):
 
     kp = tau / (K (tau_c + theta_e)),  Ti = min(tau, 4 (tau_c + theta_e)),  ki = kp / Ti,  kd = 0,
 
-plus the feed-forward kf = u2 / y2, the effort per mm/s that held the test speed, so the
-integrator only corrects what friction and load add or take away.
+plus the feed-forward of the two steady states: the line effort = kf * speed + ks through
+(y1, u1) and (y2, u2), so kf = 1 / K and ks = u2 - y2 / K, the effort at which the line leaves
+zero speed (static friction, fed forward with the setpoint's sign). A line that would need a
+negative ks is replaced by kf = u2 / y2 through the origin. The integrator then only corrects
+what load adds or takes away, and a wheel starting from rest or reversing does not wait for it
+to learn the friction.
 """
 
 from __future__ import annotations
@@ -111,8 +115,16 @@ def simc_gains(model: Fopdt) -> PidGains:
     tau_c = theta_e
     kp = model.tau_s / (model.gain * (tau_c + theta_e))
     ti = min(model.tau_s, 4 * (tau_c + theta_e))
-    kf = model.u2 / model.y2 if model.y2 else 0.0
-    return PidGains(kp=_f32_round(kp), ki=_f32_round(kp / ti), kd=0.0, kf=_f32_round(kf))
+    kf, ks = feed_forward(model)
+    return PidGains(kp=_f32_round(kp), ki=_f32_round(kp / ti), kd=0.0, kf=_f32_round(kf), ks=_f32_round(ks))
+
+
+def feed_forward(model: Fopdt) -> tuple[float, float]:
+    """(kf, ks): the steady-state line through the model's two operating points (module docstring)."""
+    ks = model.u2 - model.y2 / model.gain
+    if ks > 0:
+        return 1.0 / model.gain, ks
+    return (model.u2 / model.y2 if model.y2 else 0.0), 0.0
 
 
 def _f32_round(x: float) -> float:

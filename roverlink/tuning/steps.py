@@ -9,6 +9,7 @@ moved), on the MCU's clock.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 from collections.abc import Callable, Iterator
 
 import numpy as np
@@ -59,11 +60,11 @@ def free_ramp(robot: Robot, lift: bool = True) -> Iterator[None]:
 def gains_applied(robot: Robot, wheel: int, gains: PidGains) -> Iterator[None]:
     """`gains` on `wheel` for the block, the wheel's own gains again afterwards."""
     old = robot.pid(wheel)
-    robot.set_pid(kp=gains.kp, ki=gains.ki, kd=gains.kd, kf=gains.kf, wheel=wheel)
+    robot.set_pid(**dataclasses.asdict(gains), wheel=wheel)
     try:
         yield
     finally:
-        robot.set_pid(kp=old.kp, ki=old.ki, kd=old.kd, kf=old.kf, wheel=wheel)
+        robot.set_pid(**dataclasses.asdict(old), wheel=wheel)
 
 
 def run_step(

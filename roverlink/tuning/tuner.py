@@ -3,7 +3,7 @@
 tuner = Tuner(robot, speed_m_s=0.3)
 with tuner.session():                        # armed, setpoint ramp lifted; all restored after
     current = tuner.measure(0, robot.pid(0), "current")
-    model, design, _ = tuner.identify(0)
+    model, design, _ = tuner.identify(0)        # open-loop step, held efforts, candidates
     auto = tuner.measure(0, design.gains, "auto")
 """
 
@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 from host_sdk import PidGains, Robot
 from roverlink.tuning.design import Design, design_gains
+from roverlink.tuning.feedforward import HELD_LOW, HELD_LOW_S, held_line
 from roverlink.tuning.fopdt import Fopdt, fit_fopdt
 from roverlink.tuning.metrics import StepMetrics, StepResponse, mean_metrics, step_metrics
 from roverlink.tuning.steps import free_ramp, gains_applied, run_step
@@ -98,7 +99,9 @@ class Tuner:
                 robot.stop()
                 robot.disarm()
 
-    def _step(self, wheel: int, gains: PidGains, label: str, speed: float, start: float = 0.0) -> StepResponse:
+    def _step(
+        self, wheel: int, gains: PidGains, label: str, speed: float, *, start: float = 0.0, before_s: float = 0.3
+    ) -> StepResponse:
         def told(fraction: float) -> None:
             if self.progress is not None:
                 self.progress(f"wheel {wheel}: {label}", fraction)
@@ -111,6 +114,7 @@ class Tuner:
                 label=label,
                 gains=gains,
                 start_m_s=start,
+                before_s=before_s,
                 hold_s=self.hold_s,
                 on_progress=told,
             )
@@ -123,8 +127,9 @@ class Tuner:
         return Trial(responses[0], mean_metrics([step_metrics(r) for r in responses]), len(responses))
 
     def identify(self, wheel: int, kf: float | None = None) -> tuple[Fopdt, Design, StepResponse]:
-        """Open-loop effort step (feed-forward only), the model fitted to it, and the gains the
-        tuning rule (roverlink.tuning.design) proposes for it."""
+        """Open-loop effort step (feed-forward only), the model fitted to it, the efforts the wheel
+        holds at two speeds under its current gains (the feed-forward line), and the gains the
+        tuning rule (roverlink.tuning.design) proposes for them."""
         if kf is None or kf <= 0:
             kf = self.robot.pid(wheel).kf or 1.0
         open_loop = PidGains(kp=0.0, ki=0.0, kd=0.0, kf=kf)
@@ -134,11 +139,16 @@ class Tuner:
         u2 = kf * self.speed_m_s * 1000
         hold = response.t_s < self.hold_s
         model = fit_fopdt(response.t_s[hold], response.speed_m_s[hold] * 1000, u1, u2)
+        current = self.robot.pid(wheel)
+        held = self._step(
+            wheel, current, "held", self.speed_m_s, start=self.speed_m_s * HELD_LOW, before_s=HELD_LOW_S
+        )
         design = design_gains(
             model,
             self.speed_m_s * 1000,
             self.robot.config.max_effort_permille,
-            current=self.robot.pid(wheel),
+            current=current,
+            line=held_line(held),
         )
         return model, design, response
 

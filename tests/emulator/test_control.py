@@ -107,15 +107,16 @@ def test_config_range_and_consistency_rules() -> None:
     assert first_inconsistent(swapped) == fields.index("steering_center_cdeg")
     esc = SetConfig(**{**good.fields(), "esc_neutral_us": 2000})
     assert first_inconsistent(esc) == fields.index("esc_neutral_us")
-    assert first_out_of_range(SetPid(0, math.nan, 0.0, 0.0, 0.0)) == 1
-    assert first_out_of_range(SetPid(0, 1.0, 0.0, math.inf, 0.0)) == 3
+    assert first_out_of_range(SetPid(0, math.nan, 0.0, 0.0, 0.0, 0.0)) == 1
+    assert first_out_of_range(SetPid(0, 1.0, 0.0, math.inf, 0.0, 0.0)) == 3
+    assert first_out_of_range(SetPid(0, 1.0, 0.0, 0.0, 0.0, -1.0)) == 5
 
 
 def test_eeprom_image_round_trip_and_corruption() -> None:
     robot = get_profile("diffdrive-bts7960").robot
-    gains = [Gains.of(robot.pid), Gains(1.0, 2.0, 0.5, 0.25)]
+    gains = [Gains.of(robot.pid), Gains(1.0, 2.0, 0.5, 0.25, 30.0)]
     image = encode_image(robot.config, gains)
-    assert len(image) == IMAGE_SIZE == 81  # the C++ core's layout (docs/firmware.md)
+    assert len(image) == IMAGE_SIZE == 89  # the C++ core's layout (docs/firmware.md)
     assert image[:3] == b"RL\x01"
     assert decode_image(image) == (LoadResult.OK, robot.config, gains)
     for i in range(IMAGE_SIZE):

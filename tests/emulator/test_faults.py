@@ -241,7 +241,7 @@ def test_failing_eeprom_answers_eeprom_error() -> None:
     host = Host(emu)
     host.session(arm=False)
     emu.fail_eeprom()
-    host.request(messages.SetPid(255, 1.5, 5.0, 0.0, 1.4))
+    host.request(messages.SetPid(255, 1.5, 5.0, 0.0, 1.4, 0.0))
     answer = host.request(messages.SaveConfig(), timeout_s=1.0)
     assert isinstance(answer, messages.Nack) and answer.reason is NackReason.EEPROM_ERROR
     assert emu.truth.mcu.eeprom_failing

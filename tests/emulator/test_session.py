@@ -156,15 +156,15 @@ def test_duplicate_reliable_request_is_answered_again_but_applied_once(host: Hos
 
 def test_duplicate_set_pid_and_fresh_get_pid(host: Host) -> None:
     host.session(arm=False)
-    first = host.request(messages.SetPid(0, 2.0, 3.0, 0.0, 1.0), seq=40)
+    first = host.request(messages.SetPid(0, 2.0, 3.0, 0.0, 1.0, 20.0), seq=40)
     assert isinstance(first, messages.Ack)
-    assert host.request(messages.SetPid(0, 2.0, 3.0, 0.0, 1.0), seq=40) == first
+    assert host.request(messages.SetPid(0, 2.0, 3.0, 0.0, 1.0, 20.0), seq=40) == first
     fw = host.emu.truth.firmware
     assert fw is not None and fw.link.duplicates == 1
     reply = host.request(messages.GetPid(0), seq=41)
-    assert isinstance(reply, messages.Pid) and (reply.kp, reply.ki, reply.kf) == (2.0, 3.0, 1.0)
+    assert isinstance(reply, messages.Pid) and (reply.kp, reply.ki, reply.kf, reply.ks) == (2.0, 3.0, 1.0, 20.0)
     # A retried GET is answered with the current values (another SET_PID in between).
-    host.request(messages.SetPid(255, 4.0, 3.0, 0.0, 1.0), seq=42)
+    host.request(messages.SetPid(255, 4.0, 3.0, 0.0, 1.0, 0.0), seq=42)
     host.request(messages.GetPid(0), seq=43)
     again = host.request(messages.GetPid(0), seq=43)
     assert isinstance(again, messages.Pid) and again.kp == 4.0 and again.req_seq == 43
@@ -172,11 +172,11 @@ def test_duplicate_set_pid_and_fresh_get_pid(host: Host) -> None:
 
 def test_set_pid_out_of_range_fields_name_their_index(host: Host) -> None:
     host.session(arm=False)
-    nan = struct.pack("<Bffff", 0, 1.0, float("nan"), 0.0, 1.0)
+    nan = struct.pack("<Bfffff", 0, 1.0, float("nan"), 0.0, 1.0, 0.0)
     host.send_raw(raw_frame(messages.SetPid, nan, seq=60))
     nack = host.wait_for(messages.Nack, 0.2)
     assert (nack.req_seq, nack.reason, nack.detail) == (60, NackReason.OUT_OF_RANGE, 2)
-    bad_wheel = host.request(messages.SetPid(7, 1.0, 1.0, 0.0, 1.0))
+    bad_wheel = host.request(messages.SetPid(7, 1.0, 1.0, 0.0, 1.0, 0.0))
     assert isinstance(bad_wheel, messages.Nack) and (bad_wheel.reason, bad_wheel.detail) == (NackReason.OUT_OF_RANGE, 0)
     fw = host.emu.truth.firmware
     assert fw is not None and fw.gains[0].ki == 6.0  # unchanged
@@ -234,7 +234,7 @@ def test_save_config_survives_a_reset_and_is_refused_while_armed() -> None:
     host.request(messages.Disarm())
     config = emu.profile.robot.config
     host.request(messages.SetConfig(**{**config.fields(), "feedback_hz": 20}))
-    host.request(messages.SetPid(1, 0.5, 2.0, 0.0, 1.25))
+    host.request(messages.SetPid(1, 0.5, 2.0, 0.0, 1.25, 35.0))
     t0 = emu.now_us
     assert isinstance(host.request(messages.SaveConfig()), messages.Ack)
     assert emu.now_us - t0 > 50_000  # dozens of changed bytes at 3.4 ms each: the loop stalled
@@ -243,7 +243,7 @@ def test_save_config_survives_a_reset_and_is_refused_while_armed() -> None:
     host.run(0.5)
     fw = emu.truth.firmware
     assert fw is not None and not fw.config_defaults and fw.config.feedback_hz == 20
-    assert fw.gains[1].kf == 1.25 and fw.gains[0].kf == 1.5
+    assert fw.gains[1].kf == 1.25 and fw.gains[1].ks == 35.0 and fw.gains[0].kf == 1.5
     assert fw.boot_count == 2 and boot.boot_id != emu.boot_ids[0]
     idle = [fb for fb in host.of(messages.Feedback) if fb.boot_id == boot.boot_id]
     assert 9 <= len(idle) <= 11  # 20 Hz in IDLE now

@@ -274,7 +274,7 @@ def test_lockstep_feedback_answers_each_setpoint() -> None:
     with NativeSim("diffdrive-bts7960") as sim:
         host = HostLink(sim)
         open_and_arm(sim, host, mode=FeedbackMode.LOCKSTEP, watchdog_ms=2000)
-        host.send(messages.SetPid(wheel=255, kp=0.0, ki=0.0, kd=0.0, kf=0.0))  # no plant here
+        host.send(messages.SetPid(wheel=255, kp=0.0, ki=0.0, kd=0.0, kf=0.0, ks=0.0))  # no plant here
         host.run()
         assert not only(host.run(100_000), messages.Feedback)
         for k in range(10):
@@ -324,7 +324,7 @@ def test_config_survives_a_power_cycle_and_corruption_falls_back_to_defaults() -
         host.send(hello())
         changed = dataclasses.replace(defaults, accel_limit_mm_s2=1234, feedback_hz=25)
         seq_cfg = host.send(changed)
-        seq_pid = host.send(messages.SetPid(wheel=1, kp=2.0, ki=3.0, kd=0.5, kf=1.0))
+        seq_pid = host.send(messages.SetPid(wheel=1, kp=2.0, ki=3.0, kd=0.5, kf=1.0, ks=25.0))
         seq_save = host.send(messages.SaveConfig())
         acks = {a.req_seq for a in only(host.run(), messages.Ack)}
         assert {seq_cfg, seq_pid, seq_save} <= acks

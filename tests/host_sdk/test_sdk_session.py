@@ -186,14 +186,14 @@ def test_a_reset_during_that_silence_fails_the_request_with_the_reset_alone() ->
 def test_a_new_request_never_reuses_the_last_requests_msg_id_and_seq() -> None:
     """The firmware would answer it as a duplicate and not apply it."""
     session, board = opened()
-    req = session.submit(messages.SetPid(wheel=0, kp=1, ki=1, kd=0, kf=1), 1.0)
+    req = session.submit(messages.SetPid(wheel=0, kp=1, ki=1, kd=0, kf=1, ks=0), 1.0)
     first = next(seq for m, seq in board.sent() if isinstance(m, messages.SetPid))
     board.send(messages.Ack(messages.SetPid.MSG_ID, first), 1.01)
     assert req.done and req.error is None
     for _ in range(255):  # setpoints would normally do this; PINGs are just as good
         session._send(messages.Ping(0), 1.02)
     board.sent()
-    session.submit(messages.SetPid(wheel=0, kp=2, ki=1, kd=0, kf=1), 1.03)
+    session.submit(messages.SetPid(wheel=0, kp=2, ki=1, kd=0, kf=1, ks=0), 1.03)
     sent = board.sent()
     second = next(seq for m, seq in sent if isinstance(m, messages.SetPid))
     assert second != first

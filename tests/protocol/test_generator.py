@@ -102,11 +102,11 @@ def test_cpp_range_checks_leave_out_the_bounds_of_the_type() -> None:
 
 def test_cpp_range_checks_loop_over_adjacent_fields_with_the_same_check() -> None:
     source = render(spec())["arduino/RoverLink/src/generated/roverlink_protocol.cpp"]
-    # SET_PID's gains, fields 1..4, 0.0..1000.0: from -0.0's key (0x7FFFFFFF) to 1000.0's
+    # SET_PID's gains, fields 1..5, 0.0..1000.0: from -0.0's key (0x7FFFFFFF) to 1000.0's
     # (0x447A0000 with the sign bit set)
     set_pid = source[source.index("uint8_t check_ranges(const SetPid& m) {") :]
     set_pid = set_pid[: set_pid.index("\n}\n")]
-    assert "for (uint8_t i = 0; i < 4; ++i) {" in set_pid
+    assert "for (uint8_t i = 0; i < 5; ++i) {" in set_pid
     assert "offsetof(SetPid, kp) + i * sizeof v" in set_pid
     assert "if (!layout::f32_within(v, 0x7FFFFFFFUL, 0xC47A0000UL)) return static_cast<uint8_t>(1 + i);" in set_pid
     # the accel and decel limits (fields 2, 3) share 1..65535; max_wheel_speed (4) has its own range

@@ -133,7 +133,7 @@ def sc_save_config(h: Host) -> dict[str, object]:
     fields.update(accel_limit_mm_s2=1500, watchdog_ms=300, feedback_hz=25, max_wheel_speed_mm_s=500)
     out: dict[str, object] = {"log": wire(log)}
     out["set_config"] = wire(h.request(messages.SetConfig(**fields)))
-    out["set_pid"] = wire(h.request(messages.SetPid(wheel=1, kp=1.25, ki=5.5, kd=0.0, kf=1.625)))
+    out["set_pid"] = wire(h.request(messages.SetPid(wheel=1, kp=1.25, ki=5.5, kd=0.0, kf=1.625, ks=12.5)))
     h.request(messages.Arm(b.boot_id))
     out["save_armed"] = wire(h.request(messages.SaveConfig()))
     h.request(messages.Disarm())

@@ -23,6 +23,7 @@ from conformance_scenarios import (
     sc_lockstep_disarmed,
     sc_reliable_config,
     sc_reset_mid_session,
+    sc_turn_then_straight,
 )
 
 from emulator.firmware.config import IMAGE_ADDR, Gains, encode_image
@@ -44,6 +45,7 @@ SCENARIOS = {
     "config_fallback:invalid": sc_config_fallback,
     "esc_arming": sc_esc_arming,
     "leds": sc_leds,
+    "turn_then_straight": sc_turn_then_straight,
 }
 PROFILE = "diffdrive-tb6612"
 SCENARIO_PROFILE = {"esc_arming": "picar"}

@@ -283,3 +283,22 @@ def sc_drive(h: Host, profile: str) -> dict[str, object]:
         "edges_truth": truth.encoder_edges,
         "setpoint": setpoint,
     }
+
+
+TURN_WHEELS_MM_S = (0, 60)
+"""The turn before the straight run: one wheel standing, where a wheel controller without the
+static-friction feed-forward starts with no effort learnt and lags its ramp."""
+
+
+def sc_turn_then_straight(h: Host) -> dict[str, object]:
+    """A slow turn held for 2 s, then 300 mm/s on both wheels at once for 1.5 s: the heading the
+    plant turned during the straight part (ground truth)."""
+    open_session(h)
+    for _ in range(200):
+        h.send(messages.SetWheelSpeeds(*TURN_WHEELS_MM_S))
+        h.run_ms(TICK_MS)
+    theta0 = h.b.truth().theta_rad
+    for _ in range(150):
+        h.send(messages.SetWheelSpeeds(300, 300))
+        h.run_ms(TICK_MS)
+    return {"veer_deg": math.degrees(math.remainder(h.b.truth().theta_rad - theta0, 2 * math.pi))}

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x522F713F
+// spec hash: 0x3416EC25
 // Defaults of the AckermannPiCar example (picar): Ackermann PiCar: Uno, brushless drive motor behind an ESC (calibrated at boot), one motor encoder, steering servo 65..125 degrees in 15 degree steps, stream feedback.
 // Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.
 #ifndef ROVERLINK_EXAMPLE_ACKERMANNPICAR_PROFILE_H
@@ -65,7 +65,8 @@ static inline roverlink::proto::SetPid default_pid() {
     p.kp = 0.3f;
     p.ki = 1.5f;
     p.kd = 0.0f;
-    p.kf = 0.4f;
+    p.kf = 0.33f;
+    p.ks = 85.0f;
     return p;
 }
 

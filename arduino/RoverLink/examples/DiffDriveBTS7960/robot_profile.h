@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x522F713F
+// spec hash: 0x3416EC25
 // Defaults of the DiffDriveBTS7960 example (diffdrive-bts7960): 3D-printed SLAM robot: Mega 2560, two BTS7960 drivers (RPWM/LPWM), 19.2:1 gearmotors with 64 CPR encoders, lockstep command/feedback.
 // Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.
 #ifndef ROVERLINK_EXAMPLE_DIFFDRIVEBTS7960_PROFILE_H
@@ -73,7 +73,8 @@ static inline roverlink::proto::SetPid default_pid() {
     p.kp = 0.6f;
     p.ki = 4.0f;
     p.kd = 0.0f;
-    p.kf = 0.75f;
+    p.kf = 0.62f;
+    p.ks = 62.0f;
     return p;
 }
 

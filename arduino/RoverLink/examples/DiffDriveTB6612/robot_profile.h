@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x522F713F
+// spec hash: 0x3416EC25
 // Defaults of the DiffDriveTB6612 example (diffdrive-tb6612): ros_arduino_bridge-style differential-drive car: Mega 2560, TB6612 (or L298N), two quadrature encoders, four turn-signal LEDs, stream feedback.
 // Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.
 #ifndef ROVERLINK_EXAMPLE_DIFFDRIVETB6612_PROFILE_H
@@ -77,7 +77,8 @@ static inline roverlink::proto::SetPid default_pid() {
     p.kp = 1.0f;
     p.ki = 6.0f;
     p.kd = 0.0f;
-    p.kf = 1.5f;
+    p.kf = 1.25f;
+    p.ks = 70.0f;
     return p;
 }
 

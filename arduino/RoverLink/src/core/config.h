@@ -6,7 +6,7 @@
 //   0x010..       config image:
 //                   'R' 'L' IMAGE_VERSION SetConfig::CRC_EXTRA SetPid::CRC_EXTRA
 //                   SET_CONFIG payload (the wire packing, little-endian)
-//                   one SET_PID payload per wheel (wheel index, kp, ki, kd, kf)
+//                   one SET_PID payload per wheel (wheel index, kp, ki, kd, kf, ks)
 //                   CRC-16/CCITT-FALSE of everything above, little-endian
 // The two CRC_EXTRA bytes change whenever the spec changes those messages' layout, so an image
 // written by another firmware version reads as "another version" and the defaults are used.

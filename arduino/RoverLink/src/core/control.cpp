@@ -39,7 +39,10 @@ int16_t pid_step(const Gains& g, float r, int16_t m, int16_t m_prev, float max_e
     const float e = r - static_cast<float>(m);
     // Derivative on the measurement (no kick on setpoint steps): -kd * (m - m_prev) / dt.
     const float d = g.kd * static_cast<float>((static_cast<int32_t>(m_prev) - m) * static_cast<int32_t>(proto::CONTROL_RATE_HZ));
-    float u = g.kf * r + g.kp * e + integral + d;
+    // Static friction is fed forward with the setpoint's sign, so a wheel starting from rest or
+    // reversing gets its breakaway effort at once instead of waiting for the integrator to learn it.
+    const float s = r > 0.0f ? g.ks : (r < 0.0f ? -g.ks : 0.0f);
+    float u = g.kf * r + s + g.kp * e + integral + d;
     const bool high = u > max_effort;
     const bool low = u < -max_effort;
     saturated = high || low;

@@ -33,13 +33,14 @@ struct Gains {
     float ki;  // permille per mm (per second of error)
     float kd;  // permille per mm/s^2, on the measurement
     float kf;  // permille per mm/s of setpoint (feed-forward)
+    float ks;  // permille with the setpoint's sign (static-friction feed-forward)
 };
 
-// SET_PID's four gains are a Gains (the same floats in the same order): copied as one block.
-static_assert(sizeof(Gains) == 4 * sizeof(float) &&
-                  offsetof(proto::SetPid, kf) - offsetof(proto::SetPid, kp) == 3 * sizeof(float) &&
-                  sizeof(proto::SetPid::kp) == sizeof(float) && sizeof(proto::SetPid::kf) == sizeof(float),
-              "SET_PID's kp..kf must be laid out as control::Gains");
+// SET_PID's five gains are a Gains (the same floats in the same order): copied as one block.
+static_assert(sizeof(Gains) == 5 * sizeof(float) &&
+                  offsetof(proto::SetPid, ks) - offsetof(proto::SetPid, kp) == 4 * sizeof(float) &&
+                  sizeof(proto::SetPid::kp) == sizeof(float) && sizeof(proto::SetPid::ks) == sizeof(float),
+              "SET_PID's kp..ks must be laid out as control::Gains");
 inline void gains_from(Gains& g, const proto::SetPid& p) {
     memcpy(&g, reinterpret_cast<const uint8_t*>(&p) + offsetof(proto::SetPid, kp), sizeof g);
 }

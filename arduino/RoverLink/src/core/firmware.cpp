@@ -356,6 +356,7 @@ uint8_t Firmware::tick_wheel(uint8_t w, int32_t raw, uint16_t periods, bool hold
             // Open loop (no encoder to close it on): feed-forward only.
             ff.kp = ff.ki = ff.kd = 0.0f;
             ff.kf = g->kf;
+            ff.ks = g->ks;
             g = &ff;
             wh.integral = 0.0f;
             m = m_prev = 0;

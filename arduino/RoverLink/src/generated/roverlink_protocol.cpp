@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x522F713F
+// spec hash: 0x3416EC25
 #include "roverlink_protocol.h"
 
 namespace roverlink {
@@ -27,6 +27,7 @@ static_assert(offsetof(SetPid, kp) == 1, "SET_PID.kp is not at its wire offset")
 static_assert(offsetof(SetPid, ki) == 5, "SET_PID.ki is not at its wire offset");
 static_assert(offsetof(SetPid, kd) == 9, "SET_PID.kd is not at its wire offset");
 static_assert(offsetof(SetPid, kf) == 13, "SET_PID.kf is not at its wire offset");
+static_assert(offsetof(SetPid, ks) == 17, "SET_PID.ks is not at its wire offset");
 static_assert(sizeof(SetPid) == SetPid::PAYLOAD_MAX, "SET_PID is not its payload's image");
 static_assert(GetPid::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_PID payload exceeds MAX_PAYLOAD");
 static_assert(offsetof(GetPid, wheel) == 0, "GET_PID.wheel is not at its wire offset");
@@ -103,6 +104,7 @@ static_assert(offsetof(Pid, kp) == 2, "PID.kp is not at its wire offset");
 static_assert(offsetof(Pid, ki) == 6, "PID.ki is not at its wire offset");
 static_assert(offsetof(Pid, kd) == 10, "PID.kd is not at its wire offset");
 static_assert(offsetof(Pid, kf) == 14, "PID.kf is not at its wire offset");
+static_assert(offsetof(Pid, ks) == 18, "PID.ks is not at its wire offset");
 static_assert(sizeof(Pid) == Pid::PAYLOAD_MAX, "PID is not its payload's image");
 static_assert(Config::PAYLOAD_MAX <= MAX_PAYLOAD, "CONFIG payload exceeds MAX_PAYLOAD");
 static_assert(offsetof(Config, req_seq) == 0, "CONFIG.req_seq is not at its wire offset");
@@ -283,8 +285,8 @@ uint8_t check_ranges(const Hello& m) {
 }
 
 uint8_t check_ranges(const SetPid& m) {
-    // kp, ki, kd, kf: 0.0f..1000.0f, as order keys
-    for (uint8_t i = 0; i < 4; ++i) {
+    // kp, ki, kd, kf, ks: 0.0f..1000.0f, as order keys
+    for (uint8_t i = 0; i < 5; ++i) {
         float v;
         memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(SetPid, kp) + i * sizeof v, sizeof v);
         if (!layout::f32_within(v, 0x7FFFFFFFUL, 0xC47A0000UL)) return static_cast<uint8_t>(1 + i);
@@ -403,8 +405,8 @@ uint8_t check_ranges(const Nack& m) {
 }
 
 uint8_t check_ranges(const Pid& m) {
-    // kp, ki, kd, kf: 0.0f..1000.0f, as order keys
-    for (uint8_t i = 0; i < 4; ++i) {
+    // kp, ki, kd, kf, ks: 0.0f..1000.0f, as order keys
+    for (uint8_t i = 0; i < 5; ++i) {
         float v;
         memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(Pid, kp) + i * sizeof v, sizeof v);
         if (!layout::f32_within(v, 0x7FFFFFFFUL, 0xC47A0000UL)) return static_cast<uint8_t>(2 + i);

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x522F713F
+// spec hash: 0x3416EC25
 // RoverLink protocol: constants, enums, message structs (packed wire images) and their checks,
 // pack/unpack, dispatch, state table.
 #ifndef ROVERLINK_GENERATED_PROTOCOL_H
@@ -19,7 +19,7 @@ namespace roverlink {
 namespace proto {
 
 static const uint8_t PROTOCOL_VERSION = 2;
-static const uint32_t SPEC_HASH = 0x522F713FUL;
+static const uint32_t SPEC_HASH = 0x3416EC25UL;
 static const uint8_t MAX_PAYLOAD = 64;
 static const uint8_t MAX_BODY = 68;  // msg_id + seq + payload + crc
 static const uint8_t MAX_FRAME = 70;  // COBS-encoded body + delimiter
@@ -266,19 +266,21 @@ inline uint8_t check_ranges(const Disarm&) { return ALL_FIELDS_VALID; }
 
 // SET_PID (0x12, host to mcu, reliable): Sets the velocity PID gains of one wheel (or all). Takes effect at the next control tick; the integrator is reset.
 struct ROVERLINK_PACKED SetPid {
-    enum : uint8_t { ID = 0x12, CRC_EXTRA = 0xCA, PAYLOAD_SIZE = 17, PAYLOAD_MAX = 17 };
+    enum : uint8_t { ID = 0x12, CRC_EXTRA = 0x34, PAYLOAD_SIZE = 21, PAYLOAD_MAX = 21 };
     enum : uint8_t {  // field indices (NACK detail)
         FIELD_WHEEL = 0,
         FIELD_KP = 1,
         FIELD_KI = 2,
         FIELD_KD = 3,
         FIELD_KF = 4,
+        FIELD_KS = 5,
     };
     uint8_t wheel;  // Wheel index (0..WHEEL_COUNT-1) or PID_ALL_WHEELS.
     float kp;  // Proportional gain. [permille/(mm/s)]
     float ki;  // Integral gain (per second of error). [permille/mm]
     float kd;  // Derivative gain, on the measurement. [permille/(mm/s^2)]
     float kf;  // Feed-forward gain on the setpoint. [permille/(mm/s)]
+    float ks;  // Static-friction feed-forward: the effort that starts the wheel, added with the setpoint's sign. [permille]
 };
 // Returns the payload length.
 inline uint8_t pack(const SetPid& m, uint8_t* payload) {
@@ -576,13 +578,14 @@ uint8_t check_ranges(const Nack& m);
 
 // PID (0x85, mcu to host, reliable): Answer to GET_PID.
 struct ROVERLINK_PACKED Pid {
-    enum : uint8_t { ID = 0x85, CRC_EXTRA = 0x31, PAYLOAD_SIZE = 18, PAYLOAD_MAX = 18 };
+    enum : uint8_t { ID = 0x85, CRC_EXTRA = 0x09, PAYLOAD_SIZE = 22, PAYLOAD_MAX = 22 };
     uint8_t req_seq;  // seq of the GET_PID.
     uint8_t wheel;  // Wheel index.
     float kp;  // Proportional gain. [permille/(mm/s)]
     float ki;  // Integral gain (per second of error). [permille/mm]
     float kd;  // Derivative gain, on the measurement. [permille/(mm/s^2)]
     float kf;  // Feed-forward gain on the setpoint. [permille/(mm/s)]
+    float ks;  // Static-friction feed-forward: the effort that starts the wheel, added with the setpoint's sign. [permille]
 };
 // Returns the payload length.
 inline uint8_t pack(const Pid& m, uint8_t* payload) {

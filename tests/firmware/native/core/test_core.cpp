@@ -106,7 +106,7 @@ static uint8_t last_id(const Host& h) { return h.frames.empty() ? 0 : h.frames.b
 
 // Zero gains: effort stays 0, so tests without a plant never trip the encoder-fault check.
 static void quiet_pid(Host& h) {
-    proto::SetPid p = {proto::PID_ALL_WHEELS, 0.0f, 0.0f, 0.0f, 0.0f};
+    proto::SetPid p = {proto::PID_ALL_WHEELS, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
     h.send(p);
     h.run();
 }
@@ -218,7 +218,7 @@ static void test_ramp_math() {
 }
 
 static void test_pid_math() {
-    control::Gains g = {1.0f, 10.0f, 0.0f, 0.5f};
+    control::Gains g = {1.0f, 10.0f, 0.0f, 0.5f, 0.0f};
     float integral = 0;
     bool sat = false;
 
@@ -228,15 +228,24 @@ static void test_pid_math() {
     CHECK(fabsf(integral - 10.0f * 40 * 0.01f) < 1e-4f);
     CHECK(!sat);
 
+    CONTEXT("pid: static friction fed forward with the setpoint's sign, none at a zero setpoint");
+    control::Gains gs = {0.0f, 0.0f, 0.0f, 1.0f, 80.0f};
+    integral = 0;
+    CHECK_EQ(control::pid_step(gs, 10.0f, 0, 0, 1000, integral, sat), 90);
+    CHECK_EQ(control::pid_step(gs, -0.01f, 0, 0, 1000, integral, sat), -80);  // reversing: at once
+    CHECK_EQ(control::pid_step(gs, 0.0f, 0, 0, 1000, integral, sat), 0);
+    CHECK_EQ(control::pid_step(gs, 950.0f, 0, 0, 1000, integral, sat), 1000);  // part of the clamped sum
+    CHECK(sat);
+
     CONTEXT("pid: derivative on measurement (no kick on a setpoint step)");
-    control::Gains gd = {0.0f, 0.0f, 2.0f, 0.0f};
+    control::Gains gd = {0.0f, 0.0f, 2.0f, 0.0f, 0.0f};
     integral = 0;
     CHECK_EQ(control::pid_step(gd, 500, 100, 100, 1000, integral, sat), 0);      // r jumped, m did not
     CHECK_EQ(control::pid_step(gd, 500, 110, 100, 1000, integral, sat), -1000);  // -2000, clamped
     CHECK_EQ(control::pid_step(gd, 500, 101, 100, 1000, integral, sat), -200);   // -kd * 1 / 0.01
 
     CONTEXT("pid: output limits");
-    control::Gains big = {50.0f, 0.0f, 0.0f, 0.0f};
+    control::Gains big = {50.0f, 0.0f, 0.0f, 0.0f, 0.0f};
     integral = 0;
     CHECK_EQ(control::pid_step(big, 1000, 0, 0, 400, integral, sat), 400);
     CHECK(sat);
@@ -244,7 +253,7 @@ static void test_pid_math() {
     CHECK(sat);
 
     CONTEXT("pid: conditional integration (anti-windup)");
-    control::Gains gi = {1.0f, 50.0f, 0.0f, 0.0f};
+    control::Gains gi = {1.0f, 50.0f, 0.0f, 0.0f, 0.0f};
     integral = 0;
     for (int i = 0; i < 1000; ++i) {
         control::pid_step(gi, 800, 0, 0, 500, integral, sat);  // hopelessly saturated
@@ -252,7 +261,7 @@ static void test_pid_math() {
     CHECK(sat);
     CHECK(integral == 0.0f);  // e > 0 pushes further into saturation: never integrated
     // Saturated high while the error is negative: integrating pulls u back, so it is allowed.
-    control::Gains gb = {1.0f, 50.0f, 0.0f, 10.0f};
+    control::Gains gb = {1.0f, 50.0f, 0.0f, 10.0f, 0.0f};
     integral = 480;
     control::pid_step(gb, 100, 150, 150, 500, integral, sat);  // u_unsat = 1000 - 50 + 480
     CHECK(sat);
@@ -263,7 +272,7 @@ static void test_pid_math() {
     CHECK(sat);
     CHECK(integral == -100.0f);
     // A naive integrator would have wound up to the clamp; the integral is also clamped.
-    control::Gains wind = {0.0f, 1000.0f, 0.0f, 0.0f};
+    control::Gains wind = {0.0f, 1000.0f, 0.0f, 0.0f, 0.0f};
     integral = 0;
     for (int i = 0; i < 100; ++i) {
         control::pid_step(wind, 10, 0, 0, 300, integral, sat);
@@ -854,7 +863,7 @@ static void test_pid_requests() {
     Host h(s);
     open_session(h);
     CONTEXT("SET_PID / GET_PID");
-    proto::SetPid p = {1, 2.5f, 3.5f, 0.25f, 1.25f};
+    proto::SetPid p = {1, 2.5f, 3.5f, 0.25f, 1.25f, 40.0f};
     uint8_t seq = h.send(p);
     h.run();
     CHECK(acked(h, proto::SetPid::ID, seq));
@@ -864,7 +873,7 @@ static void test_pid_requests() {
     proto::Pid pid;
     CHECK(h.last(pid));
     CHECK(pid.req_seq == seq && pid.wheel == 1 && pid.kp == 2.5f && pid.ki == 3.5f && pid.kd == 0.25f &&
-          pid.kf == 1.25f);
+          pid.kf == 1.25f && pid.ks == 40.0f);
     g.wheel = 0;
     seq = h.send(g);
     h.run();
@@ -893,6 +902,12 @@ static void test_pid_requests() {
     seq = h.send(p);
     h.run();
     CHECK(nacked(h, proto::SetPid::ID, seq, NackReason::OUT_OF_RANGE, 4));
+    p.kf = 1;
+    p.ks = 1000.5f;
+    seq = h.send(p);
+    h.run();
+    CHECK(nacked(h, proto::SetPid::ID, seq, NackReason::OUT_OF_RANGE, 5));
+    p.ks = 0;
     CHECK(s.fw->gains(0).kp == TB6612.default_pid().kp);  // refused: nothing changed
     p.kf = 2;
     seq = h.send(p);
@@ -1184,9 +1199,10 @@ static void test_anti_windup_recovery() {
     proto::Feedback fb;
     CHECK(h.last(fb) && (fb.status & proto::Status::SATURATED));
     CHECK_EQ(s.fw->effort(0), 1000);
-    // Conditional integration stops where the output saturates: kf*r + kp*e + I = max, i.e.
-    // I = 1000 - 600 - 150 = 250 here, instead of winding up to the clamp (1000).
-    CHECK(s.fw->integral(0) < 270.0f);
+    // Conditional integration stops where the output saturates: kf*r + ks + kp*e + I = max, with
+    // e = 400 - 250 here, instead of winding up to the clamp (1000).
+    const proto::SetPid pid = TB6612.default_pid();
+    CHECK(s.fw->integral(0) < 1000.0f - pid.kf * 400 - pid.ks - pid.kp * 150 + 20.0f);
     plants[0].gain_mm_s = plants[1].gain_mm_s = 700.0;  // load removed
     std::vector<double> trace;
     run_plant(s, h, plants, 2, 1500, &go, &trace);
@@ -1541,7 +1557,7 @@ static void test_eeprom_round_trip() {
     c.wheel_diameter_um = 70000;
     c.feedback_hz = 20;
     h.send(c);
-    proto::SetPid p = {1, 1.5f, 2.5f, 0.5f, 1.75f};
+    proto::SetPid p = {1, 1.5f, 2.5f, 0.5f, 1.75f, 60.0f};
     h.send(p);
     const uint8_t seq = h.send(proto::SaveConfig());
     h.run();
@@ -1562,7 +1578,7 @@ static void test_eeprom_round_trip() {
     CHECK_EQ(s.fw->config().accel_limit_mm_s2, 777);
     CHECK(s.fw->config().safe_state == proto::SafeState::COAST);
     CHECK_EQ(s.fw->config().wheel_diameter_um, 70000u);
-    CHECK(s.fw->gains(1).kp == 1.5f && s.fw->gains(1).kf == 1.75f);
+    CHECK(s.fw->gains(1).kp == 1.5f && s.fw->gains(1).kf == 1.75f && s.fw->gains(1).ks == 60.0f);
     CHECK(s.fw->gains(0).kp == TB6612.default_pid().kp);
     proto::Identity id;
     CHECK(h.last(id) && id.feedback_hz == 20);
@@ -1637,7 +1653,7 @@ static void test_eeprom_corruption() {
     CONTEXT("a good CRC over inconsistent values -> defaults");
     proto::SetConfig bad = BTS7960.default_config();
     bad.servo_min_us = bad.servo_max_us;
-    control::Gains g[2] = {{1, 1, 0, 1}, {1, 1, 0, 1}};
+    control::Gains g[2] = {{1, 1, 0, 1, 0}, {1, 1, 0, 1, 0}};
     uint8_t scratch[proto::MAX_FRAME];
     CHECK(config::save(s.board, bad, g, scratch));
     CHECK(boot_log(s, h).find("invalid") != std::string::npos);
@@ -1797,8 +1813,10 @@ static void test_bare_robot() {
         h.send(go);
         h.run(50000);
     }
-    CHECK_EQ(s.fw->effort(0), 450);   // kf 1.5 * 300
-    CHECK_EQ(s.fw->effort(1), -450);
+    const proto::SetPid pid = TB6612.default_pid();
+    const int16_t ff = static_cast<int16_t>(control::round_half_away(pid.kf * 300 + pid.ks));  // kf*r + ks
+    CHECK_EQ(s.fw->effort(0), ff);
+    CHECK_EQ(s.fw->effort(1), -ff);
     CHECK(s.fw->state() == SessionState::ARMED);  // no encoder fault without encoders
     h.send(proto::Disarm());
     const uint8_t s2 = h.send(proto::SaveConfig());
@@ -1835,7 +1853,7 @@ static void random_frame(Sim& s, Host& h) {
     }
     case 6: {
         proto::SetPid p = {static_cast<uint8_t>(rnd() % 3), (rnd() % 300) / 100.0f, (rnd() % 1000) / 100.0f, 0.0f,
-                           (rnd() % 300) / 100.0f};
+                           (rnd() % 300) / 100.0f, static_cast<float>(rnd() % 100)};
         h.send(p);
         break;
     }

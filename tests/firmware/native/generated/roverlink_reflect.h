@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x522F713F
+// spec hash: 0x3416EC25
 // Test-only: text view of every message for tests/firmware/native/rl_codec.cpp. Not part of the library.
 #ifndef ROVERLINK_REFLECT_H
 #define ROVERLINK_REFLECT_H
@@ -132,6 +132,8 @@ inline void print_fields(FILE* f, const proto::SetPid& m) {
     print_f32(f, m.kd);
     fputs(" kf=", f);
     print_f32(f, m.kf);
+    fputs(" ks=", f);
+    print_f32(f, m.ks);
 }
 
 inline bool set_field(proto::SetPid& m, const char* name, const char* value) {
@@ -158,6 +160,11 @@ inline bool set_field(proto::SetPid& m, const char* name, const char* value) {
     if (strcmp(name, "kf") == 0) {
         const char* v = value;
         m.kf = parse_f32(v);
+        return true;
+    }
+    if (strcmp(name, "ks") == 0) {
+        const char* v = value;
+        m.ks = parse_f32(v);
         return true;
     }
     return false;
@@ -617,6 +624,8 @@ inline void print_fields(FILE* f, const proto::Pid& m) {
     print_f32(f, m.kd);
     fputs(" kf=", f);
     print_f32(f, m.kf);
+    fputs(" ks=", f);
+    print_f32(f, m.ks);
 }
 
 inline bool set_field(proto::Pid& m, const char* name, const char* value) {
@@ -648,6 +657,11 @@ inline bool set_field(proto::Pid& m, const char* name, const char* value) {
     if (strcmp(name, "kf") == 0) {
         const char* v = value;
         m.kf = parse_f32(v);
+        return true;
+    }
+    if (strcmp(name, "ks") == 0) {
+        const char* v = value;
+        m.ks = parse_f32(v);
         return true;
     }
     return false;

@@ -1,0 +1,71 @@
+"""The feed-forward (kf, ks) from what the closed loop holds at two speeds.
+
+A wheel's steady effort is close to a line in its speed: effort = kf * speed + ks, where ks is
+the effort that static friction, the gearbox and the driver's deadband take before the wheel
+turns. With the line fed forward (ks with the setpoint's sign, docs/control.md), the integrator
+only corrects load, so a wheel starting from rest or reversing does not wait for it to learn the
+friction: the veer after a turn (benchmarks/veer.py) comes from the ramps alone.
+
+The line is measured, not inferred from the open-loop model: the wheel holds a low speed and then
+the test speed under its current gains, and the mean effort over the last part of each hold is
+what the feed-forward must supply there. The open-loop step (roverlink.tuning.fopdt) gives the
+dynamics; its two operating points sit where the motor's curve bends, so a line through them
+misses the slope at speed by about 10 %.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from roverlink.tuning.fopdt import IdentificationError
+from roverlink.tuning.metrics import StepResponse
+
+HELD_LOW = 0.1
+"""The low hold, as a fraction of the test speed: just above breakaway."""
+HELD_LOW_S = 1.0
+"""How long the low speed is held before the step (the integrator settles on the friction)."""
+_SETTLED_S = 0.4
+"""Each hold's last part, averaged."""
+
+
+class LineError(IdentificationError):
+    """The two holds do not give a line (the wheel did not hold the speeds)."""
+
+
+@dataclass(frozen=True, slots=True)
+class StaticLine:
+    """effort = kf * speed + ks, permille and mm/s (the firmware's units)."""
+
+    kf: float
+    ks: float
+    speeds_mm_s: tuple[float, float]
+    efforts: tuple[float, float]
+    """Permille, at the two speeds."""
+
+    def describe(self) -> str:
+        (v1, v2), (u1, u2) = self.speeds_mm_s, self.efforts
+        return (
+            f"steady effort {u1:.0f} permille at {v1:.0f} mm/s, {u2:.0f} at {v2:.0f}: "
+            f"kf {self.kf:.3f} per mm/s, ks {self.ks:.0f} permille"
+        )
+
+
+def held_line(response: StepResponse) -> StaticLine:
+    """The line through the efforts `response` held before its step and at the end of its hold."""
+    t = response.t_s
+    low = (t < 0) & (t >= -_SETTLED_S)
+    high = (t < response.hold_s) & (t >= response.hold_s - _SETTLED_S)
+    if low.sum() < 5 or high.sum() < 5:
+        raise LineError(f"the holds gave {int(low.sum())} and {int(high.sum())} samples: lengthen the test")
+    v1, v2 = (float(response.speed_m_s[m].mean()) * 1000 for m in (low, high))
+    u1, u2 = (float(response.effort[m].mean()) * 1000 for m in (low, high))
+    if v2 - v1 < 20.0 or u2 <= u1:
+        raise LineError(
+            f"the wheel held {v1:.0f} and {v2:.0f} mm/s at {u1:.0f} and {u2:.0f} permille: "
+            "no line (is the wheel free to spin, and does it follow the motor?)"
+        )
+    kf = (u2 - u1) / (v2 - v1)
+    ks = max(0.0, u1 - kf * v1)
+    if ks == 0.0:
+        kf = u2 / v2  # no friction to speak of: the line through the origin at the test speed
+    return StaticLine(kf, ks, (v1, v2), (u1, u2))
