@@ -146,9 +146,7 @@ def design_gains(
     ranked = tuple(_typed_gains(grid[i]) for i in order if grid[i] is not current)[:RANKED]
     best = order[0]
     gains = current if grid[best] is current and current is not None else _typed_gains(grid[best])
-    return Design(
-        gains, float(settling[best]), float(overshoot[best]), float(iae[best]), simc, len(grid), ranked, line
-    )
+    return Design(gains, float(settling[best]), float(overshoot[best]), float(iae[best]), simc, len(grid), ranked, line)
 
 
 def _typed_gains(g: PidGains) -> PidGains:

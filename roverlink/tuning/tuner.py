@@ -140,9 +140,7 @@ class Tuner:
         hold = response.t_s < self.hold_s
         model = fit_fopdt(response.t_s[hold], response.speed_m_s[hold] * 1000, u1, u2)
         current = self.robot.pid(wheel)
-        held = self._step(
-            wheel, current, "held", self.speed_m_s, start=self.speed_m_s * HELD_LOW, before_s=HELD_LOW_S
-        )
+        held = self._step(wheel, current, "held", self.speed_m_s, start=self.speed_m_s * HELD_LOW, before_s=HELD_LOW_S)
         design = design_gains(
             model,
             self.speed_m_s * 1000,
