@@ -91,6 +91,16 @@ def test_anti_windup_stops_integrating_into_the_limit() -> None:
     assert not sat and u < 1000
 
 
+def test_static_friction_is_fed_forward_with_the_setpoints_sign() -> None:
+    """The same cases as the C++ core's test (test_core.cpp, "pid: static friction")."""
+    pid = WheelPid()
+    g = Gains(kp=0.0, ki=0.0, kd=0.0, kf=1.0, ks=80.0)
+    assert pid.update(10, 10, 0, gains=g, max_effort=1000, dt=0.01) == (90, False)
+    assert pid.update(-1, -0.01, 0, gains=g, max_effort=1000, dt=0.01) == (-80, False)  # reversing: at once
+    assert pid.update(0, 0, 0, gains=g, max_effort=1000, dt=0.01) == (0, False)
+    assert pid.update(950, 950, 0, gains=g, max_effort=1000, dt=0.01) == (1000, True)
+
+
 def test_effort_limit_clamps_and_reports_saturation() -> None:
     pid = WheelPid()
     u, sat = pid.update(2000, 2000, 0, gains=Gains(0.3, 1.5, 0.0, 0.4), max_effort=600, dt=0.01)

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from emulator.firmware.statemachine import SessionState
-from host_sdk import Robot, enums, messages
+from host_sdk import PROFILES, Robot, enums, messages
 from host_sdk.errors import (
     CommandRangeError,
     ConnectTimeoutError,
@@ -125,8 +125,12 @@ def test_identity_config_and_pid(robot: Robot) -> None:
     with pytest.raises(CommandRangeError, match=r"0\.4"):
         robot.drive(0.5, 0.0)
     gains = robot.set_pid(kp=2.0)
-    assert gains.kp == 2.0 and gains.kf == 1.5
+    assert gains.kp == 2.0 and gains.kf == PROFILES["diffdrive-tb6612"].pid.kf
     assert robot.pid(1).kp == 2.0  # wheel=None set every wheel
+    assert robot.set_pid(ks=40.0, wheel=1).ks == 40.0 and robot.pid(0).ks == PROFILES["diffdrive-tb6612"].pid.ks
+    with pytest.raises(CommandRangeError) as err:
+        robot.set_pid(ks=-5.0)
+    assert err.value.argument == "ks" and "1000" in err.value.allowed
 
 
 def test_config_errors_name_the_field(robot: Robot) -> None:
