@@ -27,7 +27,7 @@ Figures (docs/budgets.md states the budgets and why they are per byte):
   decoder's counters) while SET_PID frames arrive back to back, divided by the bytes of those
   frames. The ratio printed is 214.8 / that figure.
 * Read, decode and dispatch cycles per byte of frame (budget <= 120): the cycles inside
-  Session::poll while the host sends SET_PID frames (17-byte payload, 23 bytes on the wire, the
+  Session::poll while the host sends SET_PID frames (21-byte payload, 27 bytes on the wire, the
   command nearest the 16-byte payload the anchor was measured with) back to back at 115200 baud
   for 1 s, less the instructions whose source is the Arduino core's serial driver
   (HardwareSerial*.cpp/.h, Print, Stream, and what is inlined into their functions, e.g.

@@ -10,6 +10,7 @@ drive(speed, 0) works on every robot (set_wheel_speeds() is for differential dri
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 
 from host_sdk import Robot
@@ -31,16 +32,16 @@ def step_response(robot: Robot, target_m_s: float = 0.3, seconds: float = 1.0) -
 def main(url: str = "emu://") -> None:
     with Robot.connect(url) as robot:
         before = robot.pid(0)
-        print(f"gains now: kp={before.kp} ki={before.ki} kd={before.kd} kf={before.kf}")
+        print(f"gains now: kp={before.kp} ki={before.ki} kd={before.kd} kf={before.kf} ks={before.ks}")
         robot.arm()
         print(f"mean speed error, default gains:    {step_response(robot) * 1000:.1f} mm/s")
         robot.disarm()
-        after = robot.set_pid(kp=before.kp / 4, ki=before.ki / 4, kf=before.kf / 2)  # every wheel; verified
-        print(f"gains set: kp={after.kp} ki={after.ki} kf={after.kf}")
+        after = robot.set_pid(kp=before.kp / 4, ki=before.ki / 4, kf=before.kf / 2, ks=0.0)  # every wheel; verified
+        print(f"gains set: kp={after.kp} ki={after.ki} kf={after.kf} ks={after.ks}")
         robot.arm()
         print(f"mean speed error, detuned gains:    {step_response(robot) * 1000:.1f} mm/s")
         robot.disarm()
-        robot.set_pid(kp=before.kp, ki=before.ki, kf=before.kf)  # back (save_config() would make gains stick)
+        robot.set_pid(**dataclasses.asdict(before))  # back (save_config() would make gains stick)
 
 
 if __name__ == "__main__":
