@@ -59,9 +59,7 @@ def _stand(robot: Robot, prompter: Prompter, speed: float) -> bool:
 def _print_trials(report: WheelReport, out: list[str]) -> None:
     for trial in report.trials:
         g = trial.response.gains
-        out.append(
-            f"  {trial.response.label:<10} kp {g.kp:<7g} ki {g.ki:<7g} kd {g.kd:<5g} kf {g.kf:<7g} ks {g.ks:g}"
-        )
+        out.append(f"  {trial.response.label:<10} kp {g.kp:<7g} ki {g.ki:<7g} kd {g.kd:<5g} kf {g.kf:<7g} ks {g.ks:g}")
         out.append(f"             {trial.metrics.row()}")
 
 
