@@ -141,7 +141,8 @@ class ControlTick:
         for w in range(WHEEL_COUNT):
             delta = wrap_i32(counts[w] - self.counts[w])
             self.deltas[w] = delta
-            self.measured[w] = round_half_away(delta * per_count)
+            # Without the ENCODERS capability there is nothing to measure (the C++ core reports 0).
+            self.measured[w] = round_half_away(delta * per_count) if self.caps & Capability.ENCODERS else 0
         self.counts = counts
 
     def _take_setpoint(self, armed: bool) -> bool:
@@ -184,11 +185,16 @@ class ControlTick:
                     config.decel_limit_mm_s2,
                 )
             target = 0 if esc_hold or w >= self.wheels else self.targets[w]
+            gains = self.gains[w]
+            if not self.caps & Capability.ENCODERS:
+                # Open loop (no encoder to close it on): the feed-forward alone.
+                gains = Gains(0.0, 0.0, 0.0, gains.kf, gains.ks)
+                pid.reset()
             u, sat = pid.update(
                 target,
                 self.ramped_units[w] / RAMP_UNITS,
                 self.measured[w],
-                gains=self.gains[w],
+                gains=gains,
                 max_effort=config.max_effort_permille,
                 dt=DT_S,
             )

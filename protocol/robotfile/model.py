@@ -261,7 +261,7 @@ class RobotFile:
     def pid_gains(self, wheel: int = 255) -> SetPid:
         """SET_PID with the file's gains (wheel 255: all wheels)."""
         p = self.pid
-        return SetPid(wheel=wheel, kp=p.kp, ki=p.ki, kd=p.kd, kf=p.kf, ks=p.ks * 1000)
+        return SetPid(wheel=wheel, kp=p.kp, ki=p.ki, kd=p.kd, kf=p.kf, ks=p.ks)
 
     def mounts(self) -> tuple[Mount, ...]:
         """The sensors' mounts, as protocol.sensors describes them (lidar, imu, camera)."""

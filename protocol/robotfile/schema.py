@@ -195,11 +195,10 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
         Key(
             "ks",
             "float",
-            "",
-            "Static-friction feed-forward: the effort (a fraction of full) that starts a wheel, added with "
-            "the setpoint's sign.",
+            "permille",
+            "Static-friction feed-forward: the effort that starts a wheel, added with the setpoint's sign.",
             0.0,
-            *_range("ks", 0.001, SetPid),
+            *_range("ks", 1, SetPid),
         ),
     ),
     "feedback": (

@@ -15,6 +15,7 @@ from host_sdk.extras import MissingDependencyError, require
 from protocol.generated.constants import FEEDBACK_HZ_MAX
 from roverlink.console import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
 from roverlink.emulated import place_on_stand
+from roverlink.tuning.design import Design
 from roverlink.tuning.metrics import StepMetrics, StepResponse
 from roverlink.tuning.plot import plot_steps
 from roverlink.tuning.steps import wheel_count
@@ -114,12 +115,18 @@ def apply_proposals(
     return lines
 
 
+def _feed_forward(design: Design) -> str:
+    if design.line is not None:
+        return design.line.describe()
+    return f"the model's line ({design.line_note})" if design.line_note else "the model's line"
+
+
 def _auto_lines(report: WheelReport) -> list[str]:
     auto = report.auto
     assert auto is not None
     lines = [
         f"  model: {auto.model.describe()}",
-        *([f"  feed-forward: {auto.design.line.describe()}"] if auto.design.line is not None else []),
+        f"  feed-forward: {_feed_forward(auto.design)}",
         f"  {auto.design.candidates} candidates ranked on the model (roverlink.tuning.design); "
         f"the best {len(auto.tried)} stepped on the robot",
     ]
@@ -191,7 +198,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--speed", type=float, default=None, help="step size in m/s (default 40 %% of the speed limit)")
     p.add_argument("--hold", type=float, default=1.0, help="how long each step is held, s (default 1)")
     p.add_argument(
-        "--try", dest="try_gains", type=parse_gains, action="append", metavar="KP,KI,KD,KF", help="candidate gains"
+        "--try",
+        dest="try_gains",
+        type=parse_gains,
+        action="append",
+        metavar="KP,KI,KD,KF[,KS]",
+        help="candidate gains (KS omitted: 0)",
     )
     p.add_argument("--auto", action="store_true", help="identify a model, propose gains, apply them after asking")
     p.add_argument("--plot", default="tune.png", metavar="FILE.png", help="plot file (default tune.png; '' for none)")

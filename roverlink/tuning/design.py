@@ -56,6 +56,8 @@ class Design:
     `Tuner.auto` tries on the robot."""
     line: StaticLine | None = None
     """The efforts held, the feed-forward's source (None: the model's)."""
+    line_note: str = ""
+    """Why the held efforts gave no line (then the model's feed-forward is used)."""
 
 
 def simulate(

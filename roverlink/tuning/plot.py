@@ -25,7 +25,7 @@ def plot_steps(
         for i, (resp, m) in enumerate(trials):
             color = f"C{i}"
             settle = f"{m.settling_time_s * 1000:.0f} ms" if m.settling_time_s is not None else "never"
-            label = f"{resp.label}: kp {resp.gains.kp:g} ki {resp.gains.ki:g} kf {resp.gains.kf:g}"
+            label = f"{resp.label}: kp {resp.gains.kp:g} ki {resp.gains.ki:g} kf {resp.gains.kf:g} ks {resp.gains.ks:g}"
             label += f"\n  overshoot {m.overshoot * 100:.1f} %, settles {settle}"
             ax_v.plot(resp.t_s * 1000, resp.speed_m_s, ".", color=color, alpha=0.25, markersize=3)
             ax_v.plot(resp.t_s * 1000, smooth(resp.speed_m_s), "-", color=color, label=label)

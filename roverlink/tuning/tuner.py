@@ -10,17 +10,20 @@ with tuner.session():                        # armed, setpoint ramp lifted; all 
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
 from host_sdk import PidGains, Robot
 from roverlink.tuning.design import Design, design_gains
-from roverlink.tuning.feedforward import HELD_LOW, HELD_LOW_S, held_line
-from roverlink.tuning.fopdt import Fopdt, fit_fopdt
-from roverlink.tuning.metrics import StepMetrics, StepResponse, mean_metrics, step_metrics
+from roverlink.tuning.feedforward import HELD_HIGH_S, HELD_LOW, HELD_LOW_S, LineError, StaticLine, held_line
+from roverlink.tuning.fopdt import Fopdt, fit_fopdt, simc_gains
+from roverlink.tuning.metrics import SETTLING_BAND, StepMetrics, StepResponse, mean_metrics, step_metrics
 from roverlink.tuning.steps import free_ramp, gains_applied, run_step
 
 MAX_OVERSHOOT = 0.10
+CLEAR_OF_BAND = 0.8
+"""Proposals prefer a measured overshoot under 80 % of the settling band (4 % of the step)."""
 IDENTIFY_LOW = 0.5
 """The open-loop test first runs at this fraction of the test speed's feed-forward effort."""
 
@@ -100,7 +103,15 @@ class Tuner:
                 robot.disarm()
 
     def _step(
-        self, wheel: int, gains: PidGains, label: str, speed: float, *, start: float = 0.0, before_s: float = 0.3
+        self,
+        wheel: int,
+        gains: PidGains,
+        label: str,
+        speed: float,
+        *,
+        start: float = 0.0,
+        before_s: float = 0.3,
+        hold_s: float | None = None,
     ) -> StepResponse:
         def told(fraction: float) -> None:
             if self.progress is not None:
@@ -115,7 +126,7 @@ class Tuner:
                 gains=gains,
                 start_m_s=start,
                 before_s=before_s,
-                hold_s=self.hold_s,
+                hold_s=self.hold_s if hold_s is None else hold_s,
                 on_progress=told,
             )
 
@@ -127,9 +138,9 @@ class Tuner:
         return Trial(responses[0], mean_metrics([step_metrics(r) for r in responses]), len(responses))
 
     def identify(self, wheel: int, kf: float | None = None) -> tuple[Fopdt, Design, StepResponse]:
-        """Open-loop effort step (feed-forward only), the model fitted to it, the efforts the wheel
-        holds at two speeds under its current gains (the feed-forward line), and the gains the
-        tuning rule (roverlink.tuning.design) proposes for them."""
+        """Open-loop effort step (kf only), the model fitted to it, the efforts the wheel holds at
+        two speeds (the feed-forward line, roverlink.tuning.feedforward), and the gains the tuning
+        rule (roverlink.tuning.design) proposes for them."""
         if kf is None or kf <= 0:
             kf = self.robot.pid(wheel).kf or 1.0
         open_loop = PidGains(kp=0.0, ki=0.0, kd=0.0, kf=kf)
@@ -139,16 +150,34 @@ class Tuner:
         u2 = kf * self.speed_m_s * 1000
         hold = response.t_s < self.hold_s
         model = fit_fopdt(response.t_s[hold], response.speed_m_s[hold] * 1000, u1, u2)
-        current = self.robot.pid(wheel)
-        held = self._step(wheel, current, "held", self.speed_m_s, start=self.speed_m_s * HELD_LOW, before_s=HELD_LOW_S)
+        line, why = self._held_line(wheel, model)
         design = design_gains(
             model,
             self.speed_m_s * 1000,
             self.robot.config.max_effort_permille,
-            current=current,
-            line=held_line(held),
+            current=self.robot.pid(wheel),
+            line=line,
         )
+        if why:
+            design = dataclasses.replace(design, line_note=why)
         return model, design, response
+
+    def _held_line(self, wheel: int, model: Fopdt) -> tuple[StaticLine | None, str]:
+        """The efforts held at 10 % of the test speed and at the test speed under SIMC's PI on the
+        model; (None, why) when the holds missed their speeds."""
+        held = self._step(
+            wheel,
+            simc_gains(model),
+            "held",
+            self.speed_m_s,
+            start=self.speed_m_s * HELD_LOW,
+            before_s=HELD_LOW_S,
+            hold_s=max(self.hold_s, HELD_HIGH_S),
+        )
+        try:
+            return held_line(held), ""
+        except LineError as exc:
+            return None, str(exc)
 
     def auto(self, wheel: int, current: Trial) -> AutoResult:
         """Identify, rank candidates on the model, step the best ones on the robot, and choose
@@ -158,5 +187,8 @@ class Tuner:
         for n, gains in enumerate(design.ranked, 1):
             tried.append(self.measure(wheel, gains, f"auto {n}"))
         good = [t for t in tried if better(t, current)]
-        chosen = min(good, key=lambda t: t.metrics.settling_time_s or 0.0, default=None)
+        # A peak near the edge of the settling band makes the settling time jump by the overshoot's
+        # ringing from one step to the next: prefer candidates clear of it.
+        clear = [t for t in good if t.metrics.overshoot < CLEAR_OF_BAND * SETTLING_BAND]
+        chosen = min(clear or good, key=lambda t: t.metrics.settling_time_s or 0.0, default=None)
         return AutoResult(model, design, tried, chosen)

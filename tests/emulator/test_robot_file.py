@@ -12,6 +12,8 @@ from emulator.profiles import PLANTS, get_profile
 from emulator.robot_file import nearest_reference, profile_from_file
 from emulator.sensors.rig import attach
 from emulator.transport.inprocess import EmulatorTransport, parse_emu_url
+from host_sdk import Robot
+from host_sdk.enums import Capability
 from protocol.robotfile import REFERENCES, RobotFileError, load, reference_path
 from protocol.sensors import ROBOT_SENSORS
 
@@ -126,3 +128,20 @@ def test_physical_deviations_apply_to_the_files_robot(tmp_path: Path) -> None:
     assert profile.wheel_radius_m == pytest.approx(0.035 * 1.02)  # the real robot: 2 % larger wheels
     assert profile.robot.config.wheel_diameter_um == 70000  # the firmware: the file's
     assert profile.robot_file == str(path)
+
+
+def test_a_robot_without_encoders_runs_open_loop_as_the_firmware_does(tmp_path: Path) -> None:
+    """No ENCODERS capability: the effort is the feed-forward alone, kf * r + ks (the C++ core's
+    open loop, test_core.cpp), and the reported speeds are 0."""
+    pins = "pins = [\n    { a = 2, b = 3 },\n    { a = 18, b = 19 },\n]"
+    path = edited(tmp_path, "diffdrive-tb6612", (pins, "pins = []"))
+    with Robot.connect(f"emu://?robot={path}&clock=virtual") as robot:
+        assert not robot.identity.capabilities & Capability.ENCODERS
+        gains = robot.pid(0)
+        robot.arm()
+        for _ in range(60):  # past the ramp (200 mm/s at 1 m/s^2: 0.2 s)
+            robot.set_wheel_speeds(0.2, -0.2)
+            fb = robot.wait_feedback()
+        robot.stop()
+    want = round(gains.kf * 200 + gains.ks) / 1000
+    assert fb.efforts == pytest.approx((want, -want)) and fb.wheel_speeds_m_s == (0.0, 0.0)

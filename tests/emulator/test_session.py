@@ -234,7 +234,7 @@ def test_save_config_survives_a_reset_and_is_refused_while_armed() -> None:
     host.request(messages.Disarm())
     config = emu.profile.robot.config
     host.request(messages.SetConfig(**{**config.fields(), "feedback_hz": 20}))
-    host.request(messages.SetPid(1, 0.5, 2.0, 0.0, 1.25, 35.0))
+    host.request(messages.SetPid(1, 0.5, 2.0, 0.0, 1.75, 35.0))
     t0 = emu.now_us
     assert isinstance(host.request(messages.SaveConfig()), messages.Ack)
     assert emu.now_us - t0 > 50_000  # dozens of changed bytes at 3.4 ms each: the loop stalled
@@ -243,7 +243,7 @@ def test_save_config_survives_a_reset_and_is_refused_while_armed() -> None:
     host.run(0.5)
     fw = emu.truth.firmware
     assert fw is not None and not fw.config_defaults and fw.config.feedback_hz == 20
-    assert fw.gains[1].kf == 1.25 and fw.gains[1].ks == 35.0 and fw.gains[0].kf == 1.5
+    assert fw.gains[1].kf == 1.75 and fw.gains[1].ks == 35.0 and fw.gains[0].kf == emu.profile.robot.pid.kf
     assert fw.boot_count == 2 and boot.boot_id != emu.boot_ids[0]
     idle = [fb for fb in host.of(messages.Feedback) if fb.boot_id == boot.boot_id]
     assert 9 <= len(idle) <= 11  # 20 Hz in IDLE now

@@ -95,7 +95,7 @@ def test_the_files_limits_and_gains_are_set_at_connect(tmp_path: Path) -> None:
         ('safe_state = "brake"', 'safe_state = "coast"'),
         ("kp = 1.0", "kp = 0.7"),
         ("ki = 6.0", "ki = 5.5"),
-        ("ks = 0.07", "ks = 0.055"),
+        ("ks = 70.0", "ks = 55.0"),
     )
     with Robot.connect(TB6612, robot=path) as robot:
         config = robot.read_config()
@@ -103,7 +103,6 @@ def test_the_files_limits_and_gains_are_set_at_connect(tmp_path: Path) -> None:
         assert config.max_wheel_speed_mm_s == 450 and config.accel_limit_mm_s2 == 800
         for wheel in (0, 1):
             gains = robot.pid(wheel)
-            # ks is a fraction of full effort in the file, permille on the wire.
             assert (gains.kp, gains.ki, gains.kd, gains.kf, gains.ks) == (f32(0.7), f32(5.5), 0.0, f32(1.25), 55.0)
         assert robot.mismatches == ()
 

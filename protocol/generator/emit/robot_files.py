@@ -97,7 +97,7 @@ def render(r: Robot) -> str:
     limits |= {"decel_m_s2": c("decel_limit_mm_s2") / 1000, "max_effort": c("max_effort_permille") / 1000}
     limits |= {"watchdog_s": c("watchdog_ms") / 1000, "safe_state": c("safe_state").lower()}
     o += _section("limits", limits)
-    o += _section("pid", {k: float(c(k)) for k in ("kp", "ki", "kd", "kf")} | {"ks": c("ks") / 1000})
+    o += _section("pid", {k: float(c(k)) for k in ("kp", "ki", "kd", "kf", "ks")})
     feedback = {"mode": r.feedback_mode.lower(), "rate_hz": float(c("feedback_hz"))}
     o += _section("feedback", feedback | {"lockstep": "LOCKSTEP" in r.capabilities})
     if w.leds:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 from conformance_backends import Backend, Host, make_backend
 from conformance_board_scenarios import (
@@ -14,6 +15,7 @@ from conformance_board_scenarios import (
     sc_save_config,
 )
 from conformance_scenarios import (
+    TURNS_MM_S,
     sc_arm_and_refusals,
     sc_boot,
     sc_drive,
@@ -45,7 +47,7 @@ SCENARIOS = {
     "config_fallback:invalid": sc_config_fallback,
     "esc_arming": sc_esc_arming,
     "leds": sc_leds,
-    "turn_then_straight": sc_turn_then_straight,
+    **{name: functools.partial(sc_turn_then_straight, turn=turn) for name, turn in TURNS_MM_S.items()},
 }
 PROFILE = "diffdrive-tb6612"
 SCENARIO_PROFILE = {"esc_arming": "picar"}

@@ -285,17 +285,18 @@ def sc_drive(h: Host, profile: str) -> dict[str, object]:
     }
 
 
-TURN_WHEELS_MM_S = (0, 60)
-"""The turn before the straight run: one wheel standing, where a wheel controller without the
-static-friction feed-forward starts with no effort learnt and lags its ramp."""
+TURNS_MM_S = {"turn_then_straight": (0, 60), "reverse_then_straight": (-60, 60)}
+"""The turn before the straight run: one wheel standing, or turning backwards, where a wheel
+controller without the static-friction feed-forward has no effort learnt for the new direction
+and lags its ramp."""
 
 
-def sc_turn_then_straight(h: Host) -> dict[str, object]:
+def sc_turn_then_straight(h: Host, turn: tuple[int, int]) -> dict[str, object]:
     """A slow turn held for 2 s, then 300 mm/s on both wheels at once for 1.5 s: the heading the
     plant turned during the straight part (ground truth)."""
     open_session(h)
     for _ in range(200):
-        h.send(messages.SetWheelSpeeds(*TURN_WHEELS_MM_S))
+        h.send(messages.SetWheelSpeeds(*turn))
         h.run_ms(TICK_MS)
     theta0 = h.b.truth().theta_rad
     for _ in range(150):

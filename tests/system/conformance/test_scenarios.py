@@ -19,7 +19,7 @@ import math
 import pytest
 from conformance_backends import BACKENDS, Backend, make_backend
 from conformance_runner import PROFILE, reference, run, run_fresh
-from conformance_scenarios import TICK_MS, TURN_WHEELS_MM_S
+from conformance_scenarios import TICK_MS, TURNS_MM_S
 
 from emulator.firmware.control import ramp_step
 from emulator.firmware.tick import RAMP_UNITS as RAMP_UNITS_PER_MM_S
@@ -157,20 +157,22 @@ def test_step_response_and_odometry(backend_name: str, profile: str) -> None:
 
 
 # Turn, then straight: the heading the plant turns once both wheels are told 300 mm/s is what the
-# ramped setpoints command (the accel limit lets the standing wheel catch up) within 1 degree: the
-# wheel controllers follow their ramps from the first tick, also the one starting from rest, because
-# static friction is fed forward (docs/control.md, step 6). Without it that wheel lags while its
-# integrator learns the friction, and the robot veers 3.3 degrees more. The backends agree within
-# 0.5 degrees (the float32 core, encoder edges a ms late on simavr).
-VEER_OVER_RAMPS_TOL_DEG = 1.0
+# ramped setpoints command (the accel limit lets the slower wheel catch up) within 1 degree after a
+# wheel stood, 2 degrees after it turned backwards: the wheel controllers follow their ramps from
+# the first tick because static friction is fed forward (docs/control.md, step 6). `ks` is a little
+# under this wheel's breakaway effort, which the reversal, starting at the decel limit from the other
+# direction, shows most (+1.4 degrees). Without `ks` the wheel lags while its integrator learns the
+# friction: +3.3 and +6.7 degrees. The backends agree within 0.5 degrees (the float32 core, encoder
+# edges a ms late on simavr).
+VEER_OVER_RAMPS_TOL_DEG = {"turn_then_straight": 1.0, "reverse_then_straight": 2.0}
 VEER_TOL_DEG = 0.5
 
 
-def _ramps_veer_deg(profile: str) -> float:
+def _ramps_veer_deg(profile: str, turn: tuple[int, int]) -> float:
     """The heading the ramped setpoints of sc_turn_then_straight turn, on the firmware's integers."""
     p = PROFILES[profile]
     up, down = p.config.accel_limit_mm_s2, p.config.decel_limit_mm_s2
-    ramped = [v * RAMP_UNITS_PER_MM_S for v in TURN_WHEELS_MM_S]
+    ramped = [v * RAMP_UNITS_PER_MM_S for v in turn]
     heading = 0.0
     for _ in range(150):
         ramped = [ramp_step(r, 300 * RAMP_UNITS_PER_MM_S, up, down) for r in ramped]
@@ -178,14 +180,15 @@ def _ramps_veer_deg(profile: str) -> float:
     return math.degrees(heading)
 
 
+@pytest.mark.parametrize("scenario", TURNS_MM_S)
 @pytest.mark.parametrize("backend_name", BACKENDS)
-def test_a_turn_then_straight_veers_only_as_the_ramps_command(backend_name: str) -> None:
-    got = run_fresh(backend_name, "turn_then_straight")
-    ref = reference("turn_then_straight")
-    ramps = _ramps_veer_deg(PROFILE)
+def test_a_turn_then_straight_veers_only_as_the_ramps_command(backend_name: str, scenario: str) -> None:
+    got = run_fresh(backend_name, scenario)
+    ref = reference(scenario)
+    ramps = _ramps_veer_deg(PROFILE, TURNS_MM_S[scenario])
     veer = float(got["veer_deg"])  # type: ignore[arg-type]
-    print(f"\n  {backend_name}: veer {veer:+.2f} deg (ref {ref['veer_deg']:+.2f}, ramps {ramps:+.2f})")
-    assert abs(veer - ramps) <= VEER_OVER_RAMPS_TOL_DEG
+    print(f"\n  {backend_name} {scenario}: veer {veer:+.2f} deg (ref {ref['veer_deg']:+.2f}, ramps {ramps:+.2f})")
+    assert abs(veer - ramps) <= VEER_OVER_RAMPS_TOL_DEG[scenario]
     assert abs(veer - float(ref["veer_deg"])) <= VEER_TOL_DEG  # type: ignore[arg-type]
 
 
