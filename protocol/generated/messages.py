@@ -244,7 +244,7 @@ class SetPid(Message):
     kf: float
     """Feed-forward gain on the setpoint. [permille/(mm/s)]"""
     ks: float
-    """Static-friction feed-forward: the effort that starts the wheel, added with the setpoint's sign. [permille]"""
+    """Static-friction feed-forward: the effort that keeps the wheel turning at the lowest speeds, added with the setpoint's sign. [permille]"""
 
     def pack(self) -> bytes:
         try:
@@ -962,7 +962,7 @@ class Pid(Message):
     kf: float
     """Feed-forward gain on the setpoint. [permille/(mm/s)]"""
     ks: float
-    """Static-friction feed-forward: the effort that starts the wheel, added with the setpoint's sign. [permille]"""
+    """Static-friction feed-forward: the effort that keeps the wheel turning at the lowest speeds, added with the setpoint's sign. [permille]"""
 
     def pack(self) -> bytes:
         try:

@@ -196,7 +196,8 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
             "ks",
             "float",
             "permille",
-            "Static-friction feed-forward: the effort that starts a wheel, added with the setpoint's sign.",
+            "Static-friction feed-forward (permille of full effort, 70 = 7 %): the effort that keeps a wheel "
+            "turning at the lowest speeds, added with the setpoint's sign.",
             0.0,
             *_range("ks", 1, SetPid),
         ),

@@ -280,7 +280,7 @@ struct ROVERLINK_PACKED SetPid {
     float ki;  // Integral gain (per second of error). [permille/mm]
     float kd;  // Derivative gain, on the measurement. [permille/(mm/s^2)]
     float kf;  // Feed-forward gain on the setpoint. [permille/(mm/s)]
-    float ks;  // Static-friction feed-forward: the effort that starts the wheel, added with the setpoint's sign. [permille]
+    float ks;  // Static-friction feed-forward: the effort that keeps the wheel turning at the lowest speeds, added with the setpoint's sign. [permille]
 };
 // Returns the payload length.
 inline uint8_t pack(const SetPid& m, uint8_t* payload) {
@@ -585,7 +585,7 @@ struct ROVERLINK_PACKED Pid {
     float ki;  // Integral gain (per second of error). [permille/mm]
     float kd;  // Derivative gain, on the measurement. [permille/(mm/s^2)]
     float kf;  // Feed-forward gain on the setpoint. [permille/(mm/s)]
-    float ks;  // Static-friction feed-forward: the effort that starts the wheel, added with the setpoint's sign. [permille]
+    float ks;  // Static-friction feed-forward: the effort that keeps the wheel turning at the lowest speeds, added with the setpoint's sign. [permille]
 };
 // Returns the payload length.
 inline uint8_t pack(const Pid& m, uint8_t* payload) {
