@@ -27,7 +27,7 @@ from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.profiles import get_profile, kinematics_for, profile_for_example
 from host_sdk.robot_config import ConfigCalls
 from host_sdk.robot_description import RobotDescription
-from host_sdk.session import RobotConfig, RobotIdentity
+from host_sdk.session import PidGains, RobotConfig, RobotIdentity
 from host_sdk.transport import Transport
 from protocol.generated.enums import Board, Capability
 from protocol.generated.profiles import PROFILES
@@ -134,8 +134,9 @@ class RobotFileCheck:
         wheels = 2 if robot.identity.capabilities & Capability.DIFF_DRIVE else 1
         gains = [dataclasses.astuple(robot.pid(w)) for w in range(wheels)]
         wire = self.description.pid_gains()
-        if any(_f32(got) != _f32((wire.kp, wire.ki, wire.kd, wire.kf, wire.ks)) for got in gains):
-            robot.set_pid(kp=wire.kp, ki=wire.ki, kd=wire.kd, kf=wire.kf, ks=wire.ks)
+        want = {f.name: getattr(wire, f.name) for f in dataclasses.fields(PidGains)}
+        if any(_f32(got) != _f32(tuple(want.values())) for got in gains):
+            robot.set_pid(**want)
 
 
 def prepare(robot: object, profile: object, kinematics: object, allow_mismatch: object) -> RobotFileCheck | None:

@@ -1,10 +1,11 @@
 """The feed-forward (kf, ks) from what the closed loop holds at two speeds.
 
 A wheel's steady effort is close to a line in its speed: effort = kf * speed + ks, where ks is
-the effort that static friction, the gearbox and the driver's deadband take before the wheel
-turns. With the line fed forward (ks with the setpoint's sign, docs/control.md), the integrator
-only corrects load, so a wheel starting from rest or reversing does not wait for it to learn the
-friction: the veer after a turn (benchmarks/veer.py) comes from the ramps alone.
+the effort that keeps the wheel turning at the lowest speeds (friction, the gearbox, the driver's
+deadband; a little under what starts it). With the line fed forward (ks with the setpoint's sign,
+docs/control.md), the integrator only corrects load and the small rest of the breakaway, so a
+wheel starting from rest or reversing does not wait for it to learn the friction
+(benchmarks/veer.py).
 
 The line is measured, not inferred from the open-loop model: the wheel holds a low speed and then
 the test speed under a PI loop of the tuning's own (SIMC's gains on the model, so that gains in use
