@@ -31,6 +31,9 @@ class RobotGeometry:
     """0: differential drive."""
     curvatures: tuple[float, ...] | None = None
     """Ackermann: the arcs (1/m, left positive) its steering reaches; None: any up to the tightest."""
+    accel_m_s2: float | None = None
+    """The board's speed ramp (its config's accel limit), which the wheels follow once the feed-forward
+    is tuned: how fast a planner may assume the speed changes. None: not known."""
 
     @classmethod
     def from_description(
@@ -42,10 +45,11 @@ class RobotGeometry:
     ) -> RobotGeometry:
         """The geometry a robot file gives: its footprint, camera (size, field of view or
         intrinsics, mount) and lidar mount; the turn radius and steering arcs from `kinematics`
-        and the board's `config` (default: the file's own)."""
+        and the board's `config` (default: the file's own), and that config's speed ramp."""
         kin = kinematics or desc.kinematics()
-        arcs = _arcs(kin, config if config is not None else desc.config())
-        return cls(desc.body(), desc.camera_model(), desc.lidar_mount(), _min_turn(kin), arcs)
+        board = config if config is not None else desc.config()
+        arcs = _arcs(kin, board)
+        return cls(desc.body(), desc.camera_model(), desc.lidar_mount(), _min_turn(kin), arcs, _ramp(board))
 
 
 def mount(profile: str, kind: str) -> Mount:
@@ -101,7 +105,7 @@ def robot_geometry(
 def geometry(profile: str, kinematics: DiffDrive | Ackermann | None, *, config: SetConfig | None = None,
              width: int = 320, height: int = 240) -> RobotGeometry:  # fmt: skip
     """The robot's geometry; with the board's `config` an Ackermann robot's arcs are the ones its
-    steering servo reaches."""
+    steering servo reaches, and the speed ramp is the board's."""
     body = ROBOT_SENSORS[profile]
     cm, lm = mount(profile, "camera"), mount(profile, "lidar")
     return RobotGeometry(
@@ -110,11 +114,16 @@ def geometry(profile: str, kinematics: DiffDrive | Ackermann | None, *, config: 
         LidarMount(lm.x_m, lm.y_m, lm.yaw_rad),
         _min_turn(kinematics),
         _arcs(kinematics, config),
+        _ramp(config),
     )
 
 
 def _min_turn(kinematics: DiffDrive | Ackermann | None) -> float:
     return kinematics.min_turn_radius_m if isinstance(kinematics, Ackermann) else 0.0
+
+
+def _ramp(config: SetConfig | None) -> float | None:
+    return None if config is None else config.accel_limit_mm_s2 / 1000
 
 
 def _arcs(kinematics: DiffDrive | Ackermann | None, config: SetConfig | None) -> tuple[float, ...] | None:

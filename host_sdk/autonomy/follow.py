@@ -135,11 +135,13 @@ class _View:
 
 class Follower:
     """`curvatures`: the arcs (1/m) an Ackermann robot's steering reaches (default: seven up to its
-    tightest); a coarse servo reaches only a few, and the planner plans with what the car can drive."""
+    tightest); a coarse servo reaches only a few, and the planner plans with what the car can drive.
+    `accel_m_s2`: the board's speed ramp (default: the planner's own); a planner that assumes a slower
+    start than the car's sends it farther than it predicts."""
 
     def __init__(self, footprint: Footprint, camera: CameraModel, *, min_turn_radius_m: float = 0.0,
                  avoidance: AvoidanceParams | None = None, params: FollowParams | None = None,
-                 curvatures: Sequence[float] | None = None) -> None:  # fmt: skip
+                 curvatures: Sequence[float] | None = None, accel_m_s2: float | None = None) -> None:  # fmt: skip
         self.footprint = footprint
         self.camera = camera
         self.ackermann = min_turn_radius_m > 0
@@ -150,6 +152,8 @@ class Follower:
         self.memory = self.finder.memory
         speeds = (-p.reverse_speed_m_s, -0.2, 0.0, 0.2, 0.35, p.max_speed_m_s)
         plan = p.planner or PlannerParams(speeds_m_s=speeds, target_radius_m=p.target_size_m / 2)
+        if accel_m_s2 is not None and p.planner is None:
+            plan = replace(plan, accel_m_s2=accel_m_s2)
         if self.ackermann:
             k = self.avoider.params.max_curvature
             arcs = curvatures if curvatures is not None else np.linspace(-k, k, 7).tolist()

@@ -96,7 +96,8 @@ class FollowPilot:
         gap = follow_gap(geometry) if follow_gap_m is None else follow_gap_m
         params = FollowParams(follow_gap_m=gap, max_speed_m_s=max_speed_m_s)
         follower = Follower(geometry.footprint, geometry.camera, min_turn_radius_m=geometry.min_turn_radius_m,
-                            avoidance=AvoidanceParams(), params=params, curvatures=geometry.curvatures)  # fmt: skip
+                            avoidance=AvoidanceParams(), params=params, curvatures=geometry.curvatures,
+                            accel_m_s2=geometry.accel_m_s2)  # fmt: skip
         return cls(ScanFilter(geometry.lidar_mount), tracker, follower)
 
     def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
