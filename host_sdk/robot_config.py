@@ -12,6 +12,8 @@ import threading
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
+
 from host_sdk import checks
 from host_sdk.callbacks import FeedbackCallback
 from host_sdk.errors import CommandRangeError, EncodeError, RoverLinkError
@@ -104,7 +106,10 @@ class ConfigCalls:
         checks.integer("wheel", wheel, 0, self._wheels() - 1, what="a wheel index")
         reply = self._request(GetPid(wheel=wheel))
         assert isinstance(reply, Pid)
-        return PidGains(reply.kp, reply.ki, reply.kd, reply.kf, reply.ks)
+        gains = (reply.kp, reply.ki, reply.kd, reply.kf, reply.ks)
+        # The board keeps f32: 0.62 comes back as 0.6200000047683716. The shortest decimal that is the
+        # same f32 reads as it was set, and sent back it is the same gain.
+        return PidGains(*(float(str(np.float32(g))) for g in gains))
 
     def set_pid(
         self,

@@ -136,8 +136,9 @@ class _View:
 class Follower:
     """`curvatures`: the arcs (1/m) an Ackermann robot's steering reaches (default: seven up to its
     tightest); a coarse servo reaches only a few, and the planner plans with what the car can drive.
-    `accel_m_s2`: the board's speed ramp (default: the planner's own); a planner that assumes a slower
-    start than the car's sends it farther than it predicts."""
+    `accel_m_s2`: the board's accel limit, what the planner assumes the speed changes at (default: the
+    planner's own; `FollowParams.planner`, when given, is used as it is); a planner that assumes a
+    slower start than the car's sends it farther than it predicts."""
 
     def __init__(self, footprint: Footprint, camera: CameraModel, *, min_turn_radius_m: float = 0.0,
                  avoidance: AvoidanceParams | None = None, params: FollowParams | None = None,

@@ -57,8 +57,9 @@ class PlannerParams:
     """Spacing of the points each manoeuvre is judged at."""
     speeds_m_s: tuple[float, ...] = (-0.35, -0.2, 0.0, 0.2, 0.35, 0.45)
     accel_m_s2: float = 1.0
-    """How fast the speed follows the command: the board's ramp, which a tuned wheel follows (a
-    `Follower` given the board's accel limit plans with it)."""
+    """How fast the speed follows the command: the board's accel limit, which a tuned wheel follows
+    speeding up (a `Follower` given it plans with it); slowing, the board allows more (its decel
+    limit), so this errs towards the car running on."""
     latency_s: float = 0.15
     """The previous command still drives this long (scan age, loop period, control tick)."""
     decel_m_s2: float = 0.8

@@ -54,10 +54,13 @@ def roverlink_options(request: pytest.FixtureRequest) -> dict[str, Any]:
     for marker in reversed(list(request.node.iter_markers("roverlink"))):
         if marker.args:
             pytest.fail(f"@pytest.mark.roverlink takes keywords only, not {marker.args!r}", pytrace=False)
+        problem = None
         try:
             check_options(marker.kwargs, "@pytest.mark.roverlink")
         except TypeError as exc:
-            pytest.fail(str(exc), pytrace=False)
+            problem = str(exc)
+        if problem is not None:  # failed outside the handler: one message, not two chained
+            pytest.fail(problem, pytrace=False)
         options.update(marker.kwargs)
     return options
 

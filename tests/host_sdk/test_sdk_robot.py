@@ -131,6 +131,8 @@ def test_identity_config_and_pid(robot: Robot) -> None:
     with pytest.raises(CommandRangeError) as err:
         robot.set_pid(ks=-5.0)
     assert err.value.argument == "ks" and "1000" in err.value.allowed
+    # The board keeps f32 (0.62 is 0.6200000047683716 there); the gains read back as they were set.
+    assert robot.set_pid(kf=0.62, kp=0.1).kf == 0.62 and robot.pid(0).kp == 0.1
 
 
 def test_config_errors_name_the_field(robot: Robot) -> None:

@@ -48,6 +48,7 @@ def test_a_bad_marker_key_is_named_with_the_allowed_ones(pytester: pytest.Pytest
     out = result.stdout.str()
     assert "unknown option 'imux'" in out
     assert "TypeError: Robot.connect()" not in out
+    assert "During handling of the above exception" not in out  # one message, not the TypeError too
     for allowed in ("profile", "imu", "lidar", "camera", "world", "watchdog_s"):
         assert allowed in out
 
@@ -70,6 +71,15 @@ def test_odometry_agrees_with_the_truth_for_any_drive(steps: list[Step]) -> None
     tolerance = 0.01 + 0.02 * plant.distance_m
     assert math.hypot(plant.x_m - pose.x_m, plant.y_m - pose.y_m) <= tolerance
     assert abs(plant.theta_rad - pose.theta_rad) <= tolerance
+
+
+def test_the_documented_property_test_runs_as_a_users_own(pytester: pytest.Pytester) -> None:
+    """docs/sdk.md's "Property tests" block as a test file of a user's project, in a process of its
+    own: with Hypothesis' defaults, not this suite's profile (which has no deadline)."""
+    section = (ROOT / "docs" / "sdk.md").read_text(encoding="utf-8").split("### Property tests (Hypothesis)")[1]
+    pytester.makepyfile(section.split("```python\n")[1].split("```")[0])
+    result = pytester.runpytest_subprocess("-p", "no:cacheprovider", "-p", "no:asyncio")
+    result.assert_outcomes(passed=1)
 
 
 @pytest.mark.parametrize("profile", ["diffdrive-tb6612", "picar"])

@@ -118,6 +118,19 @@ def test_venv_sh_installs_in_compat_mode() -> None:
     assert "EDITABLE_MODE=compat" in script and '--config-settings editable_mode="$EDITABLE_MODE"' in script
 
 
+def test_every_editable_install_the_docs_show_is_one_mypy_can_follow() -> None:
+    """A user who installs by hand, as the README or the docs show, gets the same compat install."""
+    root = Path(__file__).resolve().parents[2]
+    lines = [
+        (doc.name, line)
+        for doc in [root / "README.md", *sorted((root / "docs").glob("*.md"))]
+        for line in doc.read_text(encoding="utf-8").splitlines()
+        if "pip install" in line and " -e " in line
+    ]
+    assert any(name == "README.md" for name, _ in lines)
+    assert [(n, line) for n, line in lines if "editable_mode=compat" not in line] == []
+
+
 # == transport.endpoints ============================================================================
 class _Cable(Transport):
     url = "/dev/ttyACM0"
