@@ -33,7 +33,8 @@ from protocol.generated.enums import Board, Capability
 from protocol.generated.profiles import PROFILES
 from protocol.robotfile import Calibration
 
-_log = logging.getLogger("host_sdk")
+_log = logging.getLogger("host_sdk.robot_file")
+"""Differences allowed with allow_mismatch (a program that reports `robot.mismatches` itself may turn it off)."""
 
 # CONFIG fields the file's hardware fixes: (field, the file's key, scale to the file's unit, unit).
 _BUILD = (

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
 from collections.abc import Sequence
 
@@ -22,6 +23,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    # The commands print each difference from --robot FILE themselves (`warning:` lines; the ROS 2
+    # bridge hands the logger to the ROS log): unhandled, the SDK's line would reach stderr twice.
+    quiet = logging.getLogger("host_sdk.robot_file")
+    quiet.propagate = False
+    quiet.addHandler(logging.NullHandler())
     try:
         result: int = args.func(args)
     except MissingDependencyError as exc:

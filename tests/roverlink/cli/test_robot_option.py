@@ -4,6 +4,8 @@ naming both sides, or with --allow-mismatch a warning."""
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -66,6 +68,20 @@ def test_a_board_unlike_the_file_fails_or_warns_with_allow_mismatch(
     assert main(["info", URL, "--robot", str(mine), "--allow-mismatch"]) == 0
     out, err = capsys.readouterr()
     assert "warning:" in err and "wheel_diameter_um = 64000" in err and "DiffDriveTB6612" in out
+
+
+def test_each_allowed_difference_is_one_line_on_a_terminal(tmp_path: Path) -> None:
+    """As a user runs it (no logging set up, unlike under pytest): the command's `warning:` line,
+    not the SDK's log line for the same difference as well."""
+    text = reference_path("diffdrive-tb6612").read_text(encoding="utf-8")
+    mine = tmp_path / "my.toml"
+    mine.write_text(text.replace("wheel_diameter_m = 0.064", "wheel_diameter_m = 0.065"), encoding="utf-8")
+    argv = ["info", URL, "--robot", str(mine), "--allow-mismatch"]
+    done = subprocess.run(
+        [sys.executable, "-m", "roverlink.cli", *argv], check=False, capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.count("wheel_diameter_m = 0.065") == 1, done.stderr
 
 
 def test_robot_and_profile_exclude_each_other(capsys: pytest.CaptureFixture[str]) -> None:
