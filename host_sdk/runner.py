@@ -49,6 +49,7 @@ class Runner:
         self.transport = transport
         self.lock = threading.RLock()
         self.cond = threading.Condition(self.lock)
+        self._delivering = threading.RLock()
         self.closed = False
         self._dispatch = dispatch
         self._pending: list[Event] = []
@@ -133,12 +134,15 @@ class Runner:
         self.cond.notify_all()
 
     def _deliver(self) -> None:
-        """Run the user's callbacks for what happened (never with the lock held)."""
+        """Run the user's callbacks for what happened (never with the session's lock held), one
+        thread at a time: on a virtual clock every waiting thread moves the emulator, and two that
+        delivered at once handed a subscriber sample 9 before 8."""
         if not self._pending:
             return
-        with self.lock:
-            events, self._pending = self._pending, []
-        self._dispatch(events)
+        with self._delivering:  # reentrant: a callback may wait on the robot, and deliver in turn
+            with self.lock:
+                events, self._pending = self._pending, []
+            self._dispatch(events)
 
     def wait(self, predicate: Callable[[], bool], timeout_s: float) -> bool:
         """Wait until `predicate()` (evaluated with the lock held) is true, the robot breaks or

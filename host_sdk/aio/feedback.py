@@ -34,7 +34,8 @@ class FeedbackStream:
     the oldest is dropped to make room (a control loop wants the newest), `dropped` counts them,
     a warning is logged once, and the gap shows in `FeedbackSample.index` (consecutive otherwise).
     Raises FeedbackTimeoutError when no sample comes within `timeout_s` (the robot's clock), the
-    link's own error when it breaks; ends when the robot is closed or `aclose()` is called.
+    link's own error when it breaks; ends when the robot is closed or `aclose()` is called. It goes
+    on across a board reset, which it leaves to the robot's next drive call, wait, arm or request.
     """
 
     def __init__(self, robot: Robot, *, timeout_s: float = 1.0, maxsize: int = DEFAULT_MAXSIZE) -> None:
@@ -83,8 +84,9 @@ class FeedbackStream:
     async def __anext__(self) -> FeedbackSample:
         if not self._buffer and not self._closed:
             try:
-                # Waits for (and on a virtual clock runs the emulator up to) the next sample.
-                await asyncio.to_thread(self._robot.wait_feedback, self._timeout)
+                # Waits for (and on a virtual clock runs the emulator up to) the next sample. As
+                # feedback_stream, it goes on across a reset and leaves it to the robot's next call.
+                await asyncio.to_thread(self._robot._next_feedback, self._timeout, False)
             except RobotClosedError:
                 self._finish()
             await self._delivered()

@@ -23,6 +23,7 @@ from host_sdk.errors import (
     NackError,
     NotArmedError,
     RobotClosedError,
+    SessionResetError,
 )
 from host_sdk.session import FeedbackSample
 
@@ -88,6 +89,52 @@ async def test_connect_arm_drive_and_every_sample_in_order(url: str) -> None:
         assert robot.stats.feedback_received >= 40
         sync = robot.sync
     assert sync.closed and robot.closed
+
+
+@pytest.mark.parametrize("url", [VIRTUAL, REAL], ids=["virtual", "real"])
+async def test_two_streams_in_two_tasks_each_get_every_sample_in_order(url: str) -> None:
+    """On a virtual clock each waiting thread moves the emulator and runs the callbacks for what it
+    made: two of them at once once delivered sample 9 before 8."""
+    async with AsyncRobot.connect(url, timeout_s=5.0) as robot:
+
+        async def collect() -> list[int]:
+            seen: list[int] = []
+            async for sample in robot.feedback():
+                seen.append(sample.index)
+                if len(seen) == 100:
+                    break
+            return seen
+
+        for seen in await asyncio.gather(collect(), collect(), collect()):
+            assert seen == list(range(seen[0], seen[0] + 100))
+
+
+async def test_a_stream_goes_on_across_a_reset_and_leaves_it_to_the_driving_task() -> None:
+    """The recovery pattern in one task, a feedback logger in another: the logger's stream does not
+    take the reset (docs/sdk.md: "one reset, one error"), the driving task meets it and re-arms. On
+    the real clock: on a virtual one the logger's waits carry the clock past the driver's renewals
+    (docs/sdk.md, "Cancellation"), and the board's watchdog trips first."""
+    async with AsyncRobot.connect(REAL + "&faults=reset@1", timeout_s=5.0) as robot:
+        await robot.arm()
+        resets = 0
+        logged: list[int] = []
+
+        async def log_feedback() -> None:
+            async for sample in robot.feedback(timeout_s=3.0):
+                logged.append(sample.index)
+
+        logger = asyncio.create_task(log_feedback())
+        start = robot.now()
+        while robot.now() - start < 4.0:
+            try:
+                robot.drive(0.2, 0.0)
+                await robot.sleep(0.05)
+            except SessionResetError:
+                resets += 1
+                await robot.arm()
+        assert not logger.done(), logger  # the stream neither raised nor ended
+        logger.cancel()
+        assert resets == 1 and robot.stats.resets_detected == 1 and len(logged) > 100
 
 
 @pytest.mark.parametrize("url", [VIRTUAL, REAL], ids=["virtual", "real"])
