@@ -81,8 +81,13 @@ class _Read(Generic[T]):
     def __get__(self, robot: AsyncRobot | None, owner: type[Any]) -> T | Self:
         return self if robot is None else self._get(robot.sync)
 
+    def __set_name__(self, owner: type[Any], name: str) -> None:
+        self._name = name
+
     def __set__(self, robot: AsyncRobot, value: Never) -> None:
-        raise AttributeError("read-only: set it on the Robot (robot.sync)")
+        # None of these can be set on the Robot either: the calls that change them are named.
+        raise AttributeError(f"{self._name} is read-only: the robot's state, changed by its calls (arm, disarm, "
+                             "set_config, close...)")  # fmt: skip
 
 
 class Connecting:
@@ -194,7 +199,10 @@ class AsyncRobot:
 
         None is lost while the consumer keeps up; `maxsize` samples are buffered, and when full
         the oldest is dropped (`stream.dropped` counts them). Raises FeedbackTimeoutError when
-        no sample arrives within `timeout_s`; ends when the robot is closed. See FeedbackStream."""
+        no sample arrives within `timeout_s`; ends when the robot is closed (RobotClosedError if it
+        is closed already). See FeedbackStream."""
+        if self.sync.closed:
+            raise RobotClosedError(self.sync.url)
         return FeedbackStream(self.sync, timeout_s=timeout_s, maxsize=maxsize)
 
     # == state (the Robot's, read at once) =========================================================

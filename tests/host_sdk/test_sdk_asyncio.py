@@ -272,6 +272,10 @@ async def test_errors_are_the_robots_own(robot: Robot) -> None:
         await bot.wait_feedback()
     with pytest.raises(RobotClosedError):
         await bot.sleep(0.1)
+    with pytest.raises(RobotClosedError):  # not a stream that silently yields nothing
+        bot.feedback()
+    with pytest.raises(AttributeError, match=r"armed is read-only.*disarm"):
+        bot.armed = False  # type: ignore[assignment]
 
 
 async def test_connect_errors_and_feedback_timeouts_are_typed() -> None:
