@@ -223,16 +223,27 @@ class KinematicsError(CommandRangeError):
 
 
 class FeedbackTimeoutError(RoverLinkError, TimeoutError):
-    """No FEEDBACK arrived in time. Attributes: `timeout_s`, `lockstep`."""
+    """No FEEDBACK arrived in time. Attributes: `timeout_s`, `lockstep`, `waited_s`."""
 
     def __init__(
-        self, timeout_s: float, lockstep: bool = False, command_live: bool = True, *, armed: bool = True
+        self,
+        timeout_s: float,
+        lockstep: bool = False,
+        command_live: bool = True,
+        *,
+        armed: bool = True,
+        waited_s: float | None = None,
     ) -> None:
         self.timeout_s = timeout_s
         self.lockstep = lockstep
+        self.waited_s = timeout_s if waited_s is None else waited_s
+        """How long it waited: longer than `timeout_s` when the silence was young enough to be a reset."""
         hint = (
             "in lockstep mode an armed board sends FEEDBACK only in answer to a setpoint: drive first"
             if lockstep and armed and not command_live
             else "the link may be cut or the board stopped"
         )
-        super().__init__(f"no FEEDBACK within {timeout_s:g} s; {hint}")
+        longer = ""
+        if self.waited_s > timeout_s:
+            longer = f" (waited {self.waited_s:.2g} s: a board that falls silent may be rebooting)"
+        super().__init__(f"no FEEDBACK within {timeout_s:g} s{longer}; {hint}")

@@ -88,6 +88,7 @@ class FeedbackCalls:
         def arrived() -> bool:
             return fresh() is not None or (report_reset and s.reset_pending) or runner.broken()
 
+        left = 0.0
         if not runner.wait(arrived, timeout) and owed:
             with self._lock:
                 now = self._transport.clock()
@@ -100,7 +101,8 @@ class FeedbackCalls:
             self._report_reset(report_reset)
             sample = fresh()
             if sample is None:
-                raise FeedbackTimeoutError(timeout, lockstep, s.setpoint_live, armed=armed)
+                waited = timeout + max(left, 0.0)
+                raise FeedbackTimeoutError(timeout, lockstep, s.setpoint_live, armed=armed, waited_s=waited)
             return sample
 
     def _report_reset(self, report: bool) -> None:

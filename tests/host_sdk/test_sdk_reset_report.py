@@ -147,13 +147,16 @@ def test_wait_feedback_waits_out_a_silence_young_enough_to_be_a_reset_then_times
     assert robot.emulator is not None
     robot.emulator.cut_link("m2h")  # silence that never ends in a boot
     last = robot.now()
-    with pytest.raises(FeedbackTimeoutError):
+    with pytest.raises(FeedbackTimeoutError) as longer:
         robot.wait_feedback(timeout_s=0.5)
     assert robot.now() - last == pytest.approx(2.0, abs=0.05)  # reset_silence_s after the last frame
+    # The message says how long it waited, not only the 0.5 s asked for.
+    assert longer.value.waited_s == pytest.approx(2.0, abs=0.05) and "waited" in str(longer.value)
     began = robot.now()
-    with pytest.raises(FeedbackTimeoutError):
+    with pytest.raises(FeedbackTimeoutError) as own:
         robot.wait_feedback(timeout_s=0.5)  # silent too long for a reset: its own timeout
     assert robot.now() - began == pytest.approx(0.5, abs=0.01)
+    assert own.value.waited_s == 0.5 and "waited" not in str(own.value)
 
 
 def test_a_reset_while_moving_leaves_a_gap_and_its_uncertainty_on_the_pose() -> None:
