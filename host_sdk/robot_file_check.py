@@ -33,8 +33,10 @@ from protocol.generated.enums import Board, Capability
 from protocol.generated.profiles import PROFILES
 from protocol.robotfile import Calibration
 
-_log = logging.getLogger("host_sdk.robot_file")
-"""Differences allowed with allow_mismatch (a program that reports `robot.mismatches` itself may turn it off)."""
+MISMATCH_LOGGER = "host_sdk.robot_file"
+"""Where the differences allowed with allow_mismatch are logged (a program that reports
+`robot.mismatches` itself may keep this logger quiet)."""
+_log = logging.getLogger(MISMATCH_LOGGER)
 
 # CONFIG fields the file's hardware fixes: (field, the file's key, scale to the file's unit, unit).
 _BUILD = (

@@ -8,6 +8,7 @@ import sys
 from collections.abc import Sequence
 
 from host_sdk.extras import MissingDependencyError
+from host_sdk.robot_file_check import MISMATCH_LOGGER
 from roverlink import __version__
 from roverlink.commands import COMMANDS
 
@@ -25,9 +26,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     # The commands print each difference from --robot FILE themselves (`warning:` lines; the ROS 2
     # bridge hands the logger to the ROS log): unhandled, the SDK's line would reach stderr twice.
-    quiet = logging.getLogger("host_sdk.robot_file")
+    quiet = logging.getLogger(MISMATCH_LOGGER)
     quiet.propagate = False
-    quiet.addHandler(logging.NullHandler())
+    if not quiet.handlers:
+        quiet.addHandler(logging.NullHandler())
     try:
         result: int = args.func(args)
     except MissingDependencyError as exc:

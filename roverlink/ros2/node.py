@@ -31,6 +31,7 @@ from std_srvs.srv import Trigger
 
 from host_sdk import FeedbackSample, Pose, Robot, RobotDescription, RoverLinkError, SessionResetError
 from host_sdk.profiles import PROFILES, get_profile
+from host_sdk.robot_file_check import MISMATCH_LOGGER
 from host_sdk.transport import Transport
 from protocol.generated.enums import FailsafeReason, FeedbackMode
 from protocol.robotfile import reference_path
@@ -99,10 +100,10 @@ class BridgeNode(Node):
         for name in ("host_sdk", "roverlink.ros2"):
             logging.getLogger(name).addHandler(self._log_handler)
             logging.getLogger(name).setLevel(logging.INFO)
-        # The differences allowed from the robot file (allow_mismatch) go to the ROS log too; the
-        # `roverlink` command keeps that logger from propagating (it prints them itself elsewhere).
-        logging.getLogger("host_sdk.robot_file").addHandler(self._log_handler)
-        logging.getLogger("host_sdk.robot_file").propagate = False
+        # The differences allowed from the robot file (allow_mismatch) go to the ROS log, once: the
+        # `roverlink` command keeps their logger from propagating, and so does the node.
+        logging.getLogger(MISMATCH_LOGGER).addHandler(self._log_handler)
+        logging.getLogger(MISMATCH_LOGGER).propagate = False
         # Read once: a bad file ends the node before it connects (RobotFileError lists the problems).
         self.robot_file = RobotDescription.load(p.robot_file) if p.robot_file else None
         self.params = p = dataclasses.replace(p, url=robot_url(p))
@@ -488,5 +489,5 @@ class BridgeNode(Node):
                     self.get_logger().warning(f"{step.__name__} on shutdown: {exc}")
             robot.close()
             self.get_logger().info("robot stopped, disarmed and closed")
-        for name in ("host_sdk", "host_sdk.robot_file", "roverlink.ros2"):
+        for name in ("host_sdk", MISMATCH_LOGGER, "roverlink.ros2"):
             logging.getLogger(name).removeHandler(self._log_handler)
