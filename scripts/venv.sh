@@ -42,8 +42,21 @@ fi
 EDITABLE_MODE=compat
 # Install (again) when pyproject.toml is newer than the last install with these extras and this
 # mode (the mode in the stamp's name: a venv installed the old way is installed again).
+# An install with more extras serves one that asks for fewer (the fast lane after a full run).
 stamp="$VENV/.installed-$EDITABLE_MODE${EXTRAS:+-$EXTRAS}"
-if [[ ! -f "$stamp" || "$ROOT/pyproject.toml" -nt "$stamp" ]]; then
+_venv_has_extras() {
+    local file have want
+    for file in "$VENV"/.installed-"$EDITABLE_MODE"*; do
+        [[ -f "$file" && ! "$ROOT/pyproject.toml" -nt "$file" ]] || continue
+        have=",$(basename "$file" | sed -e "s/^\.installed-$EDITABLE_MODE-\{0,1\}//"),"
+        for want in ${EXTRAS//,/ }; do
+            [[ $have == *",$want,"* ]] || continue 2
+        done
+        return 0
+    done
+    return 1
+}
+if ! _venv_has_extras; then
     echo "== installing roverlink${EXTRAS:+[$EXTRAS]} into $VENV"
     "$VENV/bin/python" -m pip install -q --disable-pip-version-check \
         --config-settings editable_mode="$EDITABLE_MODE" -e "$ROOT${EXTRAS:+[$EXTRAS]}"

@@ -14,6 +14,7 @@ require_ros()
 
 from roverlink.ros2 import sensors  # noqa: E402
 from roverlink.ros2.diagnostics import ERROR, OK  # noqa: E402
+from tests.support.wait import wait_until  # noqa: E402
 
 
 class _Logger:
@@ -70,9 +71,7 @@ def test_an_unexpected_exception_is_logged_once_reported_and_recovered_from(monk
     node = _Node()
     pub = _Flaky(node, failing_opens=3)
     try:
-        deadline = time.monotonic() + 5.0
-        while pub.opened < 3 and time.monotonic() < deadline:
-            time.sleep(0.01)
+        wait_until(lambda: pub.opened >= 3, 5.0, "three opens", fail=False)
         report = pub.report("roverlink")
         if not pub.published.is_set():  # still failing: the status says what broke
             assert report.level == ERROR and "unexpected IndexError" in report.message
@@ -80,9 +79,7 @@ def test_an_unexpected_exception_is_logged_once_reported_and_recovered_from(monk
         assert pub._thread.is_alive()
         errors = [text for level, text in node.logger.lines if level == "error"]
         assert len(errors) == 1 and "unexpected IndexError: index 0 is out of bounds" in errors[0]
-        deadline = time.monotonic() + 5.0
-        while pub.report("roverlink").level != OK and time.monotonic() < deadline:
-            time.sleep(0.01)
+        wait_until(lambda: pub.report("roverlink").level == OK, 5.0, "the status back at OK", fail=False)
         assert pub.report("roverlink").level == OK and pub.error == ""
     finally:
         pub.close()
