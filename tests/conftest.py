@@ -3,8 +3,8 @@
 Lanes (docs/testing.md):
 
 * the fast lane (``scripts/test.sh --quick``, ``-m "not slow"``) is the unit tests: every test under
-  one of QUICK_FOLDERS that is not marked ``slow`` (a module says ``pytestmark = pytest.mark.slow``);
-  everything else is marked ``slow`` here at collection;
+  one of QUICK_FOLDERS but not in SLOW_MODULES (nor marked ``slow`` itself); everything else is
+  marked ``slow`` here at collection;
 * ``serial`` tests need the whole machine (a real browser, rates measured on the wall clock, the
   benchmarks' figures): the full run gives them a process of their own after the parallel part.
 
@@ -58,6 +58,27 @@ QUICK_FOLDERS = (
     "tests/system/architecture",
 )
 """Where the unit tests are: in-process, on the virtual clock, no compiler, no simulator, no browser."""
+SLOW_MODULES = (
+    # processes and ptys on the wall clock: roverlink emulate, the examples, pytest and mypy in a subprocess
+    "tests/emulator/test_transport.py",
+    "tests/emulator/sensors/test_sensor_failure.py",
+    "tests/host_sdk/sensors/test_sensor_pty.py",
+    "tests/host_sdk/test_sdk_examples.py",
+    "tests/host_sdk/test_sdk_testing.py",
+    "tests/host_sdk/test_sdk_typing.py",
+    "tests/host_sdk/autonomy/test_follow_example.py",
+    "tests/host_sdk/console/test_console_example.py",
+    "tests/roverlink/cli/test_missing_extras.py",
+    "tests/roverlink/cli/test_emulate_log.py",
+    # the firmware in simavr
+    "tests/emulator/test_simavr_options.py",
+    "tests/emulator/test_simavr_robotfile.py",
+    "tests/emulator/test_simavr_wiring.py",
+    # long closed-loop runs: the tracker on real-photo sequences, the EKF over minutes of driving
+    "tests/host_sdk/autonomy/test_tracking_photos.py",
+    "tests/host_sdk/autonomy/test_fusion.py",
+)
+"""Modules under QUICK_FOLDERS that are not unit tests: they stay out of the fast lane."""
 SERIAL_FOLDERS = ("tests/roverlink/console",)
 """Suites that need the machine to themselves (Debian's Chromium driving the console on the wall clock)."""
 
@@ -69,7 +90,7 @@ def _under(item: pytest.Item, folders: tuple[str, ...]) -> bool:
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     for item in items:
-        if not _under(item, QUICK_FOLDERS):
+        if not _under(item, QUICK_FOLDERS) or _under(item, SLOW_MODULES):
             item.add_marker(pytest.mark.slow)
         if _under(item, SERIAL_FOLDERS):
             item.add_marker(pytest.mark.serial)

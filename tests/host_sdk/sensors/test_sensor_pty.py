@@ -107,11 +107,11 @@ def test_cv2_videocapture_opens_the_camera_url_unchanged(served: dict[str, list[
     try:
         assert cap.isOpened()
 
-        def frame() -> Any:
+        def frame() -> list[Any] | None:
             ok, image = cap.read()
-            return image if ok else None
+            return [image] if ok else None
 
-        image = wait_until(frame, 10, "a frame from cv2.VideoCapture", poll_s=0)
+        (image,) = wait_until(frame, 10, "a frame from cv2.VideoCapture", poll_s=0)
         assert image.shape == (240, 320, 3)
     finally:
         cap.release()
