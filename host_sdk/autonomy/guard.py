@@ -106,7 +106,7 @@ class Guarded:
     angular_rad_s: float
     state: GuardState
     obstacle: Obstacle | None = None
-    """What the path meets first (what slowed or stopped it; with the override, what it would have)."""
+    """What slowed or stopped it (with the override, what would have): the obstacle its path meets."""
     free_m: float | None = None
     """Clear travel along the asked path (with the footprint's margin)."""
     scan_age_s: float | None = None
@@ -209,12 +209,13 @@ class TeleopGuard:
         p = self.params
         free = float(arc_room(x, y, np.array([k]), self.footprint, pad_m=p.pad_m, horizon_m=CLEAR_M,
                               reverse=reverse)[0])  # fmt: skip
-        obstacle = self._met(x, y, k, -free if reverse else free) if free < CLEAR_M else None
+        speed = min(abs(v), safe_speed(free, p))
+        # What the path meets, when it slows the command (with the override: when it would have).
+        obstacle = self._met(x, y, k, -free if reverse else free) if speed < abs(v) else None
         if override:
             return Guarded(v, w, GuardState.OVERRIDE, obstacle, free, age_s)
-        speed = min(abs(v), safe_speed(free, p))
         if speed >= abs(v):
-            return Guarded(v, w, GuardState.CLEAR, obstacle, free, age_s)
+            return Guarded(v, w, GuardState.CLEAR, None, free, age_s)
         if speed >= MIN_SPEED_M_S:
             v = math.copysign(speed, v)
             return Guarded(v, v * k, GuardState.SLOWED, obstacle, free, age_s)

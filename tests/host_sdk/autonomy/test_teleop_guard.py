@@ -48,7 +48,9 @@ def spin(turn_rad: float) -> list[tuple[float, float, float]]:
     return [(0.0, 0.0, turn_rad * i / n) for i in range(n + 1)]
 
 
-def closest_approach(x: np.ndarray, y: np.ndarray, fp: Footprint, poses: list[tuple[float, float, float]]) -> np.ndarray:
+def closest_approach(
+    x: np.ndarray, y: np.ndarray, fp: Footprint, poses: list[tuple[float, float, float]]
+) -> np.ndarray:
     return np.min([gaps(x, y, fp, pose) for pose in poses], axis=0)
 
 
@@ -60,14 +62,12 @@ obstacles = st.lists(st.tuples(st.floats(-1.5, 1.5), st.floats(-1.5, 1.5)), min_
     points=obstacles,
     linear=st.floats(-0.6, 0.6),
     angular=st.floats(-2.5, 2.5),
-    radius=st.floats(0.08, 0.25),
-    offset=st.floats(-0.1, 0.15),
+    fp=st.builds(Footprint, st.floats(0.08, 0.25), st.floats(-0.1, 0.15)),
     car=st.booleans(),
 )
 def test_no_command_it_allows_reaches_into_the_margin_within_its_stopping_distance(
-    points: list[tuple[float, float]], linear: float, angular: float, radius: float, offset: float, car: bool
+    points: list[tuple[float, float]], linear: float, angular: float, fp: Footprint, car: bool
 ) -> None:
-    fp = Footprint(radius, offset)
     x, y = np.array([p[0] for p in points]), np.array([p[1] for p in points])
     now = gaps(x, y, fp, (0.0, 0.0, 0.0))
     x, y, now = x[now > 0.0], y[now > 0.0], now[now > 0.0]  # not inside the body (the bumper stops that)
