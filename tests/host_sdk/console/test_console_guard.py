@@ -1,0 +1,136 @@
+"""The console's teleop keeps the avoider's protection, closed loop on the emulator's virtual clock:
+a forward key held towards a cylinder stops the car short of it; with the override held it drives
+into it, and the ENCODER_FAULT that follows is explained with the obstacle the lidar sees (as it is
+when a follow run's ControlLoop meets one)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from host_sdk import Robot
+from host_sdk.autonomy import ControlLoop, FollowPilot
+from host_sdk.console.hub import Drive, Hub
+from host_sdk.console.pilot import ConsolePilot
+from host_sdk.enums import FailsafeReason
+from host_sdk.geometry import robot_geometry
+from host_sdk.pose import RobotPose
+from host_sdk.sensors import CameraSource, Lidar
+
+pytest.importorskip("cv2")
+FORWARD_M_S = 0.27
+"""What the page's W key asks for (0.6 of the console's 0.45 m/s)."""
+CYLINDER = """
+[world]
+name = "cylinder_ahead"
+size_m = [5.0, 3.0]
+
+[start]
+x_m = 1.0
+y_m = 1.5
+theta_deg = 0.0
+
+[[cylinders]]
+center = [2.0, 1.5]
+radius_m = 0.15
+height_m = 0.5
+"""
+CYLINDER_XY_R = (2.0, 1.5, 0.15)
+WORDS = "a wheel did not turn under effort: blocked, or its encoder unplugged"
+
+
+@pytest.fixture
+def world(tmp_path: Path) -> Path:
+    path = tmp_path / "cylinder_ahead.toml"
+    path.write_text(CYLINDER)
+    return path
+
+
+@pytest.fixture
+def robot(world: Path) -> Iterator[Robot]:
+    url = f"emu://diffdrive-tb6612?clock=virtual&seed=1&world={world}&lidar=rplidar-a1&camera=320x240"
+    with Robot.connect(url, clamp=True) as robot:
+        yield robot
+
+
+def gap_to_cylinder(robot: Robot) -> float:
+    """Between the robot's body and the cylinder, from the emulator's ground truth."""
+    truth, body = robot.emulator.truth.world, robot_geometry(robot).footprint
+    cx, cy = truth.x_m + body.x_m * math.cos(truth.theta_rad), truth.y_m + body.x_m * math.sin(truth.theta_rad)
+    x, y, r = CYLINDER_XY_R
+    return math.hypot(x - cx, y - cy) - r - body.radius_m
+
+
+def hold_forward(robot: Robot, *, override: bool, seconds: float) -> tuple[ConsolePilot, list[str]]:
+    """The page's forward key held for `seconds` (or until a failsafe): a drive command every period,
+    as the page sends them; what the guard said of each."""
+    hub = Hub(command_lifetime_s=robot.watchdog_s, clock=robot.now)
+    pilot = ConsolePilot(hub, robot, robot_geometry(robot))
+    lidar = Lidar.open(robot.transport.endpoints["lidar"], "rplidar-a1")
+    camera = CameraSource(robot.transport.endpoints["camera"])
+    guard_texts: list[str] = []
+    robot.arm()
+    with ControlLoop(robot, pilot, lidar=lidar, camera=camera, rearm=False) as loop:
+        while robot.now() - loop.started_s < seconds:
+            hub.post(drive=Drive(FORWARD_M_S, 0.0, hub.clock(), override=override))
+            loop.step()
+            if pilot.guarded is not None:
+                guard_texts.append(pilot.guarded.text)
+            if robot.failsafe is not None:  # (this step showed it on the page)
+                break
+            loop.wait()
+    lidar.close()
+    camera.close()
+    return pilot, guard_texts
+
+
+def test_a_held_forward_key_stops_short_of_the_cylinder(robot: Robot) -> None:
+    start = gap_to_cylinder(robot)
+    pilot, texts = hold_forward(robot, override=False, seconds=5.0)
+    truth = robot.emulator.truth.world
+    assert truth.collisions == () and not truth.in_contact, truth.collisions
+    assert robot.armed and robot.failsafe is None
+    assert start > 0.6 and 0.1 < gap_to_cylinder(robot) < 0.2, (start, gap_to_cylinder(robot))  # stopped short
+    assert abs(robot.feedback.wheel_speeds_m_s[0]) < 0.01
+    assert any(t.startswith("slowing for the obstacle") for t in texts)
+    assert "stopped for the obstacle" in texts[-1] and "ahead" in texts[-1], texts[-1]
+    _, _, _, state = pilot.hub.latest()
+    assert state["guard"]["state"] == "stopped" and state["mode"] == "teleop"
+
+
+def test_with_the_override_held_it_reaches_the_cylinder_and_the_bump_is_explained(robot: Robot) -> None:
+    pilot, texts = hold_forward(robot, override=True, seconds=6.0)
+    truth = robot.emulator.truth.world
+    assert truth.collisions and truth.collisions[0].kind == "cylinder", truth.collisions
+    assert all(t.startswith("override held") for t in texts) and any("not stopping for" in t for t in texts)
+    assert robot.failsafe is FailsafeReason.ENCODER_FAULT  # pushing on, the wheels stalled
+    _, _, _, state = pilot.hub.latest()
+    assert state["failsafe"] == "ENCODER_FAULT"
+    text = state["failsafe_text"]
+    assert text.startswith(f"ENCODER_FAULT: {WORDS}; the lidar sees an obstacle "), text
+    assert "ahead, inside the footprint's 0.08 m margin" in text, text
+
+
+def test_a_follow_run_that_bumps_says_what_the_lidar_saw(robot: Robot) -> None:
+    """ControlLoop (as `roverlink follow` runs it, re-arming) puts the failsafe in words."""
+
+    class Straight(FollowPilot):
+        def command(self, pose: RobotPose) -> tuple[float, float, str]:
+            return FORWARD_M_S, 0.0, "straight"
+
+    follow = FollowPilot.for_robot(robot_geometry(robot), np.full((40, 30, 3), 128, dtype=np.uint8))  # any target
+    pilot = Straight(follow.scan_filter, follow.tracker, follow.follower)
+    lidar = Lidar.open(robot.transport.endpoints["lidar"], "rplidar-a1")
+    camera = CameraSource(robot.transport.endpoints["camera"])
+    with ControlLoop(robot, pilot, lidar=lidar, camera=camera) as loop:
+        while loop.failsafes == 0 and robot.now() - loop.started_s < 6.0:
+            loop.step()
+            loop.wait()
+    lidar.close()
+    camera.close()
+    assert loop.failsafes >= 1 and loop.last_failsafe is not None
+    assert loop.last_failsafe.startswith(f"ENCODER_FAULT: {WORDS}; the lidar sees an obstacle "), loop.last_failsafe
