@@ -73,11 +73,21 @@ _SIDES = ("ahead", "ahead left", "left", "behind left", "behind", "behind right"
 
 @dataclass(frozen=True, slots=True)
 class Obstacle:
-    """An obstacle point in the base frame (x forward, y left), and its gap to the footprint's edge."""
+    """An obstacle point in the base frame (x forward, y left), seen from the robot's body: its gap to
+    the footprint's edge and its bearing from the footprint's centre (a person at the robot judges
+    "2 cm ahead of the bumper", not a distance from the rear axle)."""
 
     x_m: float
     y_m: float
     gap_m: float
+    """From the footprint's edge (negative: inside it)."""
+    bearing_rad: float
+    """From the footprint's centre, counter-clockwise from forward."""
+
+    @classmethod
+    def at(cls, x_m: float, y_m: float, footprint: Footprint) -> Obstacle:
+        dx = x_m - footprint.x_m
+        return cls(x_m, y_m, math.hypot(dx, y_m) - footprint.radius_m, math.atan2(y_m, dx))
 
     @property
     def range_m(self) -> float:
@@ -85,17 +95,13 @@ class Obstacle:
         return math.hypot(self.x_m, self.y_m)
 
     @property
-    def bearing_rad(self) -> float:
-        """Counter-clockwise from forward."""
-        return math.atan2(self.y_m, self.x_m)
-
-    @property
     def side(self) -> str:
-        """`ahead`, `ahead left`, `left`, ... (eight sectors)."""
+        """`ahead`, `ahead left`, `left`, ... (eight sectors round the body)."""
         return _SIDES[round(self.bearing_rad / (math.pi / 4)) % 8]
 
     def where(self) -> str:
-        return f"{self.range_m:.2f} m {self.side}"
+        """`0.12 m ahead of the body`."""
+        return f"{max(self.gap_m, 0.0):.2f} m {self.side} of the body"
 
 
 @dataclass(frozen=True, slots=True)
@@ -118,7 +124,7 @@ class Guarded:
     @property
     def text(self) -> str:
         """One line for a status display."""
-        at = f" for the obstacle {self.obstacle.where()}" if self.obstacle is not None else ""
+        at = f" for an obstacle {self.obstacle.where()}" if self.obstacle is not None else ""
         if self.state is GuardState.OVERRIDE:
             return "override held: no obstacle protection" + (f" (not stopping{at})" if at else "")
         if self.state is GuardState.NO_SCAN:
@@ -264,7 +270,7 @@ class TeleopGuard:
         if x.size == 0:
             return None
         i = int(np.argmin(np.hypot(x - cx, y - cy)))
-        return Obstacle(float(x[i]), float(y[i]), _gap(float(x[i]), float(y[i]), fp))
+        return Obstacle.at(float(x[i]), float(y[i]), fp)
 
 
 class LidarGuard:
@@ -315,9 +321,8 @@ def nearest_point(x: F64, y: F64, footprint: Footprint) -> Obstacle | None:
     x, y = _finite((x, y))
     if x.size == 0:
         return None
-    gaps = np.hypot(x - footprint.x_m, y) - footprint.radius_m
-    i = int(np.argmin(gaps))
-    return Obstacle(float(x[i]), float(y[i]), float(gaps[i]))
+    i = int(np.argmin(np.hypot(x - footprint.x_m, y)))
+    return Obstacle.at(float(x[i]), float(y[i]), footprint)
 
 
 def within_margin(points: Points, footprint: Footprint, margin_m: float) -> Obstacle | None:
@@ -332,18 +337,13 @@ def explain_failsafe(reason: FailsafeReason, near: Obstacle | None, margin_m: fl
     text = describe_failsafe(reason)
     if near is None:
         return text
-    return (f"{text}; the lidar sees an obstacle {near.where()}, inside the footprint's {margin_m:.2f} m margin "
-            f"({max(near.gap_m, 0.0):.2f} m from it)")  # fmt: skip
+    return f"{text}; the lidar sees an obstacle {near.where()}, inside the footprint's {margin_m:.2f} m margin"
 
 
 def _finite(points: Points) -> Points:
     x, y = np.asarray(points[0], dtype=np.float64), np.asarray(points[1], dtype=np.float64)
     ok = np.isfinite(x) & np.isfinite(y)
     return (x, y) if ok.all() else (x[ok], y[ok])
-
-
-def _gap(x: float, y: float, fp: Footprint) -> float:
-    return math.hypot(x - fp.x_m, y) - fp.radius_m
 
 
 def _disc_gap(rho: F64, beta: F64, turn: float, fp: Footprint) -> F64:

@@ -111,7 +111,7 @@ def test_it_slows_as_the_way_closes_in_and_stops_short_of_the_wall() -> None:
     assert stopped.state is GuardState.STOPPED and stopped.linear_m_s == 0.0
     assert stopped.obstacle is not None and stopped.obstacle.side == "ahead"
     assert stopped.obstacle.range_m == pytest.approx(0.28, abs=0.01)
-    assert "stopped for the obstacle 0.28 m ahead" in stopped.text and "override" in stopped.text
+    assert "stopped for an obstacle 0.13 m ahead of the body" in stopped.text and "override" in stopped.text
     curving = guard.limit(0.27, 0.3, wall_ahead(0.5))  # slowed on the arc asked: the turn slows with it
     assert curving.state is GuardState.SLOWED and curving.linear_m_s < 0.27
     assert curving.angular_rad_s / curving.linear_m_s == pytest.approx(0.3 / 0.27)
@@ -147,7 +147,7 @@ def test_without_a_recent_scan_it_stands_and_the_override_drives_as_asked() -> N
     assert old.state is GuardState.NO_SCAN and "1.5 s" in old.text
     over = guard.limit(0.27, 0.0, wall_ahead(0.25), override=True)
     assert (over.linear_m_s, over.state) == (0.27, GuardState.OVERRIDE) and not over.limited
-    assert over.obstacle is not None and "override held" in over.text and "0.25 m ahead" in over.text
+    assert over.obstacle is not None and "override held" in over.text and "0.10 m ahead of the body" in over.text
     assert guard.limit(0.27, 0.0, None, override=True).linear_m_s == 0.27
 
 
@@ -160,7 +160,7 @@ def test_encoder_fault_reads_as_a_blocked_wheel_or_an_unplugged_encoder() -> Non
     assert near is not None and near.side == "ahead"
     text = explain_failsafe(FailsafeReason.ENCODER_FAULT, near, P.margin_m)
     assert text.startswith(f"ENCODER_FAULT: {words}; ")
-    assert "the lidar sees an obstacle 0.17 m ahead, inside the footprint's 0.08 m margin (0.02 m from it)" in text
+    assert "the lidar sees an obstacle 0.02 m ahead of the body, inside the footprint's 0.08 m margin" in text
     clear = within_margin((np.array([0.5]), np.array([0.0])), DIFF, P.margin_m)
     assert clear is None and explain_failsafe(FailsafeReason.ENCODER_FAULT, clear, P.margin_m) == describe_failsafe(
         FailsafeReason.ENCODER_FAULT

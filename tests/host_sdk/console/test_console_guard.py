@@ -96,8 +96,8 @@ def test_a_held_forward_key_stops_short_of_the_cylinder(robot: Robot) -> None:
     assert robot.armed and robot.failsafe is None
     assert start > 0.6 and 0.1 < gap_to_cylinder(robot) < 0.2, (start, gap_to_cylinder(robot))  # stopped short
     assert abs(robot.feedback.wheel_speeds_m_s[0]) < 0.01
-    assert any(t.startswith("slowing for the obstacle") for t in texts)
-    assert "stopped for the obstacle" in texts[-1] and "ahead" in texts[-1], texts[-1]
+    assert any(t.startswith("slowing for an obstacle") for t in texts)
+    assert "stopped for an obstacle" in texts[-1] and "ahead" in texts[-1], texts[-1]
     _, _, _, state = pilot.hub.latest()
     assert state["guard"]["state"] == "stopped" and state["mode"] == "teleop"
 
@@ -112,7 +112,7 @@ def test_with_the_override_held_it_reaches_the_cylinder_and_the_bump_is_explaine
     assert state["failsafe"] == "ENCODER_FAULT"
     text = state["failsafe_text"]
     assert text.startswith(f"ENCODER_FAULT: {WORDS}; the lidar sees an obstacle "), text
-    assert "ahead, inside the footprint's 0.08 m margin" in text, text
+    assert "ahead of the body, inside the footprint's 0.08 m margin" in text, text
 
 
 def test_a_follow_run_that_bumps_says_what_the_lidar_saw(robot: Robot) -> None:
