@@ -1,7 +1,6 @@
 """The console's teleop keeps the avoider's protection, closed loop on the emulator's virtual clock:
 a forward key held towards a cylinder stops the car short of it; with the override held it drives
-into it, and the ENCODER_FAULT that follows is explained with the obstacle the lidar sees (as it is
-when a follow run's ControlLoop meets one)."""
+into it, and the ENCODER_FAULT that follows is explained with the obstacle the lidar sees."""
 
 from __future__ import annotations
 
@@ -9,16 +8,14 @@ import math
 from collections.abc import Iterator
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from host_sdk import Robot
-from host_sdk.autonomy import ControlLoop, FollowPilot
+from host_sdk.autonomy import ControlLoop
 from host_sdk.console.hub import Drive, Hub
 from host_sdk.console.pilot import ConsolePilot
 from host_sdk.enums import FailsafeReason
 from host_sdk.geometry import robot_geometry
-from host_sdk.pose import RobotPose
 from host_sdk.sensors import CameraSource, Lidar
 
 pytest.importorskip("cv2")
@@ -113,24 +110,3 @@ def test_with_the_override_held_it_reaches_the_cylinder_and_the_bump_is_explaine
     text = state["failsafe_text"]
     assert text.startswith(f"ENCODER_FAULT: {WORDS}; the lidar sees an obstacle "), text
     assert "ahead of the body, inside the footprint's 0.08 m margin" in text, text
-
-
-def test_a_follow_run_that_bumps_says_what_the_lidar_saw(robot: Robot) -> None:
-    """ControlLoop (as `roverlink follow` runs it, re-arming) puts the failsafe in words."""
-
-    class Straight(FollowPilot):
-        def command(self, pose: RobotPose) -> tuple[float, float, str]:
-            return FORWARD_M_S, 0.0, "straight"
-
-    follow = FollowPilot.for_robot(robot_geometry(robot), np.full((40, 30, 3), 128, dtype=np.uint8))  # any target
-    pilot = Straight(follow.scan_filter, follow.tracker, follow.follower)
-    lidar = Lidar.open(robot.transport.endpoints["lidar"], "rplidar-a1")
-    camera = CameraSource(robot.transport.endpoints["camera"])
-    with ControlLoop(robot, pilot, lidar=lidar, camera=camera) as loop:
-        while loop.failsafes == 0 and robot.now() - loop.started_s < 6.0:
-            loop.step()
-            loop.wait()
-    lidar.close()
-    camera.close()
-    assert loop.failsafes >= 1 and loop.last_failsafe is not None
-    assert loop.last_failsafe.startswith(f"ENCODER_FAULT: {WORDS}; the lidar sees an obstacle "), loop.last_failsafe
