@@ -16,8 +16,8 @@ to the servo's configured travel.
 
 With a lidar (`guard`: host_sdk.autonomy.LidarGuard) every command goes through the avoider's
 obstacle guard: it slows and stops short of what the lidar sees on its path. The override is held,
-as the keys are: Shift with a direction (W A S D, Shift+arrows) drives without the guard while its
-repeats arrive; the plain key (Shift let go) has the guard back at once.
+as the keys are: Shift with an arrow key drives without the guard while its repeats arrive; the
+plain key (Shift let go) has the guard back at once.
 """
 
 from __future__ import annotations
@@ -53,17 +53,9 @@ KEYS = {
     "r": "arm",
     "x": "disarm",
 }
-OVERRIDE_KEYS = {
-    "W": "forward",
-    "shift+up": "forward",
-    "S": "back",
-    "shift+down": "back",
-    "A": "left",
-    "shift+left": "left",
-    "D": "right",
-    "shift+right": "right",
-}
-"""A direction with Shift held: driven without the obstacle guard."""
+OVERRIDE_KEYS = {"shift+up": "forward", "shift+down": "back", "shift+left": "left", "shift+right": "right"}
+"""An arrow with Shift held: driven without the obstacle guard. Not Shift with W A S D: a terminal
+sends the same capital letter for Caps Lock, which would latch the override."""
 ZERO_HOLD_S = 0.5
 """How long a zero command stays live in the SDK (renewed by every tick while armed)."""
 DRIVE_HOLD_MAX_S = 0.6
@@ -72,7 +64,7 @@ teleop keeps the robot going (then the board's watchdog)."""
 TICK_HZ = 20.0
 """How often the controller's thread sends the current command."""
 HELP = "arrows/WASD drive (hold)  +/- speed  space stop  enter/r arm  x disarm  q quit"
-GUARDED_HELP = HELP.replace("(hold)", "(hold; with Shift: no obstacle stop)")
+GUARDED_HELP = HELP.replace("(hold)", "(hold; Shift+arrows: no obstacle stop)")
 
 
 @dataclass

@@ -52,8 +52,6 @@ MIN_SPEED_M_S = 0.02
 """A limited speed below this is a stop: the wheels would not turn at it, only creep."""
 STALE_S = 1.0
 """A scan older than this protects nothing: the robot may have met something since."""
-CLEAR_M = 5.0
-"""How far along the arc the corridor is checked (farther changes no speed a person drives at)."""
 
 
 class GuardState(Enum):
@@ -213,7 +211,8 @@ class TeleopGuard:
             return Guarded(0.0, 0.0, GuardState.STOPPED, obstacle, scan_age_s=age_s)
         k, reverse = w / v, v < 0
         p = self.params
-        free = float(arc_room(x, y, np.array([k]), self.footprint, pad_m=p.pad_m, horizon_m=CLEAR_M,
+        # Along the arc as far as the avoider looks (`window_m`): farther changes no speed a person drives at.
+        free = float(arc_room(x, y, np.array([k]), self.footprint, pad_m=p.pad_m, horizon_m=p.window_m,
                               reverse=reverse)[0])  # fmt: skip
         speed = min(abs(v), safe_speed(free, p))
         # What the path meets, when it slows the command (with the override: when it would have).
@@ -258,10 +257,6 @@ class TeleopGuard:
         """The point nearest the footprint's edge."""
         return nearest_point(x, y, self.footprint)
 
-    def contact(self, points: Points) -> Obstacle | None:
-        """The point nearest the footprint, if it is inside the footprint's margin."""
-        return within_margin(points, self.footprint, self.params.margin_m)
-
     def _met(self, x: F64, y: F64, k: float, travel_m: float) -> Obstacle | None:
         """The point the grown footprint touches after `travel_m` along curvature `k` (negative: backwards)."""
         px, py, th = integrate_arc(0.0, 0.0, 0.0, Arc(travel_m, travel_m * k))
@@ -305,6 +300,7 @@ class LidarGuard:
         return self.last
 
     def stop(self) -> None:
+        """Stop the lidar scanning."""
         self.lidar.stop()
 
 

@@ -3,7 +3,7 @@ repeats keep the command alive; when they stop the robot stops), +/- change the 
 space stops, enter (or r) arms, x disarms, q quits. Speeds are fractions of the board's limit; the
 SDK's kinematics turn them into wheel speeds or steering. The dashboard shows the setpoint
 against the measured speeds. With a lidar (`--lidar`, or an emu:// URL's) the obstacle guard
-slows and stops the robot short of what it sees; Shift with a direction drives without it.
+slows and stops the robot short of what it sees; Shift with an arrow key drives without it.
 """
 
 from __future__ import annotations

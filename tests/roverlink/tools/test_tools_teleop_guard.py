@@ -1,6 +1,6 @@
 """`roverlink teleop` with a lidar keeps the avoider's protection: on the emulator's virtual clock the
 PiCar, its forward key held (repeating, as a terminal sends it) towards a cylinder, stops short of
-it; with Shift held too it drives into it; without a lidar the command says it is unprotected."""
+it; with Shift held too (Shift+Up) it drives into it; without a lidar the command says it is unprotected."""
 
 from __future__ import annotations
 
@@ -66,7 +66,7 @@ def test_the_forward_key_stops_short_of_the_cylinder_unless_shift_is_held(url: s
         controller.arm()
         assert robot.armed, controller.message
         start = gap(robot)
-        hold(robot, controller, "W" if override else "up", 6.0)
+        hold(robot, controller, "shift+up" if override else "up", 6.0)
         collisions = robot.emulator.truth.world.collisions
         if override:
             assert collisions and collisions[0].kind == "cylinder", collisions
