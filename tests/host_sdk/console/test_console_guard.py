@@ -4,7 +4,6 @@ into it, and the ENCODER_FAULT that follows is explained with the obstacle the l
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -17,49 +16,21 @@ from host_sdk.console.pilot import ConsolePilot
 from host_sdk.enums import FailsafeReason
 from host_sdk.geometry import robot_geometry
 from host_sdk.sensors import CameraSource, Lidar
+from tests.support.cylinder_ahead import CylinderAhead
 
 pytest.importorskip("cv2")
 FORWARD_M_S = 0.27
 """What the page's W key asks for (0.6 of the console's 0.45 m/s)."""
-CYLINDER = """
-[world]
-name = "cylinder_ahead"
-size_m = [5.0, 3.0]
-
-[start]
-x_m = 1.0
-y_m = 1.5
-theta_deg = 0.0
-
-[[cylinders]]
-center = [2.0, 1.5]
-radius_m = 0.15
-height_m = 0.5
-"""
-CYLINDER_XY_R = (2.0, 1.5, 0.15)
+CYLINDER = CylinderAhead(2.0)
 WORDS = "a wheel did not turn under effort: blocked, or its encoder unplugged"
 
 
 @pytest.fixture
-def world(tmp_path: Path) -> Path:
-    path = tmp_path / "cylinder_ahead.toml"
-    path.write_text(CYLINDER)
-    return path
-
-
-@pytest.fixture
-def robot(world: Path) -> Iterator[Robot]:
+def robot(tmp_path: Path) -> Iterator[Robot]:
+    world = CYLINDER.write(tmp_path)
     url = f"emu://diffdrive-tb6612?clock=virtual&seed=1&world={world}&lidar=rplidar-a1&camera=320x240"
     with Robot.connect(url, clamp=True) as robot:
         yield robot
-
-
-def gap_to_cylinder(robot: Robot) -> float:
-    """Between the robot's body and the cylinder, from the emulator's ground truth."""
-    truth, body = robot.emulator.truth.world, robot_geometry(robot).footprint
-    cx, cy = truth.x_m + body.x_m * math.cos(truth.theta_rad), truth.y_m + body.x_m * math.sin(truth.theta_rad)
-    x, y, r = CYLINDER_XY_R
-    return math.hypot(x - cx, y - cy) - r - body.radius_m
 
 
 def hold_forward(robot: Robot, *, override: bool, seconds: float) -> tuple[ConsolePilot, list[str]]:
@@ -86,12 +57,12 @@ def hold_forward(robot: Robot, *, override: bool, seconds: float) -> tuple[Conso
 
 
 def test_a_held_forward_key_stops_short_of_the_cylinder(robot: Robot) -> None:
-    start = gap_to_cylinder(robot)
+    start = CYLINDER.gap(robot)
     pilot, texts = hold_forward(robot, override=False, seconds=5.0)
     truth = robot.emulator.truth.world
     assert truth.collisions == () and not truth.in_contact, truth.collisions
     assert robot.armed and robot.failsafe is None
-    assert start > 0.6 and 0.1 < gap_to_cylinder(robot) < 0.2, (start, gap_to_cylinder(robot))  # stopped short
+    assert start > 0.6 and 0.1 < CYLINDER.gap(robot) < 0.2, (start, CYLINDER.gap(robot))  # stopped short
     assert abs(robot.feedback.wheel_speeds_m_s[0]) < 0.01
     assert any(t.startswith("slowing for an obstacle") for t in texts)
     assert "stopped for an obstacle" in texts[-1] and "ahead" in texts[-1], texts[-1]

@@ -30,8 +30,7 @@ class Straight(FollowPilot):
 
 
 def test_a_bump_in_a_follow_run_is_printed_with_what_the_lidar_saw(tmp_path: Path) -> None:
-    world = tmp_path / "cylinder_ahead.toml"
-    world.write_text(CYLINDER)
+    world = CYLINDER.write(tmp_path)
     url = f"emu://diffdrive-tb6612?clock=virtual&seed=1&world={world}&lidar=rplidar-a1&camera=320x240"
     out = io.StringIO()
     with Robot.connect(url, clamp=True) as robot:

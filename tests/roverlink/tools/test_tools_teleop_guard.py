@@ -4,40 +4,18 @@ it; with Shift held too (Shift+Up) it drives into it; without a lidar the comman
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import pytest
 
 from host_sdk import Robot
 from host_sdk.autonomy import LidarGuard
-from host_sdk.geometry import robot_geometry
 from host_sdk.sensors import Lidar
 from roverlink.commands.teleop import obstacle_guard
 from roverlink.teleop import TeleopController
+from tests.support.cylinder_ahead import CylinderAhead
 
-CYLINDER = (2.3, 1.5, 0.15)
-WORLD = f"""
-[world]
-name = "cylinder_ahead"
-size_m = [5.0, 3.0]
-
-[start]
-x_m = 1.0
-y_m = 1.5
-theta_deg = 0.0
-
-[[cylinders]]
-center = [{CYLINDER[0]}, {CYLINDER[1]}]
-radius_m = {CYLINDER[2]}
-height_m = 0.5
-"""
-
-
-def gap(robot: Robot) -> float:
-    truth, body = robot.emulator.truth.world, robot_geometry(robot).footprint
-    cx, cy = truth.x_m + body.x_m * math.cos(truth.theta_rad), truth.y_m + body.x_m * math.sin(truth.theta_rad)
-    return math.hypot(CYLINDER[0] - cx, CYLINDER[1] - cy) - CYLINDER[2] - body.radius_m
+CYLINDER = CylinderAhead(2.3)
 
 
 def hold(robot: Robot, controller: TeleopController, key: str, seconds: float) -> None:
@@ -52,8 +30,7 @@ def hold(robot: Robot, controller: TeleopController, key: str, seconds: float) -
 
 @pytest.fixture
 def url(tmp_path: Path) -> str:
-    world = tmp_path / "cylinder_ahead.toml"
-    world.write_text(WORLD)
+    world = CYLINDER.write(tmp_path)
     return f"emu://picar?clock=virtual&seed=3&world={world}&lidar=ydlidar-f4"
 
 
@@ -65,7 +42,7 @@ def test_the_forward_key_stops_short_of_the_cylinder_unless_shift_is_held(url: s
         controller = TeleopController(robot, key_timeout_s=0.6, level=3, guard=guard)
         controller.arm()
         assert robot.armed, controller.message
-        start = gap(robot)
+        start = CYLINDER.gap(robot)
         hold(robot, controller, "shift+up" if override else "up", 6.0)
         collisions = robot.emulator.truth.world.collisions
         if override:
@@ -73,11 +50,11 @@ def test_the_forward_key_stops_short_of_the_cylinder_unless_shift_is_held(url: s
             assert controller.guarded is not None and "override held" in controller.status
         else:
             assert collisions == (), collisions
-            assert start > 0.8 and 0.08 < gap(robot) < 0.3, (start, gap(robot))
+            assert start > 0.8 and 0.08 < CYLINDER.gap(robot) < 0.3, (start, CYLINDER.gap(robot))
             assert robot.armed and abs(robot.feedback.wheel_speeds_m_s[0]) < 0.01
             assert "stopped for an obstacle" in controller.status and "ahead" in controller.status
             hold(robot, controller, "down", 1.0)  # backing away is allowed
-            assert gap(robot) > 0.3
+            assert CYLINDER.gap(robot) > 0.3
 
 
 def test_without_a_lidar_teleop_says_it_drives_unprotected(capsys: pytest.CaptureFixture[str]) -> None:
