@@ -79,8 +79,25 @@ SLOW_MODULES = (
     "tests/host_sdk/autonomy/test_fusion.py",
 )
 """Modules under QUICK_FOLDERS that are not unit tests: they stay out of the fast lane."""
-SERIAL_FOLDERS = ("tests/roverlink/console",)
-"""Suites that need the machine to themselves (Debian's Chromium driving the console on the wall clock)."""
+SERIAL_FOLDERS = (
+    # Debian's Chromium driving the console; ROS 2 nodes and the tools on the wall clock, with rates
+    # and watchdogs that a second busy core would starve
+    "tests/roverlink/console",
+    "tests/roverlink/ros2",
+    "tests/roverlink/tools",
+    "tests/roverlink/follow",
+    "tests/system/integration",
+    # the firmware's budgets: simavr's speed against the wall clock
+    "tests/system/conformance/test_firmware_budgets.py",
+    # roverlink emulate and the examples on the wall clock
+    "tests/emulator/test_transport.py",
+    "tests/emulator/sensors/test_sensor_failure.py",
+    "tests/host_sdk/sensors/test_sensor_pty.py",
+    "tests/host_sdk/test_sdk_examples.py",
+    "tests/host_sdk/console/test_console_example.py",
+    "tests/roverlink/cli/test_emulate_log.py",
+)
+"""Suites that need the machine to themselves: the full run gives them one pytest process after the rest."""
 
 
 def _under(item: pytest.Item, folders: tuple[str, ...]) -> bool:
