@@ -117,6 +117,8 @@ class RobotFileCheck:
         self.description = description
         self.allow_mismatch = allow_mismatch
         self.mismatches: tuple[Mismatch, ...] = ()
+        self.gains_notice: str | None = None
+        """Set when the connect changed the board's gains to the file's (one line saying how)."""
 
     def compare(self, identity: RobotIdentity, config: RobotConfig | None, url: str) -> None:
         """Compare the build; RobotMismatchError lists every difference (a warning when allowed)."""
@@ -135,11 +137,31 @@ class RobotFileCheck:
         if changes:
             robot.set_config(**changes)
         wheels = 2 if robot.identity.capabilities & Capability.DIFF_DRIVE else 1
-        gains = [dataclasses.astuple(robot.pid(w)) for w in range(wheels)]
-        wire = self.description.pid_gains()
-        want = {f.name: getattr(wire, f.name) for f in dataclasses.fields(PidGains)}
-        if any(_f32(got) != _f32(tuple(want.values())) for got in gains):
-            robot.set_pid(**want)
+        changed = []
+        for w in range(wheels):
+            board = robot.pid(w)
+            want = PidGains(*self.description.pid.of_wheel(w))
+            if _f32(dataclasses.astuple(board)) != _f32(dataclasses.astuple(want)):
+                robot.set_pid(**dataclasses.asdict(want), wheel=w)
+                changed.append((w, board, want))
+        if changed:
+            # The board's own gains (EEPROM, e.g. from `roverlink tune --save`) are replaced in RAM:
+            # said once, so gains that differ from the file are never undone unseen.
+            self.gains_notice = gains_notice(self.description.path, changed)
+            _log.warning("%s", self.gains_notice)
+
+
+def gains_notice(path: str, changed: list[tuple[int, PidGains, PidGains]]) -> str:
+    """One line: which wheels' gains the file changed on the board, from what to what."""
+    parts = []
+    for wheel, board, want in changed:
+        diffs = [
+            f"{f.name} {getattr(board, f.name):g} -> {getattr(want, f.name):g}"
+            for f in dataclasses.fields(PidGains)
+            if _f32((getattr(board, f.name),)) != _f32((getattr(want, f.name),))
+        ]
+        parts.append(f"wheel {wheel} " + ", ".join(diffs))
+    return f"{path} [pid] set on the board (its stored gains differ): " + "; ".join(parts)
 
 
 def prepare(robot: object, profile: object, kinematics: object, allow_mismatch: object) -> RobotFileCheck | None:
