@@ -8,9 +8,11 @@ The rule (docs/robot-file.md, "Connecting with a robot file"):
   and the firmware defaults the hardware fixes (wheel diameter, encoder counts, inverts, steering
   range, servo and ESC pulses). A difference means another robot or another build: an error
   naming both sides, or with `allow_mismatch=True` a warning kept in `robot.mismatches`;
-- applied: the file's limits, feedback rate and PID gains, and its measured calibration where the
-  board still has the nominal value, sent with set_config/set_pid when they differ, because the
-  file is what the robot runs with (tuning it means editing the file, not re-flashing).
+- applied: the file's limits, feedback rate and PID gains (each wheel its own), and its measured
+  calibration where the board still has the nominal value, sent with set_config/set_pid when they
+  differ, because the file is what the robot runs with (tuning it means editing the file, not
+  re-flashing). Changed gains are said in one line (`gains_notice`): the board's own, e.g. saved
+  by `roverlink tune`, are not replaced unseen.
 """
 
 from __future__ import annotations
