@@ -108,6 +108,14 @@ def _value(spec: Key, v: Any) -> tuple[Any, str]:
     t = spec.type
     if t in ("int", "float"):
         return _number(spec, v)
+    if t == "gain":  # one gain for every wheel, or one per wheel channel (their count: build.py)
+        if not isinstance(v, list):
+            return _number(spec, v)
+        if not v:
+            return None, f"expected {spec.allowed()}"
+        gains = [_number(spec, x) for x in v]
+        wrong = next((why for _, why in gains if why), "")
+        return (None, wrong) if wrong else (tuple(g for g, _ in gains), "")
     if t == "str":
         return (v, "") if isinstance(v, str) else (None, "expected a string")
     if t == "bool":
