@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 from protocol.generator.loader import SpecError, _Loader
 from protocol.generator.model import Enum, Spec
+from protocol.toml import tomllib
 
 
 @dataclass(frozen=True)
