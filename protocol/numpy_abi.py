@@ -97,7 +97,8 @@ def fix(culprit: str) -> str:
         remove = " ".join(["numpy", *wheels])
         return (
             f"keep the system's numpy, which {culprit} is built for: `pip uninstall {remove}` in this environment "
-            "(install RoverLink without the vision extra where the system has OpenCV; docs/sensors.md#cameras)"
+            "(install RoverLink without the vision extra where the system has OpenCV: "
+            "docs/sensors.md#one-route-per-platform)"
         )
     dists = " ".join(_distributions(culprit)) or culprit
     if _from_system(numpy_dir):
@@ -117,7 +118,7 @@ def describe(module: str, exc: BaseException) -> str:
         else f" ({location(culprit)})"
     )
     first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-    first = first if len(first) <= 100 else first[:97] + "..."
+    first = first if len(first) <= 120 else first[:117] + "..."
     return (
         f"{module}{through} cannot be loaded with numpy {numpy_version()} ({location('numpy')}): it was built "
         f"against another numpy ({first}); {fix(culprit)}"

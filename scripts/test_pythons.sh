@@ -23,6 +23,9 @@ done
 [[ "${1:-}" == "--" ]] && shift
 [[ ${#versions[@]} -gt 0 ]] || versions=(3.10 3.13)
 CORE_TESTS=(tests/protocol tests/host_sdk/test_*.py tests/emulator)
+# The oldest Python runs with the oldest numpy RoverLink allows: Ubuntu 22.04's and JetPack 6's
+# python3-numpy (1.21.5), which a venv made with --system-site-packages there keeps.
+declare -A PINS=([3.10]="numpy==1.21.*")
 
 find_python() {
     local version="$1" candidate root
@@ -60,14 +63,17 @@ run_version() {
         rm -rf "$venv"
         "$python" -m venv "$venv"
     fi
-    stamp="$venv/.installed-test-vision"
+    local pin="${PINS[$version]:-}"
+    stamp="$venv/.installed-test-vision${pin:+-${pin//[^0-9a-z.]/}}"
     if [[ ! -f "$stamp" || pyproject.toml -nt "$stamp" ]]; then
-        echo "== installing roverlink[test,vision] into $venv"
+        echo "== installing roverlink[test,vision]${pin:+ with $pin} into $venv"
+        rm -f "$venv"/.installed-*
         "$venv/bin/python" -m pip install -q --disable-pip-version-check \
-            --config-settings editable_mode=compat -e ".[test,vision]"
+            --config-settings editable_mode=compat -e ".[test,vision]" ${pin:+"$pin"}
         touch "$stamp"
     fi
-    echo "== pytest on $("$venv/bin/python" --version): ${CORE_TESTS[0]} tests/host_sdk/test_*.py ${CORE_TESTS[-1]}"
+    echo "== pytest on $("$venv/bin/python" --version), numpy $("$venv/bin/python" -c 'import numpy; print(numpy.__version__)'):" \
+        "tests/protocol tests/host_sdk/test_*.py tests/emulator"
     "$venv/bin/python" -m pytest -q -n 2 -p no:cacheprovider "${CORE_TESTS[@]}" "$@"
     echo "== Python $version: $((SECONDS - start)) s"
 }
