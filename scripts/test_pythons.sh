@@ -56,6 +56,7 @@ run_version() {
         echo "== Python $version: not found (on PATH or in pyenv), skipped"
         return 0
     fi
+    ran+=("$version")
     start=$SECONDS
     venv=".venv-py${version/./}"
     if [[ ! -x "$venv/bin/python" ]] || ! "$venv/bin/python" -m pip --version >/dev/null 2>&1; then
@@ -80,8 +81,11 @@ run_version() {
 
 total=$SECONDS
 status=0
+ran=()
 for version in "${versions[@]}"; do
     run_version "$version" "$@" || status=1
 done
-echo "== the core tests on Python ${versions[*]}: $((SECONDS - total)) s"
+if [[ ${#ran[@]} -gt 0 ]]; then
+    echo "== the core tests on Python ${ran[*]}: $((SECONDS - total)) s"
+fi
 exit $status
