@@ -77,3 +77,17 @@ def test_ruff_with_the_projects_settings_refuses_syntax_python_3_10_lacks() -> N
     command = [ruff, "check", "--no-cache", "--stdin-filename", str(ROOT / "host_sdk" / "probe.py"), "-"]
     done = subprocess.run(command, input=source, capture_output=True, text=True, cwd=ROOT, timeout=120, check=False)
     assert done.returncode == 1 and "Cannot use `except*` on Python 3.10" in done.stdout + done.stderr
+
+
+def test_venv_sh_refuses_the_opencv_wheel_in_a_venv_that_sees_the_systems_packages(tmp_path: Path) -> None:
+    """SYSTEM_SITE_PACKAGES=1 keeps the system's numpy and OpenCV: the extras that bring PyPI's
+    OpenCV (and its numpy 2) are refused before anything is made or installed."""
+    env = {"PATH": "/usr/bin:/bin", "HOME": str(tmp_path), "SYSTEM_SITE_PACKAGES": "1"}
+    for extras in ("vision", "tools,console", "dev"):
+        done = subprocess.run(["bash", str(ROOT / "scripts" / "venv.sh"), extras], env=env, capture_output=True,
+                              text=True, timeout=60, check=False)  # fmt: skip
+        assert done.returncode == 1, done.stdout + done.stderr
+        assert "brings PyPI's OpenCV, whose numpy 2 would replace the system's" in done.stderr
+        assert "creating" not in done.stdout
+    script = (ROOT / "scripts" / "venv.sh").read_text(encoding="utf-8")
+    assert '--constraint "$VENV/constraints-system.txt"' in script and "--system-site-packages" in script
