@@ -17,12 +17,12 @@ import difflib
 import math
 import os
 import re
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from protocol.robotfile import RobotFileError, parse
+from protocol.toml import tomllib
 
 Value = bool | int | float | tuple[bool, ...] | tuple[float, ...]
 """What the tools write: a number, a flag, or one per wheel channel."""

@@ -3,7 +3,6 @@ and the motor PWM facts: each driver's frequency, each board's PWM pins by timer
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -11,6 +10,7 @@ from typing import Any
 
 from protocol.generator.loader import SpecError, _Loader
 from protocol.generator.model import Enum, Spec
+from protocol.toml import tomllib
 
 
 @dataclass(frozen=True)

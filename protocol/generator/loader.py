@@ -7,7 +7,6 @@ spec_hash`) and what is wrong, so a spec author never has to read a traceback.
 from __future__ import annotations
 
 import re
-import tomllib
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -33,6 +32,7 @@ from protocol.generator.model import (
     release_parts,
 )
 from protocol.generator.reserved import reserved_reason
+from protocol.toml import tomllib
 
 
 class SpecError(Exception):

@@ -5,11 +5,11 @@ from __future__ import annotations
 import contextlib
 import io
 import re
-import tomllib
 from pathlib import Path
 
 from protocol.errors import TOOLS_EXTRAS, MissingDependencyError
 from protocol.generated.version import __version__
+from protocol.toml import tomllib
 
 README = Path(__file__).resolve().parents[2] / "README.md"
 
