@@ -8,7 +8,8 @@ import time
 from collections.abc import Callable
 
 import pytest
-from textual_pilot import hold, until
+from textual_pilot import hold as hold_keys
+from textual_pilot import until
 
 from emulator.firmware.statemachine import SessionState
 from host_sdk import FeedbackSample, Robot
@@ -80,7 +81,7 @@ def test_teleop_drives_while_keys_arrive_and_stops_when_they_stop(profile: str) 
             seen: list[FeedbackSample] = []
             unsubscribe = robot.on_feedback(seen.append)
             try:
-                return await hold(pilot, keys, lambda: any(done(s) for s in seen))
+                return await hold_keys(pilot, keys, lambda: any(done(s) for s in seen))
             finally:
                 unsubscribe()
 
@@ -161,7 +162,7 @@ def test_teleop_commands_do_not_wait_for_a_stalled_ui() -> None:
             async with app.run_test() as pilot:
                 await pilot.press("enter")
                 assert await until(lambda: robot.armed, pilot), controller.message
-                await hold(pilot, ("up",), lambda: robot.feedback.wheel_speeds_m_s[0] >= 0.05)
+                await hold_keys(pilot, ("up",), lambda: robot.feedback.wheel_speeds_m_s[0] >= 0.05)
                 assert robot.feedback.wheel_speeds_m_s[0] >= 0.05, controller.message
                 # The stall: key lapse (0.3 s) + the board's watchdog, with no event-loop turn at all.
                 time.sleep(controller.key_timeout_s + 3 * robot.watchdog_s)
