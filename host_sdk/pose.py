@@ -8,6 +8,7 @@ pose source hands to a pilot (so the follower need not re-estimate speed from po
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 Pose2D = tuple[float, float, float]
@@ -32,6 +33,10 @@ class RobotPose:
     def moved_to(self, time_s: float, xyt: Pose2D) -> RobotPose:
         """The same speeds at another time and place (an interpolated pose)."""
         return RobotPose(time_s, xyt[0], xyt[1], xyt[2], self.linear_m_s, self.angular_rad_s)
+
+
+PoseAt = Callable[[float], RobotPose]
+"""The robot's pose at any recent time (`PoseSource.at`): what de-skews a lidar revolution."""
 
 
 def interpolate(a: Pose2D, b: Pose2D, f: float) -> Pose2D:

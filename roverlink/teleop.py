@@ -13,6 +13,11 @@ released key.
 Limits and kinematics are the SDK's: speeds are fractions of the board's max_wheel_speed_mm_s,
 `drive(..., clamp=True)` keeps a differential-drive turn's curvature, Ackermann steering goes
 to the servo's configured travel.
+
+With a lidar (`guard`: host_sdk.autonomy.LidarGuard) every command goes through the avoider's
+obstacle guard: it slows and stops short of what the lidar sees on its path. The override is held,
+as the keys are: Shift with an arrow key drives without the guard while its repeats arrive; the
+plain key (Shift let go) has the guard back at once.
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ import threading
 from dataclasses import dataclass
 
 from host_sdk import Ackermann, Robot, RoverLinkError
+from host_sdk.autonomy.guard import Guarded, GuardState, LidarGuard
 from host_sdk.enums import Capability
 from host_sdk.profiles import steering_limits
 from roverlink.dashboard import Setpoint
@@ -47,6 +53,9 @@ KEYS = {
     "r": "arm",
     "x": "disarm",
 }
+OVERRIDE_KEYS = {"shift+up": "forward", "shift+down": "back", "shift+left": "left", "shift+right": "right"}
+"""An arrow with Shift held: driven without the obstacle guard. Not Shift with W A S D: a terminal
+sends the same capital letter for Caps Lock, which would latch the override."""
 ZERO_HOLD_S = 0.5
 """How long a zero command stays live in the SDK (renewed by every tick while armed)."""
 DRIVE_HOLD_MAX_S = 0.6
@@ -55,6 +64,7 @@ teleop keeps the robot going (then the board's watchdog)."""
 TICK_HZ = 20.0
 """How often the controller's thread sends the current command."""
 HELP = "arrows/WASD drive (hold)  +/- speed  space stop  enter/r arm  x disarm  q quit"
+GUARDED_HELP = HELP.replace("(hold)", "(hold; Shift+arrows: no obstacle stop)")
 
 
 @dataclass
@@ -67,15 +77,21 @@ class TeleopController:
     """Turns keys into drive commands; `tick()` sends the current one: `start()` calls it at
     TICK_HZ from a thread of its own, or call it yourself at about that rate."""
 
-    def __init__(self, robot: Robot, *, key_timeout_s: float = 0.6, level: int = 1) -> None:
+    def __init__(self, robot: Robot, *, key_timeout_s: float = 0.6, level: int = 1,
+                 guard: LidarGuard | None = None) -> None:  # fmt: skip
         self.robot = robot
         self.key_timeout_s = key_timeout_s
         self.level = level
         self.ackermann = not robot.identity.capabilities & Capability.DIFF_DRIVE
+        self.guard = guard
+        """The obstacle guard on the lidar (None: no lidar, no protection)."""
         self._linear = _Held()
         self._turn = _Held()
-        self.message = HELP
+        self._override = _Held()
+        self.message = HELP if guard is None else GUARDED_HELP
         self.setpoint: Setpoint | None = None
+        self.guarded: Guarded | None = None
+        """The guard's verdict on the last command sent."""
         self._busy = threading.Lock()
         self._ticking = threading.Event()
         self._ticker: threading.Thread | None = None
@@ -86,8 +102,10 @@ class TeleopController:
 
     def key(self, name: str) -> str | None:
         """Handle a key (Textual's key names); returns the action, or None for other keys."""
-        action = KEYS.get(name)
+        action = KEYS.get(name) or OVERRIDE_KEYS.get(name)
         now = self.robot.now()
+        if action in ("forward", "back", "left", "right"):  # Shift held with it, or let go
+            self._override = _Held(1, now + self.key_timeout_s) if name in OVERRIDE_KEYS else _Held()
         if action == "forward":
             self._linear = _Held(1, now + self.key_timeout_s)
         elif action == "back":
@@ -124,6 +142,16 @@ class TeleopController:
             self.message = done
         except RoverLinkError as exc:
             self.message = f"error: {exc}"
+
+    @property
+    def status(self) -> str:
+        """The message, and what the guard did to the command when it changed it."""
+        g = self.guarded
+        return self.message if g is None or g.state is GuardState.CLEAR else f"{self.message}  |  {g.text}"
+
+    def override(self, now: float) -> bool:
+        """Shift is held with the direction keys (their repeats are arriving)."""
+        return self._override.value == 1 and now < self._override.until
 
     def target(self, now: float) -> tuple[float, float]:
         """(linear m/s, turn: rad/s for differential drive, steering rad for Ackermann)."""
@@ -166,20 +194,27 @@ class TeleopController:
             self.tick()
 
     def tick(self) -> None:
-        """Send the current target (zero once the keys stopped); nothing while disarmed."""
-        if not self.robot.armed or not self._busy.acquire(blocking=False):
+        """Send the current target (zero once the keys stopped); nothing while disarmed (the lidar is
+        read all the same, so the guard's picture is current when the robot is armed)."""
+        if not self._busy.acquire(blocking=False):
             return
         try:
+            if not self.robot.armed:
+                if self.guard is not None:
+                    self.guard.poll()
+                return
             now = self.robot.now()
             v, turn = self.target(now)
             hold = self.hold_s(now)
             if self.ackermann:
                 kin = self.robot.kinematics
                 steer = max(-math.pi / 2, min(math.pi / 2, turn))
-                self.robot.drive_ackermann(v, steer, clamp=True, hold_s=hold)
                 wheelbase = kin.wheelbase_m if isinstance(kin, Ackermann) else 1.0
+                v = self._through_guard(v, v * math.tan(steer) / wheelbase, now)[0]  # the guard keeps the steering
+                self.robot.drive_ackermann(v, steer, clamp=True, hold_s=hold)
                 self.setpoint = Setpoint((v,), v, v * math.tan(steer) / wheelbase)
             else:
+                v, turn = self._through_guard(v, turn, now)
                 self.robot.drive(v, turn, clamp=True, hold_s=hold)
                 kin = self.robot.kinematics
                 half = turn * getattr(kin, "track_m", 0.2) / 2
@@ -188,3 +223,10 @@ class TeleopController:
             self.message = f"error: {exc} (enter/r re-arms)"
         finally:
             self._busy.release()
+
+    def _through_guard(self, linear: float, angular: float, now: float) -> tuple[float, float]:
+        """The body twist as the obstacle guard lets it go (as asked without a guard)."""
+        if self.guard is None:
+            return linear, angular
+        self.guarded = self.guard.check(linear, angular, override=self.override(now))
+        return self.guarded.linear_m_s, self.guarded.angular_rad_s

@@ -9,7 +9,7 @@ from typing import Any
 
 from host_sdk.extras import require
 from roverlink.dashboard import Dashboard, link_lines, motion_lines, sensor_lines, state_lines
-from roverlink.teleop import HELP, KEYS, TeleopController
+from roverlink.teleop import KEYS, OVERRIDE_KEYS, TeleopController
 
 _textual_app = require("textual.app", "tui", "the terminal view")
 _widgets = require("textual.widgets", "tui", "the terminal view")
@@ -72,14 +72,18 @@ class TeleopApp(DashboardApp):
     # Priority bindings: the arrow keys would otherwise scroll before the app sees them.
     BINDINGS = [  # noqa: RUF012 (Textual's class attribute)
         ("q", "quit", "quit"),
-        *(Binding(key, f"drive('{key}')", show=False, priority=True) for key in KEYS if len(key) > 1 or key.isalpha()),
+        *(
+            Binding(key, f"drive('{key}')", show=False, priority=True)
+            for key in (*KEYS, *OVERRIDE_KEYS)
+            if len(key) > 1 or key.isalpha()
+        ),
     ]
 
     def __init__(self, dashboard: Dashboard, controller: TeleopController) -> None:
         super().__init__(dashboard)
         self.controller = controller
         self.title = "roverlink teleop"
-        self.sub_title = HELP
+        self.sub_title = controller.message
 
     def on_mount(self) -> None:
         super().on_mount()
@@ -90,9 +94,9 @@ class TeleopApp(DashboardApp):
 
     def action_drive(self, key: str) -> None:
         self.controller.key(key)
-        self.sub_title = self.controller.message
+        self.sub_title = self.controller.status
 
     def refresh_view(self) -> None:
         self.dashboard.setpoint = self.controller.setpoint
         super().refresh_view()
-        self.sub_title = self.controller.message
+        self.sub_title = self.controller.status

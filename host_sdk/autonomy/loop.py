@@ -10,8 +10,9 @@ Per period (`period_s`, 20 Hz by default): complete lidar revolutions, the newes
 the IMU's samples are read without waiting; each goes to the pilot with the robot's pose at the time
 it was taken (`PoseSource`: the EKF's with an IMU, else wheel odometry); the pilot's twist is sent
 every period (setpoints are cheap, and renewing them keeps the board's watchdog fed). A failsafe
-(e.g. pushing against something) is counted and the robot re-armed (unless `rearm=False`: then
-arming is left to the user).
+(e.g. pushing against something) is counted, put in words (`last_failsafe`: with a pilot that has
+`explain_failsafe`, such as `FollowPilot`, naming what the lidar sees touching the footprint) and
+the robot re-armed (unless `rearm=False`: then arming is left to the user).
 
 Waiting is `robot.sleep()`, so the same loop runs on a real robot (wall clock) and on the emulator's
 virtual clock (as fast as the CPU allows, deterministic).
@@ -24,6 +25,7 @@ from dataclasses import dataclass
 
 from host_sdk.autonomy.pilot import Pilot
 from host_sdk.errors import NotArmedError
+from host_sdk.failsafe import describe_failsafe
 from host_sdk.fusion.source import PoseSource
 from host_sdk.perception.tracking import TrackState
 from host_sdk.pose import RobotPose
@@ -60,6 +62,8 @@ class ControlLoop:
         self.poses = PoseSource(robot, imu)
         self.failsafes = 0
         """Failsafes met (and re-armed after) while driving."""
+        self.last_failsafe: str | None = None
+        """The last of them in words (what it means, and what the lidar saw at the footprint)."""
         self.started_s = 0.0
         self._frames: FrameGrabber | None = None
         self._track: TrackState | None = None
@@ -98,9 +102,17 @@ class ControlLoop:
                 robot.drive(linear, angular, clamp=True)
             except NotArmedError:  # a failsafe (e.g. pushing against something): count it, re-arm
                 self.failsafes += 1
+                self.last_failsafe = self._explain(pose) or self.last_failsafe
                 if self.rearm:
                     robot.arm()
         return Step(pose, linear, angular, mode, self._track, decide_s)
+
+    def _explain(self, pose: RobotPose) -> str | None:
+        reason = self.robot.failsafe
+        if reason is None:
+            return None
+        explain = getattr(self.pilot, "explain_failsafe", None)  # optional: pilots that see the scan
+        return str(explain(reason, pose)) if callable(explain) else describe_failsafe(reason)
 
     def wait(self) -> None:
         """Sleep (on the robot's clock) until the next period."""

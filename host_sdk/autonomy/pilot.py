@@ -12,22 +12,23 @@ follow-while-avoiding behaviour: the scan filter, the motion detector, the camer
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
 from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk.autonomy.follow import Decision, Follower, FollowParams
+from host_sdk.autonomy.guard import LatestScan, explain_failsafe, within_margin
 from host_sdk.geometry import RobotGeometry
 from host_sdk.perception import AvoidanceParams, MotionDetector, Mover, ObstacleScan, ScanFilter
 from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
-from host_sdk.perception.scan import move_points
 from host_sdk.perception.tracking import Track, Tracker
-from host_sdk.pose import RobotPose
+from host_sdk.pose import PoseAt, RobotPose
 from host_sdk.sensors import CameraFrame, LidarScan
+from protocol.generated.enums import FailsafeReason
 
-PoseAt = Callable[[float], RobotPose]
+# PoseAt lives in host_sdk.pose; pilots have always found it here too.
+__all__ = ["FollowPilot", "Pilot", "PoseAt", "follow_gap"]
 TRACK_FRESH_S = 0.3
 """A track older than this is not steered by (the camera stalled or the tracker lags)."""
 
@@ -60,16 +61,15 @@ class FollowPilot:
 
     def __init__(self, scan_filter: ScanFilter, tracker: FrameTracker, follower: Follower) -> None:
         self.scan_filter = scan_filter
+        self.scans = LatestScan(scan_filter)
         self.tracker = tracker
         self.follower = follower
         self.motion = MotionDetector()
         self.movers: tuple[Mover, ...] = ()
         self.decision: Decision | None = None
-        self.last_scan: ObstacleScan | None = None
-        """The latest filtered scan, frame and track (for recording and live views)."""
         self.last_frame: CameraFrame | None = None
         self.last_track: Track | None = None
-        self._scan_pose: RobotPose | None = None
+        """The latest frame and track (for recording and live views; the scan: `last_scan`)."""
         self._track: tuple[Track, RobotPose] | None = None
         self._frame_pose: RobotPose | None = None
 
@@ -100,12 +100,14 @@ class FollowPilot:
                             accel_m_s2=geometry.accel_m_s2)  # fmt: skip
         return cls(ScanFilter(geometry.lidar_mount), tracker, follower)
 
+    @property
+    def last_scan(self) -> ObstacleScan | None:
+        """The latest filtered scan."""
+        return self.scans.scan
+
     def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
-        deskew = None if pose_at is None else (lambda t: pose_at(t).xyt)
-        obstacles = self.scan_filter.update(scan, pose.xyt, pose_at=deskew)
-        self.last_scan = obstacles
+        obstacles = self.scans.update(scan, pose, pose_at=pose_at)
         self.movers = self.motion.update(obstacles, pose.xyt)
-        self._scan_pose = pose
 
     def on_frame(self, frame: CameraFrame, pose: RobotPose) -> Track:
         turned = 0.0 if self._frame_pose is None else pose.theta_rad - self._frame_pose.theta_rad
@@ -116,11 +118,10 @@ class FollowPilot:
         return track
 
     def command(self, pose: RobotPose) -> tuple[float, float, str]:
-        scan, then = self.last_scan, self._scan_pose
-        if scan is None or then is None:
+        seen = self.scans.seen_from(pose)  # the latest revolution, moved to where the robot is now
+        if seen is None:
             return 0.0, 0.0, "waiting"
-        # The latest revolution, moved to where the robot is now.
-        px, py = move_points(scan.x_m, scan.y_m, then.xyt, pose.xyt)
+        (px, py), _ = seen
         track = None
         if self._track is not None:
             tr, seen_at = self._track
@@ -134,3 +135,11 @@ class FollowPilot:
         decision = self.follower.step(pose.time_s, px, py, track, pose.xyt, movers=self.movers)
         self.decision = decision
         return decision.linear_m_s, decision.angular_rad_s, decision.mode.value
+
+    def explain_failsafe(self, reason: FailsafeReason, pose: RobotPose) -> str:
+        """`reason` in words, naming what the latest scan shows inside the footprint's margin."""
+        seen = self.scans.seen_from(pose)
+        follower = self.follower
+        margin = follower.avoider.params.margin_m
+        near = None if seen is None else within_margin(seen[0], follower.footprint, margin)
+        return explain_failsafe(reason, near, margin)

@@ -44,6 +44,8 @@ class Drive:
     angular_rad_s: float
     received_s: float
     """When the server got it (monotonic clock)."""
+    override: bool = False
+    """The user holds the override: driven as asked, without the obstacle protection."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -6,8 +6,9 @@ frame (the hub still holds it) and the newest frames carry it on; a detection cl
 same for a person or a face (`ClassTracker`, which detects the kind again when it is lost).
 
 What drives, in order: nothing while disarmed; the browser's drive command while it is fresh
-(it lapses after the board's watchdog period, so a frozen tab stops the robot); the follow
-behaviour while following; else standing still.
+(it lapses after the board's watchdog period, so a frozen tab stops the robot), limited by the
+obstacle guard (`TeleopGuard`, the follow behaviour's footprint and margins on its filtered scan)
+unless the user holds the override; the follow behaviour while following; else standing still.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from host_sdk.autonomy.guard import Guarded, TeleopGuard
 from host_sdk.autonomy.pilot import FollowPilot, PoseAt
 from host_sdk.console.hub import Drive, Hub, Requests
 from host_sdk.geometry import RobotGeometry
@@ -24,6 +26,7 @@ from host_sdk.perception.tracking import Track, Tracker, TrackState
 from host_sdk.pose import RobotPose
 from host_sdk.robot import Robot
 from host_sdk.sensors import CameraFrame, LidarScan
+from protocol.generated.enums import FailsafeReason
 
 Image = Any
 SCAN_POINTS = 360
@@ -52,6 +55,11 @@ class ConsolePilot:
         self.target_height_m = target_height_m
         self.follow = FollowPilot.with_tracker(geometry, tracker or NoTarget(), follow_gap_m=follow_gap_m,
                                                max_speed_m_s=max_speed_m_s)  # fmt: skip
+        follower = self.follow.follower
+        self.guard = TeleopGuard(follower.footprint, follower.avoider.params,
+                                 min_turn_radius_m=geometry.min_turn_radius_m)  # fmt: skip
+        self.guarded: Guarded | None = None
+        """What the guard made of the last teleop command (None: not driving by hand)."""
         self.following = False
         self.mode = "idle"
         self.health: dict[str, Any] = {}
@@ -61,6 +69,7 @@ class ConsolePilot:
         self._feedback_hz = 0.0
         self._scan_shown: object | None = None
         self._rates = {"scans": _Rate(), "camera": _Rate()}
+        self._failsafe: tuple[FailsafeReason, str] | None = None
 
     # -- the Pilot protocol -----------------------------------------------------------------------------
     def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
@@ -85,10 +94,15 @@ class ConsolePilot:
         asked = self.hub.take()
         self._apply(asked)
         linear, angular, mode = 0.0, 0.0, "idle"
+        self.guarded = None
         if not self.robot.armed:
             mode = "disarmed"
         elif asked.drive is not None:
-            linear, angular, mode = asked.drive.linear_m_s, self._steerable(asked.drive), "teleop"
+            seen = self.follow.scans.seen_from(pose)
+            points, age = (None, None) if seen is None else seen
+            self.guarded = self.guard.limit(asked.drive.linear_m_s, self._steerable(asked.drive), points, age_s=age,
+                                            override=asked.drive.override)  # fmt: skip
+            linear, angular, mode = self.guarded.linear_m_s, self.guarded.angular_rad_s, "teleop"
         elif self.following and self.has_target:
             linear, angular, mode = self.follow.command(pose)
         self.mode = mode
@@ -143,6 +157,8 @@ class ConsolePilot:
             else self.follow.last_track.state.value,
             "pose": {"x": round(pose.x_m, 3), "y": round(pose.y_m, 3), "theta": round(pose.theta_rad, 4)},
             "failsafe": None if self.robot.failsafe is None else self.robot.failsafe.name,
+            "failsafe_text": self._failsafe_text(pose),
+            "guard": None if self.guarded is None else {"state": self.guarded.state.value, "text": self.guarded.text},
             "health": {**self._link(pose.time_s), **rates, **self.health},
             "motion": {"linear": round(motion[0], 3), "angular": round(motion[1], 3)},
         }
@@ -153,6 +169,20 @@ class ConsolePilot:
             step = max(1, len(keep) // SCAN_POINTS)
             state["scan"] = {"points": keep[::step], "range_m": 4.0, "footprint": self._footprint()}
         self.hub.show_state(**state)
+
+    def explain_failsafe(self, reason: FailsafeReason, pose: RobotPose) -> str:
+        """`reason` in words, naming what the scan shows inside the footprint's margin."""
+        return self.follow.explain_failsafe(reason, pose)
+
+    def _failsafe_text(self, pose: RobotPose) -> str | None:
+        """The failsafe explained when it is entered, and kept while it lasts (the scan of that moment
+        says what was touched; later ones may have lost it)."""
+        reason = self.robot.failsafe
+        if reason is None:
+            self._failsafe = None
+        elif self._failsafe is None or self._failsafe[0] is not reason:
+            self._failsafe = (reason, self.explain_failsafe(reason, pose))
+        return None if self._failsafe is None else self._failsafe[1]
 
     def _link(self, now_s: float) -> dict[str, Any]:
         """The link's health for the status panel: its state, the feedback rate, errors, round trip."""

@@ -303,7 +303,7 @@ class ConsoleServer:
         if kind == "drive":
             linear = _number(msg, "linear", self.max_speed[0])
             angular = _number(msg, "angular", self.max_speed[1])
-            hub.post(drive=Drive(linear, angular, hub.clock()))
+            hub.post(drive=Drive(linear, angular, hub.clock(), override=msg.get("override") is True))
         elif kind == "select":
             frame = hub.frame(int(msg["frame"]))
             if frame is None:

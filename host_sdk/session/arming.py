@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from host_sdk.errors import FailsafeError, NotArmedError
+from host_sdk.failsafe import failsafe_meaning
 from host_sdk.session.events import Event, FailsafeEntered
 from protocol.generated.enums import FailsafeReason, Status
 
@@ -85,7 +86,7 @@ class Arming:
     def not_armed_error(self, reopening: bool, watchdog_s: float, command_timeout_s: float) -> NotArmedError:
         """The error for a drive command while not armed, saying why and what to do."""
         if self._failsafe is not None:
-            hint = ""
+            hint = failsafe_meaning(self._failsafe)
             if self._failsafe is FailsafeReason.COMM_TIMEOUT:
                 hint = (
                     f"no command reached the board for its {watchdog_s:g} s watchdog: drive commands expire "

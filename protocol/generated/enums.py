@@ -69,7 +69,7 @@ class FailsafeReason(enum.IntEnum):
     COMM_TIMEOUT = 1
     """No valid host frame for the watchdog period."""
     ENCODER_FAULT = 2
-    """Effort applied but the encoder did not move."""
+    """Effort applied but the encoder did not move: a blocked wheel, or an unplugged encoder."""
     BAD_CONFIG = 3
     """The configuration is inconsistent."""
     LOW_VOLTAGE = 4
@@ -111,7 +111,7 @@ class Status(enum.IntFlag):
     SATURATED = 0x8
     """A motor effort hit its limit this tick."""
     ENCODER_FAULT = 0x10
-    """An encoder looks disconnected."""
+    """A wheel did not turn under effort: blocked, or its encoder unplugged."""
     CONFIG_DEFAULTS = 0x20
     """EEPROM config was missing or corrupt; defaults in use."""
     LOCKSTEP = 0x40

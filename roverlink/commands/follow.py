@@ -111,6 +111,8 @@ def _progress(out: TextIO) -> Callable[[Progress], None]:
         seen = "target seen" if p.tracked else "target lost"
         hits = f"  collisions {p.metrics.collisions}" if p.metrics.ground_truth else ""
         print(f"{p.t_s:6.1f} s  {p.mode:8s} {gap}  {seen}{hits}", file=out, flush=True)
+        if p.failsafe is not None:
+            print(f"         failsafe {p.failsafe}", file=out, flush=True)
 
     return show
 

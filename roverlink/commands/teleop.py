@@ -2,20 +2,49 @@
 repeats keep the command alive; when they stop the robot stops), +/- change the speed step,
 space stops, enter (or r) arms, x disarms, q quits. Speeds are fractions of the board's limit; the
 SDK's kinematics turn them into wheel speeds or steering. The dashboard shows the setpoint
-against the measured speeds.
+against the measured speeds. With a lidar (`--lidar`, or an emu:// URL's) the obstacle guard
+slows and stops the robot short of what it sees; Shift with an arrow key drives without it.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
+from collections.abc import Iterator
 
-from host_sdk import RoverLinkError
+from host_sdk import Robot, RoverLinkError
+from host_sdk.autonomy.guard import LidarGuard
 from host_sdk.extras import MissingDependencyError
+from host_sdk.sensors import Lidar
 from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
 from roverlink.console import add_robot_args, connect
 from roverlink.dashboard import Dashboard, lines
+from roverlink.sensors import add_sensor_args, choose_sensors
 from roverlink.teleop import TeleopController
+
+
+@contextlib.contextmanager
+def obstacle_guard(args: argparse.Namespace, robot: Robot) -> Iterator[LidarGuard | None]:
+    """The guard on the robot's lidar (None without one: said on stderr, as driving is unprotected)."""
+    choice = choose_sensors(args, robot, ("lidar",))
+    if choice.lidar is None:
+        print("teleop: no lidar (--lidar PORT): no obstacle protection", file=sys.stderr)
+        yield None
+        return
+    with Lidar.open(choice.lidar, choice.lidar_model) as lidar:
+        try:
+            guard = LidarGuard(robot, lidar)
+        except RoverLinkError as exc:  # no footprint to guard: an unknown robot without a robot file
+            print(f"teleop: no obstacle protection: {exc} (give --robot FILE)", file=sys.stderr)
+            yield None
+            return
+        print(f"teleop: obstacle guard on the {choice.lidar_model} on {choice.lidar}", file=sys.stderr)
+        guard.start()
+        try:
+            yield guard
+        finally:
+            guard.stop()
 
 
 def cmd_teleop(args: argparse.Namespace) -> int:
@@ -26,9 +55,9 @@ def cmd_teleop(args: argparse.Namespace) -> int:
     from roverlink.tui import TeleopApp  # noqa: PLC0415 (Textual is an extra, loaded for the terminal view only)
 
     try:
-        with connect(args, feedback_hz=FEEDBACK_HZ_DEFAULT) as robot:
+        with connect(args, feedback_hz=FEEDBACK_HZ_DEFAULT) as robot, obstacle_guard(args, robot) as guard:
             dashboard = Dashboard(robot)
-            controller = TeleopController(robot, key_timeout_s=args.key_timeout)
+            controller = TeleopController(robot, key_timeout_s=args.key_timeout, guard=guard)
             try:
                 TeleopApp(dashboard, controller).run()
             finally:
@@ -49,6 +78,7 @@ def cmd_teleop(args: argparse.Namespace) -> int:
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser("teleop", help=cmd_teleop.__doc__, description=__doc__.split("\n\n")[0])
     add_robot_args(p)
+    add_sensor_args(p, ("lidar",), off="--no-lidar")
     p.add_argument(
         "--key-timeout", type=float, default=0.6, help="s without a key repeat before the robot stops (default 0.6)"
     )

@@ -20,6 +20,8 @@ class Progress:
     tracked: bool
     gap_m: float | None
     metrics: FollowMetrics
+    failsafe: str | None = None
+    """A failsafe met since the last line, in words (ControlLoop.last_failsafe)."""
 
 
 def run_follow(robot: Robot, lidar: Lidar, camera: CameraSource, pilot: Pilot, *, duration_s: float,
@@ -36,6 +38,7 @@ def run_follow(robot: Robot, lidar: Lidar, camera: CameraSource, pilot: Pilot, *
     t0 = loop.start()
     recorder.begin(t0.time_s)
     next_progress = last_t = t0.time_s
+    told = 0
     try:
         while robot.now() - t0.time_s < duration_s:
             step = loop.step()
@@ -54,7 +57,9 @@ def run_follow(robot: Robot, lidar: Lidar, camera: CameraSource, pilot: Pilot, *
             if progress is not None and t >= next_progress:
                 next_progress += progress_every_s
                 tracked = step.track is not None and step.track is not TrackState.LOST
-                progress(Progress(t - t0.time_s, step.mode, tracked, gap, metrics))
+                news = loop.last_failsafe if loop.failsafes > told else None
+                told = loop.failsafes
+                progress(Progress(t - t0.time_s, step.mode, tracked, gap, metrics, news))
             loop.wait()
     finally:
         metrics.duration_s = robot.now() - t0.time_s

@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from host_sdk import LinkStatistics, RobotIdentity
+from host_sdk.failsafe import failsafe_meaning
 from protocol.generated.enums import FailsafeReason
 from protocol.generated.messages import LinkStats
 from protocol.generated.structs import DecoderCountersSnapshot
@@ -28,13 +29,6 @@ OK, WARN, ERROR, STALE = 0, 1, 2, 3
 _DECODER_ERRORS = tuple(f.name for f in dataclasses.fields(DecoderCountersSnapshot) if f.name != "frames_ok")
 HOST_ERRORS = (*_DECODER_ERRORS, "seq_gaps")
 BOARD_ERRORS = (*HOST_ERRORS, "rx_overruns")
-
-FAILSAFE_HINTS = {
-    FailsafeReason.COMM_TIMEOUT: "no valid frame reached the board for its watchdog period",
-    FailsafeReason.ENCODER_FAULT: "effort applied but an encoder did not move: check the wiring",
-    FailsafeReason.BAD_CONFIG: "the board's configuration is inconsistent",
-    FailsafeReason.LOW_VOLTAGE: "the supply voltage is below the safe limit",
-}
 
 
 def feedback_expected_s(state: str, lockstep: bool, commanding: bool, odom_rate: float) -> float | None:
@@ -241,7 +235,7 @@ class DiagnosticsBuilder:
             level, message = STALE, "no connection"
         elif reason is not None:
             level = ERROR
-            message = f"FAILSAFE ({reason.name}): {FAILSAFE_HINTS.get(reason, 'see the firmware docs')}; call ~/arm"
+            message = f"FAILSAFE ({reason.name}): {failsafe_meaning(reason)}; call ~/arm"
         elif snap.state == "connecting":
             level, message = WARN, "re-opening the session after a board reset"
         elif snap.last_reset is not None and not snap.rearmed_since_reset and snap.state != "armed":

@@ -9,7 +9,7 @@ const trailCanvas = $("trail"), trailCtx = trailCanvas.getContext("2d");
 const view = {
   ws: null, driving: false, maxSpeed: [0.5, 2.0], lifetime: 0.25,
   frame: null, frameId: 0, overlay: {}, pending: new Map(),
-  drag: null, state: {}, trail: [], frames: 0, framesAt: performance.now(), fps: 0,
+  drag: null, state: {}, trail: [], frames: 0, framesAt: performance.now(), fps: 0, override: false,
 };
 
 // The token came in the URL; the page's own requests carry it in a cookie: keep it out of the
@@ -53,6 +53,7 @@ function onMessage(msg) {
       drawTrail();
     }
     if (msg.scan || msg.motion) drawScan();
+    if ("guard" in msg) showGuard();
     showStatus();
   } else if (msg.type === "overlay") {
     view.pending.set(msg.frame, msg);
@@ -239,7 +240,7 @@ function showStatus() {
   const s = view.state, rows = [];
   const add = (name, value) => { if (value !== undefined && value !== null) rows.push([name, value]); };
   add("armed", s.armed ? "yes" : "no");
-  add("failsafe", s.failsafe);
+  add("failsafe", s.failsafe_text || s.failsafe);
   add("doing", s.mode);
   add("following", s.following ? "yes" : "no");
   add("track", s.track);
@@ -250,6 +251,14 @@ function showStatus() {
     for (const text of [name, String(value)]) { const td = document.createElement("td"); td.textContent = text; tr.append(td); }
     return tr;
   }));
+}
+
+// The obstacle guard's word on the last drive command, and the override while it is held.
+function showGuard() {
+  const g = view.state.guard, el = $("guard");
+  if (view.override) el.textContent = g && g.state === "override" ? g.text : "override held: no obstacle protection";
+  else el.textContent = g && g.state !== "override" ? g.text : "obstacle protection on";
+  el.className = "hint " + (view.override ? "override" : g && g.state !== "clear" && g.state !== "override" ? "limited" : "");
 }
 
 function badge(id, text, kind) {
@@ -276,14 +285,45 @@ $("unfollow").addEventListener("click", () => send({ type: "follow", on: false }
 $("target-person").addEventListener("click", () => send({ type: "target", kind: "person" }));
 $("target-face").addEventListener("click", () => send({ type: "target", kind: "face" }));
 
+// The override is held, never latched: the on-screen button, Shift, or a gamepad shoulder button.
+// Each drive command carries it; letting go restores the obstacle protection with the next one.
+const held = { button: false, shift: false };
+const overrideButton = $("override");
+function padOverride() {
+  for (const gp of navigator.getGamepads ? navigator.getGamepads() : []) {
+    if (gp && [4, 5, 6, 7].some((i) => gp.buttons[i] && gp.buttons[i].pressed)) return true;
+  }
+  return false;
+}
+function showOverride() { // also from the drive timer: a gamepad's button sends no event
+  const on = held.button || held.shift || padOverride();
+  if (on === view.override) return;
+  view.override = on;
+  overrideButton.classList.toggle("held", on);
+  showGuard();
+}
+function holdOverride(which, on) {
+  held[which] = on;
+  showOverride();
+}
+overrideButton.addEventListener("pointerdown", (e) => { overrideButton.setPointerCapture(e.pointerId); holdOverride("button", true); });
+for (const end of ["pointerup", "pointercancel", "lostpointercapture"]) {
+  overrideButton.addEventListener(end, () => holdOverride("button", false));
+}
+
 const DRIVE_KEYS = ["w", "a", "s", "d", "arrowup", "arrowdown", "arrowleft", "arrowright"];
 document.addEventListener("keydown", (e) => {
   const k = e.key.toLowerCase();
+  if (k === "shift") { holdOverride("shift", true); return; }
   if (k === " ") { e.preventDefault(); stopNow(); return; }
   if (DRIVE_KEYS.includes(k)) { e.preventDefault(); keys.add(k); }
 });
-document.addEventListener("keyup", (e) => keys.delete(e.key.toLowerCase()));
-window.addEventListener("blur", () => keys.clear());
+document.addEventListener("keyup", (e) => {
+  const k = e.key.toLowerCase();
+  if (k === "shift") holdOverride("shift", false);
+  keys.delete(k);
+});
+window.addEventListener("blur", () => { keys.clear(); holdOverride("shift", false); holdOverride("button", false); });
 
 const pad = $("joystick"), knob = $("knob");
 function moveStick(e) {
@@ -306,6 +346,8 @@ document.addEventListener("visibilitychange", () => {
   if (document.hidden) {
     keys.clear();
     release();
+    holdOverride("shift", false);
+    holdOverride("button", false);
     if (view.driving) send({ type: "drive", linear: 0, angular: 0 });
   }
 });
@@ -329,8 +371,10 @@ function wanted() {
 let wasDriving = false;
 setInterval(() => {
   const w = wanted();
+  showOverride();
   if (w) {
-    send({ type: "drive", linear: w[0] * view.maxSpeed[0] * 0.6, angular: w[1] * view.maxSpeed[1] * 0.6 });
+    send({ type: "drive", linear: w[0] * view.maxSpeed[0] * 0.6, angular: w[1] * view.maxSpeed[1] * 0.6,
+      override: view.override });
     wasDriving = true;
   } else if (wasDriving) {
     send({ type: "drive", linear: 0, angular: 0 });

@@ -18,7 +18,7 @@ from host_sdk.geometry import geometry
 from host_sdk.perception.class_tracker import ClassTracker
 from host_sdk.perception.detectors import iou
 from host_sdk.pose import RobotPose
-from host_sdk.sensors import CameraFrame
+from host_sdk.sensors import CameraFrame, LidarScan
 from tests.host_sdk.autonomy.photos import PERSONS, needs_detectors, photo
 
 cv2 = pytest.importorskip("cv2")
@@ -107,12 +107,21 @@ def test_a_person_clicked_among_two_is_the_one_followed() -> None:
         assert iou(track.box, other) > 0.4 and iou(track.box, chosen_by_default) < 0.3, (i, track.box)
 
 
+def open_floor(p: ConsolePilot) -> ConsolePilot:
+    """A revolution with no return at all: nothing for the obstacle guard to stop for."""
+    angles = np.linspace(-np.pi, np.pi, 360, endpoint=False)
+    nothing = np.full(360, np.nan)
+    scan = LidarScan("rplidar-a1", 0, angles, nothing, np.zeros(360, dtype=np.int64), np.zeros(360), 0.15, 12.0)
+    p.on_scan(scan, RobotPose(0.0, 0.0, 0.0, 0.0))
+    return p
+
+
 def test_a_car_is_not_asked_to_turn_standing_still_nor_tighter_than_its_steering() -> None:
     hub = Hub()
     robot: Any = StandIn()
     robot.armed = True
     car = geometry("picar", None)
-    p = ConsolePilot(hub, robot, replace(car, min_turn_radius_m=0.5))
+    p = open_floor(ConsolePilot(hub, robot, replace(car, min_turn_radius_m=0.5)))
     now = hub.clock()
     hub.post(drive=Drive(0.0, 1.2, now))  # A or left arrow alone
     assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == (0.0, 0.0)
@@ -120,7 +129,7 @@ def test_a_car_is_not_asked_to_turn_standing_still_nor_tighter_than_its_steering
     assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == pytest.approx((0.3, 0.6))
     hub.post(drive=Drive(-0.3, -0.2, now))  # S and a little right: backing with the wheels to the right
     assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == pytest.approx((-0.3, 0.2))  # the nose swings left
-    diff = ConsolePilot(hub, robot, geometry("diffdrive-tb6612", None))
+    diff = open_floor(ConsolePilot(hub, robot, geometry("diffdrive-tb6612", None)))
     hub.post(drive=Drive(0.0, 1.2, now))  # a differential drive spins in place
     assert diff.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == (0.0, 1.2)
 

@@ -143,6 +143,18 @@ def drive_in_turn(served: Served, first: ClientConnection, second: ClientConnect
     until(lambda: (d := hub.take().drive) is not None and d.linear_m_s == -0.1)
 
 
+def test_the_override_rides_on_each_drive_command_and_only_an_explicit_true_holds_it(served: Served) -> None:
+    hub = served.hub
+    with served.socket() as ws:
+        for flag, held in ((True, True), (None, False), ("yes", False), (1, False), (True, True), (False, False)):
+            message = {"type": "drive", "linear": 0.1, "angular": 0.0}
+            if flag is not None:
+                message["override"] = flag
+            ws.send(json.dumps(message))
+            until(lambda held=held: (d := hub.take().drive) is not None and d.override is held)
+            hub.stop_driving()
+
+
 def test_requests_out_of_range_are_refused_naming_the_field(served: Served) -> None:
     with served.socket() as ws:
         refused(served, ws)

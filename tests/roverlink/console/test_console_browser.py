@@ -237,6 +237,42 @@ def test_the_on_screen_joystick_and_a_gamepad_drive_too(robot: tuple[ConsoleRun,
     until(lambda: not run.robot.armed, what="disarmed by STOP")
 
 
+def test_the_obstacle_guard_has_its_line_and_the_override_is_held_on_the_page(
+    robot: tuple[ConsoleRun, Steps], browser: Any
+) -> None:
+    from selenium.webdriver.common.action_chains import ActionChains
+    from selenium.webdriver.common.keys import Keys
+
+    from host_sdk.autonomy import GuardState
+
+    run, _ = robot
+    pilot = run.console.pilot
+    open_page(browser, run)
+    browser.find_element("id", "arm").click()
+    until(lambda: run.robot.armed, what="armed from the page")
+    line, button = browser.find_element("id", "guard"), browser.find_element("id", "override")
+    body = browser.find_element("tag name", "body")
+
+    def guarded(*states: GuardState) -> bool:
+        return pilot.guarded is not None and pilot.guarded.state in states
+
+    ActionChains(browser).key_down("w", body).perform()  # protected: the guard's verdict on the line
+    until(lambda: guarded(GuardState.CLEAR, GuardState.SLOWED, GuardState.STOPPED), what="W through the guard")
+    until(lambda: line.text and "override" not in line.text, what="the guard's line")
+    ActionChains(browser).click_and_hold(button).perform()  # the button held: each command carries it
+    until(lambda: guarded(GuardState.OVERRIDE), what="the override riding on the drive commands")
+    assert "held" in button.get_attribute("class") and line.text.startswith("override held")
+    ActionChains(browser).release().perform()  # let go: protected again with the next command
+    until(lambda: guarded(GuardState.CLEAR, GuardState.SLOWED, GuardState.STOPPED), what="the guard back")
+    assert "held" not in button.get_attribute("class") and not line.text.startswith("override held")
+    ActionChains(browser).key_down(Keys.SHIFT).perform()  # Shift is the keyboard's override
+    until(lambda: guarded(GuardState.OVERRIDE), what="Shift held")
+    ActionChains(browser).key_up(Keys.SHIFT).key_up("w", body).perform()
+    until(lambda: run.console.pilot.mode != "teleop", what="the key released")
+    browser.find_element("id", "stop").click()
+    until(lambda: not run.robot.armed, what="disarmed by STOP")
+
+
 def test_a_closed_or_frozen_tab_stops_the_robot_within_the_command_lifetime(
     robot: tuple[ConsoleRun, Steps], browser: Any
 ) -> None:

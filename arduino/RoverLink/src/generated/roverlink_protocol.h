@@ -93,7 +93,7 @@ inline bool is_valid_SafeState(uint8_t value) {
 enum class FailsafeReason : uint8_t {
     NONE = 0,  // Not in failsafe.
     COMM_TIMEOUT = 1,  // No valid host frame for the watchdog period.
-    ENCODER_FAULT = 2,  // Effort applied but the encoder did not move.
+    ENCODER_FAULT = 2,  // Effort applied but the encoder did not move: a blocked wheel, or an unplugged encoder.
     BAD_CONFIG = 3,  // The configuration is inconsistent.
     LOW_VOLTAGE = 4,  // Supply voltage below the safe limit.
 };
@@ -124,7 +124,7 @@ struct Status {
         ARMED = 0x2,  // Motors enabled, setpoints applied.
         FAILSAFE = 0x4,  // FAILSAFE latched; see failsafe_reason.
         SATURATED = 0x8,  // A motor effort hit its limit this tick.
-        ENCODER_FAULT = 0x10,  // An encoder looks disconnected.
+        ENCODER_FAULT = 0x10,  // A wheel did not turn under effort: blocked, or its encoder unplugged.
         CONFIG_DEFAULTS = 0x20,  // EEPROM config was missing or corrupt; defaults in use.
         LOCKSTEP = 0x40,  // The session runs in lockstep mode.
     };
