@@ -12,7 +12,7 @@ see docs/autonomy.md.
 from host_sdk.autonomy.finder import TargetFinder
 from host_sdk.autonomy.follow import Decision, Follower, FollowParams, Mode
 from host_sdk.autonomy.loop import ControlLoop, Step
-from host_sdk.autonomy.pilot import FollowPilot, Pilot, follow_gap
+from host_sdk.autonomy.pilot import FollowPilot, Halting, Pilot, follow_gap
 from host_sdk.autonomy.planner import PlanChoice, PlannerParams, ViewPlanner
 from host_sdk.autonomy.target import TargetFix, locate_target
 
@@ -22,6 +22,7 @@ __all__ = [
     "FollowParams",
     "FollowPilot",
     "Follower",
+    "Halting",
     "Mode",
     "Pilot",
     "PlanChoice",

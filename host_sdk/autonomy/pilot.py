@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -44,6 +44,14 @@ class Pilot(Protocol):
     def command(self, pose: RobotPose) -> tuple[float, float, str]:
         """(linear m/s, angular rad/s, what it is doing) at `pose.time_s`."""
         ...
+
+
+@runtime_checkable
+class Halting(Protocol):
+    """A pilot that drives by itself and must stop when the robot stops being armed and reachable (a
+    failsafe, a board reset, a lost link, STOP): `ControlLoop` calls `halt(why)` then."""
+
+    def halt(self, why: str) -> None: ...
 
 
 def follow_gap(geometry: RobotGeometry) -> float:
