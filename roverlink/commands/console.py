@@ -52,6 +52,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--max-speed", type=positive, default=0.45, help="top speed, m/s (default 0.45)")
     p.add_argument("--follow-gap", type=positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
     p.add_argument("--target-height", type=positive, metavar="M", help="the target's height (gives its range)")
+    p.add_argument("--autonomous", action="store_true",
+                   help="keep following with no browser open (by default following ends when the driving "
+                        "browser's keep-alive lapses: tab closed, frozen or hidden, Wi-Fi gone); said at the "
+                        "start and on the page")  # fmt: skip
     e = p.add_argument_group("on the emulator")
     e.add_argument("--world", metavar="FILE|random:SEED", help="a scenario file or random:SEED (default random:SEED)")
     e.add_argument("--seed", type=int, default=0, help="the emulator's random seed (default 0)")
@@ -75,7 +79,8 @@ def cmd_console(args: argparse.Namespace) -> int:
     except CommandRangeError as exc:
         print(f"roverlink console: --{exc}", file=sys.stderr)
         return 2
-    settings = ConsoleSettings(args.host, args.port, args.token, args.max_speed, args.target_height, args.follow_gap)
+    settings = ConsoleSettings(args.host, args.port, args.token, args.max_speed, args.target_height, args.follow_gap,
+                               args.autonomous)  # fmt: skip
     which = args.robot or args.profile
     try:
         if args.url is None:
@@ -102,6 +107,9 @@ def cmd_console(args: argparse.Namespace) -> int:
         print(f"roverlink console: {exc}", file=sys.stderr)
         return 1
     print("roverlink console: open " + "  or  ".join(run.console.urls), file=sys.stderr, flush=True)
+    if args.autonomous:
+        print("roverlink console: --autonomous: following goes on with no browser open; STOP on the page "
+              "or Ctrl-C here stops it", file=sys.stderr, flush=True)  # fmt: skip
     try:
         run.run(args.duration)
     except KeyboardInterrupt:

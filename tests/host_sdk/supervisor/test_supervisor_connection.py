@@ -66,8 +66,9 @@ class Board(EmulatorProcess):
 def test_a_lost_port_is_opened_again_and_the_odometry_carries_on() -> None:
     board = Board()
     again: Board | None = None
-    sup = Supervisor.connect(board.url, profile="diffdrive-tb6612", delay_s=0.1, delay_max_s=0.4)
+    sup: Supervisor | None = None
     try:
+        sup = Supervisor.connect(board.url, profile="diffdrive-tb6612", delay_s=0.1, delay_max_s=0.4)
         first = sup.robot
         assert sup.arm()
         t0 = time.monotonic()
@@ -90,7 +91,8 @@ def test_a_lost_port_is_opened_again_and_the_odometry_carries_on() -> None:
         assert abs(sup.robot.odometry.pose.x_m - x) < 1e-6
         assert sup.arm() and sup.health().armed
     finally:
-        sup.close()
+        if sup is not None:
+            sup.close()
         for b in (board, again):
             if b is not None:
                 b.stop()
