@@ -15,6 +15,7 @@ from host_sdk.autonomy import ControlLoop
 from host_sdk.console import Console
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 from host_sdk.supervisor import Supervisor
+from protocol.generated.constants import WATCHDOG_DEFAULT_MS
 from roverlink.console import warn_mismatches
 from roverlink.follow import emulated
 from roverlink.follow.app import RobotPorts, geometry_for
@@ -30,6 +31,8 @@ class ConsoleSettings:
     follow_gap_m: float | None = None
     autonomous: bool = False
     """Following goes on with no browser keeping it alive (`--autonomous`)."""
+    watchdog_s: float | None = None
+    """A robot's watchdog to ask for (default the firmware's); the emulator's is `start_emulated`'s."""
 
 
 @dataclass
@@ -129,8 +132,9 @@ def start_emulated(which: str | RobotDescription, world: str | Path, settings: C
 def start_robot(ports: RobotPorts, which: str | RobotDescription, settings: ConsoleSettings) -> ConsoleRun:
     """The console on a real robot; listening once this returns."""
     desc, name = (which, None) if isinstance(which, RobotDescription) else (None, which)
+    watchdog = WATCHDOG_DEFAULT_MS / 1000 if settings.watchdog_s is None else settings.watchdog_s
     sup = Supervisor.connect(ports.url, profile=name, robot=desc, baud=ports.baud,
-                             allow_mismatch=ports.allow_mismatch, clamp=True)  # fmt: skip
+                             allow_mismatch=ports.allow_mismatch, clamp=True, watchdog_s=watchdog)  # fmt: skip
     robot = sup.robot
     warn_mismatches(robot)
     opened: list[Lidar | CameraSource | Jy901] = []

@@ -16,9 +16,11 @@ It rides through the robot's failures (host_sdk.supervisor): a failsafe, a board
 link or port, a sensor that stops are state (`step.health`, `sensor_errors`), never an exception
 that ends the program. Each time the robot stops being armed and reachable the pilot is told
 (`halt(why)`, if it has one: a console's pilot stops following) and the drive command is cleared,
-so arming again never drives off. Nothing is sent while the link is down, so the board fails safe
-by its watchdog whichever way the link was cut. Arming is the program's: `arm=True` arms at the
-start; re-arming after a failsafe or a reset is an opt-in (`rearm=True`, logged at the start).
+so arming again never drives off. While the link is down the loop commands zero speed: a board that
+still hears it stands, one that does not fails safe by its watchdog (and says so when it answers
+again), and a short gap in FEEDBACK on a busy host costs no failsafe. Arming is the program's:
+`arm=True` arms at the start; re-arming after a failsafe or a reset is an opt-in (`rearm=True`,
+logged at the start).
 
 Waiting is `robot.sleep()`, so the same loop runs on a real robot (wall clock) and on the emulator's
 virtual clock (as fast as the CPU allows, deterministic).
@@ -137,6 +139,8 @@ class ControlLoop:
         linear, angular, mode = pilot.command(pose)
         decide_s = time.thread_time() - started
         driven = health.armed and sup.drive(linear, angular, clamp=True)
+        if not health.armed and health.link == "lost":
+            sup.stop_driving()  # zero speed, renewed: nothing drives while nobody can see it
         self._driving = driven
         rearm_due = self.rearm and not health.armed and health.link == "up" and t >= self._rearm_at
         if rearm_due and not sup.arm():

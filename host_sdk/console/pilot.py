@@ -111,7 +111,7 @@ class ConsolePilot:
         """The robot stopped being armed and reachable: following ends and the drive command goes."""
         if self.following:
             self._end_following(why)
-        self.hub.stop()
+        self.hub.post(drive=None)
 
     def _end_following(self, why: str) -> None:
         self.following = False
@@ -153,7 +153,7 @@ class ConsolePilot:
             self.ended = ""
         if self.following and not asked.driver_alive:
             self._end_following("the driving browser stopped keeping it alive (closed, frozen or hidden)")
-        if asked.arm and not self.robot.armed:
+        if asked.arm:  # also while the host still believes it armed: a link down is refused, with why
             self.supervisor.arm_soon()
 
     def _show(self, pose: RobotPose, motion: tuple[float, float], health: Health) -> None:
