@@ -170,6 +170,12 @@ class Hub:
         with self._lock:
             self._alive_s = self.clock()
 
+    @property
+    def alive_s(self) -> float:
+        """When the driving browser was last heard (`clock`; -inf: no driver)."""
+        with self._lock:
+            return self._alive_s
+
     def stop_driving(self) -> None:
         """Forget the drive command and the keep-alive at once (the driving browser left)."""
         with self._lock:
