@@ -4,8 +4,12 @@ when the program asks, after each of them."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
+from pathlib import Path
 from urllib.parse import quote
+
+import pytest
 
 from host_sdk import Robot
 from host_sdk.supervisor import Health, Supervisor
@@ -93,3 +97,12 @@ def test_drive_and_disarm_say_what_happened_without_raising() -> None:
         run(sup, 2.0)
         assert not sup.disarm()  # nobody answers
         assert sup.health().refusals[-1].what == "DISARM"
+
+
+def test_the_sdk_docs_supervisor_section_runs_as_documented(capsys: pytest.CaptureFixture[str]) -> None:
+    doc = (Path(__file__).resolve().parents[3] / "docs" / "sdk.md").read_text(encoding="utf-8")
+    section = doc[doc.index("## Riding through failures") : doc.index("## Errors")]
+    code = re.findall(r"```python\n(.*?)```", section, re.S)[0]
+    exec(compile(code, "docs/sdk.md", "exec"), {})
+    claimed = re.search(r"print\(.*\)\s+# (.*)", code)
+    assert claimed and capsys.readouterr().out.strip() == claimed.group(1)
