@@ -112,6 +112,7 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         Raises ArgumentError (CommandRangeError, ArgumentTypeError) naming a bad argument, and
         ConnectTimeoutError, IncompatibleFirmwareError, TransportError, UnsupportedError.
         """
+        given = {k: v for k, v in locals().items() if k not in ("cls", "transport")}  # first: the arguments only
         options = check_connect(
             url,
             profile=profile,
@@ -129,14 +130,8 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
             transport=transport,
         )
         check = prepare(robot, profile, kinematics, allow_mismatch)
-        again: Callable[[], Robot] | None = None
-        if transport is None:  # by URL: it can be opened again the same way (reopen)
-            again = functools.partial(
-                cls.connect, url, profile=profile, kinematics=kinematics, robot=robot, allow_mismatch=allow_mismatch,
-                baud=baud, watchdog_s=watchdog_s, mode=mode, feedback_hz=feedback_hz, timeout_s=timeout_s,
-                clamp=clamp, auto_rearm=auto_rearm, command_timeout_s=command_timeout_s,
-                request_timeout_s=request_timeout_s, request_tries=request_tries,
-            )  # fmt: skip
+        # By URL, it can be opened again the same way (reopen): these arguments, but the transport.
+        again = None if transport is not None else functools.partial(cls.connect, **given)
         kinematics = check.description.kinematics() if check is not None else kinematics
         if transport is None:
             transport = open_transport(url, baud)
