@@ -20,6 +20,9 @@ from roverlink.console import warn_mismatches
 from roverlink.follow import emulated
 from roverlink.follow.app import RobotPorts, geometry_for
 
+EMULATED_LOST_AFTER_S = 1.5
+"""How long the in-process emulator's FEEDBACK may pause before its link counts as lost."""
+
 
 @dataclass(frozen=True, slots=True)
 class ConsoleSettings:
@@ -33,6 +36,8 @@ class ConsoleSettings:
     """Following goes on with no browser keeping it alive (`--autonomous`)."""
     watchdog_s: float | None = None
     """A robot's watchdog to ask for (default the firmware's); the emulator's is `start_emulated`'s."""
+    lost_after_s: float | None = None
+    """A robot's FEEDBACK silent this long means its link is lost (default the supervisor's)."""
 
 
 @dataclass
@@ -119,7 +124,10 @@ def start_emulated(which: str | RobotDescription, world: str | Path, settings: C
         lidar = Lidar.open(em.endpoints["lidar"], em.lidar_model)
         camera = CameraSource(em.endpoints["camera"])
         imu_port = Jy901.open(em.endpoints["imu"]) if imu else None
-        run = _assemble(Supervisor(em.robot), which, settings, lidar=lidar, camera=camera, imu=imu_port, em=em)
+        # The emulator shares this process (and its interpreter lock) with the console on the wall
+        # clock: its FEEDBACK comes in bursts on a busy machine, so a longer silence means a lost link.
+        sup = Supervisor(em.robot, lost_after_s=EMULATED_LOST_AFTER_S)
+        run = _assemble(sup, which, settings, lidar=lidar, camera=camera, imu=imu_port, em=em)
         if settings.target_height_m is None:
             run.console.pilot.target_height_m = em.template.height_m
         run.console.start()
@@ -133,8 +141,8 @@ def start_robot(ports: RobotPorts, which: str | RobotDescription, settings: Cons
     """The console on a real robot; listening once this returns."""
     desc, name = (which, None) if isinstance(which, RobotDescription) else (None, which)
     watchdog = WATCHDOG_DEFAULT_MS / 1000 if settings.watchdog_s is None else settings.watchdog_s
-    sup = Supervisor.connect(ports.url, profile=name, robot=desc, baud=ports.baud,
-                             allow_mismatch=ports.allow_mismatch, clamp=True, watchdog_s=watchdog)  # fmt: skip
+    sup = Supervisor.connect(ports.url, profile=name, robot=desc, baud=ports.baud, allow_mismatch=ports.allow_mismatch,
+                             clamp=True, watchdog_s=watchdog, lost_after_s=settings.lost_after_s)  # fmt: skip
     robot = sup.robot
     warn_mismatches(robot)
     opened: list[Lidar | CameraSource | Jy901] = []

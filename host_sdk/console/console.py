@@ -29,7 +29,8 @@ class Console:
         self.access = Access.for_host(host, token)
         self.hub = Hub(command_lifetime_s=self.robot.watchdog_s, autonomous=autonomous)
         self.server = ConsoleServer(self.hub, self.access, port, on_stop=self.supervisor.stop,
-                                    jpeg_quality=jpeg_quality, max_speed=(max_speed_m_s, max_turn_rad_s))  # fmt: skip
+                                    jpeg_quality=jpeg_quality, max_speed=(max_speed_m_s, max_turn_rad_s),
+                                    on_dismiss=self.supervisor.dismiss)  # fmt: skip
         self.pilot = ConsolePilot(self.hub, self.supervisor, geometry, target_height_m=target_height_m,
                                   follow_gap_m=follow_gap_m, max_speed_m_s=max_speed_m_s, tracker=tracker)  # fmt: skip
 

@@ -44,7 +44,8 @@ class ConsoleServer:
     """Serves `hub` on `access.host`:`port` (0: any free port; `port` says which after `start`)."""
 
     def __init__(self, hub: Hub, access: Access, port: int = 8080, *, on_stop: Callable[[], None],
-                 jpeg_quality: int = 70, max_speed: tuple[float, float] = (0.5, 2.0)) -> None:  # fmt: skip
+                 jpeg_quality: int = 70, max_speed: tuple[float, float] = (0.5, 2.0),
+                 on_dismiss: Callable[[int], None] = lambda refusal_id: None) -> None:  # fmt: skip
         if not 0 <= port <= 65535:
             raise CommandRangeError("port", port, "0 to 65535")
         if not 10 <= jpeg_quality <= 100:
@@ -55,6 +56,8 @@ class ConsoleServer:
         self.access = access
         self.port = port
         self.on_stop = on_stop
+        self.on_dismiss = on_dismiss
+        """A refusal the page shows was dismissed (by its id): gone for every page."""
         self.jpeg_quality = jpeg_quality
         self.max_speed = max_speed
         """Largest linear (m/s) and angular (rad/s) speed a browser may ask for."""
@@ -290,6 +293,9 @@ class ConsoleServer:
         if kind == "stop":  # anyone may stop
             self.hub.stop()
             self.on_stop()
+            return
+        if kind == "dismiss":  # anyone may: it is only what the pages show
+            self.on_dismiss(int(msg.get("id", 0)))
             return
         if kind == "alive":  # the driver's counts; a watcher's keeps nothing alive
             if self.driver is ws:

@@ -51,7 +51,8 @@ class Refusal:
     wall: float
 
     def line(self) -> str:
-        return f"{clock_time(self.wall)} {self.what}: {self.text}"
+        said = self.text if self.text.startswith(f"{self.what}:") else f"{self.what}: {self.text}"
+        return f"{clock_time(self.wall)} {said}"
 
 
 @dataclass(frozen=True, slots=True)

@@ -213,11 +213,10 @@ class Supervisor:
 
     # == arming and driving ========================================================================
     def arm(self, timeout_s: float = 2.0) -> bool:
-        """Arm now (waits for the answer); False when it could not, with a refusal in `health()`.
-        A board reset not yet reported is taken as seen: the new boot is armed."""
-        if self.health().link != LINK_UP:
-            self._refuse("ARM", "the board does not answer (the link is down): arm once it answers again")
-            return False
+        """Arm now (waits for the answer: while the link is down, its tries and a reset's silence);
+        False when it could not, with a refusal in `health()`. A board reset not yet reported is
+        taken as seen: the new boot is armed. Tried even while the link looks down: a busy host's
+        FEEDBACK can pause longer than `lost_after_s` while the board still hears it."""
         for _ in range(2):
             robot = self.robot
             try:

@@ -262,6 +262,7 @@ function showStatus() {
   add("armed", s.armed ? "yes" : "no");
   add("failsafe", s.failsafe);
   add("doing", s.mode);
+  if (s.link && s.link.busy) add("request", `${s.link.busy}...`);
   add("following", s.following ? (s.autonomous ? "yes (autonomous)" : "yes") : "no");
   if (s.ended) add("", s.ended);
   add("track", s.track);
@@ -308,7 +309,9 @@ function showHeader() {
   banner.className = "banner " + level;
   $("banner-text").textContent = text;
   $("banner-hint").textContent = hint ? `: ${hint}` : "";
+  const kept = new Set((link.refusals || []).map((r) => r.id));
   for (const r of link.refusals || []) if (!view.errors.has(r.id)) view.errors.set(r.id, r.text);
+  for (const id of [...view.errors.keys()]) if (id > 0 && !kept.has(id)) view.errors.delete(id); // dismissed elsewhere
   showErrors();
 }
 
@@ -318,7 +321,12 @@ function note(text) {
   showErrors();
 }
 
+let shownErrors = "";
 function showErrors() {
+  // Rebuilt only when the list changes: a button replaced under the pointer would miss its click.
+  const ids = [...view.errors.keys()].filter((id) => !view.dismissed.has(id)).join(",");
+  if (ids === shownErrors) return;
+  shownErrors = ids;
   const items = [];
   for (const [id, text] of view.errors) {
     if (view.dismissed.has(id)) continue;
@@ -326,7 +334,11 @@ function showErrors() {
     span.textContent = text;
     x.textContent = "\u2715";
     x.title = "Dismiss";
-    x.addEventListener("click", () => { view.dismissed.add(id); showErrors(); });
+    x.addEventListener("click", () => {
+      view.dismissed.add(id);
+      if (id > 0) send({ type: "dismiss", id }); // the robot's refusal: gone for every page
+      showErrors();
+    });
     li.append(span, x);
     items.push(li);
   }

@@ -12,7 +12,9 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-from roverlink.console_app import ConsoleRun, ConsoleSettings, start_emulated
+from roverlink.console_app import EMULATED_LOST_AFTER_S, ConsoleRun, ConsoleSettings, start_emulated, start_robot
+from roverlink.follow.app import RobotPorts
+from tests.support.emulate import EmulatorProcess, emulate
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 DRIVER = shutil.which("chromedriver")
@@ -85,6 +87,29 @@ def emulated_console(world_dir: Path, **settings: Any) -> Iterator[tuple[Console
     finally:
         run.close()
         loop.join(timeout=10)
+
+
+@contextmanager
+def pty_console(**settings: Any) -> Iterator[tuple[ConsoleRun, Steps, EmulatorProcess]]:
+    """The console on "a robot": the board served on a pty by a `roverlink emulate` of its own (light:
+    it keeps pace on a busy machine), the lidar and camera by another; the console in this process,
+    its loop on a thread. Yields the run, its steps and the board's process (to hang it: SIGSTOP)."""
+    profile = ("--profile", "diffdrive-tb6612")
+    sensors_args = (*profile, "--world", "random:1", "--lidar", "rplidar-a1", "--camera", "--quiet")
+    with emulate(*profile, "--eeprom", "saved", "--quiet") as board, emulate(*sensors_args, devices=2) as sensors:
+        ports = RobotPorts(board.url, sensors.devices["lidar"][-1], sensors.devices["camera"][-1])
+        # The browser shares the busy machine too: FEEDBACK pauses that long are its scheduling, not a
+        # lost link (these tests are about who drives; test_console_ride_through keeps the default).
+        chosen = ConsoleSettings(port=0, watchdog_s=1.0, lost_after_s=EMULATED_LOST_AFTER_S, **settings)
+        run = start_robot(ports, "diffdrive-tb6612", chosen)
+        steps = Steps(run)
+        loop = threading.Thread(target=run.run, kwargs={"on_step": steps}, daemon=True)
+        loop.start()
+        try:
+            yield run, steps, board
+        finally:
+            run.close()
+            loop.join(timeout=10)
 
 
 @contextmanager

@@ -44,7 +44,7 @@ def robot(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[ConsoleRun
 
 @pytest.fixture(scope="module")
 def browser() -> Iterator[Any]:
-    with chromium() as driver:
+    with chromium(1366, 768) as driver:  # a laptop's screen: the screenshots in docs/console.md
         yield driver
 
 
