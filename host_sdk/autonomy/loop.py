@@ -41,6 +41,7 @@ from host_sdk.pose import RobotPose
 from host_sdk.robot import Robot
 from host_sdk.sensors import CameraFrame, CameraSource, FrameGrabber, Jy901, Lidar, LidarScan
 from host_sdk.supervisor import Health, Supervisor
+from host_sdk.supervisor.health import LINK_CLOSED, LINK_LOST, LINK_RECONNECTING, LINK_UP
 
 log = logging.getLogger("host_sdk.autonomy")
 REARM_RETRY_S = 1.0
@@ -139,10 +140,10 @@ class ControlLoop:
         linear, angular, mode = pilot.command(pose)
         decide_s = time.thread_time() - started
         driven = health.armed and sup.drive(linear, angular, clamp=True)
-        if not health.armed and health.link == "lost":
+        if not health.armed and health.link == LINK_LOST:
             sup.stop_driving()  # zero speed, renewed: nothing drives while nobody can see it
         self._driving = driven
-        rearm_due = self.rearm and not health.armed and health.link == "up" and t >= self._rearm_at
+        rearm_due = self.rearm and not health.armed and health.link == LINK_UP and t >= self._rearm_at
         if rearm_due and not sup.arm():
             self._rearm_at = t + REARM_RETRY_S
         return Step(pose, linear, angular, mode, self._track, decide_s, health, driven)
@@ -159,7 +160,7 @@ class ControlLoop:
     def _pose_now(self, t: float, health: Health) -> RobotPose:
         """The pose now; while the port is gone, the last one held."""
         last = self._pose
-        if health.link in ("reconnecting", "closed") and last is not None:
+        if health.link in (LINK_RECONNECTING, LINK_CLOSED) and last is not None:
             return last.moved_to(t, last.xyt)
         try:
             self._pose = self.poses.update(t)

@@ -153,7 +153,7 @@ class ConsolePilot:
             self.ended = ""
         if self.following and not asked.driver_alive:
             self._end_following("the driving browser stopped keeping it alive (closed, frozen or hidden)")
-        if asked.arm:  # also while the host still believes it armed: a link down is refused, with why
+        if asked.arm:  # also while the host still believes it armed: tried, and a refusal says why
             self.supervisor.arm_soon()
 
     def _show(self, pose: RobotPose, motion: tuple[float, float], health: Health) -> None:

@@ -38,7 +38,7 @@ class LinkLines:
 
     def lines(self, robot: Robot, health: Health, now_s: float) -> dict[str, Any]:
         stats = robot.stats
-        lines: dict[str, Any] = {"link": robot.state if health.link == "up" else health.link}
+        lines: dict[str, Any] = {"link": health.link if health.stale else robot.state}
         then = self._fed
         self._fed = (now_s, stats.feedback_received)
         if health.stale:
