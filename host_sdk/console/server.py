@@ -295,7 +295,10 @@ class ConsoleServer:
             self.on_stop()
             return
         if kind == "dismiss":  # anyone may: it is only what the pages show
-            self.on_dismiss(int(msg.get("id", 0)))
+            try:
+                self.on_dismiss(int(msg["id"]))
+            except (CommandRangeError, KeyError, TypeError, ValueError) as exc:
+                await ws.send_json({"type": "error", "error": f"dismiss: {exc}"})
             return
         if kind == "alive":  # the driver's counts; a watcher's keeps nothing alive
             if self.driver is ws:

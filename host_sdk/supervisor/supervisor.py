@@ -31,6 +31,7 @@ from collections import deque
 from collections.abc import Callable
 from typing import Any
 
+from host_sdk import checks
 from host_sdk.errors import (
     FailsafeError,
     FeedbackTimeoutError,
@@ -82,9 +83,12 @@ class Supervisor:
 
     def __init__(self, robot: Robot, *, reconnect: bool = False, lost_after_s: float | None = None,
                  delay_s: float = 0.5, delay_max_s: float = 5.0) -> None:  # fmt: skip
+        reconnect = checks.flag("reconnect", reconnect)
+        self._lost_after = checks.optional(checks.seconds, "lost_after_s", lost_after_s)
+        delay_s = checks.seconds("delay_s", delay_s)
+        delay_max_s = checks.seconds("delay_max_s", delay_max_s)
         self._lock = threading.RLock()
         self._robot = robot
-        self._lost_after = lost_after_s
         self._ids = itertools.count(1)
         self._refusals: deque[Refusal] = deque(maxlen=KEEP_REFUSALS)
         self._reset: BoardReset | None = None
@@ -200,7 +204,8 @@ class Supervisor:
             self._halt_why = why
 
     def dismiss(self, refusal_id: int) -> None:
-        """Forget a refusal (the person has read it)."""
+        """Forget a refusal (the person has read it); an id no longer kept is ignored."""
+        checks.integer("refusal_id", refusal_id, 0, 2**63, what="a Refusal's id")
         with self._lock:
             self._refusals = deque((r for r in self._refusals if r.id != refusal_id), maxlen=KEEP_REFUSALS)
 

@@ -128,6 +128,8 @@ def test_only_the_drivers_keep_alive_counts_and_a_watcher_takes_the_wheel(
         assert "another browser is driving" in receive(first, "error")["error"]
         second.send(json.dumps({"type": "drive", "linear": -0.1, "angular": 0.0}))
         until(lambda: (d := hub.take().drive) is not None and d.linear_m_s == -0.1)
+        second.send(json.dumps({"type": "dismiss", "id": "none"}))
+        assert "dismiss" in receive(second, "error")["error"]  # said, and the socket goes on
         second.close()  # the driver leaves: its command and keep-alive go at once
         until(lambda: hub.alive_s == -float("inf") and hub.take().drive is None)
         assert not stops.is_set()
