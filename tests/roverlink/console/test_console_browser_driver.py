@@ -186,3 +186,15 @@ def hung(browser: Any) -> None:
     stale = browser.execute_script("return [...document.querySelectorAll('#status tr.stale')].map(r => r.textContent)")
     assert any("feedback" in row for row in stale), f"the feedback rate marked stale: {stale}"
     browser.save_screenshot(str(SHOTS / "console-link-lost.png"))
+
+
+def test_a_page_that_cannot_reach_the_console_says_so_and_greys_what_it_shows(robot: Robot, browser: Any) -> None:
+    """Last: the console's server goes (the Wi-Fi drops, the process ends)."""
+    run, _, _ = robot
+    open_page(browser, run)
+    until(lambda: "board: link up" in browser.find_element("id", "link").text, what="the page up to date")
+    run.console.server.close()
+    until(lambda: "console unreachable since" in browser.find_element("id", "banner").text, what="the banner")
+    assert "armed: ?" in browser.find_element("id", "armed").text and in_view(browser, "banner")
+    rows = browser.execute_script("return [...document.querySelectorAll('#status tr')].map(r => r.className)")
+    assert rows and all(kind == "stale" for kind in rows), rows
