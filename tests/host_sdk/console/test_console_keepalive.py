@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 import threading
-import time
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -21,6 +20,7 @@ from host_sdk.console.pilot import ConsolePilot
 from host_sdk.console.server import ConsoleServer
 from host_sdk.geometry import geometry
 from host_sdk.pose import RobotPose
+from tests.support.wait import Deadline, wait_until
 
 pytest.importorskip("cv2")
 LIFETIME_S = 0.25
@@ -73,17 +73,13 @@ def test_a_halt_ends_following_and_clears_the_drive_command() -> None:
 
 
 def until(check: Callable[[], Any], timeout_s: float = 5.0) -> Any:
-    deadline = time.monotonic() + timeout_s
-    while not (value := check()):
-        assert time.monotonic() < deadline, "condition not met in time"
-        time.sleep(0.01)
-    return value
+    return wait_until(check, timeout_s, "the condition")
 
 
 def receive(ws: ClientConnection, kind: str) -> dict[str, Any]:
-    deadline = time.monotonic() + 5.0
+    deadline = Deadline(5.0)
     while True:
-        msg = ws.recv(timeout=max(0.01, deadline - time.monotonic()))
+        msg = ws.recv(timeout=deadline.remaining(0.01))
         if isinstance(msg, str) and (found := json.loads(msg))["type"] == kind:
             return found  # type: ignore[no-any-return]
 

@@ -13,14 +13,11 @@ from typing import Any
 from host_sdk import Robot, TransportError
 from host_sdk.supervisor import Connection, Supervisor
 from tests.support.emulate import EmulatorProcess
+from tests.support.wait import wait_until
 
 
 def until(check: Callable[[], Any], timeout_s: float, what: str) -> Any:
-    deadline = time.monotonic() + timeout_s
-    while not (value := check()):
-        assert time.monotonic() < deadline, f"{what}: not within {timeout_s} s"
-        time.sleep(0.02)
-    return value
+    return wait_until(check, timeout_s, what, poll_s=0.02)
 
 
 def test_connection_retries_with_doubling_delays_then_connects() -> None:

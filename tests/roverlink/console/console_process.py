@@ -25,6 +25,7 @@ from typing import IO, Any
 from websockets.sync.client import ClientConnection, connect
 
 from tests.support.emulate import EmulatorProcess
+from tests.support.wait import wait_until
 
 ROOT = Path(__file__).resolve().parents[3]
 START_TIMEOUT_S = 90.0  # a cold start imports OpenCV, numpy and aiohttp on a busy machine
@@ -32,11 +33,7 @@ State = dict[str, Any]
 
 
 def until(check: Callable[[], Any], timeout_s: float, what: str) -> Any:
-    deadline = time.monotonic() + timeout_s
-    while not (value := check()):
-        assert time.monotonic() < deadline, f"{what}: not within {timeout_s} s"
-        time.sleep(0.02)
-    return value
+    return wait_until(check, timeout_s, what, poll_s=0.02)
 
 
 class Lines:
