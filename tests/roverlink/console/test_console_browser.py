@@ -164,6 +164,8 @@ def test_the_obstacle_guard_has_its_line_and_the_override_is_held_on_the_page(
     ActionChains(browser).key_down("w", body).perform()  # protected: the guard's verdict on the line
     until(lambda: guarded(GuardState.CLEAR, GuardState.SLOWED, GuardState.STOPPED), what="W through the guard")
     until(lambda: line.text and "override" not in line.text, what="the guard's line")
+    # The page's header stays on top while it scrolls: bring the button to the middle of the view first.
+    browser.execute_script("arguments[0].scrollIntoView({block: 'center'})", button)
     ActionChains(browser).click_and_hold(button).perform()  # the button held: each command carries it
     until(lambda: guarded(GuardState.OVERRIDE), what="the override riding on the drive commands")
     assert "held" in button.get_attribute("class") and line.text.startswith("override held")
