@@ -50,7 +50,8 @@ def one(job: tuple[str, str, int, float, float, str]) -> dict[str, Any]:
     profile, pilot, seed, duration, fps, look = job
     t0 = time.perf_counter()
     try:
-        settings = FollowSettings(duration_s=duration)
+        # rearm: a failsafe is counted and the run goes on, as it was always measured (an explicit opt-in)
+        settings = FollowSettings(duration_s=duration, rearm=True)
         m = run_emulated(profile, f"random:{seed}", pilot=pilot, seed=seed, camera_fps=fps, settings=settings,
                           camera_look=look)  # fmt: skip
         out = m.to_json()

@@ -14,23 +14,28 @@ against the file and the footprint, camera and lidar are the file's (as on `emu:
 An emulated robot with a camera serves a photo of its world's target (`endpoints["target"]`); on a
 robot, `--template` is your photo of what to follow. It runs for `--duration` seconds (30). Only
 `host_sdk` is imported: docs/autonomy.md.
+
+It arms at the start and rides through the robot's failures (a line says what is wrong): after a
+failsafe or a board reset the robot stays disarmed, unless `--rearm` asks for it to be armed again.
 """
 
 import argparse
 
-from host_sdk import Robot
 from host_sdk.autonomy import ControlLoop, FollowPilot
 from host_sdk.geometry import description_of, mount, profile_of, robot_geometry, sensor_mounts
 from host_sdk.perception.template import read_template
 from host_sdk.sensors import CameraSource, Jy901, Lidar
+from host_sdk.supervisor import Supervisor
 
 p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
 for option in ("--url", "--profile", "--robot", "--lidar", "--camera", "--imu", "--template"):
     p.add_argument(option)
 p.add_argument("--duration", type=float, default=30.0, help="seconds (default 30)")
+p.add_argument("--rearm", action="store_true", help="arm again by itself after a failsafe or a board reset")
 args = p.parse_args()
 
-with Robot.connect(args.url, profile=args.profile, robot=args.robot, clamp=True, auto_rearm=True) as robot:
+with Supervisor.connect(args.url, profile=args.profile, robot=args.robot, clamp=True) as sup:
+    robot = sup.robot
     ports = robot.transport.endpoints  # an emu:// robot's own sensors (empty on a board)
     if description_of(robot) is not None:  # a robot file: its lidar
         model = sensor_mounts(robot, ["lidar"])["lidar"].device
@@ -41,13 +46,17 @@ with Robot.connect(args.url, profile=args.profile, robot=args.robot, clamp=True,
     imu = Jy901.open(args.imu or ports["imu"]) if args.imu or "imu" in ports else None
     photo = read_template(args.template) if args.template else CameraSource(ports["target"]).read().image
     pilot = FollowPilot.for_robot(robot_geometry(robot, args.profile), photo)
-    with ControlLoop(robot, pilot, lidar=lidar, camera=camera, imu=imu) as loop:
+    if args.rearm:
+        print("--rearm: the robot is armed again by itself after a failsafe or a board reset")
+    with ControlLoop(sup, pilot, lidar=lidar, camera=camera, imu=imu, arm=True, rearm=args.rearm) as loop:
         shown = 0.0
-        while (t := robot.now() - loop.started_s) < args.duration:
+        while (t := sup.now() - loop.started_s) < args.duration:
             step = loop.step()
-            if t >= shown:  # once a second: what it does and where it is
+            if t >= shown:  # once a second: what it does and where it is, and what is wrong
                 shown += 1.0
                 print(f"{t:5.1f} s  {step.mode:8s} x {step.pose.x_m:5.2f} m  y {step.pose.y_m:5.2f} m")
+                if (banner := step.health.banner()) is not None:
+                    print(f"        {banner.text}; {banner.hint}")
             loop.wait()
     for device in (lidar, camera, imu):
         if device is not None:

@@ -23,6 +23,8 @@ I/O thread without the lock held, and must not block for long nor wait for the b
 from __future__ import annotations
 
 import dataclasses
+import functools
+import logging
 import threading
 from collections.abc import Callable
 from pathlib import Path
@@ -62,6 +64,8 @@ from protocol.generated.messages import Arm, Disarm
 
 if TYPE_CHECKING:
     from host_sdk.emulated import EmulatorHandle
+
+log = logging.getLogger("host_sdk")
 
 
 class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
@@ -108,6 +112,7 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         Raises ArgumentError (CommandRangeError, ArgumentTypeError) naming a bad argument, and
         ConnectTimeoutError, IncompatibleFirmwareError, TransportError, UnsupportedError.
         """
+        given = {k: v for k, v in locals().items() if k not in ("cls", "transport")}  # first: the arguments only
         options = check_connect(
             url,
             profile=profile,
@@ -125,12 +130,15 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
             transport=transport,
         )
         check = prepare(robot, profile, kinematics, allow_mismatch)
+        # By URL, it can be opened again the same way (reopen): these arguments, but the transport.
+        again = None if transport is not None else functools.partial(cls.connect, **given)
         kinematics = check.description.kinematics() if check is not None else kinematics
         if transport is None:
             transport = open_transport(url, baud)
         options = dataclasses.replace(options, url=transport.url)
         made = cls(transport, options, profile=profile, kinematics=kinematics, clamp=clamp)
         made._file_check = check
+        made._again = again
         try:
             made._open(timeout_s)
             if check is not None:
@@ -138,7 +146,25 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         except BaseException:
             made._shutdown(disarm=False)
             raise
+        if options.auto_rearm:  # an opt-in that drives again by itself: said once, at the start
+            log.warning("%s: auto_rearm is on: the robot re-arms by itself after a board reset or a watchdog "
+                        "failsafe", made.url)  # fmt: skip
         return made
+
+    def reopen(self) -> Robot:
+        """A new Robot connected the way this one was (its URL, every option of `connect`): for a
+        port that was lost and is back (a USB adapter plugged in again). This one is left as it is
+        (close it). Raises UnsupportedError for a robot connected over a `transport=` it was given
+        (there is nothing to open again), else what `connect` raises."""
+        if self._again is None:
+            raise UnsupportedError(f"{self.url} was connected over a transport given to connect(): it cannot be "
+                                   "opened again; connect it again yourself")  # fmt: skip
+        return self._again()
+
+    @property
+    def can_reopen(self) -> bool:
+        """`reopen()` can connect again: the robot was connected by URL, not over a given transport."""
+        return self._again is not None
 
     def __init__(
         self,
@@ -166,6 +192,7 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         self._unwatch_gains: Callable[[], None] | None = None
         self._file_check: RobotFileCheck | None = None
         """Pose and body velocities from the wheel encoders; `odometry.reset()` sets the origin."""
+        self._again: Callable[[], Robot] | None = None
 
     def _open(self, timeout_s: float) -> None:
         runner, s = self._runner, self._session

@@ -1,5 +1,7 @@
 """`roverlink console` put together: a robot (or the emulator on the wall clock), its sensors, the
-web console (host_sdk.console) and the control loop that runs the console's pilot."""
+web console (host_sdk.console) and the control loop that runs the console's pilot. The robot is
+supervised (host_sdk.supervisor): no failure of the board, the link or a sensor ends the run; a
+lost port is opened again by itself."""
 
 from __future__ import annotations
 
@@ -12,9 +14,14 @@ from host_sdk import Robot, RobotDescription
 from host_sdk.autonomy import ControlLoop
 from host_sdk.console import Console
 from host_sdk.sensors import CameraSource, Jy901, Lidar
+from host_sdk.supervisor import Supervisor
+from protocol.generated.constants import WATCHDOG_DEFAULT_MS
 from roverlink.console import warn_mismatches
 from roverlink.follow import emulated
 from roverlink.follow.app import RobotPorts, geometry_for
+
+EMULATED_LOST_AFTER_S = 1.5
+"""How long the in-process emulator's FEEDBACK may pause before its link counts as lost."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -25,13 +32,19 @@ class ConsoleSettings:
     max_speed_m_s: float = 0.45
     target_height_m: float | None = None
     follow_gap_m: float | None = None
+    autonomous: bool = False
+    """Following goes on with no browser keeping it alive (`--autonomous`)."""
+    watchdog_s: float | None = None
+    """A robot's watchdog to ask for (default the firmware's); the emulator's is `start_emulated`'s."""
+    lost_after_s: float | None = None
+    """A robot's FEEDBACK silent this long means its link is lost (default the supervisor's)."""
 
 
 @dataclass
 class ConsoleRun:
     """A running console: the robot, its sensors, the console and the loop (`run` drives it)."""
 
-    robot: Robot
+    supervisor: Supervisor
     console: Console
     loop: ControlLoop
     devices: list[Lidar | CameraSource | Jy901]
@@ -40,6 +53,11 @@ class ConsoleRun:
     _running: threading.Event = field(default_factory=threading.Event)
     _done: threading.Event = field(default_factory=threading.Event)
 
+    @property
+    def robot(self) -> Robot:
+        """The robot now (another object once a lost port was opened again)."""
+        return self.supervisor.robot
+
     def run(self, duration_s: float | None = None, on_step: Callable[[], None] | None = None) -> None:
         """Run the loop until `stopped` is set (or `duration_s` of the robot's time has passed)."""
         loop = self.loop
@@ -47,7 +65,7 @@ class ConsoleRun:
         try:
             with loop:
                 while not self.stopped.is_set():
-                    if duration_s is not None and self.robot.now() - loop.started_s >= duration_s:
+                    if duration_s is not None and self.supervisor.now() - loop.started_s >= duration_s:
                         break
                     loop.step()
                     self.console.pilot.health = self.sensor_health()
@@ -57,9 +75,9 @@ class ConsoleRun:
         finally:
             self._done.set()
 
-    def sensor_health(self) -> dict[str, int]:
-        """The sensors' error counts, for the page's status panel."""
-        health: dict[str, int] = {}
+    def sensor_health(self) -> dict[str, int | str]:
+        """The sensors' error counts, and why one stopped being read, for the page's status panel."""
+        health: dict[str, int | str] = {}
         for device in self.devices:
             if isinstance(device, Lidar):
                 health["lidar errors"] = device.counters.framing_errors + device.counters.checksum_errors
@@ -67,6 +85,8 @@ class ConsoleRun:
                 health["IMU errors"] = device.counters.checksum_errors
             else:
                 health["camera frames dropped"] = device.dropped
+        for name, why in self.loop.sensor_errors.items():
+            health[f"{name} stopped"] = why
         return health
 
     def close(self) -> None:
@@ -77,18 +97,19 @@ class ConsoleRun:
         self.console.close()
         for device in self.devices:
             device.close()
-        self.robot.close()
+        self.supervisor.close()
 
 
-def _assemble(robot: Robot, which: str | RobotDescription, settings: ConsoleSettings, *, lidar: Lidar,
+def _assemble(sup: Supervisor, which: str | RobotDescription, settings: ConsoleSettings, *, lidar: Lidar,
               camera: CameraSource, imu: Jy901 | None, em: emulated.EmulatedRobot | None) -> ConsoleRun:  # fmt: skip
-    geo = geometry_for(robot, which)
-    console = Console(robot, geo, host=settings.host, port=settings.port, token=settings.token,
+    geo = geometry_for(sup.robot, which)
+    console = Console(sup, geo, host=settings.host, port=settings.port, token=settings.token,
                       target_height_m=settings.target_height_m, follow_gap_m=settings.follow_gap_m,
-                      max_speed_m_s=settings.max_speed_m_s)  # fmt: skip
-    loop = ControlLoop(robot, console.pilot, lidar=lidar, camera=camera, imu=imu, rearm=False)
+                      max_speed_m_s=settings.max_speed_m_s, autonomous=settings.autonomous)  # fmt: skip
+    # Only the page arms the robot: not at the start, not after a failsafe or a reset.
+    loop = ControlLoop(sup, console.pilot, lidar=lidar, camera=camera, imu=imu, arm=False, rearm=False)
     devices: list[Lidar | CameraSource | Jy901] = [d for d in (lidar, camera, imu) if d is not None]
-    return ConsoleRun(robot, console, loop, devices, em)
+    return ConsoleRun(sup, console, loop, devices, em)
 
 
 def start_emulated(which: str | RobotDescription, world: str | Path, settings: ConsoleSettings, *, seed: int = 0,
@@ -103,7 +124,10 @@ def start_emulated(which: str | RobotDescription, world: str | Path, settings: C
         lidar = Lidar.open(em.endpoints["lidar"], em.lidar_model)
         camera = CameraSource(em.endpoints["camera"])
         imu_port = Jy901.open(em.endpoints["imu"]) if imu else None
-        run = _assemble(em.robot, which, settings, lidar=lidar, camera=camera, imu=imu_port, em=em)
+        # The emulator shares this process (and its interpreter lock) with the console on the wall
+        # clock: its FEEDBACK comes in bursts on a busy machine, so a longer silence means a lost link.
+        sup = Supervisor(em.robot, lost_after_s=EMULATED_LOST_AFTER_S)
+        run = _assemble(sup, which, settings, lidar=lidar, camera=camera, imu=imu_port, em=em)
         if settings.target_height_m is None:
             run.console.pilot.target_height_m = em.template.height_m
         run.console.start()
@@ -116,8 +140,10 @@ def start_emulated(which: str | RobotDescription, world: str | Path, settings: C
 def start_robot(ports: RobotPorts, which: str | RobotDescription, settings: ConsoleSettings) -> ConsoleRun:
     """The console on a real robot; listening once this returns."""
     desc, name = (which, None) if isinstance(which, RobotDescription) else (None, which)
-    robot = Robot.connect(ports.url, profile=name, robot=desc, baud=ports.baud,
-                          allow_mismatch=ports.allow_mismatch, clamp=True)  # fmt: skip
+    watchdog = WATCHDOG_DEFAULT_MS / 1000 if settings.watchdog_s is None else settings.watchdog_s
+    sup = Supervisor.connect(ports.url, profile=name, robot=desc, baud=ports.baud, allow_mismatch=ports.allow_mismatch,
+                             clamp=True, watchdog_s=watchdog, lost_after_s=settings.lost_after_s)  # fmt: skip
+    robot = sup.robot
     warn_mismatches(robot)
     opened: list[Lidar | CameraSource | Jy901] = []
     try:
@@ -127,11 +153,11 @@ def start_robot(ports: RobotPorts, which: str | RobotDescription, settings: Cons
         lidar = Lidar.open(ports.lidar, ports.lidar_model or emulated.lidar_for(which))
         opened.append(lidar)
         imu = Jy901.open(ports.imu) if ports.imu else None
-        run = _assemble(robot, which, settings, lidar=lidar, camera=camera, imu=imu, em=None)
+        run = _assemble(sup, which, settings, lidar=lidar, camera=camera, imu=imu, em=None)
         run.console.start()
     except BaseException:
         for device in opened:
             device.close()
-        robot.close()
+        sup.close()
         raise
     return run

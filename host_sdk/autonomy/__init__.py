@@ -14,7 +14,7 @@ from host_sdk.autonomy.finder import TargetFinder
 from host_sdk.autonomy.follow import Decision, Follower, FollowParams, Mode
 from host_sdk.autonomy.guard import Guarded, GuardState, LidarGuard, TeleopGuard, explain_failsafe
 from host_sdk.autonomy.loop import ControlLoop, Step
-from host_sdk.autonomy.pilot import FollowPilot, Pilot, follow_gap
+from host_sdk.autonomy.pilot import FollowPilot, Halting, Pilot, follow_gap
 from host_sdk.autonomy.planner import PlanChoice, PlannerParams, ViewPlanner
 from host_sdk.autonomy.target import TargetFix, locate_target
 
@@ -26,6 +26,7 @@ __all__ = [
     "Follower",
     "GuardState",
     "Guarded",
+    "Halting",
     "LidarGuard",
     "Mode",
     "Pilot",

@@ -12,7 +12,7 @@ follow-while-avoiding behaviour: the scan filter, the motion detector, the camer
 from __future__ import annotations
 
 import dataclasses
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,7 +28,7 @@ from host_sdk.sensors import CameraFrame, LidarScan
 from protocol.generated.enums import FailsafeReason
 
 # PoseAt lives in host_sdk.pose; pilots have always found it here too.
-__all__ = ["FollowPilot", "Pilot", "PoseAt", "follow_gap"]
+__all__ = ["FollowPilot", "Halting", "Pilot", "PoseAt", "follow_gap"]
 TRACK_FRESH_S = 0.3
 """A track older than this is not steered by (the camera stalled or the tracker lags)."""
 
@@ -45,6 +45,14 @@ class Pilot(Protocol):
     def command(self, pose: RobotPose) -> tuple[float, float, str]:
         """(linear m/s, angular rad/s, what it is doing) at `pose.time_s`."""
         ...
+
+
+@runtime_checkable
+class Halting(Protocol):
+    """A pilot that drives by itself and must stop when the robot stops being armed and reachable (a
+    failsafe, a board reset, a lost link, STOP): `ControlLoop` calls `halt(why)` then."""
+
+    def halt(self, why: str) -> None: ...
 
 
 def follow_gap(geometry: RobotGeometry) -> float:

@@ -11,23 +11,33 @@ from host_sdk.console.server import ConsoleServer
 from host_sdk.geometry import RobotGeometry
 from host_sdk.perception.class_tracker import FrameTracker
 from host_sdk.robot import Robot
+from host_sdk.supervisor import Supervisor
 
 
 class Console:
-    """The console for `robot`: its server (`host`, `port`; a `token` is needed off loopback and
-    made if not given) and the pilot its control loop runs (`pilot`)."""
+    """The console for `robot` (a `Supervisor`, or a Robot it supervises): its server (`host`,
+    `port`; a `token` is needed off loopback and made if not given) and the pilot its control loop
+    runs (`pilot`). `autonomous`: following goes on with no browser keeping it alive (say so to the
+    user: the page shows it)."""
 
-    def __init__(self, robot: Robot, geometry: RobotGeometry, *, host: str = "127.0.0.1", port: int = 8080,
-                 token: str | None = None, target_height_m: float | None = None, follow_gap_m: float | None = None,
-                 max_speed_m_s: float = 0.45, max_turn_rad_s: float = 2.0, jpeg_quality: int = 70,
-                 tracker: FrameTracker | None = None) -> None:  # fmt: skip
-        self.robot = robot
+    def __init__(self, robot: Robot | Supervisor, geometry: RobotGeometry, *, host: str = "127.0.0.1",
+                 port: int = 8080, token: str | None = None, target_height_m: float | None = None,
+                 follow_gap_m: float | None = None, max_speed_m_s: float = 0.45, max_turn_rad_s: float = 2.0,
+                 jpeg_quality: int = 70, tracker: FrameTracker | None = None,
+                 autonomous: bool = False) -> None:  # fmt: skip
+        self.supervisor = robot if isinstance(robot, Supervisor) else Supervisor(robot)
         self.access = Access.for_host(host, token)
-        self.hub = Hub(command_lifetime_s=robot.watchdog_s)
-        self.server = ConsoleServer(self.hub, self.access, port, on_stop=robot.disarm, jpeg_quality=jpeg_quality,
-                                    max_speed=(max_speed_m_s, max_turn_rad_s))  # fmt: skip
-        self.pilot = ConsolePilot(self.hub, robot, geometry, target_height_m=target_height_m,
+        self.hub = Hub(command_lifetime_s=self.robot.watchdog_s, autonomous=autonomous)
+        self.server = ConsoleServer(self.hub, self.access, port, on_stop=self.supervisor.stop,
+                                    jpeg_quality=jpeg_quality, max_speed=(max_speed_m_s, max_turn_rad_s),
+                                    on_dismiss=self.supervisor.dismiss)  # fmt: skip
+        self.pilot = ConsolePilot(self.hub, self.supervisor, geometry, target_height_m=target_height_m,
                                   follow_gap_m=follow_gap_m, max_speed_m_s=max_speed_m_s, tracker=tracker)  # fmt: skip
+
+    @property
+    def robot(self) -> Robot:
+        """The robot now (another object once a lost port was opened again)."""
+        return self.supervisor.robot
 
     def start(self) -> str:
         """Listen; the URL to open (with the token, if one is needed)."""

@@ -5,7 +5,9 @@ track on it, the scan, the pose, its status. The server reads the newest of each
 ready for more; nothing queues, so a slow browser skips frames rather than falling behind. The
 server `post`s what the driving browser asks for; the program `take`s it each period. A drive
 command carries its time and lapses after `command_lifetime_s`, as every drive command does: a
-closed or frozen tab stops the robot.
+closed or frozen tab stops the robot. So does following: it lasts while the driving browser's
+keep-alive (`alive`, at least every third of the lifetime, and every command it sends) is
+younger than one lifetime, unless the program runs `autonomous` (said at its start and on the page).
 """
 
 from __future__ import annotations
@@ -67,6 +69,8 @@ class Requests:
     arm: bool | None = None
     """Arm (True) or disarm (False)."""
     target_kind: str | None = None
+    driver_alive: bool = True
+    """The driving browser's keep-alive is fresh (or the console runs autonomous): following may go on."""
 
 
 @dataclass(slots=True)
@@ -83,8 +87,11 @@ class Hub:
     """The exchange. `clock` is the monotonic clock drive commands are stamped and aged with."""
 
     def __init__(self, *, keep_frames: int = 60, command_lifetime_s: float = 0.25,
-                 clock: Callable[[], float] = time.monotonic) -> None:  # fmt: skip
+                 clock: Callable[[], float] = time.monotonic, autonomous: bool = False) -> None:  # fmt: skip
         self.command_lifetime_s = command_lifetime_s
+        self.autonomous = autonomous
+        """Following goes on with no browser keeping it alive (the user asked for it explicitly)."""
+        self._alive_s = -float("inf")
         self.keep_frames = keep_frames
         self.clock = clock
         self._lock = threading.Lock()
@@ -121,8 +128,11 @@ class Hub:
         """The requests since the last call (a drive command is kept until it lapses or is replaced)."""
         with self._lock:
             taken, self._requests = self._requests, Requests(drive=self._requests.drive)
-        if taken.drive is not None and self.clock() - taken.drive.received_s > self.command_lifetime_s:
+            alive_s = self._alive_s
+        now = self.clock()
+        if taken.drive is not None and now - taken.drive.received_s > self.command_lifetime_s:
             taken.drive = None
+        taken.driver_alive = self.autonomous or now - alive_s <= self.command_lifetime_s
         return taken
 
     # -- the server's side --------------------------------------------------------------------------
@@ -157,10 +167,22 @@ class Hub:
             for name, value in request.items():
                 setattr(self._requests, name, value)
 
+    def alive(self) -> None:
+        """The driving browser is there (its keep-alive, or any command it sent)."""
+        with self._lock:
+            self._alive_s = self.clock()
+
+    @property
+    def alive_s(self) -> float:
+        """When the driving browser was last heard (`clock`; -inf: no driver)."""
+        with self._lock:
+            return self._alive_s
+
     def stop_driving(self) -> None:
-        """Forget the drive command at once (its browser left)."""
+        """Forget the drive command and the keep-alive at once (the driving browser left)."""
         with self._lock:
             self._requests.drive = None
+            self._alive_s = -float("inf")
 
     def stop(self) -> None:
         """STOP: no drive command and no following (arming again does not drive off by itself)."""

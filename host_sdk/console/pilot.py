@@ -9,6 +9,11 @@ What drives, in order: nothing while disarmed; the browser's drive command while
 (it lapses after the board's watchdog period, so a frozen tab stops the robot), limited by the
 obstacle guard (`TeleopGuard`, the follow behaviour's footprint and margins on its filtered scan)
 unless the user holds the override; the follow behaviour while following; else standing still.
+Following ends when the driving browser's keep-alive lapses (unless the console runs autonomous) and
+whenever the robot stops being armed and reachable (`halt`: a failsafe, a board reset, a lost link,
+STOP), and the drive command with it: arming again never drives off. Arming runs on the
+supervisor's thread (`Supervisor.arm_soon`): an ARM with no answer never holds the loop, and its
+refusal stays on the page until dismissed.
 """
 
 from __future__ import annotations
@@ -19,6 +24,7 @@ from typing import Any
 from host_sdk.autonomy.guard import Guarded, TeleopGuard
 from host_sdk.autonomy.pilot import FollowPilot, PoseAt
 from host_sdk.console.hub import Drive, Hub, Requests
+from host_sdk.console.status import LinkLines, Rate, link_view
 from host_sdk.geometry import RobotGeometry
 from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
 from host_sdk.perception.detectors import KINDS
@@ -26,6 +32,7 @@ from host_sdk.perception.tracking import Track, Tracker, TrackState
 from host_sdk.pose import RobotPose
 from host_sdk.robot import Robot
 from host_sdk.sensors import CameraFrame, LidarScan
+from host_sdk.supervisor import Health, Supervisor
 from protocol.generated.enums import FailsafeReason
 
 Image = Any
@@ -46,11 +53,11 @@ class NoTarget:
 class ConsolePilot:
     name = "console"
 
-    def __init__(self, hub: Hub, robot: Robot, geometry: RobotGeometry, *, target_height_m: float | None = None,
-                 follow_gap_m: float | None = None, max_speed_m_s: float = 0.45,
+    def __init__(self, hub: Hub, robot: Robot | Supervisor, geometry: RobotGeometry, *,
+                 target_height_m: float | None = None, follow_gap_m: float | None = None, max_speed_m_s: float = 0.45,
                  tracker: FrameTracker | None = None) -> None:  # fmt: skip
         self.hub = hub
-        self.robot = robot
+        self.supervisor = robot if isinstance(robot, Supervisor) else Supervisor(robot)
         self.geometry = geometry
         self.target_height_m = target_height_m
         self.follow = FollowPilot.with_tracker(geometry, tracker or NoTarget(), follow_gap_m=follow_gap_m,
@@ -64,12 +71,17 @@ class ConsolePilot:
         self.mode = "idle"
         self.health: dict[str, Any] = {}
         """Extra status lines for the page (rates, errors): the program fills it in."""
+        self.ended = ""
+        """Why following ended by itself last (the keep-alive lapsed, a failsafe...), for the page."""
         self._frame: CameraFrame | None = None
-        self._fed: tuple[float, int] | None = None
-        self._feedback_hz = 0.0
+        self._link = LinkLines()
         self._scan_shown: object | None = None
-        self._rates = {"scans": _Rate(), "camera": _Rate()}
+        self._rates = {"scans": Rate(), "camera": Rate()}
         self._failsafe: tuple[FailsafeReason, str] | None = None
+
+    @property
+    def robot(self) -> Robot:
+        return self.supervisor.robot
 
     # -- the Pilot protocol -----------------------------------------------------------------------------
     def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
@@ -93,9 +105,10 @@ class ConsolePilot:
     def command(self, pose: RobotPose) -> tuple[float, float, str]:
         asked = self.hub.take()
         self._apply(asked)
+        health = self.supervisor.health()
         linear, angular, mode = 0.0, 0.0, "idle"
         self.guarded = None
-        if not self.robot.armed:
+        if not health.armed:
             mode = "disarmed"
         elif asked.drive is not None:
             seen = self.follow.scans.seen_from(pose)
@@ -106,8 +119,18 @@ class ConsolePilot:
         elif self.following and self.has_target:
             linear, angular, mode = self.follow.command(pose)
         self.mode = mode
-        self._show(pose, (linear, angular))
+        self._show(pose, (linear, angular), health)
         return linear, angular, mode
+
+    def halt(self, why: str) -> None:
+        """The robot stopped being armed and reachable: following ends and the drive command goes."""
+        if self.following:
+            self._end_following(why)
+        self.hub.post(drive=None)
+
+    def _end_following(self, why: str) -> None:
+        self.following = False
+        self.ended = f"following ended: {why}"
 
     def _steerable(self, drive: Drive) -> float:
         """The turn rate asked, as a car can drive it. The page's left/right is the steering: the
@@ -142,24 +165,30 @@ class ConsolePilot:
                                                           time_s=frame.time_s)  # fmt: skip
         if asked.follow is not None:
             self.following = asked.follow
-        if asked.arm and not self.robot.armed:
-            self.robot.arm()
+            self.ended = ""
+        if self.following and not asked.driver_alive:
+            self._end_following("the driving browser stopped keeping it alive (closed, frozen or hidden)")
+        if asked.arm:  # also while the host still believes it armed: tried, and a refusal says why
+            self.supervisor.arm_soon()
 
-    def _show(self, pose: RobotPose, motion: tuple[float, float]) -> None:
+    def _show(self, pose: RobotPose, motion: tuple[float, float], health: Health) -> None:
         scan = self.follow.last_scan
-        rates = {f"{name} rate": f"{r.hz:.1f} Hz" for name, r in self._rates.items() if r.hz is not None}
+        rates = {f"{name} rate": text for name, r in self._rates.items() if (text := r.describe(name)) is not None}
         state: dict[str, Any] = {
-            "armed": self.robot.armed,
+            "armed": health.armed,
             "mode": self.mode,
             "following": self.following,
             "track": None
             if self.follow.last_track is None or not self.has_target
             else self.follow.last_track.state.value,
             "pose": {"x": round(pose.x_m, 3), "y": round(pose.y_m, 3), "theta": round(pose.theta_rad, 4)},
-            "failsafe": None if self.robot.failsafe is None else self.robot.failsafe.name,
+            "failsafe": health.failsafe,
             "failsafe_text": self._failsafe_text(pose),
             "guard": None if self.guarded is None else {"state": self.guarded.state.value, "text": self.guarded.text},
-            "health": {**self._link(pose.time_s), **rates, **self.health},
+            "link": link_view(health),
+            "ended": self.ended,
+            "autonomous": self.hub.autonomous,
+            "health": {**self._link.lines(self.robot, health, pose.time_s), **rates, **self.health},
             "motion": {"linear": round(motion[0], 3), "angular": round(motion[1], 3)},
         }
         if scan is not None and scan is not self._scan_shown:  # a new revolution: only then (it is large)
@@ -184,36 +213,8 @@ class ConsolePilot:
             self._failsafe = (reason, self.explain_failsafe(reason, pose))
         return None if self._failsafe is None else self._failsafe[1]
 
-    def _link(self, now_s: float) -> dict[str, Any]:
-        """The link's health for the status panel: its state, the feedback rate, errors, round trip."""
-        robot, stats = self.robot, self.robot.stats
-        lines: dict[str, Any] = {"link": robot.state}
-        then = self._fed
-        self._fed = (now_s, stats.feedback_received)
-        if then is not None and now_s - then[0] > 0:
-            self._feedback_hz = 0.8 * self._feedback_hz + 0.2 * (stats.feedback_received - then[1]) / (now_s - then[0])
-            lines["feedback"] = f"{self._feedback_hz:.0f} Hz"
-        lines["link errors"] = stats.crc_errors + stats.cobs_errors + stats.length_errors + stats.seq_gaps
-        if stats.rtt is not None:
-            lines["round trip"] = f"{stats.rtt.mean_s * 1000:.1f} ms"
-        return lines
-
     def _footprint(self) -> list[tuple[float, float]]:
         fp = self.geometry.footprint
         r, cx = fp.radius_m, fp.x_m
         return [(round(cx + r * math.cos(a), 3), round(r * math.sin(a), 3)) for a in
                 (i * 2 * math.pi / 16 for i in range(16))]  # fmt: skip
-
-
-class _Rate:
-    """Events per second from their times (smoothed)."""
-
-    def __init__(self) -> None:
-        self.hz: float | None = None
-        self._last: float | None = None
-
-    def tick(self, t: float) -> None:
-        last, self._last = self._last, t
-        if last is not None and t > last:
-            now = 1.0 / (t - last)
-            self.hz = now if self.hz is None else 0.8 * self.hz + 0.2 * now

@@ -6,12 +6,16 @@ button's own path, which disarms at once and never waits behind video; `/stream.
 MJPEG (for players such as VLC, and to compare costs); `/api/frame.jpg` one frame.
 
 Every request passes `Access` (host, token) first; a WebSocket's Origin must be the page's own.
-One browser drives at a time (the first to ask), the others watch; anyone may stop.
+One browser drives at a time (the first to send a command), the others watch; anyone may stop, and
+a watcher may take the wheel (`take`: the driver is told, and the robot stops for the new driver to
+decide). The driving page's keep-alive (`alive`, every third of the command lifetime; watchers' are
+ignored) is what following lasts on (Hub).
 """
 
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 import math
 import struct
@@ -40,7 +44,8 @@ class ConsoleServer:
     """Serves `hub` on `access.host`:`port` (0: any free port; `port` says which after `start`)."""
 
     def __init__(self, hub: Hub, access: Access, port: int = 8080, *, on_stop: Callable[[], None],
-                 jpeg_quality: int = 70, max_speed: tuple[float, float] = (0.5, 2.0)) -> None:  # fmt: skip
+                 jpeg_quality: int = 70, max_speed: tuple[float, float] = (0.5, 2.0),
+                 on_dismiss: Callable[[int], None] = lambda refusal_id: None) -> None:  # fmt: skip
         if not 0 <= port <= 65535:
             raise CommandRangeError("port", port, "0 to 65535")
         if not 10 <= jpeg_quality <= 100:
@@ -51,6 +56,8 @@ class ConsoleServer:
         self.access = access
         self.port = port
         self.on_stop = on_stop
+        self.on_dismiss = on_dismiss
+        """A refusal the page shows was dismissed (by its id): gone for every page."""
         self.jpeg_quality = jpeg_quality
         self.max_speed = max_speed
         """Largest linear (m/s) and angular (rad/s) speed a browser may ask for."""
@@ -243,8 +250,10 @@ class ConsoleServer:
         self.clients += 1
         sender = asyncio.ensure_future(self._send_loop(ws))
         try:
+            lifetime = self.hub.command_lifetime_s
             await ws.send_json({"type": "hello", "driving": False, "max_speed": list(self.max_speed),
-                                "command_lifetime_s": self.hub.command_lifetime_s})  # fmt: skip
+                                "command_lifetime_s": lifetime, "keepalive_s": lifetime / 3,
+                                "autonomous": self.hub.autonomous})  # fmt: skip
             async for msg in ws:
                 if msg.type == web.WSMsgType.TEXT:
                     await self._on_message(ws, msg.data)
@@ -285,18 +294,46 @@ class ConsoleServer:
             self.hub.stop()
             self.on_stop()
             return
+        if kind == "dismiss":  # anyone may: it is only what the pages show
+            try:
+                self.on_dismiss(int(msg["id"]))
+            except (CommandRangeError, KeyError, TypeError, ValueError) as exc:
+                await ws.send_json({"type": "error", "error": f"dismiss: {exc}"})
+            return
+        if kind == "alive":  # the driver's counts; a watcher's keeps nothing alive
+            if self.driver is ws:
+                self.hub.alive()
+            return
+        if kind == "take":
+            await self._take_wheel(ws)
+            return
         if kind not in ("drive", "select", "follow", "arm", "target"):
             await ws.send_json({"type": "error", "error": f"unknown message type {kind!r}"})
             return
         if self.driver is None or self.driver.closed:
             self.driver = ws
         if self.driver is not ws:
-            await ws.send_json({"type": "error", "error": "another browser is driving: you can watch and stop"})
+            await ws.send_json({"type": "error", "error": "another browser is driving: you can watch, stop, "
+                                                          "or take the wheel"})  # fmt: skip
             return
+        self.hub.alive()
         try:
             self._apply(kind, msg)
         except (CommandRangeError, KeyError, TypeError, ValueError) as exc:
             await ws.send_json({"type": "error", "error": str(exc)})
+
+    async def _take_wheel(self, ws: Any) -> None:
+        """A watcher drives from now on; the robot stops (drive and following end) until it decides."""
+        before = self.driver
+        if before is ws:
+            return
+        self.driver = ws
+        self.hub.stop()
+        self.hub.alive()
+        if before is not None and not before.closed:
+            told = "another browser took the wheel: you are watching now (Take the wheel to drive again)"
+            with contextlib.suppress(ConnectionError, RuntimeError):
+                await before.send_json({"type": "notice", "text": told})
 
     def _apply(self, kind: str, msg: dict[str, Any]) -> None:
         hub = self.hub

@@ -39,6 +39,13 @@ class PoseSource:
             self.ekf = PoseEkf(time_s=robot.now())
             robot.on_feedback(self._on_feedback)
 
+    def use(self, robot: Robot) -> None:
+        """Go on with `robot`: the same robot connected again after its port was lost (its odometry
+        carries the pose on, host_sdk.supervisor)."""
+        self.robot = robot
+        if self.imu is not None:
+            robot.on_feedback(self._on_feedback)
+
     def _on_feedback(self, sample: FeedbackSample) -> None:
         # On the I/O thread: queued, and fused on the loop's thread once the IMU has been read up to
         # now (a step fused before its gyro samples are in would have to guess the turn).

@@ -22,7 +22,8 @@ from host_sdk import RoverLinkError
 from host_sdk.console import Access
 from host_sdk.errors import CommandRangeError, TransportError
 from host_sdk.extras import MissingDependencyError, require
-from roverlink.argtypes import positive
+from protocol.generated.constants import WATCHDOG_MAX_MS, WATCHDOG_MIN_MS
+from roverlink.argtypes import number, positive
 from roverlink.console import add_profile_args
 from roverlink.console_app import ConsoleSettings, start_emulated, start_robot
 from roverlink.follow.app import RobotPorts
@@ -52,6 +53,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--max-speed", type=positive, default=0.45, help="top speed, m/s (default 0.45)")
     p.add_argument("--follow-gap", type=positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
     p.add_argument("--target-height", type=positive, metavar="M", help="the target's height (gives its range)")
+    p.add_argument("--autonomous", action="store_true",
+                   help="keep following with no browser open (by default following ends when the driving "
+                        "browser's keep-alive lapses: tab closed, frozen or hidden, Wi-Fi gone); said at the "
+                        "start and on the page")  # fmt: skip
     e = p.add_argument_group("on the emulator")
     e.add_argument("--world", metavar="FILE|random:SEED", help="a scenario file or random:SEED (default random:SEED)")
     e.add_argument("--seed", type=int, default=0, help="the emulator's random seed (default 0)")
@@ -61,6 +66,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     r = p.add_argument_group("on a robot")
     r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, ...")
     r.add_argument("--baud", type=int, default=115200, help="the board's line speed (default 115200)")
+    r.add_argument("--watchdog", type=number(WATCHDOG_MIN_MS / 1000, WATCHDOG_MAX_MS / 1000, "s"), metavar="S",
+                   help="the board's watchdog, which is also how long a command from the page lives (default the "
+                        "firmware's, 0.25 s; longer for a host too busy to renew commands in time)")  # fmt: skip
     r.add_argument("--lidar", metavar="PORT", help="the lidar's port")
     r.add_argument("--lidar-model", choices=("rplidar-a1", "ydlidar-f4"), help="default: the profile's or file's")
     r.add_argument("--imu", metavar="PORT", help="the JY901's port (optional)")
@@ -75,7 +83,8 @@ def cmd_console(args: argparse.Namespace) -> int:
     except CommandRangeError as exc:
         print(f"roverlink console: --{exc}", file=sys.stderr)
         return 2
-    settings = ConsoleSettings(args.host, args.port, args.token, args.max_speed, args.target_height, args.follow_gap)
+    settings = ConsoleSettings(args.host, args.port, args.token, args.max_speed, args.target_height, args.follow_gap,
+                               args.autonomous, args.watchdog)  # fmt: skip
     which = args.robot or args.profile
     try:
         if args.url is None:
@@ -102,6 +111,9 @@ def cmd_console(args: argparse.Namespace) -> int:
         print(f"roverlink console: {exc}", file=sys.stderr)
         return 1
     print("roverlink console: open " + "  or  ".join(run.console.urls), file=sys.stderr, flush=True)
+    if args.autonomous:
+        print("roverlink console: --autonomous: following goes on with no browser open; STOP on the page "
+              "or Ctrl-C here stops it", file=sys.stderr, flush=True)  # fmt: skip
     try:
         run.run(args.duration)
     except KeyboardInterrupt:

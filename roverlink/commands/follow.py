@@ -70,6 +70,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--pilot", choices=PILOTS, default="roverlink", help="whose behaviour drives (default roverlink)")
     p.add_argument("--follow-gap", type=positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
     p.add_argument("--max-speed", type=positive, default=0.45, help="top speed, m/s (default 0.45)")
+    p.add_argument("--rearm", action="store_true",
+                   help="arm again by itself after a failsafe or a board reset and go on following (off by "
+                        "default: the robot then stays disarmed; said at the start when on)")  # fmt: skip
     p.add_argument("--json", action="store_true", help="print the metrics as JSON on stdout at the end")
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     p.add_argument(
@@ -110,9 +113,13 @@ def _progress(out: TextIO) -> Callable[[Progress], None]:
         gap = f"gap {p.gap_m:4.2f} m" if p.gap_m is not None else "gap   -   "
         seen = "target seen" if p.tracked else "target lost"
         hits = f"  collisions {p.metrics.collisions}" if p.metrics.ground_truth else ""
-        print(f"{p.t_s:6.1f} s  {p.mode:8s} {gap}  {seen}{hits}", file=out, flush=True)
-        if p.failsafe is not None:
-            print(f"         failsafe {p.failsafe}", file=out, flush=True)
+        if p.failsafe is None:
+            trouble = f"  ({p.trouble})" if p.trouble else ""
+            print(f"{p.t_s:6.1f} s  {p.mode:8s} {gap}  {seen}{hits}{trouble}", file=out, flush=True)
+        else:  # the failsafe met, in words, on a line of its own (and what is wrong now after it)
+            print(f"{p.t_s:6.1f} s  {p.mode:8s} {gap}  {seen}{hits}", file=out, flush=True)
+            trouble = f"  ({p.trouble})" if p.trouble else ""
+            print(f"         failsafe {p.failsafe}{trouble}", file=out, flush=True)
 
     return show
 
@@ -133,7 +140,11 @@ def _summary(m: FollowMetrics) -> str:
 
 def cmd_follow(args: argparse.Namespace) -> int:
     """Follow a target with the camera while avoiding obstacles with the lidar."""
-    settings = FollowSettings(args.follow_gap, args.max_speed, args.target_height, args.duration, args.target)
+    settings = FollowSettings(args.follow_gap, args.max_speed, args.target_height, args.duration, args.target,
+                              args.rearm)  # fmt: skip
+    if args.rearm:
+        print("roverlink follow: --rearm: the robot is armed again by itself after a failsafe or a board reset, "
+              "and goes on following", file=sys.stderr, flush=True)  # fmt: skip
     record = None
     if args.foxglove or args.foxglove_live:
         record = RecordTo(args.foxglove, args.foxglove_live, args.foxglove_host, args.foxglove_port)

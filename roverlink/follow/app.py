@@ -19,6 +19,7 @@ from host_sdk.perception import Tracker
 from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
 from host_sdk.recording.follow import FollowSource
 from host_sdk.sensors import CameraSource, Jy901, Lidar
+from host_sdk.supervisor import Supervisor
 from roverlink.console import announce_live_view, warn_mismatches
 from roverlink.follow import emulated
 from roverlink.follow.baseline import PiCarBaseline
@@ -76,6 +77,9 @@ class FollowSettings:
     target: str | None = None
     """"person" or "face": the target is detected (host_sdk.perception.detectors) in place of a
     template or a selected region, and detected again when the tracker has lost it."""
+    rearm: bool = False
+    """Arm again by itself after a failsafe or a board reset (an opt-in: by default the robot stays
+    disarmed, and following with it, once the board has failed safe)."""
 
 
 def gap_for(settings: FollowSettings, geo: RobotGeometry) -> float:
@@ -139,7 +143,7 @@ def run_emulated(profile: str | RobotDescription, world: str | Path, *, pilot: s
         with recording(robot, chosen, record) as on_step:
             return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
                               follow_gap_m=gap_for(settings, geo), imu=imu_port, truth=em.truth.sample,
-                              progress=progress, on_step=on_step)  # fmt: skip
+                              progress=progress, on_step=on_step, rearm=settings.rearm)  # fmt: skip
     finally:
         robot.close()
 
@@ -172,8 +176,9 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
         raise ValueError("give the target as a template image, a region of the first frame or a kind "
                          "(person or face): one of them")  # fmt: skip
     desc, name = (profile, None) if isinstance(profile, RobotDescription) else (None, profile)
-    robot = Robot.connect(ports.url, profile=name, robot=desc, baud=ports.baud,
-                          allow_mismatch=ports.allow_mismatch, clamp=True, auto_rearm=True)  # fmt: skip
+    sup = Supervisor.connect(ports.url, profile=name, robot=desc, baud=ports.baud,
+                             allow_mismatch=ports.allow_mismatch, clamp=True)  # fmt: skip
+    robot = sup.robot
     warn_mismatches(robot)
     camera = lidar = imu = None
     try:
@@ -193,11 +198,11 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
         imu = Jy901.open(ports.imu) if ports.imu else None
         metrics = _metrics(chosen.name, profile, url=ports.url)
         with recording(robot, chosen, record) as on_step:
-            return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
+            return run_follow(sup, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
                               follow_gap_m=gap_for(settings, geo), imu=imu, progress=progress,
-                              on_step=on_step)  # fmt: skip
+                              on_step=on_step, rearm=settings.rearm)  # fmt: skip
     finally:
         for device in (lidar, imu, camera):
             if device is not None:
                 device.close()
-        robot.close()
+        sup.close()

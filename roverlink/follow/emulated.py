@@ -57,7 +57,7 @@ def lidar_for(robot: str | RobotDescription) -> str:
 
 def start(profile: str | RobotDescription, world: str | Path, *, seed: int = 0, camera_fps: float = 15.0,
           imu: bool = True, faults: str | None = None, camera_look: str = "plain", clock: str = "virtual",
-          auto_rearm: bool = True, watchdog_s: float | None = None) -> EmulatedRobot:  # fmt: skip
+          auto_rearm: bool = False, watchdog_s: float | None = None) -> EmulatedRobot:  # fmt: skip
     """Connect to an emulated `profile` (a reference robot, or the robot a robot file describes:
     connected with the file, as on a real robot) in `world` with its sensors attached; on the virtual
     clock (as fast as the CPU allows) or the "real" one (wall time, for a person watching).

@@ -2,8 +2,9 @@
 
 Only `roverlink.ros2.node`, `run`, `simulation`, `sensors` and `static_tf` import rclpy and the
 message packages, and nothing imports them until `roverlink ros2` runs: the SDK and the other
-commands never need ROS. `params`, `convert`, `driver`, `diagnostics`, `connection`, `frames` and
-`urdf` (`roverlink robot urdf`) are plain Python.
+commands never need ROS. `params`, `convert`, `driver`, `diagnostics`, `frames` and `urdf`
+(`roverlink robot urdf`) are plain Python; the link to the board is the SDK's
+(`host_sdk.supervisor.Connection`: reconnecting with backoff when the port is lost).
 """
 
 from __future__ import annotations

@@ -28,8 +28,8 @@ from std_srvs.srv import Trigger
 
 from host_sdk import FeedbackSample, Pose, RoverLinkError
 from host_sdk.sensors import ImuSample
+from host_sdk.supervisor.connection import Connection
 from roverlink.ros2 import convert
-from roverlink.ros2.connection import Connection
 from roverlink.ros2.fusion import FusedOdometry, Fusion, PoseGate, check_tf_from, imu_expected, imu_time
 from roverlink.ros2.params import BridgeParams
 from roverlink.ros2.robotfacts import FILTERED_ODOM as FILTERED_TOPIC

@@ -5,7 +5,7 @@ Subscribes `cmd_vel` (and `~/set_pose`); publishes `odom`, `joint_states`, `/tf`
 and `~/reset_odometry`. docs/ros2.md has the interface. Threads: the executor runs subscriptions,
 services and timers; the SDK's I/O thread publishes each FEEDBACK as it arrives (odometry is
 stamped with the board's sample time, so it is published at once, not queued); the connection
-thread owns the Robot's lifetime (roverlink.ros2.connection).
+thread owns the Robot's lifetime (host_sdk.supervisor.connection).
 """
 
 from __future__ import annotations
@@ -32,11 +32,11 @@ from std_srvs.srv import Trigger
 from host_sdk import FeedbackSample, Pose, Robot, RobotDescription, RoverLinkError, SessionResetError
 from host_sdk.profiles import PROFILES, get_profile
 from host_sdk.robot_file_check import MISMATCH_LOGGER
+from host_sdk.supervisor.connection import Connection
 from host_sdk.transport import Transport
 from protocol.generated.enums import FailsafeReason, FeedbackMode
 from protocol.robotfile import reference_path
 from roverlink.ros2 import convert, fused
-from roverlink.ros2.connection import Connection
 from roverlink.ros2.diagnostics import DiagnosticsBuilder, Event, Snapshot, feedback_expected_s
 from roverlink.ros2.driver import Driver, RefusalLog, arm_hint, in_ros_words
 from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for, odom_rate_for, robot_url
@@ -160,6 +160,9 @@ class BridgeNode(Node):
         self._publish_static_tf(None)
         self.connection.start()
         self.get_logger().info(f"connecting to {p.url} ({self.mode} feedback at {p.odom_rate} Hz)")
+        if p.auto_arm:  # an opt-in that drives again by itself: said once, at the start
+            self.get_logger().warning("auto_arm is on: the robot is armed at start and again on the next cmd_vel "
+                                      "after a board reset or a watchdog failsafe")  # fmt: skip
 
     def _create_publishers(self, p: BridgeParams) -> None:
         """odom, joint_states, /diagnostics, /tf and /tf_static (the last two need tf2_msgs)."""

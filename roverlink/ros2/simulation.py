@@ -20,8 +20,8 @@ from rclpy.qos import QoSProfile
 from std_srvs.srv import SetBool, Trigger
 
 from host_sdk import Pose, Robot
+from host_sdk.supervisor.connection import Connection
 from roverlink.ros2 import convert
-from roverlink.ros2.connection import Connection
 
 TRUTH_RATE_HZ = 20.0
 

@@ -7,10 +7,12 @@ const scanCanvas = $("scan"), scanCtx = scanCanvas.getContext("2d");
 const trailCanvas = $("trail"), trailCtx = trailCanvas.getContext("2d");
 
 const view = {
-  ws: null, driving: false, maxSpeed: [0.5, 2.0], lifetime: 0.25,
+  ws: null, driving: false, maxSpeed: [0.5, 2.0], lifetime: 0.25, keepalive: 0.08, autonomous: false,
   frame: null, frameId: 0, overlay: {}, pending: new Map(),
-  drag: null, state: {}, trail: [], frames: 0, framesAt: performance.now(), fps: 0, override: false,
+  drag: null, state: {}, trail: [], frames: 0, framesAt: performance.now(), fps: 0, override: false, frameAt: null,
+  downSince: null, errors: new Map(), dismissed: new Set(), notes: 0,
 };
+const STALLED_MS = 1000; // no camera frame this long: "no picture for N s"
 
 // The token came in the URL; the page's own requests carry it in a cookie: keep it out of the
 // address bar and the history.
@@ -21,10 +23,18 @@ function connect() {
   const ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws");
   ws.binaryType = "arraybuffer";
   view.ws = ws;
-  ws.onopen = () => badge("link", "connected", "ok");
+  ws.onopen = () => {
+    view.downSince = null;
+    badge("conn", "console: connected", "ok");
+    showHeader();
+  };
   ws.onclose = () => {
-    badge("link", "disconnected: reconnecting", "bad");
+    // Nothing on the page is current any more: say so, and since when.
+    if (view.downSince === null) view.downSince = Date.now();
     view.driving = false;
+    badge("role", "watching", "");
+    showHeader();
+    showStatus();
     setTimeout(connect, 1000);
   };
   ws.onmessage = (event) => {
@@ -41,13 +51,17 @@ function onMessage(msg) {
   if (msg.type === "hello") {
     view.maxSpeed = msg.max_speed;
     view.lifetime = msg.command_lifetime_s;
+    view.keepalive = msg.keepalive_s || msg.command_lifetime_s / 3;
+    view.autonomous = !!msg.autonomous;
     view.state = {};
   } else if (msg.type === "state") {  // only what changed since the last one
     Object.assign(view.state, msg);
     if ("driving" in msg) {
       view.driving = msg.driving;
       badge("role", msg.driving ? "driving" : "watching", msg.driving ? "driving" : "");
+      $("take").hidden = msg.driving;
     }
+    showHeader();
     if (msg.pose) {
       addTrail(msg.pose);
       drawTrail();
@@ -57,9 +71,8 @@ function onMessage(msg) {
     showStatus();
   } else if (msg.type === "overlay") {
     view.pending.set(msg.frame, msg);
-  } else if (msg.type === "error") {
-    $("error").textContent = msg.error;
-    setTimeout(() => { $("error").textContent = ""; }, 4000);
+  } else if (msg.type === "error" || msg.type === "notice") {
+    note(msg.error || msg.text); // stays until dismissed
   }
 }
 
@@ -70,6 +83,7 @@ async function onFrame(buffer) {
   if (view.frame && !(view.drag && view.drag.bitmap === view.frame)) view.frame.close();
   view.frame = bitmap;
   view.frameId = id;
+  view.frameAt = performance.now();
   view.overlay = view.pending.get(id) || {};
   for (const key of view.pending.keys()) if (key <= id) view.pending.delete(key);
   if (camera.width !== bitmap.width || camera.height !== bitmap.height) {
@@ -83,7 +97,7 @@ async function onFrame(buffer) {
     view.frames = 0;
     view.framesAt = now;
   }
-  $("camera-info").textContent = `${bitmap.width}x${bitmap.height}, ${view.fps.toFixed(0)} fps, frame ${id}`;
+  showCameraInfo();
   document.body.dataset.frame = String(id); // for tests and tools: the frame on screen
   drawCamera();
 }
@@ -236,21 +250,109 @@ function drawTrail() {
   c.stroke();
 }
 
+// What the board reports goes stale while its link is down; everything does while the console is unreachable.
+const FROM_BOARD = new Set(["armed", "doing", "failsafe", "feedback", "round trip", "link errors"]);
+
+function staleBoard() {
+  return view.downSince !== null || !!(view.state.link && view.state.link.stale);
+}
+
 function showStatus() {
   const s = view.state, rows = [];
   const add = (name, value) => { if (value !== undefined && value !== null) rows.push([name, value]); };
   add("armed", s.armed ? "yes" : "no");
   add("failsafe", s.failsafe_text || s.failsafe);
   add("doing", s.mode);
-  add("following", s.following ? "yes" : "no");
+  if (s.link && s.link.busy) add("request", `${s.link.busy}...`);
+  add("following", s.following ? (s.autonomous ? "yes (autonomous)" : "yes") : "no");
+  if (s.ended) add("", s.ended);
   add("track", s.track);
   for (const [name, value] of Object.entries(s.health || {})) add(name, value);
   add("browsers", s.clients);
+  const all = view.downSince !== null, board = staleBoard();
   $("status").replaceChildren(...rows.map(([name, value]) => {
     const tr = document.createElement("tr");
+    if (all || (board && FROM_BOARD.has(name))) tr.className = "stale";
     for (const text of [name, String(value)]) { const td = document.createElement("td"); td.textContent = text; tr.append(td); }
     return tr;
   }));
+  $("pose-info").classList.toggle("stale", board);
+}
+
+const clock = (ms) => new Date(ms).toLocaleTimeString([], { hour12: false });
+
+// The header: armed, the board's link, the failsafe, following; the banner saying what is wrong and
+// what to do; the refusals and errors, each kept until dismissed.
+function showHeader() {
+  const s = view.state, link = s.link || {}, down = view.downSince !== null;
+  const linkUp = !down && link.state === "up";
+  badge("armed", down || !link.state ? "armed: ?" : `armed: ${s.armed && linkUp ? "yes" : "no"}`,
+    s.armed && linkUp && !down ? "ok" : "");
+  badge("link", down ? "board: ?" : `board: ${link.state === "up" ? "link up" : link.state || "?"}`,
+    down ? "" : link.state === "up" ? "ok" : "bad");
+  $("failsafe").hidden = !s.failsafe || down;
+  $("failsafe").textContent = `failsafe ${s.failsafe || ""}`;
+  $("following").hidden = !s.following && !view.autonomous;
+  badge("following", s.following ? (view.autonomous ? "following (autonomous)" : "following")
+    : "autonomous: follows with no browser", s.following ? "driving" : "warn");
+  if (down) badge("conn", `console unreachable since ${clock(view.downSince)}`, "bad");
+  const banner = $("banner");
+  let text = "", hint = "", level = "";
+  if (down) {
+    const secs = Math.round((Date.now() - view.downSince) / 1000);
+    text = `console unreachable since ${clock(view.downSince)} (${secs} s)`;
+    hint = "everything shown is from then (greyed); the page reconnects by itself";
+    level = "error";
+  } else if (link.banner) {
+    ({ text, hint, level } = link.banner);
+  }
+  banner.hidden = !text;
+  banner.className = "banner " + level;
+  $("banner-text").textContent = text;
+  $("banner-hint").textContent = hint ? `: ${hint}` : "";
+  const kept = new Set((link.refusals || []).map((r) => r.id));
+  for (const r of link.refusals || []) if (!view.errors.has(r.id)) view.errors.set(r.id, r.text);
+  for (const id of [...view.errors.keys()]) if (id > 0 && !kept.has(id)) view.errors.delete(id); // dismissed elsewhere
+  showErrors();
+}
+
+function note(text) {
+  view.notes -= 1; // the page's own notes: negative ids, apart from the robot's refusals
+  view.errors.set(view.notes, `${clock(Date.now())} ${text}`);
+  showErrors();
+}
+
+let shownErrors = "";
+function showErrors() {
+  // Rebuilt only when the list changes: a button replaced under the pointer would miss its click.
+  const ids = [...view.errors.keys()].filter((id) => !view.dismissed.has(id)).join(",");
+  if (ids === shownErrors) return;
+  shownErrors = ids;
+  const items = [];
+  for (const [id, text] of view.errors) {
+    if (view.dismissed.has(id)) continue;
+    const li = document.createElement("li"), span = document.createElement("span"), x = document.createElement("button");
+    span.textContent = text;
+    x.textContent = "\u2715";
+    x.title = "Dismiss";
+    x.addEventListener("click", () => {
+      view.dismissed.add(id);
+      if (id > 0) send({ type: "dismiss", id }); // the robot's refusal: gone for every page
+      showErrors();
+    });
+    li.append(span, x);
+    items.push(li);
+  }
+  $("errors").replaceChildren(...items);
+}
+
+function showCameraInfo() {
+  const info = $("camera-info");
+  if (!view.frame) { info.textContent = "no picture yet"; return; }
+  const quiet = performance.now() - view.frameAt;
+  info.textContent = quiet >= STALLED_MS ? `no picture for ${Math.round(quiet / 1000)} s`
+    : `${view.frame.width}x${view.frame.height}, ${view.fps.toFixed(0)} fps, frame ${view.frameId}`;
+  info.classList.toggle("stale", quiet >= STALLED_MS);
 }
 
 // The obstacle guard's word on the last drive command, and the override while it is held.
@@ -278,6 +380,7 @@ function stopNow() {
 }
 
 $("stop").addEventListener("click", stopNow);
+$("take").addEventListener("click", () => send({ type: "take" }));
 $("arm").addEventListener("click", () => send({ type: "arm", on: true }));
 $("disarm").addEventListener("click", () => send({ type: "arm", on: false }));
 $("follow").addEventListener("click", () => send({ type: "follow", on: true }));
@@ -381,5 +484,14 @@ setInterval(() => {
     wasDriving = false;
   }
 }, 50);
+
+// The keep-alive following lasts on: at least every third of the command lifetime, pressed or not; a
+// hidden tab sends none (it is not watching), a frozen or closed one cannot.
+function keepAlive() {
+  if (!document.hidden) send({ type: "alive" });
+  setTimeout(keepAlive, view.keepalive * 800);
+}
+keepAlive();
+setInterval(() => { showCameraInfo(); if (view.downSince !== null) showHeader(); }, 500);
 
 connect();

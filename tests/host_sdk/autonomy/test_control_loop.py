@@ -39,7 +39,7 @@ def test_each_input_reaches_the_pilot_with_the_pose_at_its_own_time() -> None:
         lidar = Lidar.open(robot.transport.endpoints["lidar"], "rplidar-a1")
         camera = CameraSource(robot.transport.endpoints["camera"])
         pilot = RecordingPilot()
-        with ControlLoop(robot, pilot, lidar=lidar, camera=camera) as loop:
+        with ControlLoop(robot, pilot, lidar=lidar, camera=camera, arm=True) as loop:
             for _ in range(60):  # 3 s of 50 ms periods
                 step = loop.step()
                 loop.wait()

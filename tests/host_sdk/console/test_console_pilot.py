@@ -26,15 +26,27 @@ FPS = 15.0
 
 
 class StandIn:
-    """What the pilot reads of a robot: armed, failsafe, link state and counters."""
+    """What the pilot reads of a robot (through its supervisor): armed, failsafe, link state and
+    counters, the clock, the callbacks it subscribes."""
 
     armed = False
     failsafe = None
     state = "disarmed"
     stats = SimpleNamespace(crc_errors=0, cobs_errors=0, length_errors=0, seq_gaps=0, feedback_received=0, rtt=None)
+    url = "stand-in"
+    feedback_age_s = None
+    identity = SimpleNamespace(feedback_hz=50)
 
-    def arm(self) -> None:
+    def arm(self, timeout_s: float = 2.0) -> None:
         self.armed = True
+
+    def now(self) -> float:
+        return 0.0
+
+    def on_reset(self, callback: Any) -> Any:
+        return lambda: None
+
+    on_failsafe = on_reset
 
 
 def pilot() -> tuple[ConsolePilot, Hub]:
@@ -136,6 +148,7 @@ def test_a_car_is_not_asked_to_turn_standing_still_nor_tighter_than_its_steering
 
 def test_stop_ends_following_too() -> None:
     p, hub = pilot()
+    hub.alive()  # the driving page's keep-alive
     hub.post(follow=True)
     p.command(RobotPose(0.0, 0.0, 0.0, 0.0))
     assert p.following

@@ -7,111 +7,45 @@ Screenshots for docs/console.md are saved to build/console/.
 from __future__ import annotations
 
 import os
-import shutil
-import threading
 import time
 from collections.abc import Callable, Iterator
-from pathlib import Path
 from typing import Any
 
 import pytest
+from browser_support import (
+    CHROMIUM,
+    DRIVER,
+    SHOTS,
+    Steps,
+    camera_truth,
+    chromium,
+    drag_on_camera,
+    emulated_console,
+    open_page,
+    pose_x,
+    shown_frame,
+    until,
+)
 
-from roverlink.console_app import ConsoleRun, ConsoleSettings, start_emulated
-from tests.support.wait import wait_until
-
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-DRIVER = shutil.which("chromedriver")
-SHOTS = Path(__file__).resolve().parents[3] / "build" / "console"
+from roverlink.console_app import ConsoleRun
 
 if not (CHROMIUM and DRIVER):
     if os.environ.get("ROVERLINK_REQUIRE_BROWSER"):
         raise RuntimeError("the console's browser tests need Debian's chromium and chromium-driver")
     pytest.skip("no chromium/chromedriver (Debian: apt install chromium chromium-driver)", allow_module_level=True)
-webdriver = pytest.importorskip("selenium.webdriver")
-
-WORLD = """
-[world]
-name = "console"
-size_m = [5.0, 4.0]
-wall_height_m = 0.5
-
-[start]
-x_m = 1.0
-y_m = 2.0
-theta_deg = 0.0
-
-[[boxes]]
-center = [3.2, 3.2]
-size = [0.5, 0.4]
-height_m = 0.4
-colour = "#a05a2c"
-
-[target]
-radius_m = 0.12
-height_m = 0.3
-speed_m_s = 0.0
-path = [[2.6, 1.9]]
-"""
-
-
-def until(check: Callable[[], Any], timeout_s: float = 10.0, what: str = "condition") -> Any:
-    return wait_until(check, timeout_s, what, poll_s=0.02)
-
-
-class Steps:
-    """What the control loop did, step by step: (monotonic time, mode)."""
-
-    def __init__(self, run: ConsoleRun) -> None:
-        self.run = run
-        self.log: list[tuple[float, str]] = []
-
-    def __call__(self) -> None:
-        self.log.append((time.monotonic(), self.run.console.pilot.mode))
+pytest.importorskip("selenium.webdriver")
 
 
 @pytest.fixture(scope="module")
 def robot(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[ConsoleRun, Steps]]:
-    world = tmp_path_factory.mktemp("console") / "world.toml"
-    world.write_text(WORLD)
-    # The emulator shares this process with the robot program, the server and the tests, on a
-    # machine that also runs the browser: a 1 s watchdog keeps a loaded machine's scheduling from
-    # failing safe. The page's commands live as long (the bounds below follow it).
-    run = start_emulated("diffdrive-tb6612", world, ConsoleSettings(port=0), camera_fps=10.0, watchdog_s=1.0)
-    steps = Steps(run)
-    loop = threading.Thread(target=run.run, kwargs={"on_step": steps}, daemon=True)
-    loop.start()
-    yield run, steps
-    run.close()
-    loop.join(timeout=10)
+    with emulated_console(tmp_path_factory.mktemp("console")) as running:
+        yield running
 
 
 @pytest.fixture(scope="module")
 def browser() -> Iterator[Any]:
-    options = webdriver.ChromeOptions()
-    for arg in (
-        "--headless=new",
-        "--no-sandbox",
-        "--disable-gpu",
-        "--disable-dev-shm-usage",
-        "--window-size=1280,1000",
-    ):
-        options.add_argument(arg)
-    options.binary_location = CHROMIUM
-    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    from selenium.webdriver.chrome.service import Service
-
-    driver = webdriver.Chrome(service=Service(DRIVER), options=options)
-    yield driver
-    driver.quit()
-
-
-def shown_frame(browser: Any) -> int:
-    return int(browser.execute_script("return Number(document.body.dataset.frame || 0)"))
-
-
-def open_page(browser: Any, run: ConsoleRun) -> None:
-    browser.get(run.console.url)
-    until(lambda: shown_frame(browser) > 0, what="a camera frame on the page")
+    with chromium(1366, 768) as driver:  # a laptop's screen: the screenshots in docs/console.md
+        yield driver
 
 
 def test_the_page_loads_without_errors_and_the_camera_updates(robot: tuple[ConsoleRun, Steps], browser: Any) -> None:
@@ -124,30 +58,6 @@ def test_the_page_loads_without_errors_and_the_camera_updates(robot: tuple[Conso
     assert errors == []
     SHOTS.mkdir(parents=True, exist_ok=True)
     browser.save_screenshot(str(SHOTS / "console.png"))
-
-
-def camera_truth(run: ConsoleRun, device_time_s: float) -> tuple[int, int, int, int] | None:
-    """The target's pixels (x0, y0, x1, y1) in the frame the emulated camera took at that time."""
-    assert run.emulated is not None
-    device = run.emulated.emulator.sensors.devices["camera"]
-    for truth in list(device.truth.values()):
-        if abs(truth.time_us / 1e6 - device_time_s) < 1e-4:
-            return truth.target_bbox  # type: ignore[no-any-return]
-    return None
-
-
-def drag_on_camera(browser: Any, box: tuple[float, float, float, float]) -> None:
-    """Drag a box (image pixels x, y, w, h) on the camera canvas, as a user does with the mouse."""
-    from selenium.webdriver.common.action_chains import ActionChains
-
-    canvas = browser.find_element("id", "camera")
-    scale = canvas.rect["width"] / int(canvas.get_attribute("width"))
-    cx, cy = canvas.rect["width"] / 2, canvas.rect["height"] / 2
-    x, y, w, h = box
-    chain = ActionChains(browser)
-    chain.move_to_element_with_offset(canvas, round(x * scale - cx), round(y * scale - cy)).click_and_hold()
-    chain.move_by_offset(round(w * scale / 2), round(h * scale / 2))
-    chain.move_by_offset(round(w * scale / 2), round(h * scale / 2)).release().perform()
 
 
 def test_a_box_drawn_on_the_picture_starts_tracking_the_target(robot: tuple[ConsoleRun, Steps], browser: Any) -> None:
@@ -182,11 +92,6 @@ def test_a_box_drawn_on_the_picture_starts_tracking_the_target(robot: tuple[Cons
     until(lambda: pilot.mode == "idle", what="following stopped from the page")
     browser.find_element("id", "disarm").click()
     until(lambda: not run.robot.armed, what="disarmed from the page")
-
-
-def pose_x(run: ConsoleRun) -> float:
-    """The robot's odometry x as the page is shown it."""
-    return float(run.console.hub.latest()[3]["pose"]["x"])
 
 
 def test_keyboard_teleop_drives_and_the_stop_button_disarms(robot: tuple[ConsoleRun, Steps], browser: Any) -> None:
@@ -259,6 +164,8 @@ def test_the_obstacle_guard_has_its_line_and_the_override_is_held_on_the_page(
     ActionChains(browser).key_down("w", body).perform()  # protected: the guard's verdict on the line
     until(lambda: guarded(GuardState.CLEAR, GuardState.SLOWED, GuardState.STOPPED), what="W through the guard")
     until(lambda: line.text and "override" not in line.text, what="the guard's line")
+    # The page's header stays on top while it scrolls: bring the button to the middle of the view first.
+    browser.execute_script("arguments[0].scrollIntoView({block: 'center'})", button)
     ActionChains(browser).click_and_hold(button).perform()  # the button held: each command carries it
     until(lambda: guarded(GuardState.OVERRIDE), what="the override riding on the drive commands")
     assert "held" in button.get_attribute("class") and line.text.startswith("override held")

@@ -95,3 +95,8 @@ def test_the_console_runs_a_robot_file_on_the_emulator(capsys: pytest.CaptureFix
     robot_file = ROOT / "protocol" / "robots" / "picar.toml"
     assert main(["console", "--robot", str(robot_file), "--port", "0", "--duration", "2", "--camera-fps", "5"]) == 0
     assert re.search(r"open http://127\.0\.0\.1:\d+/$", capsys.readouterr().err.strip())
+
+
+def test_autonomous_following_is_said_at_the_start(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["console", "--port", "0", "--duration", "2", "--camera-fps", "5", "--autonomous"]) == 0
+    assert "--autonomous: following goes on with no browser open" in capsys.readouterr().err

@@ -4,12 +4,10 @@ line when rclpy is missing."""
 
 from __future__ import annotations
 
-import itertools
 import math
 import re
 import subprocess
 import sys
-import threading
 from collections.abc import Iterator
 from pathlib import Path
 from types import SimpleNamespace
@@ -17,7 +15,7 @@ from typing import Any
 
 import pytest
 
-from host_sdk import CommandRangeError, FeedbackSample, LinkStatistics, Pose, Robot, TransportError
+from host_sdk import CommandRangeError, FeedbackSample, LinkStatistics, Pose, Robot
 from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.sensors import ImuSample
 from host_sdk.session.types import RobotIdentity
@@ -25,7 +23,6 @@ from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
 from protocol.generated.enums import Board, Capability, FailsafeReason, FeedbackMode, Status
 from protocol.generated.messages import LinkStats
 from roverlink.ros2 import convert
-from roverlink.ros2.connection import Connection
 from roverlink.ros2.diagnostics import (
     ERROR,
     OK,
@@ -411,39 +408,6 @@ def test_a_silent_lockstep_robot_out_of_armed_is_an_error_as_in_stream_mode(stat
     assert feedback_expected_s("armed", lockstep=True, commanding=True, odom_rate=50.0) == 0.5
     assert feedback_expected_s("armed", lockstep=True, commanding=False, odom_rate=50.0) is None
     assert feedback_expected_s("connecting", lockstep=False, commanding=True, odom_rate=50.0) is None
-
-
-# -- connection ------------------------------------------------------------------------------------
-def test_connection_retries_with_doubling_delays_then_connects() -> None:
-    calls: list[float] = []
-    connected = threading.Event()
-    clock = __import__("time").monotonic
-
-    def connect() -> Robot:
-        calls.append(clock())
-        if len(calls) <= 3:
-            raise TransportError("no such port", "/dev/ttyACM9")
-        return Robot.connect("emu://diffdrive-tb6612?clock=virtual")
-
-    conn = Connection(connect, on_connected=lambda r: connected.set(), on_lost=lambda r, w: None, delay_s=0.05)
-    conn.start()
-    assert connected.wait(5)
-    robot = conn.stop()
-    assert robot is not None
-    robot.close()
-    gaps = [b - a for a, b in itertools.pairwise(calls)]
-    assert [round(g / 0.05) for g in gaps] == [1, 2, 4]
-    assert conn.fatal is None and conn.attempts == 0
-
-
-def test_connection_gives_up_on_errors_a_retry_cannot_fix() -> None:
-    def connect() -> Robot:
-        return Robot.connect("emu://no-such-robot")
-
-    conn = Connection(connect, on_connected=lambda r: None, on_lost=lambda r, w: None)
-    conn.start()
-    assert conn.stop() is None
-    assert conn.state == "closed" and conn.fatal is not None and "no-such-robot" in str(conn.fatal)
 
 
 # -- the command -----------------------------------------------------------------------------------

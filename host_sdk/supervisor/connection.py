@@ -1,10 +1,17 @@
-"""The node's link to the board: connect, watch, and reconnect with backoff when the port is lost.
+"""A robot's port kept open: connect, watch, and connect again with backoff when the port is lost.
 
 One thread owns the Robot's lifetime. It connects (retrying with a doubling delay while the port
-is missing or silent), hands the robot to the node, then checks it ten times a second (a check
-raises TransportError once the port has failed, e.g. a pulled USB cable); it also fetches the
-board's link counters for diagnostics. Errors that another try cannot fix (incompatible firmware, a bad
-profile) end the thread and are reported as fatal.
+is missing or the board silent), or starts from a robot already connected (`initial`), hands the
+robot over (`on_connected`), then checks it ten times a second: a robot whose port failed (a
+pulled USB adapter: TransportError) or whose session cannot go on is handed back (`on_lost`),
+closed, and a new one connected the same way. Errors another try cannot fix (incompatible
+firmware, a bad profile) end the thread and are kept in `fatal`. With `stats_period_s` it also
+fetches the board's link counters (each fetch feeds the board's watchdog: `may_poll_board` says
+when not to).
+
+A board reset, a cut cable or a hung board keep the port open: the robot's session handles those
+(it handshakes again by itself after a reset); they are `Supervisor`'s to report, not this
+thread's to reconnect.
 """
 
 from __future__ import annotations
@@ -15,19 +22,15 @@ import threading
 import time
 from collections.abc import Callable
 
-from host_sdk import (
-    ConnectTimeoutError,
-    Robot,
-    RobotClosedError,
-    RoverLinkError,
-    TransportError,
-)
+from host_sdk.errors import ConnectTimeoutError, RobotClosedError, RoverLinkError, TransportError
+from host_sdk.robot import Robot
 from protocol.generated.messages import LinkStats
 
-log = logging.getLogger("roverlink.ros2")
+log = logging.getLogger("host_sdk.supervisor")
 
 Connect = Callable[[], Robot]
-_UNUSABLE = ("broken", "incompatible", "closed")
+UNUSABLE = ("broken", "incompatible", "closed")
+"""Robot states a new connection is the only way out of."""
 HEALTH_PERIOD_S = 0.1
 """How often the connection thread checks the port: how soon a lost port is noticed."""
 
@@ -39,14 +42,16 @@ class Connection:
         *,
         on_connected: Callable[[Robot], None],
         on_lost: Callable[[Robot, str], None],
+        initial: Robot | None = None,
         delay_s: float = 0.5,
         delay_max_s: float = 5.0,
-        stats_period_s: float = 1.0,
+        stats_period_s: float | None = None,
         may_poll_board: Callable[[], bool] = lambda: True,
     ) -> None:
         self._connect = connect
         self._on_connected = on_connected
         self._on_lost = on_lost
+        self._initial = initial
         self.delay_s = delay_s
         self.delay_max_s = delay_max_s
         self.stats_period_s = stats_period_s
@@ -89,7 +94,7 @@ class Connection:
         delay = self.delay_s
         while not self._stop.is_set():
             try:
-                robot = self._connect()
+                robot = self._next_robot()
             except (TransportError, ConnectTimeoutError) as exc:
                 self.attempts += 1
                 self.error = str(exc)
@@ -106,30 +111,40 @@ class Connection:
                 log.error("cannot connect: %s", exc)
                 return
             delay = self.delay_s
-            if self.ever_connected:
-                self.reconnects += 1
-            self.ever_connected = True
-            self.attempts = 0
-            self.error = ""
-            self.board = None
-            try:
-                self._on_connected(robot)
-            except RoverLinkError as exc:
-                log.warning("setting up the robot failed: %s", exc)
-            with self._lock:
-                self._robot = robot  # stop() takes it from here to stop, disarm and close it
-            self.state = "connected"
-            why = self._watch(robot)
-            if why is None or self._stop.is_set():
+            if not self._serve(robot):
                 return
-            with self._lock:
-                self._robot = None
-            self.state = "reconnecting"
-            self.error = why
-            log.error("lost the connection: %s; reconnecting", why)
-            self._on_lost(robot, why)
-            with contextlib.suppress(RoverLinkError):
-                robot.close()
+
+    def _next_robot(self) -> Robot:
+        initial, self._initial = self._initial, None
+        return initial if initial is not None else self._connect()
+
+    def _serve(self, robot: Robot) -> bool:
+        """Hand `robot` over and watch it; False once stop() was called."""
+        if self.ever_connected:
+            self.reconnects += 1
+        self.ever_connected = True
+        self.attempts = 0
+        self.error = ""
+        self.board = None
+        try:
+            self._on_connected(robot)
+        except RoverLinkError as exc:
+            log.warning("setting up the robot failed: %s", exc)
+        with self._lock:
+            self._robot = robot  # stop() takes it from here to stop, disarm and close it
+        self.state = "connected"
+        why = self._watch(robot)
+        if why is None or self._stop.is_set():
+            return False
+        with self._lock:
+            self._robot = None
+        self.state = "reconnecting"
+        self.error = why
+        log.error("lost the connection: %s; reconnecting", why)
+        self._on_lost(robot, why)
+        with contextlib.suppress(RoverLinkError):
+            robot.close()
+        return True
 
     def _watch(self, robot: Robot) -> str | None:
         """Check the robot every HEALTH_PERIOD_S until the link breaks (returns why) or stop() (None).
@@ -139,14 +154,15 @@ class Connection:
         next_stats = time.monotonic()
         while not self._stop.wait(HEALTH_PERIOD_S):
             # Only a robot that cannot go on is asked why (a short wait raises it): a board reset is
-            # left to the driver's next command, and a quiet board is shown by the diagnostics.
-            if robot.state in _UNUSABLE:
+            # left to the robot's session, and a quiet board to whoever shows the link's health.
+            if robot.state in UNUSABLE:
                 try:
                     robot.wait_feedback(0.001)
                 except RoverLinkError as exc:  # the port failed, or the session did (a reconnect tells which)
                     return str(exc)
+                return f"{robot.url}: the robot is {robot.state}"
             now = time.monotonic()
-            if now >= next_stats and self._may_poll_board():
+            if self.stats_period_s is not None and now >= next_stats and self._may_poll_board():
                 next_stats = now + self.stats_period_s
                 try:
                     self.board = (robot.board_link_stats(), time.monotonic())
