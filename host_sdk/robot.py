@@ -107,7 +107,7 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
             armed; at feedback_hz while not armed).
         clamp: scale/clamp commands beyond the limits instead of raising CommandRangeError.
         auto_rearm: after a board reset (or a watchdog failsafe), re-arm by itself instead of
-            raising on the next command.
+            raising on the next command (an opt-in, logged as a warning at connect).
         command_timeout_s: how long one drive command stays live (default watchdog_s / 2).
         Raises ArgumentError (CommandRangeError, ArgumentTypeError) naming a bad argument, and
         ConnectTimeoutError, IncompatibleFirmwareError, TransportError, UnsupportedError.

@@ -1,9 +1,10 @@
 """A web console for a robot program: the robot's camera, scan, pose and status in a browser, and
 the controls to choose a target, follow it, drive, arm and stop (docs/console.md).
 
-    console = Console(robot, geometry, host="0.0.0.0")          # off loopback: a token is made
+    sup = Supervisor.connect("/dev/ttyACM0", profile="picar", clamp=True)   # rides through the robot's failures
+    console = Console(sup, geometry, host="0.0.0.0")            # off loopback: a token is made
     print(console.start())                                      # the URL to open, token included
-    loop = ControlLoop(robot, console.pilot, lidar=lidar, camera=camera, rearm=False)
+    loop = ControlLoop(sup, console.pilot, lidar=lidar, camera=camera)   # arming is the page's
     with loop:
         while True:
             loop.step()

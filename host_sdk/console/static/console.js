@@ -351,7 +351,7 @@ function showCameraInfo() {
   if (!view.frame) { info.textContent = "no picture yet"; return; }
   const quiet = performance.now() - view.frameAt;
   info.textContent = quiet >= STALLED_MS ? `no picture for ${Math.round(quiet / 1000)} s`
-    : `${view.frame.width}x${view.frame.height}, ${view.fps.toFixed(0)} fps, frame ${view.frameId}`;
+    : `${view.frame.width}x${view.frame.height}${view.fps ? `, ${view.fps.toFixed(0)} fps` : ""}, frame ${view.frameId}`;
   info.classList.toggle("stale", quiet >= STALLED_MS);
 }
 

@@ -157,8 +157,9 @@ def test_on_a_laptop_screen_a_lost_link_and_a_refusal_are_in_view_until_dismisse
         assert in_view(browser, element), element
     rows = browser.find_element("id", "status").text
     assert "armed" in rows and "link" in rows and "feedback" in rows
+    until(lambda: "points" in browser.find_element("id", "scan-info").text, timeout_s=30, what="the scan drawn")
     SHOTS.mkdir(parents=True, exist_ok=True)
-    browser.save_screenshot(str(SHOTS / "console-laptop.png"))
+    browser.save_screenshot(str(SHOTS / "console-laptop.png"))  # docs/images/console.png
 
     os.kill(board.proc.pid, signal.SIGSTOP)  # the board hangs: it answers nothing
     try:
