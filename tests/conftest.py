@@ -11,6 +11,8 @@ Lanes (docs/testing.md):
 Hypothesis profiles, chosen with the HYPOTHESIS_PROFILE environment variable:
 
 * ``ci`` (default): 100 examples per property, no deadline; quick enough for every push.
+* ``interpreters``: 20 examples per property, for the other Pythons' runs (scripts/test_pythons.sh),
+  which look for what an interpreter changes, not for new inputs;
 * ``thorough``: 2000 examples per property, for a nightly run or after touching the codec.
 
     HYPOTHESIS_PROFILE=thorough pytest -q tests/protocol/codec
@@ -32,21 +34,17 @@ except ImportError:  # hypothesis is a dev extra: suites that do not use it stil
 PROFILE_ENV = "HYPOTHESIS_PROFILE"
 PROFILE = os.environ.get(PROFILE_ENV, "ci")
 
+PROFILE_EXAMPLES = {"ci": 100, "interpreters": 20, "thorough": 2000}
+
 if settings is not None:
-    settings.register_profile(
-        "ci",
-        max_examples=100,
-        deadline=None,
-        derandomize=False,
-        suppress_health_check=[HealthCheck.too_slow],
-    )
-    settings.register_profile(
-        "thorough",
-        max_examples=2000,
-        deadline=None,
-        derandomize=False,
-        suppress_health_check=[HealthCheck.too_slow],
-    )
+    for name, examples in PROFILE_EXAMPLES.items():
+        settings.register_profile(
+            name,
+            max_examples=examples,
+            deadline=None,
+            derandomize=False,
+            suppress_health_check=[HealthCheck.too_slow],
+        )
     settings.load_profile(PROFILE)
 
 
