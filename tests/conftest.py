@@ -69,6 +69,7 @@ SLOW_MODULES = (
     "tests/host_sdk/console/test_console_example.py",
     "tests/roverlink/cli/test_missing_extras.py",
     "tests/roverlink/cli/test_emulate_log.py",
+    "tests/host_sdk/supervisor/test_supervisor_connection.py",
     # the firmware in simavr
     "tests/emulator/test_simavr_options.py",
     "tests/emulator/test_simavr_robotfile.py",
@@ -98,6 +99,7 @@ SERIAL_MODULES = (
     "tests/host_sdk/sensors/test_sensor_pty.py",
     "tests/host_sdk/test_sdk_examples.py",
     "tests/host_sdk/console/test_console_example.py",
+    "tests/host_sdk/supervisor/test_supervisor_connection.py",
     # the firmware's budgets: simavr's speed against the wall clock
     "tests/system/conformance/test_firmware_budgets.py",
 )
