@@ -150,11 +150,9 @@ class BridgeNode(Node):
         )
         self.fusion = fused.start(self, self.connection, p, self._emu_options(), (self.tf_pub, self._tf_type))
         self.pose_services = fused.PoseServices(self, self.connection, p, self.fusion)
-        # Lockstep: the tick sends every setpoint. Stream: it only notices an expired cmd_vel and
-        # renews the zero-speed hold, so 20 Hz is enough (the SDK repeats live setpoints itself).
-        period = 1.0 / p.odom_rate if self.lockstep else STREAM_TICK_S
-        self._period = period
-        self.create_timer(period, self._tick)
+        # The tick only notices an expired cmd_vel and renews the zero-speed hold, so 20 Hz is
+        # enough: the SDK repeats live setpoints itself (in lockstep once per period, paced).
+        self.create_timer(STREAM_TICK_S, self._tick)
         self.create_timer(1.0 / p.diagnostics_rate, self._publish_diagnostics)
         self._start_sensors({})  # those named by parameters; an emulated robot's when it connects
         self._publish_static_tf(None)
@@ -261,6 +259,7 @@ class BridgeNode(Node):
             baud=p.baud,
             watchdog_s=p.watchdog,
             mode="lockstep" if self.lockstep else "stream",
+            paced=self.lockstep,  # lockstep's setpoints from the I/O thread, on the board's ticks
             feedback_hz=p.odom_rate,
             timeout_s=p.connect_timeout,
             clamp=p.limit_policy == "clamp",
@@ -284,7 +283,6 @@ class BridgeNode(Node):
                 timeout_s=p.cmd_vel_timeout,
                 on_timeout=p.on_timeout,
                 lockstep=self.lockstep,
-                period_s=self._period,
             )
         robot.on_feedback(self._on_feedback)
         robot.on_reset(self._on_reset)
