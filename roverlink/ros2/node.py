@@ -4,8 +4,9 @@ Subscribes `cmd_vel` (and `~/set_pose`); publishes `odom`, `joint_states`, `/tf`
 `/diagnostics`, and with sensors `scan`, `imu` and `odometry/filtered`; serves `~/arm`, `~/disarm`
 and `~/reset_odometry`. docs/ros2.md has the interface. Threads: the executor runs subscriptions,
 services and timers; the SDK's I/O thread publishes each FEEDBACK as it arrives (odometry is
-stamped with the board's sample time, so it is published at once, not queued); the connection
-thread owns the Robot's lifetime (roverlink.ros2.connection).
+stamped with the board's sample time, so it is published at once, not queued) and, in lockstep,
+sends the setpoints (paced on the board's ticks: the executor only replaces the live one); the
+connection thread owns the Robot's lifetime (roverlink.ros2.connection).
 """
 
 from __future__ import annotations

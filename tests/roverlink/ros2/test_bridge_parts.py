@@ -307,11 +307,9 @@ def test_release_lets_the_board_fail_safe(robot: Robot) -> None:
 
 @pytest.mark.parametrize("rate", [100, 50])
 def test_lockstep_feedback_comes_every_period_however_late_the_executor(rate: int) -> None:
-    """The node's lockstep connection is paced: the SDK sends the setpoints on the board's tick
-    grid, so FEEDBACK comes once a period on the board's clock, never two periods apart, whether
-    the driver is called at 20 Hz, not at all for 0.4 s (a stalled executor: its old 100 Hz timer
-    then skipped ticks), or idle with the zero hold. (Sent from a timer of the host's own, near a
-    board tick two setpoints fell into one tick and none into the next: intervals of two periods.)"""
+    """Paced (the node's lockstep connection), the SDK sends the setpoints on the board's tick grid:
+    FEEDBACK once a period on the board's clock, whether the driver is called at 20 Hz, not at all
+    for 0.4 s (a stalled executor, whose 100 Hz timer sent them before), or idle (the zero hold)."""
     url = "emu://diffdrive-bts7960?clock=virtual&drift_ppm=80"
     with Robot.connect(url, mode="lockstep", feedback_hz=rate, paced=True) as robot:
         robot.arm()
