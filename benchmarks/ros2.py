@@ -23,6 +23,9 @@ What is measured
    joint_states, /tf, diagnostics.
 
 Run: python benchmarks/ros2.py [--seconds 15] [--commands 150] [--json out.json]
+     python benchmarks/ros2.py --loaded [--seconds 600] [--hogs 2] [--warn-only]: the node on a
+     loaded host (ros2_loaded.py); exit status 1 when it misses a goal (with --warn-only: only
+     when the run is invalid).
 Needs the `ros2` extra (rclpy, message packages); /tf is published if tf2_msgs is importable or
 built into build/ros2 (python -m roverlink.ros2.interfaces --prefix build/ros2).
 """
@@ -47,6 +50,7 @@ from pathlib import Path
 from typing import Any
 
 import rclpy
+import ros2_loaded  # beside this file (benchmarks/ is on the path when it is run)
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rclpy.executors import SingleThreadedExecutor
@@ -346,16 +350,37 @@ def measure_processes(seconds: float) -> dict[str, Any]:
     return out
 
 
+def loaded_main(seconds: float, hogs: int, out: Path | None, warn_only: bool) -> int:
+    rclpy.init()
+    try:
+        results = ros2_loaded.run(seconds, hogs)
+    finally:
+        try_shutdown()
+    missed = ros2_loaded.report(results)
+    if out is not None:
+        out.write_text(json.dumps(results, indent=2))
+    invalid = [text for text in missed if text.startswith("BENCHMARK INVALID")]
+    for text in missed:
+        print(text if text in invalid else f"GOAL MISSED: {text}")
+    return 1 if invalid or (missed and not warn_only) else 0
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--seconds", type=float, default=15.0, help="CPU and rate window (default 15 s)")
+    parser.add_argument("--seconds", type=float, default=None, help="window (default 15 s; --loaded: 600 s)")
     parser.add_argument("--commands", type=int, default=150, help="cmd_vel messages per latency run (default 150)")
     parser.add_argument("--json", type=Path, default=None, help="also write the figures to this file")
+    parser.add_argument("--loaded", action="store_true", help="the SLAM robot with its sensors under busy loops")
+    parser.add_argument("--hogs", type=int, default=os.cpu_count() or 2, help="--loaded: busy loops (one per core)")
+    parser.add_argument("--warn-only", action="store_true", help="--loaded: a missed goal exits 0 (invalid runs 1)")
     parser.add_argument("--relay", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.relay:
         return relay_main()
     load_tf2_msgs()
+    if args.loaded:
+        return loaded_main(args.seconds or 600.0, args.hogs, args.json, args.warn_only)
+    args.seconds = args.seconds or 15.0
     rclpy.init()
     try:
         results: dict[str, Any] = {"machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores"}

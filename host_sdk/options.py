@@ -28,6 +28,7 @@ def check_connect(
     timeout_s: object,
     clamp: object,
     auto_rearm: object,
+    paced: object,
     command_timeout_s: object,
     request_timeout_s: object,
     request_tries: object,
@@ -51,6 +52,7 @@ def check_connect(
     checks.seconds("timeout_s", timeout_s)
     checks.flag("clamp", clamp)
     rearm = checks.flag("auto_rearm", auto_rearm)
+    paced_ = checks.flag("paced", paced)
     command_timeout = checks.optional(checks.seconds, "command_timeout_s", command_timeout_s)
     request_timeout = checks.seconds("request_timeout_s", request_timeout_s, hi=MAX_REQUEST_TIMEOUT_S)
     tries = checks.integer("request_tries", request_tries, 1, MAX_REQUEST_TRIES, what="a number of tries")
@@ -62,6 +64,7 @@ def check_connect(
         request_tries=tries,
         command_timeout_s=command_timeout,
         auto_rearm=rearm,
+        paced=paced_,
         url=transport.url if isinstance(transport, Transport) else str(url),
         baud=baud_,
     )

@@ -88,6 +88,7 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         timeout_s: float = 5.0,
         clamp: bool = False,
         auto_rearm: bool = False,
+        paced: bool = False,
         command_timeout_s: float | None = None,
         request_timeout_s: float = 0.25,
         request_tries: int = 5,
@@ -108,6 +109,9 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         clamp: scale/clamp commands beyond the limits instead of raising CommandRangeError.
         auto_rearm: after a board reset (or a watchdog failsafe), re-arm by itself instead of
             raising on the next command (an opt-in, logged as a warning at connect).
+        paced: lockstep only: the I/O thread sends the live setpoint once per feedback period on the
+            board's tick grid, so FEEDBACK comes at feedback_hz however late your thread runs; drive()
+            then replaces the live setpoint, sent at the next slot (at most a period later).
         command_timeout_s: how long one drive command stays live (default watchdog_s / 2).
         Raises ArgumentError (CommandRangeError, ArgumentTypeError) naming a bad argument, and
         ConnectTimeoutError, IncompatibleFirmwareError, TransportError, UnsupportedError.
@@ -124,6 +128,7 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
             timeout_s=timeout_s,
             clamp=clamp,
             auto_rearm=auto_rearm,
+            paced=paced,
             command_timeout_s=command_timeout_s,
             request_timeout_s=request_timeout_s,
             request_tries=request_tries,

@@ -87,5 +87,7 @@ stage "host receive-path benchmark (smoke run; full run: .venv/bin/python benchm
     python benchmarks/host.py --quick --rates 100
 stage "console benchmark (smoke run; full run: .venv/bin/python benchmarks/console.py)" \
     python benchmarks/console.py --seconds 2
+stage "ROS 2 bridge on a loaded host (smoke run; full run: .venv/bin/python benchmarks/ros2.py --loaded)" \
+    python benchmarks/ros2.py --loaded --seconds 30 --warn-only
 stage "fuzzing (tests/firmware/fuzz: ${FUZZ_SECONDS:=60} s per target; SECURITY.md)" \
     bash scripts/fuzz.sh --seconds "$FUZZ_SECONDS"

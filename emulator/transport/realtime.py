@@ -95,6 +95,7 @@ def serve(
     # Only the Python emulator has a world (--world): the robot's collisions in it.
     collisions: Sequence[Collision] = getattr(getattr(device, "world", None), "collisions", ())
     lag_warned = False
+    worst_behind_us = 0.0  # said at the end: a board model behind real time fails safe on time it never had
 
     def say(text: str) -> None:
         if log is not None:
@@ -111,19 +112,22 @@ def serve(
         elif connected and not now_connected:
             say(f"host disconnected from {endpoint.name}")
         connected = now_connected
-        if connected:
-            data = endpoint.read()
-            if data:
-                device.host_write(data)
+        data = endpoint.read() if connected else b""
+        # The bytes are the board's when they were read, not at the end of the last pass: given to
+        # it before catching up to now, they reached it early, by up to a pass (the sensors' work,
+        # the wait) or a whole stall, e.g. into the control tick before the one they came in.
         target = virt0 + int((time.monotonic() - wall0) * 1e6 * speed)
         if target > device.now_us:
             t0 = time.monotonic()
             device.advance_to_us(target)
             busy_s += time.monotonic() - t0
             behind = (time.monotonic() - wall0) * 1e6 * speed - (device.now_us - virt0)
+            worst_behind_us = max(worst_behind_us, behind)
             if behind > 200_000 and not lag_warned:
                 lag_warned = True
                 say(f"warning: {behind / 1000:.0f} ms behind real time (CPU too slow?)")
+        if data:
+            device.host_write(data)
         out = device.host_read()
         if connected and out:
             endpoint.write(out)
@@ -139,6 +143,7 @@ def serve(
                 say(f"{stamp(device.now_us)} boot, boot_id 0x{boot_id:08X}")
             reported_boots = len(device.boot_ids)
         endpoint.wait(0.001 if connected else 0.01)
+    say(f"longest lag behind real time: {worst_behind_us / 1000:.0f} ms")
     simulated_s = (device.now_us - virt0) / 1e6
     return simulated_s / busy_s if busy_s > 0 else math.inf
 

@@ -52,6 +52,7 @@ from host_sdk.session.types import FeedbackSample, LinkStatistics, RobotIdentity
 from host_sdk.session.wire import Wire
 from host_sdk.timesync import ClockSync
 from protocol.codec.message import Message
+from protocol.generated.constants import CONTROL_RATE_HZ
 from protocol.generated.enums import Capability, FailsafeReason, FeedbackMode
 from protocol.generated.messages import GetConfig, SetAckermann, SetConfig, SetWheelSpeeds
 
@@ -127,7 +128,7 @@ class Session:
         self._requests.expire(now)
         self._refresh_config(now)
         self._requests.pump(now)
-        self._setpoints.keep_alive(now, self._arming.armed)
+        self._setpoints.keep_alive(now, self._arming.armed, self._pace_s())
         self._arming.predict_failsafe(now - self._wire.last_tx, self.watchdog_s)
         if self._sync.due(now):
             if self._arming.armed and not self._setpoints.live:
@@ -145,15 +146,16 @@ class Session:
         if retry is not None:
             t = min(t, retry)
         if state is LinkState.OPEN:
-            t = self._setpoints.deadline(min(t, self._sync.next_ping))
+            t = self._setpoints.deadline(min(t, self._sync.next_ping), self._pace_s())
             if self._arming.armed:
                 t = min(t, self._wire.last_tx + self.watchdog_s + 0.02)
         return t
 
     # == user operations ===========================================================================
     def command(self, msg: SetWheelSpeeds | SetAckermann, now: float, hold_s: float | None = None) -> int:
-        """Send a setpoint now and keep it live for `hold_s` (default: command_timeout). Returns its seq."""
-        return self._setpoints.command(msg, now, hold_s)
+        """Send a setpoint now and keep it live for `hold_s` (default: command_timeout). Returns its seq.
+        Paced lockstep: a setpoint replacing a live one goes out at the next slot instead."""
+        return self._setpoints.command(msg, now, hold_s, self._pace_s())
 
     def release(self) -> None:
         """Stop repeating the current setpoint (the board keeps it until the watchdog)."""
@@ -210,6 +212,14 @@ class Session:
     def _send(self, msg: Message, now: float, seq: int | None = None) -> int:
         """Send a frame past every part (tests use it to move the seq counter on)."""
         return self._wire.send(msg, now, seq)
+
+    def _pace_s(self) -> float | None:
+        """Paced lockstep's period (whole control ticks of the granted rate), else None."""
+        identity = self._handshake.identity
+        if not self.options.paced or identity is None or identity.feedback_mode is not FeedbackMode.LOCKSTEP:
+            return None
+        ticks = max(1, round(CONTROL_RATE_HZ / (identity.feedback_hz or CONTROL_RATE_HZ)))
+        return ticks / CONTROL_RATE_HZ
 
     def _refresh_config(self, now: float) -> None:
         """Ask for the configuration again when the GET_CONFIG behind the HELLO went unanswered."""

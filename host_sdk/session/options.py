@@ -43,6 +43,9 @@ class SessionOptions:
     keepalive_s: float | None = None
     """How often a live setpoint is repeated; None: watchdog_s / 4."""
     ping_interval_s: float = 1.0
+    paced: bool = False
+    """Lockstep: the session sends the live setpoint once per feedback period, on the board's
+    control-tick grid (setpoints.py), and a new command waits for the next slot."""
     auto_rearm: bool = False
     reset_silence_s: float = 2.0
     """How long a board stays silent when it is reset before it announces its new boot: the

@@ -194,4 +194,6 @@ class Receiver:
         self._counters.feedback_received += 1
         if self._arming.board_status(status, msg.failsafe_reason):
             self._setpoints.drop()
-        self._emit(FeedbackReceived(self._feedback.sample(msg, now, self._sync.clock)))
+        sample = self._feedback.sample(msg, now, self._sync.clock)
+        self._setpoints.ticked(sample.host_time_s)  # paced lockstep's grid follows the board's ticks
+        self._emit(FeedbackReceived(sample))

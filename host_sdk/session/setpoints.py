@@ -1,8 +1,20 @@
 """The setpoint keeper: latest wins, and the current setpoint is repeated every `keepalive_s`
 while it is live (`hold_s` after the user gave it). When it expires nothing is repeated, so an
-armed board's watchdog fails safe when the user's program stops commanding."""
+armed board's watchdog fails safe when the user's program stops commanding.
+
+Paced lockstep (`SessionOptions.paced`): the live setpoint goes out once per feedback period, on
+the board's control-tick grid, `PACE_PHASE_S` after a tick (the grid's ticks from the latest
+FEEDBACK's sample time). The board applies the newest setpoint at its next tick and answers it
+with one FEEDBACK, so a frame landing between each pair of ticks gives FEEDBACK at every period,
+and one sent just after a tick may be late by most of a tick before a FEEDBACK is missed. A timer
+of the host's own drifts across the ticks instead and, near one, its jitter puts two setpoints
+into one tick and none into the next. The runner sends them from its I/O thread, so a busy caller
+(a ROS executor) cannot make them late.
+"""
 
 from __future__ import annotations
+
+import math
 
 from host_sdk.errors import NackError
 from host_sdk.limits import relimited
@@ -10,13 +22,21 @@ from host_sdk.session.counters import HostCounters
 from host_sdk.session.options import EPS, SessionOptions
 from host_sdk.session.wire import Wire
 from protocol.codec.message import Message
+from protocol.generated.constants import CONTROL_RATE_HZ
 from protocol.generated.messages import SetAckermann, SetConfig, SetWheelSpeeds
+
+TICK_S = 1.0 / CONTROL_RATE_HZ
+PACE_PHASE_S = 0.001
+"""Paced lockstep: how long after a board tick (on the host's mapping of the board's clock) a
+setpoint is sent: the tick before the one that applies it, which answers it with FEEDBACK (the
+grid's anchor). Its frame time and the adapter's latency add to it, so it cannot reach the board
+before that tick even with a clock-sync error of a millisecond."""
 
 
 class SetpointKeeper:
     """The live setpoint, when it was last sent and when it expires."""
 
-    __slots__ = ("_expires", "_n", "_options", "_refusal", "_sent", "_seq", "_setpoint", "_wire")
+    __slots__ = ("_expires", "_n", "_options", "_refusal", "_sent", "_seq", "_setpoint", "_slot", "_tick_s", "_wire")
 
     def __init__(self, options: SessionOptions, wire: Wire, counters: HostCounters) -> None:
         self._options = options
@@ -28,6 +48,10 @@ class SetpointKeeper:
         self._sent = 0.0
         self._refusal: NackError | None = None
         """A setpoint the board refused (out of range, unsupported): raised on the user's next command."""
+        self._tick_s: float | None = None
+        """Paced lockstep: the host time of the latest FEEDBACK's tick (the grid's anchor)."""
+        self._slot = -math.inf
+        """Paced lockstep: the grid time of the last setpoint sent on the grid."""
 
     @property
     def live(self) -> bool:
@@ -45,11 +69,26 @@ class SetpointKeeper:
         if isinstance(msg, SetConfig) and self._setpoint is not None:
             self._setpoint = relimited(self._setpoint, msg.max_wheel_speed_mm_s)
 
-    def command(self, msg: SetWheelSpeeds | SetAckermann, now: float, hold_s: float | None) -> int:
-        """Send `msg` now and keep it live for `hold_s` (None: command_timeout). Returns its seq."""
+    def command(
+        self, msg: SetWheelSpeeds | SetAckermann, now: float, hold_s: float | None, pace_s: float | None = None
+    ) -> int:
+        """Send `msg` now and keep it live for `hold_s` (None: command_timeout). Returns its seq.
+
+        Paced (`pace_s`, the period), while a setpoint is live already: `msg` replaces it and goes
+        out at the next slot; returns the seq of the last one sent."""
+        was_live = self._setpoint is not None
         self._setpoint = msg
         self._expires = now + (hold_s if hold_s is not None else self._options.command_timeout)
+        if pace_s is None:
+            return self._send(msg, now, keepalive=False)
+        if was_live:
+            return self._seq
+        self._slot = self._slot_of(now, pace_s)  # the grid goes on after the slot this one stands for
         return self._send(msg, now, keepalive=False)
+
+    def ticked(self, host_time_s: float) -> None:
+        """A FEEDBACK sampled at `host_time_s` (the board's tick, on the host's clock)."""
+        self._tick_s = host_time_s
 
     def drop(self) -> None:
         """Stop repeating the setpoint (the board keeps it until its watchdog)."""
@@ -66,22 +105,49 @@ class SetpointKeeper:
         error, self._refusal = self._refusal, None
         return error
 
-    def keep_alive(self, now: float, armed: bool) -> None:
-        """Repeat the live setpoint when due (only while armed: a disarmed board refuses it)."""
+    def keep_alive(self, now: float, armed: bool, pace_s: float | None = None) -> None:
+        """Repeat the live setpoint when due (only while armed: a disarmed board refuses it);
+        paced (`pace_s`), at every slot of the grid."""
         setpoint = self._setpoint
         if setpoint is None:
             return
         if now >= self._expires - EPS:
             self._setpoint = None  # the user stopped commanding: go quiet, let the watchdog act
             return
-        if armed and now - self._sent >= self._options.keepalive - EPS:
+        if not armed:
+            return
+        if pace_s is None:
+            if now - self._sent >= self._options.keepalive - EPS:
+                self._send(setpoint, now, keepalive=True)
+        elif now >= self._next_slot(pace_s) - EPS:
+            # Late by whole periods (a stalled host): on from the slot now falls in, not a burst
+            # of the missed ones, which would all land in one tick.
+            self._slot = self._slot_of(now, pace_s)
             self._send(setpoint, now, keepalive=True)
 
-    def deadline(self, t: float) -> float:
+    def deadline(self, t: float, pace_s: float | None = None) -> float:
         """`t`, or earlier if a repeat or the expiry is due before it."""
         if self._setpoint is None:
             return t
-        return min(t, self._sent + self._options.keepalive, self._expires)
+        due = self._sent + self._options.keepalive if pace_s is None else self._next_slot(pace_s)
+        return min(t, due, self._expires)
+
+    def _slot_of(self, t: float, pace_s: float) -> float:
+        """The slot a setpoint sent at `t` stands for: that of the tick interval it lands in, which
+        began at the latest tick not after `t` (`t` itself before any FEEDBACK)."""
+        if self._tick_s is None:
+            return t
+        origin = self._tick_s - TICK_S + PACE_PHASE_S
+        return origin + math.floor((t + PACE_PHASE_S - origin) / pace_s + EPS) * pace_s
+
+    def _next_slot(self, pace_s: float) -> float:
+        """The first slot more than half a period after the last one sent on."""
+        if self._slot == -math.inf:
+            return self._slot  # none sent on the grid yet: due at once
+        if self._tick_s is None:
+            return self._slot + pace_s
+        origin = self._tick_s - TICK_S + PACE_PHASE_S
+        return origin + (math.floor((self._slot + pace_s / 2 - origin) / pace_s) + 1) * pace_s
 
     def _send(self, msg: SetWheelSpeeds | SetAckermann, now: float, keepalive: bool) -> int:
         seq = self._wire.send(msg, now)

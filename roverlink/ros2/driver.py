@@ -8,9 +8,13 @@ clock; the tests drive it against the emulator on its virtual clock.
   board's watchdog and the board fails safe by itself.
 - After the timeout, `on_timeout="stop"` holds zero speed (the robot stays armed, as ros2_control's
   diff_drive_controller does); `"release"` sends nothing, and the board's watchdog fails it safe.
-- In lockstep mode the board answers each setpoint with one FEEDBACK, so the setpoints go out from
-  `tick()` only, one per period (a cmd_vel waits at most one period): that paces odometry at the
-  node's rate, evenly, whatever the rate of cmd_vel.
+- In lockstep mode the board answers each setpoint with one FEEDBACK. The robot is connected
+  `paced`: the SDK's I/O thread sends the live setpoint once per period on the board's tick grid
+  (a cmd_vel waits at most one period), so odometry comes evenly at the node's rate whatever the
+  rate of cmd_vel and however late the executor runs (a timer of the executor's missed ticks under
+  load, and sent two setpoints into one board tick near the ticks). With `on_timeout="stop"` a
+  command outlives its timeout by LOCKSTEP_OVERLAP_S, until `tick()` puts the zero-speed hold in
+  its place: a gap between the two would be periods without FEEDBACK.
 """
 
 from __future__ import annotations
@@ -25,6 +29,9 @@ from host_sdk import CommandRangeError, NackError, NotArmedError, RoverLinkError
 ZERO_HOLD_S = 0.5
 """How long one zero-speed hold lives; re-sent every ZERO_RESEND_S while idle."""
 ZERO_RESEND_S = 0.2
+LOCKSTEP_OVERLAP_S = 0.1
+"""Lockstep, on_timeout="stop": how long a command stays live past its timeout (two of the node's
+20 Hz ticks) so the zero hold replaces it without a gap."""
 
 
 class Drivable(Protocol):
@@ -98,14 +105,12 @@ class Driver:
         timeout_s: float,
         on_timeout: str,
         lockstep: bool,
-        period_s: float,
     ) -> None:
         self.robot = robot
         self.refusals = refusals
         self.timeout_s = timeout_s
         self.on_timeout = on_timeout
         self.lockstep = lockstep
-        self.period_s = period_s
         self.latest: Command | None = None
         self.hold_off: str | None = None
         """Why commands are refused regardless of the robot (e.g. disarmed through ~/disarm)."""
@@ -116,8 +121,9 @@ class Driver:
         self.latest = Command(linear, angular, now)
         if self.hold_off is not None:
             self.refusals.refused("hold_off", self.hold_off)
-        elif not self.lockstep:
-            self._send(linear, angular, self.timeout_s)
+        else:
+            overlap = LOCKSTEP_OVERLAP_S if self.lockstep and self.on_timeout == "stop" else 0.0
+            self._send(linear, angular, self.timeout_s + overlap)
 
     def clear(self) -> None:
         """Forget the current command (on arm and disarm: an old command never resumes)."""
@@ -127,17 +133,12 @@ class Driver:
         return self.latest is not None and now - self.latest.received_s < self.timeout_s
 
     def tick(self, now: float) -> None:
-        """Run from a timer every `period_s`."""
-        if self.hold_off is not None:
-            return
-        cmd = self.latest
-        if cmd is not None and self.fresh(now):
-            if self.lockstep:
-                self._send(cmd.linear, cmd.angular, cmd.received_s + self.timeout_s - now)
+        """Run from a timer (20 Hz): after the timeout, the zero-speed hold."""
+        if self.hold_off is not None or self.fresh(now):
             return
         if self.on_timeout != "stop" or not self.robot.armed:
             return  # never arm the robot (auto_arm) just to hold it still
-        if self.lockstep or now - self._zero_s >= ZERO_RESEND_S:
+        if now - self._zero_s >= ZERO_RESEND_S:
             self._zero_s = now
             self._send(0.0, 0.0, ZERO_HOLD_S, quiet=True)
 

@@ -4,8 +4,9 @@ Subscribes `cmd_vel` (and `~/set_pose`); publishes `odom`, `joint_states`, `/tf`
 `/diagnostics`, and with sensors `scan`, `imu` and `odometry/filtered`; serves `~/arm`, `~/disarm`
 and `~/reset_odometry`. docs/ros2.md has the interface. Threads: the executor runs subscriptions,
 services and timers; the SDK's I/O thread publishes each FEEDBACK as it arrives (odometry is
-stamped with the board's sample time, so it is published at once, not queued); the connection
-thread owns the Robot's lifetime (host_sdk.supervisor.connection).
+stamped with the board's sample time, so it is published at once, not queued) and, in lockstep,
+sends the setpoints (paced on the board's ticks: the executor only replaces the live one); the
+connection thread owns the Robot's lifetime (host_sdk.supervisor.connection).
 """
 
 from __future__ import annotations
@@ -150,11 +151,9 @@ class BridgeNode(Node):
         )
         self.fusion = fused.start(self, self.connection, p, self._emu_options(), (self.tf_pub, self._tf_type))
         self.pose_services = fused.PoseServices(self, self.connection, p, self.fusion)
-        # Lockstep: the tick sends every setpoint. Stream: it only notices an expired cmd_vel and
-        # renews the zero-speed hold, so 20 Hz is enough (the SDK repeats live setpoints itself).
-        period = 1.0 / p.odom_rate if self.lockstep else STREAM_TICK_S
-        self._period = period
-        self.create_timer(period, self._tick)
+        # The tick only notices an expired cmd_vel and renews the zero-speed hold, so 20 Hz is
+        # enough: the SDK repeats live setpoints itself (in lockstep once per period, paced).
+        self.create_timer(STREAM_TICK_S, self._tick)
         self.create_timer(1.0 / p.diagnostics_rate, self._publish_diagnostics)
         self._start_sensors({})  # those named by parameters; an emulated robot's when it connects
         self._publish_static_tf(None)
@@ -264,6 +263,7 @@ class BridgeNode(Node):
             baud=p.baud,
             watchdog_s=p.watchdog,
             mode="lockstep" if self.lockstep else "stream",
+            paced=self.lockstep,  # lockstep's setpoints from the I/O thread, on the board's ticks
             feedback_hz=p.odom_rate,
             timeout_s=p.connect_timeout,
             clamp=p.limit_policy == "clamp",
@@ -287,7 +287,6 @@ class BridgeNode(Node):
                 timeout_s=p.cmd_vel_timeout,
                 on_timeout=p.on_timeout,
                 lockstep=self.lockstep,
-                period_s=self._period,
             )
         robot.on_feedback(self._on_feedback)
         robot.on_reset(self._on_reset)

@@ -18,12 +18,19 @@ from rclpy.utilities import try_shutdown
 from host_sdk import RoverLinkError
 from roverlink.ros2.node import BridgeNode
 
+SWITCH_INTERVAL_S = 0.001
+"""How long a thread holding the GIL keeps it while another asks for it (Python's default: 5 ms).
+The SDK's I/O thread wakes for each FEEDBACK and each lockstep slot and must get the GIL from the
+lidar's, the IMU's and the executor's threads within a few ms of a board tick; 5 ms per wake-up
+made it miss ticks on a loaded host."""
+
 
 def run(ros_args: Sequence[str], overrides: dict[str, Any]) -> int:
     """`ros_args`: what follows --ros-args; `overrides`: parameters set on the command line (they win
     over a parameters file). Returns the exit status: 0 after a signal, 1 when connecting cannot
     succeed (e.g. incompatible firmware) or a parameter is wrong."""
     stop = threading.Event()
+    sys.setswitchinterval(SWITCH_INTERVAL_S)  # this process is the node's own: its policy is ours
 
     def on_signal(signum: int, frame: FrameType | None) -> None:
         stop.set()

@@ -215,6 +215,7 @@ CONNECT = kwargs(
     timeout_s=arg(st.floats(1.0, 5.0), seconds_junk()),
     clamp=arg(st.booleans()),
     auto_rearm=arg(st.booleans()),
+    paced=arg(st.booleans()),
     command_timeout_s=arg(st.one_of(st.none(), st.floats(0.05, 1.0)), seconds_junk()),
     request_timeout_s=arg(st.floats(0.05, 0.5), seconds_junk()),
     request_tries=arg(st.integers(1, 5)),

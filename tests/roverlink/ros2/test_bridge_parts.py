@@ -260,20 +260,23 @@ def robot() -> Iterator[Robot]:
 def make_driver(robot: Robot, **kw: Any) -> tuple[Driver, list[str]]:
     logged: list[str] = []
     options: dict[str, Any] = {"timeout_s": 0.5, "on_timeout": "stop", "lockstep": False}
-    options["period_s"] = 0.02
     options.update(kw)
     return Driver(robot, RefusalLog(logged.append, logged.append), **options), logged
 
 
+TICK_S = 0.05
+"""The node's timer (STREAM_TICK_S)."""
+
+
 def run(robot: Robot, driver: Driver, seconds: float, cmd: tuple[float, float] | None = None) -> None:
-    """Tick the driver every period for `seconds` of virtual time, commanding `cmd` at 20 Hz."""
+    """Tick the driver at 20 Hz for `seconds` of virtual time, commanding `cmd` at 20 Hz."""
     end = robot.now() + seconds
     next_cmd = robot.now()
     while robot.now() < end:
         if cmd is not None and robot.now() >= next_cmd:
             driver.command(*cmd, robot.now())
             next_cmd += 0.05
-        robot.sleep(driver.period_s)
+        robot.sleep(TICK_S)
         driver.tick(robot.now())
 
 
@@ -299,16 +302,26 @@ def test_release_lets_the_board_fail_safe(robot: Robot) -> None:
     assert robot.emulator.truth.firmware.failsafe_reason is FailsafeReason.COMM_TIMEOUT
 
 
-def test_lockstep_is_paced_by_the_ticks() -> None:
-    with Robot.connect("emu://diffdrive-bts7960?clock=virtual", mode="lockstep") as robot:
+@pytest.mark.parametrize("rate", [100, 50])
+def test_lockstep_feedback_comes_every_period_however_late_the_executor(rate: int) -> None:
+    """Paced (the node's lockstep connection), the SDK sends the setpoints on the board's tick grid:
+    FEEDBACK once a period on the board's clock, whether the driver is called at 20 Hz, not at all
+    for 0.4 s (a stalled executor, whose 100 Hz timer sent them before), or idle (the zero hold)."""
+    url = "emu://diffdrive-bts7960?clock=virtual&drift_ppm=80"
+    with Robot.connect(url, mode="lockstep", feedback_hz=rate, paced=True) as robot:
         robot.arm()
-        driver, _ = make_driver(robot, lockstep=True, period_s=0.02)
-        first = robot.stats.feedback_received
-        run(robot, driver, 1.0, (0.2, 0.0))  # 20 Hz cmd_vel, 50 Hz ticks
-        assert robot.stats.feedback_received - first == pytest.approx(50, abs=3)
-        first = robot.stats.feedback_received
-        run(robot, driver, 1.0)  # idle: the zero hold still paces FEEDBACK (odometry keeps flowing)
-        assert robot.stats.feedback_received - first == pytest.approx(50, abs=3)
+        driver, logged = make_driver(robot, lockstep=True)
+        stamps: list[int] = []
+        robot.on_feedback(lambda sample: stamps.append(sample.mcu_time_us))
+        run(robot, driver, 1.0, (0.2, 0.0))  # 20 Hz cmd_vel and ticks
+        driver.command(0.2, 0.0, robot.now())
+        robot.sleep(0.4)  # nothing calls the driver
+        run(robot, driver, 1.5)  # the command times out: the zero hold takes over without a gap
+        assert targets(robot) == (0, 0) and robot.state == "armed" and not logged
+        period_us = 1_000_000 // rate
+        gaps = [b - a for a, b in itertools.pairwise(stamps[3:])]  # after arming's first samples
+        assert max(abs(g - period_us) for g in gaps) < period_us / 10  # the crystal's 80 ppm only
+        assert len(stamps) == pytest.approx(2.9 * rate, abs=5)
 
 
 def test_refused_commands_are_logged_once_per_burst(robot: Robot) -> None:
@@ -331,7 +344,7 @@ def test_refused_commands_are_logged_once_per_burst(robot: Robot) -> None:
 def test_refusals_name_the_arm_service_not_the_python_api(robot: Robot) -> None:
     logged: list[str] = []
     refusals = RefusalLog(logged.append, logged.append, "/robot1/roverlink/arm")
-    driver = Driver(robot, refusals, timeout_s=0.5, on_timeout="stop", lockstep=False, period_s=0.02)
+    driver = Driver(robot, refusals, timeout_s=0.5, on_timeout="stop", lockstep=False)
     robot.disarm()
     driver.command(0.1, 0.0, robot.now())
     hint = "call the /robot1/roverlink/arm service (ros2 service call /robot1/roverlink/arm std_srvs/srv/Trigger)"

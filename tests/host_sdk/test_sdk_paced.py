@@ -1,0 +1,72 @@
+"""Paced lockstep's setpoint grid (host_sdk/session/setpoints.py), sans I/O: the times are arguments.
+
+The board applies the newest setpoint at its next control tick and answers it with one FEEDBACK,
+so a setpoint must land between each pair of ticks. Paced, they go out PACE_PHASE_S after a
+board tick (from the latest FEEDBACK's sample time), once a period, whatever the polling does.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from host_sdk.session.counters import HostCounters
+from host_sdk.session.options import SessionOptions
+from host_sdk.session.setpoints import PACE_PHASE_S, TICK_S, SetpointKeeper
+from host_sdk.session.wire import Wire
+from protocol.generated.messages import SetWheelSpeeds
+
+STEP_S = 0.0001
+"""How often the test polls (a runner polls when `deadline` says, or earlier)."""
+
+
+class Grid:
+    def __init__(self) -> None:
+        self.n = HostCounters()
+        self.keeper = SetpointKeeper(SessionOptions(), Wire(self.n), self.n)
+        self.sent: list[float] = []
+        """When `poll` sent one (not the commands sent at once)."""
+
+    def poll(self, t0: float, t1: float, pace_s: float, skip: tuple[float, float] = (0.0, 0.0)) -> None:
+        """Poll every STEP_S from t0 to t1 (not within `skip`), noting when a setpoint went out."""
+        for i in range(round((t1 - t0) / STEP_S)):
+            t = t0 + i * STEP_S
+            if skip[0] <= t < skip[1]:
+                continue
+            before = self.n.setpoints_sent
+            self.keeper.keep_alive(t, armed=True, pace_s=pace_s)
+            if self.n.setpoints_sent > before:
+                self.sent.append(t)
+
+
+def test_paced_setpoints_go_out_just_after_each_board_tick() -> None:
+    g = Grid()
+    g.keeper.ticked(0.0)  # a FEEDBACK of the tick at t = 0
+    g.keeper.command(SetWheelSpeeds(100, 100), 0.0034, hold_s=1.0, pace_s=TICK_S)  # at once: none live
+    g.poll(0.0034, 0.05, TICK_S)
+    assert g.n.setpoints_sent == 5
+    assert g.sent == pytest.approx([k * TICK_S + PACE_PHASE_S for k in range(1, 5)], abs=STEP_S * 1.01)
+
+
+def test_a_new_command_waits_for_the_next_slot_and_a_stall_sends_once() -> None:
+    g = Grid()
+    g.keeper.ticked(0.0)
+    g.keeper.command(SetWheelSpeeds(100, 100), 0.0005, hold_s=1.0, pace_s=TICK_S)
+    g.poll(0.0005, 0.0055, TICK_S)
+    sent = g.n.setpoints_sent
+    g.keeper.command(SetWheelSpeeds(200, 200), 0.0055, hold_s=1.0, pace_s=TICK_S)
+    assert g.n.setpoints_sent == sent  # replaces the live one: goes out at 0.011, not now
+    g.poll(0.0055, 0.1, TICK_S, skip=(0.031, 0.0575))  # the host stalled for 26.5 ms
+    expected = [0.011, 0.021, 0.0575, 0.061, 0.071, 0.081, 0.091]  # one late send, then the grid again
+    assert g.sent == pytest.approx(expected, abs=STEP_S * 1.01)
+
+
+def test_the_grid_follows_the_boards_ticks_and_spans_its_period() -> None:
+    """Every other tick (50 Hz): slots one tick before each tick that answers; a later FEEDBACK
+    moves the grid with the board's clock (which drifts against the host's)."""
+    g = Grid()
+    g.keeper.ticked(0.0)
+    g.keeper.command(SetWheelSpeeds(100, 100), 0.0002, hold_s=1.0, pace_s=2 * TICK_S)
+    g.poll(0.0002, 0.03, 2 * TICK_S)
+    g.keeper.ticked(0.0403)  # the board's clock runs 0.3 ms ahead by now
+    g.poll(0.03, 0.07, 2 * TICK_S)
+    assert g.sent == pytest.approx([0.011, 0.0313, 0.0513], abs=STEP_S * 1.01)
