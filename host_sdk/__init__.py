@@ -46,6 +46,7 @@ from host_sdk.robot_description import RobotDescription, RobotFileError
 from host_sdk.robot_file_check import Mismatch, RobotMismatchError
 from host_sdk.session import FeedbackSample, LinkStatistics, PidGains, RobotConfig, RobotIdentity
 from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
+from protocol.generated.version import __version__ as release_version
 
 __all__ = [
     "PROFILES",
@@ -91,7 +92,7 @@ __all__ = [
     "kinematics_for",
     "messages",
 ]
-__version__ = "0.1.0"
+__version__ = release_version
 
 if TYPE_CHECKING:
     from host_sdk.aio import AsyncRobot, FeedbackStream

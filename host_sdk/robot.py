@@ -267,6 +267,12 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         return self._file_check.mismatches if self._file_check is not None else ()
 
     @property
+    def gains_notice(self) -> str | None:
+        """The line saying how the robot file's [pid] changed the board's gains at connect (None:
+        the board already had them, or no file)."""
+        return self._file_check.gains_notice if self._file_check is not None else None
+
+    @property
     def description(self) -> RobotDescription | None:
         """The robot file connect(robot=) checked the board against (None: connected without one)."""
         return self._file_check.description if self._file_check is not None else None

@@ -8,9 +8,11 @@ The rule (docs/robot-file.md, "Connecting with a robot file"):
   and the firmware defaults the hardware fixes (wheel diameter, encoder counts, inverts, steering
   range, servo and ESC pulses). A difference means another robot or another build: an error
   naming both sides, or with `allow_mismatch=True` a warning kept in `robot.mismatches`;
-- applied: the file's limits, feedback rate and PID gains, and its measured calibration where the
-  board still has the nominal value, sent with set_config/set_pid when they differ, because the
-  file is what the robot runs with (tuning it means editing the file, not re-flashing).
+- applied: the file's limits, feedback rate and PID gains (each wheel its own), and its measured
+  calibration where the board still has the nominal value, sent with set_config/set_pid when they
+  differ, because the file is what the robot runs with (tuning it means editing the file, not
+  re-flashing). Changed gains are said in one line (`gains_notice`): the board's own, e.g. saved
+  by `roverlink tune`, are not replaced unseen.
 """
 
 from __future__ import annotations
@@ -117,6 +119,8 @@ class RobotFileCheck:
         self.description = description
         self.allow_mismatch = allow_mismatch
         self.mismatches: tuple[Mismatch, ...] = ()
+        self.gains_notice: str | None = None
+        """Set when the connect changed the board's gains to the file's (one line saying how)."""
 
     def compare(self, identity: RobotIdentity, config: RobotConfig | None, url: str) -> None:
         """Compare the build; RobotMismatchError lists every difference (a warning when allowed)."""
@@ -135,11 +139,31 @@ class RobotFileCheck:
         if changes:
             robot.set_config(**changes)
         wheels = 2 if robot.identity.capabilities & Capability.DIFF_DRIVE else 1
-        gains = [dataclasses.astuple(robot.pid(w)) for w in range(wheels)]
-        wire = self.description.pid_gains()
-        want = {f.name: getattr(wire, f.name) for f in dataclasses.fields(PidGains)}
-        if any(_f32(got) != _f32(tuple(want.values())) for got in gains):
-            robot.set_pid(**want)
+        changed = []
+        for w in range(wheels):
+            board = robot.pid(w)
+            want = PidGains(*self.description.pid.of_wheel(w))
+            if _f32(dataclasses.astuple(board)) != _f32(dataclasses.astuple(want)):
+                robot.set_pid(**dataclasses.asdict(want), wheel=w)
+                changed.append((w, board, want))
+        if changed:
+            # The board's own gains (EEPROM, e.g. from `roverlink tune --save`) are replaced in RAM:
+            # said once, so gains that differ from the file are never undone unseen.
+            self.gains_notice = gains_notice(self.description.path, changed)
+            _log.warning("%s", self.gains_notice)
+
+
+def gains_notice(path: str, changed: list[tuple[int, PidGains, PidGains]]) -> str:
+    """One line: which wheels' gains the file changed on the board, from what to what."""
+    parts = []
+    for wheel, board, want in changed:
+        diffs = [
+            f"{f.name} {getattr(board, f.name):g} -> {getattr(want, f.name):g}"
+            for f in dataclasses.fields(PidGains)
+            if _f32((getattr(board, f.name),)) != _f32((getattr(want, f.name),))
+        ]
+        parts.append(f"wheel {wheel} " + ", ".join(diffs))
+    return f"{path} [pid] set on the board (its stored gains differ): " + "; ".join(parts)
 
 
 def prepare(robot: object, profile: object, kinematics: object, allow_mismatch: object) -> RobotFileCheck | None:

@@ -22,7 +22,7 @@ def main(argv: list[str] | None = None) -> int:
     except loader.SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    outputs = generate.render(spec, robot_list, contract)
+    outputs = generate.render(spec, robot_list, contract) | generate.stamped(spec, args.root)
     if args.command == "hash":
         print(f"0x{spec.spec_hash:08X}")
         return 0

@@ -8,8 +8,13 @@ same root.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
+import io
+import sys
 from types import ModuleType
+
+from protocol import numpy_abi
 
 
 class RoverLinkError(Exception):
@@ -83,10 +88,39 @@ class MissingDependencyError(RoverLinkError, ImportError):
         )
 
 
-def import_optional(module: str, extra: str, what: str) -> ModuleType:
-    """`importlib.import_module(module)`, or MissingDependencyError naming the extra."""
+class NumpyAbiError(MissingDependencyError):
+    """A compiled module (OpenCV, picamera2, simplejpeg) is installed but was built against another
+    numpy than the one imported: names the module, the numpy and the fix (protocol.numpy_abi)."""
+
+    def __init__(self, module: str, cause: BaseException) -> None:
+        self.module = module
+        self.extra = ""
+        super(MissingDependencyError, self).__init__(numpy_abi.describe(module, cause))
+
+
+def import_compiled(module: str) -> ModuleType:
+    """`importlib.import_module(module)`, or NumpyAbiError when numpy refuses it. numpy's own
+    several-line banner for that case is kept off stderr: the error says it in one line."""
+    banner = io.StringIO()
     try:
-        return importlib.import_module(module)
+        with contextlib.redirect_stderr(banner):
+            loaded = importlib.import_module(module)
+    except (ImportError, ValueError, RuntimeError, AttributeError) as exc:
+        if numpy_abi.is_numpy_abi_break(exc):
+            raise NumpyAbiError(module, exc) from exc
+        sys.stderr.write(banner.getvalue())
+        raise
+    sys.stderr.write(banner.getvalue())
+    return loaded
+
+
+def import_optional(module: str, extra: str, what: str) -> ModuleType:
+    """`importlib.import_module(module)`, or MissingDependencyError naming the extra (NumpyAbiError
+    when it is there but built for another numpy)."""
+    try:
+        return import_compiled(module)
+    except NumpyAbiError:
+        raise
     except ImportError as exc:
         if exc.name is not None and not module.startswith(exc.name.split(".")[0]):
             raise  # the package is there but one of its own imports failed: show that

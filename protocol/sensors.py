@@ -14,12 +14,12 @@ disagree about a fact.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, replace
 from importlib import resources
 from typing import Any
 
 from protocol.errors import RoverLinkError
+from protocol.toml import tomllib
 
 __all__ = [
     "DEVICES",

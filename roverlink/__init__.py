@@ -4,4 +4,6 @@ Each command is one module in roverlink/commands/ with `add_parser(subparsers)`;
 lists them. The firmware build tool they share is roverlink/firmware/.
 """
 
-__version__ = "0.1.0"
+from protocol.generated.version import __version__
+
+__all__ = ["__version__"]

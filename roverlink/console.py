@@ -92,9 +92,12 @@ def connect(args: argparse.Namespace, **options: object) -> Robot:
 
 
 def warn_mismatches(robot: Robot) -> None:
-    """One warning line per difference between the board and --robot FILE (--allow-mismatch)."""
+    """One warning line per difference between the board and --robot FILE (--allow-mismatch), and
+    a note when the file changed the board's gains."""
     for mismatch in robot.mismatches:
         print(f"warning: {mismatch} (--allow-mismatch)", file=sys.stderr)
+    if robot.gains_notice is not None:
+        print(f"note: {robot.gains_notice}", file=sys.stderr)
 
 
 def calibration_mismatch(cal: CalibrationFile, robot: Robot) -> list[str]:

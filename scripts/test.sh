@@ -1,55 +1,86 @@
 #!/usr/bin/env bash
-# Installs what the tests need and runs the whole suite: generated-code drift, lint, types, native
-# C++ tests (plain, sanitizers, avr-g++), pytest, quick benchmark smoke runs and fuzzing
-# (scripts/fuzz.sh: each libFuzzer target for FUZZ_SECONDS, default 60).
-# Usage: bash scripts/test.sh [extra pytest args]
+# The tests, in two lanes (docs/testing.md):
 #
-# Everything Python runs in the checkout's own virtual environment (.venv, made by scripts/venv.sh
-# with the `dev` extra, and the ROS 2 wheels of `ros2` and `ros2-build` for the bridge's tests):
-# the system's Python is never installed into. Debian packages the tests need (the AVR toolchain,
-# simavr, the Arduino core, python3-venv; opencv-doc for the street-camera clip the person
-# detector's tests read; chromium and chromium-driver for the web console's browser tests) are
-# installed with apt-get when missing (sudo when not root).
+#   bash scripts/test.sh                 # the full run, what CI runs (.ci/run): installs what the tests need
+#   bash scripts/test.sh --quick         # the fast lane: drift check, ruff, mypy and the unit tests (under 3 min)
+#   bash scripts/test.sh [--quick] ARGS  # extra arguments go to pytest, e.g. tests/protocol -x
+#
+# The full run installs the Debian packages the tests need when they are missing (the AVR
+# toolchain, simavr, the Arduino core, python3-venv; clang 14 and libFuzzer for the fuzzing;
+# opencv-doc for the street-camera clip the person detector's tests read; chromium and
+# chromium-driver for the web console's browser tests; apt-get, with sudo when not root), makes the
+# checkout's virtual environment .venv with the `dev` extra and the ROS 2 wheels (scripts/venv.sh:
+# the system's Python is never installed into), builds tf2_msgs for the ROS 2 tests, then checks
+# the generated code for drift, runs ruff and mypy --strict, pytest (the C++ native tests, the
+# simavr firmware-in-the-loop suites, ROS 2 and the browser included) on every core and then the
+# suites that need the whole machine on their own, benchmark smoke runs and 60 s of fuzzing per
+# target (scripts/fuzz.sh). It prints each stage's time and the total, and warns past 25 minutes.
+#
+# The fast lane needs only the venv with the `dev` extra (made on its first run): no apt, no ROS 2,
+# no compiler, no browser. PYTEST_WORKERS sets the number of pytest processes (default: nproc).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-source scripts/debian-packages.sh
-install_debian_packages g++ make gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev libelf-dev \
-    clang-14 libfuzzer-14-dev libclang-rt-14-dev llvm-14 opencv-doc chromium chromium-driver
+quick=0
+if [[ ${1:-} == --quick ]]; then
+    quick=1
+    shift
+fi
+workers=${PYTEST_WORKERS:-$(nproc)}
+export HYPOTHESIS_PROFILE=${HYPOTHESIS_PROFILE:-ci}
 
+source scripts/stages.sh
+source scripts/debian-packages.sh
+
+# pytest, where a lane that selects nothing (exit 5: e.g. ARGS naming one folder) is not a failure.
+pytest_lane() {
+    local status=0
+    python -m pytest "$@" || status=$?
+    if ((status == 5)); then
+        echo "(no test of this lane selected)"
+        return 0
+    fi
+    return "$status"
+}
+
+checks() {
+    stage "generated files match the spec" python -m protocol check
+    stage "ruff" bash -c 'ruff check . && ruff format --check .'
+    stage "mypy --strict" mypy --strict protocol host_sdk emulator roverlink
+}
+
+if ((quick)); then
+    # shellcheck source=scripts/venv.sh
+    stage "virtual environment (.venv, dev)" source scripts/venv.sh dev
+    export PATH="$VENV/bin:$PATH"
+    checks
+    stage "pytest: the unit tests (-m 'not slow', $workers workers)" \
+        pytest_lane -m "not slow" -n "$workers" -q "$@"
+    exit 0
+fi
+
+stage "Debian packages" install_debian_packages g++ make gcc-avr avr-libc binutils-avr arduino-core-avr simavr \
+    libsimavr-dev libelf-dev clang-14 libfuzzer-14-dev libclang-rt-14-dev llvm-14 opencv-doc chromium chromium-driver
 # shellcheck source=scripts/venv.sh
-source scripts/venv.sh dev,ros2,ros2-build
+stage "virtual environment (.venv, dev + ROS 2)" source scripts/venv.sh dev,ros2,ros2-build
 export PATH="$VENV/bin:$PATH"
 
 # The ROS 2 bridge's tests: cmake and tf2_msgs (built into build/ros2); they must not be skipped.
-bash scripts/test_ros2_setup.sh
+stage "ROS 2 test setup (tf2_msgs)" bash scripts/test_ros2_setup.sh
 export ROVERLINK_REQUIRE_ROS2=1
-
 # The web console's tests drive a real browser (Debian's chromium): they must not be skipped either.
 export ROVERLINK_REQUIRE_BROWSER=1
 
-echo "== generated files match the spec"
-python -m protocol check
+checks
+stage "pytest on $workers workers (-m 'not serial', hypothesis profile $HYPOTHESIS_PROFILE)" \
+    pytest_lane -m "not serial" -n "$workers" --dist loadfile "$@"
+stage "pytest, the suites that need the whole machine (-m serial)" pytest_lane -m serial "$@"
 
-echo "== ruff"
-ruff check .
-ruff format --check .
-
-echo "== mypy --strict"
-mypy --strict protocol host_sdk emulator roverlink
-
-echo "== pytest (hypothesis profile: ${HYPOTHESIS_PROFILE:=ci})"
-export HYPOTHESIS_PROFILE
-python -m pytest "$@"
-
-echo "== codec benchmark (smoke run; full run: .venv/bin/python benchmarks/codec.py)"
-python benchmarks/codec.py --quick --require-roverlink
-
-echo "== host receive-path benchmark (smoke run; full run: .venv/bin/python benchmarks/host.py)"
-python benchmarks/host.py --quick --rates 100
-
-echo "== console benchmark (smoke run; full run: .venv/bin/python benchmarks/console.py)"
-python benchmarks/console.py --seconds 2
-
-echo "== fuzzing (tests/firmware/fuzz: ${FUZZ_SECONDS:=60} s per target; SECURITY.md)"
-bash scripts/fuzz.sh --seconds "$FUZZ_SECONDS"
+stage "codec benchmark (smoke run; full run: .venv/bin/python benchmarks/codec.py)" \
+    python benchmarks/codec.py --quick --require-roverlink
+stage "host receive-path benchmark (smoke run; full run: .venv/bin/python benchmarks/host.py)" \
+    python benchmarks/host.py --quick --rates 100
+stage "console benchmark (smoke run; full run: .venv/bin/python benchmarks/console.py)" \
+    python benchmarks/console.py --seconds 2
+stage "fuzzing (tests/firmware/fuzz: ${FUZZ_SECONDS:=60} s per target; SECURITY.md)" \
+    bash scripts/fuzz.sh --seconds "$FUZZ_SECONDS"

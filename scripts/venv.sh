@@ -6,11 +6,34 @@
 #
 # The venv is made with `python3` from PATH (or $PYTHON). Debian's python3 needs its venv module,
 # the package python3-venv: installed with apt-get when missing (sudo when not root).
+#
+# SYSTEM_SITE_PACKAGES=1 makes it with --system-site-packages, so it sees the system's own numpy,
+# OpenCV, picamera2 and ROS 2 (Raspberry Pi OS, JetPack, Ubuntu with ROS: docs/sensors.md#cameras),
+# and keeps them: the system's numpy is pinned while installing, and the extras that bring the
+# PyPI OpenCV (vision, console, dev; it needs numpy 2) are refused. Run it alone to make the venv:
+#
+#   SYSTEM_SITE_PACKAGES=1 PYTHON=/usr/bin/python3 bash scripts/venv.sh tools
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 VENV="$ROOT/.venv"
 PYTHON="${PYTHON:-python3}"
 EXTRAS="${1:-}"
+SYSTEM_SITE_PACKAGES="${SYSTEM_SITE_PACKAGES:-}"
+
+venv_fail() {
+    echo "error: $*" >&2
+}
+
+if [[ "$SYSTEM_SITE_PACKAGES" == 1 ]]; then
+    for extra in ${EXTRAS//,/ }; do
+        case "$extra" in
+            vision | console | dev)
+                venv_fail "SYSTEM_SITE_PACKAGES=1: the $extra extra brings PyPI's OpenCV, whose numpy 2 would" \
+                    "replace the system's; leave it out (the system's OpenCV is used: docs/sensors.md#cameras)"
+                return 1 2>/dev/null || exit 1 ;;
+        esac
+    done
+fi
 
 as_root() {
     if [[ $(id -u) -eq 0 ]]; then "$@"; else sudo "$@"; fi
@@ -31,9 +54,28 @@ if [[ ! -x "$VENV/bin/python" ]] || ! "$VENV/bin/python" -m pip --version >/dev/
         version="$("$PYTHON" -c 'import sys; print("%d.%d" % sys.version_info[:2])')"
         apt_install python3-venv "python${version}-venv"
     fi
-    echo "== creating the virtual environment $VENV ($("$PYTHON" --version))"
+    echo "== creating the virtual environment $VENV ($("$PYTHON" --version)${SYSTEM_SITE_PACKAGES:+, --system-site-packages})"
     rm -rf "$VENV"
-    "$PYTHON" -m venv "$VENV"
+    if [[ "$SYSTEM_SITE_PACKAGES" == 1 ]]; then
+        "$PYTHON" -m venv --system-site-packages "$VENV"
+    else
+        "$PYTHON" -m venv "$VENV"
+    fi
+fi
+# A venv made the other way is not changed behind its owner's back: it says so.
+sees_system=false
+grep -qiE '^include-system-site-packages *= *true' "$VENV/pyvenv.cfg" && sees_system=true
+if [[ "$SYSTEM_SITE_PACKAGES" == 1 && "$sees_system" == false ]]; then
+    venv_fail "$VENV was made without --system-site-packages: delete it (rm -rf $VENV) to make it again"
+    return 1 2>/dev/null || exit 1
+fi
+PIP_PINS=()
+if [[ "$sees_system" == true ]]; then
+    # The system's numpy stays: an install that needs another fails here instead of hiding it.
+    if system_numpy="$("$VENV/bin/python" -c 'import numpy; print(numpy.__version__)' 2>/dev/null)"; then
+        echo "numpy==$system_numpy" >"$VENV/constraints-system.txt"
+        PIP_PINS=(--constraint "$VENV/constraints-system.txt")
+    fi
 fi
 
 # The editable install is a .pth file naming the checkout (setuptools' `compat` mode), not the
@@ -42,10 +84,23 @@ fi
 EDITABLE_MODE=compat
 # Install (again) when pyproject.toml is newer than the last install with these extras and this
 # mode (the mode in the stamp's name: a venv installed the old way is installed again).
+# An install with more extras serves one that asks for fewer (the fast lane after a full run).
 stamp="$VENV/.installed-$EDITABLE_MODE${EXTRAS:+-$EXTRAS}"
-if [[ ! -f "$stamp" || "$ROOT/pyproject.toml" -nt "$stamp" ]]; then
+_venv_has_extras() {
+    local file have want
+    for file in "$VENV"/.installed-"$EDITABLE_MODE"*; do
+        [[ -f "$file" && ! "$ROOT/pyproject.toml" -nt "$file" ]] || continue
+        have=",$(basename "$file" | sed -e "s/^\.installed-$EDITABLE_MODE-\{0,1\}//"),"
+        for want in ${EXTRAS//,/ }; do
+            [[ $have == *",$want,"* ]] || continue 2
+        done
+        return 0
+    done
+    return 1
+}
+if ! _venv_has_extras; then
     echo "== installing roverlink${EXTRAS:+[$EXTRAS]} into $VENV"
-    "$VENV/bin/python" -m pip install -q --disable-pip-version-check \
+    "$VENV/bin/python" -m pip install -q --disable-pip-version-check "${PIP_PINS[@]}" \
         --config-settings editable_mode="$EDITABLE_MODE" -e "$ROOT${EXTRAS:+[$EXTRAS]}"
     touch "$stamp"
 fi

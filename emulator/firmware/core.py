@@ -63,8 +63,8 @@ from protocol.generated.messages import (
     SetWheelSpeeds,
 )
 from protocol.generated.profiles import RobotProfile
+from protocol.generated.version import VERSION as FIRMWARE_VERSION
 
-FIRMWARE_VERSION = (0, 1, 0)
 BOOT_COUNTER_BYTES = 4
 _U32 = 1 << 32
 

@@ -129,7 +129,7 @@ class Renderer:
         cam_x = x + math.cos(th) * m.x_m - math.sin(th) * m.y_m
         cam_y = y + math.sin(th) * m.x_m + math.cos(th) * m.y_m
         heading = th + m.yaw_rad
-        img = self.background.copy()
+        img = np.copy(self.background)
         self._floor(img, scene, cam_x, cam_y, heading)
         self._surfaces(img, scene, cam_x, cam_y, heading)
         opts = self.options
@@ -229,7 +229,7 @@ class Renderer:
         alt = TILES[pattern, iv.reshape(-1), iu]
         shade = (0.55 + 0.45 * lay.hits.cos_incidence[cols, lay.order]).astype(np.float32)[..., None, None]
         both = np.stack([self.colour_of(scene)[lay.shape], self.colour2_of(scene)[lay.shape]], axis=2) * shade
-        return np.take(both.reshape(-1, 3), cell * 2 + alt, axis=0).reshape(img.shape)
+        return np.asarray(np.take(both.reshape(-1, 3), cell * 2 + alt, axis=0).reshape(img.shape), dtype=np.float32)
 
     def _opaque(self, lay: Layers) -> NDArray[np.bool_] | bool:
         """Which target pixels count as seen (the plain look's target is solid)."""

@@ -158,7 +158,7 @@ class PhotoRenderer(Renderer):
     def _paint(self, img: NDArray[np.float32], scene: Scene, lay: Layers) -> NDArray[np.float32]:
         tab = self._tables(scene, lay)
         layer = lay.layer.reshape(-1)
-        out = img.reshape(-1, 3).copy()
+        out = np.copy(img.reshape(-1, 3))
         shown = np.flatnonzero(layer >= 0)  # only pixels on a surface: often half the frame is floor and sky
         out[shown] = self._colours(tab, lay, self.pix_rows[shown], self.pix_cols[shown], layer[shown])
         cell = lay.cells(lay.layer)

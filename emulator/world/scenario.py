@@ -11,7 +11,6 @@ Every field is checked; a bad one raises ScenarioError (a ValueError) naming it,
 from __future__ import annotations
 
 import math
-import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +30,7 @@ from emulator.world.scene import (
     box_segments,
     make_scene,
 )
+from protocol.toml import tomllib
 
 _TOP_KEYS = {"world", "start", "walls", "boxes", "cylinders", "target"}
 

@@ -98,12 +98,14 @@ class FeedbackStream:
         """Wait for the sample `wait_feedback` saw to reach the buffer. On a virtual clock it is
         there already; on a real one the I/O thread runs the callbacks just after it wakes waiters."""
         try:
-            async with asyncio.timeout(self._timeout):
-                while not self._buffer and not self._closed:
-                    self._arrived.clear()
-                    await self._arrived.wait()
-        except TimeoutError:
+            await asyncio.wait_for(self._buffered(), self._timeout)
+        except asyncio.TimeoutError:  # not the built-in TimeoutError before Python 3.11
             raise FeedbackTimeoutError(self._timeout) from None
+
+    async def _buffered(self) -> None:
+        while not self._buffer and not self._closed:
+            self._arrived.clear()
+            await self._arrived.wait()
 
     def _finish(self) -> None:
         """Take no more samples; those buffered are still handed out, then the iteration ends."""

@@ -29,7 +29,7 @@ import functools
 import inspect
 from collections.abc import Callable, Coroutine, Generator
 from types import TracebackType
-from typing import Any, Concatenate, Generic, Never, ParamSpec, Self, TypeVar, overload
+from typing import Any, Concatenate, Generic, NoReturn, ParamSpec, TypeVar, overload
 
 from host_sdk import checks
 from host_sdk.aio.feedback import DEFAULT_MAXSIZE, FeedbackStream
@@ -75,16 +75,16 @@ class _Read(Generic[T]):
         self.__doc__ = prop.__doc__
 
     @overload
-    def __get__(self, robot: None, owner: type[Any]) -> Self: ...
+    def __get__(self, robot: None, owner: type[Any]) -> _Read[T]: ...
     @overload
     def __get__(self, robot: AsyncRobot, owner: type[Any]) -> T: ...
-    def __get__(self, robot: AsyncRobot | None, owner: type[Any]) -> T | Self:
+    def __get__(self, robot: AsyncRobot | None, owner: type[Any]) -> T | _Read[T]:
         return self if robot is None else self._get(robot.sync)
 
     def __set_name__(self, owner: type[Any], name: str) -> None:
         self._name = name
 
-    def __set__(self, robot: AsyncRobot, value: Never) -> None:
+    def __set__(self, robot: AsyncRobot, value: NoReturn) -> None:
         # None of these can be set on the Robot either: the calls that change them are named.
         raise AttributeError(f"{self._name} is read-only: the robot's state, changed by its calls (arm, disarm, "
                              "set_config, close...)")  # fmt: skip

@@ -185,7 +185,7 @@ class ConsoleServer:
         return self._file(name)
 
     def _file(self, name: str) -> Any:
-        body = resources.files("host_sdk.console").joinpath("static", name).read_bytes()
+        body = resources.files("host_sdk.console").joinpath("static").joinpath(name).read_bytes()
         kind = MIME[name[name.rindex(".") :]]
         return self.web.Response(body=body, content_type=kind, headers={"Cache-Control": "no-store"})
 

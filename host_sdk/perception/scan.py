@@ -203,7 +203,7 @@ def bin_points(x: F64, y: F64, bins: int) -> F64:
 
 def spatial_filter(ranges: F64, *, isolated_m: float = 0.1, keep_near_m: float = 1.0) -> F64:
     """Drop isolated far returns and fill one-bin holes in surfaces (the scan is circular)."""
-    r = ranges.copy()
+    r = np.copy(ranges)
     left, right = np.roll(ranges, 1), np.roll(ranges, -1)
     tol = isolated_m + 0.03 * np.nan_to_num(ranges, nan=0.0)
     with np.errstate(invalid="ignore"):

@@ -15,6 +15,11 @@ message is one revolution contiguous in time. Then:
   from one ray to the next, both from a least-squares line through the points' own measurement
   times (`LidarScan.measurement_times_s`) against their angles; negative for a clockwise device,
   whose ray 0 is the last measured. `scan_time_s` is the revolution's period from that line.
+* Stamps strictly increase: a stamp not after the previous message's is moved just after it, but
+  never more than its own period (`retimed`); a revolution that cannot be stamped both ways is
+  not published (`dropped`). Each stamp starts from its own revolution's times, and a moved one
+  is never the base of the next, so a revolution read late affects only those measured before
+  its stamp, not the ones after.
 * ranges (REP 117): the nearest return in the bin; -inf where the device reported a distance
   below `range_min_m` (too close); +inf where it measured and got no return (range 0 on the wire:
   too far, too dark, glancing) or a distance beyond `range_max_m`; NaN where no sample fell in
@@ -42,6 +47,9 @@ MIN_FIT_SHARE = 0.25
 """The time line is fitted on the returns when at least this share of the points are returns."""
 GAP_S = 0.05
 """Points this far apart in time were not consecutive (a revolution was lost): start afresh."""
+STEP_S = 0.001
+"""A stamp moved to keep the order lands this far after the one before: enough to stay in order
+through a consumer's mapping to its own clock (which reads two clocks per message)."""
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -99,32 +107,49 @@ class LaserScanner:
         """Revolutions whose measured times did not lie on a line at the device's rate (bursty
         reads): timed at that rate instead."""
         self.retimed = 0
-        """Messages whose time would have gone back past the one before (moved after it)."""
+        """Messages whose stamp was not after the one before: moved just after it (by at most
+        their period)."""
+        self.dropped = 0
+        """Revolutions not published: no stamp within their period of their own time is after
+        the previous message's."""
         self._last_stamp: float | None = None
+        """The last published stamp: the order's floor only, never a base for the next stamp."""
         self._pending: _Points | None = None
         self._last: tuple[float, float, float] | None = None  # (angle, progress, time) of the last point
         self._done = -1  # revolutions (by progress // 2 pi) already cut off
         self.last_points: tuple[F64, NDArray[np.int64]] = (np.zeros(0), np.zeros(0, dtype=np.int64))
         """Measurement time and bin of each point of the last message (what checks its timing)."""
 
+    @property
+    def rewritten(self) -> int:
+        """Revolutions not stamped as their points' times lie: refitted, retimed or dropped."""
+        return self.refitted + self.retimed + self.dropped
+
     def reset(self) -> None:
         """The stream broke (the lidar was reopened): start afresh, dropping what was pending."""
-        self._pending, self._last, self._done = None, None, -1
+        self._restart()
         self._last_stamp = None
+
+    def _restart(self) -> None:
+        self._pending, self._last, self._done = None, None, -1
 
     def push(self, scan: LidarScan) -> list[LaserScanData]:
         """A driver revolution in; the rear-cut revolutions it completes out."""
         if not len(scan):
             return []
         if self._last is not None and float(scan.measurement_times_s[0]) - self._last[2] > GAP_S:
-            self.reset()  # revolutions were missed: the turn count would not know how many
+            # Revolutions were missed: the turn count would not know how many. The order's floor
+            # stays (what follows a gap is later anyway, unless the gap was a late read).
+            self._restart()
         points = self._progress(scan)
         pending = points if self._pending is None else _Points.join(self._pending, points)
         turn = np.floor(pending.progress / (2 * math.pi)).astype(np.int64)
         whole = int(np.floor((float(pending.progress.max()) - MARGIN_RAD) / (2 * math.pi)))
         out = []
         for rev in range(max(int(turn.min()), self._done + 1, 0), whole):  # -1 began before the first point
-            out.append(self._build(pending.take(turn == rev), scan))
+            data = self._build(pending.take(turn == rev), scan)
+            if data is not None:
+                out.append(data)
             self._done = rev
         self._pending = pending.take(turn >= whole)
         return out
@@ -143,7 +168,7 @@ class LaserScanner:
         self._last = (float(angles[-1]), float(progress[-1]), float(times[-1]))
         return _Points(angles, scan.ranges_m, scan.qualities, times, progress)
 
-    def _build(self, p: _Points, scan: LidarScan) -> LaserScanData:
+    def _build(self, p: _Points, scan: LidarScan) -> LaserScanData | None:
         bins, inc = self.bins, self.increment
         returns = ~np.isnan(p.ranges)
         slope, intercept, on_returns = _time_line(p, returns)
@@ -158,7 +183,6 @@ class LaserScanner:
         # first or last bin rather than wrapping to the far end.
         turn0 = (self.sign * (-math.pi - self.cut_rad)) % (2 * math.pi)  # ray 0's turn
         idx = np.clip(np.rint(self.sign * (turn - turn0) / inc), 0, bins - 1).astype(np.int64)
-        self.last_points = (p.times, idx)
         ranges = classify(p.ranges, scan.range_min_m, scan.range_max_m)
         out = np.full(bins, np.inf)
         np.minimum.at(out, idx, ranges)
@@ -166,14 +190,11 @@ class LaserScanner:
         intensities = np.zeros(bins)
         ok = np.isfinite(ranges)
         np.maximum.at(intensities, idx[ok], p.qualities[ok].astype(np.float64))
-        stamp = float(intercept + slope * turn0)
         scan_time = float(abs(slope) * 2 * math.pi)
-        if self._last_stamp is not None and stamp < self._last_stamp + scan_time / 2:
-            # Late reads bound the times loosely (a starved host): never let a message's time go
-            # back past the one before it.
-            stamp = self._last_stamp + scan_time
-            self.retimed += 1
-        self._last_stamp = stamp
+        stamp = self._ordered(float(intercept + slope * turn0), scan_time)
+        if stamp is None:
+            return None
+        self.last_points = (p.times, idx)
         data = LaserScanData(
             angle_min=-math.pi,
             angle_increment=inc,
@@ -188,6 +209,21 @@ class LaserScanner:
         )
         self.count += 1
         return data
+
+    def _ordered(self, measured: float, period: float) -> float | None:
+        """The stamp of a revolution measured at `measured`: that time, or, when it is not after
+        the last published stamp (which came from late reads), just after that if it is within
+        `period` of `measured`; None (not published) if not."""
+        stamp = measured
+        if self._last_stamp is not None and measured < self._last_stamp + STEP_S:
+            stamp = self._last_stamp + STEP_S
+            if stamp > measured + period:
+                self.dropped += 1
+                return None
+            self.retimed += 1
+        if math.isfinite(stamp):  # a revolution without a time line must not become the floor
+            self._last_stamp = stamp
+        return stamp
 
     def _sane_line(self, p: _Points, slope: float, intercept: float) -> tuple[float, float]:
         """The fitted time line, or, when reads came in bursts late enough to bend it (a slope off

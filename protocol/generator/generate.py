@@ -7,7 +7,7 @@ import tempfile
 from pathlib import Path
 
 from protocol.generator import hardware, loader, robots
-from protocol.generator.emit import cpp, docs, python, robot_files, vectors
+from protocol.generator.emit import cpp, docs, python, release, robot_files, vectors
 from protocol.generator.emit import hardware as hardware_outputs
 from protocol.generator.emit import robots as robot_outputs
 from protocol.generator.hardware import Hardware
@@ -31,12 +31,18 @@ def load(spec_path: Path, root: Path) -> tuple[Spec, tuple[Robot, ...], Hardware
 def render(spec: Spec, robot_list: tuple[Robot, ...], contract: Hardware) -> dict[str, str]:
     """Every output: repository-relative path -> exact text."""
     out: dict[str, str] = {}
-    for emitter in (python, cpp, docs, vectors):
+    for emitter in (python, cpp, docs, vectors, release):
         out.update(emitter.emit(spec))
     out.update(robot_outputs.emit(spec, robot_list))
     out.update(robot_files.emit(robot_list))
     out.update(hardware_outputs.emit(contract))
     return dict(sorted(out.items()))
+
+
+def stamped(spec: Spec, root: Path) -> dict[str, str]:
+    """The hand-written files under `root` with their generated parts as the spec says (the ROS
+    package's version); a file that is not there has nothing to stamp."""
+    return release.stamp(spec, root)
 
 
 def write(outputs: dict[str, str], root: Path) -> list[str]:

@@ -7,7 +7,6 @@ spec_hash`) and what is wrong, so a spec author never has to read a traceback.
 from __future__ import annotations
 
 import re
-import tomllib
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -30,8 +29,10 @@ from protocol.generator.model import (
     Spec,
     StateMachine,
     Transition,
+    release_parts,
 )
 from protocol.generator.reserved import reserved_reason
+from protocol.toml import tomllib
 
 
 class SpecError(Exception):
@@ -98,9 +99,10 @@ class _Loader:
         top = self.keys(
             self.data,
             "top level",
-            {"protocol", "crc", "constants", "enums", "messages", "state_machine"},
+            {"protocol", "release", "crc", "constants", "enums", "messages", "state_machine"},
             {"field_sets"},
         )
+        release = self.release(top["release"])
         proto = self.keys(top["protocol"], "protocol", {"name", "version", "max_payload"}, {"doc"})
         version = self.typed(proto["version"], int, "protocol", "version")
         if not 0 < version <= 0xFF:
@@ -166,7 +168,15 @@ class _Loader:
             spec_hash=hashing.spec_hash(canonical),
             doc=str(proto.get("doc", "")),
             field_sets=field_sets,
+            release=release,
         )
+
+    def release(self, raw: Any) -> tuple[int, int, int]:
+        """[release] version = "MAJOR.MINOR.PATCH", each part 0..255 (IDENTITY carries it as u8[3])."""
+        text = self.typed(self.keys(raw, "release", {"version"}, {"doc"})["version"], str, "release", "version")
+        if (parts := release_parts(text)) is None:
+            raise self.fail("release", f"version {text!r} must be MAJOR.MINOR.PATCH, each 0..255 without leading zeros")
+        return parts
 
     def constants(self, raw: Any) -> tuple[Constant, ...]:
         out = []

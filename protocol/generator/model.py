@@ -204,6 +204,17 @@ class StateMachine:
         return out
 
 
+_RELEASE = re.compile(r"(0|[1-9][0-9]{0,2})(\.(0|[1-9][0-9]{0,2})){2}")
+
+
+def release_parts(text: str) -> tuple[int, int, int] | None:
+    """(major, minor, patch) of "MAJOR.MINOR.PATCH", each 0..255 without leading zeros; else None."""
+    if not _RELEASE.fullmatch(text):
+        return None
+    major, minor, patch = (int(p) for p in text.split("."))
+    return (major, minor, patch) if max(major, minor, patch) <= 0xFF else None
+
+
 @dataclass(frozen=True)
 class Spec:
     path: str  # repository-relative, for DO NOT EDIT lines
@@ -222,6 +233,13 @@ class Spec:
     spec_hash: int
     doc: str
     field_sets: tuple[FieldSet, ...] = ()
+    release: tuple[int, int, int] = (0, 0, 0)
+    """The release's version ([release] in the spec): every package's and the firmware's. Not part
+    of the spec hash: two releases that speak the same wire talk to each other."""
+
+    @property
+    def release_text(self) -> str:
+        return ".".join(str(part) for part in self.release)
 
     @property
     def structs(self) -> tuple[FieldSet, ...]:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -12,6 +11,7 @@ from protocol.generator.hardware import Hardware
 from protocol.generator.loader import SpecError
 from protocol.generator.model import Field, Spec
 from protocol.generator.wiring import Wiring
+from protocol.toml import tomllib
 
 KINEMATICS = ("diff", "ackermann")
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from protocol.generator.hardware import pwm_facts
 from protocol.generator.loader import SpecError
 
 
@@ -108,10 +109,25 @@ def _names(pins: frozenset[int] | tuple[int, ...]) -> str:
     return ", ".join(str(p) for p in sorted(pins))
 
 
-def pwm_problem(number: int, label: str, board: str) -> str:
-    """Why pin `number` cannot drive a motor driver's PWM input on `board` ("" if it can)."""
+def pwm_problem(number: int, label: str, board: str, driver: str | None = None) -> str:
+    """Why pin `number` cannot drive `driver`'s PWM input on `board` ("" if it can): a PWM pin
+    whose timer can give a frequency in the driver's range (hardware.toml, [[pwm_drivers]] and
+    [[pwm_timers]])."""
     pwm = BOARD_PINS[board].pwm
-    return "" if number in pwm else f"pin {label} has no PWM output on the {board} (PWM pins: {_names(pwm)})"
+    if number not in pwm:
+        return f"pin {label} has no PWM output on the {board} (PWM pins: {_names(pwm)})"
+    facts = pwm_facts()
+    need, timer = (facts.driver(driver) if driver else None), facts.timer_of(board, number)
+    if need is None or timer is None or facts.hz(board, number, need.driver) is not None:
+        return ""
+    able = tuple(p for t in facts.timers if t.board == board for p in t.pins if facts.hz(board, p, need.driver))
+    why = f" ({timer.note})" if timer.note else ""
+    gives = ", ".join(map(str, timer.hz))
+    return (
+        f"pin {label} is on {timer.timer} of the {board}, which gives {gives} Hz only{why}; "
+        f"the {need.driver} needs {need.min_hz}..{need.max_hz} Hz, {need.why} "
+        f"(PWM pins whose timer can: {_names(able)})"
+    )
 
 
 def encoder_problem(number: int, label: str, board: str) -> str:
@@ -180,7 +196,7 @@ class _Parser:
         pins = tuple((role, self.pin(raw[role], f"{where}.{role}")) for role in roles)
         for role, pin in pins:
             if role in PWM_ROLES:
-                self.check(f"{where}.{role}", pwm_problem(pin.number, pin.label, self.board_name))
+                self.check(f"{where}.{role}", pwm_problem(pin.number, pin.label, self.board_name, kind))
             if kind == "encoder":
                 self.check(f"{where}.{role}", encoder_problem(pin.number, pin.label, self.board_name))
         for role, pin in pins:

@@ -12,7 +12,6 @@ The format, every key and why this lives in `protocol`: docs/robot-file.md.
 from __future__ import annotations
 
 import re
-import tomllib
 from importlib import resources
 from pathlib import Path
 
@@ -34,6 +33,7 @@ from protocol.robotfile.model import (
     Steering,
 )
 from protocol.robotfile.reader import Reader
+from protocol.toml import tomllib
 
 __all__ = [
     "REFERENCES",

@@ -41,6 +41,21 @@ def _drive(r: Reader, v: dict[str, Any]) -> int:
     return channels
 
 
+def _pid(r: Reader, table: dict[str, Any] | None, channels: int) -> model.Pid:
+    """The gains; a key given as a list needs one gain per wheel channel."""
+    v = table or {"kp": 1.0, "ki": 0.0, "kd": 0.0, "kf": 0.0, "ks": 0.0}
+    wheels: list[list[float]] = [[] for _ in range(channels)]
+    for name in model.GAIN_NAMES:
+        value = v[name]
+        if isinstance(value, tuple) and len(value) != channels:
+            r.report("pid", (name,), f"= {list(value)!r}: one gain per wheel channel ({channels}), or one number")
+            value = value[0]
+        for w in range(channels):
+            wheels[w].append(value[w] if isinstance(value, tuple) else value)
+    per_wheel = tuple((g[0], g[1], g[2], g[3], g[4]) for g in wheels)
+    return model.Pid(*per_wheel[0], per_wheel=per_wheel)
+
+
 def _ordered(r: Reader, section: str, table: dict[str, Any] | None, keys: tuple[str, ...]) -> None:
     if table is None or any(table[k] is None for k in keys):
         return
@@ -109,7 +124,7 @@ def robot(r: Reader, data: dict[str, Any]) -> model.RobotFile:
         ),
         geometry=model.Geometry(**geo) if geo else model.Geometry(0.0, 0.0, 0.0, 1.0),
         limits=model.Limits(**lim) if lim else model.Limits(0.0, 0.0, 0.0, 0.0, 0.0, "brake"),
-        pid=model.Pid(**(v["pid"] or {"kp": 1.0, "ki": 0.0, "kd": 0.0, "kf": 0.0, "ks": 0.0})),
+        pid=_pid(r, v["pid"], channels),
         feedback=model.Feedback(**feedback),
         wiring=wiring,
         lidar=_serial(v["sensors.lidar"]),

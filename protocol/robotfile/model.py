@@ -75,13 +75,32 @@ class Limits:
     safe_state: str
 
 
+GAIN_NAMES = ("kp", "ki", "kd", "kf", "ks")
+
+
 @dataclass(frozen=True)
 class Pid:
+    """The speed loop's gains. kp..ks are the first wheel channel's, which are every wheel's unless
+    the file gives a key as a list; `per_wheel` has (kp, ki, kd, kf, ks) for each wheel channel
+    (empty: every wheel has kp..ks)."""
+
     kp: float
     ki: float
     kd: float
     kf: float
     ks: float = 0.0
+    per_wheel: tuple[tuple[float, float, float, float, float], ...] = ()
+
+    def of_wheel(self, wheel: int) -> tuple[float, float, float, float, float]:
+        """(kp, ki, kd, kf, ks) of one wheel channel."""
+        if wheel < len(self.per_wheel):
+            return self.per_wheel[wheel]
+        return (self.kp, self.ki, self.kd, self.kf, self.ks)
+
+    @property
+    def differ(self) -> bool:
+        """The wheels' gains are not all the same."""
+        return len(set(self.per_wheel)) > 1
 
 
 @dataclass(frozen=True)
@@ -259,9 +278,13 @@ class RobotFile:
         )
 
     def pid_gains(self, wheel: int = 255) -> SetPid:
-        """SET_PID with the file's gains (wheel 255: all wheels)."""
-        p = self.pid
-        return SetPid(wheel=wheel, kp=p.kp, ki=p.ki, kd=p.kd, kf=p.kf, ks=p.ks)
+        """SET_PID with the file's gains of `wheel` (255: all wheels, with the first channel's gains:
+        the firmware's compiled default is one set; per-wheel gains reach the board at connect)."""
+        return SetPid(wheel, *self.pid.of_wheel(0 if wheel == 255 else wheel))
+
+    def pid_per_wheel(self) -> tuple[SetPid, ...]:
+        """One SET_PID per wheel channel, with that wheel's gains."""
+        return tuple(self.pid_gains(w) for w in range(self.drive.channels))
 
     def mounts(self) -> tuple[Mount, ...]:
         """The sensors' mounts, as protocol.sensors describes them (lidar, imu, camera)."""

@@ -67,7 +67,7 @@ class _Pins:
                 continue
             label = str(raw[role])
             if self.board is not None and role in rules.PWM_ROLES:
-                self.rule(rules.pwm_problem(number, label, self.board), at)
+                self.rule(rules.pwm_problem(number, label, self.board, kind), at)
             if self.board is not None and kind == "encoder":
                 self.rule(rules.encoder_problem(number, label, self.board), at)
             pins.append((role, number))

@@ -4,6 +4,7 @@ types, ranges and missing keys, every problem collected with its line."""
 from __future__ import annotations
 
 import difflib
+import math
 from typing import Any
 
 from protocol.robotfile.errors import Problem
@@ -95,6 +96,8 @@ class Reader:
 def _number(spec: Key, v: Any) -> tuple[Any, str]:
     if isinstance(v, bool) or not isinstance(v, int | float) or (spec.type == "int" and not isinstance(v, int)):
         return None, f"expected {'a whole number' if spec.type == 'int' else 'a number'} ({spec.allowed()})"
+    if not math.isfinite(v):  # TOML's nan and inf: every comparison below would let NaN through
+        return None, f"not a finite number (allowed: {spec.allowed()})"
     if (spec.lo is not None and v < spec.lo - 1e-12) or (spec.hi is not None and v > spec.hi + 1e-12):
         return None, f"out of range (allowed: {spec.allowed()})"
     return (int(v) if spec.type == "int" else float(v)), ""
@@ -105,6 +108,14 @@ def _value(spec: Key, v: Any) -> tuple[Any, str]:
     t = spec.type
     if t in ("int", "float"):
         return _number(spec, v)
+    if t == "gain":  # one gain for every wheel, or one per wheel channel (their count: build.py)
+        if not isinstance(v, list):
+            return _number(spec, v)
+        if not v:
+            return None, f"expected {spec.allowed()}"
+        gains = [_number(spec, x) for x in v]
+        wrong = next((why for _, why in gains if why), "")
+        return (None, wrong) if wrong else (tuple(g for g, _ in gains), "")
     if t == "str":
         return (v, "") if isinstance(v, str) else (None, "expected a string")
     if t == "bool":
@@ -128,4 +139,6 @@ def _value(spec: Key, v: Any) -> tuple[Any, str]:
     points = points and all(isinstance(c, int | float) and not isinstance(c, bool) for p in v for c in p)
     if not points:
         return None, "expected at least three [x, y] points in m"
+    if not all(math.isfinite(c) for p in v for c in p):
+        return None, "expected at least three [x, y] points in m, each a finite number"
     return tuple((float(x), float(y)) for x, y in v), ""

@@ -22,7 +22,8 @@ class Key:
     name: str
     type: str
     """str, int, float, bool, choice, pin (number or "A<n>"), bools (one per wheel channel),
-    parts (a list of pin tables), points (a list of [x, y])."""
+    parts (a list of pin tables), points (a list of [x, y]), gain (a number, or a list of numbers
+    one per wheel channel where the wheels' gains differ)."""
     unit: str
     doc: str
     default: object = REQUIRED
@@ -34,6 +35,8 @@ class Key:
         """What the key accepts, in words (for error messages and the docs)."""
         if self.choices:
             return "one of " + ", ".join(self.choices)
+        if self.type == "gain":
+            return f"{self.lo:g}..{self.hi:g} {self.unit}, or a list of such numbers, one per wheel channel"
         if self.lo is not None and self.hi is not None:
             return f"{self.lo:g}..{self.hi:g}" + (f" {self.unit}" if self.unit else "")
         if self.lo is not None:
@@ -183,18 +186,18 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
     "pid": (
         Key(
             "kp",
-            "float",
+            "gain",
             "effort/(m/s)",
             "Proportional gain (effort as a fraction of full).",
             1.0,
             *_range("kp", 1, SetPid),
         ),
-        Key("ki", "float", "effort/m", "Integral gain.", 0.0, *_range("ki", 1, SetPid)),
-        Key("kd", "float", "effort/(m/s^2)", "Derivative gain, on the measurement.", 0.0, *_range("kd", 1, SetPid)),
-        Key("kf", "float", "effort/(m/s)", "Feed-forward gain on the setpoint.", 0.0, *_range("kf", 1, SetPid)),
+        Key("ki", "gain", "effort/m", "Integral gain.", 0.0, *_range("ki", 1, SetPid)),
+        Key("kd", "gain", "effort/(m/s^2)", "Derivative gain, on the measurement.", 0.0, *_range("kd", 1, SetPid)),
+        Key("kf", "gain", "effort/(m/s)", "Feed-forward gain on the setpoint.", 0.0, *_range("kf", 1, SetPid)),
         Key(
             "ks",
-            "float",
+            "gain",
             "permille",
             "Static-friction feed-forward (permille of full effort, 70 = 7 %): the effort that keeps a wheel "
             "turning at the lowest speeds, added with the setpoint's sign.",

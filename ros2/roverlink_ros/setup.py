@@ -6,6 +6,7 @@ installed from examples/ros2 of the checkout this folder belongs to (docs/ros2.m
 """
 
 import os
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from setuptools import setup
@@ -16,11 +17,13 @@ HERE = Path(__file__).resolve().parent
 EXAMPLES = Path(os.path.relpath(HERE.parents[1] / "examples" / "ros2", HERE))
 ROBOTS = ("picar", "diffdrive-tb6612", "diffdrive-bts7960")
 CONFIG_FILES = ("roverlink.yaml", "slam_toolbox.yaml", "nav2.yaml")
+# package.xml carries the release's version and licence (set from the spec by `python -m protocol generate`).
+MANIFEST = ET.parse(HERE / "package.xml").getroot()
 
 os.chdir(HERE)  # the relative paths above, wherever colcon runs this from
 setup(
     name=PACKAGE,
-    version="0.1.0",
+    version=MANIFEST.findtext("version"),
     packages=[],
     data_files=[
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
@@ -33,6 +36,6 @@ setup(
     maintainer="RoverLink",
     maintainer_email="roverlink@example.invalid",
     description="The RoverLink ROS 2 node as a ROS package (ros2 run / ros2 launch).",
-    license="MIT",
+    license=MANIFEST.findtext("license"),
     entry_points={"console_scripts": ["roverlink = roverlink.commands.ros2:main"]},
 )

@@ -3,26 +3,23 @@
     roverlink calibrate /dev/ttyACM0 --robot my.toml --yes   # the measured values into [calibration]
     kin = host_sdk.RobotDescription.load("my.toml").kinematics()   # the next run uses them
 
-Only the `[calibration]` section is edited, line by line, so the rest of the file (the user's
+The file is edited line by line (roverlink.robot_file_edit), so the rest of it (the user's
 comments, order and layout) stays byte for byte; only what was measured is written (never the
-wheelbase, which calibration does not measure). The edited text is read back with
-protocol.robotfile before it replaces the file: a file the edit would break is left as it was.
+wheelbase, which calibration does not measure): the measurements in `[calibration]`, and the
+directions and servo pulses it found, which the firmware is built with, in their own sections.
+The edited text is read back with protocol.robotfile before it replaces the file: a file the edit
+would break is left as it was.
 """
 
 from __future__ import annotations
 
-import math
-import os
-import re
 from pathlib import Path
 
 from host_sdk import RobotDescription
-from protocol.robotfile import RobotFileError, parse
+from roverlink import robot_file_edit as edit
 from roverlink.calibration.procedure import CalibrationResult
 
 SECTION = "calibration"
-_HEADER = re.compile(r"^\s*\[\s*([A-Za-z0-9_.\"' -]+?)\s*\]\s*(#.*)?$")
-_TABLE_ARRAY = re.compile(r"^\s*\[\[")
 
 
 def measured(result: CalibrationResult, robot: RobotDescription) -> dict[str, float | int]:
@@ -40,111 +37,42 @@ def measured(result: CalibrationResult, robot: RobotDescription) -> dict[str, fl
     return values
 
 
-def outside_section(result: CalibrationResult, robot: RobotDescription) -> list[str]:
-    """What the calibration changed on the board that `[calibration]` has no key for and the file
-    says otherwise: where to change the file by hand (the board's EEPROM has it already)."""
+def build_facts(result: CalibrationResult, robot: RobotDescription) -> dict[str, dict[str, edit.Value]]:
+    """What the calibration changed on the board that `[calibration]` has no key for, where the
+    file says otherwise, as the file's keys by section: the motor and encoder directions and the
+    servo's pulse span. They are compiled into the firmware (its defaults), not applied at connect."""
     after, own = result.config_after, robot.config()
     wheels = robot.drive.channels
-    notes = []
+    facts: dict[str, dict[str, edit.Value]] = {}
     if after.motor_invert != own.motor_invert:
-        notes.append(f"[drive] motor_invert = {_flags(after.motor_invert, wheels)}")
+        facts["drive"] = {"motor_invert": _flags(after.motor_invert, wheels)}
     if after.encoder_invert != own.encoder_invert and robot.wiring.encoders:
-        notes.append(f"[encoders] invert = {_flags(after.encoder_invert, wheels)}")
+        facts["encoders"] = {"invert": _flags(after.encoder_invert, wheels)}
     if result.ackermann and (after.servo_min_us, after.servo_max_us) != (own.servo_min_us, own.servo_max_us):
-        notes.append(
-            f"[steering] min_pulse_s = {after.servo_min_us / 1e6:g}, max_pulse_s = {after.servo_max_us / 1e6:g}"
-        )
-    return notes
+        facts["steering"] = {"min_pulse_s": after.servo_min_us / 1e6, "max_pulse_s": after.servo_max_us / 1e6}
+    return facts
 
 
-def _flags(bits: int, wheels: int) -> str:
-    return "[" + ", ".join("true" if bits >> i & 1 else "false" for i in range(wheels)) + "]"
+def outside_section(result: CalibrationResult, robot: RobotDescription) -> list[str]:
+    """`build_facts` as the lines to set in the file, `[section] key = value, ...`."""
+    return [
+        f"[{section}] " + ", ".join(f"{key} = {edit.toml_value(v)}" for key, v in keys.items())
+        for section, keys in build_facts(result, robot).items()
+    ]
 
 
-def _toml(value: float | int) -> str:
-    if isinstance(value, int):
-        return str(value)
-    if not math.isfinite(value):
-        raise ValueError(f"measured value {value!r} is not a number")
-    return repr(float(value))
-
-
-def _section_span(lines: list[str]) -> tuple[int, int] | None:
-    """(first line after the header, end) of the `[calibration]` table; None if there is none."""
-    start = None
-    for i, line in enumerate(lines):
-        header = _HEADER.match(line)
-        if header is None and not _TABLE_ARRAY.match(line):
-            continue
-        if start is not None:
-            return start, i
-        if header is not None and header.group(1).strip("\"'") == SECTION:
-            start = i + 1
-    return None if start is None else (start, len(lines))
+def _flags(bits: int, wheels: int) -> tuple[bool, ...]:
+    return tuple(bool(bits >> i & 1) for i in range(wheels))
 
 
 def edited(text: str, values: dict[str, float | int]) -> str:
-    """`text` with each of `values` set in `[calibration]`: an existing `key = ...` line is
-    replaced (its trailing comment kept), a commented-out template line `# key = ...` becomes the
-    key, anything else is added at the end of the section (the section at the end of the file if
-    there is none). Every other line is kept as it is."""
-    newline = "\r\n" if "\r\n" in text else "\n"
-    lines = text.splitlines(keepends=True)
-    span = _section_span(lines)
-    if span is None:
-        if lines and not lines[-1].endswith(("\n", "\r")):
-            lines[-1] += newline
-        lines += [newline, f"[{SECTION}]{newline}"]
-        span = (len(lines), len(lines))
-    start, end = span
-    for key, value in values.items():
-        at = _line_of(lines[start:end], key)
-        if at is not None:
-            at += start
-            match = _assignment(key).match(lines[at])
-            assert match is not None  # _line_of found it with the same pattern
-            indent, _hash, comment, ending = match.groups()
-            ending = ending or ("" if at == len(lines) - 1 else newline)
-            lines[at] = f"{indent}{key} = {_toml(value)}{comment or ''}{ending}"
-            continue
-        at = end
-        while at > start and not lines[at - 1].strip():
-            at -= 1  # after the section's last line, before the blank lines that end it
-        if at > 0 and not lines[at - 1].endswith(("\n", "\r")):
-            lines[at - 1] += newline
-        lines.insert(at, f"{key} = {_toml(value)}{newline}")
-        end += 1
-    return "".join(lines)
+    """`text` with each of `values` set in `[calibration]` (roverlink.robot_file_edit.edited)."""
+    return edit.edited(text, SECTION, dict(values))
 
 
-def _assignment(key: str) -> re.Pattern[str]:
-    """`key = value  # comment`, or the same commented out: (indent, '#', comment, line end)."""
-    return re.compile(rf"^(\s*)(#\s*)?{re.escape(key)}\s*=\s*[^#\r\n]*?(\s*#[^\r\n]*)?(\r?\n)?$")
-
-
-def _line_of(lines: list[str], key: str) -> int | None:
-    """The line that sets `key`, else the commented-out template line for it."""
-    pattern = _assignment(key)
-    matches = [(i, m) for i, line in enumerate(lines) if (m := pattern.match(line)) is not None]
-    for i, m in matches:
-        if m.group(2) is None:
-            return i
-    return matches[0][0] if matches else None
-
-
-def write_measured(path: str | Path, values: dict[str, float | int]) -> Path:
-    """Set `values` in the robot file's `[calibration]` and check the result reads back with
-    them (RobotFileError, file untouched, if not)."""
-    where = Path(path)
-    text = edited(where.read_text(encoding="utf-8"), values)
-    robot, problems = parse(text, str(where))
-    if robot is None:
-        raise RobotFileError(problems)
-    got = {key: getattr(robot.calibration, key) for key in values}
-    if got != values:  # e.g. the values also set elsewhere (a dotted key): the file wins, say so
-        raise ValueError(f"{where}: [calibration] could not be set to {values} (reads back {got}): edit it by hand")
-    temp = where.with_name(f".{where.name}.calibrating")
-    with open(temp, "w", encoding="utf-8", newline="") as out:
-        out.write(text)
-    os.replace(temp, where)  # whole or not at all: a robot file is never left half written
-    return where
+def write_measured(
+    path: str | Path, values: dict[str, float | int], facts: dict[str, dict[str, edit.Value]] | None = None
+) -> Path:
+    """Set `values` in the robot file's `[calibration]` (and `facts`, build_facts' keys, in their
+    sections), checked to read back with them (RobotFileError or ValueError, file untouched, if not)."""
+    return edit.plan(path, {SECTION: dict(values), **(facts or {})}).write()

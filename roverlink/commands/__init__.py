@@ -13,6 +13,7 @@ from roverlink.commands import (
     console,
     decode,
     demo,
+    doctor,
     emulate,
     firmware,
     follow,
@@ -30,6 +31,7 @@ from roverlink.commands import (
 
 COMMANDS: tuple[ModuleType, ...] = (
     demo,
+    doctor,
     info,
     robot,
     ports,

@@ -4,13 +4,15 @@ steering centre and angle per servo step (Ackermann); a check drive; the configu
 after; saved to EEPROM after confirmation. On `emu://` the emulator's ground truth answers the
 questions a person with a tape measure would. With an IMU (--imu PORT, or an emu:// URL's
 imu=jy901) its yaw measures the turns instead of a person. With --robot FILE the robot file's
-geometry is the start and the measured values go into its [calibration] (the JSON file of -o is
-then written only when asked for).
+geometry is the start and the measured values go into its [calibration], the motor and encoder
+directions and servo pulses found into [drive], [encoders] and [steering] (with how to rebuild the
+firmware, which is built with them); the JSON file of -o is then written only when asked for.
 """
 
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 from pathlib import Path
 
@@ -31,7 +33,7 @@ from roverlink.calibration import (
     save_file,
     verify,
 )
-from roverlink.calibration.robot_file import measured, outside_section, write_measured
+from roverlink.calibration.robot_file import build_facts, measured, outside_section, write_measured
 from roverlink.console import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
 from roverlink.emulated import first_collision
 from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
@@ -158,9 +160,11 @@ def _keep(
 
 
 def write_robot_file(robot_file: RobotDescription, result: CalibrationResult, url: str) -> list[str]:
-    """The measured values into the robot file's [calibration]; summary lines."""
+    """The measured values into the robot file's [calibration], the directions and servo pulses
+    found into their own sections; summary lines."""
     values = measured(result, robot_file)
-    path = write_measured(robot_file.path, values)
+    facts = build_facts(result, robot_file)
+    path = write_measured(robot_file.path, values, facts)
     shown = ", ".join(f"{k} = {v}" for k, v in values.items())
     lines = [
         f"measured values written to {path} [calibration]: {shown}",
@@ -168,8 +172,15 @@ def write_robot_file(robot_file: RobotDescription, result: CalibrationResult, ur
     ]
     notes = outside_section(result, robot_file)
     if notes:
-        lines.append(f"the board's EEPROM also differs from {path} where [calibration] has no key: to match, set")
+        # Directions and pulses are compiled into the firmware (and compared at connect): the board
+        # has them in EEPROM now, but a blank or reset EEPROM falls back to the old build's.
+        lines.append(f"also written to {path}, what the firmware is built with:")
         lines += [f"  {note}" for note in notes]
+        port = shlex.quote(url) if "://" not in url else "PORT"  # a serial port, or the board's to come
+        lines.append(
+            f"rebuild and flash the firmware from the file to make them its defaults: "
+            f"roverlink firmware flash --robot {shlex.quote(str(path))} --port {port}"
+        )
     return lines
 
 

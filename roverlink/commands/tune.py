@@ -1,6 +1,8 @@
 """`roverlink tune URL`: velocity step tests per wheel (robot on a stand), metrics, a plot comparing
 the current gains with candidates, and with `--auto` gains proposed from a fitted model, applied
-after confirmation, verified with a new step and saved to EEPROM if asked.
+after confirmation, verified with a new step and saved to EEPROM if asked; with --robot FILE the
+gains in use are written into the file's [pid] (shown, then asked), since every connect with the
+file sets its gains.
 """
 
 from __future__ import annotations
@@ -10,11 +12,14 @@ import dataclasses
 import sys
 from pathlib import Path
 
-from host_sdk import PidGains, Robot, RoverLinkError
+from host_sdk import PidGains, Robot, RobotDescription, RoverLinkError
 from host_sdk.extras import MissingDependencyError, require
 from protocol.generated.constants import FEEDBACK_HZ_MAX
+from protocol.robotfile.model import GAIN_NAMES
+from roverlink import robot_file_edit as edit
 from roverlink.console import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
 from roverlink.emulated import place_on_stand
+from roverlink.robot_file_edit import Value
 from roverlink.tuning.design import Design
 from roverlink.tuning.metrics import StepMetrics, StepResponse
 from roverlink.tuning.plot import plot_steps
@@ -112,7 +117,49 @@ def apply_proposals(
         lines.append("saved to EEPROM")
     else:
         lines.append("not saved: the board goes back to its EEPROM gains when it resets")
+    if robot.description is not None:
+        lines += write_gains(robot, robot.description, prompter)
     return lines
+
+
+def file_gains(robot: Robot, description: RobotDescription) -> dict[str, Value]:
+    """The board's gains as the robot file's [pid] keys that differ from the file's: one number
+    where every wheel has the same, else one per wheel channel."""
+    wheels = [robot.pid(w) for w in range(description.drive.channels)]
+    mine = [description.pid.of_wheel(w) for w in range(description.drive.channels)]
+    values: dict[str, Value] = {}
+    for i, name in enumerate(GAIN_NAMES):
+        board = tuple(getattr(g, name) for g in wheels)
+        if board == tuple(m[i] for m in mine):
+            continue  # left as written (`ki = 6` stays, not `ki = 6.0`)
+        values[name] = board[0] if len(set(board)) == 1 else board
+    return values
+
+
+def write_gains(robot: Robot, description: RobotDescription, prompter: Prompter) -> list[str]:
+    """The gains in use into the robot file's [pid] (the change shown, then asked): every later
+    connect with the file applies its gains, so gains kept only on the board would be undone."""
+    path = description.path
+    values = file_gains(robot, description)
+    if not values:
+        return [f"{path} [pid] already has these gains"]
+    try:
+        change = edit.plan(path, {"pid": values})
+    except (OSError, ValueError) as exc:  # RobotFileError is a ValueError
+        return [f"error: {path} was not changed: {exc}", _by_hand(values)]
+    prompter.say("\n".join(change.diff()))
+    if not prompter.confirm(f"Write the new gains to {path}?"):
+        return [f"{path} not changed: the next connect with it sets its own gains again", _by_hand(values)]
+    try:
+        change.write()
+    except OSError as exc:
+        return [f"error: {path} was not changed: {exc}", _by_hand(values)]
+    shown = ", ".join(f"{k} = {edit.toml_value(v)}" for k, v in values.items())
+    return [f"written to {path} [pid]: {shown}"]
+
+
+def _by_hand(values: dict[str, Value]) -> str:
+    return "to keep them, set in [pid]: " + ", ".join(f"{k} = {edit.toml_value(v)}" for k, v in values.items())
 
 
 def _feed_forward(design: Design) -> str:
@@ -209,5 +256,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--plot", default="tune.png", metavar="FILE.png", help="plot file (default tune.png; '' for none)")
     p.add_argument("--save", action="store_true", help="save applied gains to EEPROM without asking")
     p.add_argument("--keep-ramp", action="store_true", help="keep the board's accel/decel limits during the steps")
-    p.add_argument("--yes", action="store_true", help="answer yes to every question (robot on a stand, apply)")
+    p.add_argument(
+        "--yes",
+        action="store_true",
+        help="answer yes to every question (robot on a stand, apply, write --robot FILE's [pid])",
+    )
     p.set_defaults(func=cmd_tune)

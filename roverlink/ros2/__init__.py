@@ -11,9 +11,10 @@ from __future__ import annotations
 import importlib.util
 
 INSTALL_HINT = (
-    "the ROS 2 bridge needs rclpy and the ROS 2 message packages: install them from PyPI with "
-    "`pip install 'roverlink[ros2]'` (ROS 2 Jazzy wheels), or source a ROS 2 installation "
-    "(`source /opt/ros/jazzy/setup.bash`) before running `roverlink ros2`"
+    "the ROS 2 bridge needs rclpy and the ROS 2 message packages: source a ROS 2 installation "
+    "(`source /opt/ros/humble/setup.bash` or `/opt/ros/jazzy/setup.bash`) before running `roverlink ros2`, "
+    "from a venv made from the system's Python with --system-site-packages; or, on x86-64 Linux without ROS, install "
+    "Jazzy's wheels with `pip install 'roverlink[ros2]'` (`roverlink doctor` says which applies here)"
 )
 
 REQUIRED_MODULES = ("rclpy", "geometry_msgs", "nav_msgs", "sensor_msgs", "diagnostic_msgs", "std_srvs")

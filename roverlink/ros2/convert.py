@@ -218,15 +218,18 @@ def fill_imu(msg: Any, *, ns: int, frame: str, sample: ImuSample, covariance: Im
         o = msg.orientation
         o.x, o.y, o.z, o.w = q
         msg.orientation_covariance = _diagonal3(covariance.orientation)
-    for value, vector, name, diagonal in (
-        (sample.gyro, msg.angular_velocity, "angular_velocity_covariance", covariance.angular_velocity),
-        (sample.accel, msg.linear_acceleration, "linear_acceleration_covariance", covariance.linear_acceleration),
-    ):
-        if value is None:
-            setattr(msg, name, [-1.0] + [0.0] * 8)
-        else:
-            vector.x, vector.y, vector.z = value
-            setattr(msg, name, _diagonal3(diagonal))
+    msg.angular_velocity_covariance = _fill_vector(msg.angular_velocity, sample.gyro, covariance.angular_velocity)
+    msg.linear_acceleration_covariance = _fill_vector(
+        msg.linear_acceleration, sample.accel, covariance.linear_acceleration
+    )
+
+
+def _fill_vector(vector: Any, value: tuple[float, float, float] | None, diagonal: Sequence[float]) -> list[float]:
+    """geometry_msgs/Vector3 set to `value`; returns its covariance (-1 first: not provided)."""
+    if value is None:
+        return [-1.0] + [0.0] * 8
+    vector.x, vector.y, vector.z = value
+    return _diagonal3(diagonal)
 
 
 def fused_pose_covariance(pose_3x3: Sequence[float], diagonal: Sequence[float]) -> list[float]:

@@ -176,7 +176,7 @@ class BridgeNode(Node):
         if p.publish_tf and self._tf_type is None:
             self.get_logger().warning(
                 "publish_tf is true but tf2_msgs is not installed, so /tf is not published: install "
-                "ros-jazzy-tf2-msgs from a ROS 2 distribution, or build it into this environment with "
+                "ros-$ROS_DISTRO-tf2-msgs from a ROS 2 distribution, or build it into this environment with "
                 "`python -m roverlink.ros2.interfaces --prefix $VIRTUAL_ENV` (docs/ros2.md)"
             )
         static_type = tf_message_type() if p.publish_static_tf else None

@@ -6,8 +6,9 @@ and says so in its own diagnostics status (any exception: an unexpected one is l
 once, and the thread carries on). Stamps are the driver's times, mapped to ROS time like
 odometry's: an IMU sample's arrival; a scan's ray 0's measurement time, with `time_increment` the
 signed time from ray to ray (host_sdk.sensors.laserscan: one revolution per message, cut at the
-rear). Against `emu://...&lidar=MODEL&imu=jy901` the emulated devices are used unless a
-`lidar_url`/`imu_url` parameter names another port.
+rear; stamps the scanner had to rewrite make the lidar's status WARN: stamp_rewrites). Against
+`emu://...&lidar=MODEL&imu=jy901` the emulated devices are used unless a `lidar_url`/`imu_url`
+parameter names another port.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from host_sdk.sensors import ImuSample, Jy901, LaserScanner, Lidar
 from roverlink.ros2 import convert
 from roverlink.ros2.diagnostics import ERROR, OK, WARN, Report
 from roverlink.ros2.params import BridgeParams
+from roverlink.ros2.stamp_rewrites import StampRewrites
 
 _BEST_EFFORT = qos_profile_sensor_data.reliability
 RETRY_S = 1.0
@@ -132,6 +134,7 @@ class LidarPublisher(SensorPublisher):
     def __init__(self, node: Node, url: str, model: str, frame: str, bins: int) -> None:
         self.model, self.bins = model, bins
         self.scanner = LaserScanner(bins, clockwise=True)
+        self.rewrites = StampRewrites()
         self.pub = node.create_publisher(LaserScan, "scan", QoSProfile(depth=5, reliability=_BEST_EFFORT))
         super().__init__(node, url, frame)
 
@@ -148,6 +151,10 @@ class LidarPublisher(SensorPublisher):
             msg = LaserScan()
             convert.fill_laser_scan(msg, ns=self.stamp_ns(lidar, scan.time_s), frame=self.frame, scan=scan)
             self.pub.publish(msg)
+        self.rewrites.update(self.scanner, time.monotonic())
+
+    def report(self, node_name: str) -> Report:
+        return self.rewrites.apply(super().report(node_name), time.monotonic())
 
 
 class ImuListener(Protocol):

@@ -28,7 +28,8 @@ from roverlink.emulated import emulator_of
 KINDS = ("lidar", "imu", "camera")
 CAMERA_HELP = (
     "picamera2[:N] (a Raspberry Pi camera on Raspberry Pi OS), a V4L2 device (/dev/video0, or its number), "
-    "jetson-csi or libcamera (the usual GStreamer pipeline, with an OpenCV built with GStreamer), any GStreamer "
+    "jetson-csi or libcamera (the usual GStreamer pipeline, with an OpenCV built with GStreamer; "
+    "jetson-csi?flip=rotate-180 turns the picture), any GStreamer "
     "pipeline (text with '!'), an MJPEG URL (http://.../stream), or a video file or image folder to replay; "
     "`roverlink cameras` lists this machine's"
 )

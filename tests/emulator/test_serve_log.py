@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import io
 import re
-import time
 from collections.abc import Callable
 
 import pytest
@@ -14,6 +13,7 @@ import pytest
 from emulator.device import Emulator
 from emulator.transport.realtime import serve as serve_python
 from tests.support.simavr import simavr_robot
+from tests.support.wait import Deadline
 
 DEADLINE_S = 30.0
 BOOT_LINE = re.compile(r"boot, boot_id 0x([0-9A-F]{8})")
@@ -55,13 +55,13 @@ def logged_boots(run: Callable[[ScriptedEndpoint, io.StringIO, Callable[[], bool
     """Serves until two boots are logged: power-on, then the DTR reset of a host that opens the
     port after the first one."""
     log = io.StringIO()
-    deadline = time.monotonic() + DEADLINE_S
+    deadline = Deadline(DEADLINE_S)
 
     def boots() -> list[int]:
         return [int(h, 16) for h in BOOT_LINE.findall(log.getvalue())]
 
     def stop() -> bool:
-        return len(boots()) >= 2 or time.monotonic() > deadline
+        return len(boots()) >= 2 or deadline.expired()
 
     run(ScriptedEndpoint(lambda: len(boots()) >= 1), log, stop)
     return boots()

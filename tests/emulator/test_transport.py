@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import signal
 import subprocess
-import time
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -21,6 +20,7 @@ from protocol.codec.message import Message
 from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 from roverlink.cli import main as roverlink_main
 from tests.support.emulate import EmulatorProcess
+from tests.support.wait import Deadline
 
 HELLO = messages.Hello(PROTOCOL_VERSION, SPEC_HASH, 0, enums.FeedbackMode.STREAM, 0)
 
@@ -92,8 +92,8 @@ class _Reader:
         self.raw = bytearray()
 
     def wait_for(self, pred: Callable[[Message], bool], timeout_s: float) -> Message:
-        deadline = time.monotonic() + timeout_s
-        while time.monotonic() < deadline:
+        deadline = Deadline(timeout_s)
+        while not deadline.expired():
             data = self.port.read(512)
             self.raw += data
             for event in self.decoder.feed(data):

@@ -16,6 +16,7 @@ from host_sdk import messages
 from host_sdk.framing import Frame, FrameDecoder
 from protocol.generated.profiles import PROFILES
 from roverlink import firmware
+from tests.support import make
 from tests.support.avr_build import EXAMPLES, ROOT, build_sketch, write_sketch
 
 # -- the hardware layer on a simulated MCU ----------------------------------------------------------------
@@ -58,11 +59,7 @@ class SimRun:
 def sim_pins() -> Path:
     if shutil.which("cc") is None or not Path("/usr/include/simavr/sim_avr.h").is_file():
         pytest.fail("simavr's library is required: install the Debian packages simavr libsimavr-dev libelf-dev")
-    result = subprocess.run(
-        ["make", "-C", str(AVR_HAL_DIR), "sim", f"BUILD={SIM_BUILD}"], capture_output=True, text=True, check=False
-    )
-    if result.returncode != 0:
-        pytest.fail(f"building sim_pins failed:\n{result.stdout}\n{result.stderr}", pytrace=False)
+    make.require_make(AVR_HAL_DIR, "sim", build=SIM_BUILD)
     return SIM_BUILD / "sim" / "sim_pins"
 
 

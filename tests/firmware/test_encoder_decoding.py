@@ -19,6 +19,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.support import make
+
 ROOT = Path(__file__).resolve().parents[2]
 HERE = ROOT / "tests" / "firmware" / "native" / "avr_hal"
 BUILD = ROOT / "build" / "native" / "avr_hal"
@@ -46,12 +48,7 @@ def model(resolution: str, previous: str, current: str) -> str:
 def built() -> subprocess.CompletedProcess[str]:
     if shutil.which("g++") is None or shutil.which("make") is None:
         pytest.fail("g++ and make are required (scripts/test.sh installs them)", pytrace=False)
-    result = subprocess.run(
-        ["make", "-C", str(HERE), "test", f"BUILD={BUILD}"], capture_output=True, text=True, timeout=600, check=False
-    )
-    if result.returncode != 0:
-        pytest.fail(f"make test failed (exit {result.returncode}):\n{result.stdout}\n{result.stderr}", pytrace=False)
-    return result
+    return make.require_make(HERE, "test", build=BUILD)
 
 
 def test_native_unit_tests_pass_plain_and_with_sanitizers(built: subprocess.CompletedProcess[str]) -> None:

@@ -40,26 +40,16 @@ from protocol.generated.enums import (
 from protocol.generated.hardware import MotorMode
 from protocol.generated.profiles import PROFILES
 from protocol.generated.state_machine import SessionState
-from tests.support import native_sim
+from tests.support import make, native_sim
 from tests.support.hostlink import Received, hello
 from tests.support.native_sim import HostLink, NativeSim
 
 PROFILE_NAMES = sorted(PROFILES)
 TICK_US = 10_000
-MAKE_TIMEOUT_S = 600
 
 
 def _make(*targets: str) -> subprocess.CompletedProcess[str]:
-    result = subprocess.run(
-        ["make", "-C", str(native_sim.NATIVE_DIR), *targets, f"BUILD={native_sim.BUILD_DIR}"],
-        capture_output=True,
-        text=True,
-        timeout=MAKE_TIMEOUT_S,
-        check=False,
-    )
-    if result.returncode != 0:
-        pytest.fail(f"make {' '.join(targets)} failed:\n{result.stdout}\n{result.stderr}", pytrace=False)
-    return result
+    return make.require_make(native_sim.NATIVE_DIR, *targets, build=native_sim.BUILD_DIR)
 
 
 @pytest.fixture(scope="module", autouse=True)

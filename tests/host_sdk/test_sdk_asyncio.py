@@ -54,7 +54,7 @@ async def test_the_call_soon_threadsafe_bridge_starves_on_a_virtual_clock_and_as
     queue: asyncio.Queue[FeedbackSample] = asyncio.Queue()
     robot.on_feedback(lambda sample: loop.call_soon_threadsafe(queue.put_nowait, sample))
     start = robot.now()
-    with pytest.raises(TimeoutError):
+    with pytest.raises(asyncio.TimeoutError):  # the built-in TimeoutError from Python 3.11 on
         await asyncio.wait_for(queue.get(), 0.3)
     assert robot.now() == start  # the emulator's time stood still
 

@@ -15,6 +15,15 @@ from host_sdk.errors import ArgumentError, ArgumentTypeError, RobotClosedError, 
 
 URL = "emu://diffdrive-tb6612?clock=virtual"
 
+
+class Opaque:
+    """Any object that is none of the things asked for (a repr without an address, so the test
+    ids are the same in every pytest-xdist worker)."""
+
+    def __repr__(self) -> str:
+        return "Opaque()"
+
+
 CONNECT = [
     ({"url": None}, "url"),
     ({"request_timeout_s": 0}, "request_timeout_s"),
@@ -22,7 +31,7 @@ CONNECT = [
     ({"request_timeout_s": None}, "request_timeout_s"),
     ({"request_tries": 0}, "request_tries"),
     ({"request_tries": -1}, "request_tries"),
-    ({"kinematics": object()}, "kinematics"),
+    ({"kinematics": Opaque()}, "kinematics"),
     ({"kinematics": "diff"}, "kinematics"),
     ({"profile": 3}, "profile"),
     ({"profile": "tank"}, "profile"),

@@ -79,6 +79,7 @@ def test_demo_command_reports_odometry_against_truth(capsys: pytest.CaptureFixtu
 
 
 def test_demo_plot_names_the_robot_and_the_course(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    pytest.importorskip("matplotlib", reason="the plot extra (the full suite has it)")
     from roverlink.cli import main
     from roverlink.commands import demo
 

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+import host_sdk
 from emulator.firmware.statemachine import SessionState
 from host_sdk import PROFILES, Robot, enums, messages
 from host_sdk.errors import (
@@ -117,7 +118,7 @@ def test_drive_before_arm_says_to_arm(robot: Robot) -> None:
 def test_identity_config_and_pid(robot: Robot) -> None:
     ident = robot.identity
     assert ident.robot_name == "DiffDriveTB6612" and ident.can(enums.Capability.DIFF_DRIVE)
-    assert ident.watchdog_ms == 250 and ident.version == "0.1.0"
+    assert ident.watchdog_ms == 250 and ident.version == host_sdk.__version__
     assert robot.config.max_wheel_speed_mm_s == 600
     new = robot.set_config(max_wheel_speed_mm_s=400, safe_state=enums.SafeState.RAMP_DOWN)
     assert new.max_wheel_speed_mm_s == 400 and robot.config == new

@@ -7,7 +7,6 @@ threads and with failing transports.
 from __future__ import annotations
 
 import threading
-import time
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -16,6 +15,7 @@ import pytest
 from host_sdk import Robot
 from host_sdk.errors import LinkBrokenError, RoverLinkError, TransportError
 from host_sdk.transport import Transport, open_transport
+from tests.support.wait import wait_until
 
 ROUNDS = 4
 CALLS = 8
@@ -133,15 +133,6 @@ def thread_tracebacks() -> Iterator[list[threading.ExceptHookArgs]]:
         threading.excepthook = old
 
 
-def _wait_until(predicate: Callable[[], bool], timeout_s: float = 5.0) -> bool:
-    deadline = time.monotonic() + timeout_s
-    while not predicate():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.002)
-    return True
-
-
 @pytest.mark.parametrize("clock", ["real", "virtual"])
 def test_a_failing_runner_breaks_the_robot_at_once_wakes_waiters_and_chains_the_cause(
     clock: str, thread_tracebacks: list[threading.ExceptHookArgs]
@@ -170,7 +161,7 @@ def test_a_failing_runner_breaks_the_robot_at_once_wakes_waiters_and_chains_the_
             transport.fail_with = boom
             t.join(timeout=5.0)
             assert not t.is_alive(), "a waiter was not woken"
-            assert _wait_until(lambda: robot.state == "broken", 1.0)
+            wait_until(lambda: robot.state == "broken", 1.0, "the robot broken", poll_s=0.002)
         else:
             transport.fail_with = boom
             waiter()

@@ -3,12 +3,13 @@ file, the key, its line, the value and what is allowed."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
 
 from protocol.generated.profiles import PROFILES
-from protocol.robotfile import REFERENCES, RobotFileError, check, load, reference_path
+from protocol.robotfile import REFERENCES, RobotFileError, check, load, parse, reference_path
 from protocol.sensors import ROBOT_SENSORS
 
 
@@ -131,3 +132,30 @@ def test_docs_describe_every_key() -> None:
         body = doc.split(heading, 1)[1].split("\n### ", 1)[0]
         for k in keys:
             assert f"| `{k.name}` | {k.type} |" in body, (section, k.name)
+
+
+NUMBER_LINE = re.compile(r"^(?P<key>\w+) = (?P<value>-?\d[\d.eE+-]*)(?P<rest>\s*(#.*)?)$", re.MULTILINE)
+
+
+@pytest.mark.parametrize("name", REFERENCES)
+@pytest.mark.parametrize("bad", ["nan", "inf", "-inf"])
+def test_every_number_must_be_finite_naming_its_key(name: str, bad: str) -> None:
+    """TOML has nan and inf; every comparison with NaN is false, so a range check alone lets it in."""
+    text = reference_path(name).read_text(encoding="utf-8")
+    lines = list(NUMBER_LINE.finditer(text))
+    assert len(lines) > 20, "the reference file's numbers were not found"
+    for m in lines:
+        edited = text[: m.start("value")] + bad + text[m.end("value") :]
+        robot, problems = parse(edited, "robot.toml")
+        named = [str(p) for p in problems if f".{m['key']}: = {bad}" in str(p) or f" {m['key']}: = {bad}" in str(p)]
+        assert robot is None and named, f"{m['key']} = {bad} was not refused: {[str(p) for p in problems]}"
+        assert "finite" in named[0] or "expected" in named[0], named  # what is allowed, said
+
+
+def test_a_footprint_point_must_be_finite() -> None:
+    text = reference_path("picar").read_text(encoding="utf-8")
+    disc = "radius_m = 0.19"
+    assert disc in text, "the PiCar's footprint was not found"
+    edited = text.replace(disc, "polygon_m = [[0.3, 0.1], [nan, 0.1], [0.0, -0.1]]", 1)
+    robot, problems = parse(edited, "robot.toml")
+    assert robot is None and any("polygon_m" in str(p) and "finite" in str(p) for p in problems), problems

@@ -14,11 +14,12 @@ import os
 import select
 import subprocess
 import sys
-import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import IO
+
+from tests.support.wait import Deadline
 
 READY_TIMEOUT_S = 60.0  # a cold start imports cv2 and numpy on a busy machine
 STOP_TIMEOUT_S = 10.0
@@ -44,7 +45,7 @@ class EmulatorProcess:
             env={**os.environ, "PYTHONUNBUFFERED": "1"},
         )
         try:
-            self.lines = [_read_line(self.proc, time.monotonic() + timeout_s) for _ in range(1 + devices)]
+            self.lines = [_read_line(self.proc, Deadline(timeout_s)) for _ in range(1 + devices)]
         except BaseException:
             self.stop()
             raise
@@ -92,15 +93,14 @@ def emulate(
         assert status == 0, f"roverlink emulate exited with {status}"
 
 
-def _read_line(proc: subprocess.Popen[str], deadline: float) -> str:
+def _read_line(proc: subprocess.Popen[str], deadline: Deadline) -> str:
     """One stripped line of the process's stdout, read byte by byte from the pipe so nothing past it
     is buffered away from later readers (`communicate()`)."""
     assert proc.stdout is not None
     fd = proc.stdout.fileno()
     line = bytearray()
     while not line.endswith(b"\n"):
-        remaining = deadline - time.monotonic()
-        ready, _, _ = select.select([fd], [], [], max(0.0, remaining))
+        ready, _, _ = select.select([fd], [], [], deadline.remaining())
         if not ready:
             raise AssertionError(f"roverlink emulate printed no port line in time (so far {bytes(line)!r})")
         byte = os.read(fd, 1)

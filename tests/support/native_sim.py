@@ -26,7 +26,6 @@ from __future__ import annotations
 import ctypes
 import functools
 import os
-import subprocess
 from dataclasses import dataclass, fields
 from pathlib import Path
 from types import TracebackType
@@ -34,6 +33,7 @@ from types import TracebackType
 from protocol.generated.enums import FailsafeReason, FeedbackMode, Status
 from protocol.generated.hardware import Lights, MotorMode
 from protocol.generated.state_machine import SessionState
+from tests.support import make
 from tests.support.hostlink import Link, Received
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -41,7 +41,6 @@ NATIVE_DIR = ROOT / "tests" / "firmware" / "native"
 BUILD_DIR = Path(os.environ.get("ROVERLINK_NATIVE_BUILD", ROOT / "build" / "native"))
 LIBRARY = BUILD_DIR / "sim" / "libroverlink_sim.so"
 API_VERSION = 1
-MAKE_TIMEOUT_S = 600
 
 
 class SimError(RuntimeError):
@@ -136,13 +135,7 @@ class Outputs:
 
 def build(*, quiet: bool = True) -> Path:
     """Runs ``make -C tests/firmware/native sim`` (a no-op when up to date); returns the library's path."""
-    result = subprocess.run(
-        ["make", "-C", str(NATIVE_DIR), "sim", f"BUILD={BUILD_DIR}"],
-        capture_output=quiet,
-        text=True,
-        timeout=MAKE_TIMEOUT_S,
-        check=False,
-    )
+    result = make.make(NATIVE_DIR, "sim", build=BUILD_DIR, quiet=quiet)
     if result.returncode != 0:
         raise SimError(f"make sim failed (exit {result.returncode}):\n{result.stdout}\n{result.stderr}")
     return LIBRARY

@@ -9,7 +9,6 @@ import re
 import select
 import struct
 import subprocess
-import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
@@ -21,6 +20,8 @@ from host_sdk import messages
 from host_sdk.framing import BadFrame, Frame, FrameDecoder
 from protocol.codec.message import FieldInfo, Message
 from protocol.generated.structs import DECODER_COUNTERS
+from tests.support import make
+from tests.support.wait import Deadline
 
 ROOT = Path(__file__).resolve().parents[2]
 NATIVE_DIR = ROOT / "tests" / "firmware" / "native"
@@ -28,7 +29,6 @@ BUILD = ROOT / "build" / "native"
 RL_CODEC = BUILD / "asan" / "rl_codec"
 VECTOR_DIR = ROOT / "protocol" / "vectors"
 
-MAKE_TIMEOUT_S = 600
 ANSWER_TIMEOUT_S = 30.0
 
 BY_NAME: dict[str, type[Message]] = {cls.NAME: cls for cls in messages.ALL_MESSAGES}
@@ -93,24 +93,9 @@ def quiet_nans(item: str) -> str:
 
 
 # -- rl_codec behind a pipe --------------------------------------------------------------------------
-def run_make(*targets: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        ["make", "-C", str(NATIVE_DIR), *targets, f"BUILD={BUILD}"],
-        capture_output=True,
-        text=True,
-        timeout=MAKE_TIMEOUT_S,
-        check=False,
-    )
-
-
 def require_make(*targets: str) -> subprocess.CompletedProcess[str]:
-    result = run_make(*targets)
-    if result.returncode != 0:
-        pytest.fail(
-            f"make {' '.join(targets)} failed (exit {result.returncode}):\n{result.stdout}\n{result.stderr}",
-            pytrace=False,
-        )
-    return result
+    """`make -C tests/firmware/native TARGETS` into build/native, failing the test when it fails."""
+    return make.require_make(NATIVE_DIR, *targets, build=BUILD)
 
 
 @dataclass
@@ -149,12 +134,11 @@ class RlCodec:
     def _read_line(self, command: str) -> str:
         assert self.proc.stdout is not None
         fd = self.proc.stdout.fileno()
-        deadline = time.monotonic() + ANSWER_TIMEOUT_S
+        deadline = Deadline(ANSWER_TIMEOUT_S)
         while b"\n" not in self._buf:
-            remaining = deadline - time.monotonic()
-            if remaining <= 0:
+            if deadline.expired():
                 pytest.fail(f"rl_codec did not answer {command[:200]!r} within {ANSWER_TIMEOUT_S} s", pytrace=False)
-            ready, _, _ = select.select([fd], [], [], remaining)
+            ready, _, _ = select.select([fd], [], [], deadline.remaining())
             if not ready:
                 continue
             chunk = os.read(fd, 1 << 16)

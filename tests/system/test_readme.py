@@ -5,10 +5,11 @@ from __future__ import annotations
 import contextlib
 import io
 import re
-import tomllib
 from pathlib import Path
 
 from protocol.errors import TOOLS_EXTRAS, MissingDependencyError
+from protocol.generated.version import __version__
+from protocol.toml import tomllib
 
 README = Path(__file__).resolve().parents[2] / "README.md"
 
@@ -27,7 +28,7 @@ def _run(code: str) -> str:
 def test_readme_robot_example_runs_as_documented() -> None:
     code = next(b for b in _blocks() if "Robot.connect" in b)
     printed = _run(code)
-    assert "DiffDriveTB6612 0.1.0" in printed
+    assert f"DiffDriveTB6612 {__version__}" in printed
     assert "odometry x = 0.5 m" in printed
     claimed = re.search(r"print\(err\)\s+# (.*)", code)
     assert claimed and claimed.group(1).strip() in printed

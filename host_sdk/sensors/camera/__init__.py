@@ -2,7 +2,7 @@
 
     cam = CameraSource("picamera2")                          # Raspberry Pi camera on Raspberry Pi OS (picamera2)
     cam = CameraSource(0)                                    # /dev/video0, a USB webcam (V4L2, MJPG)
-    cam = CameraSource("jetson-csi")                         # Jetson CSI camera (GStreamer, JetPack's OpenCV)
+    cam = CameraSource("jetson-csi?flip=rotate-180")         # Jetson CSI camera (GStreamer, JetPack's OpenCV), turned
     cam = CameraSource("http://192.168.4.1:81/stream")       # ESP32-CAM, an IP camera, `roverlink emulate --camera`
     cam = CameraSource("run.mp4", fps=0)                     # a replay (a video file or an image folder)
     frame = cam.read()                                       # CameraFrame: BGR image, time_s, seq
@@ -20,7 +20,7 @@ counter when it has one (`X-Frame`), otherwise from gaps longer than 1.5 frame p
 """
 
 from host_sdk.sensors.camera.frame import CameraFrame
-from host_sdk.sensors.camera.pipelines import PIPELINES, gstreamer_pipeline
+from host_sdk.sensors.camera.pipelines import FLIPS, PIPELINES, gstreamer_pipeline
 from host_sdk.sensors.camera.source import SOURCES, CameraSource
 
-__all__ = ["PIPELINES", "SOURCES", "CameraFrame", "CameraSource", "gstreamer_pipeline"]
+__all__ = ["FLIPS", "PIPELINES", "SOURCES", "CameraFrame", "CameraSource", "gstreamer_pipeline"]

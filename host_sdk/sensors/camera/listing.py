@@ -13,7 +13,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from host_sdk.extras import MissingDependencyError, require
+from host_sdk.extras import MissingDependencyError, NumpyAbiError, require
 from host_sdk.sensors.camera.opencv import VIDEO_GROUP
 from host_sdk.sensors.camera.picam import describe, import_picamera2, picamera2_cameras
 from host_sdk.sensors.camera.pipelines import OpenCvBuild, opencv_build
@@ -53,6 +53,8 @@ def list_cameras(root: Path = Path("/")) -> CameraListing:
                     for i, c in enumerate(picamera2_cameras(module))]  # fmt: skip
     except CameraBackendError as exc:
         picamera2_problem = f"not available: {exc.module}; {exc.install}"
+    except NumpyAbiError as exc:
+        picamera2_problem = str(exc)
     except Exception as exc:  # libcamera itself failing to start is worth showing, not raising
         picamera2_problem = f"picamera2 could not list its cameras ({exc})"
     cameras += v4l2_devices(root)

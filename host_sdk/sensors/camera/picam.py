@@ -10,11 +10,11 @@ of exposure; on the Pi the kernel's monotonic clock, which picamera2 itself comp
 
 from __future__ import annotations
 
-import importlib
 import time
 from types import ModuleType
 from typing import Any
 
+from host_sdk.extras import NumpyAbiError, import_compiled
 from host_sdk.sensors.camera.frame import Capture
 from host_sdk.sensors.errors import CameraBackendError, SensorOpenError, SensorTimeoutError
 
@@ -26,9 +26,12 @@ DEFAULT_SIZE = (640, 480)
 
 
 def import_picamera2(source: str) -> ModuleType:
-    """The picamera2 module, or CameraBackendError saying how to get it."""
+    """The picamera2 module, or CameraBackendError saying how to get it (NumpyAbiError when it, or
+    its simplejpeg, was built for another numpy than the one found first)."""
     try:
-        return importlib.import_module("picamera2")
+        return import_compiled("picamera2")
+    except NumpyAbiError:
+        raise
     except ImportError as exc:
         raise CameraBackendError(source, f"the Python module 'picamera2' is not importable ({exc})", INSTALL) from exc
 

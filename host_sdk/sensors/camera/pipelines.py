@@ -13,18 +13,43 @@ from typing import Any
 from host_sdk.sensors.errors import CameraBackendError
 
 PIPELINES = {
-    # Jetson (Nano, Xavier, Orin) CSI camera through the Argus ISP, converted to BGR for OpenCV.
+    # Jetson (Nano, Xavier, Orin) CSI camera through the Argus ISP, turned by nvvidconv (a Pi Camera
+    # v2 in the usual Jetson mounts needs rotate-180), converted to BGR for OpenCV.
     "jetson-csi": (
         "nvarguscamerasrc sensor-id={sensor} ! video/x-raw(memory:NVMM), width={width}, height={height}, "
-        "framerate={fps}/1 ! nvvidconv ! video/x-raw, format=BGRx ! videoconvert ! video/x-raw, format=BGR ! "
-        "appsink drop=1 max-buffers=2"
+        "framerate={fps}/1 ! nvvidconv flip-method={flip_number} ! video/x-raw, format=BGRx ! videoconvert ! "
+        "video/x-raw, format=BGR ! appsink drop=1 max-buffers=2"
     ),
     # Raspberry Pi camera on the libcamera stack (Bullseye and later).
     "libcamera": (
-        "libcamerasrc ! video/x-raw, width={width}, height={height}, framerate={fps}/1 ! videoconvert ! "
+        "libcamerasrc ! video/x-raw, width={width}, height={height}, framerate={fps}/1 ! {videoflip}videoconvert ! "
         "video/x-raw, format=BGR ! appsink drop=1 max-buffers=2"
     ),
 }
+
+FLIPS = (
+    "none",
+    "counterclockwise",
+    "rotate-180",
+    "clockwise",
+    "horizontal-flip",
+    "upper-right-diagonal",
+    "vertical-flip",
+    "upper-left-diagonal",
+)
+"""The turns and mirrors of a camera's picture, in the order of nvvidconv's flip-method numbers
+(GStreamer's videoflip has the same names, numbered otherwise)."""
+
+
+def flip_name(flip: str | int) -> str:
+    """A FLIPS name from a name or nvvidconv's flip-method number (what Jetson guides quote)."""
+    text = str(flip).strip()
+    if text.isdigit() and int(text) < len(FLIPS):
+        return FLIPS[int(text)]
+    if text in FLIPS:
+        return text
+    raise ValueError(f"flip {flip!r} is not allowed: one of {', '.join(FLIPS)} (or nvvidconv's number 0-7)")
+
 
 DISTRO_OPENCV = (
     "install the distribution's OpenCV, which has it (Raspberry Pi OS / Ubuntu: sudo apt install python3-opencv "
@@ -33,11 +58,17 @@ DISTRO_OPENCV = (
 )
 
 
-def gstreamer_pipeline(kind: str, width: int = 640, height: int = 480, fps: int = 30, sensor: int = 0) -> str:
-    """A GStreamer pipeline string for cv2.VideoCapture(..., cv2.CAP_GSTREAMER)."""
+def gstreamer_pipeline(kind: str, width: int = 640, height: int = 480, fps: int = 30, sensor: int = 0, *,
+                       flip: str | int = "none") -> str:  # fmt: skip
+    """A GStreamer pipeline string for cv2.VideoCapture(..., cv2.CAP_GSTREAMER); `flip` turns or
+    mirrors the picture (FLIPS, e.g. "rotate-180")."""
     if kind not in PIPELINES:
         raise ValueError(f"pipeline kind {kind!r} is not allowed: one of {', '.join(PIPELINES)}")
-    return PIPELINES[kind].format(width=width, height=height, fps=fps, sensor=sensor)
+    name = flip_name(flip)
+    videoflip = "" if name == "none" else f"videoflip method={name} ! "
+    return PIPELINES[kind].format(
+        width=width, height=height, fps=fps, sensor=sensor, flip_number=FLIPS.index(name), videoflip=videoflip
+    )
 
 
 @dataclass(frozen=True, slots=True)

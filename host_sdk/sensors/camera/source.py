@@ -21,13 +21,13 @@ from host_sdk.sensors.errors import SensorClosedError, SensorOpenError, SensorTi
 from host_sdk.transport.plugins import open_plugin
 
 PICAMERA2 = re.compile(r"picamera2(?::(\d+))?")
-SHORTHAND = re.compile(rf"({'|'.join(re.escape(k) for k in PIPELINES)})(?::(\d+))?")
+SHORTHAND = re.compile(rf"({'|'.join(re.escape(k) for k in PIPELINES)})(?::(\d+))?(?:\?flip=([a-z0-9-]+))?")
 V4L2_PATHS = ("/dev/video", "/dev/v4l/")
 """/dev/videoN, and the stable names udev gives them (/dev/v4l/by-id/..., /dev/v4l/by-path/...)."""
 SOURCES = (
-    "picamera2[:N], a V4L2 device (N, /dev/videoN or /dev/v4l/by-id/...), libcamera or jetson-csi[:N] "
-    "(GStreamer), a GStreamer pipeline (text with '!'), an http:// MJPEG URL, another URL OpenCV opens "
-    "(rtsp://...), or a video file or image folder (a path or file://)"
+    "picamera2[:N], a V4L2 device (N, /dev/videoN or /dev/v4l/by-id/...), libcamera or jetson-csi[:N][?flip=F] "
+    "(GStreamer; F e.g. rotate-180), a GStreamer pipeline (text with '!'), an http:// MJPEG URL, another URL "
+    "OpenCV opens (rtsp://...), or a video file or image folder (a path or file://)"
 )
 
 
@@ -40,7 +40,11 @@ def open_backend(source: int | str, *, width: int | None, height: int | None, fp
         return Picamera2Backend(int(match.group(1) or 0), width=width, height=height, fps=fps)
     if match := SHORTHAND.fullmatch(source):
         size = {"width": width or 640, "height": height or 480, "fps": round(fps or 30)}
-        pipeline = gstreamer_pipeline(match.group(1), **size, sensor=int(match.group(2) or 0))
+        flip = match.group(3) or "none"
+        try:
+            pipeline = gstreamer_pipeline(match.group(1), **size, sensor=int(match.group(2) or 0), flip=flip)
+        except ValueError as exc:
+            raise SensorOpenError(f"camera {source}: {exc}") from None
         return OpenCvBackend(pipeline, width=None, height=None, fps=fps, timeout_s=timeout_s)
     scheme = urlsplit(source).scheme if "://" in source else ""
     if scheme in ("http", "https"):

@@ -5,9 +5,10 @@ from __future__ import annotations
 import struct
 
 from protocol.generator.emit.common import GENERATOR, num
+from protocol.generator.hardware import pwm_facts
 from protocol.generator.model import PRIMITIVES, Spec
 from protocol.generator.robots import Robot
-from protocol.generator.wiring import Part, Pin, Wiring
+from protocol.generator.wiring import PWM_ROLES, Part, Pin, Wiring
 
 ROBOTS_PATH = "protocol/spec/robots.toml"
 
@@ -213,8 +214,38 @@ def profile_header(spec: Spec, r: Robot, source: str | None = None) -> str:
         f"roverlink::proto::FeedbackMode::{r.feedback_mode};\n\n"
     )
     o.append(_cpp_pins(r.wiring, wiring_from))
+    o.append(_cpp_pwm(r))
     o.append(_cpp_defaults(r, checked))
     o.append(f"#endif  // {guard}\n")
+    return "".join(o)
+
+
+ULTRASONIC_HZ = 31373
+"""What hal/avr/motors.h's pwm_ultrasonic() sets a timer to (prescaler 1, 8-bit phase correct)."""
+
+
+def _cpp_pwm(r: Robot) -> str:
+    """The motor PWM pins whose timer the sketch must set (every one whose driver needs another
+    frequency than the core's, on whichever timer it is: hardware.toml's PWM tables)."""
+    facts = pwm_facts()
+    fast = []
+    for motor in r.wiring.motors:
+        for role, pin in motor.pins:
+            if role not in PWM_ROLES:
+                continue
+            timer, hz = facts.timer_of(r.board, pin.number), facts.hz(r.board, pin.number, motor.kind)
+            if timer is None or hz is None or hz == timer.hz[0]:
+                continue  # no facts for the board, or the core's own frequency
+            if hz != ULTRASONIC_HZ:
+                raise ValueError(f"{r.name}: pin {pin.label} at {hz} Hz: the firmware sets {ULTRASONIC_HZ} Hz only")
+            if pin.number not in fast:
+                fast.append(pin.number)
+    if not fast:
+        return ""
+    o = ["// Motor PWM pins whose driver runs above the core's frequency (protocol/spec/hardware.toml):\n"]
+    o.append(f"// the sketch sets each one's timer to {ULTRASONIC_HZ} Hz (pwm_ultrasonic), whichever timer it is on.\n")
+    o.append(f"static const uint8_t FAST_PWM_PINS[] = {{{', '.join(map(str, fast))}}};\n")
+    o.append(f"static const uint8_t FAST_PWM_PIN_COUNT = {len(fast)};\n\n")
     return "".join(o)
 
 

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import math
 import shutil
-import tomllib
 from pathlib import Path
 
 import cv2
@@ -27,6 +26,7 @@ from emulator.transport.devices import sensor_options, target_part
 from emulator.world import load_world
 from emulator.world.scene import CYLINDER, TARGET, WALL, Scene, Shape, Target, TargetPath, make_scene
 from protocol.sensors import DEVICES, CameraSpec
+from protocol.toml import tomllib
 from roverlink.cli import build_parser
 
 MOUNT = camera_mount("picar")

@@ -9,10 +9,11 @@ from __future__ import annotations
 
 import re
 import shutil
-import subprocess
 from pathlib import Path
 
 import pytest
+
+from tests.support import make
 
 ROOT = Path(__file__).resolve().parents[3]
 TARGETS = ("decoder", "firmware", "config")
@@ -30,13 +31,7 @@ def test_every_target_has_a_corpus() -> None:
 
 @needs_clang
 def test_the_committed_corpora_pass_every_invariant() -> None:
-    run = subprocess.run(
-        ["make", "-s", "-C", str(ROOT / "tests" / "firmware" / "fuzz"), "-j2", "replay"],
-        capture_output=True,
-        text=True,
-        timeout=600,
-        check=False,
-    )
+    run = make.make(ROOT / "tests" / "firmware" / "fuzz", "-s", "-j2", "replay")
     print(run.stdout)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     passed = dict(re.findall(r"fuzz_(\w+): (\d+) corpus inputs pass", run.stdout))

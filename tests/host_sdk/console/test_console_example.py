@@ -7,12 +7,13 @@ import ast
 import re
 import subprocess
 import sys
-import time
 import urllib.error
 import urllib.request
 from pathlib import Path
 
 import pytest
+
+from tests.support.wait import wait_until
 
 pytest.importorskip("aiohttp")
 EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "console.py"
@@ -38,15 +39,16 @@ def test_the_example_serves_the_page_and_the_camera() -> None:
         assert found, (line, proc.stderr.read() if proc.poll() is not None and proc.stderr else "")
         with urllib.request.urlopen(found.group(1), timeout=5) as page:
             assert b"RoverLink console" in page.read()
-        deadline = time.monotonic() + 20
-        while True:  # the camera's first frame reaches the server through the loop
+
+        def first_frame() -> bytes | None:  # the camera's first frame reaches the server through the loop
             try:
                 with urllib.request.urlopen(found.group(1) + "api/frame.jpg", timeout=5) as shot:
-                    assert shot.read(3) == b"\xff\xd8\xff"
-                    break
+                    return bytes(shot.read(3))
             except urllib.error.HTTPError as e:
-                assert e.code == 503 and time.monotonic() < deadline, e
-            time.sleep(0.1)
+                assert e.code == 503, e
+                return None
+
+        assert wait_until(first_frame, 20, "the camera's first frame", poll_s=0.1) == b"\xff\xd8\xff"
     finally:
         proc.terminate()
         proc.wait(timeout=20)

@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import json
 import threading
-import time
 import urllib.error
 import urllib.request
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 import numpy as np
 import pytest
@@ -17,6 +16,7 @@ from websockets.sync.client import ClientConnection, connect
 from host_sdk.console.access import COOKIE, Access
 from host_sdk.console.hub import Hub
 from host_sdk.console.server import FRAME_HEADER, ConsoleServer
+from tests.support.wait import Deadline, wait_until
 
 cv2 = pytest.importorskip("cv2")
 
@@ -64,17 +64,14 @@ def exposed() -> Iterator[Served]:
     s.server.close()
 
 
-def until(check, timeout_s: float = 5.0) -> None:  # type: ignore[no-untyped-def]
-    deadline = time.monotonic() + timeout_s
-    while not check():
-        assert time.monotonic() < deadline, "condition not met in time"
-        time.sleep(0.01)
+def until(check: Callable[[], object], timeout_s: float = 5.0) -> None:
+    wait_until(check, timeout_s)
 
 
 def receive(ws: ClientConnection, kind: str, timeout_s: float = 5.0) -> dict:  # type: ignore[type-arg]
-    deadline = time.monotonic() + timeout_s
+    deadline = Deadline(timeout_s)
     while True:
-        msg = ws.recv(timeout=max(0.01, deadline - time.monotonic()))
+        msg = ws.recv(timeout=deadline.remaining(floor=0.01))
         if isinstance(msg, str) and json.loads(msg)["type"] == kind:
             return json.loads(msg)  # type: ignore[no-any-return]
 

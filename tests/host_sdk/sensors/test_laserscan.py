@@ -113,4 +113,4 @@ def test_late_reads_never_turn_the_time_line_round_or_send_a_message_back_in_tim
         assert -1.25 * nominal <= m.time_increment_s <= -0.75 * nominal
     stamps = [m.time_s for m in msgs]
     assert all(b > a for a, b in itertools.pairwise(stamps)), stamps
-    assert scanner.refitted >= 1 and scanner.retimed >= 1
+    assert scanner.refitted >= 1 and scanner.retimed + scanner.dropped >= 1

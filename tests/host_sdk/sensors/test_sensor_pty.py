@@ -7,11 +7,10 @@ import math
 import os
 import subprocess
 import sys
-import time
 from collections.abc import Callable, Iterator
 from contextlib import AbstractContextManager
 from pathlib import Path
-from typing import TypeVar
+from typing import Any, TypeVar
 
 import pytest
 from sensor_truth import agreement
@@ -22,6 +21,7 @@ from host_sdk.sensors import CameraSource, Jy901, Lidar
 from host_sdk.transport import SerialTransport, open_transport
 from protocol.sensors import ROBOT_SENSORS
 from tests.support.emulate import emulate
+from tests.support.wait import wait_until
 
 P = TypeVar("P")
 ROOM = Path(__file__).resolve().parents[3] / "examples" / "worlds" / "room.toml"
@@ -106,11 +106,13 @@ def test_cv2_videocapture_opens_the_camera_url_unchanged(served: dict[str, list[
     cap = cv2.VideoCapture(url)
     try:
         assert cap.isOpened()
-        deadline = time.monotonic() + 10
-        ok, image = cap.read()
-        while not ok and time.monotonic() < deadline:
+
+        def frame() -> list[Any] | None:
             ok, image = cap.read()
-        assert ok and image.shape == (240, 320, 3)
+            return [image] if ok else None
+
+        (image,) = wait_until(frame, 10, "a frame from cv2.VideoCapture", poll_s=0)
+        assert image.shape == (240, 320, 3)
     finally:
         cap.release()
     with CameraSource(url) as cam:  # the SDK's own MJPEG reader: the emulator's headers are kept

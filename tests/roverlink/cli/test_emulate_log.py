@@ -5,11 +5,11 @@ those standing from the start too. The real command on a pty, driven through the
 from __future__ import annotations
 
 import re
-import time
 from pathlib import Path
 
 from host_sdk import Robot, RoverLinkError
 from tests.support.emulate import emulate
+from tests.support.wait import Deadline
 
 # The robot starts at (1.0, 1.5) facing +x; a post stands 0.7 m ahead of it.
 WORLD = """
@@ -31,11 +31,11 @@ def test_emulate_prints_a_collision_and_the_standing_fault(tmp_path: Path) -> No
         Robot.connect(board.url, timeout_s=10.0) as robot,
     ):
         robot.arm()
-        deadline = time.monotonic() + DEADLINE_S
+        deadline = Deadline(DEADLINE_S)
         try:
             # The emulator writes the line in the pass that stops the robot, before the board's
             # next feedback can reach the host.
-            while not COLLISION.search(log.read_text()) and time.monotonic() < deadline:
+            while not COLLISION.search(log.read_text()) and not deadline.expired():
                 robot.drive(0.3, 0.0)
                 robot.wait_feedback()
         except RoverLinkError:

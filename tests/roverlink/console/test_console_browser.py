@@ -17,6 +17,7 @@ from typing import Any
 import pytest
 
 from roverlink.console_app import ConsoleRun, ConsoleSettings, start_emulated
+from tests.support.wait import wait_until
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 DRIVER = shutil.which("chromedriver")
@@ -54,13 +55,7 @@ path = [[2.6, 1.9]]
 
 
 def until(check: Callable[[], Any], timeout_s: float = 10.0, what: str = "condition") -> Any:
-    deadline = time.monotonic() + timeout_s
-    while True:
-        value = check()
-        if value:
-            return value
-        assert time.monotonic() < deadline, f"{what}: not met within {timeout_s} s"
-        time.sleep(0.02)
+    return wait_until(check, timeout_s, what, poll_s=0.02)
 
 
 class Steps:

@@ -6,7 +6,6 @@ from __future__ import annotations
 import re
 import subprocess
 import sys
-import time
 import urllib.error
 import urllib.request
 from pathlib import Path
@@ -14,6 +13,7 @@ from pathlib import Path
 import pytest
 
 from roverlink.cli import main
+from tests.support.wait import Deadline
 
 pytest.importorskip("aiohttp")
 ROOT = Path(__file__).resolve().parents[3]
@@ -33,10 +33,10 @@ def test_off_loopback_the_console_prints_a_url_with_its_token_and_wants_it() -> 
                             stderr=subprocess.PIPE, text=True)  # fmt: skip
     try:
         assert proc.stderr is not None
-        deadline = time.monotonic() + 60
+        deadline = Deadline(60)
         line = ""
         while "open " not in line:
-            assert time.monotonic() < deadline and proc.poll() is None, f"no URL printed: {line!r}"
+            assert not deadline.expired() and proc.poll() is None, f"no URL printed: {line!r}"
             line = proc.stderr.readline()
         urls = re.findall(r"http://\S+", line)
         assert any(".local:" in u for u in urls), line  # the robot's name on the network too

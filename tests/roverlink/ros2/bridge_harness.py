@@ -29,6 +29,8 @@ from rclpy.node import Node
 from sensor_msgs.msg import JointState
 from std_srvs.srv import SetBool, Trigger
 
+from tests.support.wait import wait_until
+
 ROOT = Path(__file__).resolve().parents[3]
 
 
@@ -159,14 +161,7 @@ class Probe:
             return items[-1].msg if items else None
 
     def wait_for(self, what: str, predicate: Callable[[], Any], timeout_s: float = 10.0) -> Any:
-        deadline = time.monotonic() + timeout_s
-        while True:
-            value = predicate()
-            if value:
-                return value
-            if time.monotonic() > deadline:
-                raise AssertionError(f"timed out after {timeout_s:g} s waiting for {what}")
-            time.sleep(0.01)
+        return wait_until(predicate, timeout_s, what)
 
     def wait_message(self, key: str, after: float = 0.0, timeout_s: float = 10.0) -> Any:
         return self.wait_for(f"a message on {key}", lambda: (self.since(key, after) or [None])[-1], timeout_s).msg

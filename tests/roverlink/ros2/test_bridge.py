@@ -32,6 +32,7 @@ from std_srvs.srv import SetBool  # noqa: E402
 from host_sdk.profiles import get_profile  # noqa: E402
 from host_sdk.robot_description import RobotDescription  # noqa: E402
 from protocol.robotfile import reference_path  # noqa: E402
+from tests.support.wait import wait_until  # noqa: E402
 
 
 @dataclass(frozen=True)
@@ -91,15 +92,16 @@ def arm(probe: Probe) -> None:
 def drive_until_moving(bridge: Bridge, timeout_s: float = 8.0) -> None:
     """The PiCar's ESC holds neutral for its first 3 s after boot: wait until the robot really moves."""
     probe = bridge.probe
-    deadline = time.monotonic() + timeout_s
-    start = probe.last("truth")
-    while True:
-        probe.drive(0.2, 0.0, 0.2)
+    start = [probe.last("truth")]
+
+    def moved() -> bool:
         now = probe.last("truth")
-        if start is not None and now is not None and now.pose.pose.position.x - start.pose.pose.position.x > 0.01:
-            return
-        start = start or now
-        assert time.monotonic() < deadline, "the robot did not move"
+        if start[0] is not None and now is not None:
+            return bool(now.pose.pose.position.x - start[0].pose.pose.position.x > 0.01)
+        start[0] = start[0] or now
+        return False
+
+    wait_until(moved, timeout_s, "the robot to move", step=lambda: probe.drive(0.2, 0.0, 0.2))
 
 
 def wait_still(probe: Probe, timeout_s: float = 5.0) -> Any:

@@ -23,6 +23,7 @@ require_ros()
 from bridge_harness import BridgeProcess, Probe, logged, values, yaw  # noqa: E402
 
 from protocol.robotfile import reference_path  # noqa: E402
+from tests.support.wait import wait_until  # noqa: E402
 
 
 def wide_bridge(tmp_path: Path) -> tuple[BridgeProcess, Probe]:
@@ -84,10 +85,12 @@ def _stop(probe: Probe) -> Any:
 
 def _drive_until(probe: Probe, linear: float, angular: float, done: Any, timeout_s: float) -> None:
     """Publish the twist at 20 Hz until `done(odom)` holds for the latest odometry."""
-    deadline = time.monotonic() + timeout_s
-    while not done(probe.last("odom")):
-        assert time.monotonic() < deadline, f"driving ({linear}, {angular}) took over {timeout_s} s"
-        probe.drive(linear, angular, 0.05)
+    wait_until(
+        lambda: done(probe.last("odom")),
+        timeout_s,
+        f"odometry done driving ({linear}, {angular})",
+        step=lambda: probe.drive(linear, angular, 0.05),
+    )
 
 
 def _pose(msg: Any) -> tuple[float, float, float]:

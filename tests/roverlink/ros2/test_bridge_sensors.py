@@ -12,6 +12,7 @@ import time
 import uuid
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from ros_env import require_ros
@@ -43,10 +44,23 @@ def _bridge(prefix: str, url: str, log_dir: Path) -> Iterator[Probe]:
         assert proc.stop() == 0
 
 
+def _streaming(status: Any) -> bool:
+    """OK with the rate, or (the lidar on a busy host, its emulator on the wall clock) WARN because
+    late reads made its scanner rewrite stamps, which the counts then show."""
+    if status.level == b"\x00":
+        return bool(status.message.endswith("Hz"))
+    rewrites = ("scan stamps refitted", "scan stamps retimed", "scans dropped (no ordered stamp)")
+    return (
+        status.level == b"\x01"
+        and "scan stamps rewritten" in status.message
+        and sum(int(values(status)[k]) for k in rewrites) > 0
+    )
+
+
 @pytest.fixture(scope="module")
 def sensed(ros: None, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Probe]:
     with _bridge("sensors", URL, tmp_path_factory.mktemp("ros2")) as probe:
-        probe.wait_status("lidar", lambda s: s.level == b"\x00", 20)
+        probe.wait_status("lidar", _streaming, 20)
         probe.wait_status("imu", lambda s: s.level == b"\x00", 5)
         yield probe
 
@@ -66,6 +80,7 @@ def test_scan_is_a_laserscan_of_the_room(sensed: Probe) -> None:
     assert period == pytest.approx(scan.scan_time, rel=0.2)  # one message per revolution
     status = values(sensed.status("lidar"))
     assert status["framing errors"] == "0" and status["checksum errors"] == "0"
+    assert {"scan stamps refitted", "scan stamps retimed", "scans dropped (no ordered stamp)"} <= status.keys()
 
 
 def test_imu_agrees_with_odometry_while_turning(sensed: Probe) -> None:
@@ -109,7 +124,10 @@ def _imu_yaw_at(probe: Probe, t: float) -> float | None:
 def test_sensor_diagnostics(sensed: Probe) -> None:
     for kind in ("lidar", "imu"):
         status = sensed.status(kind)
-        assert status.level == b"\x00" and status.message.endswith("Hz")
+        if kind == "lidar":
+            assert _streaming(status), status.message
+        else:
+            assert status.level == b"\x00" and status.message.endswith("Hz")
         v = values(status)
         assert v["url"].startswith("emudev://") and int(v[f"{kind} messages"]) > 0
 

@@ -13,7 +13,6 @@ import importlib.util
 import os
 import subprocess
 import sys
-import tomllib
 import types
 import xml.etree.ElementTree as ET
 from collections.abc import Iterator
@@ -24,6 +23,7 @@ import pytest
 import yaml
 
 from protocol.robotfile import REFERENCES
+from protocol.toml import tomllib
 
 ROOT = Path(__file__).resolve().parents[3]
 LAUNCH = ROOT / "examples" / "ros2" / "bringup.launch.py"

@@ -10,7 +10,6 @@ the Jazzy sources declare (jazzy_param_names.toml, written by tools/ros2_param_n
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -21,6 +20,7 @@ import yaml
 from host_sdk import RobotDescription
 from protocol.robotfile import REFERENCES, reference_path
 from protocol.sensors import DEVICES, LidarSpec
+from protocol.toml import tomllib
 from roverlink.cli import main as cli_main
 from roverlink.ros2.configs import FILES, render
 from roverlink.ros2.params import BY_NAME, BridgeParams

@@ -10,7 +10,6 @@ import base64
 import contextlib
 import json
 import struct
-import time
 from collections import defaultdict
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -22,6 +21,8 @@ from mcap.decoder import DecoderFactory as McapDecoderFactory
 from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 from websockets.sync.client import ClientConnection, connect
+
+from tests.support.wait import wait_until
 
 
 @dataclass
@@ -100,13 +101,7 @@ class LiveClient:
 
     def wait_for(self, what: Callable[[], bool], step: Callable[[], None], timeout_s: float = 20.0) -> bool:
         """Run `step` (e.g. drive the robot one feedback period) and read frames until `what()`."""
-        deadline = time.monotonic() + timeout_s
-        while not what():
-            if time.monotonic() > deadline:
-                return False
-            step()
-            self.pump(0.02)
-        return True
+        return bool(wait_until(what, timeout_s, step=lambda: (step(), self.pump(0.02)), fail=False))
 
     def subscribe(self, *topics: str) -> None:
         subs = []

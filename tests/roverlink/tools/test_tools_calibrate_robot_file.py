@@ -85,11 +85,21 @@ def test_calibrate_writes_the_robot_file_and_the_next_run_uses_it(
     assert main(["calibrate", url, "--robot", str(path), "--yes", "--no-check"]) == 0
     out = capsys.readouterr().out
     assert f"measured values written to {path} [calibration]" in out
-    assert "[encoders] invert = [true" in out  # the board's direction fix, not a [calibration] key
+    # The direction the calibration found is a build fact: written to its own section, with how to rebuild.
+    assert "also written to" in out and "  [encoders] invert = [true" in out
+    assert f"roverlink firmware flash --robot {path} --port PORT" in out
     assert not (tmp_path / "calibration.json").exists()  # --robot without -o: the robot file only
 
     text = path.read_text(encoding="utf-8")
     assert COMMENT in text and "[calibration]  # keep\n# my note in the section\n" in text
+    found = load(path).encoders.invert
+    assert found != nominal.encoders.invert  # the board's fix, now the file's
+    assert "  [encoders] invert = [" + ", ".join("true" if f else "false" for f in found) + "]" in out
+    assert [line for line in text.splitlines() if line.startswith("invert = ")] == [
+        "invert = ["
+        + ", ".join("true" if f else "false" for f in found)
+        + "]  # Per wheel channel: reverse the count direction."
+    ]
     assert main(["robot", "check", str(path)]) == 0
     section = text[text.index("[calibration]") :]
     assert "wheelbase_m" not in section  # calibration does not measure it

@@ -8,6 +8,7 @@ import time
 from collections.abc import Callable
 
 import pytest
+from textual_pilot import hold as hold_keys
 from textual_pilot import until
 
 from emulator.firmware.statemachine import SessionState
@@ -46,15 +47,6 @@ def test_monitor_command_with_live_view(capsys: pytest.CaptureFixture[str]) -> N
     assert "recorded" in captured.out and "/roverlink/feedback" in captured.out
 
 
-def _wait(predicate: Callable[[], bool], timeout_s: float = 10.0) -> bool:
-    deadline = time.monotonic() + timeout_s
-    while not predicate():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.02)
-    return True
-
-
 def test_textual_monitor_headless() -> None:
     with emulate("--quiet", "--profile", "picar") as board, Robot.connect(board.url) as robot:
         app = DashboardApp(Dashboard(robot), hz=10)
@@ -88,14 +80,10 @@ def test_teleop_drives_while_keys_arrive_and_stops_when_they_stop(profile: str) 
             5 s: a loaded machine may answer late, a broken one never)."""
             seen: list[FeedbackSample] = []
             unsubscribe = robot.on_feedback(seen.append)
-            deadline = time.monotonic() + 5.0
             try:
-                while not any(done(s) for s in seen) and time.monotonic() < deadline:
-                    await pilot.press(*keys)  # type: ignore[attr-defined]
-                    await pilot.pause(0.05)  # type: ignore[attr-defined]
+                return await hold_keys(pilot, keys, lambda: any(done(s) for s in seen))
             finally:
                 unsubscribe()
-            return any(done(s) for s in seen)
 
         def why() -> str:
             return f"{robot!r} failsafe {robot.failsafe}, teleop: {controller.message!r} {controller.setpoint}"
@@ -174,10 +162,7 @@ def test_teleop_commands_do_not_wait_for_a_stalled_ui() -> None:
             async with app.run_test() as pilot:
                 await pilot.press("enter")
                 assert await until(lambda: robot.armed, pilot), controller.message
-                deadline = time.monotonic() + 5.0
-                while robot.feedback.wheel_speeds_m_s[0] < 0.05 and time.monotonic() < deadline:
-                    await pilot.press("up")
-                    await pilot.pause(0.05)
+                await hold_keys(pilot, ("up",), lambda: robot.feedback.wheel_speeds_m_s[0] >= 0.05)
                 assert robot.feedback.wheel_speeds_m_s[0] >= 0.05, controller.message
                 # The stall: key lapse (0.3 s) + the board's watchdog, with no event-loop turn at all.
                 time.sleep(controller.key_timeout_s + 3 * robot.watchdog_s)

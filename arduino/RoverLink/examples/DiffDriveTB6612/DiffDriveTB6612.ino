@@ -13,9 +13,9 @@
 
 namespace rl = roverlink::avr;
 
-// Pins: robot_profile.h, generated from robots.toml (docs/robots.md, "Wiring"). Both TB6612 PWM
-// pins are on Timer4, which is sped up to 31.4 kHz below (no motor whine); STBY is shared by both
-// channels. The LEDs go through 330 ohm resistors to GND.
+// Pins: robot_profile.h, generated from robots.toml (docs/robots.md, "Wiring"). Each TB6612 PWM
+// pin's timer is sped up to 31.4 kHz below (no motor whine; on the reference robot both are on
+// Timer4); STBY is shared by both channels. The LEDs go through 330 ohm resistors to GND.
 namespace pins = robot_profile;
 
 // Encoders: all four channels on external interrupts (INT4, INT5, INT3, INT2).
@@ -43,7 +43,11 @@ void right_encoder_edge() { right_encoder.on_edge(); }
 
 void setup() {
     board.begin();  // motors coasting and LEDs off before anything else runs
-    rl::pwm_ultrasonic(pins::LEFT_PWM);  // Timer4: both motor PWM pins
+    // Every motor PWM pin's timer, whichever it is (robot_profile.h lists them from the wiring):
+    // one timer for both pins on the reference robot, two when the pins are wired to two timers.
+    for (uint8_t i = 0; i < pins::FAST_PWM_PIN_COUNT; ++i) {
+        rl::pwm_ultrasonic(pins::FAST_PWM_PINS[i]);
+    }
     left_encoder.attach_external(left_encoder_edge);
     right_encoder.attach_external(right_encoder_edge);
     Serial.begin(115200);

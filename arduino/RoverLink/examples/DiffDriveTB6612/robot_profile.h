@@ -33,6 +33,11 @@ static const uint8_t LED_REAR_LEFT = 32;  // LED rear left
 static const uint8_t LED_REAR_RIGHT = 33;  // LED rear right
 static const uint8_t ENTROPY_PIN = 54;  // entropy, leave unconnected: its ADC noise seeds the boot_id (A0)
 
+// Motor PWM pins whose driver runs above the core's frequency (protocol/spec/hardware.toml):
+// the sketch sets each one's timer to 31373 Hz (pwm_ultrasonic), whichever timer it is on.
+static const uint8_t FAST_PWM_PINS[] = {6, 7};
+static const uint8_t FAST_PWM_PIN_COUNT = 2;
+
 // The configuration as a SET_CONFIG payload in flash, unpacked when asked for: a static struct
 // would cost SRAM for the whole run on AVR, and code setting each field more flash than this.
 // static: two profiles linked into one test program must not merge.

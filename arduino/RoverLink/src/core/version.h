@@ -1,4 +1,6 @@
-// The firmware version reported in IDENTITY.firmware_version: the one place it is set.
+// DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
+// spec hash: 0x3416EC25
+// The firmware version reported in IDENTITY.firmware_version.
 #ifndef ROVERLINK_CORE_VERSION_H
 #define ROVERLINK_CORE_VERSION_H
 

@@ -4,7 +4,8 @@
 // MotorMode, and puts its pins in the state docs/control.md section 5 gives for that driver.
 // PWM goes through analogWrite(), so the PWM pins must be hardware PWM pins whose timer nobody
 // reprograms: not the servo pulse timer (rc_pulses.h) and not Timer0 (millis/micros) if you
-// change its frequency with pwm_ultrasonic().
+// change its frequency with pwm_ultrasonic(). Which driver needs which frequency, and which timer
+// each pin is on: protocol/spec/hardware.toml (a robot file's build sets every pin's timer).
 #ifndef ROVERLINK_HAL_AVR_MOTORS_H
 #define ROVERLINK_HAL_AVR_MOTORS_H
 
