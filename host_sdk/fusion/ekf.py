@@ -9,9 +9,10 @@
 State: x, y, theta (the odometry frame), the gyro's z bias b, the scale error k of the wheels' turn
 (a track width or steering calibration a few per cent off makes every turn read long or short),
 psi, the offset between the odometry frame and the magnetometer's frame, e, how far the wheels'
-own heading (the sum of their turns since the pose was set) is from the true heading, c, the
-compass's heading-dependent error (hard and soft iron), and d, how much the wheels over-read the
-distance while they slip.
+own heading (the sum of their turns since the pose was set) is from the true heading, the
+compass's error as a function of the heading (the cos and sin coefficients of its first two
+harmonics, and c, what they leave), and d, how much the wheels over-read the distance while they
+slip.
 
 - **Prediction**, at each odometry increment: the heading turns by the gyro's integral over the
   interval less the bias (a gyro does not slip); the position moves the wheels' distance (less d)
@@ -32,12 +33,17 @@ distance while they slip.
   beyond what white noise leaves, 99.9 %). The step is flagged, e forgets what it was (the wheels'
   heading counts again from the gyro's, and neither b nor k learns from the slip), and the
   distance is doubted for a while (d, `slip_distance_noise` for `slip_time_s`).
-- **Magnetometer heading** (optional): heading = theta + psi + c + noise. c is not white: hard and
-  soft iron give an error that depends on the heading (several degrees until calibrated), the
-  same each time the robot faces the same way, so c changes only as the robot turns
+- **Magnetometer heading** (optional): heading = theta + psi + f(theta) + c + noise. An
+  uncalibrated compass is several degrees off, by an amount that depends on where the robot faces
+  and is the same each time it faces that way: a hard-iron offset shifts the field's circle, which
+  is a cos and sin of the heading, soft iron stretches it, twice the heading. f holds those four
+  coefficients, learnt as the robot turns (gyro and wheels know the heading, the compass's
+  readings then trace f); c is what they leave, changing only as the robot turns
   (`heading_correlation_rad`). A compass read at 200 Hz while standing still thus tells the filter
-  nothing new after its first sample, and it bounds the drift only as far as it deserves (taken
-  as white noise, it once pulled the heading 4 degrees off while the filter claimed 0.2).
+  nothing new after its first sample. (Taken as white noise, the compass once pulled the heading 4
+  degrees off while the filter claimed 0.2; taken as one error that changes as the robot turns,
+  without the harmonics, its readings traced a smooth curve the filter could not tell from the
+  heading's own, and it gave little.)
 
 Without gyro samples in an interval the filter falls back to the wheels' turn (pure odometry).
 """
@@ -58,13 +64,16 @@ from host_sdk.kinematics import Ackermann, DiffDrive
 
 F64 = NDArray[np.float64]
 X, Y, TH, B, K, PSI, E, C, D = range(9)
-N = 9
+HARMONICS = range(9, 13)
+"""The compass error's harmonics: cos and sin of the heading (hard iron), of twice the heading (soft iron)."""
+N = 13
 CHI2_1DOF_99 = 6.635
 CHI2_1DOF_999 = 10.83
 PAUSE_S = 0.5
 """A gap in the gyro's samples this long is a pause: nothing is integrated across it."""
-GYRO_HISTORY = 256
-"""Gyro samples kept to integrate up to an odometry step that is older than the newest (1.3 s at 200 Hz)."""
+GYRO_HISTORY = 4096
+"""At most this many gyro samples are kept (20 s at 200 Hz): those since the last odometry step, to
+integrate up to steps that come after them (FEEDBACK queued while the IMU was read)."""
 UNKNOWN = math.pi**2
 """Variance of a state nothing is known about: the compass frame's offset before the first heading,
 the wheels' heading error after a slip."""
@@ -107,11 +116,15 @@ class EkfParams:
     sync_s: float = 0.005
     """Timing mismatch between the wheels' and the gyro's clocks (heading error = rate * sync)."""
     heading_sigma: float = math.radians(5.0)
-    """Magnetometer heading error that depends on the heading (hard and soft iron, tilt), rad."""
+    """Magnetometer heading error that depends on the heading, before the filter has learnt it: the
+    prior of each coefficient of its harmonics (a hard-iron offset gives a cos and sin of the heading,
+    soft iron of twice the heading), rad."""
+    heading_residual_sigma: float = math.radians(1.0)
+    """... what the harmonics leave (motor currents, tilt, nearby steel), rad: it changes as the robot turns."""
     heading_noise: float = math.radians(1.0)
     """Magnetometer heading noise from sample to sample, rad."""
     heading_correlation_rad: float = 1.0
-    """How far the robot turns before the compass's heading-dependent error is another one, rad."""
+    """How far the robot turns before the compass's residual error is another one, rad."""
     gate: float = CHI2_1DOF_99
     """A step whose wheel heading is this far off (chi-square, 1 dof) is slip."""
     drift_gate: float = CHI2_1DOF_999
@@ -159,8 +172,12 @@ class PoseEkf:
     def __init__(self, params: EkfParams | None = None, *, x_m: float = 0.0, y_m: float = 0.0,
                  theta_rad: float = 0.0, time_s: float = 0.0) -> None:  # fmt: skip
         self.params = p = params or EkfParams()
-        self.x: F64 = np.array([x_m, y_m, theta_rad, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
-        self.P: F64 = np.diag([1e-6, 1e-6, 1e-6, p.bias_sigma0**2, p.turn_scale_sigma0**2, 0.0, 0.0, 0.0, 0.0])
+        self.x: F64 = np.zeros(N)
+        self.x[[X, Y, TH]] = x_m, y_m, theta_rad
+        self.P: F64 = np.zeros((N, N))
+        self.P[[X, Y, TH], [X, Y, TH]] = 1e-6
+        self.P[B, B], self.P[K, K] = p.bias_sigma0**2, p.turn_scale_sigma0**2
+        self.P[HARMONICS, HARMONICS] = p.heading_sigma**2
         self.time_s = time_s
         self.slipping = False
         self.slips = 0
@@ -201,6 +218,8 @@ class PoseEkf:
             t1, r1, g1 = samples[-1]
             integral = g1 + 0.5 * (r1 + rate_rad_s) * (time_s - t1)  # the rate is linear between samples
         samples.append((time_s, rate_rad_s, integral))
+        while len(samples) > 2 and samples[1][0] <= self._gyro_mark:
+            samples.popleft()  # before the last step (one is kept to interpolate from)
         if self._origin is not None and time_s >= self._origin:
             self._gyro_used, self._origin = self._integral(self._origin), None
 
@@ -237,23 +256,28 @@ class PoseEkf:
         if not math.isfinite(heading_rad):
             raise CommandRangeError("heading_rad", heading_rad, "a finite angle in rad")
         p = self.params
+        theta, dtheta_db = self._heading_at(time_s)
+        basis, slope = _harmonics(theta)
+        harmonic = float(self.x[HARMONICS] @ basis)
         h = np.zeros(N)
-        theta, h[B] = self._heading_at(time_s)
-        h[TH] = h[PSI] = h[C] = 1.0
-        if self._compass_theta is None:  # the first: the offset is anything, the error one draw
-            self.x[PSI], self.x[C] = _wrap(heading_rad - theta), 0.0
+        h[TH] = 1.0 + float(self.x[HARMONICS] @ slope)  # the harmonics turn with the heading
+        h[B] = h[TH] * dtheta_db
+        h[PSI] = h[C] = 1.0
+        h[HARMONICS] = basis
+        if self._compass_theta is None:  # the first: the offset is anything, the residual one draw
+            self.x[PSI], self.x[C] = _wrap(heading_rad - theta - harmonic), 0.0
             self.P[[PSI, C], :] = self.P[:, [PSI, C]] = 0.0
-            self.P[PSI, PSI], self.P[C, C] = UNKNOWN, p.heading_sigma**2
+            self.P[PSI, PSI], self.P[C, C] = UNKNOWN, p.heading_residual_sigma**2
         else:
-            # Gauss-Markov in the heading: the error stays while the robot faces the same way.
+            # Gauss-Markov in the heading: the residual stays while the robot faces the same way.
             rho = math.exp(-abs(theta - self._compass_theta) / p.heading_correlation_rad)
             self.x[C] *= rho
             self.P[C, :] *= rho
             self.P[:, C] *= rho
-            self.P[C, C] += p.heading_sigma**2 * (1.0 - rho * rho)
+            self.P[C, C] += p.heading_residual_sigma**2 * (1.0 - rho * rho)
         self._compass_theta = theta
         r = (sigma_rad or p.heading_noise) ** 2
-        self._update(h, _wrap(heading_rad - theta - self.x[PSI] - self.x[C]), r)
+        self._update(h, _wrap(heading_rad - theta - self.x[PSI] - self.x[C] - harmonic), r)
 
     def set_pose(self, x_m: float, y_m: float, theta_rad: float, time_s: float | None = None) -> None:
         """Put the pose at (x, y, theta), known again (as at the start); the gyro bias and the wheels'
@@ -273,6 +297,13 @@ class PoseEkf:
         self.x[PSI] = _wrap(self.x[PSI] - turn)
         if self._compass_theta is not None:
             self._compass_theta += turn
+        # The compass error is the same where the robot faces the same way: its harmonics, in the
+        # new heading, turn by the turn (twice it for the second).
+        T = np.eye(N)
+        for i, n in ((HARMONICS[0], 1), (HARMONICS[2], 2)):
+            c, s = math.cos(n * turn), math.sin(n * turn)
+            T[i : i + 2, i : i + 2] = ((c, -s), (s, c))
+        self.x, self.P = T @ self.x, T @ self.P @ T.T
         self._wheel_heading, self._disagreement = theta_rad, 0.0
         self.P[[X, Y, TH, E], :] = self.P[:, [X, Y, TH, E]] = 0.0
         self.P[X, X] = self.P[Y, Y] = self.P[TH, TH] = 1e-6
@@ -433,6 +464,12 @@ class OdometryIncrements:
         half = turn / 2
         # The odometry integrates exact arcs: the arc is the chord over sinc(half the turn).
         return chord / (math.sin(half) / half if abs(half) > 1e-6 else 1.0), turn
+
+
+def _harmonics(theta: float) -> tuple[F64, F64]:
+    """The compass error's basis at this heading (cos, sin of it and of twice it) and its slope."""
+    c1, s1, c2, s2 = math.cos(theta), math.sin(theta), math.cos(2 * theta), math.sin(2 * theta)
+    return np.array([c1, s1, c2, s2]), np.array([-s1, c1, -2 * s2, 2 * c2])
 
 
 def _wrap(a: float) -> float:
