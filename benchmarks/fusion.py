@@ -16,7 +16,8 @@ Plants:
   long), the steering linkage 4 % stronger (PiCar: the wheels turn further than the servo says);
 - slippery: tyre friction 0.15: the driven wheels slip when they accelerate and turn.
 
-Wheel odometry is the SDK's (`robot.odometry`); two EKFs get the same drive: each FEEDBACK's odometry
+Wheel odometry is the SDK's (`robot.odometry`); two EKFs, made for the robot as the SDK's PoseSource
+makes its own (`params_for(robot.kinematics)`), get the same drive: each FEEDBACK's odometry
 increment and every gyro sample, and one of them also every magnetometer heading. Errors are read
 against the emulator's truth with the robot at rest (no lag between truth and estimate): at the
 end of each standing phase, the first at 12 s, and at the end. Heading error = estimate - truth
@@ -46,7 +47,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from host_sdk import FeedbackSample, Robot
-from host_sdk.fusion import OdometryIncrements, PoseEkf, compass_heading
+from host_sdk.fusion import OdometryIncrements, PoseEkf, compass_heading, params_for
 from host_sdk.sensors import Jy901
 
 PATTERN = ((0.4, 0.0), (0.3, 2.0), (0.0, 0.0), (0.3, -1.5))
@@ -54,7 +55,7 @@ PATTERN = ((0.4, 0.0), (0.3, 2.0), (0.0, 0.0), (0.3, -1.5))
 PROFILES = ("diffdrive-tb6612", "picar")
 PLANTS = ("ideal", "turn-error", "slippery")
 SEEDS = range(11, 21)
-"""Reported on; the filter's noise figures were chosen on seeds 1..3 (docs: benchmarks/results/fusion.md)."""
+"""Reported on (docs/autonomy.md); the tests drive other seeds (tests/host_sdk/autonomy/test_fusion_emulator.py)."""
 REST_S = 2.0
 IDEAL_WITHIN_S = 90.0
 AT_S = (60.0, 120.0)
@@ -128,7 +129,8 @@ def drive(profile: str, plant: str, seed: int, seconds: float = 120.0) -> Drive:
         emu = robot.emulator
         emu.world = None  # an open floor: the drive is about the pose, not about the room's walls
         imu = Jy901.open(robot.transport.endpoints["imu"])
-        ekfs = (PoseEkf(time_s=robot.now()), PoseEkf(time_s=robot.now()))  # without, with the compass
+        params = params_for(robot.kinematics)  # as PoseSource and the ROS 2 node make theirs
+        ekfs = (PoseEkf(params, time_s=robot.now()), PoseEkf(params, time_s=robot.now()))  # without, with the compass
         steps = OdometryIncrements()
         odometry: deque[tuple[float, float, float]] = deque()
 
