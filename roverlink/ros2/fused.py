@@ -69,7 +69,7 @@ class FusedPublisher:
     def _fusion(self, start_s: float) -> Fusion:
         if self.core is None:
             robot = self._connection.robot
-            params = params_for(robot.kinematics if robot is not None else None)  # its encoders' resolution
+            params = params_for(robot.kinematics if robot is not None else None)  # as PoseSource makes its own
             self.core = Fusion(start_s, gyro_variance=self._gyro_variance, params=params)
         return self.core
 
