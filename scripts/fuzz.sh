@@ -29,7 +29,8 @@ install_debian_packages clang-14 libfuzzer-14-dev libclang-rt-14-dev llvm-14 mak
 
 echo "== building the fuzz targets ($targets)"
 make -s -C tests/firmware/fuzz -j2 TARGETS="$targets" >/dev/null
-make -s -C tests/firmware/fuzz fuzz TARGETS="$targets" SECONDS="$seconds"
+# one target per core: each still gets its full time on a core of its own
+make -s -C tests/firmware/fuzz -j"$(nproc)" fuzz TARGETS="$targets" SECONDS="$seconds"
 if ((coverage)); then
     echo "== line coverage on the corpus"
     make -s -C tests/firmware/fuzz coverage TARGETS="$targets"

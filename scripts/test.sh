@@ -60,7 +60,8 @@ if ((quick)); then
 fi
 
 stage "Debian packages" install_debian_packages g++ make gcc-avr avr-libc binutils-avr arduino-core-avr simavr \
-    libsimavr-dev libelf-dev clang-14 libfuzzer-14-dev libclang-rt-14-dev llvm-14 opencv-doc chromium chromium-driver
+    libsimavr-dev libelf-dev clang-14 libfuzzer-14-dev libclang-rt-14-dev llvm-14 opencv-doc chromium chromium-driver \
+    python3-venv python3-opencv gstreamer1.0-plugins-base
 # shellcheck source=scripts/venv.sh
 stage "virtual environment (.venv, dev + ROS 2)" source scripts/venv.sh dev,ros2,ros2-build
 export PATH="$VENV/bin:$PATH"
@@ -75,6 +76,10 @@ checks
 stage "pytest on $workers workers (-m 'not serial', hypothesis profile $HYPOTHESIS_PROFILE)" \
     pytest_lane -m "not serial" -n "$workers" --dist loadfile "$@"
 stage "pytest, the suites that need the whole machine (-m serial)" pytest_lane -m serial "$@"
+
+# The core packages on Python 3.10 and 3.13 (CI sets ROVERLINK_REQUIRE_PYTHONS=1: a missing one fails)
+stage "the core packages' unit tests on Python 3.10 and 3.13 (scripts/test_pythons.sh)" bash scripts/test_pythons.sh
+stage "the distribution's camera route (scripts/test_system_opencv.sh)" bash scripts/test_system_opencv.sh
 
 stage "codec benchmark (smoke run; full run: .venv/bin/python benchmarks/codec.py)" \
     python benchmarks/codec.py --quick --require-roverlink

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# The tests of the core packages on the oldest and the newest Python RoverLink supports, each in a
-# virtual environment of its own in the checkout (.venv-py310, .venv-py313): protocol
+# The unit tests of the core packages on the oldest and the newest Python RoverLink supports, each
+# in a virtual environment of its own in the checkout (.venv-py310, .venv-py313): protocol
 # (tests/protocol), the SDK's core (tests/host_sdk/test_*.py: Robot, session, transports,
-# kinematics, odometry, asyncio, the pytest plugin) and the emulator (tests/emulator). The full
-# suite runs on the main interpreter (scripts/test.sh).
+# kinematics, odometry, asyncio, the pytest plugin) and the emulator's core (tests/emulator/test_*.py:
+# the plant, the firmware model, the session, faults; its sensor and world models stay on the main
+# interpreter with the SDK's sensors), without the modules marked slow (processes, simavr: they test the machine, not the interpreter) and with
+# Hypothesis's `interpreters` profile (fewer examples: the main interpreter runs the full count).
+# The full suite runs on the main interpreter (scripts/test.sh, which runs this script too).
 #
 #   bash scripts/test_pythons.sh                 # 3.10 and 3.13
 #   bash scripts/test_pythons.sh 3.12 -- -x      # other versions; pytest arguments after --
@@ -22,7 +25,8 @@ while [[ $# -gt 0 && "$1" != "--" ]]; do
 done
 [[ "${1:-}" == "--" ]] && shift
 [[ ${#versions[@]} -gt 0 ]] || versions=(3.10 3.13)
-CORE_TESTS=(tests/protocol tests/host_sdk/test_*.py tests/emulator)
+CORE_NAMES='tests/protocol tests/host_sdk/test_*.py tests/emulator/test_*.py'
+read -r -a CORE_TESTS <<< "$(echo $CORE_NAMES)"
 # The oldest Python runs with the oldest numpy RoverLink allows: Ubuntu 22.04's and JetPack 6's
 # python3-numpy (1.21.5), which a venv made with --system-site-packages there keeps.
 declare -A PINS=([3.10]="numpy==1.21.*")
@@ -74,8 +78,9 @@ run_version() {
         touch "$stamp"
     fi
     echo "== pytest on $("$venv/bin/python" --version), numpy $("$venv/bin/python" -c 'import numpy; print(numpy.__version__)'):" \
-        "tests/protocol tests/host_sdk/test_*.py tests/emulator"
-    "$venv/bin/python" -m pytest -q -n 2 -p no:cacheprovider "${CORE_TESTS[@]}" "$@"
+        "$CORE_NAMES, not slow"
+    HYPOTHESIS_PROFILE=interpreters "$venv/bin/python" -m pytest -q -n "$(nproc)" -p no:cacheprovider \
+        -m "not slow" "${CORE_TESTS[@]}" "$@"
     echo "== Python $version: $((SECONDS - start)) s"
 }
 

@@ -8,7 +8,7 @@
 # the package python3-venv: installed with apt-get when missing (sudo when not root).
 #
 # SYSTEM_SITE_PACKAGES=1 makes it with --system-site-packages, so it sees the system's own numpy,
-# OpenCV, picamera2 and ROS 2 (Raspberry Pi OS, JetPack, Ubuntu with ROS: docs/sensors.md#cameras),
+# OpenCV, picamera2 and ROS 2 (Raspberry Pi OS, JetPack, Ubuntu with ROS: docs/sensors.md#one-route-per-platform),
 # and keeps them: the system's numpy is pinned while installing, and the extras that bring the
 # PyPI OpenCV (vision, console, dev; it needs numpy 2) are refused. Run it alone to make the venv:
 #
@@ -29,7 +29,7 @@ if [[ "$SYSTEM_SITE_PACKAGES" == 1 ]]; then
         case "$extra" in
             vision | console | dev)
                 venv_fail "SYSTEM_SITE_PACKAGES=1: the $extra extra brings PyPI's OpenCV, whose numpy 2 would" \
-                    "replace the system's; leave it out (the system's OpenCV is used: docs/sensors.md#cameras)"
+                    "replace the system's; leave it out (the system's OpenCV is used: docs/sensors.md#one-route-per-platform)"
                 return 1 2>/dev/null || exit 1 ;;
         esac
     done
@@ -54,13 +54,11 @@ if [[ ! -x "$VENV/bin/python" ]] || ! "$VENV/bin/python" -m pip --version >/dev/
         version="$("$PYTHON" -c 'import sys; print("%d.%d" % sys.version_info[:2])')"
         apt_install python3-venv "python${version}-venv"
     fi
-    echo "== creating the virtual environment $VENV ($("$PYTHON" --version)${SYSTEM_SITE_PACKAGES:+, --system-site-packages})"
+    venv_args=()
+    [[ "$SYSTEM_SITE_PACKAGES" == 1 ]] && venv_args=(--system-site-packages)
+    echo "== creating the virtual environment $VENV ($("$PYTHON" --version)${venv_args:+, ${venv_args[0]}})"
     rm -rf "$VENV"
-    if [[ "$SYSTEM_SITE_PACKAGES" == 1 ]]; then
-        "$PYTHON" -m venv --system-site-packages "$VENV"
-    else
-        "$PYTHON" -m venv "$VENV"
-    fi
+    "$PYTHON" -m venv "${venv_args[@]}" "$VENV"
 fi
 # A venv made the other way is not changed behind its owner's back: it says so.
 sees_system=false

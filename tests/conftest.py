@@ -11,6 +11,8 @@ Lanes (docs/testing.md):
 Hypothesis profiles, chosen with the HYPOTHESIS_PROFILE environment variable:
 
 * ``ci`` (default): 100 examples per property, no deadline; quick enough for every push.
+* ``interpreters``: 20 examples per property, for the other Pythons' runs (scripts/test_pythons.sh),
+  which look for what an interpreter changes, not for new inputs;
 * ``thorough``: 2000 examples per property, for a nightly run or after touching the codec.
 
     HYPOTHESIS_PROFILE=thorough pytest -q tests/protocol/codec
@@ -19,6 +21,7 @@ Hypothesis profiles, chosen with the HYPOTHESIS_PROFILE environment variable:
 from __future__ import annotations
 
 import os
+from fnmatch import fnmatch
 from pathlib import Path
 
 import pytest
@@ -31,21 +34,17 @@ except ImportError:  # hypothesis is a dev extra: suites that do not use it stil
 PROFILE_ENV = "HYPOTHESIS_PROFILE"
 PROFILE = os.environ.get(PROFILE_ENV, "ci")
 
+PROFILE_EXAMPLES = {"ci": 100, "interpreters": 20, "thorough": 2000}
+
 if settings is not None:
-    settings.register_profile(
-        "ci",
-        max_examples=100,
-        deadline=None,
-        derandomize=False,
-        suppress_health_check=[HealthCheck.too_slow],
-    )
-    settings.register_profile(
-        "thorough",
-        max_examples=2000,
-        deadline=None,
-        derandomize=False,
-        suppress_health_check=[HealthCheck.too_slow],
-    )
+    for name, examples in PROFILE_EXAMPLES.items():
+        settings.register_profile(
+            name,
+            max_examples=examples,
+            deadline=None,
+            derandomize=False,
+            suppress_health_check=[HealthCheck.too_slow],
+        )
     settings.load_profile(PROFILE)
 
 
@@ -79,37 +78,43 @@ SLOW_MODULES = (
     "tests/host_sdk/autonomy/test_tracking_photos.py",
 )
 """Modules under QUICK_FOLDERS that are not unit tests: they stay out of the fast lane."""
-SERIAL_FOLDERS = (
-    # Debian's Chromium driving the console; ROS 2 nodes and the tools on the wall clock, with rates
-    # and watchdogs that a second busy core would starve
+SERIAL_MODULES = (
+    # Debian's Chromium driving the console, and the console on ptys
     "tests/roverlink/console",
-    "tests/roverlink/ros2",
-    "tests/roverlink/tools",
-    "tests/roverlink/follow",
-    "tests/system/integration",
-    # the firmware's budgets: simavr's speed against the wall clock
-    "tests/system/conformance/test_firmware_budgets.py",
-    # roverlink emulate and the examples on the wall clock
+    # ROS 2 nodes on the wall clock: rates and watchdogs that a second busy core would starve
+    "tests/roverlink/ros2/test_bridge*.py",
+    "tests/roverlink/ros2/test_bringup_launch.py",
+    "tests/roverlink/ros2/test_sensor_thread.py",
+    # the tools, roverlink follow and roverlink emulate on ptys and the wall clock
+    "tests/roverlink/tools/test_tools_calibrate.py",
+    "tests/roverlink/tools/test_tools_monitor_teleop.py",
+    "tests/roverlink/tools/test_tools_sensors.py",
+    "tests/roverlink/follow/test_follow_metrics.py",
+    "tests/roverlink/follow/test_follow_robot.py",
+    "tests/roverlink/cli/test_emulate_log.py",
+    "tests/system/integration/test_integration_pty.py",
+    "tests/system/integration/test_integration_robot_file.py",
     "tests/emulator/test_transport.py",
-    "tests/emulator/sensors/test_sensor_failure.py",
     "tests/host_sdk/sensors/test_sensor_pty.py",
     "tests/host_sdk/test_sdk_examples.py",
     "tests/host_sdk/console/test_console_example.py",
-    "tests/roverlink/cli/test_emulate_log.py",
+    # the firmware's budgets: simavr's speed against the wall clock
+    "tests/system/conformance/test_firmware_budgets.py",
 )
 """Suites that need the machine to themselves: the full run gives them one pytest process after the rest."""
 
 
-def _under(item: pytest.Item, folders: tuple[str, ...]) -> bool:
+def _under(item: pytest.Item, paths: tuple[str, ...]) -> bool:
+    """Whether the item's module is one of `paths` (folders, files or glob patterns) or under one."""
     rel = Path(item.path).resolve().relative_to(ROOT).as_posix()
-    return any(rel == f or rel.startswith(f"{f}/") for f in folders)
+    return any(fnmatch(rel, p) or rel.startswith(f"{p}/") for p in paths)
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     for item in items:
         if not _under(item, QUICK_FOLDERS) or _under(item, SLOW_MODULES):
             item.add_marker(pytest.mark.slow)
-        if _under(item, SERIAL_FOLDERS):
+        if _under(item, SERIAL_MODULES):
             item.add_marker(pytest.mark.serial)
 
 
