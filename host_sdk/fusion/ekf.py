@@ -42,8 +42,7 @@ slip.
   (`heading_correlation_rad`). A compass read at 200 Hz while standing still thus tells the filter
   nothing new after its first sample. (Taken as white noise, the compass once pulled the heading 4
   degrees off while the filter claimed 0.2; taken as one error that changes as the robot turns,
-  without the harmonics, its readings traced a smooth curve the filter could not tell from the
-  heading's own, and it gave little.)
+  without the harmonics, it gave next to nothing: 0.48 degrees 1-sigma against 0.49 without it.)
 
 Without gyro samples in an interval the filter falls back to the wheels' turn (pure odometry).
 """
