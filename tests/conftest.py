@@ -74,9 +74,9 @@ SLOW_MODULES = (
     "tests/emulator/test_simavr_options.py",
     "tests/emulator/test_simavr_robotfile.py",
     "tests/emulator/test_simavr_wiring.py",
-    # long closed-loop runs: the tracker on real-photo sequences, the EKF over minutes of driving
+    # long closed-loop runs: the tracker on real-photo sequences (the EKF's minutes of driving are
+    # marked slow where they are)
     "tests/host_sdk/autonomy/test_tracking_photos.py",
-    "tests/host_sdk/autonomy/test_fusion.py",
 )
 """Modules under QUICK_FOLDERS that are not unit tests: they stay out of the fast lane."""
 SERIAL_MODULES = (

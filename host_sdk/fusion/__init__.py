@@ -4,7 +4,24 @@ pose a robot program's loop reads (`PoseSource`: the EKF's with an IMU, else whe
 numpy only; see docs/autonomy.md.
 """
 
-from host_sdk.fusion.ekf import EkfParams, FusedPose, OdometryIncrements, PoseEkf, compass_heading
+from host_sdk.fusion.ekf import (
+    DIFF_DRIVE_PARAMS,
+    EkfParams,
+    FusedPose,
+    OdometryIncrements,
+    PoseEkf,
+    compass_heading,
+    params_for,
+)
 from host_sdk.fusion.source import PoseSource
 
-__all__ = ["EkfParams", "FusedPose", "OdometryIncrements", "PoseEkf", "PoseSource", "compass_heading"]
+__all__ = [
+    "DIFF_DRIVE_PARAMS",
+    "EkfParams",
+    "FusedPose",
+    "OdometryIncrements",
+    "PoseEkf",
+    "PoseSource",
+    "compass_heading",
+    "params_for",
+]

@@ -12,7 +12,7 @@ import bisect
 import math
 from collections import deque
 
-from host_sdk.fusion.ekf import OdometryIncrements, PoseEkf
+from host_sdk.fusion.ekf import OdometryIncrements, PoseEkf, params_for
 from host_sdk.pose import RobotPose, interpolate
 from host_sdk.robot import Robot
 from host_sdk.sensors.imu import Jy901
@@ -36,7 +36,7 @@ class PoseSource:
         self._odometry: deque[tuple[float, float, float]] = deque()
         """(time, distance, turn) steps from FEEDBACK, not yet fused."""
         if imu is not None:
-            self.ekf = PoseEkf(time_s=robot.now())
+            self.ekf = PoseEkf(params_for(robot.kinematics), time_s=robot.now())
             robot.on_feedback(self._on_feedback)
 
     def use(self, robot: Robot) -> None:

@@ -27,6 +27,7 @@ from rclpy.qos import QoSProfile, qos_profile_sensor_data
 from std_srvs.srv import Trigger
 
 from host_sdk import FeedbackSample, Pose, RoverLinkError
+from host_sdk.fusion import params_for
 from host_sdk.sensors import ImuSample
 from host_sdk.supervisor.connection import Connection
 from roverlink.ros2 import convert
@@ -67,7 +68,9 @@ class FusedPublisher:
 
     def _fusion(self, start_s: float) -> Fusion:
         if self.core is None:
-            self.core = Fusion(start_s, gyro_variance=self._gyro_variance)
+            robot = self._connection.robot
+            params = params_for(robot.kinematics if robot is not None else None)  # as PoseSource makes its own
+            self.core = Fusion(start_s, gyro_variance=self._gyro_variance, params=params)
         return self.core
 
     # -- inputs (their threads) -------------------------------------------------------------------------
