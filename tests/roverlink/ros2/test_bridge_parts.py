@@ -4,6 +4,7 @@ line when rclpy is missing."""
 
 from __future__ import annotations
 
+import itertools
 import math
 import re
 import subprocess
