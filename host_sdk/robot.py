@@ -117,23 +117,8 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         ConnectTimeoutError, IncompatibleFirmwareError, TransportError, UnsupportedError.
         """
         given = {k: v for k, v in locals().items() if k not in ("cls", "transport")}  # first: the arguments only
-        options = check_connect(
-            url,
-            profile=profile,
-            kinematics=kinematics,
-            baud=baud,
-            watchdog_s=watchdog_s,
-            mode=mode,
-            feedback_hz=feedback_hz,
-            timeout_s=timeout_s,
-            clamp=clamp,
-            auto_rearm=auto_rearm,
-            paced=paced,
-            command_timeout_s=command_timeout_s,
-            request_timeout_s=request_timeout_s,
-            request_tries=request_tries,
-            transport=transport,
-        )
+        file_args = ("robot", "allow_mismatch")  # prepare() checks those
+        options = check_connect(transport=transport, **{k: v for k, v in given.items() if k not in file_args})
         check = prepare(robot, profile, kinematics, allow_mismatch)
         # By URL, it can be opened again the same way (reopen): these arguments, but the transport.
         again = None if transport is not None else functools.partial(cls.connect, **given)

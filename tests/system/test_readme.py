@@ -54,7 +54,10 @@ def test_readme_commands_exist() -> None:
         assert (README.parent / "scripts" / script).is_file()
     assert "roverlink roundtrip" in text
     ci = (README.parent / ".ci" / "run").read_text(encoding="utf-8")
-    assert [ln for ln in ci.splitlines() if ln and not ln.startswith(("#", "set ", "cd "))] == ["bash scripts/test.sh"]
+    # CI may only make missing parts failures (ROVERLINK_REQUIRE_*), not run anything else
+    strict = re.compile(r"export ROVERLINK_REQUIRE_[A-Z0-9_]+=1")
+    run = [ln for ln in ci.splitlines() if ln and not ln.startswith(("#", "set ", "cd ")) and not strict.fullmatch(ln)]
+    assert run == ["bash scripts/test.sh"]
 
 
 def _pyproject_extras() -> dict[str, list[str]]:
