@@ -78,7 +78,7 @@ fi
 
 # The editable install is a .pth file naming the checkout (setuptools' `compat` mode), not the
 # default import hook: type checkers cannot follow an import hook, so a robot program's
-# `mypy --strict` would not find host_sdk (tests/host_sdk/sdk/test_sdk_typing.py checks this).
+# `mypy --strict` would not find host_sdk (tests/host_sdk/test_sdk_typing.py checks this).
 EDITABLE_MODE=compat
 # Install (again) when pyproject.toml is newer than the last install with these extras and this
 # mode (the mode in the stamp's name: a venv installed the old way is installed again).

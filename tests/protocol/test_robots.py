@@ -86,6 +86,7 @@ def test_bad_robot_entries_are_refused(old: str, new: str, problem: str) -> None
     assert str(info.value).startswith("protocol/spec/robots.toml: ")
 
 
+@pytest.mark.slow  # a C++ compiler: the fast lane needs none
 @pytest.mark.parametrize("example", sorted(p.example for p in PROFILES.values()))
 def test_firmware_profile_header_compiles(example: str, tmp_path: Path) -> None:
     src = tmp_path / "check.cpp"

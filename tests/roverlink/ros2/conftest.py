@@ -1,7 +1,7 @@
 """ROS 2 test setup: DDS kept on this host in a per-run domain, tf2_msgs built once and loaded.
 
 The suites that talk to a node need the `ros2` extra (rclpy and the message packages); without
-it they are skipped, unless ROVERLINK_REQUIRE_ROS2=1 (set by scripts/test_ros2_setup.sh for CI),
+it they are skipped, unless ROVERLINK_REQUIRE_ROS2=1 (exported by scripts/test.sh),
 which turns the skip into a failure so a missing install cannot pass unnoticed. The plain-Python
 parts of the bridge (parameters, conversions, the driver, diagnostics) are tested either way.
 """
