@@ -74,6 +74,8 @@ SLOW_MODULES = (
     "tests/emulator/test_simavr_options.py",
     "tests/emulator/test_simavr_robotfile.py",
     "tests/emulator/test_simavr_wiring.py",
+    # the distribution's Python only (scripts/test_system_opencv.sh runs it)
+    "tests/host_sdk/sensors/test_camera_system_opencv.py",
     # long closed-loop runs: the tracker on real-photo sequences (the EKF's minutes of driving are
     # marked slow where they are)
     "tests/host_sdk/autonomy/test_tracking_photos.py",
@@ -106,15 +108,39 @@ SERIAL_MODULES = (
 """Suites that need the machine to themselves: the full run gives them one pytest process after the rest."""
 
 
+def _rel_under(rel: str, paths: tuple[str, ...]) -> bool:
+    return any(fnmatch(rel, p) or rel.startswith(f"{p}/") for p in paths)
+
+
 def _under(item: pytest.Item, paths: tuple[str, ...]) -> bool:
     """Whether the item's module is one of `paths` (folders, files or glob patterns) or under one."""
-    rel = Path(item.path).resolve().relative_to(ROOT).as_posix()
-    return any(fnmatch(rel, p) or rel.startswith(f"{p}/") for p in paths)
+    return _rel_under(Path(item.path).resolve().relative_to(ROOT).as_posix(), paths)
+
+
+def _slow_module(rel: str) -> bool:
+    return not _rel_under(rel, QUICK_FOLDERS) or _rel_under(rel, SLOW_MODULES)
+
+
+def pytest_ignore_collect(collection_path: Path, config: pytest.Config) -> bool | None:
+    """With `-m "not slow"` (the fast lane), modules that are slow as a whole are not even
+    imported: the same selection, without their import-time skips (ROS 2, the distribution's
+    OpenCV) in a lane that never runs them."""
+    if config.getoption("markexpr", "") != "not slow":
+        return None
+    try:
+        rel = collection_path.resolve().relative_to(ROOT).as_posix()
+    except ValueError:
+        return None
+    if rel == ".":
+        return None
+    if collection_path.is_dir():  # keep the folders on the way to, or inside, a quick folder
+        return None if any(q.startswith(f"{rel}/") or _rel_under(rel, (q,)) for q in QUICK_FOLDERS) else True
+    return True if collection_path.suffix == ".py" and _slow_module(rel) else None
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     for item in items:
-        if not _under(item, QUICK_FOLDERS) or _under(item, SLOW_MODULES):
+        if _slow_module(Path(item.path).resolve().relative_to(ROOT).as_posix()):
             item.add_marker(pytest.mark.slow)
         if _under(item, SERIAL_MODULES):
             item.add_marker(pytest.mark.serial)
