@@ -29,7 +29,10 @@ class PwmTimer:
 
     board: str
     timer: str
+    bits: int
+    """The counter's width: 16-bit timers can also pulse RC servos and ESCs."""
     pins: tuple[int, ...]
+    """Its compare outputs' pins, channel A first."""
     hz: tuple[int, ...]
     note: str = ""
     """Why it gives only those (empty: any the table lists)."""
@@ -88,14 +91,17 @@ def _pwm(loader: _Loader, top: dict[str, Any]) -> Pwm:
     timers, seen = [], set()
     for i, raw in enumerate(top.get("pwm_timers", [])):
         entry = f"pwm_timers[{i}]"
-        t = loader.keys(raw, entry, {"board", "timer", "pins", "hz"}, {"note"})
+        t = loader.keys(raw, entry, {"board", "timer", "bits", "pins", "hz"}, {"note"})
+        bits = loader.typed(t["bits"], int, entry, "bits")
+        if bits not in (8, 16):
+            raise SpecError(loader.path, f"{entry}.bits", f"{bits} is not a timer width (8 or 16)")
         pins = tuple(loader.typed(p, int, entry, "pins") for p in t["pins"])
         for pin in pins:  # a pin's PWM comes from one timer (the core's digitalPinToTimer)
             if (t["board"], pin) in seen:
                 raise SpecError(loader.path, entry, f"pin {pin} of {t['board']} is already another timer's")
             seen.add((t["board"], pin))
         hz = tuple(loader.typed(h, int, entry, "hz") for h in t["hz"])
-        timers.append(PwmTimer(t["board"], t["timer"], pins, hz, t.get("note", "")))
+        timers.append(PwmTimer(t["board"], t["timer"], bits, pins, hz, t.get("note", "")))
     return Pwm(tuple(drivers), tuple(timers))
 
 

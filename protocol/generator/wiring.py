@@ -33,20 +33,22 @@ class BoardPins:
     """Pin-change interrupt pins (the variant's digitalPinToPCICR)."""
 
 
-# The boards' Arduino pin numbering and timers (the Arduino core's variants, and the pins
-# rc_pulses.h drives; Mega Timer1's pin 13 is also Timer0's, so it is left out): board facts.
+def _board(board: str, numbering: tuple[int, int, int], interrupts: set[int], pin_change: set[int]) -> BoardPins:
+    """A board's pins (numbering: digital, first analog, analog count); its PWM pins and 16-bit
+    timers from the hardware facts (hardware.toml)."""
+    digital, first_analog, analog = numbering
+    timers = [t for t in pwm_facts().timers if t.board == board]
+    pwm = frozenset(p for t in timers for p in t.pins)
+    rc = tuple((t.timer, t.pins) for t in timers if t.bits == 16)
+    return BoardPins(digital, first_analog, analog, pwm, rc, frozenset(interrupts), frozenset(pin_change))
+
+
+# The boards' Arduino pin numbering and interrupts (the Arduino core's variants): board facts.
+# (Mega pin 13 is Timer1's channel C and Timer0's A; the core drives it from Timer0.)
 BOARD_PINS = {
-    "UNO": BoardPins(
-        20, 14, 6, frozenset({3, 5, 6, 9, 10, 11}), (("Timer1", (9, 10)),), frozenset({2, 3}), frozenset(range(20))
-    ),
-    "MEGA2560": BoardPins(
-        70,
-        54,
-        16,
-        frozenset({*range(2, 14), 44, 45, 46}),
-        (("Timer1", (11, 12)), ("Timer3", (5, 2, 3)), ("Timer4", (6, 7, 8)), ("Timer5", (46, 45, 44))),
-        frozenset({2, 3, 18, 19, 20, 21}),
-        frozenset({10, 11, 12, 13, 50, 51, 52, 53, *range(62, 70)}),
+    "UNO": _board("UNO", (20, 14, 6), {2, 3}, set(range(20))),
+    "MEGA2560": _board(
+        "MEGA2560", (70, 54, 16), {2, 3, 18, 19, 20, 21}, {10, 11, 12, 13, 50, 51, 52, 53, *range(62, 70)}
     ),
 }
 SERIAL_PINS = (0, 1)  # USART0: the host link

@@ -5,6 +5,7 @@ timer cannot give it (a TB6612 on Timer0), naming why and the pins that would wo
 
 from __future__ import annotations
 
+import re
 import subprocess
 from pathlib import Path
 
@@ -95,10 +96,37 @@ def test_a_tb6612_on_timer0_is_refused_naming_the_pins_that_work(tmp_path: Path)
     assert wiring.pwm_problem(5, "5", "UNO", "TB6612").startswith("pin 5 is on Timer0 of the UNO")
 
 
+def _core_timers(board: str) -> dict[str, list[tuple[str, int]]]:
+    """The Arduino core's own digitalPinToTimer table for `board` (its variant's pins_arduino.h,
+    preprocessed for the board's MCU): timer -> [(channel, pin)]."""
+    require_toolchain()
+    spec = firmware.BOARDS[board.lower()]
+    tools = firmware.Toolchain.find()
+    run = subprocess.run(
+        [tools.gcc, "-E", "-P", f"-mmcu={spec.mcu}", f"-I{tools.core_dir / 'variants' / spec.variant}", "-"],
+        input='#define ARDUINO_MAIN\n#include "pins_arduino.h"\n',
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=True,
+    )
+    table = re.search(r"digital_pin_to_timer_PGM\[\]\s*=\s*\{([^}]*)\}", run.stdout)
+    assert table is not None, "no digital_pin_to_timer_PGM in the variant"
+    timers: dict[str, list[tuple[str, int]]] = {}
+    for pin, entry in enumerate(e.strip() for e in table[1].split(",") if e.strip()):
+        if m := re.fullmatch(r"TIMER(\d)([ABC])", entry):
+            timers.setdefault(f"Timer{m[1]}", []).append((m[2], pin))
+    return timers
+
+
 @pytest.mark.parametrize("board", sorted(wiring.BOARD_PINS))
-def test_the_timer_table_covers_every_pwm_pin_once(board: str) -> None:
-    pins = [p for t in pwm_facts().timers if t.board == board for p in t.pins]
-    assert sorted(pins) == sorted(wiring.BOARD_PINS[board].pwm)
+def test_the_timer_table_is_the_arduino_cores(board: str) -> None:
+    """hardware.toml's pins per timer, channel A first, are the core's digitalPinToTimer: the
+    timer analogWrite() uses on each pin is the one the firmware speeds up."""
+    core = _core_timers(board)
+    ours = {t.timer: list(t.pins) for t in pwm_facts().timers if t.board == board}
+    assert ours == {timer: [pin for _, pin in sorted(pins)] for timer, pins in core.items()}
+    assert wiring.BOARD_PINS[board].pwm == {pin for pins in core.values() for _, pin in pins}
 
 
 UNO_SKETCH = """\

@@ -134,6 +134,36 @@ def test_docs_describe_every_key() -> None:
             assert f"| `{k.name}` | {k.type} |" in body, (section, k.name)
 
 
+def test_docs_pwm_tables_are_the_hardware_facts() -> None:
+    """robot-file.md's driver and timer tables say what hardware.toml says (a pin moved to another
+    timer, or a driver's range changed, in one place only fails here)."""
+    from protocol.generator.hardware import pwm_facts
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "robot-file.md").read_text(encoding="utf-8")
+    section = doc.split("### Motor PWM pins", 1)[1].split("\n### ", 1)[0]
+    rows = [[c.strip() for c in line.strip("|").split("|")] for line in section.splitlines() if line.startswith("| ")]
+    facts = pwm_facts()
+
+    def khz(hz: int) -> str:
+        return f"{hz} Hz" if hz < 1000 else f"{hz / 1000:.1f} kHz"
+
+    timers = [(r[0].strip("`"), r[1], r[2]) for r in rows if r[1].startswith("Timer")]
+    assert timers == [(t.board.lower(), t.timer, ", ".join(map(str, t.pins))) for t in facts.timers]
+    gives = {(r[0].strip("`"), r[1]): r[3] for r in rows if r[1].startswith("Timer")}
+    for t in facts.timers:
+        assert gives[(t.board.lower(), t.timer)].startswith(", ".join(map(khz, t.hz))), t
+
+    def span(lo: int, hi: int) -> str:
+        if lo >= 1000:
+            return f"{lo // 1000}..{hi // 1000} kHz"
+        return f"{lo}..{hi} Hz" if hi <= 1000 else f"{lo} Hz..{hi // 1000} kHz"
+
+    drivers = {r[0]: r[1] for r in rows if facts.driver(r[0]) is not None}
+    assert set(drivers) == {d.driver for d in facts.drivers}
+    for d in facts.drivers:
+        assert drivers[d.driver].startswith(span(d.min_hz, d.max_hz) + ":"), (d, drivers[d.driver])
+
+
 NUMBER_LINE = re.compile(r"^(?P<key>\w+) = (?P<value>-?\d[\d.eE+-]*)(?P<rest>\s*(#.*)?)$", re.MULTILINE)
 
 
