@@ -202,7 +202,7 @@ class ThreadedRunner(Runner):
 
     def _loop(self) -> None:
         # One wake-up per burst of bytes: read, then under the lock feed the session, run its
-        # timers, write, and work out how long the next read may sleep.
+        # timers and write; run the callbacks; then work out how long the next read may sleep.
         transport, session, lock = self.transport, self.session, self.lock
         with lock:
             now = transport.clock()
@@ -213,10 +213,13 @@ class ThreadedRunner(Runner):
                 if self.closed or session.error is not None:
                     return
                 self._step(data)
-                now = transport.clock()
-                timeout = min(IO_POLL_S, max(0.0005, session.next_deadline(now) - now))
             if self._pending:
                 self._deliver()
+            # From after the callbacks: a ROS node's publishing takes a millisecond or more, and a
+            # paced setpoint due meanwhile would otherwise go out that much late, every period.
+            with lock:
+                now = transport.clock()
+                timeout = min(IO_POLL_S, max(0.0005, session.next_deadline(now) - now))
 
     def _join(self) -> None:
         thread = self._thread
