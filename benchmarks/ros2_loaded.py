@@ -11,12 +11,16 @@ every core busy. Over the window:
   the SDK's clock sync), in periods of odom_rate: the goal is p99.9 at most 1.5 periods;
 - the scan stamps' error: each stamp against the mean of its neighbours (the emulated rotor's
   speed wanders by at most 1 % and slowly, so for the truth that difference is below 10 us);
-- CPU of the node and of the emulator.
+- CPU of the node and of the emulator;
+- the floor any design on this host has: a lone thread in a process of its own (nice 0, like the
+  node) waking once a period over the same window, and how often it woke later than a paced
+  setpoint may be late before its tick is missed (`slack_ms`).
 """
 
 from __future__ import annotations
 
 import itertools
+import json
 import math
 import os
 import re
@@ -36,6 +40,10 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import LaserScan
+
+from host_sdk.session.setpoints import PACE_PHASE_S, TICK_S
+from protocol.framing import encode_frame
+from protocol.generated.messages import SetWheelSpeeds
 
 ROOT = Path(__file__).resolve().parents[1]
 PROFILE = "diffdrive-bts7960"
@@ -64,6 +72,42 @@ def _percentile(values: list[float], q: float) -> float:
 
 def _stamp_s(stamp: Any) -> float:
     return float(stamp.sec) + float(stamp.nanosec) * 1e-9
+
+
+BAUD = 115200
+SLACK_MS = (TICK_S - PACE_PHASE_S - len(encode_frame(SetWheelSpeeds(0, 0), 0)) * 10 / BAUD) * 1e3
+"""How late a paced setpoint may go out and still reach the board before its tick: sent
+PACE_PHASE_S after a tick, its frame on the wire at BAUD, it must land before the next tick."""
+PROBE = """
+import json, select, sys, time
+period, seconds = float(sys.argv[1]), float(sys.argv[2])
+late = []
+t_next = time.monotonic() + period
+t_end = t_next + seconds
+while t_next < t_end:
+    select.select([], [], [], max(0.0, t_next - time.monotonic()))
+    late.append(time.monotonic() - t_next)
+    t_next += period
+print(json.dumps(late))
+"""
+
+
+def start_probe(seconds: float) -> subprocess.Popen[str]:
+    """The floor: a lone thread waking once a period, as the SDK's I/O thread waits (select)."""
+    args = [sys.executable, "-c", PROBE, str(1.0 / ODOM_HZ), str(seconds)]
+    return subprocess.Popen(args, text=True, stdout=subprocess.PIPE)
+
+
+def probe_figures(probe: subprocess.Popen[str]) -> dict[str, Any]:
+    out, _ = probe.communicate(timeout=60)
+    late_ms = [1e3 * x for x in json.loads(out)]
+    return {
+        "wakeups": len(late_ms),
+        "p99_ms": _percentile(late_ms, 0.99),
+        "p999_ms": _percentile(late_ms, 0.999),
+        "max_ms": max(late_ms),
+        "over_slack": sum(x > SLACK_MS for x in late_ms),
+    }
 
 
 def start_hogs(n: int) -> list[subprocess.Popen[bytes]]:
@@ -198,6 +242,7 @@ def run(seconds: float, hogs: int, warmup_s: float = 3.0) -> dict[str, Any]:
                 if node.odom and t_end - time.monotonic() > warmup_s:
                     t_end = time.monotonic() + warmup_s
         loaders = start_hogs(hogs)
+        probe = start_probe(seconds)
         t0 = time.monotonic()
         cpu0 = (_cpu_s(bridge.pid), _cpu_s(emulator.pid))
         while time.monotonic() < t0 + seconds:
@@ -220,6 +265,7 @@ def run(seconds: float, hogs: int, warmup_s: float = 3.0) -> dict[str, Any]:
                 proc.kill()
         executor.shutdown()
         node.destroy_node()
+    floor = probe_figures(probe)
     log = (log_dir / "bridge.log").read_text()
     lag = _emulator_lag_ms((log_dir / "emulate.log").read_text())
     with node.lock:
@@ -236,6 +282,7 @@ def run(seconds: float, hogs: int, warmup_s: float = 3.0) -> dict[str, Any]:
         "emulator_priority": priority,
         "odom": odom_figures(odom),
         "scan": scan_figures(scans),
+        "floor": floor,
         "cpu_percent": {
             "bridge": 100 * (cpu1[0] - cpu0[0]) / (t1 - t0),
             "emulator": 100 * (cpu1[1] - cpu0[1]) / (t1 - t0),
@@ -260,6 +307,11 @@ def report(r: dict[str, Any]) -> list[str]:
             f"mean {s['mean_ms']:.2f} ms, p99 {s['p99_ms']:.2f} ms, max {s['max_ms']:.2f} ms"
         )
     print(f"CPU: node {c['bridge']:.0f} %, emulator {c['emulator']:.0f} % of a core")
+    f = r["floor"]
+    print(
+        f"floor: a lone thread waking every period, late p99 {f['p99_ms']:.2f} ms, p99.9 {f['p999_ms']:.2f} ms, "
+        f"max {f['max_ms']:.2f} ms; {f['over_slack']} of {f['wakeups']} later than the {SLACK_MS:.1f} ms slack"
+    )
     print(f"emulator ({r['emulator_priority']}): longest lag behind real time {r['emulator_lag_ms']} ms")
     missed = []
     lag = r["emulator_lag_ms"]
