@@ -13,8 +13,8 @@
 # the system's Python is never installed into), builds tf2_msgs for the ROS 2 tests, then checks
 # the generated code for drift, runs ruff and mypy --strict, pytest (the C++ native tests, the
 # simavr firmware-in-the-loop suites, ROS 2 and the browser included) on every core and then the
-# suites that need the whole machine on their own, benchmark smoke runs and 60 s of fuzzing per
-# target (scripts/fuzz.sh). It prints each stage's time and the total, and warns past 25 minutes.
+# suites that need the whole machine on their own, benchmark smoke runs and 60 s of fuzzing (the
+# three targets at once, scripts/fuzz.sh). It prints each stage's time and the total, and warns past 25 minutes.
 #
 # The fast lane needs only the venv with the `dev` extra (made on its first run): no apt, no ROS 2,
 # no compiler, no browser. PYTEST_WORKERS sets the number of pytest processes (default: nproc).
@@ -73,9 +73,11 @@ export ROVERLINK_REQUIRE_ROS2=1
 export ROVERLINK_REQUIRE_BROWSER=1
 
 checks
+# Each pytest stage ends with its slowest tests: where the time goes, run after run.
+slowest=(--durations=15 --durations-min=5)
 stage "pytest on $workers workers (-m 'not serial', hypothesis profile $HYPOTHESIS_PROFILE)" \
-    pytest_lane -m "not serial" -n "$workers" --dist loadfile "$@"
-stage "pytest, the suites that need the whole machine (-m serial)" pytest_lane -m serial "$@"
+    pytest_lane -m "not serial" -n "$workers" --dist loadfile "${slowest[@]}" "$@"
+stage "pytest, the suites that need the whole machine (-m serial)" pytest_lane -m serial "${slowest[@]}" "$@"
 
 # The core packages on Python 3.10 and 3.13 (CI sets ROVERLINK_REQUIRE_PYTHONS=1: a missing one fails)
 stage "the core packages' unit tests on Python 3.10 and 3.13 (scripts/test_pythons.sh)" bash scripts/test_pythons.sh
@@ -89,5 +91,5 @@ stage "console benchmark (smoke run; full run: .venv/bin/python benchmarks/conso
     python benchmarks/console.py --seconds 2
 stage "ROS 2 bridge on a loaded host (smoke run; full run: .venv/bin/python benchmarks/ros2.py --loaded)" \
     python benchmarks/ros2.py --loaded --seconds 30 --warn-only
-stage "fuzzing (tests/firmware/fuzz: ${FUZZ_SECONDS:=60} s per target; SECURITY.md)" \
+stage "fuzzing (tests/firmware/fuzz: the targets at once for ${FUZZ_SECONDS:=60} s; SECURITY.md)" \
     bash scripts/fuzz.sh --seconds "$FUZZ_SECONDS"
