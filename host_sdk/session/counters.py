@@ -22,6 +22,7 @@ class HostCounters:
     feedback_received: int = 0
     setpoints_sent: int = 0
     keepalives_sent: int = 0
+    paced_late: int = 0
     hellos_sent: int = 0
     requests_sent: int = 0
     retries: int = 0

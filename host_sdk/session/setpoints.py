@@ -26,6 +26,9 @@ from protocol.generated.constants import CONTROL_RATE_HZ
 from protocol.generated.messages import SetAckermann, SetConfig, SetWheelSpeeds
 
 TICK_S = 1.0 / CONTROL_RATE_HZ
+PACED_LATE_FRACTION = 0.5
+"""Paced lockstep: a setpoint sent this fraction of the period after its slot, or later, counts
+as late (LinkStatistics.paced_late): it has used half of what it may be late by."""
 PACE_PHASE_S = 0.001
 """Paced lockstep: how long after a board tick (on the host's mapping of the board's clock) a
 setpoint is sent: the tick before the one that applies it, which answers it with FEEDBACK (the
@@ -119,7 +122,9 @@ class SetpointKeeper:
         if pace_s is None:
             if now - self._sent >= self._options.keepalive - EPS:
                 self._send(setpoint, now, keepalive=True)
-        elif now >= self._next_slot(pace_s) - EPS:
+        elif now >= (due := self._next_slot(pace_s)) - EPS:
+            if now - due >= PACED_LATE_FRACTION * pace_s:
+                self._n.paced_late += 1
             # Late by whole periods (a stalled host): on from the slot now falls in, not a burst
             # of the missed ones, which would all land in one tick.
             self._slot = self._slot_of(now, pace_s)

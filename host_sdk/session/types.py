@@ -137,6 +137,10 @@ class LinkStatistics(DecoderCountersSnapshot):
     setpoints_sent: int = 0
     """Setpoint frames, keep-alive repeats included."""
     keepalives_sent: int = 0
+    paced_late: int = 0
+    """Paced lockstep: setpoints sent more than half a period after their slot on the board's
+    tick grid (the host was busy or stalled); one this late may miss its tick, and the board then
+    answers no FEEDBACK in that period."""
     hellos_sent: int = 0
     requests_sent: int = 0
     """Reliable requests (first tries)."""

@@ -4,7 +4,7 @@ Two statuses per node, as rqt_robot_monitor and diagnostic_aggregator expect:
 
 - `<node>: link`: the connection, both sides' link counters with rates, RTT and clock sync.
   ERROR while there is no connection (reconnecting), WARN when an error counter rose since the
-  last report, else OK.
+  last report or the host sent paced lockstep setpoints late (`paced_late`), else OK.
 - `<node>: robot`: the firmware's identity and the robot's state. ERROR in FAILSAFE (with the
   reason), WARN while a board reset has left it disarmed or the session is re-opening, else OK.
 """
@@ -29,6 +29,8 @@ OK, WARN, ERROR, STALE = 0, 1, 2, 3
 _DECODER_ERRORS = tuple(f.name for f in dataclasses.fields(DecoderCountersSnapshot) if f.name != "frames_ok")
 HOST_ERRORS = (*_DECODER_ERRORS, "seq_gaps")
 BOARD_ERRORS = (*HOST_ERRORS, "rx_overruns")
+HOST_LATE = ("paced_late",)
+"""The host's own lateness: not the link's errors, but lockstep periods lost the same way."""
 
 
 def feedback_expected_s(state: str, lockstep: bool, commanding: bool, odom_rate: float) -> float | None:
@@ -127,7 +129,7 @@ class DiagnosticsBuilder:
             return []
         rising = []
         for side, now_c, before_c, names in (
-            ("host", snap.host, prev.host, HOST_ERRORS),
+            ("host", snap.host, prev.host, (*HOST_ERRORS, *HOST_LATE)),
             ("board", snap.board, prev.board, BOARD_ERRORS),
         ):
             if now_c is None or before_c is None:
@@ -135,7 +137,8 @@ class DiagnosticsBuilder:
             now_e, before_e = _errors(now_c, names), _errors(before_c, names)
             for name in names:
                 if now_e[name] > before_e[name]:  # lower: the counters restarted (reconnect, board reset)
-                    rising.append(f"{side} {name} +{now_e[name] - before_e[name]}")
+                    why = " (a busy host: lockstep periods without FEEDBACK)" if name in HOST_LATE else ""
+                    rising.append(f"{side} {name} +{now_e[name] - before_e[name]}{why}")
         return rising
 
     @staticmethod
@@ -163,7 +166,7 @@ class DiagnosticsBuilder:
                 ("host frames sent", str(h.frames_sent)),
                 ("host frames sent/s", _rate(h.frames_sent, ph.frames_sent if ph else None, dt)),
             ]
-            values += [(f"host {name}", str(value)) for name, value in _errors(h, HOST_ERRORS).items()]
+            values += [(f"host {name}", str(value)) for name, value in _errors(h, (*HOST_ERRORS, *HOST_LATE)).items()]
             values += [("host retries", str(h.retries)), ("host request timeouts", str(h.request_timeouts))]
             if h.rtt is not None:
                 r = h.rtt

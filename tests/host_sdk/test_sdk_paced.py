@@ -58,6 +58,7 @@ def test_a_new_command_waits_for_the_next_slot_and_a_stall_sends_once() -> None:
     g.poll(0.0055, 0.1, TICK_S, skip=(0.031, 0.0575))  # the host stalled for 26.5 ms
     expected = [0.011, 0.021, 0.0575, 0.061, 0.071, 0.081, 0.091]  # one late send, then the grid again
     assert g.sent == pytest.approx(expected, abs=STEP_S * 1.01)
+    assert g.n.paced_late == 1  # counted once, not once per period missed
 
 
 def test_the_grid_follows_the_boards_ticks_and_spans_its_period() -> None:
@@ -70,3 +71,15 @@ def test_the_grid_follows_the_boards_ticks_and_spans_its_period() -> None:
     g.keeper.ticked(0.0403)  # the board's clock runs 0.3 ms ahead by now
     g.poll(0.03, 0.07, 2 * TICK_S)
     assert g.sent == pytest.approx([0.011, 0.0313, 0.0513], abs=STEP_S * 1.01)
+
+
+def test_a_setpoint_half_a_period_late_is_counted_and_a_punctual_one_not() -> None:
+    g = Grid()
+    g.keeper.ticked(0.0)
+    g.keeper.command(SetWheelSpeeds(100, 100), 0.0005, hold_s=1.0, pace_s=TICK_S)
+    g.poll(0.0005, 0.03, TICK_S)  # every slot on time
+    assert g.n.paced_late == 0
+    g.poll(0.03, 0.06, TICK_S, skip=(0.0305, 0.0362))  # the slot at 0.031 is met at 0.0362: 5.2 ms late
+    assert g.n.paced_late == 1
+    g.poll(0.06, 0.09, TICK_S, skip=(0.0605, 0.0655))  # 4.5 ms late: within half a period
+    assert g.n.paced_late == 1

@@ -395,6 +395,11 @@ def test_link_rates_and_rising_errors() -> None:
     # Counters that restart (a board reset) are not errors rising.
     link, _ = d.build(snap(3.0, board=board(frames_ok=5), board_time_s=3.0))
     assert link.level == OK
+    # A busy host's late paced setpoints are said as such.
+    late = LinkStatistics(frames_ok=400, frames_sent=80, paced_late=3)
+    link, _ = d.build(snap(4.0, host=late, board=board(frames_ok=25), board_time_s=4.0))
+    assert link.level == WARN and "host paced_late +3 (a busy host" in link.message
+    assert dict(link.values)["host paced_late"] == "3"
 
 
 def test_levels_for_failsafe_reset_silence_and_no_connection() -> None:
