@@ -34,6 +34,7 @@ from collections import Counter
 from pathlib import Path
 from typing import Any
 
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rclpy.executors import SingleThreadedExecutor
@@ -170,6 +171,9 @@ class Recorder(Node):
         self.create_subscription(Odometry, "/loaded/odom", self._on_odom, 200)
         self.create_subscription(LaserScan, "/loaded/scan", self._on_scan, qos_profile_sensor_data)
         self.cmd = self.create_publisher(Twist, "/loaded/cmd_vel", 10)
+        self.paced_late: list[tuple[float, int]] = []
+        """The node's own count of paced setpoints it sent late (its link status), as it rose."""
+        self.create_subscription(DiagnosticArray, "/diagnostics", self._on_diagnostics, 10)
 
     def _on_odom(self, msg: Any) -> None:
         with self.lock:
@@ -178,6 +182,14 @@ class Recorder(Node):
     def _on_scan(self, msg: Any) -> None:
         with self.lock:
             self.scans.append((time.monotonic(), _stamp_s(msg.header.stamp)))
+
+    def _on_diagnostics(self, msg: Any) -> None:
+        for status in msg.status:
+            if status.name.endswith(": link"):
+                values = {v.key: v.value for v in status.values}
+                if "host paced_late" in values:
+                    with self.lock:
+                        self.paced_late.append((time.monotonic(), int(values["host paced_late"])))
 
     def drive(self, k: int) -> None:
         msg = Twist()
@@ -270,6 +282,7 @@ def run(seconds: float, hogs: int, warmup_s: float = 3.0) -> dict[str, Any]:
     lag = _emulator_lag_ms((log_dir / "emulate.log").read_text())
     with node.lock:
         odom = [s for t, s in node.odom if t0 <= t <= t1]
+        late = [n for t, n in node.paced_late if t0 <= t <= t1 + 1.0]
         scans = [s for t, s in node.scans if t0 <= t <= t1]
     if len(odom) < 0.05 * ODOM_HZ * seconds:
         raise SystemExit(f"BENCHMARK INVALID: {len(odom)} odom messages in {seconds:.0f} s (logs: {log_dir})")
@@ -283,6 +296,7 @@ def run(seconds: float, hogs: int, warmup_s: float = 3.0) -> dict[str, Any]:
         "odom": odom_figures(odom),
         "scan": scan_figures(scans),
         "floor": floor,
+        "paced_late": late[-1] - late[0] if len(late) > 1 else None,
         "cpu_percent": {
             "bridge": 100 * (cpu1[0] - cpu0[0]) / (t1 - t0),
             "emulator": 100 * (cpu1[1] - cpu0[1]) / (t1 - t0),
@@ -307,6 +321,8 @@ def report(r: dict[str, Any]) -> list[str]:
             f"mean {s['mean_ms']:.2f} ms, p99 {s['p99_ms']:.2f} ms, max {s['max_ms']:.2f} ms"
         )
     print(f"CPU: node {c['bridge']:.0f} %, emulator {c['emulator']:.0f} % of a core")
+    if r["paced_late"] is not None:
+        print(f"the node's paced setpoints sent half a period or more late: {r['paced_late']}")
     f = r["floor"]
     print(
         f"floor: a lone thread waking every period, late p99 {f['p99_ms']:.2f} ms, p99.9 {f['p999_ms']:.2f} ms, "
