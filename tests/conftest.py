@@ -102,8 +102,6 @@ SERIAL_MODULES = (
     "tests/host_sdk/test_sdk_examples.py",
     "tests/host_sdk/console/test_console_example.py",
     "tests/host_sdk/supervisor/test_supervisor_connection.py",
-    # the firmware's budgets: simavr's speed against the wall clock
-    "tests/system/conformance/test_firmware_budgets.py",
 )
 """Suites that need the machine to themselves: the full run gives them one pytest process after the rest."""
 
