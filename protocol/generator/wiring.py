@@ -115,14 +115,15 @@ def pwm_problem(number: int, label: str, board: str, driver: str | None = None) 
     """Why pin `number` cannot drive `driver`'s PWM input on `board` ("" if it can): a PWM pin
     whose timer can give a frequency in the driver's range (hardware.toml, [[pwm_drivers]] and
     [[pwm_timers]])."""
-    pwm = BOARD_PINS[board].pwm
+    pwm, facts = BOARD_PINS[board].pwm, pwm_facts()
+    need = facts.driver(driver) if driver else None
+    able = tuple(p for p in pwm if need is None or facts.hz(board, p, need.driver))
     if number not in pwm:
-        return f"pin {label} has no PWM output on the {board} (PWM pins: {_names(pwm)})"
-    facts = pwm_facts()
-    need, timer = (facts.driver(driver) if driver else None), facts.timer_of(board, number)
+        which = f"PWM pins whose timer can drive the {need.driver}" if need is not None else "PWM pins"
+        return f"pin {label} has no PWM output on the {board} ({which}: {_names(able)})"
+    timer = facts.timer_of(board, number)
     if need is None or timer is None or facts.hz(board, number, need.driver) is not None:
         return ""
-    able = tuple(p for t in facts.timers if t.board == board for p in t.pins if facts.hz(board, p, need.driver))
     why = f" ({timer.note})" if timer.note else ""
     gives = ", ".join(map(str, timer.hz))
     return (

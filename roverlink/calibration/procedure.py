@@ -341,7 +341,16 @@ class Calibration:
         if abs(ratio - 1) > 0.003:
             c = self._config
             lo, hi = geometry.servo_span_for(c.servo_min_us, c.servo_max_us, c.steering_center_cdeg, ratio)
-            if (lo, hi) != (c.servo_min_us, c.servo_max_us):
+            beyond = _pulse_beyond_range(lo, hi)
+            if beyond:
+                # The board maps 0..180 degrees linearly onto servo_min_us..servo_max_us: a weak
+                # linkage needs a span wider than the spec's pulses allow, so its angles stay off.
+                self.findings.append(
+                    f"servo pulse span for that linkage: {lo}..{hi} us, but {beyond}: the span is left at "
+                    f"{c.servo_min_us}..{c.servo_max_us} us, so the board's steering angles are {1 / ratio:.2f}x the "
+                    "wheels'; a longer servo horn or a stiffer linkage brings the ratio nearer 1"
+                )
+            elif (lo, hi) != (c.servo_min_us, c.servo_max_us):
                 self.findings.append(f"servo pulse span {c.servo_min_us}..{c.servo_max_us} -> {lo}..{hi} us")
                 self.robot.set_config(servo_min_us=lo, servo_max_us=hi)
                 changed = True
@@ -452,3 +461,14 @@ def restore(robot: Robot, config: RobotConfig) -> None:
 
 
 __all__ = ["Calibration", "CalibrationResult", "Check", "get_profile", "restore", "verify"]
+
+
+def _pulse_beyond_range(lo_us: int, hi_us: int) -> str:
+    """Which of a servo span's ends the board's configuration cannot hold ("" if both fit)."""
+    fields = {f.name: f for f in SetConfig.FIELDS}
+    out = []
+    for name, value in (("servo_min_us", lo_us), ("servo_max_us", hi_us)):
+        f = fields[name]
+        if not f.lo <= value <= f.hi:
+            out.append(f"{name} = {value} is outside the board's {f.lo:g}..{f.hi:g} us")
+    return " and ".join(out)

@@ -149,6 +149,7 @@ def _keep(
             summary += write_robot_file(robot_file, result, robot.url)
         except (OSError, ValueError) as exc:
             summary.append(f"error: the robot file was not changed: {exc}")
+            summary += by_hand(robot_file, result)
             code = 1
     if args.output is not None or robot_file is None:
         name = robot.identity.robot_name or "robot"
@@ -157,6 +158,14 @@ def _keep(
         summary.append(f"kinematics{kept} written to {path}")
         summary += usage_lines(path, robot.url)
     return code, summary
+
+
+def by_hand(robot_file: RobotDescription, result: CalibrationResult) -> list[str]:
+    """What the calibration found, as the lines to set in the robot file by hand (its write failed)."""
+    shown = ", ".join(f"{k} = {v}" for k, v in measured(result, robot_file).items())
+    return ["to keep what was measured, set in the robot file:", f"  [calibration] {shown}"] + [
+        f"  {line}" for line in outside_section(result, robot_file)
+    ]
 
 
 def write_robot_file(robot_file: RobotDescription, result: CalibrationResult, url: str) -> list[str]:

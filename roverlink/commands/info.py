@@ -37,8 +37,13 @@ def cmd_info(args: argparse.Namespace) -> int:
                 print(f"PID wheel {wheel}: kp {g.kp:g}, ki {g.ki:g}, kd {g.kd:g}, kf {g.kf:g}, ks {g.ks:g}")
             kin = robot.kinematics
             if kin is not None:
-                cal = args.kinematics
-                where = f"from {cal.path}" if cal is not None else "from the profile and the board"
+                cal, described = args.kinematics, getattr(args, "robot", None)
+                if cal is not None:
+                    where = f"from {cal.path}"
+                elif described is not None:
+                    where = f"from {getattr(described, 'path', described)}"
+                else:
+                    where = "from the profile and the board"
                 values = ", ".join(f"{f.name} {getattr(kin, f.name):g}" for f in dataclasses.fields(kin))
                 print(f"kinematics {type(kin).__name__} ({where}): {values}")
             rtt = robot.stats.rtt

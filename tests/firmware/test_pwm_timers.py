@@ -94,6 +94,11 @@ def test_a_tb6612_on_timer0_is_refused_naming_the_pins_that_work(tmp_path: Path)
     # A driver run at the core's frequency may use Timer0's pins (they give 977 Hz).
     assert wiring.pwm_problem(13, "13", "MEGA2560", "BTS7960") == ""
     assert wiring.pwm_problem(5, "5", "UNO", "TB6612").startswith("pin 5 is on Timer0 of the UNO")
+    # A pin with no PWM at all: the pins that would work for this driver, Timer0's left out.
+    assert wiring.pwm_problem(22, "22", "MEGA2560", "TB6612") == (
+        "pin 22 has no PWM output on the MEGA2560 "
+        "(PWM pins whose timer can drive the TB6612: 2, 3, 5, 6, 7, 8, 9, 10, 11, 12, 44, 45, 46)"
+    )
 
 
 def _core_timers(board: str) -> dict[str, list[tuple[str, int]]]:

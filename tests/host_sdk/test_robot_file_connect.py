@@ -38,7 +38,7 @@ def test_a_reference_file_connects_to_its_board(name: str) -> None:
 
 
 def test_a_wheel_diameter_unlike_the_boards_is_an_error_naming_both(tmp_path: Path) -> None:
-    path = robot_file(tmp_path, "diffdrive-tb6612", ("wheel_diameter_m = 0.064", "wheel_diameter_m = 0.065"))
+    path = robot_file(tmp_path, "diffdrive-tb6612", ("\nwheel_diameter_m = 0.064", "\nwheel_diameter_m = 0.065"))
     with pytest.raises(RobotMismatchError) as caught:
         Robot.connect(TB6612, robot=path)
     text = str(caught.value)
@@ -71,7 +71,7 @@ def test_a_file_for_another_board_is_named() -> None:
 
 
 def test_allow_mismatch_connects_and_keeps_the_mismatch(tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
-    path = robot_file(tmp_path, "diffdrive-tb6612", ("wheel_diameter_m = 0.064", "wheel_diameter_m = 0.065"))
+    path = robot_file(tmp_path, "diffdrive-tb6612", ("\nwheel_diameter_m = 0.064", "\nwheel_diameter_m = 0.065"))
     with (
         caplog.at_level(logging.WARNING, logger="host_sdk"),
         Robot.connect(TB6612, robot=path, allow_mismatch=True) as robot,
@@ -103,7 +103,7 @@ def test_the_files_limits_and_gains_are_set_at_connect(tmp_path: Path) -> None:
 
 
 def test_the_files_calibration_is_set_on_a_board_with_the_nominal_values(tmp_path: Path) -> None:
-    path = robot_file(tmp_path, "diffdrive-tb6612", ("# wheel_diameter_m = 0.065", "wheel_diameter_m = 0.0655"))
+    path = robot_file(tmp_path, "diffdrive-tb6612", ("# wheel_diameter_m = 0.064", "wheel_diameter_m = 0.0655"))
     with Robot.connect(TB6612, robot=path) as robot:
         assert robot.read_config().wheel_diameter_um == 65_500
         assert robot.kinematics is not None and robot.kinematics.wheel_radius_m == pytest.approx(0.03275)

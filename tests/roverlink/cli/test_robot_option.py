@@ -52,8 +52,11 @@ def test_a_missing_robot_file_is_named(tmp_path: Path, capsys: pytest.CaptureFix
 
 
 def test_info_with_the_boards_own_file(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["info", URL, "--robot", str(reference_path("diffdrive-tb6612"))]) == 0
-    assert "DiffDriveTB6612" in capsys.readouterr().out
+    path = reference_path("diffdrive-tb6612")
+    assert main(["info", URL, "--robot", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "DiffDriveTB6612" in out
+    assert f"kinematics DiffDrive (from {path}):" in out  # the file's, not the profile's
 
 
 def test_a_board_unlike_the_file_fails_or_warns_with_allow_mismatch(

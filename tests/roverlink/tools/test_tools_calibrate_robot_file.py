@@ -182,3 +182,37 @@ def test_an_edit_that_would_not_read_back_changes_nothing(tmp_path: Path) -> Non
     with pytest.raises(RobotFileError, match="not valid TOML"):
         write_measured(path, {"track_m": 0.21})
     assert path.read_text(encoding="utf-8") == text
+
+
+def test_a_write_that_fails_lists_what_to_set_by_hand(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The file holds [calibration] as an inline table the editor cannot extend: nothing is
+    written, and the summary says every measured value and direction to set by hand."""
+    monkeypatch.chdir(tmp_path)
+    path = _new_file(tmp_path, "diffdrive-tb6612")
+    text = path.read_text(encoding="utf-8").replace("[calibration]  # keep\n", "")
+    text = text.replace('entropy_pin = "A0"', 'entropy_pin = "A0"\ncalibration = { }')
+    path.write_text(text, encoding="utf-8")
+    url = "emu://diffdrive-tb6612?clock=virtual&physical=miscalibrated&seed=2"
+    assert main(["calibrate", url, "--robot", str(path), "--yes", "--no-check"]) == 1
+    out = capsys.readouterr().out
+    assert path.read_text(encoding="utf-8") == text
+    assert "error: the robot file was not changed" in out
+    by_hand = out[out.index("to keep what was measured, set in the robot file:") :]
+    assert "  [calibration] wheel_diameter_m = " in by_hand and "counts_per_rev = " in by_hand
+    assert "track_m = " in by_hand and "  [encoders] invert = [" in by_hand
+
+
+def test_a_linkage_too_weak_for_the_boards_pulses_is_said_not_fatal(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Wheels that turn 0.9 degrees per servo degree need servo_min_us 388, below the board's 400:
+    the calibration finishes, keeps the span and says what the board's angles are then."""
+    monkeypatch.chdir(tmp_path)
+    url = "emu://picar?clock=virtual&steering_ratio=0.9"
+    assert main(["calibrate", url, "--yes", "--no-check", "-o", "cal.json"]) == 0
+    out = capsys.readouterr().out
+    assert "steering: 0.900 wheel degrees per servo degree" in out
+    assert "servo_min_us = 388 is outside the board's 400..2600 us" in out
+    assert "the span is left at 500..2500 us, so the board's steering angles are 1.11x the wheels'" in out
