@@ -97,6 +97,8 @@ public:
     void pid(uint8_t, proto::SetPid& out) { out = pid_; }
     uint8_t save_config() { return unknown; }
     void reset_odometry() { sink = 0; }
+    void set_lights(const proto::SetLights& m) { sink = m.steady ^ m.slow ^ m.fast; }
+    void lights_state(proto::LightsState& out) const { out.lit = static_cast<uint8_t>(unknown); }
     void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq) {
         sink = static_cast<uint32_t>(left) ^ right ^ steer_mrad ^ seq;
     }
@@ -110,7 +112,8 @@ private:
 ClockBoard board;
 NullApp app;
 // Every capability: every setpoint kind is handled, none refused as UNSUPPORTED at compile time.
-static const Robot ROBOT = {"LinkSession", proto::Board::UNO, 0xFF, proto::FeedbackMode::STREAM, 0, 0};
+static const Robot ROBOT = {"LinkSession", proto::Board::UNO, 0xFF, proto::FeedbackMode::STREAM, 0, 0,
+                           proto::LightsMode::AUTO};
 Session<NullApp> session(Serial, board, ROBOT, app);
 const char TEXT[] ROVERLINK_PROGMEM = "link only: ";
 

@@ -190,5 +190,20 @@ uint8_t lights_for(proto::SessionState state, int16_t left, int16_t right, int16
     }
 }
 
+uint8_t host_lights(const proto::SetLights& l, uint8_t blink) {
+    if (l.mode != proto::LightsMode::MANUAL) {
+        return 0;
+    }
+    const uint8_t half = BLINK_PERIOD_TICKS / 2;
+    uint8_t mask = l.steady;
+    if (blink < half) {
+        mask |= l.slow;
+    }
+    if ((blink < half ? blink : static_cast<uint8_t>(blink - half)) < BLINK_PERIOD_TICKS / 4) {
+        mask |= l.fast;
+    }
+    return mask;
+}
+
 }  // namespace control
 }  // namespace roverlink

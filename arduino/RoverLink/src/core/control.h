@@ -86,6 +86,9 @@ uint16_t esc_pulse_us(int16_t effort_permille, const proto::SetConfig& c);
 static const uint8_t BLINK_PERIOD_TICKS = 66;  // 0.66 s at 100 Hz: 1.5 Hz
 uint8_t lights_for(proto::SessionState state, int16_t left, int16_t right, int16_t steer_cdeg, bool ackermann,
                    uint8_t blink);
+// The lamps SET_LIGHTS asks for outside AUTO: none in OFF; in MANUAL steady, slow at 1.5 Hz and
+// fast at 3 Hz, on the same blink counter as lights_for() (FAILSAFE's 3 Hz is the fast one).
+uint8_t host_lights(const proto::SetLights& l, uint8_t blink);
 
 }  // namespace control
 }  // namespace roverlink

@@ -49,6 +49,7 @@ ROVERLINK_NOINLINE void Firmware::begin() {
     memset(&v_, 0, sizeof v_);  // all of the state is plain data
     Vars& v = v_;
     v.caps = robot_.capabilities;
+    v.lights_set.mode = robot_.lights_mode;
 
     // 1. Configuration: the example's defaults, replaced by a good EEPROM image.
     v.cfg = robot_.default_config();
@@ -84,7 +85,7 @@ ROVERLINK_NOINLINE void Firmware::begin() {
         session_.log(proto::LogLevel::WARN, text);
     }
     if (has(proto::Capability::TURN_SIGNALS)) {
-        v.lights = control::lights_for(session_.state(), 0, 0, 0, false, 0);
+        v.lights = lights_mask();
         board_.lights(v.lights);
     }
 }
@@ -137,6 +138,11 @@ ROVERLINK_NOINLINE void Firmware::session_actions(uint16_t a) {
     if (a & proto::Action::CLEAR_REASON) {
         v_.encoder_fault = false;
     }
+    if (a & proto::Action::ACCEPT_HELLO) {
+        // A new session starts from the power-up lights: nothing of the last host's stays.
+        memset(&v_.lights_set, 0, sizeof v_.lights_set);
+        v_.lights_set.mode = robot_.lights_mode;
+    }
     if (a & proto::Action::MOTORS_ENABLE) {
         for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
             v_.wheels[w].stalled = 0;
@@ -183,6 +189,26 @@ void Firmware::reset_odometry() {
     for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
         v_.wheels[w].count = 0;
     }
+}
+
+void Firmware::lights_state(proto::LightsState& out) const {
+    static_assert(offsetof(proto::LightsState, mode) == 1 && sizeof(proto::SetLights) == 4 &&
+                      offsetof(proto::LightsState, lit) == 5,
+                  "LIGHTS_STATE must be req_seq, the SET_LIGHTS fields, lit");
+    memcpy(&out.mode, &v_.lights_set, sizeof v_.lights_set);
+    out.lit = v_.lights;
+}
+
+// AUTO from the motion state (and FAILSAFE's fast blink in every mode), else the host's choice.
+uint8_t Firmware::lights_mask() const {
+    const Vars& v = v_;
+    const SessionState state = session_.state();
+    if (v.lights_set.mode != proto::LightsMode::AUTO && state != SessionState::FAILSAFE) {
+        return control::host_lights(v.lights_set, v.blink);
+    }
+    return control::lights_for(state, v.wheels[0].target, v.wheels[1].target,
+                               static_cast<int16_t>(v.servo_cdeg - v.cfg.steering_center_cdeg),
+                               has(proto::Capability::ACKERMANN), v.blink);
 }
 
 void Firmware::setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq) {
@@ -304,10 +330,7 @@ ROVERLINK_OUT_OF_LINE void Firmware::control_tick(uint16_t periods, uint32_t now
 
     // Lights from the motion state, blinking from the tick counter.
     if (has(proto::Capability::TURN_SIGNALS)) {
-        const uint8_t mask =
-            control::lights_for(session_.state(), v.wheels[0].target, v.wheels[1].target,
-                                static_cast<int16_t>(v.servo_cdeg - v.cfg.steering_center_cdeg),
-                                has(proto::Capability::ACKERMANN), v.blink);
+        const uint8_t mask = lights_mask();
         if (mask != v.lights) {
             v.lights = mask;
             board_.lights(mask);

@@ -65,6 +65,8 @@ public:
     uint8_t ack_seq() const { return v_.ack_seq; }
     uint16_t ack_tick() const { return v_.ack_tick; }
     uint32_t duplicates() const { return session_.duplicates(); }
+    uint8_t lights() const { return v_.lights; }                         // the lamps lit (Lights bits)
+    const proto::SetLights& lights_setting() const { return v_.lights_set; }  // SET_LIGHTS in force
     const Link& link() const { return session_.link(); }
 
 private:
@@ -92,6 +94,7 @@ private:
         uint8_t ack_seq;
         uint8_t blink;
         uint8_t lights;
+        proto::SetLights lights_set;  // the mode and masks in force (SET_LIGHTS, else the power-up mode)
         uint8_t late_holdoff;      // ticks before another "late" LOG may be sent
         uint16_t caps;             // robot capabilities (a copy: one load instead of two per test)
         uint16_t tick;
@@ -117,6 +120,8 @@ private:
     void pid(uint8_t wheel, proto::SetPid& out) const;
     uint8_t save_config();
     void reset_odometry();
+    void set_lights(const proto::SetLights& m) { v_.lights_set = m; }
+    void lights_state(proto::LightsState& out) const;
     void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq);
     uint8_t status_bits() const;
 
@@ -125,6 +130,7 @@ private:
     uint8_t driven_wheels() const;
 
     void motors_safe();
+    uint8_t lights_mask() const;
     void apply_config(const proto::SetConfig& c);
     void control_tick(uint16_t periods, uint32_t now);
     enum : uint8_t { WHEEL_RAMPING = 1, WHEEL_SATURATED = 2, WHEEL_STALLED = 4 };  // tick_wheel()

@@ -21,6 +21,7 @@ struct Robot {
     proto::FeedbackMode default_feedback_mode;       // used before the first HELLO
     proto::SetConfig (*default_config)();            // EEPROM fallback (robot_profile.h)
     proto::SetPid (*default_pid)();
+    proto::LightsMode lights_mode;                   // turn signals at power-up and at each HELLO (AUTO or OFF)
 };
 
 }  // namespace roverlink

@@ -172,7 +172,8 @@ SessionCore::Kind SessionCore::kind_of(uint8_t id) {
                            kind_bits(proto::GetPid::ID, QUERY) | kind_bits(proto::GetConfig::ID, QUERY) |
                            kind_bits(proto::GetLinkStats::ID, QUERY) | kind_bits(proto::SetPid::ID, RELIABLE) |
                            kind_bits(proto::SetConfig::ID, RELIABLE) | kind_bits(proto::SaveConfig::ID, RELIABLE) |
-                           kind_bits(proto::ResetOdometry::ID, RELIABLE);
+                           kind_bits(proto::ResetOdometry::ID, RELIABLE) | kind_bits(proto::SetLights::ID, RELIABLE) |
+                           kind_bits(proto::GetLights::ID, QUERY);
     static_assert(KINDS != 0xFFFFFFFFUL, "a request id is outside KIND_BASE .. KIND_BASE + 15");
     const uint8_t i = static_cast<uint8_t>(id - KIND_BASE);
     return i < 16 ? static_cast<Kind>((KINDS >> (2 * i)) & 3u) : PLAIN;  // HELLO, PING, setpoints

@@ -21,6 +21,9 @@
 //       into `out`, which is in the TX frame buffer: send nothing meanwhile
 //   uint8_t save_config();                         SAVE_CONFIG outside ARMED: 0 or a NackReason
 //   void reset_odometry();                         RESET_ODOMETRY
+//   void set_lights(const proto::SetLights& m);    SET_LIGHTS on a TURN_SIGNALS robot, ranges checked
+//   void lights_state(proto::LightsState& out);    GET_LIGHTS: everything but req_seq, into `out`,
+//       which is in the TX frame buffer
 //   void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq);
 //       A setpoint accepted in ARMED (ranges checked); the next control tick applies it.
 //   uint8_t status_bits() const;                   its FEEDBACK status bits (SATURATED, ...)
@@ -312,6 +315,23 @@ void Session<App>::on_frame() {
         why = armed() ? static_cast<uint8_t>(proto::NackReason::ARMED) : app_.save_config();
     } else if (id == proto::ResetOdometry::ID) {
         app_.reset_odometry();
+    } else if (id == proto::SetLights::ID || id == proto::GetLights::ID) {
+        why = static_cast<uint8_t>(proto::NackReason::UNSUPPORTED);
+        if (has(proto::Capability::TURN_SIGNALS)) {
+            if (id == proto::GetLights::ID) {
+                proto::LightsState& s = link_.out().lights_state;
+                app_.lights_state(s);
+                s.req_seq = v_.req_seq;
+                link_.send_payload(proto::LightsState::ID, proto::LightsState::CRC_EXTRA, proto::LightsState::PAYLOAD_SIZE);
+                return;
+            }
+            detail = proto::check_ranges(m.set_lights);
+            why = static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE);
+            if (detail == proto::ALL_FIELDS_VALID) {
+                app_.set_lights(m.set_lights);
+                why = 0;
+            }
+        }
     } else {
         // The setpoints, one tail for both. Checks in this order (docs/firmware.md): capability,
         // the state (the table's NACK), then (ARMED only) the first speed over

@@ -1790,7 +1790,7 @@ static void test_micros_wrap() {
 static proto::SetConfig bare_config() { return TB6612.default_config(); }
 static proto::SetPid bare_pid() { return TB6612.default_pid(); }
 static const Robot BARE = {"Bare", proto::Board::UNO, proto::Capability::DIFF_DRIVE, FeedbackMode::STREAM,
-                           bare_config, bare_pid};
+                           bare_config, bare_pid, proto::LightsMode::AUTO};
 
 static void test_bare_robot() {
     CONTEXT("no ENCODERS: open loop (feed-forward); no EEPROM: defaults silently, SAVE unsupported");
