@@ -97,8 +97,11 @@ public:
     void pid(uint8_t, proto::SetPid& out) { out = pid_; }
     uint8_t save_config() { return unknown; }
     void reset_odometry() { sink = 0; }
-    void set_lights(const proto::SetLights& m) { sink = m.steady ^ m.slow ^ m.fast; }
-    void lights_state(proto::LightsState& out) const { out.lit = static_cast<uint8_t>(unknown); }
+    uint8_t lights(const proto::SetLights* set, proto::LightsState& out, uint8_t& detail) {
+        sink = reinterpret_cast<uintptr_t>(set) ^ reinterpret_cast<uintptr_t>(&out);
+        detail = unknown;
+        return unknown;
+    }
     void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq) {
         sink = static_cast<uint32_t>(left) ^ right ^ steer_mrad ^ seq;
     }

@@ -151,7 +151,7 @@ def test_the_requests_whose_values_only_the_session_checks_are_vetted_by_it() ->
     """The generated dispatcher leaves a reliable request's enum, flag and char values to its
     check_ranges() (docs/codec.md), so the firmware session must run check_ranges() before a
     handler uses such a message: Session::on_frame() does for SET_CONFIG (and SET_PID, which has
-    none). A request added to the spec with such a field needs the same before it is handled."""
+    none), Firmware::lights() for SET_LIGHTS. A request added to the spec with such a field needs the same before it is handled."""
     unchecked = {
         cls.NAME
         for cls in messages.ALL_MESSAGES
@@ -159,4 +159,4 @@ def test_the_requests_whose_values_only_the_session_checks_are_vetted_by_it() ->
         and cls.DELIVERY is Delivery.RELIABLE
         and any(f.kind in ("enum", "flags", "str") for f in cls.FIELDS)
     }
-    assert unchecked == {"SET_CONFIG"}
+    assert unchecked == {"SET_CONFIG", "SET_LIGHTS"}

@@ -191,12 +191,24 @@ void Firmware::reset_odometry() {
     }
 }
 
-void Firmware::lights_state(proto::LightsState& out) const {
+uint8_t Firmware::lights(const proto::SetLights* set, proto::LightsState& out, uint8_t& detail) {
     static_assert(offsetof(proto::LightsState, mode) == 1 && sizeof(proto::SetLights) == 4 &&
                       offsetof(proto::LightsState, lit) == 5,
                   "LIGHTS_STATE must be req_seq, the SET_LIGHTS fields, lit");
+    if (!has(proto::Capability::TURN_SIGNALS)) {
+        return static_cast<uint8_t>(NackReason::UNSUPPORTED);
+    }
+    if (set != 0) {
+        detail = proto::check_ranges(*set);  // the mode's value too (docs/codec.md)
+        if (detail != proto::ALL_FIELDS_VALID) {
+            return static_cast<uint8_t>(NackReason::OUT_OF_RANGE);
+        }
+        v_.lights_set = *set;  // the next tick shows it
+        return 0;
+    }
     memcpy(&out.mode, &v_.lights_set, sizeof v_.lights_set);
     out.lit = v_.lights;
+    return 0;
 }
 
 // AUTO from the motion state (and FAILSAFE's fast blink in every mode), else the host's choice.

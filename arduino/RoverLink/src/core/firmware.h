@@ -120,8 +120,7 @@ private:
     void pid(uint8_t wheel, proto::SetPid& out) const;
     uint8_t save_config();
     void reset_odometry();
-    void set_lights(const proto::SetLights& m) { v_.lights_set = m; }
-    void lights_state(proto::LightsState& out) const;
+    uint8_t lights(const proto::SetLights* set, proto::LightsState& out, uint8_t& detail);
     void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq);
     uint8_t status_bits() const;
 

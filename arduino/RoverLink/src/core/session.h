@@ -21,9 +21,9 @@
 //       into `out`, which is in the TX frame buffer: send nothing meanwhile
 //   uint8_t save_config();                         SAVE_CONFIG outside ARMED: 0 or a NackReason
 //   void reset_odometry();                         RESET_ODOMETRY
-//   void set_lights(const proto::SetLights& m);    SET_LIGHTS on a TURN_SIGNALS robot, ranges checked
-//   void lights_state(proto::LightsState& out);    GET_LIGHTS: everything but req_seq, into `out`,
-//       which is in the TX frame buffer
+//   uint8_t lights(const proto::SetLights* set, proto::LightsState& out, uint8_t& detail);
+//       SET_LIGHTS (`set`, its ranges unchecked) or GET_LIGHTS (`set` null: every field of `out`
+//       but req_seq, in the TX frame buffer): 0, else a NackReason (and detail)
 //   void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq);
 //       A setpoint accepted in ARMED (ranges checked); the next control tick applies it.
 //   uint8_t status_bits() const;                   its FEEDBACK status bits (SATURATED, ...)
@@ -316,21 +316,13 @@ void Session<App>::on_frame() {
     } else if (id == proto::ResetOdometry::ID) {
         app_.reset_odometry();
     } else if (id == proto::SetLights::ID || id == proto::GetLights::ID) {
-        why = static_cast<uint8_t>(proto::NackReason::UNSUPPORTED);
-        if (has(proto::Capability::TURN_SIGNALS)) {
-            if (id == proto::GetLights::ID) {
-                proto::LightsState& s = link_.out().lights_state;
-                app_.lights_state(s);
-                s.req_seq = v_.req_seq;
-                link_.send_payload(proto::LightsState::ID, proto::LightsState::CRC_EXTRA, proto::LightsState::PAYLOAD_SIZE);
-                return;
-            }
-            detail = proto::check_ranges(m.set_lights);
-            why = static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE);
-            if (detail == proto::ALL_FIELDS_VALID) {
-                app_.set_lights(m.set_lights);
-                why = 0;
-            }
+        // The App checks its capability and the ranges (their code stays out of the session's
+        // budget); GET_LIGHTS's answer is filled in the frame buffer, req_seq aside.
+        const bool get = id == proto::GetLights::ID;
+        why = app_.lights(get ? 0 : &m.set_lights, link_.out().lights_state, detail);
+        if (why == 0 && get) {
+            send_reply(proto::LightsState::ID, proto::LightsState::CRC_EXTRA, proto::LightsState::PAYLOAD_SIZE - 1);
+            return;
         }
     } else {
         // The setpoints, one tail for both. Checks in this order (docs/firmware.md): capability,
