@@ -195,14 +195,18 @@ uint8_t Firmware::lights(const proto::SetLights* set, proto::LightsState& out, u
     static_assert(offsetof(proto::LightsState, mode) == 1 && sizeof(proto::SetLights) == 4 &&
                       offsetof(proto::LightsState, lit) == 5,
                   "LIGHTS_STATE must be req_seq, the SET_LIGHTS fields, lit");
-    if (!has(proto::Capability::TURN_SIGNALS)) {
-        return static_cast<uint8_t>(NackReason::UNSUPPORTED);
-    }
+    // Ranges first, as for every request with a value the decoder leaves to them (the emulator's
+    // bad-value rule): an undefined mode is OUT_OF_RANGE on any robot.
     if (set != 0) {
         detail = proto::check_ranges(*set);  // the mode's value too (docs/codec.md)
         if (detail != proto::ALL_FIELDS_VALID) {
             return static_cast<uint8_t>(NackReason::OUT_OF_RANGE);
         }
+    }
+    if (!has(proto::Capability::TURN_SIGNALS)) {
+        return static_cast<uint8_t>(NackReason::UNSUPPORTED);
+    }
+    if (set != 0) {
         v_.lights_set = *set;  // the next tick shows it
         return 0;
     }

@@ -392,6 +392,18 @@ static void test_lights_math() {
         on += lights_for(SessionState::ARMED, 100, 200, 0, false, b) != 0;
     }
     CHECK_EQ(on, control::BLINK_PERIOD_TICKS / 2);
+    // SET_LIGHTS outside AUTO: front left steady, rear left slow, rear right fast.
+    proto::SetLights l = proto::SetLights();
+    l.mode = proto::LightsMode::MANUAL;
+    l.steady = 1;
+    l.slow = 4;
+    l.fast = 8;
+    CHECK_EQ(control::host_lights(l, 0), 13);   // both blinks on
+    CHECK_EQ(control::host_lights(l, 20), 5);   // fast off (16 ticks of each 33)
+    CHECK_EQ(control::host_lights(l, 33), 9);   // slow off, fast on again
+    CHECK_EQ(control::host_lights(l, 50), 1);   // only the steady one
+    l.mode = proto::LightsMode::OFF;
+    CHECK_EQ(control::host_lights(l, 0), 0);     // the masks light nothing outside MANUAL
 }
 
 static void test_config_validation() {
