@@ -45,6 +45,8 @@ _ALLOWED = "Lights bits, a whole number 0..15, or lamp names (" + ", ".join([*LA
 
 def lamp_mask(name: str, value: object) -> int:
     """A lamp set as its Lights bits (0..15); `name` is the argument, for the error."""
+    if isinstance(value, Lights):
+        return int(value)
     if isinstance(value, str):
         words = [w.strip() for w in value.split(",") if w.strip()]
         if value.strip() in ("", "-"):

@@ -129,11 +129,12 @@ def get_link_stats(fw: RequestTarget, msg: GetLinkStats, seq: int) -> Message:
 
 
 def set_lights(fw: RequestTarget, msg: SetLights, seq: int) -> Message:
-    if not fw.caps & Capability.TURN_SIGNALS:
-        return nack(msg, seq, NackReason.UNSUPPORTED)
+    # Ranges before the capability, as the bad-value rule (1.4) answers an undefined mode anyway.
     bad = first_out_of_range(msg)
     if bad is not None:
         return nack(msg, seq, NackReason.OUT_OF_RANGE, bad)
+    if not fw.caps & Capability.TURN_SIGNALS:
+        return nack(msg, seq, NackReason.UNSUPPORTED)
     fw.lights_setting = msg  # the next tick shows it
     return ack(msg, seq)
 

@@ -97,11 +97,7 @@ public:
     void pid(uint8_t, proto::SetPid& out) { out = pid_; }
     uint8_t save_config() { return unknown; }
     void reset_odometry() { sink = 0; }
-    uint8_t lights(const proto::SetLights* set, proto::LightsState& out, uint8_t& detail) {
-        sink = reinterpret_cast<uintptr_t>(set) ^ reinterpret_cast<uintptr_t>(&out);
-        detail = unknown;
-        return unknown;
-    }
+    void request(const proto::HostToMcu&, uint8_t id) { sink = id; }
     void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq) {
         sink = static_cast<uint32_t>(left) ^ right ^ steer_mrad ^ seq;
     }

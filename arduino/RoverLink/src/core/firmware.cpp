@@ -191,28 +191,37 @@ void Firmware::reset_odometry() {
     }
 }
 
-uint8_t Firmware::lights(const proto::SetLights* set, proto::LightsState& out, uint8_t& detail) {
+// SET_LIGHTS and GET_LIGHTS (the session did NO_SESSION and duplicates).
+ROVERLINK_NOINLINE void Firmware::request(const proto::HostToMcu& m, uint8_t id) {
     static_assert(offsetof(proto::LightsState, mode) == 1 && sizeof(proto::SetLights) == 4 &&
                       offsetof(proto::LightsState, lit) == 5,
                   "LIGHTS_STATE must be req_seq, the SET_LIGHTS fields, lit");
-    // Ranges first, as for every request with a value the decoder leaves to them (the emulator's
-    // bad-value rule): an undefined mode is OUT_OF_RANGE on any robot.
-    if (set != 0) {
-        detail = proto::check_ranges(*set);  // the mode's value too (docs/codec.md)
-        if (detail != proto::ALL_FIELDS_VALID) {
-            return static_cast<uint8_t>(NackReason::OUT_OF_RANGE);
+    uint8_t why = static_cast<uint8_t>(NackReason::UNSUPPORTED);
+    uint8_t detail = 0;
+    if (id == proto::SetLights::ID) {
+        // Ranges first, as for every request with a value the decoder leaves to them (the
+        // emulator's bad-value rule): an undefined mode is OUT_OF_RANGE on any robot.
+        const uint8_t bad = proto::check_ranges(m.set_lights);  // the mode's value too (docs/codec.md)
+        if (bad != proto::ALL_FIELDS_VALID) {
+            why = static_cast<uint8_t>(NackReason::OUT_OF_RANGE);
+            detail = bad;
+        } else if (has(proto::Capability::TURN_SIGNALS)) {
+            v_.lights_set = m.set_lights;  // the next tick shows it
+            why = 0;
         }
+    } else if (id == proto::GetLights::ID) {
+        if (has(proto::Capability::TURN_SIGNALS)) {
+            proto::LightsState& s = session_.out().lights_state;
+            memcpy(&s.mode, &v_.lights_set, sizeof v_.lights_set);
+            s.lit = v_.lights;
+            session_.send_reply(proto::LightsState::ID, proto::LightsState::CRC_EXTRA,
+                                proto::LightsState::PAYLOAD_SIZE - 1);
+            return;
+        }
+    } else {
+        return;  // a message added to the spec that this firmware does not handle yet
     }
-    if (!has(proto::Capability::TURN_SIGNALS)) {
-        return static_cast<uint8_t>(NackReason::UNSUPPORTED);
-    }
-    if (set != 0) {
-        v_.lights_set = *set;  // the next tick shows it
-        return 0;
-    }
-    memcpy(&out.mode, &v_.lights_set, sizeof v_.lights_set);
-    out.lit = v_.lights;
-    return 0;
+    session_.answer(why, detail);
 }
 
 // AUTO from the motion state (and FAILSAFE's fast blink in every mode), else the host's choice.

@@ -120,7 +120,7 @@ private:
     void pid(uint8_t wheel, proto::SetPid& out) const;
     uint8_t save_config();
     void reset_odometry();
-    uint8_t lights(const proto::SetLights* set, proto::LightsState& out, uint8_t& detail);
+    void request(const proto::HostToMcu& m, uint8_t id);
     void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq);
     uint8_t status_bits() const;
 

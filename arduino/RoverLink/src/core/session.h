@@ -21,9 +21,10 @@
 //       into `out`, which is in the TX frame buffer: send nothing meanwhile
 //   uint8_t save_config();                         SAVE_CONFIG outside ARMED: 0 or a NackReason
 //   void reset_odometry();                         RESET_ODOMETRY
-//   uint8_t lights(const proto::SetLights* set, proto::LightsState& out, uint8_t& detail);
-//       SET_LIGHTS (`set`, its ranges unchecked) or GET_LIGHTS (`set` null: every field of `out`
-//       but req_seq, in the TX frame buffer): 0, else a NackReason (and detail)
+//   void request(const proto::HostToMcu& m, uint8_t id);
+//       Any other host request (SET_LIGHTS, GET_LIGHTS; its ranges unchecked), after the rules of
+//       its kind (duplicates, NO_SESSION): answered with answer(), or with a reply built in out()
+//       and sent by send_reply(); an id the App does not know is left unanswered.
 //   void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq);
 //       A setpoint accepted in ARMED (ranges checked); the next control tick applies it.
 //   uint8_t status_bits() const;                   its FEEDBACK status bits (SATURATED, ...)
@@ -64,6 +65,12 @@ public:
     bool in_session() const { return v_.state > proto::SessionState::IDLE; }
     bool armed() const { return v_.state == proto::SessionState::ARMED; }
     const Link& link() const { return link_; }
+
+    // For App::request(): the answer to the request being handled (remembered for its
+    // duplicates), or a reply: req_seq, then the `len` bytes already in out() after it.
+    void answer(uint8_t reason, uint8_t detail);  // 0: ACK, else NACK(reason, detail)
+    void send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t len);
+    proto::McuToHost& out() { return link_.out(); }
 
     // micros(), counting its wraps for IDENTITY.uptime_ms. The session reads the time only through
     // it: one call of the virtual micros() instead of one per reader.
@@ -123,14 +130,11 @@ protected:
     // duplicate rule, NO_SESSION in IDLE); false: already answered, stop.
     bool request(uint8_t msg_id, uint8_t seq);
     static Kind kind_of(uint8_t msg_id);
-    void answer(uint8_t reason, uint8_t detail);       // to the current request; remembered
     void send_answer(uint8_t reason, uint8_t detail);  // 0: ACK, else NACK(reason, detail)
     void send_identity(proto::IdentityReason reason, const proto::SetConfig& config);
     void accept_hello(const proto::Hello& h, const proto::SetConfig& config);
     void send_pong(const proto::Ping& m);
     void send_link_stats();
-    // A GET_* answer: req_seq, then the `len` bytes already in link_.reply().
-    void send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t len);
     uint8_t session_status() const;
     bool feedback_due(bool applied, uint8_t config_hz);
     void send_feedback(proto::Feedback& f, uint8_t app_status);
@@ -315,15 +319,6 @@ void Session<App>::on_frame() {
         why = armed() ? static_cast<uint8_t>(proto::NackReason::ARMED) : app_.save_config();
     } else if (id == proto::ResetOdometry::ID) {
         app_.reset_odometry();
-    } else if (id == proto::SetLights::ID || id == proto::GetLights::ID) {
-        // The App checks its capability and the ranges (their code stays out of the session's
-        // budget); GET_LIGHTS's answer is filled in the frame buffer, req_seq aside.
-        const bool get = id == proto::GetLights::ID;
-        why = app_.lights(get ? 0 : &m.set_lights, link_.out().lights_state, detail);
-        if (why == 0 && get) {
-            send_reply(proto::LightsState::ID, proto::LightsState::CRC_EXTRA, proto::LightsState::PAYLOAD_SIZE - 1);
-            return;
-        }
     } else {
         // The setpoints, one tail for both. Checks in this order (docs/firmware.md): capability,
         // the state (the table's NACK), then (ARMED only) the first speed over
@@ -347,7 +342,11 @@ void Session<App>::on_frame() {
             bad_field = proto::check_ranges(s);
             capability = proto::Capability::ACKERMANN;
         } else {
-            return;  // a message added to the spec that this firmware does not handle yet
+            // The robot's own requests (SET_LIGHTS, GET_LIGHTS), their kind's rules done: the App
+            // answers them with answer() or send_reply(). One call here keeps them out of the
+            // session's flash budget.
+            app_.request(m, id);
+            return;
         }
         if (!has(capability)) {
             send_answer(static_cast<uint8_t>(proto::NackReason::UNSUPPORTED), 0);
