@@ -140,8 +140,9 @@ ROVERLINK_NOINLINE void Firmware::session_actions(uint16_t a) {
     }
     if (a & proto::Action::ACCEPT_HELLO) {
         // A new session starts from the power-up lights: nothing of the last host's stays.
-        memset(&v_.lights_set, 0, sizeof v_.lights_set);
-        v_.lights_set.mode = robot_.lights_mode;
+        proto::SetLights& l = v_.lights_set;
+        l.mode = robot_.lights_mode;
+        l.steady = l.slow = l.fast = 0;
     }
     if (a & proto::Action::MOTORS_ENABLE) {
         for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
@@ -192,7 +193,7 @@ void Firmware::reset_odometry() {
 }
 
 // SET_LIGHTS and GET_LIGHTS (the session did NO_SESSION and duplicates).
-ROVERLINK_NOINLINE void Firmware::request(const proto::HostToMcu& m, uint8_t id) {
+void Firmware::request(const proto::HostToMcu& m, uint8_t id) {
     static_assert(offsetof(proto::LightsState, mode) == 1 && sizeof(proto::SetLights) == 4 &&
                       offsetof(proto::LightsState, lit) == 5,
                   "LIGHTS_STATE must be req_seq, the SET_LIGHTS fields, lit");
@@ -224,14 +225,10 @@ ROVERLINK_NOINLINE void Firmware::request(const proto::HostToMcu& m, uint8_t id)
     session_.answer(why, detail);
 }
 
-// AUTO from the motion state (and FAILSAFE's fast blink in every mode), else the host's choice.
+// The lamps of this tick: control::lights_for() over the setting in force.
 uint8_t Firmware::lights_mask() const {
     const Vars& v = v_;
-    const SessionState state = session_.state();
-    if (v.lights_set.mode != proto::LightsMode::AUTO && state != SessionState::FAILSAFE) {
-        return control::host_lights(v.lights_set, v.blink);
-    }
-    return control::lights_for(state, v.wheels[0].target, v.wheels[1].target,
+    return control::lights_for(v.lights_set, session_.state(), v.wheels[0].target, v.wheels[1].target,
                                static_cast<int16_t>(v.servo_cdeg - v.cfg.steering_center_cdeg),
                                has(proto::Capability::ACKERMANN), v.blink);
 }
@@ -288,7 +285,6 @@ void Firmware::apply_config(const proto::SetConfig& c) {
     }
     v.cfg = c;
     v.mm_s_per_count = control::mm_s_per_count(c);
-    v.max_effort = static_cast<float>(c.max_effort_permille);
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -409,7 +405,9 @@ uint8_t Firmware::tick_wheel(uint8_t w, int32_t raw, uint16_t periods, bool hold
             wh.integral = 0.0f;
             m = m_prev = 0;
         }
-        wh.effort = control::pid_step(*g, r, m, m_prev, v.max_effort, wh.integral, sat);
+        // The limit converted here, not kept as a float: Firmware stays within its 400 B of SRAM.
+        const float max_effort = static_cast<float>(v.cfg.max_effort_permille);
+        wh.effort = control::pid_step(*g, r, m, m_prev, max_effort, wh.integral, sat);
         if (sat) {
             flags |= WHEEL_SATURATED;
         }

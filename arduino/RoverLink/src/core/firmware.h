@@ -94,7 +94,6 @@ private:
         uint8_t ack_seq;
         uint8_t blink;
         uint8_t lights;
-        proto::SetLights lights_set;  // the mode and masks in force (SET_LIGHTS, else the power-up mode)
         uint8_t late_holdoff;      // ticks before another "late" LOG may be sent
         uint16_t caps;             // robot capabilities (a copy: one load instead of two per test)
         uint16_t tick;
@@ -107,10 +106,10 @@ private:
         uint32_t boot_us;
         uint32_t ticks_skipped;
         float mm_s_per_count;      // derived from the config (apply_config)
-        float max_effort;
         Wheel wheels[proto::WHEEL_COUNT];
         control::Gains gains[proto::WHEEL_COUNT];
         proto::SetConfig cfg;
+        proto::SetLights lights_set;  // the mode and masks in force (SET_LIGHTS, else the power-up mode)
     };
 
     // -- the App interface of Session<Firmware> (session.h; config() is the public one) -------

@@ -15,7 +15,7 @@ struct FirmwareVersion {
 };
 
 struct Robot {
-    const char* name;                                // IDENTITY.robot_name (ASCII, <= 24 chars)
+    const char* name;                                // IDENTITY.robot_name (ASCII, <= 24 chars; never null)
     proto::Board board;
     uint16_t capabilities;                           // proto::Capability bits
     proto::FeedbackMode default_feedback_mode;       // used before the first HELLO
