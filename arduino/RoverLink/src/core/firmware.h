@@ -65,8 +65,6 @@ public:
     uint8_t ack_seq() const { return v_.ack_seq; }
     uint16_t ack_tick() const { return v_.ack_tick; }
     uint32_t duplicates() const { return session_.duplicates(); }
-    uint8_t lights() const { return v_.lights; }                         // the lamps lit (Lights bits)
-    const proto::SetLights& lights_setting() const { return v_.lights_set; }  // SET_LIGHTS in force
     const Link& link() const { return session_.link(); }
 
 private:

@@ -343,8 +343,7 @@ void Session<App>::on_frame() {
             capability = proto::Capability::ACKERMANN;
         } else {
             // The robot's own requests (SET_LIGHTS, GET_LIGHTS), their kind's rules done: the App
-            // answers them with answer() or send_reply(). One call here keeps them out of the
-            // session's flash budget.
+            // checks and answers them (answer() or send_reply()); the session only routes them.
             app_.request(m, id);
             return;
         }
