@@ -57,6 +57,7 @@ def firmware_defaults(robot: RobotFile) -> RobotProfile:
         capabilities=robot.capabilities(),
         kinematics="diff" if robot.drive.kind == "differential" else "ackermann",
         feedback_mode=robot.feedback_mode(),
+        lights_mode=robot.lights_mode(),
         track_m=robot.geometry.track_m,
         wheelbase_m=robot.geometry.wheelbase_m,
         wheel_diameter_m=robot.geometry.wheel_diameter_m,

@@ -39,6 +39,7 @@ from host_sdk.errors import (
 )
 from host_sdk.gains_watch import PidGainsWarning
 from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.lights import LightsStatus
 from host_sdk.odometry import Pose
 from host_sdk.profiles import PROFILES, kinematics_for
 from host_sdk.robot import Robot
@@ -68,6 +69,7 @@ __all__ = [
     "FeedbackTimeoutError",
     "IncompatibleFirmwareError",
     "KinematicsError",
+    "LightsStatus",
     "LinkBrokenError",
     "LinkStatistics",
     "Mismatch",

@@ -14,21 +14,24 @@ from typing import Any
 
 import numpy as np
 
-from host_sdk import checks
+from host_sdk import checks, lights
 from host_sdk.callbacks import FeedbackCallback
-from host_sdk.errors import CommandRangeError, EncodeError, RoverLinkError
+from host_sdk.errors import CommandRangeError, EncodeError, RoverLinkError, UnsupportedError
 from host_sdk.gains_watch import GainsWatch, warn_about_gains
 from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.lights import LightsStatus
 from host_sdk.runner import Runner
 from host_sdk.session import FeedbackSample, PidGains, RobotConfig, RobotIdentity, Session
 from protocol.codec.message import Message
 from protocol.generated.constants import PID_ALL_WHEELS
-from protocol.generated.enums import Capability
+from protocol.generated.enums import Capability, LightsMode
 from protocol.generated.messages import (
     Config,
     GetConfig,
+    GetLights,
     GetLinkStats,
     GetPid,
+    LightsState,
     LinkStats,
     Pid,
     SaveConfig,
@@ -163,6 +166,46 @@ class ConfigCalls:
     def save_config(self) -> None:
         """Write configuration and PID gains to the board's EEPROM (refused while armed: disarm first)."""
         self._request(SaveConfig())
+
+    # == turn signals ==============================================================================
+    def set_lights(
+        self,
+        mode: LightsMode | str | None = None,
+        *,
+        steady: object = None,
+        slow: object = None,
+        fast: object = None,
+    ) -> LightsStatus:
+        """Choose the turn signals' behaviour (SET_LIGHTS), then read them back (GET_LIGHTS).
+
+        `mode` is "auto" (the firmware's patterns from the motion state, as at power-up), "off" or
+        "manual" (or a LightsMode); in manual, `steady`, `slow` (1.5 Hz) and `fast` (3 Hz) are lamp
+        sets: Lights bits, 0..15, or names ("left", ["front_left", "rear_right"], "front,rear").
+        Lamps given without a mode mean manual: `robot.set_lights(slow="left")`. FAILSAFE shows all
+        four blinking fast whatever the mode; a new session (HELLO) or a reset brings back the robot
+        file's power-up mode. Raises CommandRangeError for a bad argument, UnsupportedError
+        (capability TURN_SIGNALS) on a robot without turn signals."""
+        wanted = lights.request(mode, steady=steady, slow=slow, fast=fast)
+        self._need_turn_signals("set_lights")
+        self._request(wanted)
+        return self.lights()
+
+    def lights(self) -> LightsStatus:
+        """The turn signals as the board has them (GET_LIGHTS): mode, masks and the lamps lit now.
+        UnsupportedError (capability TURN_SIGNALS) on a robot without turn signals."""
+        self._need_turn_signals("lights")
+        reply = self._request(GetLights())
+        assert isinstance(reply, LightsState)
+        return LightsStatus.of(reply)
+
+    def _need_turn_signals(self, call: str) -> None:
+        identity = self.identity
+        if not identity.capabilities & Capability.TURN_SIGNALS:
+            raise UnsupportedError(
+                f"{call}(): {identity.robot_name or 'this robot'} has no turn signals (its firmware lacks "
+                "the TURN_SIGNALS capability: a robot file gives it with the four LED pins of [lights])",
+                Capability.TURN_SIGNALS,
+            )
 
     def board_link_stats(self) -> LinkStats:
         """The firmware's own link counters (GET_LINK_STATS): what the board received and sent."""

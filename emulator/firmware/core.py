@@ -20,7 +20,7 @@ from emulator.firmware.config import (
     decode_image,
     first_out_of_range,
 )
-from emulator.firmware.lights import light_mask
+from emulator.firmware.lights import lights_now, power_up
 from emulator.firmware.link import BadValue, FirmwareLink
 from emulator.firmware.requests import REQUESTS, ack, nack
 from emulator.firmware.session import ACTION_ORDER, Session
@@ -105,6 +105,8 @@ class Firmware(ControlTick):
         self.last_valid_us = 0
         self.latched = FailsafeReason.NONE
         self._dup: tuple[tuple[int, int], Message | None] | None = None
+        self.lights_setting = power_up(robot.lights_mode)
+        self.lit = 0
         self._init_control(robot)
         self._handlers: dict[type[Message], Callable[[Message, int], None]] = {
             Hello: self._on_hello,
@@ -143,7 +145,8 @@ class Firmware(ControlTick):
         # The turn signals show the IDLE pattern from INIT_DONE on, not from the first tick (the
         # C++ core's begin() does the same; found by tests/system/conformance, test_turn_signal_leds).
         if self.caps & Capability.TURN_SIGNALS:
-            board.lights(light_mask(self.session.state, 0, 0, steer_cdeg=0, ackermann=False, blink=0))
+            self.lit = lights_now(self.session.state, self.lights_setting, 0, 0, steer_cdeg=0, ackermann=False, blink=0)
+            board.lights(self.lit)
 
     # == frames (1) ================================================================================
     def on_bytes(self, data: bytes) -> None:
@@ -345,6 +348,7 @@ class Firmware(ControlTick):
         self.feedback_mode = FeedbackMode.LOCKSTEP if wants_lockstep and lockstep_ok else FeedbackMode.STREAM
         self.feedback_hz = clamp(msg.feedback_hz or c.feedback_hz, 1, FEEDBACK_HZ_MAX)
         self._dup = None
+        self.lights_setting = power_up(self.robot.lights_mode)  # nothing of the last host's stays
         self.link.restart_seq_accounting()
         self._fb_countdown = 1  # the first FEEDBACK of the session comes at the next tick
         self._send(self._identity(IdentityReason.HELLO_ACCEPTED, ctx.seq))

@@ -12,12 +12,18 @@ and a blink counter that runs over BLINK_PERIOD_TICKS (66 ticks: 1.5 Hz, half on
 | ARMED, straight or stopped | off |
 | ARMED, Ackermann | left or right pair from the sign of the steering angle |
 | FAILSAFE | all four blink fast, 3 Hz |
+
+That is the AUTO mode. SET_LIGHTS chooses OFF (all dark) or MANUAL (each lamp steady, slow at
+1.5 Hz or fast at 3 Hz, on the same blink counter: `host_mask`); FAILSAFE's fast blink shows in
+every mode.
 """
 
 from __future__ import annotations
 
 from emulator.firmware.statemachine import SessionState
+from protocol.generated.enums import LightsMode
 from protocol.generated.hardware import Lights
+from protocol.generated.messages import SetLights
 
 BLINK_PERIOD_TICKS = 66
 LEFT = int(Lights.FRONT_LEFT | Lights.REAR_LEFT)
@@ -46,3 +52,30 @@ def light_mask(state: SessionState, left: int, right: int, *, steer_cdeg: int, a
     if -turn * 8 > magnitude:
         return RIGHT
     return 0
+
+
+def host_mask(setting: SetLights, blink: int) -> int:
+    """The lamps SET_LIGHTS asks for outside AUTO: none in OFF, the masks' patterns in MANUAL."""
+    if setting.mode is not LightsMode.MANUAL:
+        return 0
+    half = BLINK_PERIOD_TICKS // 2
+    mask = setting.steady
+    if blink < half:
+        mask |= setting.slow
+    if blink % half < BLINK_PERIOD_TICKS // 4:
+        mask |= setting.fast
+    return mask
+
+
+def lights_now(
+    state: SessionState, setting: SetLights, left: int, right: int, *, steer_cdeg: int, ackermann: bool, blink: int
+) -> int:
+    """The lamps lit this tick: AUTO (and FAILSAFE in every mode) from the motion state, else the host's."""
+    if setting.mode is not LightsMode.AUTO and state is not SessionState.FAILSAFE:
+        return host_mask(setting, blink)
+    return light_mask(state, left, right, steer_cdeg=steer_cdeg, ackermann=ackermann, blink=blink)
+
+
+def power_up(mode: LightsMode) -> SetLights:
+    """The setting at boot and at each accepted HELLO: the robot's mode, no lamps in the masks."""
+    return SetLights(mode=mode, steady=0, slow=0, fast=0)

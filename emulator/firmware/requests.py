@@ -31,13 +31,16 @@ from protocol.generated.messages import (
     Ack,
     Config,
     GetConfig,
+    GetLights,
     GetLinkStats,
     GetPid,
+    LightsState,
     Nack,
     Pid,
     ResetOdometry,
     SaveConfig,
     SetConfig,
+    SetLights,
     SetPid,
 )
 
@@ -54,6 +57,8 @@ class RequestTarget(Protocol):
     gains: list[Gains]
     counts: list[int]
     config_defaults: bool
+    lights_setting: SetLights
+    lit: int
 
     def set_gains(self, wheels: Iterable[int], gains: Gains) -> None: ...
 
@@ -123,6 +128,23 @@ def get_link_stats(fw: RequestTarget, msg: GetLinkStats, seq: int) -> Message:
     return fw.link.stats(seq)
 
 
+def set_lights(fw: RequestTarget, msg: SetLights, seq: int) -> Message:
+    # Ranges before the capability, as the bad-value rule (1.4) answers an undefined mode anyway.
+    bad = first_out_of_range(msg)
+    if bad is not None:
+        return nack(msg, seq, NackReason.OUT_OF_RANGE, bad)
+    if not fw.caps & Capability.TURN_SIGNALS:
+        return nack(msg, seq, NackReason.UNSUPPORTED)
+    fw.lights_setting = msg  # the next tick shows it
+    return ack(msg, seq)
+
+
+def get_lights(fw: RequestTarget, msg: GetLights, seq: int) -> Message:
+    if not fw.caps & Capability.TURN_SIGNALS:
+        return nack(msg, seq, NackReason.UNSUPPORTED)
+    return LightsState(req_seq=seq, **fw.lights_setting.fields(), lit=fw.lit)
+
+
 @dataclass(frozen=True)
 class Request:
     apply: Callable[[RequestTarget, Any, int], Message]
@@ -138,5 +160,7 @@ REQUESTS: dict[type[Message], Request] = {
     SaveConfig: Request(save_config),
     ResetOdometry: Request(reset_odometry),
     GetLinkStats: Request(get_link_stats, fresh=True),
+    SetLights: Request(set_lights),
+    GetLights: Request(get_lights, fresh=True),
 }
 """Every reliable request that needs a session, by message class."""

@@ -13,14 +13,14 @@ from dataclasses import dataclass
 from emulator.firmware.board import Board
 from emulator.firmware.config import Gains
 from emulator.firmware.control import WheelPid, limit_targets, ramp_step, round_half_away
-from emulator.firmware.lights import BLINK_PERIOD_TICKS, light_mask
+from emulator.firmware.lights import BLINK_PERIOD_TICKS, lights_now
 from emulator.firmware.session import Session
 from emulator.firmware.statemachine import SessionEvent, SessionState
 from protocol.codec.message import Message
 from protocol.generated.constants import CONTROL_RATE_HZ, WHEEL_COUNT
 from protocol.generated.enums import Capability, FailsafeReason, FeedbackMode, SafeState, Status
 from protocol.generated.hardware import MotorMode
-from protocol.generated.messages import Feedback, SetConfig
+from protocol.generated.messages import Feedback, SetConfig, SetLights
 from protocol.generated.profiles import RobotProfile
 
 DT_S = 1.0 / CONTROL_RATE_HZ
@@ -68,6 +68,8 @@ class ControlTick:
     feedback_hz: int
     latched: FailsafeReason
     config_defaults: bool
+    lights_setting: SetLights
+    lit: int
 
     def _send(self, msg: Message) -> None:
         raise NotImplementedError
@@ -218,19 +220,20 @@ class ControlTick:
                 self._failsafe(SessionEvent.FAULT, FailsafeReason.ENCODER_FAULT)
 
     def _show_lights(self) -> None:
-        """Lights, from the motion state; blinking phased on the ticks since boot."""
+        """Lights, from the motion state or SET_LIGHTS; blinking phased on the ticks since boot."""
         if self.caps & Capability.TURN_SIGNALS:
             steer = self.servo_cdeg - self.config.steering_center_cdeg
             ackermann = bool(self.caps & Capability.ACKERMANN)
-            mask = light_mask(
+            self.lit = lights_now(
                 self.session.state,
+                self.lights_setting,
                 self.targets[0],
                 self.targets[1],
                 steer_cdeg=steer,
                 ackermann=ackermann,
                 blink=self._blink,
             )
-            self.board.lights(mask)
+            self.board.lights(self.lit)
 
     def _read_counts(self) -> list[int]:
         raw = self.board.read_encoders()

@@ -163,6 +163,8 @@ class AsyncRobot:
     set_pid = _in_thread(Robot.set_pid)
     save_config = _in_thread(Robot.save_config)
     board_link_stats = _in_thread(Robot.board_link_stats)
+    set_lights = _in_thread(Robot.set_lights)
+    lights = _in_thread(Robot.lights)
 
     async def set_config(self, **changes: Any) -> RobotConfig:
         """Robot.set_config (change CONFIG fields, read back) in a worker thread."""

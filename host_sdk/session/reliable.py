@@ -16,9 +16,14 @@ from host_sdk.session.requests import Request
 from host_sdk.session.wire import Wire
 from protocol.codec.message import Message
 from protocol.generated.enums import NackReason
-from protocol.generated.messages import BY_ID, Ack, Config, LinkStats, Nack, Pid, SaveConfig
+from protocol.generated.messages import BY_ID, Ack, Config, LightsState, LinkStats, Nack, Pid, SaveConfig
 
-REPLY_TYPES: dict[str, type[Message]] = {"GET_CONFIG": Config, "GET_PID": Pid, "GET_LINK_STATS": LinkStats}
+REPLY_TYPES: dict[str, type[Message]] = {
+    "GET_CONFIG": Config,
+    "GET_PID": Pid,
+    "GET_LINK_STATS": LinkStats,
+    "GET_LIGHTS": LightsState,
+}
 """Requests answered with data instead of an ACK."""
 
 

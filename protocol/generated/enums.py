@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x3416EC25
+# spec hash: 0x1AECD35A
 """Enumerations and bit flags."""
 
 import enum
@@ -36,7 +36,7 @@ class Capability(enum.IntFlag):
     EEPROM = 0x20
     """SAVE_CONFIG persists the configuration."""
     TURN_SIGNALS = 0x40
-    """Turn-signal LEDs driven by motion state."""
+    """Four turn-signal LEDs: driven by motion state, or as SET_LIGHTS chooses (GET_LIGHTS reports them)."""
     LOCKSTEP = 0x80
     """Lockstep feedback mode."""
 
@@ -129,6 +129,17 @@ class IdentityReason(enum.IntEnum):
     """Answer to a HELLO with another protocol version or spec hash: no session."""
 
 
+class LightsMode(enum.IntEnum):
+    """Who drives the turn signals (SET_LIGHTS). Whatever the mode, FAILSAFE shows all four blinking fast; a reset and an accepted HELLO bring back the robot's power-up mode."""
+
+    AUTO = 0
+    """From the motion state: the pair on the side of a turn, all four spinning in place, front and rear alternating out of ARMED."""
+    OFF = 1
+    """All four dark."""
+    MANUAL = 2
+    """Each lamp as the steady, slow and fast masks say: lit when it is in steady, or in slow during the on half of the 1.5 Hz blink, or in fast during the on half of the 3 Hz blink."""
+
+
 class LogLevel(enum.IntEnum):
     """Severity of a LOG frame."""
 
@@ -142,4 +153,4 @@ class LogLevel(enum.IntEnum):
     """Something failed."""
 
 
-__all__ = ["Board", "Capability", "FeedbackMode", "SafeState", "FailsafeReason", "NackReason", "Status", "IdentityReason", "LogLevel"]
+__all__ = ["Board", "Capability", "FeedbackMode", "SafeState", "FailsafeReason", "NackReason", "Status", "IdentityReason", "LightsMode", "LogLevel"]

@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x3416EC25
+# spec hash: 0x1AECD35A
 """Message classes: frozen, slotted dataclasses with pack() and unpack()."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import struct
 from dataclasses import dataclass
 from typing import ClassVar
 
-from protocol.generated.enums import Board, Capability, FailsafeReason, FeedbackMode, IdentityReason, LogLevel, NackReason, SafeState, Status
+from protocol.generated.enums import Board, Capability, FailsafeReason, FeedbackMode, IdentityReason, LightsMode, LogLevel, NackReason, SafeState, Status
 from protocol.codec.message import (
     Delivery,
     Direction,
@@ -25,6 +25,7 @@ _CAPABILITY: dict[int, Capability] = {v: Capability(v) for v in range(0xFF + 1) 
 _FAILSAFEREASON: dict[int, FailsafeReason] = {int(m): m for m in FailsafeReason}
 _FEEDBACKMODE: dict[int, FeedbackMode] = {int(m): m for m in FeedbackMode}
 _IDENTITYREASON: dict[int, IdentityReason] = {int(m): m for m in IdentityReason}
+_LIGHTSMODE: dict[int, LightsMode] = {int(m): m for m in LightsMode}
 _LOGLEVEL: dict[int, LogLevel] = {int(m): m for m in LogLevel}
 _NACKREASON: dict[int, NackReason] = {int(m): m for m in NackReason}
 _SAFESTATE: dict[int, SafeState] = {int(m): m for m in SafeState}
@@ -36,6 +37,7 @@ _S_ARM = struct.Struct("<I")
 _S_SET_PID = struct.Struct("<Bfffff")
 _S_GET_PID = struct.Struct("<B")
 _S_SET_CONFIG = struct.Struct("<HBHHHHHBBIHHHHHHHHHHB")
+_S_SET_LIGHTS = struct.Struct("<BBBB")
 _S_SET_WHEEL_SPEEDS = struct.Struct("<hh")
 _S_SET_ACKERMANN = struct.Struct("<hh")
 _S_IDENTITY = struct.Struct("<BI3BBHIIBBHBB")
@@ -45,6 +47,7 @@ _S_NACK = struct.Struct("<BBBB")
 _S_PID = struct.Struct("<BBfffff")
 _S_CONFIG = struct.Struct("<BHBHHHHHBBIHHHHHHHHHHB")
 _S_LINK_STATS = struct.Struct("<BIIIIIIIIIII")
+_S_LIGHTS_STATE = struct.Struct("<BBBBBB")
 _S_FEEDBACK = struct.Struct("<IIHBHBB2i2h2hh")
 _S_LOG = struct.Struct("<B")
 
@@ -574,6 +577,89 @@ class GetLinkStats(Message):
 
     @classmethod
     def unpack(cls, payload: bytes) -> GetLinkStats:
+        if len(payload) != 0:
+            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 0")
+        return cls()
+
+
+@dataclass(frozen=True, slots=True)
+class SetLights(Message):
+    """SET_LIGHTS (0x19, host to mcu, reliable): Chooses the turn signals' behaviour (capability TURN_SIGNALS, else NACK(UNSUPPORTED)), from the next control tick until another SET_LIGHTS, an accepted HELLO or a reset. The masks are kept in every mode (GET_LIGHTS reports them) but light lamps only in MANUAL."""
+
+    MSG_ID: ClassVar[int] = 0x19
+    NAME: ClassVar[str] = "SET_LIGHTS"
+    CRC_EXTRA: ClassVar[int] = 0x46
+    PAYLOAD_SIZE: ClassVar[int] = 4
+    PAYLOAD_MAX: ClassVar[int] = 4
+    DIRECTION: ClassVar[Direction] = Direction.HOST_TO_MCU
+    DELIVERY: ClassVar[Delivery] = Delivery.RELIABLE
+    STEADY_MAX: ClassVar[int] = 15
+    SLOW_MAX: ClassVar[int] = 15
+    FAST_MAX: ClassVar[int] = 15
+    FIELDS: ClassVar[tuple[FieldInfo, ...]] = (
+        FieldInfo('mode', 'LightsMode', 'enum', 0, 2, enum=LightsMode),
+        FieldInfo('steady', 'u8', 'int', 0, 15),
+        FieldInfo('slow', 'u8', 'int', 0, 15),
+        FieldInfo('fast', 'u8', 'int', 0, 15),
+    )
+
+    mode: LightsMode
+    """Who drives the lights."""
+    steady: int
+    """MANUAL: lamps lit steadily (Lights bits)."""
+    slow: int
+    """MANUAL: lamps blinking at 1.5 Hz, half on (Lights bits)."""
+    fast: int
+    """MANUAL: lamps blinking at 3 Hz, half on (Lights bits)."""
+
+    def pack(self) -> bytes:
+        try:
+            if self.mode in _LIGHTSMODE and 0 <= self.steady <= 15 and 0 <= self.slow <= 15 and 0 <= self.fast <= 15 and bool not in set(map(type, (self.mode, self.steady, self.slow, self.fast,))):
+                return _S_SET_LIGHTS.pack(self.mode, self.steady, self.slow, self.fast)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
+
+    @classmethod
+    def unpack(cls, payload: bytes) -> SetLights:
+        if len(payload) != 4:
+            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 4")
+        v = _S_SET_LIGHTS.unpack(payload)
+        mode = _LIGHTSMODE.get(v[0])
+        if mode is None:
+            raise decode_error(cls, f"mode {v[0]} is not a value of LightsMode")
+        self = _new(cls)
+        _SET_LIGHTS_MODE(self, mode)
+        _SET_LIGHTS_STEADY(self, v[1])
+        _SET_LIGHTS_SLOW(self, v[2])
+        _SET_LIGHTS_FAST(self, v[3])
+        return self
+
+
+_SET_LIGHTS_MODE = slot_setter(SetLights, "mode")
+_SET_LIGHTS_STEADY = slot_setter(SetLights, "steady")
+_SET_LIGHTS_SLOW = slot_setter(SetLights, "slow")
+_SET_LIGHTS_FAST = slot_setter(SetLights, "fast")
+
+
+@dataclass(frozen=True, slots=True)
+class GetLights(Message):
+    """GET_LIGHTS (0x1A, host to mcu, reliable): Asks for the turn signals' mode and the lamps lit; answered by LIGHTS_STATE (capability TURN_SIGNALS, else NACK(UNSUPPORTED))."""
+
+    MSG_ID: ClassVar[int] = 0x1A
+    NAME: ClassVar[str] = "GET_LIGHTS"
+    CRC_EXTRA: ClassVar[int] = 0xF4
+    PAYLOAD_SIZE: ClassVar[int] = 0
+    PAYLOAD_MAX: ClassVar[int] = 0
+    DIRECTION: ClassVar[Direction] = Direction.HOST_TO_MCU
+    DELIVERY: ClassVar[Delivery] = Delivery.RELIABLE
+    FIELDS: ClassVar[tuple[FieldInfo, ...]] = ()
+
+    def pack(self) -> bytes:
+        return b""
+
+    @classmethod
+    def unpack(cls, payload: bytes) -> GetLights:
         if len(payload) != 0:
             raise decode_error(cls, f"payload is {len(payload)} bytes, expected 0")
         return cls()
@@ -1268,6 +1354,77 @@ _LINK_STATS_RX_OVERRUNS = slot_setter(LinkStats, "rx_overruns")
 
 
 @dataclass(frozen=True, slots=True)
+class LightsState(Message):
+    """LIGHTS_STATE (0x88, mcu to host, reliable): Answer to GET_LIGHTS: the mode in force, its masks, and the lamps lit by the last control tick."""
+
+    MSG_ID: ClassVar[int] = 0x88
+    NAME: ClassVar[str] = "LIGHTS_STATE"
+    CRC_EXTRA: ClassVar[int] = 0xD9
+    PAYLOAD_SIZE: ClassVar[int] = 6
+    PAYLOAD_MAX: ClassVar[int] = 6
+    DIRECTION: ClassVar[Direction] = Direction.MCU_TO_HOST
+    DELIVERY: ClassVar[Delivery] = Delivery.RELIABLE
+    STEADY_MAX: ClassVar[int] = 15
+    SLOW_MAX: ClassVar[int] = 15
+    FAST_MAX: ClassVar[int] = 15
+    LIT_MAX: ClassVar[int] = 15
+    FIELDS: ClassVar[tuple[FieldInfo, ...]] = (
+        FieldInfo('req_seq', 'u8', 'int', 0, 255),
+        FieldInfo('mode', 'LightsMode', 'enum', 0, 2, enum=LightsMode),
+        FieldInfo('steady', 'u8', 'int', 0, 15),
+        FieldInfo('slow', 'u8', 'int', 0, 15),
+        FieldInfo('fast', 'u8', 'int', 0, 15),
+        FieldInfo('lit', 'u8', 'int', 0, 15),
+    )
+
+    req_seq: int
+    """seq of the GET_LIGHTS."""
+    mode: LightsMode
+    """Who drives the lights."""
+    steady: int
+    """MANUAL: lamps lit steadily (Lights bits)."""
+    slow: int
+    """MANUAL: lamps blinking at 1.5 Hz, half on (Lights bits)."""
+    fast: int
+    """MANUAL: lamps blinking at 3 Hz, half on (Lights bits)."""
+    lit: int
+    """Lamps lit at the last control tick (Lights bits)."""
+
+    def pack(self) -> bytes:
+        try:
+            if self.mode in _LIGHTSMODE and 0 <= self.steady <= 15 and 0 <= self.slow <= 15 and 0 <= self.fast <= 15 and 0 <= self.lit <= 15 and bool not in set(map(type, (self.req_seq, self.mode, self.steady, self.slow, self.fast, self.lit,))):
+                return _S_LIGHTS_STATE.pack(self.req_seq, self.mode, self.steady, self.slow, self.fast, self.lit)
+        except (struct.error, TypeError, ValueError, AttributeError, OverflowError):
+            pass
+        raise first_invalid(self)
+
+    @classmethod
+    def unpack(cls, payload: bytes) -> LightsState:
+        if len(payload) != 6:
+            raise decode_error(cls, f"payload is {len(payload)} bytes, expected 6")
+        v = _S_LIGHTS_STATE.unpack(payload)
+        mode = _LIGHTSMODE.get(v[1])
+        if mode is None:
+            raise decode_error(cls, f"mode {v[1]} is not a value of LightsMode")
+        self = _new(cls)
+        _LIGHTS_STATE_REQ_SEQ(self, v[0])
+        _LIGHTS_STATE_MODE(self, mode)
+        _LIGHTS_STATE_STEADY(self, v[2])
+        _LIGHTS_STATE_SLOW(self, v[3])
+        _LIGHTS_STATE_FAST(self, v[4])
+        _LIGHTS_STATE_LIT(self, v[5])
+        return self
+
+
+_LIGHTS_STATE_REQ_SEQ = slot_setter(LightsState, "req_seq")
+_LIGHTS_STATE_MODE = slot_setter(LightsState, "mode")
+_LIGHTS_STATE_STEADY = slot_setter(LightsState, "steady")
+_LIGHTS_STATE_SLOW = slot_setter(LightsState, "slow")
+_LIGHTS_STATE_FAST = slot_setter(LightsState, "fast")
+_LIGHTS_STATE_LIT = slot_setter(LightsState, "lit")
+
+
+@dataclass(frozen=True, slots=True)
 class Feedback(Message):
     """FEEDBACK (0x90, mcu to host, telemetry): Robot state at one control tick. Streamed every round(CONTROL_RATE_HZ / feedback_hz) ticks: before any HELLO at the config's rate; in a stream session at the session's feedback_hz; in a lockstep session while it is not ARMED (DISARMED, FAILSAFE) as in stream mode, the first in the first tick out of ARMED. In a lockstep session while ARMED: exactly one in each tick that applied a setpoint, none in any other."""
 
@@ -1428,6 +1585,8 @@ ALL_MESSAGES: tuple[type[Message], ...] = (
     SaveConfig,
     ResetOdometry,
     GetLinkStats,
+    SetLights,
+    GetLights,
     SetWheelSpeeds,
     SetAckermann,
     Identity,
@@ -1437,6 +1596,7 @@ ALL_MESSAGES: tuple[type[Message], ...] = (
     Pid,
     Config,
     LinkStats,
+    LightsState,
     Feedback,
     Log,
 )
@@ -1459,6 +1619,8 @@ __all__ = [
     "SaveConfig",
     "ResetOdometry",
     "GetLinkStats",
+    "SetLights",
+    "GetLights",
     "SetWheelSpeeds",
     "SetAckermann",
     "Identity",
@@ -1468,6 +1630,7 @@ __all__ = [
     "Pid",
     "Config",
     "LinkStats",
+    "LightsState",
     "Feedback",
     "Log",
 ]

@@ -1,12 +1,12 @@
 # DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x3416EC25
+# spec hash: 0x1AECD35A
 """Reference robot profiles: firmware defaults, kinematics and feedback mode, by name."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from protocol.generated.enums import Board, Capability, FeedbackMode, SafeState
+from protocol.generated.enums import Board, Capability, FeedbackMode, LightsMode, SafeState
 from protocol.generated.messages import SetConfig, SetPid
 
 
@@ -59,6 +59,8 @@ class RobotProfile:
     """"diff" or "ackermann"."""
     feedback_mode: FeedbackMode
     """Feedback mode the robot is used with."""
+    lights_mode: LightsMode
+    """The turn signals' mode at power-up and at each new session."""
     track_m: float
     """Distance between the left and right wheels."""
     wheelbase_m: float
@@ -84,6 +86,7 @@ PROFILES: dict[str, RobotProfile] = {
         capabilities=Capability.DIFF_DRIVE | Capability.ENCODERS | Capability.EEPROM | Capability.TURN_SIGNALS | Capability.LOCKSTEP,
         kinematics="diff",
         feedback_mode=FeedbackMode.STREAM,
+        lights_mode=LightsMode.AUTO,
         track_m=0.2,
         wheelbase_m=0.0,
         wheel_diameter_m=0.064,
@@ -107,6 +110,7 @@ PROFILES: dict[str, RobotProfile] = {
         capabilities=Capability.DIFF_DRIVE | Capability.ENCODERS | Capability.EEPROM | Capability.LOCKSTEP,
         kinematics="diff",
         feedback_mode=FeedbackMode.LOCKSTEP,
+        lights_mode=LightsMode.AUTO,
         track_m=0.25,
         wheelbase_m=0.0,
         wheel_diameter_m=0.09,
@@ -130,6 +134,7 @@ PROFILES: dict[str, RobotProfile] = {
         capabilities=Capability.ACKERMANN | Capability.ENCODERS | Capability.STEERING_SERVO | Capability.ESC | Capability.EEPROM,
         kinematics="ackermann",
         feedback_mode=FeedbackMode.STREAM,
+        lights_mode=LightsMode.AUTO,
         track_m=0.16,
         wheelbase_m=0.26,
         wheel_diameter_m=0.065,

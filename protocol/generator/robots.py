@@ -14,6 +14,8 @@ from protocol.generator.wiring import Wiring
 from protocol.toml import tomllib
 
 KINEMATICS = ("diff", "ackermann")
+POWER_UP_LIGHTS = ("AUTO", "OFF")
+"""The LightsMode values a robot may power up in (MANUAL needs its masks from a host)."""
 
 
 @dataclass(frozen=True)
@@ -25,6 +27,8 @@ class Robot:
     capabilities: tuple[str, ...]
     kinematics: str
     feedback_mode: str
+    lights_mode: str
+    """LightsMode name of the turn signals at power-up (AUTO or OFF)."""
     track_mm: float
     wheelbase_mm: float
     config: tuple[tuple[Field, Any], ...]  # SET_CONFIG fields in wire order, with values
@@ -71,7 +75,7 @@ def parse(text: str, path: str, spec: Spec, contract: Hardware) -> tuple[Robot, 
     modes = [v.name for v in spec.enum("FeedbackMode").values]
     robots = []
     keys = {"name", "example", "doc", "board", "capabilities", "kinematics", "feedback_mode", "track_mm"}
-    keys |= {"wheelbase_mm", "config", "pid", "wiring"}
+    keys |= {"wheelbase_mm", "config", "pid", "wiring", "lights_mode"}
     lights = tuple(v.name for v in next(e for e in contract.enums if e.name == "Lights").values)
     for i, r in enumerate(data.get("robots", [])):
         entry = f"robots[{i}]"
@@ -87,6 +91,8 @@ def parse(text: str, path: str, spec: Spec, contract: Hardware) -> tuple[Robot, 
             raise SpecError(path, entry, f"kinematics must be one of {', '.join(KINEMATICS)}")
         if r["feedback_mode"] not in modes:
             raise SpecError(path, entry, f"feedback_mode must be one of {', '.join(modes)}")
+        if r["lights_mode"] not in POWER_UP_LIGHTS:
+            raise SpecError(path, entry, f"lights_mode must be one of {', '.join(POWER_UP_LIGHTS)}")
         if not r["example"].isidentifier():
             raise SpecError(path, entry, "example must be a C++ identifier (it names the sketch folder)")
         robots.append(
@@ -98,6 +104,7 @@ def parse(text: str, path: str, spec: Spec, contract: Hardware) -> tuple[Robot, 
                 capabilities=tuple(r["capabilities"]),
                 kinematics=r["kinematics"],
                 feedback_mode=r["feedback_mode"],
+                lights_mode=r["lights_mode"],
                 track_mm=float(r["track_mm"]),
                 wheelbase_mm=float(r["wheelbase_mm"]),
                 config=_values(path, f"{entry}.config", r["config"], config_fields),

@@ -127,6 +127,7 @@ def robot(r: Reader, data: dict[str, Any]) -> model.RobotFile:
         pid=_pid(r, v["pid"], channels),
         feedback=model.Feedback(**feedback),
         wiring=wiring,
+        lights=(v["lights"] or {}).get("mode") or "auto",
         lidar=_serial(v["sensors.lidar"]),
         imu=_serial(v["sensors.imu"]),
         camera=None if v["sensors.camera"] is None else model.Camera(**v["sensors.camera"]),

@@ -87,6 +87,7 @@ def generator_robot(robot: RobotFile, example: str) -> Robot:
         capabilities=tuple(c.name or "" for c in Capability if c in caps),
         kinematics="diff" if robot.drive.kind == "differential" else "ackermann",
         feedback_mode=robot.feedback_mode().name,
+        lights_mode=robot.lights_mode().name,
         track_mm=robot.track_m * 1000,
         wheelbase_mm=robot.geometry.wheelbase_m * 1000,
         config=tuple((f, value(getattr(config, f.name))) for f in spec.message("SET_CONFIG").fields),

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from protocol.generated.enums import Board, Capability, FeedbackMode, SafeState
+from protocol.generated.enums import Board, Capability, FeedbackMode, LightsMode, SafeState
 from protocol.generated.messages import SetConfig, SetPid
 from protocol.generated.profiles import Wiring
 from protocol.sensors import Mount, RobotSensors
@@ -198,6 +198,8 @@ class RobotFile:
     feedback: Feedback
     wiring: Wiring
     """Which pin serves which part (the type the reference profiles carry)."""
+    lights: str
+    """[lights] mode: auto or off."""
     lidar: SerialSensor | None
     imu: SerialSensor | None
     camera: Camera | None
@@ -226,6 +228,10 @@ class RobotFile:
 
     def feedback_mode(self) -> FeedbackMode:
         return FeedbackMode[self.feedback.mode.upper()]
+
+    def lights_mode(self) -> LightsMode:
+        """The turn signals' power-up mode ([lights] mode; AUTO without LEDs)."""
+        return LightsMode[self.lights.upper()]
 
     def capabilities(self) -> Capability:
         caps = Capability.EEPROM

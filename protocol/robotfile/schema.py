@@ -72,6 +72,7 @@ DECODING = ("x1", "x2", "x4")
 SAFE_STATES = ("coast", "brake", "ramp_down")
 FEEDBACK_MODES = ("stream", "lockstep")
 LIGHTS = ("front_left", "front_right", "rear_left", "rear_right")
+LIGHTS_MODES = ("auto", "off")
 MOUNT = (
     Key("x_m", "float", "m", "Mount position ahead of the pose point (REP-103).", 0.0, -10.0, 10.0),
     Key("y_m", "float", "m", "Mount position left of the pose point.", 0.0, -10.0, 10.0),
@@ -217,7 +218,18 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
         _ranged(Key("rate_hz", "float", "Hz", "FEEDBACK rate in stream mode.", 50.0), "feedback_hz", 1.0),
         Key("lockstep", "bool", "", "The firmware offers lockstep mode (capability LOCKSTEP).", False),
     ),
-    "lights": tuple(Key(n, "pin", "", f"Turn-signal LED {n.replace('_', ' ')}.") for n in LIGHTS),
+    "lights": (
+        *(Key(n, "pin", "", f"Turn-signal LED {n.replace('_', ' ')}.") for n in LIGHTS),
+        Key(
+            "mode",
+            "choice",
+            "",
+            "The turn signals at power-up and at each new session: from the motion state, or dark "
+            "(a host changes it with SET_LIGHTS).",
+            "auto",
+            choices=LIGHTS_MODES,
+        ),
+    ),
     "sensors.lidar": (Key("model", "str", "", "Lidar model (protocol/spec/sensors.toml)."), *_SERIAL, *MOUNT),
     "sensors.imu": (Key("model", "str", "", "IMU model (protocol/spec/sensors.toml)."), *_SERIAL, *MOUNT),
     "sensors.camera": (

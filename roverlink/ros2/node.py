@@ -40,6 +40,7 @@ from protocol.robotfile import reference_path
 from roverlink.ros2 import convert, fused
 from roverlink.ros2.diagnostics import DiagnosticsBuilder, Event, Snapshot, feedback_expected_s
 from roverlink.ros2.driver import Driver, RefusalLog, arm_hint, in_ros_words
+from roverlink.ros2.lights import LightsInterface
 from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for, odom_rate_for, robot_url
 from roverlink.ros2.sensors import ImuPublisher, LidarPublisher, SensorPublisher
 from roverlink.ros2.static_tf import StaticTf
@@ -151,6 +152,7 @@ class BridgeNode(Node):
         )
         self.fusion = fused.start(self, self.connection, p, self._emu_options(), (self.tf_pub, self._tf_type))
         self.pose_services = fused.PoseServices(self, self.connection, p, self.fusion)
+        self.lights = LightsInterface(self, self.connection)
         # The tick only notices an expired cmd_vel and renews the zero-speed hold, so 20 Hz is
         # enough: the SDK repeats live setpoints itself (in lockstep once per period, paced).
         self.create_timer(STREAM_TICK_S, self._tick)
@@ -291,6 +293,7 @@ class BridgeNode(Node):
         robot.on_feedback(self._on_feedback)
         robot.on_reset(self._on_reset)
         robot.on_failsafe(self._on_failsafe)
+        self.lights.connected(robot)
         ident = robot.identity
         self._event("connected", f"{ident.robot_name} firmware {ident.version}, boot_id 0x{ident.boot_id:08X}")
         self.get_logger().info(f"connected to {ident.robot_name} firmware {ident.version} on {robot.url}")

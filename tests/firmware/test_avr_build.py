@@ -97,6 +97,7 @@ public:
     void pid(uint8_t, proto::SetPid& out) { out = pid_; }
     uint8_t save_config() { return unknown; }
     void reset_odometry() { sink = 0; }
+    void request(const proto::HostToMcu&, uint8_t id) { sink = id; }
     void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq) {
         sink = static_cast<uint32_t>(left) ^ right ^ steer_mrad ^ seq;
     }
@@ -110,7 +111,8 @@ private:
 ClockBoard board;
 NullApp app;
 // Every capability: every setpoint kind is handled, none refused as UNSUPPORTED at compile time.
-static const Robot ROBOT = {"LinkSession", proto::Board::UNO, 0xFF, proto::FeedbackMode::STREAM, 0, 0};
+static const Robot ROBOT = {"LinkSession", proto::Board::UNO, 0xFF, proto::FeedbackMode::STREAM, 0, 0,
+                           proto::LightsMode::AUTO};
 Session<NullApp> session(Serial, board, ROBOT, app);
 const char TEXT[] ROVERLINK_PROGMEM = "link only: ";
 

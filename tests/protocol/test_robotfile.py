@@ -34,6 +34,7 @@ def test_reference_file_gives_the_reference_profile(name: str) -> None:
     assert robot.capabilities() == profile.capabilities
     assert robot.board_enum() == profile.board
     assert robot.feedback_mode() == profile.feedback_mode
+    assert robot.lights_mode() == profile.lights_mode
     assert (robot.track_m, robot.geometry.wheelbase_m) == (profile.track_m, profile.wheelbase_m)
     assert robot.sensors() == ROBOT_SENSORS[name]
     assert reference_path(name).read_text(encoding="utf-8").startswith("# DO NOT EDIT")
@@ -189,3 +190,10 @@ def test_a_footprint_point_must_be_finite() -> None:
     edited = text.replace(disc, "polygon_m = [[0.3, 0.1], [nan, 0.1], [0.0, -0.1]]", 1)
     robot, problems = parse(edited, "robot.toml")
     assert robot is None and any("polygon_m" in str(p) and "finite" in str(p) for p in problems), problems
+
+
+def test_lights_mode_names_what_is_allowed(tmp_path: Path) -> None:
+    path = _variant(tmp_path, "diffdrive-tb6612", '\nmode = "auto"', '\nmode = "blink"')
+    [problem] = _problems(path)
+    assert "lights.mode" in problem and "'blink'" in problem and "one of auto, off" in problem
+    assert load(_variant(tmp_path, "diffdrive-tb6612", '\nmode = "auto"', '\nmode = "off"')).lights_mode().name == "OFF"

@@ -53,3 +53,13 @@ def test_a_changed_file_reaches_the_header(tmp_path: Path) -> None:
 def test_names_the_firmware_cannot_report(name: str, problem: str) -> None:
     assert problem in name_problem(name)
     assert name_problem("x" * 24) == ""
+
+
+def test_the_lights_power_up_mode_reaches_the_header(tmp_path: Path) -> None:
+    text = reference_path("diffdrive-tb6612").read_text()
+    path = tmp_path / "dark.toml"
+    path.write_text(text.replace('\nmode = "auto"', '\nmode = "off"'))
+    header = profile_header(load(path), "DiffDriveTB6612", str(path))
+    assert "LightsMode LIGHTS_MODE = roverlink::proto::LightsMode::OFF;" in header
+    reference = profile_header(load(reference_path("diffdrive-tb6612")), "DiffDriveTB6612", "x.toml")
+    assert "LightsMode LIGHTS_MODE = roverlink::proto::LightsMode::AUTO;" in reference

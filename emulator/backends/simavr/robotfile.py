@@ -43,6 +43,7 @@ def file_profile(robot: RobotFile, example: str) -> Profile:
             capabilities=robot.capabilities(),
             kinematics=reference.kinematics,
             feedback_mode=robot.feedback_mode(),
+            lights_mode=robot.lights_mode(),
             track_m=robot.track_m,
             wheelbase_m=robot.geometry.wheelbase_m,
             wheel_diameter_m=config.wheel_diameter_um / 1e6,

@@ -101,7 +101,8 @@ def render(r: Robot) -> str:
     feedback = {"mode": r.feedback_mode.lower(), "rate_hz": float(c("feedback_hz"))}
     o += _section("feedback", feedback | {"lockstep": "LOCKSTEP" in r.capabilities})
     if w.leds:
-        o += _section("lights", {name: _pin(p) for name, p in w.leds})
+        lights: dict[str, object] = {name: _pin(p) for name, p in w.leds}
+        o += _section("lights", lights | {"mode": r.lights_mode.lower()})
     body = ROBOT_SENSORS[r.name]
     o += _sensors(body)
     o += _section("footprint", {"radius_m": body.footprint_radius_m, "x_m": body.footprint_x_m})

@@ -37,7 +37,7 @@ def _python(spec: Spec, robots: tuple[Robot, ...]) -> str:
     o = [_banner(spec, "#")]
     o.append('"""Reference robot profiles: firmware defaults, kinematics and feedback mode, by name."""\n\n')
     o.append("from __future__ import annotations\n\nfrom dataclasses import dataclass\n\n")
-    o.append("from protocol.generated.enums import Board, Capability, FeedbackMode, SafeState\n")
+    o.append("from protocol.generated.enums import Board, Capability, FeedbackMode, LightsMode, SafeState\n")
     o.append("from protocol.generated.messages import SetConfig, SetPid\n\n\n")
     o.extend(_py_class(*c) for c in _PY_CLASSES)
     o[-1] = o[-1].rstrip("\n") + "\n"
@@ -50,6 +50,7 @@ def _python(spec: Spec, robots: tuple[Robot, ...]) -> str:
         o.append(f'        name="{r.name}",\n        example="{r.example}",\n        doc={r.doc!r},\n')
         o.append(f"        board=Board.{r.board},\n        capabilities={caps},\n")
         o.append(f'        kinematics="{r.kinematics}",\n        feedback_mode=FeedbackMode.{r.feedback_mode},\n')
+        o.append(f"        lights_mode=LightsMode.{r.lights_mode},\n")
         o.append(f"        track_m={num(r.track_mm / 1000)},\n        wheelbase_m={num(r.wheelbase_mm / 1000)},\n")
         o.append(f"        wheel_diameter_m={num(r.value('wheel_diameter_um') / 1e6)},\n")
         o.append(f"        encoder_cpr={r.value('encoder_cpr')},\n")
@@ -103,6 +104,7 @@ _PY_CLASSES: tuple[tuple[str, str, tuple[tuple[str, str, str], ...], str], ...] 
             ("capabilities", "Capability", "Capabilities the example reports."),
             ("kinematics", "str", '"diff" or "ackermann".'),
             ("feedback_mode", "FeedbackMode", "Feedback mode the robot is used with."),
+            ("lights_mode", "LightsMode", "The turn signals' mode at power-up and at each new session."),
             ("track_m", "float", "Distance between the left and right wheels."),
             ("wheelbase_m", "float", "Distance between the axles (Ackermann; 0 for diff-drive)."),
             ("wheel_diameter_m", "float", "Driven wheel diameter."),
@@ -211,7 +213,9 @@ def profile_header(spec: Spec, r: Robot, source: str | None = None) -> str:
     o.append(f"static const uint16_t CAPABILITIES = {caps};\n")
     o.append(
         "static const roverlink::proto::FeedbackMode FEEDBACK_MODE = "
-        f"roverlink::proto::FeedbackMode::{r.feedback_mode};\n\n"
+        f"roverlink::proto::FeedbackMode::{r.feedback_mode};\n"
+        "static const roverlink::proto::LightsMode LIGHTS_MODE = "
+        f"roverlink::proto::LightsMode::{r.lights_mode};  // turn signals at power-up\n\n"
     )
     o.append(_cpp_pins(r.wiring, wiring_from))
     o.append(_cpp_pwm(r))

@@ -27,7 +27,9 @@ require_ros()
 
 from bridge_harness import ROOT, BridgeProcess, Probe, logged, stamp_s, values, yaw  # noqa: E402
 from rcl_interfaces.srv import GetParameters  # noqa: E402
-from std_srvs.srv import SetBool  # noqa: E402
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
+from std_msgs.msg import String  # noqa: E402
+from std_srvs.srv import SetBool, Trigger  # noqa: E402
 
 from host_sdk.profiles import get_profile  # noqa: E402
 from host_sdk.robot_description import RobotDescription  # noqa: E402
@@ -334,3 +336,40 @@ def test_sigint_stops_disarms_and_exits(bridge: Bridge) -> None:
     log = proc.log()
     assert "robot stopped, disarmed and closed" in log
     assert "Traceback" not in log
+
+
+def test_lights_topic_state_and_service(bridge: Bridge) -> None:
+    """~/lights sets the turn signals (SET_LIGHTS), ~/lights/state and ~/get_lights report them;
+    a robot without TURN_SIGNALS says so."""
+    probe = bridge.probe
+    latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    probe.subscribe("lights_state", String, "roverlink/lights/state", latched)
+    probe.clients["get_lights"] = probe.node.create_client(Trigger, "roverlink/get_lights")
+    if bridge.case.profile != "diffdrive-tb6612":  # the one reference robot with turn signals
+        answer = probe.call("get_lights")
+        assert not answer.success and "TURN_SIGNALS" in answer.message
+        return
+    first = probe.wait_message("lights_state")
+    assert first.data.startswith("auto lit=")  # the power-up mode, published on connection
+    command = probe.node.create_publisher(String, "roverlink/lights", 10)
+
+    def send(text: str, expected: str) -> Any:
+        """Publish `text` until a state that starts with `expected` comes back (the topic may drop
+        the first ones before it matches, and repeats of an earlier command may answer first)."""
+        t = time.monotonic()
+        msg = String()
+        msg.data = text
+
+        def answered() -> Any:
+            return next((r.msg for r in probe.since("lights_state", t) if r.msg.data.startswith(expected)), None)
+
+        return wait_until(answered, 10, f"the lights state after {text!r}", step=lambda: command.publish(msg))
+
+    send("manual steady=front_left slow=rear", "manual steady=front_left slow=rear fast=- lit=")
+    answer = probe.call("get_lights")
+    assert answer.success and answer.message.startswith("manual steady=front_left slow=rear fast=- lit=")
+    assert "front_left" in answer.message.split("lit=")[1]  # steady: lit at any instant
+    send("off", "off lit=-")
+    assert probe.call("get_lights").message == "off lit=-"
+    send("auto", "auto lit=")
+    assert probe.call("get_lights").message.startswith("auto lit=")

@@ -1,5 +1,5 @@
 """The conformance suite's board scenarios: duplicate requests, encoder faults, EEPROM save and
-fallback, the ESC's arming window, the turn-signal LEDs."""
+fallback, the ESC's arming window, the turn-signal LEDs and the host's choice of them."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from conformance_backends import Host, wire
 from conformance_scenarios import BOOT_TIMEOUT_MS, TICK_MS, boot, tick_origin
 
 from host_sdk import messages
-from protocol.generated.enums import FailsafeReason, IdentityReason, Status
+from protocol.generated.enums import FailsafeReason, IdentityReason, LightsMode, Status
 from protocol.generated.profiles import PROFILES
 from tests.support.hostlink import hello
 
@@ -304,3 +304,89 @@ def sc_leds(h: Host) -> dict[str, object]:
         hi = t0 + int((starts[i + 1] if i + 1 < len(starts) else (end - t0) / 1000) * 1000)
         masks[name] = sorted({mask for t, mask in leds if lo <= t < hi})
     return {"changes": changes, "masks": masks}
+
+
+# The host's lights (SET_LIGHTS): one phase a blink period long each, on the same schedule as
+# sc_leds. MANUAL here: front left steady, rear left slow, rear right fast (1 | 4 | 8).
+HOST_LIGHTS_MANUAL = messages.SetLights(LightsMode.MANUAL, steady=1, slow=4, fast=8)
+HOST_LIGHTS_PHASES: tuple[str, ...] = (
+    "auto",  # DISARMED, the power-up mode
+    "off",  # SET_LIGHTS(OFF)
+    "manual",  # SET_LIGHTS(MANUAL, ...)
+    "manual_armed",  # ARM, turning left: the host's lamps, not the left pair
+    "failsafe",  # silence: FAILSAFE blinks all four fast in every mode
+    "new_session",  # HELLO: back to the power-up mode (DISARMED: front and rear alternate)
+)
+
+
+HOST_LIGHTS_WATCHDOG_MS = PROFILES["diffdrive-tb6612"].config.watchdog_ms
+"""The failsafe phase's masks are read from when the watchdog has latched FAILSAFE."""
+
+
+def sc_host_lights(h: Host) -> dict[str, object]:
+    """SET_LIGHTS and GET_LIGHTS (docs/protocol.md, LightsMode): each mode's answer, LIGHTS_STATE
+    as the board reports it, and the LED pins in each phase."""
+    h.pin_log = []
+    b = boot(h)
+    out: dict[str, object] = {}
+    out["idle_set"] = wire(h.request(messages.SetLights(LightsMode.OFF, 0, 0, 0)))  # NACK(NO_SESSION)
+    h.request(hello())
+    held: tuple[int, int] | None = None
+
+    def hold(until_us: int) -> None:
+        while h.b.now_us < until_us:
+            if held is None:
+                h.step()
+            else:
+                h.send(messages.SetWheelSpeeds(*held))
+                h.run_ms(TICK_MS)
+
+    h.wait_for(messages.Feedback, 200, lambda m: m.tick >= 5)
+    t0 = tick_origin(h)
+    starts: list[float] = []
+    for i, name in enumerate(HOST_LIGHTS_PHASES):
+        hold(t0 + (SCHEDULE_OFFSET_MS + i * BLINK_PERIOD_MS) * 1000)
+        starts.append((h.b.now_us - t0) / 1000)
+        if name == "off":
+            out["set_off"] = wire(h.request(messages.SetLights(LightsMode.OFF, 0, 0, 0)))
+        elif name == "manual":
+            out["set_manual"] = wire(h.request(HOST_LIGHTS_MANUAL))
+        elif name == "manual_armed":
+            h.request(messages.Arm(b.boot_id))
+            held = (100, 300)
+        elif name == "failsafe":
+            held = None
+            h.wait_for(messages.Feedback, 1000, lambda m: bool(m.status & Status.FAILSAFE))
+            # The host's choice outlives the failsafe (which lamps are lit depends on when it came).
+            state = h.request(messages.GetLights())
+            assert isinstance(state, messages.LightsState)
+            out["state_failsafe"] = (state.mode, state.steady, state.slow, state.fast)
+            continue
+        elif name == "new_session":
+            h.seq = 100  # the number of setpoints sent so far depends on when the boot was seen
+            h.request(hello())
+        # 3 ticks in (the request applied, 4 ticks before the fast blink's edge): what the board reports.
+        h.run_ms(3 * TICK_MS)
+        out[f"state_{name}"] = wire(h.request(messages.GetLights()))
+    end = t0 + (SCHEDULE_OFFSET_MS + len(HOST_LIGHTS_PHASES) * BLINK_PERIOD_MS) * 1000
+    hold(end)
+    log = h.pin_log
+    leds = [(t, q.leds) for (t, q), (_, nxt) in itertools.pairwise(log) if nxt.leds == q.leds]
+    masks: dict[str, list[int]] = {}
+    for i, name in enumerate(HOST_LIGHTS_PHASES):
+        settle = HOST_LIGHTS_WATCHDOG_MS if name == "failsafe" else 0
+        lo = t0 + int((starts[i] + settle + 3 * TICK_MS) * 1000)
+        hi = t0 + int((starts[i + 1] if i + 1 < len(starts) else (end - t0) / 1000) * 1000)
+        masks[name] = sorted({mask for t, mask in leds if lo <= t < hi})
+    out["masks"] = masks
+    return out
+
+
+def sc_host_lights_unsupported(h: Host) -> dict[str, object]:
+    """A robot without TURN_SIGNALS (the PiCar) refuses SET_LIGHTS and GET_LIGHTS: NACK(UNSUPPORTED)."""
+    boot(h)
+    h.request(hello())
+    return {
+        "set": wire(h.request(messages.SetLights(LightsMode.AUTO, 0, 0, 0))),
+        "get": wire(h.request(messages.GetLights())),
+    }

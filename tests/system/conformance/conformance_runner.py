@@ -11,6 +11,8 @@ from conformance_board_scenarios import (
     sc_duplicate_arm,
     sc_encoder_fault,
     sc_esc_arming,
+    sc_host_lights,
+    sc_host_lights_unsupported,
     sc_leds,
     sc_save_config,
 )
@@ -47,10 +49,12 @@ SCENARIOS = {
     "config_fallback:invalid": sc_config_fallback,
     "esc_arming": sc_esc_arming,
     "leds": sc_leds,
+    "host_lights": sc_host_lights,
+    "host_lights_unsupported": sc_host_lights_unsupported,
     **{name: functools.partial(sc_turn_then_straight, turn=turn) for name, turn in TURNS_MM_S.items()},
 }
 PROFILE = "diffdrive-tb6612"
-SCENARIO_PROFILE = {"esc_arming": "picar"}
+SCENARIO_PROFILE = {"esc_arming": "picar", "host_lights_unsupported": "picar"}
 """Scenarios on another robot than PROFILE."""
 
 

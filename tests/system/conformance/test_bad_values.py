@@ -21,7 +21,7 @@ from host_sdk import messages
 from host_sdk.framing import Frame, FrameDecoder
 from protocol.codec.message import Delivery, Direction, Message
 from protocol.generated import oracle
-from protocol.generated.enums import IdentityReason, NackReason, Status
+from protocol.generated.enums import IdentityReason, LightsMode, NackReason, Status
 from protocol.generated.profiles import PROFILES
 from tests.support import hostlink
 from tests.support.hostlink import raw_frame
@@ -151,7 +151,7 @@ def test_the_requests_whose_values_only_the_session_checks_are_vetted_by_it() ->
     """The generated dispatcher leaves a reliable request's enum, flag and char values to its
     check_ranges() (docs/codec.md), so the firmware session must run check_ranges() before a
     handler uses such a message: Session::on_frame() does for SET_CONFIG (and SET_PID, which has
-    none). A request added to the spec with such a field needs the same before it is handled."""
+    none), Firmware::lights() for SET_LIGHTS. A request added to the spec with such a field needs the same before it is handled."""
     unchecked = {
         cls.NAME
         for cls in messages.ALL_MESSAGES
@@ -159,4 +159,41 @@ def test_the_requests_whose_values_only_the_session_checks_are_vetted_by_it() ->
         and cls.DELIVERY is Delivery.RELIABLE
         and any(f.kind in ("enum", "flags", "str") for f in cls.FIELDS)
     }
-    assert unchecked == {"SET_CONFIG"}
+    assert unchecked == {"SET_CONFIG", "SET_LIGHTS"}
+
+
+def lights_scenario(h: Host) -> dict[str, object]:
+    """SET_LIGHTS with an undefined mode (and a mask over 15): NACK(OUT_OF_RANGE, the field) on any
+    robot, before its capability is looked at; the lights unchanged."""
+    h.wait_for(messages.Identity, 2500, lambda m: m.reason == IdentityReason.BOOT)
+    h.request(hostlink.hello())
+    off = messages.SetLights(LightsMode.OFF, 0, 0, 0)
+    out: dict[str, object] = {
+        "mode_255": wire(raw_request(h, messages.SetLights, with_values(off, mode=255))),
+        "slow_16": wire(raw_request(h, messages.SetLights, with_values(off, slow=16))),
+    }
+    state = h.request(messages.GetLights())
+    out["state"] = wire(state) if isinstance(state, messages.LightsState) else None
+    return out
+
+
+@pytest.mark.parametrize("profile", ["diffdrive-tb6612", "picar"])
+@pytest.mark.parametrize("backend_name", BACKENDS)
+def test_set_lights_with_an_undefined_mode_is_out_of_range(backend_name: str, profile: str) -> None:
+    runs = {}
+    for name in ("python", backend_name):
+        b = make_backend(name, profile)
+        try:
+            runs[name] = lights_scenario(Host(b))
+        finally:
+            b.close()
+    got = runs[backend_name]
+    assert got == runs["python"]
+    assert _nack(got["mode_255"])[2:] == (NackReason.OUT_OF_RANGE, 0)
+    assert _nack(got["slow_16"])[2:] == (NackReason.OUT_OF_RANGE, 2)
+    if profile == "picar":
+        assert got["state"] is None  # NACK(UNSUPPORTED): no turn signals
+    else:
+        state = FrameDecoder().feed(bytes.fromhex(str(got["state"])))[0]
+        assert isinstance(state, Frame) and isinstance(state.message, messages.LightsState)
+        assert state.message.mode == LightsMode.AUTO  # unchanged: the power-up mode

@@ -11,7 +11,7 @@ from conformance_runner import PROFILE, reference, run, run_fresh
 from conformance_scenarios import TICK_MS, answer, decode
 
 from host_sdk import messages
-from protocol.generated.enums import FailsafeReason, NackReason, Status
+from protocol.generated.enums import FailsafeReason, LightsMode, NackReason, Status
 from protocol.generated.profiles import PROFILES
 
 
@@ -147,3 +147,43 @@ def test_turn_signal_leds(backend_name: str) -> None:
     worst = max(abs(t - rt) for (t, _), (rt, _) in zip(changes, ref_changes, strict=True))
     print(f"\n  {backend_name}: {len(changes)} LED changes, worst {worst:.0f} ms from the reference's")
     assert worst <= LED_TOL_MS
+
+
+HOST_LIGHTS_EXPECTED = {
+    # MANUAL: front left steady (1), rear left slow (4), rear right fast (8): every mix of the two blinks.
+    "auto": [3, 12],
+    "off": [0],
+    "manual": [1, 5, 9, 13],
+    "manual_armed": [1, 5, 9, 13],
+    "failsafe": [0, 15],
+    "new_session": [3, 12],
+}
+
+
+@pytest.mark.parametrize("backend_name", BACKENDS)
+def test_host_lights(backend_name: str) -> None:
+    got = run_fresh(backend_name, "host_lights")
+    ref = reference("host_lights")
+    assert ref["masks"] == HOST_LIGHTS_EXPECTED
+    assert got == ref
+    # What the reference itself must show: each mode applied and reported, lit as the pins showed it.
+    assert answer(got["idle_set"]) == ("NACK", NackReason.NO_SESSION, 0)
+    assert answer(got["set_off"])[0] == "ACK" and answer(got["set_manual"])[0] == "ACK"
+    states = {k: decode(v) for k, v in got.items() if k.startswith("state_") and isinstance(v, str)}
+    reported = {k: (s.mode, s.steady, s.slow, s.fast, s.lit) for k, s in states.items()}  # type: ignore[attr-defined]
+    manual = (LightsMode.MANUAL, 1, 4, 8, 13)  # 3 ticks into a period: both blinks on
+    assert reported == {
+        "state_auto": (LightsMode.AUTO, 0, 0, 0, 3),
+        "state_off": (LightsMode.OFF, 0, 0, 0, 0),
+        "state_manual": manual,
+        "state_manual_armed": manual,
+        "state_new_session": (LightsMode.AUTO, 0, 0, 0, 3),
+    }
+    assert got["state_failsafe"] == manual[:4]
+
+
+@pytest.mark.parametrize("backend_name", BACKENDS)
+def test_host_lights_refused_without_turn_signals(backend_name: str) -> None:
+    got = run_fresh(backend_name, "host_lights_unsupported")
+    assert got == reference("host_lights_unsupported")
+    assert answer(got["set"]) == answer(got["get"]) == ("NACK", NackReason.UNSUPPORTED, 0)

@@ -32,7 +32,8 @@ rl::AckermannBoard<rl::Timer1> board(motor_encoder, ESC, STEERING, robot_profile
 
 static const roverlink::Robot ROBOT = {robot_profile::NAME,          robot_profile::BOARD,
                                        robot_profile::CAPABILITIES,  robot_profile::FEEDBACK_MODE,
-                                       robot_profile::default_config, robot_profile::default_pid};
+                                       robot_profile::default_config, robot_profile::default_pid,
+                                       robot_profile::LIGHTS_MODE};
 roverlink::Firmware firmware(Serial, board, ROBOT);
 
 void motor_encoder_edge() { motor_encoder.on_edge(); }

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x3416EC25
+// spec hash: 0x1AECD35A
 // Defaults of the AckermannPiCar example (picar): Ackermann PiCar: Uno, brushless drive motor behind an ESC (calibrated at boot), one motor encoder, steering servo 65..125 degrees in 15 degree steps, stream feedback.
 // Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.
 #ifndef ROVERLINK_EXAMPLE_ACKERMANNPICAR_PROFILE_H
@@ -13,6 +13,7 @@ static const char NAME[] = "AckermannPiCar";
 static const roverlink::proto::Board BOARD = roverlink::proto::Board::UNO;
 static const uint16_t CAPABILITIES = roverlink::proto::Capability::ACKERMANN | roverlink::proto::Capability::ENCODERS | roverlink::proto::Capability::STEERING_SERVO | roverlink::proto::Capability::ESC | roverlink::proto::Capability::EEPROM;
 static const roverlink::proto::FeedbackMode FEEDBACK_MODE = roverlink::proto::FeedbackMode::STREAM;
+static const roverlink::proto::LightsMode LIGHTS_MODE = roverlink::proto::LightsMode::AUTO;  // turn signals at power-up
 
 // Wiring (robots.toml, [robots.wiring]): Arduino pin numbers (A<n> as its number on this board).
 static const uint8_t MOTOR_ENC_A = 2;  // motor encoder, channel a

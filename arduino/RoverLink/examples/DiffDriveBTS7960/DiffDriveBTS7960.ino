@@ -27,7 +27,8 @@ rl::DiffDriveBoard<rl::Bts7960Motor> board(left_motor, right_motor, left_encoder
 
 static const roverlink::Robot ROBOT = {robot_profile::NAME,          robot_profile::BOARD,
                                        robot_profile::CAPABILITIES,  robot_profile::FEEDBACK_MODE,
-                                       robot_profile::default_config, robot_profile::default_pid};
+                                       robot_profile::default_config, robot_profile::default_pid,
+                                       robot_profile::LIGHTS_MODE};
 roverlink::Firmware firmware(Serial, board, ROBOT);
 
 // One vector for the whole port: each encoder looks at its own pins; one that did not move sees

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x3416EC25
+// spec hash: 0x1AECD35A
 // Defaults of the DiffDriveBTS7960 example (diffdrive-bts7960): 3D-printed SLAM robot: Mega 2560, two BTS7960 drivers (RPWM/LPWM), 19.2:1 gearmotors with 64 CPR encoders, lockstep command/feedback.
 // Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.
 #ifndef ROVERLINK_EXAMPLE_DIFFDRIVEBTS7960_PROFILE_H
@@ -13,6 +13,7 @@ static const char NAME[] = "DiffDriveBTS7960";
 static const roverlink::proto::Board BOARD = roverlink::proto::Board::MEGA2560;
 static const uint16_t CAPABILITIES = roverlink::proto::Capability::DIFF_DRIVE | roverlink::proto::Capability::ENCODERS | roverlink::proto::Capability::EEPROM | roverlink::proto::Capability::LOCKSTEP;
 static const roverlink::proto::FeedbackMode FEEDBACK_MODE = roverlink::proto::FeedbackMode::LOCKSTEP;
+static const roverlink::proto::LightsMode LIGHTS_MODE = roverlink::proto::LightsMode::AUTO;  // turn signals at power-up
 
 // Wiring (robots.toml, [robots.wiring]): Arduino pin numbers (A<n> as its number on this board).
 static const uint8_t LEFT_RPWM = 2;  // left motor, BTS7960 rpwm

@@ -35,7 +35,8 @@ rl::DiffDriveBoard<rl::Tb6612Motor, rl::TurnSignalLeds> board(left_motor, right_
 
 static const roverlink::Robot ROBOT = {robot_profile::NAME,          robot_profile::BOARD,
                                        robot_profile::CAPABILITIES,  robot_profile::FEEDBACK_MODE,
-                                       robot_profile::default_config, robot_profile::default_pid};
+                                       robot_profile::default_config, robot_profile::default_pid,
+                                       robot_profile::LIGHTS_MODE};
 roverlink::Firmware firmware(Serial, board, ROBOT);
 
 void left_encoder_edge() { left_encoder.on_edge(); }

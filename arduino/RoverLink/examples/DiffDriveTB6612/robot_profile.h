@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x3416EC25
+// spec hash: 0x1AECD35A
 // Defaults of the DiffDriveTB6612 example (diffdrive-tb6612): ros_arduino_bridge-style differential-drive car: Mega 2560, TB6612 (or L298N), two quadrature encoders, four turn-signal LEDs, stream feedback.
 // Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.
 #ifndef ROVERLINK_EXAMPLE_DIFFDRIVETB6612_PROFILE_H
@@ -13,6 +13,7 @@ static const char NAME[] = "DiffDriveTB6612";
 static const roverlink::proto::Board BOARD = roverlink::proto::Board::MEGA2560;
 static const uint16_t CAPABILITIES = roverlink::proto::Capability::DIFF_DRIVE | roverlink::proto::Capability::ENCODERS | roverlink::proto::Capability::EEPROM | roverlink::proto::Capability::TURN_SIGNALS | roverlink::proto::Capability::LOCKSTEP;
 static const roverlink::proto::FeedbackMode FEEDBACK_MODE = roverlink::proto::FeedbackMode::STREAM;
+static const roverlink::proto::LightsMode LIGHTS_MODE = roverlink::proto::LightsMode::AUTO;  // turn signals at power-up
 
 // Wiring (robots.toml, [robots.wiring]): Arduino pin numbers (A<n> as its number on this board).
 static const uint8_t LEFT_PWM = 6;  // left motor, TB6612 pwm

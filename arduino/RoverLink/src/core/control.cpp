@@ -148,46 +148,49 @@ ROVERLINK_NOINLINE uint16_t esc_pulse_us(int16_t u, const proto::SetConfig& c) {
     return static_cast<uint16_t>(neutral + div_round(static_cast<int32_t>(u) * span, 1000));
 }
 
-uint8_t lights_for(proto::SessionState state, int16_t left, int16_t right, int16_t steer_cdeg, bool ackermann,
-                   uint8_t blink) {
+uint8_t lights_for(const proto::SetLights& host, proto::SessionState state, int16_t left, int16_t right,
+                   int16_t steer_cdeg, bool ackermann, uint8_t blink) {
     const uint8_t LEFT = Lights::FRONT_LEFT | Lights::REAR_LEFT;
     const uint8_t RIGHT = Lights::FRONT_RIGHT | Lights::REAR_RIGHT;
     const uint8_t FRONT = Lights::FRONT_LEFT | Lights::FRONT_RIGHT;
     const uint8_t REAR = Lights::REAR_LEFT | Lights::REAR_RIGHT;
     const uint8_t ALL = LEFT | RIGHT;
     const uint8_t half = BLINK_PERIOD_TICKS / 2;
-    const bool on = blink < half;
-    switch (state) {
-    case proto::SessionState::FAILSAFE: {
-        const uint8_t phase = on ? blink : static_cast<uint8_t>(blink - half);  // blink % half
-        return phase < BLINK_PERIOD_TICKS / 4 ? ALL : 0;                         // 3 Hz
+    const bool on = blink < half;                                          // 1.5 Hz
+    const bool fast = (on ? blink : static_cast<uint8_t>(blink - half)) < BLINK_PERIOD_TICKS / 4;  // 3 Hz
+    if (state == proto::SessionState::FAILSAFE) {
+        return fast ? ALL : 0;  // in every mode
     }
-    case proto::SessionState::ARMED: {
-        if (!on) {
-            return 0;
+    if (host.mode != proto::LightsMode::AUTO) {
+        if (host.mode != proto::LightsMode::MANUAL) {
+            return 0;  // OFF
         }
-        if (ackermann) {
-            return steer_cdeg > 0 ? LEFT : (steer_cdeg < 0 ? RIGHT : 0);
-        }
-        if ((left > 0 && right < 0) || (left < 0 && right > 0)) {
-            return ALL;  // rotating in place: hazard
-        }
-        // right - left > max(|left|, |right|) / 8, in integers: turn > floor(mag / 8).
-        const uint16_t ml = magnitude(left);
-        const uint16_t mr = magnitude(right);
-        const int32_t eighth = (ml > mr ? ml : mr) / 8u;
-        const int32_t turn = static_cast<int32_t>(right) - left;  // > 0: the heading turns left
-        if (turn > eighth) {
-            return LEFT;
-        }
-        if (-turn > eighth) {
-            return RIGHT;
-        }
+        return static_cast<uint8_t>(host.steady | (on ? host.slow : 0) | (fast ? host.fast : 0));
+    }
+    if (state != proto::SessionState::ARMED) {
+        return on ? FRONT : REAR;  // BOOT, IDLE, DISARMED: front and rear pairs alternate
+    }
+    if (!on) {
         return 0;
     }
-    default:  // BOOT, IDLE, DISARMED: front and rear pairs alternate
-        return on ? FRONT : REAR;
+    if (ackermann) {
+        return steer_cdeg > 0 ? LEFT : (steer_cdeg < 0 ? RIGHT : 0);
     }
+    if ((left > 0 && right < 0) || (left < 0 && right > 0)) {
+        return ALL;  // rotating in place: hazard
+    }
+    // right - left > max(|left|, |right|) / 8, in integers: turn > floor(mag / 8).
+    const uint16_t ml = magnitude(left);
+    const uint16_t mr = magnitude(right);
+    const int32_t eighth = (ml > mr ? ml : mr) / 8u;
+    const int32_t turn = static_cast<int32_t>(right) - left;  // > 0: the heading turns left
+    if (turn > eighth) {
+        return LEFT;
+    }
+    if (-turn > eighth) {
+        return RIGHT;
+    }
+    return 0;
 }
 
 }  // namespace control

@@ -80,12 +80,14 @@ int16_t steering_mrad(uint16_t cdeg, const proto::SetConfig& c);
 uint16_t servo_pulse_us(uint16_t cdeg, const proto::SetConfig& c);
 uint16_t esc_pulse_us(int16_t effort_permille, const proto::SetConfig& c);
 
-// Turn-signal lights (docs/firmware.md, "Lights"). `blink` counts control ticks modulo
-// BLINK_PERIOD_TICKS. `left`/`right` are the wheel speed targets in effect, `steer_cdeg` the servo
-// offset from centre (positive: left), used when `ackermann`.
+// Turn-signal lights (docs/firmware.md, "Lights"): FAILSAFE's fast blink in every mode, else as
+// `host` (SET_LIGHTS) says: in AUTO from the motion state, in OFF none, in MANUAL its steady, slow
+// (1.5 Hz) and fast (3 Hz) lamps. `blink` counts control ticks modulo BLINK_PERIOD_TICKS.
+// `left`/`right` are the wheel speed targets in effect, `steer_cdeg` the servo offset from centre
+// (positive: left), used when `ackermann`.
 static const uint8_t BLINK_PERIOD_TICKS = 66;  // 0.66 s at 100 Hz: 1.5 Hz
-uint8_t lights_for(proto::SessionState state, int16_t left, int16_t right, int16_t steer_cdeg, bool ackermann,
-                   uint8_t blink);
+uint8_t lights_for(const proto::SetLights& host, proto::SessionState state, int16_t left, int16_t right,
+                   int16_t steer_cdeg, bool ackermann, uint8_t blink);
 
 }  // namespace control
 }  // namespace roverlink

@@ -49,6 +49,7 @@ ROVERLINK_NOINLINE void Firmware::begin() {
     memset(&v_, 0, sizeof v_);  // all of the state is plain data
     Vars& v = v_;
     v.caps = robot_.capabilities;
+    v.lights_set.mode = robot_.lights_mode;
 
     // 1. Configuration: the example's defaults, replaced by a good EEPROM image.
     v.cfg = robot_.default_config();
@@ -84,7 +85,7 @@ ROVERLINK_NOINLINE void Firmware::begin() {
         session_.log(proto::LogLevel::WARN, text);
     }
     if (has(proto::Capability::TURN_SIGNALS)) {
-        v.lights = control::lights_for(session_.state(), 0, 0, 0, false, 0);
+        v.lights = lights_mask();
         board_.lights(v.lights);
     }
 }
@@ -137,6 +138,12 @@ ROVERLINK_NOINLINE void Firmware::session_actions(uint16_t a) {
     if (a & proto::Action::CLEAR_REASON) {
         v_.encoder_fault = false;
     }
+    if (a & proto::Action::ACCEPT_HELLO) {
+        // A new session starts from the power-up lights: nothing of the last host's stays.
+        proto::SetLights& l = v_.lights_set;
+        l.mode = robot_.lights_mode;
+        l.steady = l.slow = l.fast = 0;
+    }
     if (a & proto::Action::MOTORS_ENABLE) {
         for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
             v_.wheels[w].stalled = 0;
@@ -183,6 +190,47 @@ void Firmware::reset_odometry() {
     for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
         v_.wheels[w].count = 0;
     }
+}
+
+// SET_LIGHTS and GET_LIGHTS (the session did NO_SESSION and duplicates).
+void Firmware::request(const proto::HostToMcu& m, uint8_t id) {
+    static_assert(offsetof(proto::LightsState, mode) == 1 && sizeof(proto::SetLights) == 4 &&
+                      offsetof(proto::LightsState, lit) == 5,
+                  "LIGHTS_STATE must be req_seq, the SET_LIGHTS fields, lit");
+    uint8_t why = static_cast<uint8_t>(NackReason::UNSUPPORTED);
+    uint8_t detail = 0;
+    if (id == proto::SetLights::ID) {
+        // Ranges first, as for every request with a value the decoder leaves to them (the
+        // emulator's bad-value rule): an undefined mode is OUT_OF_RANGE on any robot.
+        const uint8_t bad = proto::check_ranges(m.set_lights);  // the mode's value too (docs/codec.md)
+        if (bad != proto::ALL_FIELDS_VALID) {
+            why = static_cast<uint8_t>(NackReason::OUT_OF_RANGE);
+            detail = bad;
+        } else if (has(proto::Capability::TURN_SIGNALS)) {
+            v_.lights_set = m.set_lights;  // the next tick shows it
+            why = 0;
+        }
+    } else if (id == proto::GetLights::ID) {
+        if (has(proto::Capability::TURN_SIGNALS)) {
+            proto::LightsState& s = session_.out().lights_state;
+            memcpy(&s.mode, &v_.lights_set, sizeof v_.lights_set);
+            s.lit = v_.lights;
+            session_.send_reply(proto::LightsState::ID, proto::LightsState::CRC_EXTRA,
+                                proto::LightsState::PAYLOAD_SIZE - 1);
+            return;
+        }
+    } else {
+        return;  // a message added to the spec that this firmware does not handle yet
+    }
+    session_.answer(why, detail);
+}
+
+// The lamps of this tick: control::lights_for() over the setting in force.
+uint8_t Firmware::lights_mask() const {
+    const Vars& v = v_;
+    return control::lights_for(v.lights_set, session_.state(), v.wheels[0].target, v.wheels[1].target,
+                               static_cast<int16_t>(v.servo_cdeg - v.cfg.steering_center_cdeg),
+                               has(proto::Capability::ACKERMANN), v.blink);
 }
 
 void Firmware::setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq) {
@@ -237,7 +285,6 @@ void Firmware::apply_config(const proto::SetConfig& c) {
     }
     v.cfg = c;
     v.mm_s_per_count = control::mm_s_per_count(c);
-    v.max_effort = static_cast<float>(c.max_effort_permille);
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -304,10 +351,7 @@ ROVERLINK_OUT_OF_LINE void Firmware::control_tick(uint16_t periods, uint32_t now
 
     // Lights from the motion state, blinking from the tick counter.
     if (has(proto::Capability::TURN_SIGNALS)) {
-        const uint8_t mask =
-            control::lights_for(session_.state(), v.wheels[0].target, v.wheels[1].target,
-                                static_cast<int16_t>(v.servo_cdeg - v.cfg.steering_center_cdeg),
-                                has(proto::Capability::ACKERMANN), v.blink);
+        const uint8_t mask = lights_mask();
         if (mask != v.lights) {
             v.lights = mask;
             board_.lights(mask);
@@ -361,7 +405,9 @@ uint8_t Firmware::tick_wheel(uint8_t w, int32_t raw, uint16_t periods, bool hold
             wh.integral = 0.0f;
             m = m_prev = 0;
         }
-        wh.effort = control::pid_step(*g, r, m, m_prev, v.max_effort, wh.integral, sat);
+        // The limit converted here, not kept as a float: Firmware stays within its 400 B of SRAM.
+        const float max_effort = static_cast<float>(v.cfg.max_effort_permille);
+        wh.effort = control::pid_step(*g, r, m, m_prev, max_effort, wh.integral, sat);
         if (sat) {
             flags |= WHEEL_SATURATED;
         }

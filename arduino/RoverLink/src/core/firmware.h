@@ -104,10 +104,10 @@ private:
         uint32_t boot_us;
         uint32_t ticks_skipped;
         float mm_s_per_count;      // derived from the config (apply_config)
-        float max_effort;
         Wheel wheels[proto::WHEEL_COUNT];
         control::Gains gains[proto::WHEEL_COUNT];
         proto::SetConfig cfg;
+        proto::SetLights lights_set;  // the mode and masks in force (SET_LIGHTS, else the power-up mode)
     };
 
     // -- the App interface of Session<Firmware> (session.h; config() is the public one) -------
@@ -117,6 +117,7 @@ private:
     void pid(uint8_t wheel, proto::SetPid& out) const;
     uint8_t save_config();
     void reset_odometry();
+    void request(const proto::HostToMcu& m, uint8_t id);
     void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq);
     uint8_t status_bits() const;
 
@@ -125,6 +126,7 @@ private:
     uint8_t driven_wheels() const;
 
     void motors_safe();
+    uint8_t lights_mask() const;
     void apply_config(const proto::SetConfig& c);
     void control_tick(uint16_t periods, uint32_t now);
     enum : uint8_t { WHEEL_RAMPING = 1, WHEEL_SATURATED = 2, WHEEL_STALLED = 4 };  // tick_wheel()

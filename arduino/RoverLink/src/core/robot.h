@@ -15,12 +15,13 @@ struct FirmwareVersion {
 };
 
 struct Robot {
-    const char* name;                                // IDENTITY.robot_name (ASCII, <= 24 chars)
+    const char* name;                                // IDENTITY.robot_name (ASCII, <= 24 chars; never null)
     proto::Board board;
     uint16_t capabilities;                           // proto::Capability bits
     proto::FeedbackMode default_feedback_mode;       // used before the first HELLO
     proto::SetConfig (*default_config)();            // EEPROM fallback (robot_profile.h)
     proto::SetPid (*default_pid)();
+    proto::LightsMode lights_mode;                   // turn signals at power-up and at each HELLO (AUTO or OFF)
 };
 
 }  // namespace roverlink

@@ -172,7 +172,8 @@ SessionCore::Kind SessionCore::kind_of(uint8_t id) {
                            kind_bits(proto::GetPid::ID, QUERY) | kind_bits(proto::GetConfig::ID, QUERY) |
                            kind_bits(proto::GetLinkStats::ID, QUERY) | kind_bits(proto::SetPid::ID, RELIABLE) |
                            kind_bits(proto::SetConfig::ID, RELIABLE) | kind_bits(proto::SaveConfig::ID, RELIABLE) |
-                           kind_bits(proto::ResetOdometry::ID, RELIABLE);
+                           kind_bits(proto::ResetOdometry::ID, RELIABLE) | kind_bits(proto::SetLights::ID, RELIABLE) |
+                           kind_bits(proto::GetLights::ID, QUERY);
     static_assert(KINDS != 0xFFFFFFFFUL, "a request id is outside KIND_BASE .. KIND_BASE + 15");
     const uint8_t i = static_cast<uint8_t>(id - KIND_BASE);
     return i < 16 ? static_cast<Kind>((KINDS >> (2 * i)) & 3u) : PLAIN;  // HELLO, PING, setpoints
@@ -252,7 +253,7 @@ ROVERLINK_OUT_OF_LINE void SessionCore::send_identity(proto::IdentityReason reas
     m.capabilities = robot_.capabilities;
     m.boot_id = v.boot_id;
     m.reason = reason;
-    m.hello_seq = reason != proto::IdentityReason::BOOT ? v.req_seq : 0;
+    m.hello_seq = v.req_seq;  // the HELLO's; 0 at the boot announcement (reset() zeroed it, no frame yet)
     // Granted values; outside a session, those in force in IDLE (stream at the config's rate).
     if (reason == proto::IdentityReason::HELLO_ACCEPTED) {
         m.watchdog_ms = v.watchdog_ms;
@@ -264,12 +265,10 @@ ROVERLINK_OUT_OF_LINE void SessionCore::send_identity(proto::IdentityReason reas
         m.feedback_hz = config.feedback_hz;
     }
     uint8_t n = 0;
-    const char* name = robot_.name;
-    if (name != 0) {
-        while (n < sizeof m.robot_name && name[n] != '\0') {
-            m.robot_name[n] = name[n];
-            ++n;
-        }
+    const char* name = robot_.name;  // never null (robot.h)
+    while (n < sizeof m.robot_name && name[n] != '\0') {
+        m.robot_name[n] = name[n];
+        ++n;
     }
     link_.send_payload(proto::Identity::ID, proto::Identity::CRC_EXTRA,
                        static_cast<uint8_t>(proto::Identity::PAYLOAD_SIZE + n));
@@ -313,10 +312,9 @@ ROVERLINK_OUT_OF_LINE void SessionCore::send_link_stats() {
                       S::PAYLOAD_SIZE == 1 + sizeof(DecoderStats) + sizeof(Link::Counts),
                   "LINK_STATS must be req_seq, DecoderStats, Link::Counts");
     S& s = link_.out().link_stats;
-    s.req_seq = v_.req_seq;
     memcpy(&s.frames_ok, &link_.decoder().stats(), sizeof(DecoderStats));
     memcpy(&s.seq_gaps, &link_.counts(), sizeof(Link::Counts));
-    link_.send_payload(S::ID, S::CRC_EXTRA, S::PAYLOAD_SIZE);
+    send_reply(S::ID, S::CRC_EXTRA, S::PAYLOAD_SIZE - 1);  // + req_seq
 }
 
 uint8_t SessionCore::session_status() const {

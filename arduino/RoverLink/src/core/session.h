@@ -21,6 +21,10 @@
 //       into `out`, which is in the TX frame buffer: send nothing meanwhile
 //   uint8_t save_config();                         SAVE_CONFIG outside ARMED: 0 or a NackReason
 //   void reset_odometry();                         RESET_ODOMETRY
+//   void request(const proto::HostToMcu& m, uint8_t id);
+//       Any other host request (SET_LIGHTS, GET_LIGHTS; its ranges unchecked), after the rules of
+//       its kind (duplicates, NO_SESSION): answered with answer(), or with a reply built in out()
+//       and sent by send_reply(); an id the App does not know is left unanswered.
 //   void setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq);
 //       A setpoint accepted in ARMED (ranges checked); the next control tick applies it.
 //   uint8_t status_bits() const;                   its FEEDBACK status bits (SATURATED, ...)
@@ -61,6 +65,12 @@ public:
     bool in_session() const { return v_.state > proto::SessionState::IDLE; }
     bool armed() const { return v_.state == proto::SessionState::ARMED; }
     const Link& link() const { return link_; }
+
+    // For App::request(): the answer to the request being handled (remembered for its
+    // duplicates), or a reply: req_seq, then the `len` bytes already in out() after it.
+    void answer(uint8_t reason, uint8_t detail);  // 0: ACK, else NACK(reason, detail)
+    void send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t len);
+    proto::McuToHost& out() { return link_.out(); }
 
     // micros(), counting its wraps for IDENTITY.uptime_ms. The session reads the time only through
     // it: one call of the virtual micros() instead of one per reader.
@@ -120,14 +130,11 @@ protected:
     // duplicate rule, NO_SESSION in IDLE); false: already answered, stop.
     bool request(uint8_t msg_id, uint8_t seq);
     static Kind kind_of(uint8_t msg_id);
-    void answer(uint8_t reason, uint8_t detail);       // to the current request; remembered
     void send_answer(uint8_t reason, uint8_t detail);  // 0: ACK, else NACK(reason, detail)
     void send_identity(proto::IdentityReason reason, const proto::SetConfig& config);
     void accept_hello(const proto::Hello& h, const proto::SetConfig& config);
     void send_pong(const proto::Ping& m);
     void send_link_stats();
-    // A GET_* answer: req_seq, then the `len` bytes already in link_.reply().
-    void send_reply(uint8_t msg_id, uint8_t crc_extra, uint8_t len);
     uint8_t session_status() const;
     bool feedback_due(bool applied, uint8_t config_hz);
     void send_feedback(proto::Feedback& f, uint8_t app_status);
@@ -335,7 +342,10 @@ void Session<App>::on_frame() {
             bad_field = proto::check_ranges(s);
             capability = proto::Capability::ACKERMANN;
         } else {
-            return;  // a message added to the spec that this firmware does not handle yet
+            // The robot's own requests (SET_LIGHTS, GET_LIGHTS), their kind's rules done: the App
+            // checks and answers them (answer() or send_reply()); the session only routes them.
+            app_.request(m, id);
+            return;
         }
         if (!has(capability)) {
             send_answer(static_cast<uint8_t>(proto::NackReason::UNSUPPORTED), 0);

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x3416EC25
+// spec hash: 0x1AECD35A
 #include "roverlink_protocol.h"
 
 namespace roverlink {
@@ -59,6 +59,13 @@ static_assert(GetConfig::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_CONFIG payload exceeds
 static_assert(SaveConfig::PAYLOAD_MAX <= MAX_PAYLOAD, "SAVE_CONFIG payload exceeds MAX_PAYLOAD");
 static_assert(ResetOdometry::PAYLOAD_MAX <= MAX_PAYLOAD, "RESET_ODOMETRY payload exceeds MAX_PAYLOAD");
 static_assert(GetLinkStats::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_LINK_STATS payload exceeds MAX_PAYLOAD");
+static_assert(SetLights::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_LIGHTS payload exceeds MAX_PAYLOAD");
+static_assert(offsetof(SetLights, mode) == 0, "SET_LIGHTS.mode is not at its wire offset");
+static_assert(offsetof(SetLights, steady) == 1, "SET_LIGHTS.steady is not at its wire offset");
+static_assert(offsetof(SetLights, slow) == 2, "SET_LIGHTS.slow is not at its wire offset");
+static_assert(offsetof(SetLights, fast) == 3, "SET_LIGHTS.fast is not at its wire offset");
+static_assert(sizeof(SetLights) == SetLights::PAYLOAD_MAX, "SET_LIGHTS is not its payload's image");
+static_assert(GetLights::PAYLOAD_MAX <= MAX_PAYLOAD, "GET_LIGHTS payload exceeds MAX_PAYLOAD");
 static_assert(SetWheelSpeeds::PAYLOAD_MAX <= MAX_PAYLOAD, "SET_WHEEL_SPEEDS payload exceeds MAX_PAYLOAD");
 static_assert(offsetof(SetWheelSpeeds, left_mm_s) == 0, "SET_WHEEL_SPEEDS.left_mm_s is not at its wire offset");
 static_assert(offsetof(SetWheelSpeeds, right_mm_s) == 2, "SET_WHEEL_SPEEDS.right_mm_s is not at its wire offset");
@@ -153,6 +160,14 @@ static_assert(offsetof(LinkStats, bytes_discarded) - offsetof(LinkStats, frames_
 static_assert(offsetof(LinkStats, duplicates) - offsetof(LinkStats, seq_gaps) == offsetof(LinkCounters, duplicates), "LINK_STATS.duplicates is not where LinkCounters keeps it");
 static_assert(offsetof(LinkStats, frames_sent) - offsetof(LinkStats, seq_gaps) == offsetof(LinkCounters, frames_sent), "LINK_STATS.frames_sent is not where LinkCounters keeps it");
 static_assert(offsetof(LinkStats, rx_overruns) - offsetof(LinkStats, seq_gaps) == offsetof(LinkCounters, rx_overruns), "LINK_STATS.rx_overruns is not where LinkCounters keeps it");
+static_assert(LightsState::PAYLOAD_MAX <= MAX_PAYLOAD, "LIGHTS_STATE payload exceeds MAX_PAYLOAD");
+static_assert(offsetof(LightsState, req_seq) == 0, "LIGHTS_STATE.req_seq is not at its wire offset");
+static_assert(offsetof(LightsState, mode) == 1, "LIGHTS_STATE.mode is not at its wire offset");
+static_assert(offsetof(LightsState, steady) == 2, "LIGHTS_STATE.steady is not at its wire offset");
+static_assert(offsetof(LightsState, slow) == 3, "LIGHTS_STATE.slow is not at its wire offset");
+static_assert(offsetof(LightsState, fast) == 4, "LIGHTS_STATE.fast is not at its wire offset");
+static_assert(offsetof(LightsState, lit) == 5, "LIGHTS_STATE.lit is not at its wire offset");
+static_assert(sizeof(LightsState) == LightsState::PAYLOAD_MAX, "LIGHTS_STATE is not its payload's image");
 static_assert(Feedback::PAYLOAD_MAX <= MAX_PAYLOAD, "FEEDBACK payload exceeds MAX_PAYLOAD");
 static_assert(offsetof(Feedback, boot_id) == 0, "FEEDBACK.boot_id is not at its wire offset");
 static_assert(offsetof(Feedback, mcu_time_us) == 4, "FEEDBACK.mcu_time_us is not at its wire offset");
@@ -175,8 +190,8 @@ static_assert(sizeof(DecoderCounters) == 28, "DecoderCounters must have no paddi
 static_assert(sizeof(LinkCounters) == 16, "LinkCounters must have no padding");
 
 // msg_id, CRC_EXTRA, PAYLOAD_SIZE, PAYLOAD_MAX of every message: host to mcu first.
-static const uint8_t MESSAGE_COUNT = 22;
-static const uint8_t HOST_TO_MCU_COUNT = 13;
+static const uint8_t MESSAGE_COUNT = 25;
+static const uint8_t HOST_TO_MCU_COUNT = 15;
 static const uint8_t MESSAGES[MESSAGE_COUNT][4] ROVERLINK_PROGMEM = {
     {Hello::ID, Hello::CRC_EXTRA, Hello::PAYLOAD_SIZE, Hello::PAYLOAD_MAX},
     {Ping::ID, Ping::CRC_EXTRA, Ping::PAYLOAD_SIZE, Ping::PAYLOAD_MAX},
@@ -189,6 +204,8 @@ static const uint8_t MESSAGES[MESSAGE_COUNT][4] ROVERLINK_PROGMEM = {
     {SaveConfig::ID, SaveConfig::CRC_EXTRA, SaveConfig::PAYLOAD_SIZE, SaveConfig::PAYLOAD_MAX},
     {ResetOdometry::ID, ResetOdometry::CRC_EXTRA, ResetOdometry::PAYLOAD_SIZE, ResetOdometry::PAYLOAD_MAX},
     {GetLinkStats::ID, GetLinkStats::CRC_EXTRA, GetLinkStats::PAYLOAD_SIZE, GetLinkStats::PAYLOAD_MAX},
+    {SetLights::ID, SetLights::CRC_EXTRA, SetLights::PAYLOAD_SIZE, SetLights::PAYLOAD_MAX},
+    {GetLights::ID, GetLights::CRC_EXTRA, GetLights::PAYLOAD_SIZE, GetLights::PAYLOAD_MAX},
     {SetWheelSpeeds::ID, SetWheelSpeeds::CRC_EXTRA, SetWheelSpeeds::PAYLOAD_SIZE, SetWheelSpeeds::PAYLOAD_MAX},
     {SetAckermann::ID, SetAckermann::CRC_EXTRA, SetAckermann::PAYLOAD_SIZE, SetAckermann::PAYLOAD_MAX},
     {Identity::ID, Identity::CRC_EXTRA, Identity::PAYLOAD_SIZE, Identity::PAYLOAD_MAX},
@@ -198,6 +215,7 @@ static const uint8_t MESSAGES[MESSAGE_COUNT][4] ROVERLINK_PROGMEM = {
     {Pid::ID, Pid::CRC_EXTRA, Pid::PAYLOAD_SIZE, Pid::PAYLOAD_MAX},
     {Config::ID, Config::CRC_EXTRA, Config::PAYLOAD_SIZE, Config::PAYLOAD_MAX},
     {LinkStats::ID, LinkStats::CRC_EXTRA, LinkStats::PAYLOAD_SIZE, LinkStats::PAYLOAD_MAX},
+    {LightsState::ID, LightsState::CRC_EXTRA, LightsState::PAYLOAD_SIZE, LightsState::PAYLOAD_MAX},
     {Feedback::ID, Feedback::CRC_EXTRA, Feedback::PAYLOAD_SIZE, Feedback::PAYLOAD_MAX},
     {Log::ID, Log::CRC_EXTRA, Log::PAYLOAD_SIZE, Log::PAYLOAD_MAX},
 };
@@ -262,6 +280,8 @@ DispatchResult unpack_mcu_to_host(const MessageBounds& b, uint8_t msg_id, const 
         ok = values_defined(m.nack);
     } else if (msg_id == Config::ID) {
         ok = values_defined(m.config);
+    } else if (msg_id == LightsState::ID) {
+        ok = values_defined(m.lights_state);
     } else if (msg_id == Feedback::ID) {
         ok = values_defined(m.feedback);
     } else if (msg_id == Log::ID) {
@@ -349,6 +369,24 @@ uint8_t check_ranges(const SetConfig& m) {
     if (m.esc_arm_ms > 10000u) return 19;
     // feedback_hz: 1..100
     if (m.feedback_hz < 1u || m.feedback_hz > 100u) return 20;
+    return ALL_FIELDS_VALID;
+}
+
+bool values_defined(const SetLights& m) {
+    // mode: LightsMode
+    if (!is_valid_LightsMode(static_cast<uint8_t>(m.mode))) return false;
+    return true;
+}
+
+uint8_t check_ranges(const SetLights& m) {
+    // mode: LightsMode
+    if (!is_valid_LightsMode(static_cast<uint8_t>(m.mode))) return 0;
+    // steady, slow, fast: 0..15
+    for (uint8_t i = 0; i < 3; ++i) {
+        uint8_t v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(SetLights, steady) + i * sizeof v, sizeof v);
+        if (v > 15u) return static_cast<uint8_t>(1 + i);
+    }
     return ALL_FIELDS_VALID;
 }
 
@@ -469,6 +507,24 @@ uint8_t check_ranges(const Config& m) {
     if (m.esc_arm_ms > 10000u) return 20;
     // feedback_hz: 1..100
     if (m.feedback_hz < 1u || m.feedback_hz > 100u) return 21;
+    return ALL_FIELDS_VALID;
+}
+
+bool values_defined(const LightsState& m) {
+    // mode: LightsMode
+    if (!is_valid_LightsMode(static_cast<uint8_t>(m.mode))) return false;
+    return true;
+}
+
+uint8_t check_ranges(const LightsState& m) {
+    // mode: LightsMode
+    if (!is_valid_LightsMode(static_cast<uint8_t>(m.mode))) return 1;
+    // steady, slow, fast, lit: 0..15
+    for (uint8_t i = 0; i < 4; ++i) {
+        uint8_t v;
+        memcpy(&v, reinterpret_cast<const uint8_t*>(&m) + offsetof(LightsState, steady) + i * sizeof v, sizeof v);
+        if (v > 15u) return static_cast<uint8_t>(2 + i);
+    }
     return ALL_FIELDS_VALID;
 }
 

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x3416EC25
+// spec hash: 0x1AECD35A
 // RoverLink protocol: constants, enums, message structs (packed wire images) and their checks,
 // pack/unpack, dispatch, state table.
 #ifndef ROVERLINK_GENERATED_PROTOCOL_H
@@ -19,7 +19,7 @@ namespace roverlink {
 namespace proto {
 
 static const uint8_t PROTOCOL_VERSION = 2;
-static const uint32_t SPEC_HASH = 0x3416EC25UL;
+static const uint32_t SPEC_HASH = 0x1AECD35AUL;
 static const uint8_t MAX_PAYLOAD = 64;
 static const uint8_t MAX_BODY = 68;  // msg_id + seq + payload + crc
 static const uint8_t MAX_FRAME = 70;  // COBS-encoded body + delimiter
@@ -64,7 +64,7 @@ struct Capability {
         STEERING_SERVO = 0x8,  // A steering servo.
         ESC = 0x10,  // Drive motor behind an RC electronic speed controller.
         EEPROM = 0x20,  // SAVE_CONFIG persists the configuration.
-        TURN_SIGNALS = 0x40,  // Turn-signal LEDs driven by motion state.
+        TURN_SIGNALS = 0x40,  // Four turn-signal LEDs: driven by motion state, or as SET_LIGHTS chooses (GET_LIGHTS reports them).
         LOCKSTEP = 0x80,  // Lockstep feedback mode.
     };
     static const uint16_t MASK = 0xFF;
@@ -138,6 +138,16 @@ enum class IdentityReason : uint8_t {
     HELLO_REJECTED = 2,  // Answer to a HELLO with another protocol version or spec hash: no session.
 };
 inline bool is_valid_IdentityReason(uint8_t value) {
+    return value <= 2;
+}
+
+// Who drives the turn signals (SET_LIGHTS). Whatever the mode, FAILSAFE shows all four blinking fast; a reset and an accepted HELLO bring back the robot's power-up mode.
+enum class LightsMode : uint8_t {
+    AUTO = 0,  // From the motion state: the pair on the side of a turn, all four spinning in place, front and rear alternating out of ARMED.
+    OFF = 1,  // All four dark.
+    MANUAL = 2,  // Each lamp as the steady, slow and fast masks say: lit when it is in steady, or in slow during the on half of the 1.5 Hz blink, or in fast during the on half of the 3 Hz blink.
+};
+inline bool is_valid_LightsMode(uint8_t value) {
     return value <= 2;
 }
 
@@ -432,6 +442,46 @@ inline uint8_t pack(const GetLinkStats&, uint8_t*) { return 0; }
 inline bool unpack(const uint8_t*, uint8_t len, GetLinkStats&) { return len == 0; }
 inline uint8_t check_ranges(const GetLinkStats&) { return ALL_FIELDS_VALID; }
 
+// SET_LIGHTS (0x19, host to mcu, reliable): Chooses the turn signals' behaviour (capability TURN_SIGNALS, else NACK(UNSUPPORTED)), from the next control tick until another SET_LIGHTS, an accepted HELLO or a reset. The masks are kept in every mode (GET_LIGHTS reports them) but light lamps only in MANUAL.
+struct ROVERLINK_PACKED SetLights {
+    enum : uint8_t { ID = 0x19, CRC_EXTRA = 0x46, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
+    enum : uint8_t { STEADY_MAX = 15 };
+    enum : uint8_t { SLOW_MAX = 15 };
+    enum : uint8_t { FAST_MAX = 15 };
+    enum : uint8_t {  // field indices (NACK detail)
+        FIELD_MODE = 0,
+        FIELD_STEADY = 1,
+        FIELD_SLOW = 2,
+        FIELD_FAST = 3,
+    };
+    LightsMode mode;  // Who drives the lights.
+    uint8_t steady;  // MANUAL: lamps lit steadily (Lights bits).
+    uint8_t slow;  // MANUAL: lamps blinking at 1.5 Hz, half on (Lights bits).
+    uint8_t fast;  // MANUAL: lamps blinking at 3 Hz, half on (Lights bits).
+};
+// Returns the payload length.
+inline uint8_t pack(const SetLights& m, uint8_t* payload) {
+    memcpy(payload, &m, SetLights::PAYLOAD_SIZE);
+    return SetLights::PAYLOAD_SIZE;
+}
+// Whether every enum, flags and char field holds a value the spec defines.
+bool values_defined(const SetLights& m);
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, SetLights& m) {
+    return layout::copy_payload(payload, len, SetLights::PAYLOAD_SIZE, SetLights::PAYLOAD_MAX, &m) && values_defined(m);
+}
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
+uint8_t check_ranges(const SetLights& m);
+
+// GET_LIGHTS (0x1A, host to mcu, reliable): Asks for the turn signals' mode and the lamps lit; answered by LIGHTS_STATE (capability TURN_SIGNALS, else NACK(UNSUPPORTED)).
+struct ROVERLINK_PACKED GetLights {
+    enum : uint8_t { ID = 0x1A, CRC_EXTRA = 0xF4, PAYLOAD_SIZE = 0, PAYLOAD_MAX = 0 };
+};
+inline uint8_t pack(const GetLights&, uint8_t*) { return 0; }
+inline bool unpack(const uint8_t*, uint8_t len, GetLights&) { return len == 0; }
+inline uint8_t check_ranges(const GetLights&) { return ALL_FIELDS_VALID; }
+
 // SET_WHEEL_SPEEDS (0x20, host to mcu, setpoint): Differential-drive setpoint: target speed of each wheel's rim. Latest wins; applied at the next control tick.
 struct ROVERLINK_PACKED SetWheelSpeeds {
     enum : uint8_t { ID = 0x20, CRC_EXTRA = 0xC9, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
@@ -694,6 +744,35 @@ inline bool unpack(const uint8_t* payload, uint8_t len, LinkStats& m) {
 // or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const LinkStats&) { return ALL_FIELDS_VALID; }  // no ranged field
 
+// LIGHTS_STATE (0x88, mcu to host, reliable): Answer to GET_LIGHTS: the mode in force, its masks, and the lamps lit by the last control tick.
+struct ROVERLINK_PACKED LightsState {
+    enum : uint8_t { ID = 0x88, CRC_EXTRA = 0xD9, PAYLOAD_SIZE = 6, PAYLOAD_MAX = 6 };
+    enum : uint8_t { STEADY_MAX = 15 };
+    enum : uint8_t { SLOW_MAX = 15 };
+    enum : uint8_t { FAST_MAX = 15 };
+    enum : uint8_t { LIT_MAX = 15 };
+    uint8_t req_seq;  // seq of the GET_LIGHTS.
+    LightsMode mode;  // Who drives the lights.
+    uint8_t steady;  // MANUAL: lamps lit steadily (Lights bits).
+    uint8_t slow;  // MANUAL: lamps blinking at 1.5 Hz, half on (Lights bits).
+    uint8_t fast;  // MANUAL: lamps blinking at 3 Hz, half on (Lights bits).
+    uint8_t lit;  // Lamps lit at the last control tick (Lights bits).
+};
+// Returns the payload length.
+inline uint8_t pack(const LightsState& m, uint8_t* payload) {
+    memcpy(payload, &m, LightsState::PAYLOAD_SIZE);
+    return LightsState::PAYLOAD_SIZE;
+}
+// Whether every enum, flags and char field holds a value the spec defines.
+bool values_defined(const LightsState& m);
+// False: wrong length, or a value the spec does not define (enum, flag bit, non-ASCII char).
+inline bool unpack(const uint8_t* payload, uint8_t len, LightsState& m) {
+    return layout::copy_payload(payload, len, LightsState::PAYLOAD_SIZE, LightsState::PAYLOAD_MAX, &m) && values_defined(m);
+}
+// Index of the first field outside its spec range (an undefined enum value or flag bit included),
+// or ALL_FIELDS_VALID.
+uint8_t check_ranges(const LightsState& m);
+
 // FEEDBACK (0x90, mcu to host, telemetry): Robot state at one control tick. Streamed every round(CONTROL_RATE_HZ / feedback_hz) ticks: before any HELLO at the config's rate; in a stream session at the session's feedback_hz; in a lockstep session while it is not ARMED (DISARMED, FAILSAFE) as in stream mode, the first in the first tick out of ARMED. In a lockstep session while ARMED: exactly one in each tick that applied a setpoint, none in any other.
 struct ROVERLINK_PACKED Feedback {
     enum : uint8_t { ID = 0x90, CRC_EXTRA = 0x3F, PAYLOAD_SIZE = 33, PAYLOAD_MAX = 33 };
@@ -767,6 +846,8 @@ union HostToMcu {
     SaveConfig save_config;
     ResetOdometry reset_odometry;
     GetLinkStats get_link_stats;
+    SetLights set_lights;
+    GetLights get_lights;
     SetWheelSpeeds set_wheel_speeds;
     SetAckermann set_ackermann;
 };
@@ -819,6 +900,12 @@ DispatchResult dispatch_host_to_mcu(uint8_t msg_id, uint8_t seq, const uint8_t* 
     case GetLinkStats::ID:
         h.handle(m.get_link_stats, seq);
         break;
+    case SetLights::ID:
+        h.handle(m.set_lights, seq);
+        break;
+    case GetLights::ID:
+        h.handle(m.get_lights, seq);
+        break;
     case SetWheelSpeeds::ID:
         h.handle(m.set_wheel_speeds, seq);
         break;
@@ -838,6 +925,7 @@ union McuToHost {
     Pid pid;
     Config config;
     LinkStats link_stats;
+    LightsState lights_state;
     Feedback feedback;
     Log log;
 };
@@ -875,6 +963,9 @@ DispatchResult dispatch_mcu_to_host(uint8_t msg_id, uint8_t seq, const uint8_t* 
         break;
     case LinkStats::ID:
         h.handle(m.link_stats, seq);
+        break;
+    case LightsState::ID:
+        h.handle(m.lights_state, seq);
         break;
     case Feedback::ID:
         h.handle(m.feedback, seq);

@@ -13,6 +13,7 @@ namespace sim_profiles {
 
 const roverlink::Robot PICAR = {
     robot_profile::NAME,         robot_profile::BOARD,          robot_profile::CAPABILITIES,
-    robot_profile::FEEDBACK_MODE, robot_profile::default_config, robot_profile::default_pid};
+    robot_profile::FEEDBACK_MODE, robot_profile::default_config, robot_profile::default_pid,
+    robot_profile::LIGHTS_MODE};
 
 }  // namespace sim_profiles

@@ -363,6 +363,7 @@ static void test_pulse_math() {
 }
 
 static void test_lights_math() {
+    const proto::SetLights AUTO = {proto::LightsMode::AUTO, 0, 0, 0};
     using control::lights_for;
     const uint8_t LEFT = Lights::FRONT_LEFT | Lights::REAR_LEFT;
     const uint8_t RIGHT = Lights::FRONT_RIGHT | Lights::REAR_RIGHT;
@@ -370,28 +371,38 @@ static void test_lights_math() {
     const uint8_t REAR = Lights::REAR_LEFT | Lights::REAR_RIGHT;
     const uint8_t ALL = LEFT | RIGHT;
     CONTEXT("lights");
-    CHECK_EQ(lights_for(SessionState::IDLE, 0, 0, 0, false, 0), FRONT);
-    CHECK_EQ(lights_for(SessionState::DISARMED, 0, 0, 0, false, 40), REAR);
-    CHECK_EQ(lights_for(SessionState::ARMED, 0, 0, 0, false, 0), 0);
-    CHECK_EQ(lights_for(SessionState::ARMED, 200, 200, 0, false, 0), 0);
-    CHECK_EQ(lights_for(SessionState::ARMED, 100, 200, 0, false, 0), LEFT);
-    CHECK_EQ(lights_for(SessionState::ARMED, 100, 200, 0, false, 40), 0);  // blink off phase
-    CHECK_EQ(lights_for(SessionState::ARMED, 200, 100, 0, false, 0), RIGHT);
-    CHECK_EQ(lights_for(SessionState::ARMED, 0, 150, 0, false, 0), LEFT);   // pivot on the left wheel
-    CHECK_EQ(lights_for(SessionState::ARMED, -150, 150, 0, false, 0), ALL);  // in place: hazard
-    CHECK_EQ(lights_for(SessionState::ARMED, 200, 210, 0, false, 0), 0);    // within 1/8: straight
-    CHECK_EQ(lights_for(SessionState::ARMED, -200, -100, 0, false, 0), LEFT);
-    CHECK_EQ(lights_for(SessionState::ARMED, 300, 0, 1500, true, 0), LEFT);
-    CHECK_EQ(lights_for(SessionState::ARMED, 300, 0, -1500, true, 0), RIGHT);
-    CHECK_EQ(lights_for(SessionState::FAILSAFE, 0, 0, 0, false, 0), ALL);
-    CHECK_EQ(lights_for(SessionState::FAILSAFE, 0, 0, 0, false, 20), 0);  // 3 Hz
-    CHECK_EQ(lights_for(SessionState::FAILSAFE, 0, 0, 0, false, 33), ALL);
+    CHECK_EQ(lights_for(AUTO, SessionState::IDLE, 0, 0, 0, false, 0), FRONT);
+    CHECK_EQ(lights_for(AUTO, SessionState::DISARMED, 0, 0, 0, false, 40), REAR);
+    CHECK_EQ(lights_for(AUTO, SessionState::ARMED, 0, 0, 0, false, 0), 0);
+    CHECK_EQ(lights_for(AUTO, SessionState::ARMED, 200, 200, 0, false, 0), 0);
+    CHECK_EQ(lights_for(AUTO, SessionState::ARMED, 100, 200, 0, false, 0), LEFT);
+    CHECK_EQ(lights_for(AUTO, SessionState::ARMED, 100, 200, 0, false, 40), 0);  // blink off phase
+    CHECK_EQ(lights_for(AUTO, SessionState::ARMED, 200, 100, 0, false, 0), RIGHT);
+    CHECK_EQ(lights_for(AUTO, SessionState::ARMED, 0, 150, 0, false, 0), LEFT);   // pivot on the left wheel
+    CHECK_EQ(lights_for(AUTO, SessionState::ARMED, -150, 150, 0, false, 0), ALL);  // in place: hazard
+    CHECK_EQ(lights_for(AUTO, SessionState::ARMED, 200, 210, 0, false, 0), 0);    // within 1/8: straight
+    CHECK_EQ(lights_for(AUTO, SessionState::ARMED, -200, -100, 0, false, 0), LEFT);
+    CHECK_EQ(lights_for(AUTO, SessionState::ARMED, 300, 0, 1500, true, 0), LEFT);
+    CHECK_EQ(lights_for(AUTO, SessionState::ARMED, 300, 0, -1500, true, 0), RIGHT);
+    CHECK_EQ(lights_for(AUTO, SessionState::FAILSAFE, 0, 0, 0, false, 0), ALL);
+    CHECK_EQ(lights_for(AUTO, SessionState::FAILSAFE, 0, 0, 0, false, 20), 0);  // 3 Hz
+    CHECK_EQ(lights_for(AUTO, SessionState::FAILSAFE, 0, 0, 0, false, 33), ALL);
     // Duty: over one blink period, the turn signal is on for half of it.
     int on = 0;
     for (uint8_t b = 0; b < control::BLINK_PERIOD_TICKS; ++b) {
-        on += lights_for(SessionState::ARMED, 100, 200, 0, false, b) != 0;
+        on += lights_for(AUTO, SessionState::ARMED, 100, 200, 0, false, b) != 0;
     }
     CHECK_EQ(on, control::BLINK_PERIOD_TICKS / 2);
+    // SET_LIGHTS outside AUTO: front left steady, rear left slow, rear right fast.
+    const proto::SetLights manual = {proto::LightsMode::MANUAL, 1, 4, 8};
+    CHECK_EQ(lights_for(manual, SessionState::ARMED, 100, 200, 0, false, 0), 13);  // both blinks on
+    CHECK_EQ(lights_for(manual, SessionState::DISARMED, 0, 0, 0, false, 20), 5);  // fast off (16 of 33)
+    CHECK_EQ(lights_for(manual, SessionState::IDLE, 0, 0, 0, false, 33), 9);     // slow off, fast on again
+    CHECK_EQ(lights_for(manual, SessionState::ARMED, -150, 150, 0, false, 50), 1);  // only the steady one
+    CHECK_EQ(lights_for(manual, SessionState::FAILSAFE, 0, 0, 0, false, 0), ALL);  // FAILSAFE in every mode
+    const proto::SetLights off = {proto::LightsMode::OFF, 1, 4, 8};
+    CHECK_EQ(lights_for(off, SessionState::DISARMED, 0, 0, 0, false, 0), 0);  // masks light nothing outside MANUAL
+    CHECK_EQ(lights_for(off, SessionState::FAILSAFE, 0, 0, 0, false, 20), 0);
 }
 
 static void test_config_validation() {
@@ -1790,7 +1801,7 @@ static void test_micros_wrap() {
 static proto::SetConfig bare_config() { return TB6612.default_config(); }
 static proto::SetPid bare_pid() { return TB6612.default_pid(); }
 static const Robot BARE = {"Bare", proto::Board::UNO, proto::Capability::DIFF_DRIVE, FeedbackMode::STREAM,
-                           bare_config, bare_pid};
+                           bare_config, bare_pid, proto::LightsMode::AUTO};
 
 static void test_bare_robot() {
     CONTEXT("no ENCODERS: open loop (feed-forward); no EEPROM: defaults silently, SAVE unsupported");

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x3416EC25
+// spec hash: 0x1AECD35A
 // Test-only: text view of every message for tests/firmware/native/rl_codec.cpp. Not part of the library.
 #ifndef ROVERLINK_REFLECT_H
 #define ROVERLINK_REFLECT_H
@@ -375,6 +375,52 @@ inline void print_fields(FILE* f, const proto::GetLinkStats& /*m*/) {
 }
 
 inline bool set_field(proto::GetLinkStats& /*m*/, const char* name, const char* value) {
+    (void)name;
+    (void)value;
+    return false;
+}
+
+inline void print_fields(FILE* f, const proto::SetLights& m) {
+    fputs("SET_LIGHTS", f);
+    fputs(" mode=", f);
+    fprintf(f, "%ld", static_cast<long>(m.mode));
+    fputs(" steady=", f);
+    fprintf(f, "%ld", static_cast<long>(m.steady));
+    fputs(" slow=", f);
+    fprintf(f, "%ld", static_cast<long>(m.slow));
+    fputs(" fast=", f);
+    fprintf(f, "%ld", static_cast<long>(m.fast));
+}
+
+inline bool set_field(proto::SetLights& m, const char* name, const char* value) {
+    if (strcmp(name, "mode") == 0) {
+        const char* v = value;
+        m.mode = static_cast<proto::LightsMode>(strtol(v, NULL, 10));
+        return true;
+    }
+    if (strcmp(name, "steady") == 0) {
+        const char* v = value;
+        m.steady = static_cast<uint8_t>(strtol(v, NULL, 10));
+        return true;
+    }
+    if (strcmp(name, "slow") == 0) {
+        const char* v = value;
+        m.slow = static_cast<uint8_t>(strtol(v, NULL, 10));
+        return true;
+    }
+    if (strcmp(name, "fast") == 0) {
+        const char* v = value;
+        m.fast = static_cast<uint8_t>(strtol(v, NULL, 10));
+        return true;
+    }
+    return false;
+}
+
+inline void print_fields(FILE* f, const proto::GetLights& /*m*/) {
+    fputs("GET_LIGHTS", f);
+}
+
+inline bool set_field(proto::GetLights& /*m*/, const char* name, const char* value) {
     (void)name;
     (void)value;
     return false;
@@ -921,6 +967,56 @@ inline bool set_field(proto::LinkStats& m, const char* name, const char* value) 
     return false;
 }
 
+inline void print_fields(FILE* f, const proto::LightsState& m) {
+    fputs("LIGHTS_STATE", f);
+    fputs(" req_seq=", f);
+    fprintf(f, "%ld", static_cast<long>(m.req_seq));
+    fputs(" mode=", f);
+    fprintf(f, "%ld", static_cast<long>(m.mode));
+    fputs(" steady=", f);
+    fprintf(f, "%ld", static_cast<long>(m.steady));
+    fputs(" slow=", f);
+    fprintf(f, "%ld", static_cast<long>(m.slow));
+    fputs(" fast=", f);
+    fprintf(f, "%ld", static_cast<long>(m.fast));
+    fputs(" lit=", f);
+    fprintf(f, "%ld", static_cast<long>(m.lit));
+}
+
+inline bool set_field(proto::LightsState& m, const char* name, const char* value) {
+    if (strcmp(name, "req_seq") == 0) {
+        const char* v = value;
+        m.req_seq = static_cast<uint8_t>(strtol(v, NULL, 10));
+        return true;
+    }
+    if (strcmp(name, "mode") == 0) {
+        const char* v = value;
+        m.mode = static_cast<proto::LightsMode>(strtol(v, NULL, 10));
+        return true;
+    }
+    if (strcmp(name, "steady") == 0) {
+        const char* v = value;
+        m.steady = static_cast<uint8_t>(strtol(v, NULL, 10));
+        return true;
+    }
+    if (strcmp(name, "slow") == 0) {
+        const char* v = value;
+        m.slow = static_cast<uint8_t>(strtol(v, NULL, 10));
+        return true;
+    }
+    if (strcmp(name, "fast") == 0) {
+        const char* v = value;
+        m.fast = static_cast<uint8_t>(strtol(v, NULL, 10));
+        return true;
+    }
+    if (strcmp(name, "lit") == 0) {
+        const char* v = value;
+        m.lit = static_cast<uint8_t>(strtol(v, NULL, 10));
+        return true;
+    }
+    return false;
+}
+
 inline void print_fields(FILE* f, const proto::Feedback& m) {
     fputs("FEEDBACK", f);
     fputs(" boot_id=", f);
@@ -1140,6 +1236,18 @@ bool with_message(uint8_t msg_id, Fn& fn) {
         fn(m);
         return true;
     }
+    case proto::SetLights::ID: {
+        proto::SetLights m;
+        memset(&m, 0, sizeof m);
+        fn(m);
+        return true;
+    }
+    case proto::GetLights::ID: {
+        proto::GetLights m;
+        memset(&m, 0, sizeof m);
+        fn(m);
+        return true;
+    }
     case proto::SetWheelSpeeds::ID: {
         proto::SetWheelSpeeds m;
         memset(&m, 0, sizeof m);
@@ -1194,6 +1302,12 @@ bool with_message(uint8_t msg_id, Fn& fn) {
         fn(m);
         return true;
     }
+    case proto::LightsState::ID: {
+        proto::LightsState m;
+        memset(&m, 0, sizeof m);
+        fn(m);
+        return true;
+    }
     case proto::Feedback::ID: {
         proto::Feedback m;
         memset(&m, 0, sizeof m);
@@ -1224,6 +1338,8 @@ inline int id_of(const char* name) {
     if (strcmp(name, "SAVE_CONFIG") == 0) return proto::SaveConfig::ID;
     if (strcmp(name, "RESET_ODOMETRY") == 0) return proto::ResetOdometry::ID;
     if (strcmp(name, "GET_LINK_STATS") == 0) return proto::GetLinkStats::ID;
+    if (strcmp(name, "SET_LIGHTS") == 0) return proto::SetLights::ID;
+    if (strcmp(name, "GET_LIGHTS") == 0) return proto::GetLights::ID;
     if (strcmp(name, "SET_WHEEL_SPEEDS") == 0) return proto::SetWheelSpeeds::ID;
     if (strcmp(name, "SET_ACKERMANN") == 0) return proto::SetAckermann::ID;
     if (strcmp(name, "IDENTITY") == 0) return proto::Identity::ID;
@@ -1233,6 +1349,7 @@ inline int id_of(const char* name) {
     if (strcmp(name, "PID") == 0) return proto::Pid::ID;
     if (strcmp(name, "CONFIG") == 0) return proto::Config::ID;
     if (strcmp(name, "LINK_STATS") == 0) return proto::LinkStats::ID;
+    if (strcmp(name, "LIGHTS_STATE") == 0) return proto::LightsState::ID;
     if (strcmp(name, "FEEDBACK") == 0) return proto::Feedback::ID;
     if (strcmp(name, "LOG") == 0) return proto::Log::ID;
     return -1;
