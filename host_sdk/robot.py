@@ -132,6 +132,7 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         try:
             made._open(timeout_s)
             if check is not None:
+                check.compare_lights(made, made.url)
                 check.apply(made)
         except BaseException:
             made._shutdown(disarm=False)

@@ -5,8 +5,9 @@ The rule (docs/robot-file.md, "Connecting with a robot file"):
 - compared: what identifies the build, fixed when the firmware was built from the file: the
   board (a real one: the emulator and the host build stand in for any), the drive kind and its
   wheel count, the capabilities the file derives (encoders, lights, lockstep), the robot's name,
-  and the firmware defaults the hardware fixes (wheel diameter, encoder counts, inverts, steering
-  range, servo and ESC pulses). A difference means another robot or another build: an error
+  the firmware defaults the hardware fixes (wheel diameter, encoder counts, inverts, steering
+  range, servo and ESC pulses), and the turn signals' power-up mode (`[lights] mode`, read with
+  GET_LIGHTS: a new session starts in it). A difference means another robot or another build: an error
   naming both sides, or with `allow_mismatch=True` a warning kept in `robot.mismatches`;
 - applied: the file's limits, feedback rate and PID gains (each wheel its own), and its measured
   calibration where the board still has the nominal value, sent with set_config/set_pid when they
@@ -129,6 +130,23 @@ class RobotFileCheck:
         if not self.mismatches:
             return
         error = RobotMismatchError(self.mismatches, self.description.path)
+        if not self.allow_mismatch:
+            raise error
+        _log.warning("allow_mismatch: %s", error)
+
+    def compare_lights(self, robot: ConfigCalls, url: str) -> None:
+        """The power-up mode of the turn signals, which the new session has just brought back
+        (RobotMismatchError, or with allow_mismatch a warning, when it is not the file's)."""
+        desc = self.description
+        if not robot.identity.capabilities & Capability.TURN_SIGNALS or not desc.wiring.led_pins:
+            return  # no lights on one side: the capabilities' comparison said so already
+        mode = robot.lights().mode
+        want = desc.lights_mode()
+        if mode is want:
+            return
+        row = Mismatch(desc.path, "lights.mode", want.name.lower(), url, "power-up lights mode", mode.name)
+        self.mismatches = (*self.mismatches, row)
+        error = RobotMismatchError(self.mismatches, desc.path)
         if not self.allow_mismatch:
             raise error
         _log.warning("allow_mismatch: %s", error)

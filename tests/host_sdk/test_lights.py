@@ -15,6 +15,7 @@ from host_sdk import (
     AsyncRobot,
     CommandRangeError,
     Robot,
+    RobotMismatchError,
     SessionResetError,
     UnsupportedError,
     lights,
@@ -144,6 +145,13 @@ def test_the_robot_files_power_up_mode_is_the_boards(tmp_path: Path) -> None:
     with Robot.connect(f"emu://?robot={path}&clock=virtual") as robot:
         assert robot.lights().mode is LightsMode.OFF
         assert shown(robot) == {0}
+    # The file against a board built with another power-up mode: another build, named.
+    url = f"emu://{TB6612}?clock=virtual"
+    with pytest.raises(RobotMismatchError) as refused:
+        Robot.connect(url, robot=path)
+    assert f"{path}: lights.mode = off but the board on {url} has power-up lights mode = AUTO" in str(refused.value)
+    with Robot.connect(url, robot=path, allow_mismatch=True) as robot:
+        assert [m.key for m in robot.mismatches] == ["lights.mode"]
 
 
 def test_the_text_form_reads_back() -> None:
