@@ -10,6 +10,7 @@ from pathlib import Path
 
 from emulator.backends.simavr.robotfile import file_profile
 from host_sdk import Robot
+from protocol.generated.enums import LightsMode
 from protocol.generated.messages import SetConfig
 from protocol.robotfile import load, reference_path
 from tests.support.emulate import emulate
@@ -56,3 +57,19 @@ def test_a_file_with_a_problem_serves_nothing(tmp_path: Path) -> None:
     assert result.returncode == 2
     assert result.stdout == ""  # no port was served
     assert "name" in result.stderr and "at most 24 characters" in result.stderr
+
+
+def test_the_files_power_up_lights_mode_is_the_builds(tmp_path: Path) -> None:
+    """`[lights] mode = "off"` compiled into the firmware: the real firmware in simavr starts its
+    session dark, and the file's connect check finds it as the file says."""
+    text = reference_path("diffdrive-tb6612").read_text()
+    assert text.count('\nmode = "auto"') == 1
+    path = tmp_path / "dark.toml"
+    path.write_text(text.replace('\nmode = "auto"', '\nmode = "off"'))
+    with (
+        emulate("--backend", "simavr", "--robot", str(path), "--quiet") as board,
+        Robot.connect(board.url, robot=path) as robot,
+    ):
+        assert robot.mismatches == ()
+        state = robot.lights()
+        assert state.mode is LightsMode.OFF and int(state.lit) == 0
