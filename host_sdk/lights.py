@@ -11,7 +11,7 @@ The text form, shared by `describe()` and `parse()` (the ROS 2 bridge's `~/light
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 from host_sdk import checks
@@ -51,7 +51,11 @@ def lamp_mask(name: str, value: object) -> int:
         words = [w.strip() for w in value.split(",") if w.strip()]
         if value.strip() in ("", "-"):
             return 0
+        if value.strip().isdigit():  # the text form of the bits, as a ROS 2 string carries them
+            return lamp_mask(name, int(value))
         return lamp_mask(name, words)
+    if isinstance(value, Mapping):
+        raise ArgumentTypeError(name, value, _ALLOWED)
     if isinstance(value, Iterable):
         mask = 0
         for word in value:
@@ -114,8 +118,12 @@ def parse(text: str) -> SetLights:
     masks: dict[str, str] = {}
     for word in words[1:]:
         key, eq, value = word.partition("=")
+        if key == "lit" and eq:
+            continue  # what describe() reports lit: a reading, not a request
         if not eq or key not in PATTERNS:
             raise CommandRangeError("lights", word, "steady=LAMPS, slow=LAMPS or fast=LAMPS")
+        if key in masks:
+            raise CommandRangeError("lights", word, f"{key}= once (the lamps of a pattern in one word, by commas)")
         masks[key] = value
     return request(words[0], **masks)
 

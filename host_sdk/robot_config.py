@@ -23,7 +23,7 @@ from host_sdk.lights import LightsStatus
 from host_sdk.runner import Runner
 from host_sdk.session import FeedbackSample, PidGains, RobotConfig, RobotIdentity, Session
 from protocol.codec.message import Message
-from protocol.generated.constants import PID_ALL_WHEELS
+from protocol.generated.constants import CONTROL_RATE_HZ, PID_ALL_WHEELS
 from protocol.generated.enums import Capability, LightsMode
 from protocol.generated.messages import (
     Config,
@@ -188,6 +188,9 @@ class ConfigCalls:
         wanted = lights.request(mode, steady=steady, slow=slow, fast=fast)
         self._need_turn_signals("set_lights")
         self._request(wanted)
+        # The board applies it at its next control tick: read back after that tick, so `lit`
+        # shows the new mode's lamps, not the old one's.
+        self._runner.wait(lambda: self._runner.closed, 1.0 / CONTROL_RATE_HZ)
         return self.lights()
 
     def lights(self) -> LightsStatus:

@@ -58,8 +58,12 @@ def test_each_mode_is_reported_and_shown() -> None:
         assert (state.mode, int(state.steady), int(state.slow), int(state.fast)) == (LightsMode.MANUAL, 1, 4, 8)
         assert shown(robot) == {1, 5, 9, 13}  # steady, plus each mix of the 1.5 Hz and 3 Hz blinks
         assert robot.lights().lit == Lights(leds(robot))  # reported as shown
-        assert robot.set_lights("off").mode is LightsMode.OFF
+        assert robot.set_lights(steady="all").lit == Lights(15)
+        dark = robot.set_lights("off")
+        assert dark.mode is LightsMode.OFF and dark.lit == Lights(0)  # read back after the tick that applied it
         assert shown(robot) == {0}
+        lit = robot.set_lights("manual", steady="front")
+        assert lit.lit == Lights.FRONT_LEFT | Lights.FRONT_RIGHT == Lights(leds(robot))
         robot.set_lights(slow="left")  # lamps without a mode: MANUAL
         assert shown(robot) == {0, 5}
         assert robot.set_lights(LightsMode.AUTO).describe().startswith("auto lit=")
@@ -114,8 +118,9 @@ def test_bad_arguments_are_refused_naming_them(call: Any, argument: str) -> None
 
 
 def test_a_lamp_of_the_wrong_type_is_a_type_error() -> None:
-    with pytest.raises(ArgumentTypeError):
-        lights.request(steady=1.5)
+    for bad in (1.5, {"left": 1}, [1, 2]):
+        with pytest.raises(ArgumentTypeError):
+            lights.request(steady=bad)
 
 
 def test_a_robot_without_turn_signals_refuses_naming_the_capability() -> None:
@@ -162,8 +167,9 @@ def test_the_text_form_reads_back() -> None:
     assert (
         state.describe() == "manual steady=front_left,rear_right slow=- fast=rear lit=front_left,rear_left,rear_right"
     )
-    back = lights.parse(state.describe().rsplit(" lit=", 1)[0])
+    back = lights.parse(state.describe())  # its reading of the lamps lit is not a request
     assert (back.steady, back.slow, back.fast) == (9, 0, 12)
-    for bad in ("", "manual glow=left", "dim"):
+    assert lights.parse("manual slow=5").slow == 5  # the bits, as a number
+    for bad in ("", "manual glow=left", "dim", "manual slow=left slow=right", "manual slow=16"):
         with pytest.raises(CommandRangeError):
             lights.parse(bad)

@@ -327,17 +327,6 @@ def _field_is(value: Any, field: str) -> bool:
     return bool(value.type == kinds[field])
 
 
-def test_sigint_stops_disarms_and_exits(bridge: Bridge) -> None:
-    probe, proc = bridge.probe, bridge.proc
-    arm(probe)
-    probe.drive(0.3, 0.0, 0.5)
-    sig = signal.SIGTERM if bridge.case.profile == "picar" else signal.SIGINT
-    assert proc.stop(sig) == 0
-    log = proc.log()
-    assert "robot stopped, disarmed and closed" in log
-    assert "Traceback" not in log
-
-
 def test_lights_topic_state_and_service(bridge: Bridge) -> None:
     """~/lights sets the turn signals (SET_LIGHTS), ~/lights/state and ~/get_lights report them;
     a robot without TURN_SIGNALS says so."""
@@ -373,3 +362,15 @@ def test_lights_topic_state_and_service(bridge: Bridge) -> None:
     assert probe.call("get_lights").message == "off lit=-"
     send("auto", "auto lit=")
     assert probe.call("get_lights").message.startswith("auto lit=")
+
+
+def test_sigint_stops_disarms_and_exits(bridge: Bridge) -> None:
+    # Last in the module: it stops the module's bridge.
+    probe, proc = bridge.probe, bridge.proc
+    arm(probe)
+    probe.drive(0.3, 0.0, 0.5)
+    sig = signal.SIGTERM if bridge.case.profile == "picar" else signal.SIGINT
+    assert proc.stop(sig) == 0
+    log = proc.log()
+    assert "robot stopped, disarmed and closed" in log
+    assert "Traceback" not in log

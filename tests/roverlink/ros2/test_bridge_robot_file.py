@@ -29,13 +29,13 @@ from tests.support.wait import wait_until  # noqa: E402
 def wide_bridge(tmp_path: Path) -> tuple[BridgeProcess, Probe]:
     """The node with a robot file saying 0.25 m of track, against the emulated TB6612 robot's URL."""
     text = reference_path("diffdrive-tb6612").read_text(encoding="utf-8")
-    assert text.count("track_m = 0.2 ") == 1
+    assert text.count("\ntrack_m = 0.2 ") == 1
     path = tmp_path / "wide.toml"
     assert text.count('name = "diffdrive-tb6612"') == 1
     text = text.replace('name = "diffdrive-tb6612"', 'name = "wide_tb6612"')
     assert text.count("rate_hz = 50.0 ") == 1
     text = text.replace("rate_hz = 50.0 ", "rate_hz = 100.0 ")  # no odom_rate given: the node takes this
-    path.write_text(text.replace("track_m = 0.2 ", "track_m = 0.25 "), encoding="utf-8")
+    path.write_text(text.replace("\ntrack_m = 0.2 ", "\ntrack_m = 0.25 "), encoding="utf-8")
     ns = f"/robot_file_{uuid.uuid4().hex[:6]}"
     proc = BridgeProcess(ns, "emu://diffdrive-tb6612?seed=1", tmp_path, robot_file=path)
     return proc, Probe(ns)
