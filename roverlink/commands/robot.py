@@ -109,7 +109,7 @@ def cmd_show(args: argparse.Namespace) -> int:
 
 
 def cmd_ros2_config(args: argparse.Namespace) -> int:
-    from roverlink.ros2.configs import write  # noqa: PLC0415 (only this action needs it)
+    from roverlink.ros2.configs import warnings, write  # noqa: PLC0415 (only this action needs it)
 
     robot = _load(args.file)
     if robot is None:
@@ -119,6 +119,8 @@ def cmd_ros2_config(args: argparse.Namespace) -> int:
         return 2
     for path in write(robot, Path(args.out), args.max_speed, args.odom_topic):
         print(path)
+    for line in warnings(robot, args.odom_topic):
+        print(f"roverlink robot ros2-config: warning: {line}", file=sys.stderr)
     return 0
 
 
