@@ -15,7 +15,6 @@ Runs until Ctrl-C (or --duration seconds).
 from __future__ import annotations
 
 import argparse
-import sys
 
 from emulator.sensors.camera import LOOKS
 from host_sdk import RoverLinkError
@@ -23,6 +22,7 @@ from host_sdk.console import Access
 from host_sdk.errors import CommandRangeError, TransportError
 from host_sdk.extras import MissingDependencyError, require
 from protocol.generated.constants import WATCHDOG_MAX_MS, WATCHDOG_MIN_MS
+from roverlink import say
 from roverlink.argtypes import number, positive
 from roverlink.console import add_profile_args
 from roverlink.console_app import ConsoleSettings, start_emulated, start_robot
@@ -81,7 +81,7 @@ def cmd_console(args: argparse.Namespace) -> int:
     try:
         Access.for_host(args.host, args.token)  # checked before anything starts
     except CommandRangeError as exc:
-        print(f"roverlink console: --{exc}", file=sys.stderr)
+        say.error(f"--{exc}")
         return 2
     settings = ConsoleSettings(args.host, args.port, args.token, args.max_speed, args.target_height, args.follow_gap,
                                args.autonomous, args.watchdog)  # fmt: skip
@@ -96,7 +96,7 @@ def cmd_console(args: argparse.Namespace) -> int:
         else:
             missing = [f"--{name}" for name in ("lidar", "camera") if getattr(args, name) is None]
             if missing:
-                print(f"roverlink console: on a robot give {' and '.join(missing)}", file=sys.stderr)
+                say.error(f"on a robot give {' and '.join(missing)}")
                 return 2
             ports = RobotPorts(args.url, args.lidar, camera_source(args.camera), args.imu, args.lidar_model,
                                args.baud, args.allow_mismatch)  # fmt: skip
@@ -105,21 +105,20 @@ def cmd_console(args: argparse.Namespace) -> int:
         raise
     except TransportError as exc:
         hint = " (--host, --port)" if "console cannot listen" in str(exc) else ""
-        print(f"roverlink console: {exc}{hint}", file=sys.stderr)
+        say.error(f"{exc}{hint}")
         return 1
     except (RoverLinkError, ValueError, OSError, RuntimeError) as exc:
-        print(f"roverlink console: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
-    print("roverlink console: open " + "  or  ".join(run.console.urls), file=sys.stderr, flush=True)
+    say.notice("open " + "  or  ".join(run.console.urls))
     if args.autonomous:
-        print("roverlink console: --autonomous: following goes on with no browser open; STOP on the page "
-              "or Ctrl-C here stops it", file=sys.stderr, flush=True)  # fmt: skip
+        say.notice("--autonomous: following goes on with no browser open; STOP on the page or Ctrl-C here stops it")
     try:
         run.run(args.duration)
     except KeyboardInterrupt:
         pass
     except (RoverLinkError, OSError, RuntimeError) as exc:
-        print(f"roverlink console: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     finally:
         run.close()

@@ -31,7 +31,7 @@ from host_sdk import (
     enums,
 )
 from host_sdk.profiles import steering_limits
-from roverlink import argtypes
+from roverlink import argtypes, say
 from roverlink.console import add_profile_args, warn_mismatches
 
 _TURN_TOLERANCE_RAD = math.radians(1.0)
@@ -393,13 +393,13 @@ def cmd_demo(args: argparse.Namespace) -> int:
         own_mode, caps = PROFILES[profile].feedback_mode.name, PROFILES[profile].capabilities
     mode: Literal["stream", "lockstep"] = "lockstep" if (args.mode or own_mode).lower() == "lockstep" else "stream"
     if mode == "lockstep" and args.url is None and not caps & enums.Capability.LOCKSTEP:
-        print(f"error: {profile} has no lockstep feedback: run the demo with --mode stream", file=sys.stderr)
+        say.error(f"{profile} has no lockstep feedback: run the demo with --mode stream")
         return 2
     if args.plot:  # before any driving: a missing matplotlib must not cost the whole course
         try:
             plot_module()
         except RoverLinkError as exc:
-            print(f"error: {exc}", file=sys.stderr)
+            say.error(f"{exc}")
             return 1
     if args.url is None:
         query = f"seed={args.seed}&clock={'virtual' if args.fast else 'real'}"
@@ -431,21 +431,19 @@ def cmd_demo(args: argparse.Namespace) -> int:
             result = drive_square(robot, args.side, args.speed)
     except UnsupportedError as exc:
         if exc.capability is enums.Capability.LOCKSTEP:
-            print(
-                f"error: the board on {url} has no lockstep feedback: run the demo with --mode stream", file=sys.stderr
-            )
+            say.error(f"the board on {url} has no lockstep feedback: run the demo with --mode stream")
         else:
-            print(f"error: {exc}", file=sys.stderr)
+            say.error(f"{exc}")
         return 1
     except RoverLinkError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     print(format_report(result))
     if args.plot:
         try:
             plot(result, args.plot, f"{profile}, {result.side_m:g} m square, {mode} feedback")
         except RoverLinkError as exc:
-            print(f"error: {exc}", file=sys.stderr)
+            say.error(f"{exc}")
             return 1
         print(f"\nplot written to {args.plot}")
     return 0

@@ -7,13 +7,13 @@ import argparse
 import shlex
 import shutil
 import subprocess
-import sys
 from collections.abc import Callable
 from pathlib import Path
 
 from serial.tools import list_ports
 
 from protocol.robotfile import RobotFileError
+from roverlink import say
 from roverlink.firmware import (
     BOARDS,
     BUILD_ROOT,
@@ -176,13 +176,13 @@ def _guarded(command: Callable[[argparse.Namespace], int]) -> Callable[[argparse
         try:
             return command(args)
         except CompileError as exc:
-            print(f"error: {exc}", file=sys.stderr)
+            say.error(f"{exc}")
             return 1
         except FirmwareError as exc:
-            print(f"error: {exc}", file=sys.stderr)
+            say.error(f"{exc}")
             return 2
         except RobotFileError as exc:
-            print(exc, file=sys.stderr)
+            say.error(exc)
             return 2
 
     run.__doc__ = command.__doc__

@@ -38,6 +38,7 @@ from host_sdk.errors import CommandRangeError
 from host_sdk.extras import MissingDependencyError, require
 from host_sdk.perception.detectors import KINDS
 from host_sdk.perception.template import read_template
+from roverlink import say
 from roverlink.argtypes import positive
 from roverlink.commands.record import add_foxglove_address_args
 from roverlink.console import add_profile_args
@@ -143,8 +144,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
     settings = FollowSettings(args.follow_gap, args.max_speed, args.target_height, args.duration, args.target,
                               args.rearm)  # fmt: skip
     if args.rearm:
-        print("roverlink follow: --rearm: the robot is armed again by itself after a failsafe or a board reset, "
-              "and goes on following", file=sys.stderr, flush=True)  # fmt: skip
+        say.notice(
+            "--rearm: the robot is armed again by itself after a failsafe or a board reset, and goes on following"
+        )
     record = None
     if args.foxglove or args.foxglove_live:
         record = RecordTo(args.foxglove, args.foxglove_live, args.foxglove_host, args.foxglove_port)
@@ -153,13 +155,14 @@ def cmd_follow(args: argparse.Namespace) -> int:
     try:
         if args.url is None:
             if args.target is not None:
-                print("roverlink follow: --target needs a robot's camera (--url): the emulated target is a "
-                      "rendered cylinder, not a person", file=sys.stderr)  # fmt: skip
+                say.error(
+                    "--target needs a robot's camera (--url): the emulated target is a rendered cylinder, not a person"
+                )
                 return 2
             given = [name for name in ("select", "template") if getattr(args, name) is not None]
             if given:
-                print(f"roverlink follow: --{given[0]} is for a robot's camera (--url): on the emulator the target "
-                      "is the world's (roverlink console lets you draw it)", file=sys.stderr)  # fmt: skip
+                say.error(f"--{given[0]} is for a robot's camera (--url): on the emulator the target "
+                          "is the world's (roverlink console lets you draw it)")  # fmt: skip
                 return 2
             metrics = run_emulated(robot, args.world or f"random:{args.seed}", pilot=args.pilot, seed=args.seed,
                                    camera_fps=args.camera_fps, imu=not args.no_imu, settings=settings,
@@ -167,8 +170,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
         else:
             missing = [name for name in ("lidar", "camera") if getattr(args, name) is None]
             if missing or sum(v is not None for v in (args.template, args.select, args.target)) != 1:
-                print("roverlink follow: on a robot give --lidar, --camera, and one of --template, --select, --target",
-                      file=sys.stderr)  # fmt: skip
+                say.error("on a robot give --lidar, --camera, and one of --template, --select, --target")
                 return 2
             template = None
             if args.template is not None:
@@ -176,7 +178,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
                 try:
                     template = read_template(args.template)
                 except CommandRangeError:
-                    print(f"roverlink follow: cannot read the image {args.template}", file=sys.stderr)
+                    say.error(f"cannot read the image {args.template}")
                     return 2
             ports = RobotPorts(
                 args.url,
@@ -192,7 +194,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
     except MissingDependencyError:
         raise  # cli.main names the extra
     except (RoverLinkError, ValueError, OSError, RuntimeError) as exc:
-        print(f"roverlink follow: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     if args.json:
         print(json.dumps(metrics.to_json(), indent=1))

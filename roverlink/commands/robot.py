@@ -16,6 +16,7 @@ from pathlib import Path
 
 from host_sdk import RobotDescription
 from protocol.robotfile import REFERENCES, RobotFileError, check, reference_path
+from roverlink import say
 
 # `roverlink firmware build` sizes of the reference firmwares (docs/firmware.md, flash table):
 # the nearest one stands in for a robot file's firmware until it is built.
@@ -31,7 +32,7 @@ FLASH_SIZE = {"uno": 32_256, "mega2560": 253_952}  # bytes left by the bootloade
 def cmd_new(args: argparse.Namespace) -> int:
     target = Path(args.file)
     if target.exists() and not args.force:
-        print(f"roverlink robot new: {target} exists (--force to overwrite)", file=sys.stderr)
+        say.error(f"{target} exists (--force to overwrite)")
         return 1
     text = reference_path(args.source).read_text(encoding="utf-8")
     # The copy is the user's own file: the generator's header (DO NOT EDIT, "the reference robot")
@@ -80,7 +81,7 @@ def _load(name: str) -> RobotDescription | None:
             if not Path(name).exists()
             else f"fix the file (`roverlink robot check {name}` lists the same problems)"
         )
-        print(f"{exc}\n{fix}", file=sys.stderr)
+        say.error(f"{exc}\n{fix}")
         return None
 
 
@@ -115,12 +116,12 @@ def cmd_ros2_config(args: argparse.Namespace) -> int:
     if robot is None:
         return 2
     if args.max_speed is not None and args.max_speed <= 0:
-        print(f"roverlink robot ros2-config: --max-speed {args.max_speed:g}: must be > 0 m/s", file=sys.stderr)
+        say.error(f"--max-speed {args.max_speed:g}: must be > 0 m/s")
         return 2
     for path in write(robot, Path(args.out), args.max_speed, args.odom_topic):
         print(path)
     for line in warnings(robot, args.odom_topic):
-        print(f"roverlink robot ros2-config: warning: {line}", file=sys.stderr)
+        print(f"warning: {line}", file=sys.stderr)
     return 0
 
 
