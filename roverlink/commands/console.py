@@ -26,8 +26,8 @@ from roverlink import say
 from roverlink.argtypes import number, positive
 from roverlink.console import add_profile_args
 from roverlink.console_app import ConsoleSettings, start_emulated, start_robot
-from roverlink.follow.app import RobotPorts
-from roverlink.sensors.options import CAMERA_HELP, camera_source
+from roverlink.follow.app import robot_ports
+from roverlink.sensors.options import add_sensor_args
 
 
 def _port(text: str) -> int:
@@ -69,10 +69,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     r.add_argument("--watchdog", type=number(WATCHDOG_MIN_MS / 1000, WATCHDOG_MAX_MS / 1000, "s"), metavar="S",
                    help="the board's watchdog, which is also how long a command from the page lives (default the "
                         "firmware's, 0.25 s; longer for a host too busy to renew commands in time)")  # fmt: skip
-    r.add_argument("--lidar", metavar="PORT", help="the lidar's port")
-    r.add_argument("--lidar-model", choices=("rplidar-a1", "ydlidar-f4"), help="default: the profile's or file's")
-    r.add_argument("--imu", metavar="PORT", help="the JY901's port (optional)")
-    r.add_argument("--camera", metavar="SOURCE", help=CAMERA_HELP)
+    add_sensor_args(p, off=None)
     p.set_defaults(func=cmd_console)
 
 
@@ -94,12 +91,7 @@ def cmd_console(args: argparse.Namespace) -> int:
             run = start_emulated(which, world, settings, seed=args.seed, camera_fps=args.camera_fps,
                                  imu=not args.no_imu, camera_look=args.camera_look, watchdog_s=1.0)  # fmt: skip
         else:
-            missing = [f"--{name}" for name in ("lidar", "camera") if getattr(args, name) is None]
-            if missing:
-                say.error(f"on a robot give {' and '.join(missing)}")
-                return 2
-            ports = RobotPorts(args.url, args.lidar, camera_source(args.camera), args.imu, args.lidar_model,
-                               args.baud, args.allow_mismatch)  # fmt: skip
+            ports = robot_ports(args)
             run = start_robot(ports, which, settings)
     except MissingDependencyError:
         raise

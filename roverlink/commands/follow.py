@@ -42,10 +42,10 @@ from roverlink import say
 from roverlink.argtypes import positive
 from roverlink.commands.record import add_foxglove_address_args
 from roverlink.console import add_profile_args
-from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
+from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, robot_ports, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress
-from roverlink.sensors.options import CAMERA_HELP, camera_source
+from roverlink.sensors.options import add_sensor_args
 
 
 def _box(text: str) -> tuple[float, float, float, float]:
@@ -91,10 +91,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     r = p.add_argument_group("on a robot")
     r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, ...")
     r.add_argument("--baud", type=int, default=115200, help="the board's line speed (default 115200)")
-    r.add_argument("--lidar", metavar="PORT", help="the lidar's port")
-    r.add_argument("--lidar-model", choices=("rplidar-a1", "ydlidar-f4"), help="default: the profile's or file's")
-    r.add_argument("--imu", metavar="PORT", help="the JY901's port (optional: fuses its gyro with odometry)")
-    r.add_argument("--camera", metavar="SOURCE", help=CAMERA_HELP)
+    add_sensor_args(p, off=None)
     r.add_argument(
         "--template",
         type=Path,
@@ -168,9 +165,8 @@ def cmd_follow(args: argparse.Namespace) -> int:
                                    camera_fps=args.camera_fps, imu=not args.no_imu, settings=settings,
                                    camera_look=args.camera_look, progress=progress, record=record)  # fmt: skip
         else:
-            missing = [name for name in ("lidar", "camera") if getattr(args, name) is None]
-            if missing or sum(v is not None for v in (args.template, args.select, args.target)) != 1:
-                say.error("on a robot give --lidar, --camera, and one of --template, --select, --target")
+            if sum(v is not None for v in (args.template, args.select, args.target)) != 1:
+                say.error("on a robot give one of --template, --select, --target")
                 return 2
             template = None
             if args.template is not None:
@@ -180,15 +176,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
                 except CommandRangeError:
                     say.error(f"cannot read the image {args.template}")
                     return 2
-            ports = RobotPorts(
-                args.url,
-                args.lidar,
-                camera_source(args.camera),
-                args.imu,
-                args.lidar_model,
-                args.baud,
-                args.allow_mismatch,
-            )
+            ports = robot_ports(args)
             metrics = run_robot(ports, robot, template=template, select=args.select, pilot=args.pilot,
                                 settings=settings, progress=progress, record=record)  # fmt: skip
     except MissingDependencyError:

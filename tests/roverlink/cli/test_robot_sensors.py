@@ -1,0 +1,94 @@
+"""One way to say which sensors a robot has, for every command (roverlink.sensors.sensors_for):
+an option names a device; else the emu:// URL's own; else, on a real port, the robot file's
+`[sensors.*]` port, camera source and IMU baud. `roverlink console` and `roverlink follow` take
+an emu:// URL with its sensors as they take a robot, and a robot file's lidar port."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
+
+import pytest
+
+from host_sdk import Robot, RobotDescription, RoverLinkError
+from protocol.robotfile import reference_path
+from roverlink.cli import build_parser, main
+from roverlink.follow.app import RobotPorts
+from roverlink.sensors import choose_sensors
+
+SENSORS = "emu://picar?world=random:3&camera=320x240&lidar=ydlidar-f4"
+
+
+def _file(tmp_path: Path) -> RobotDescription:
+    """The PiCar with its lidar on a port, its camera's source and an IMU at 9600 baud."""
+    text = reference_path("picar").read_text(encoding="utf-8")
+    lidar, camera = 'model = "ydlidar-f4"', 'model = "pi-camera-v2"'
+    assert text.count(lidar) == 1 and text.count(camera) == 1
+    text = text.replace(lidar, f'{lidar}\nport = "/dev/serial/by-id/usb-lidar"')
+    text = text.replace(camera, f'{camera}\nsource = "picamera2"')
+    text += '\n[sensors.imu]\nmodel = "jy901"\nport = "/dev/ttyUSB1"\nbaud = 9600\n'
+    path = tmp_path / "mine.toml"
+    path.write_text(text, encoding="utf-8")
+    return RobotDescription.load(path)
+
+
+def _real(url: str = "/dev/ttyACM0") -> Any:
+    """A connected robot on a real port, as sensors_for sees it."""
+    return SimpleNamespace(url=url, transport=SimpleNamespace(endpoints={}, profile="picar"))
+
+
+def test_a_real_robot_uses_the_robot_files_ports_camera_and_imu_baud(tmp_path: Path) -> None:
+    desc = _file(tmp_path)
+    ports = RobotPorts("/dev/ttyACM0", None, None)
+    devices = ports.devices(_real(), desc)
+    assert (devices.lidar, devices.lidar_model) == ("/dev/serial/by-id/usb-lidar", "ydlidar-f4")
+    assert (devices.camera, devices.imu, devices.imu_baud) == ("picamera2", "/dev/ttyUSB1", 9600)
+    # An option wins over the file.
+    given = RobotPorts("/dev/ttyACM0", "/dev/ttyUSB0", "0", imu_baud=115200).devices(_real(), desc)
+    assert (given.lidar, given.camera, given.imu_baud) == ("/dev/ttyUSB0", 0, 115200)
+
+
+def test_the_record_commands_options_fall_back_to_the_robot_file(tmp_path: Path) -> None:
+    desc = _file(tmp_path)
+    args = build_parser().parse_args(["record", "/dev/ttyACM0", "-o", "x.mcap", "--robot", str(desc.path)])
+    choice = choose_sensors(args, _real())
+    assert (choice.lidar, choice.camera, choice.imu, choice.imu_baud) == (
+        "/dev/serial/by-id/usb-lidar",
+        "picamera2",
+        "/dev/ttyUSB1",
+        9600,
+    )
+    # An emulated robot's own devices are the emulator's, never the file's real ports.
+    assert choose_sensors(args, _real("emu://picar")).lidar is None
+
+
+def test_a_robot_without_a_lidar_says_the_three_ways_to_give_one() -> None:
+    with pytest.raises(RoverLinkError) as error:
+        RobotPorts("/dev/ttyACM0", None, "picamera2").devices(_real(), "picar")
+    assert str(error.value) == (
+        "no lidar for this robot: give --lidar PORT, [sensors.lidar] port in the --robot FILE, or lidar= in an "
+        "emu:// URL"
+    )
+
+
+def test_an_emu_url_brings_its_own_lidar_and_camera() -> None:
+    with Robot.connect(SENSORS + "&clock=virtual", profile="picar") as robot:
+        devices = RobotPorts(robot.url, None, None).devices(robot, "picar")
+        endpoints = robot.transport.endpoints
+        assert (devices.lidar, devices.camera) == (endpoints["lidar"], endpoints["camera"])
+        assert devices.lidar_model == "ydlidar-f4"
+
+
+@pytest.mark.parametrize("command", ["console", "follow"])
+def test_console_and_follow_take_the_same_sensor_options_as_record(command: str) -> None:
+    args = build_parser().parse_args(
+        [command, "--url", SENSORS, "--lidar", "/dev/ttyUSB0", "--imu", "/dev/ttyUSB1", "--imu-baud", "9600"]
+    )
+    assert (args.lidar, args.imu, args.imu_baud, args.camera) == ("/dev/ttyUSB0", "/dev/ttyUSB1", 9600, None)
+
+
+def test_the_console_runs_on_an_emu_url_with_its_sensors(capsys: pytest.CaptureFixture[str]) -> None:
+    pytest.importorskip("aiohttp")
+    assert main(["console", "--url", SENSORS, "--duration", "0.5", "--port", "0"]) == 0
+    assert "roverlink console: open http://127.0.0.1:" in capsys.readouterr().err
