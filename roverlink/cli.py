@@ -11,6 +11,7 @@ from host_sdk.extras import MissingDependencyError
 from host_sdk.robot_file_check import MISMATCH_LOGGER
 from roverlink import __version__, say
 from roverlink.commands import COMMANDS
+from roverlink.console import take_url
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -26,6 +27,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     action = getattr(args, "action", None) or getattr(args, "firmware_command", None)
     say.running(f"roverlink {args.command}" + (f" {action}" if action else ""))
+    wrong = take_url(args)
+    if wrong is not None:  # as argparse reports a usage error
+        say.error(f"error: {wrong}")
+        return 2
     # The commands print each difference from --robot FILE themselves (`warning:` lines; the ROS 2
     # bridge hands the logger to the ROS log): unhandled, the SDK's line would reach stderr twice.
     quiet = logging.getLogger(MISMATCH_LOGGER)

@@ -14,6 +14,7 @@ import pytest
 from host_sdk import Robot, RobotDescription, RoverLinkError
 from protocol.robotfile import reference_path
 from roverlink.cli import build_parser, main
+from roverlink.console import take_url
 from roverlink.follow.app import RobotPorts
 from roverlink.sensors import choose_sensors
 
@@ -92,3 +93,25 @@ def test_the_console_runs_on_an_emu_url_with_its_sensors(capsys: pytest.CaptureF
     pytest.importorskip("aiohttp")
     assert main(["console", "--url", SENSORS, "--duration", "0.5", "--port", "0"]) == 0
     assert "roverlink console: open http://127.0.0.1:" in capsys.readouterr().err
+
+
+DRIVING = ["info", "monitor", "teleop", "calibrate", "tune", "record", "console", "follow", "demo", "ros2"]
+"""Every command that drives (or reads) a robot."""
+
+
+@pytest.mark.parametrize("command", DRIVING)
+def test_every_robot_command_takes_url_as_an_option(command: str) -> None:
+    extra = ["-o", "run.mcap"] if command == "record" else []
+    args = build_parser().parse_args([command, "--url", "/dev/ttyACM0", *extra])
+    assert take_url(args) is None and args.url == "/dev/ttyACM0"
+
+
+def test_the_url_as_an_option_connects_and_given_twice_or_not_at_all_is_refused(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert main(["info", "--url", "emu://picar?clock=virtual"]) == 0
+    assert "AckermannPiCar firmware" in capsys.readouterr().out
+    assert main(["info", "emu://picar", "--url", "emu://picar"]) == 2
+    assert capsys.readouterr().err.startswith("roverlink info: error: the URL given twice")
+    assert main(["info"]) == 2
+    assert "roverlink info: error: give the board's URL (first argument or --url)" in capsys.readouterr().err
