@@ -30,17 +30,17 @@ def obstacle_guard(args: argparse.Namespace, robot: Robot) -> Iterator[LidarGuar
     """The guard on the robot's lidar (None without one: said on stderr, as driving is unprotected)."""
     choice = choose_sensors(args, robot, ("lidar",))
     if choice.lidar is None:
-        print("teleop: no lidar (--lidar PORT): no obstacle protection", file=sys.stderr)
+        say.notice("no lidar (--lidar PORT, or [sensors.lidar] port in the --robot FILE): no obstacle protection")
         yield None
         return
     with Lidar.open(choice.lidar, choice.lidar_model) as lidar:
         try:
             guard = LidarGuard(robot, lidar)
         except RoverLinkError as exc:  # no footprint to guard: an unknown robot without a robot file
-            print(f"teleop: no obstacle protection: {exc} (give --robot FILE)", file=sys.stderr)
+            say.notice(f"no obstacle protection: {exc} (give --robot FILE)")
             yield None
             return
-        print(f"teleop: obstacle guard on the {choice.lidar_model} on {choice.lidar}", file=sys.stderr)
+        say.notice(f"obstacle guard on the {choice.lidar_model} on {choice.lidar}")
         guard.start()
         try:
             yield guard
