@@ -92,6 +92,11 @@ def cmd_console(args: argparse.Namespace) -> int:
                                  imu=not args.no_imu, camera_look=args.camera_look, watchdog_s=1.0)  # fmt: skip
         else:
             ports = robot_ports(args)
+            try:
+                ports.check(which)
+            except RoverLinkError as exc:
+                say.error(exc)
+                return 2
             run = start_robot(ports, which, settings)
     except MissingDependencyError:
         raise

@@ -177,6 +177,11 @@ def cmd_follow(args: argparse.Namespace) -> int:
                     say.error(f"cannot read the image {args.template}")
                     return 2
             ports = robot_ports(args)
+            try:
+                ports.check(robot)
+            except RoverLinkError as exc:
+                say.error(exc)
+                return 2
             metrics = run_robot(ports, robot, template=template, select=args.select, pilot=args.pilot,
                                 settings=settings, progress=progress, record=record)  # fmt: skip
     except MissingDependencyError:

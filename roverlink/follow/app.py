@@ -168,6 +168,16 @@ class RobotPorts:
     imu_baud: int | None = None
     """None: the robot file's [sensors.imu] baud, else the JY901's default."""
 
+    def check(self, which: str | RobotDescription) -> None:
+        """Before connecting to a real port: RoverLinkError when neither the options nor the robot
+        file give the lidar and the camera (an emu:// URL's own are known once it is connected)."""
+        if self.url.startswith("emu://"):
+            return
+        desc = which if isinstance(which, RobotDescription) else None
+        lidar = self.lidar or (desc.lidar.port if desc is not None and desc.lidar is not None else None)
+        camera = self.camera or (desc.camera.source if desc is not None and desc.camera is not None else None)
+        require_sensors(SensorChoice(lidar=lidar or None, camera=camera or None), ("lidar", "camera"))
+
     def devices(self, robot: Robot, which: str | RobotDescription) -> SensorChoice:
         """The lidar, camera and IMU to open for the connected `robot`: these ports, else its emu://
         URL's devices, else the robot file's (roverlink.sensors.sensors_for); the lidar and the

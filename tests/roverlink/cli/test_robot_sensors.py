@@ -115,3 +115,11 @@ def test_the_url_as_an_option_connects_and_given_twice_or_not_at_all_is_refused(
     assert capsys.readouterr().err.startswith("roverlink info: error: the URL given twice")
     assert main(["info"]) == 2
     assert "roverlink info: error: give the board's URL (first argument or --url)" in capsys.readouterr().err
+
+
+def test_before_connecting_a_real_port_needs_the_lidar_and_camera_from_options_or_the_file(tmp_path: Path) -> None:
+    RobotPorts("/dev/ttyACM0", None, None).check(_file(tmp_path))  # the file's lidar port and camera source
+    RobotPorts("/dev/ttyACM0", "/dev/ttyUSB0", "0").check("picar")
+    RobotPorts(SENSORS, None, None).check("picar")  # an emu:// URL's are known once connected
+    with pytest.raises(RoverLinkError, match="no camera for this robot"):
+        RobotPorts("/dev/ttyACM0", "/dev/ttyUSB0", None).check("picar")
