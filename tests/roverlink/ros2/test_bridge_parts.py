@@ -4,7 +4,6 @@ line when rclpy is missing."""
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 import math
 import re
@@ -17,7 +16,7 @@ from typing import Any
 
 import pytest
 
-from host_sdk import CommandRangeError, FeedbackSample, LinkStatistics, Pose, Robot, RobotDescription
+from host_sdk import CommandRangeError, FeedbackSample, LinkStatistics, Pose, Robot
 from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.sensors import ImuSample
 from host_sdk.session.types import RobotIdentity
@@ -37,17 +36,7 @@ from roverlink.ros2.diagnostics import (
     feedback_expected_s,
 )
 from roverlink.ros2.driver import Driver, RefusalLog, arm_hint, in_ros_words
-from roverlink.ros2.frames import FrameNames, static_frames
-from roverlink.ros2.params import (
-    BY_NAME,
-    OLD_NAMES,
-    SPECS,
-    BridgeParams,
-    odom_rate_for,
-    profile_sensor_warnings,
-    sensor_baud,
-    unknown_parameter_warnings,
-)
+from roverlink.ros2.params import SPECS, BridgeParams, odom_rate_for
 
 ROOT = Path(__file__).resolve().parents[3]
 
@@ -63,7 +52,6 @@ def test_odom_rate_zero_is_the_robots_own_feedback_rate(tmp_path: Path) -> None:
     """`--robot FILE` alone runs at the file's rate, a reference profile at its robot's; a rate set
     by the user wins; a board the node knows nothing of gets the spec's default."""
     from host_sdk import RobotDescription
-    from protocol.robotfile import reference_path
 
     bts = RobotDescription.load(reference_path("diffdrive-bts7960"))
     tb = RobotDescription.load(reference_path("diffdrive-tb6612"))
@@ -421,53 +409,6 @@ def test_levels_for_failsafe_reset_silence_and_no_connection() -> None:
     link, robot = d.build(snap(4.0, connection="reconnecting", connection_error="port gone", attempts=3, host=None))
     assert link.level == ERROR and "port gone" in link.message and "3 failed attempts" in link.message
     assert (robot.level, robot.message) == (STALE, "no connection")
-
-
-def test_an_allowed_mismatch_warns_naming_each_difference_and_a_failsafe_still_wins() -> None:
-    d = DiagnosticsBuilder("roverlink")
-    diffs = ("mine.toml: geometry.wheel_diameter_m = 0.07 m but the board on emu:// has wheel_diameter_um = 64000",)
-    _, robot = d.build(snap(1.0, state="disarmed", mismatches=diffs))
-    assert robot.level == WARN and diffs[0] in robot.message and dict(robot.values)["mismatch 1"] == diffs[0]
-    _, robot = d.build(snap(2.0, state="failsafe", failsafe=FailsafeReason.COMM_TIMEOUT, mismatches=diffs))
-    assert robot.level == ERROR
-
-
-def test_unknown_and_ros_arduino_bridge_parameters_name_what_to_use() -> None:
-    lines = unknown_parameter_warnings(["Kp", "motors_reversed", "odom_rat", "qos_overrides./odom.depth", "url"])
-    assert lines == [
-        "parameter Kp is ros_arduino_bridge's and is ignored: RoverLink's is the robot file's [pid] kp (robot_file)",
-        "parameter motors_reversed is ros_arduino_bridge's and is ignored: RoverLink's is the robot file's "
-        "[drive] motor_invert (robot_file)",
-        "unknown parameter odom_rat is ignored: did you mean odom_rate or odom_frame?",
-    ]
-    assert not set(OLD_NAMES) & set(BY_NAME)  # an old name the node has is no old name
-
-
-def test_a_sensors_baud_is_the_parameter_else_the_robot_files_else_the_datasheets() -> None:
-    imu = RobotDescription.load(reference_path("diffdrive-tb6612")).imu
-    assert imu is not None and imu.baud == 0
-    slow = dataclasses.replace(imu, baud=9600)
-    assert (sensor_baud(0, None), sensor_baud(0, imu), sensor_baud(0, slow), sensor_baud(230400, slow)) == (
-        None,
-        None,
-        9600,
-        230400,
-    )
-
-
-def test_a_profile_with_sensors_and_no_urls_warns_on_a_real_port_only() -> None:
-    picar = BridgeParams.defaults(profile="picar", url="/dev/ttyACM0")
-    (line,) = profile_sensor_warnings(picar)
-    assert "lidar_url parameter is empty: no scan and no laser frame" in line
-    assert profile_sensor_warnings(dataclasses.replace(picar, lidar_url="/dev/ttyUSB0")) == []
-    assert profile_sensor_warnings(dataclasses.replace(picar, url="emu://picar")) == []
-    (line,) = profile_sensor_warnings(BridgeParams.defaults(profile="diffdrive-tb6612"))
-    assert "imu_url parameter is empty: no imu and no imu_link frame" in line
-
-
-def test_a_base_frame_named_as_the_footprint_has_no_transform_to_itself() -> None:
-    frames = static_frames("diffdrive-tb6612", FrameNames(base="base_footprint"), ["imu"])
-    assert [(f.parent, f.child) for f in frames] == [("base_footprint", "imu_link")]
 
 
 @pytest.mark.parametrize("state", ["disarmed", "failsafe"])
