@@ -1,8 +1,8 @@
 """Drive a slow square while serving the robot's odometry as JSON over HTTP: an asyncio robot program.
 
-python examples/async_server.py                                                   # the emulated car, wall clock
-python examples/async_server.py "emu://diffdrive-tb6612?clock=virtual" --port 0  # virtual clock: CPU speed
-python examples/async_server.py /dev/ttyACM0 --seconds 120                        # a real board
+.venv/bin/python examples/async_server.py                                          # the emulated car, wall clock
+.venv/bin/python examples/async_server.py "emu://diffdrive-tb6612?clock=virtual" --port 0  # virtual clock: CPU speed
+.venv/bin/python examples/async_server.py /dev/ttyACM0 --seconds 120               # a real board
 
 and meanwhile, from another terminal: curl http://127.0.0.1:8080/odometry
 

@@ -3,12 +3,13 @@ target, follow it, drive, arm and stop (docs/console.md).
 
 On the emulator (a PiCar in a random room, on the wall clock so a person can drive it):
 
-    python examples/console.py --url 'emu://picar?world=random:3&lidar=ydlidar-f4&camera=320x240'
+    .venv/bin/python examples/console.py --url 'emu://picar?world=random:3&lidar=ydlidar-f4&camera=320x240'
 
 On a robot, opened from a laptop on the same network (it prints the URLs, the robot's name among
 them, each with the token):
 
-    python examples/console.py --url /dev/ttyACM0 --profile picar --lidar /dev/ttyUSB0 --camera 0 --host 0.0.0.0
+    .venv/bin/python examples/console.py --url /dev/ttyACM0 --profile picar --lidar /dev/ttyUSB0 \\
+        --camera 0 --host 0.0.0.0
 
 It rides through the robot's failures: a cut link, a board reset, a USB adapter pulled out and
 plugged in again are shown on the page, the robot is reconnected by itself and waits for Arm.

@@ -1,10 +1,10 @@
 """Drive a 1 m square on odometry (counter-clockwise).
 
-python examples/drive_square.py                                          # the emulated diff-drive car
-python examples/drive_square.py "emu://diffdrive-tb6612?clock=virtual"   # the same, as fast as the CPU allows
-python examples/drive_square.py "emu://diffdrive-bts7960?clock=virtual"  # the SLAM robot (lockstep)
-python examples/drive_square.py "emu://picar?clock=virtual"              # the Ackermann PiCar
-python examples/drive_square.py /dev/ttyACM0                             # a real board
+.venv/bin/python examples/drive_square.py                                          # the emulated diff-drive car
+.venv/bin/python examples/drive_square.py "emu://diffdrive-tb6612?clock=virtual"   # the same, as fast as the CPU allows
+.venv/bin/python examples/drive_square.py "emu://diffdrive-bts7960?clock=virtual"  # the SLAM robot (lockstep)
+.venv/bin/python examples/drive_square.py "emu://picar?clock=virtual"              # the Ackermann PiCar
+.venv/bin/python examples/drive_square.py /dev/ttyACM0                             # a real board
 
 A differential drive turns in place at the corners; an Ackermann robot cannot, so it takes each
 corner as an arc at its tightest steering (drive() with clamp=True holds the steering at its stop).

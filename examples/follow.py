@@ -2,11 +2,12 @@
 
 On the emulator (a PiCar in a random room, on the emulator's virtual clock: as fast as the CPU allows):
 
-    python examples/follow.py --url 'emu://picar?world=random:3&lidar=ydlidar-f4&imu=jy901&camera=320x240&clock=virtual'
+    .venv/bin/python examples/follow.py --url 'emu://picar?world=random:3&lidar=ydlidar-f4&imu=jy901&camera=320x240&clock=virtual'
 
 On a robot (the board, the lidar and the camera; `--imu` adds the JY901's gyro to the odometry):
 
-    python examples/follow.py --url /dev/ttyACM0 --profile picar --lidar /dev/ttyUSB0 --camera 0 --template target.png
+    .venv/bin/python examples/follow.py --url /dev/ttyACM0 --profile picar --lidar /dev/ttyUSB0 \\
+        --camera 0 --template target.png
 
 Your own robot: `--robot my.toml` (docs/robot-file.md) in place of --profile; the board is checked
 against the file and the footprint, camera and lidar are the file's (as on `emu://?robot=my.toml&...`).

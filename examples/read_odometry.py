@@ -1,9 +1,9 @@
 """Print odometry and wheel feedback as the robot turns a slow circle, using a feedback callback.
 
-python examples/read_odometry.py                                          # the emulated diff-drive car
-python examples/read_odometry.py "emu://diffdrive-bts7960?clock=virtual"  # the SLAM robot (lockstep)
-python examples/read_odometry.py "emu://picar?clock=virtual"              # the Ackermann PiCar
-python examples/read_odometry.py /dev/ttyACM0                             # a real board
+.venv/bin/python examples/read_odometry.py                                          # the emulated diff-drive car
+.venv/bin/python examples/read_odometry.py "emu://diffdrive-bts7960?clock=virtual"  # the SLAM robot (lockstep)
+.venv/bin/python examples/read_odometry.py "emu://picar?clock=virtual"              # the Ackermann PiCar
+.venv/bin/python examples/read_odometry.py /dev/ttyACM0                             # a real board
 """
 
 from __future__ import annotations

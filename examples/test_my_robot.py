@@ -1,7 +1,7 @@
 """Testing your own robot code against the emulator with the roverlink pytest plugin.
 
-    pip install roverlink[dev]
-    pytest examples/test_my_robot.py
+    pip install 'roverlink[dev]'                     # into a venv (a checkout: bash scripts/venv.sh dev)
+    .venv/bin/python -m pytest examples/test_my_robot.py
 
 The `robot` fixture is a connected Robot on a virtual clock (time moves only when the robot waits
 or sleeps, so these run in milliseconds and the same way every time); `emulator` gives ground

@@ -1,9 +1,9 @@
 """Read and change the velocity PID gains, and watch the step response change.
 
-python examples/tune_pid.py                                          # the emulated diff-drive car
-python examples/tune_pid.py "emu://diffdrive-bts7960?clock=virtual"  # the SLAM robot (lockstep)
-python examples/tune_pid.py "emu://picar?clock=virtual"              # the Ackermann PiCar (one wheel: its ESC)
-python examples/tune_pid.py /dev/ttyACM0                             # a real board
+.venv/bin/python examples/tune_pid.py                                          # the emulated diff-drive car
+.venv/bin/python examples/tune_pid.py "emu://diffdrive-bts7960?clock=virtual"  # the SLAM robot (lockstep)
+.venv/bin/python examples/tune_pid.py "emu://picar?clock=virtual"              # the PiCar (one wheel: its ESC)
+.venv/bin/python examples/tune_pid.py /dev/ttyACM0                             # a real board
 
 drive(speed, 0) works on every robot (set_wheel_speeds() is for differential drives only).
 """

@@ -9,8 +9,9 @@ from collections.abc import Sequence
 
 from host_sdk.extras import MissingDependencyError
 from host_sdk.robot_file_check import MISMATCH_LOGGER
-from roverlink import __version__
+from roverlink import __version__, say
 from roverlink.commands import COMMANDS
+from roverlink.console import take_url
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -24,6 +25,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    action = getattr(args, "action", None) or getattr(args, "firmware_command", None)
+    say.running(f"roverlink {args.command}" + (f" {action}" if action else ""))
+    wrong = take_url(args)
+    if wrong is not None:  # as argparse reports a usage error
+        say.error(f"error: {wrong}")
+        return 2
     # The commands print each difference from --robot FILE themselves (`warning:` lines; the ROS 2
     # bridge hands the logger to the ROS log): unhandled, the SDK's line would reach stderr twice.
     quiet = logging.getLogger(MISMATCH_LOGGER)
@@ -34,7 +41,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         result: int = args.func(args)
     except MissingDependencyError as exc:
         # An extra the command needs is not installed: one line naming it, not a traceback.
-        print(f"roverlink {args.command}: {exc}", file=sys.stderr)
+        say.error(exc)
         return 1
     return result
 

@@ -24,8 +24,12 @@ if TYPE_CHECKING:
 
 
 def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
-    """The URL and the connection options every robot command takes."""
-    p.add_argument("url", help="serial port or URL, e.g. /dev/ttyACM0, socket://host:port, emu://picar")
+    """The URL and the connection options every robot command takes: the URL as the first argument
+    or as `--url URL`, as console, follow, demo and ros2 take it (`take_url` checks one is given)."""
+    p.add_argument(
+        "url", nargs="?", default=None, help="serial port or URL, e.g. /dev/ttyACM0, socket://host:port, emu://picar"
+    )
+    p.add_argument("--url", dest="url_option", metavar="URL", default=None, help="the same, as an option")
     p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
     add_profile_args(p, help_text="reference robot, for its kinematics (default: the one the firmware names)")
     p.add_argument(
@@ -35,6 +39,17 @@ def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
         help=f"how long to wait for the board, in s (default {timeout:g}; an Arduino's bootloader takes ~2)",
     )
     add_kinematics_arg(p)
+
+
+def take_url(args: argparse.Namespace) -> str | None:
+    """Put `--url URL` where the commands read the URL (args.url); None, or what is wrong (neither or
+    both given)."""
+    if not hasattr(args, "url_option"):
+        return None
+    if args.url is not None and args.url_option is not None:
+        return f"the URL given twice ({args.url} and --url {args.url_option}): give it once"
+    args.url = args.url if args.url is not None else args.url_option
+    return None if args.url is not None else "give the board's URL (first argument or --url), e.g. /dev/ttyACM0"
 
 
 def add_profile_args(p: argparse.ArgumentParser, *, help_text: str, default: str | None = None) -> None:

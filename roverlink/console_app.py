@@ -148,11 +148,13 @@ def start_robot(ports: RobotPorts, which: str | RobotDescription, settings: Cons
     opened: list[Lidar | CameraSource | Jy901] = []
     try:
         geo = geometry_for(robot, which)
-        camera = CameraSource(ports.camera, width=geo.camera.width, height=geo.camera.height)
+        devices = ports.devices(robot, which)
+        assert devices.lidar is not None and devices.camera is not None  # ports.devices required them
+        camera = CameraSource(devices.camera, width=geo.camera.width, height=geo.camera.height)
         opened.append(camera)
-        lidar = Lidar.open(ports.lidar, ports.lidar_model or emulated.lidar_for(which))
+        lidar = Lidar.open(devices.lidar, devices.lidar_model)
         opened.append(lidar)
-        imu = Jy901.open(ports.imu) if ports.imu else None
+        imu = Jy901.open(devices.imu, devices.imu_baud) if devices.imu else None
         run = _assemble(sup, which, settings, lidar=lidar, camera=camera, imu=imu, em=None)
         run.console.start()
     except BaseException:

@@ -96,7 +96,27 @@ _venv_has_extras() {
     done
     return 1
 }
-if ! _venv_has_extras; then
+# An install with other extras may bring every package these need (`dev` has `plot`'s matplotlib,
+# `tools`'s ...): then nothing is installed, so `demo.sh --plot` after `test.sh` installs nothing.
+_venv_serves_extras() {
+    local file current=false
+    for file in "$VENV"/.installed-"$EDITABLE_MODE"*; do
+        [[ -f "$file" && ! "$ROOT/pyproject.toml" -nt "$file" ]] && current=true
+    done
+    [[ $current == true && -n "$EXTRAS" ]] || return 1
+    "$VENV/bin/python" - "$EXTRAS" <<'PY' >/dev/null 2>&1
+import re
+import sys
+from importlib import metadata
+
+wanted = set(filter(None, sys.argv[1].split(",")))
+for requirement in metadata.requires("roverlink") or []:
+    extra = re.search(r"extra\s*==\s*[\"']([^\"']+)[\"']", requirement)
+    if extra and extra.group(1) in wanted:
+        metadata.version(re.split(r"[\s;<>=!~\[(]", requirement, maxsplit=1)[0])  # raises when missing
+PY
+}
+if ! _venv_has_extras && ! _venv_serves_extras; then
     echo "== installing roverlink${EXTRAS:+[$EXTRAS]} into $VENV"
     "$VENV/bin/python" -m pip install -q --disable-pip-version-check "${PIP_PINS[@]}" \
         --config-settings editable_mode="$EDITABLE_MODE" -e "$ROOT${EXTRAS:+[$EXTRAS]}"

@@ -21,6 +21,7 @@ from host_sdk.enums import Capability
 from host_sdk.extras import MissingDependencyError
 from host_sdk.sensors import Sensors
 from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
+from roverlink import say
 from roverlink.argtypes import usage_lines
 from roverlink.calibration import (
     Calibration,
@@ -201,7 +202,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         try:  # read and checked before connecting: a bad file drives nothing
             robot_file = RobotDescription.load(Path(getattr(args.robot, "path", args.robot)))
         except RobotFileError as exc:
-            print(exc, file=sys.stderr)
+            say.error(exc)
             return 2
     try:
         with (
@@ -213,12 +214,12 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
             except RoverLinkError:
                 hit = first_collision(robot)
                 if hit is not None:  # the emulated robot drove into its world: say so, not just the failsafe
-                    print(f"the emulated robot hit {hit}: give it room (world=empty)", file=sys.stderr)
+                    say.error(f"the emulated robot hit {hit}: give it room (world=empty)")
                 raise
     except MissingDependencyError:
         raise  # cli.main names the extra
     except (RoverLinkError, EOFError, ValueError, TimeoutError, OSError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     except KeyboardInterrupt:
         print("\nstopped: the robot was stopped; nothing was saved to EEPROM", file=sys.stderr)

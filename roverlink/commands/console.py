@@ -15,7 +15,6 @@ Runs until Ctrl-C (or --duration seconds).
 from __future__ import annotations
 
 import argparse
-import sys
 
 from emulator.sensors.camera import LOOKS
 from host_sdk import RoverLinkError
@@ -23,11 +22,12 @@ from host_sdk.console import Access
 from host_sdk.errors import CommandRangeError, TransportError
 from host_sdk.extras import MissingDependencyError, require
 from protocol.generated.constants import WATCHDOG_MAX_MS, WATCHDOG_MIN_MS
+from roverlink import say
 from roverlink.argtypes import number, positive
 from roverlink.console import add_profile_args
 from roverlink.console_app import ConsoleSettings, start_emulated, start_robot
-from roverlink.follow.app import RobotPorts
-from roverlink.sensors.options import CAMERA_HELP, camera_source
+from roverlink.follow.app import robot_ports
+from roverlink.sensors.options import add_sensor_args
 
 
 def _port(text: str) -> int:
@@ -69,10 +69,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     r.add_argument("--watchdog", type=number(WATCHDOG_MIN_MS / 1000, WATCHDOG_MAX_MS / 1000, "s"), metavar="S",
                    help="the board's watchdog, which is also how long a command from the page lives (default the "
                         "firmware's, 0.25 s; longer for a host too busy to renew commands in time)")  # fmt: skip
-    r.add_argument("--lidar", metavar="PORT", help="the lidar's port")
-    r.add_argument("--lidar-model", choices=("rplidar-a1", "ydlidar-f4"), help="default: the profile's or file's")
-    r.add_argument("--imu", metavar="PORT", help="the JY901's port (optional)")
-    r.add_argument("--camera", metavar="SOURCE", help=CAMERA_HELP)
+    add_sensor_args(p, off=None)
     p.set_defaults(func=cmd_console)
 
 
@@ -81,7 +78,7 @@ def cmd_console(args: argparse.Namespace) -> int:
     try:
         Access.for_host(args.host, args.token)  # checked before anything starts
     except CommandRangeError as exc:
-        print(f"roverlink console: --{exc}", file=sys.stderr)
+        say.error(f"--{exc}")
         return 2
     settings = ConsoleSettings(args.host, args.port, args.token, args.max_speed, args.target_height, args.follow_gap,
                                args.autonomous, args.watchdog)  # fmt: skip
@@ -94,32 +91,31 @@ def cmd_console(args: argparse.Namespace) -> int:
             run = start_emulated(which, world, settings, seed=args.seed, camera_fps=args.camera_fps,
                                  imu=not args.no_imu, camera_look=args.camera_look, watchdog_s=1.0)  # fmt: skip
         else:
-            missing = [f"--{name}" for name in ("lidar", "camera") if getattr(args, name) is None]
-            if missing:
-                print(f"roverlink console: on a robot give {' and '.join(missing)}", file=sys.stderr)
+            ports = robot_ports(args)
+            try:
+                ports.check(which)
+            except RoverLinkError as exc:
+                say.error(exc)
                 return 2
-            ports = RobotPorts(args.url, args.lidar, camera_source(args.camera), args.imu, args.lidar_model,
-                               args.baud, args.allow_mismatch)  # fmt: skip
             run = start_robot(ports, which, settings)
     except MissingDependencyError:
         raise
     except TransportError as exc:
         hint = " (--host, --port)" if "console cannot listen" in str(exc) else ""
-        print(f"roverlink console: {exc}{hint}", file=sys.stderr)
+        say.error(f"{exc}{hint}")
         return 1
     except (RoverLinkError, ValueError, OSError, RuntimeError) as exc:
-        print(f"roverlink console: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
-    print("roverlink console: open " + "  or  ".join(run.console.urls), file=sys.stderr, flush=True)
+    say.notice("open " + "  or  ".join(run.console.urls))
     if args.autonomous:
-        print("roverlink console: --autonomous: following goes on with no browser open; STOP on the page "
-              "or Ctrl-C here stops it", file=sys.stderr, flush=True)  # fmt: skip
+        say.notice("--autonomous: following goes on with no browser open; STOP on the page or Ctrl-C here stops it")
     try:
         run.run(args.duration)
     except KeyboardInterrupt:
         pass
     except (RoverLinkError, OSError, RuntimeError) as exc:
-        print(f"roverlink console: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     finally:
         run.close()

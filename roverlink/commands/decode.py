@@ -19,6 +19,7 @@ from protocol.codec.cobs import cobs_decode
 from protocol.codec.crc import frame_crc
 from protocol.codec.message import Message
 from protocol.framing import MESSAGES, BadFrame, Frame, FrameDecoder, FrameErrorKind
+from roverlink import say
 
 
 def cmd_decode(args: argparse.Namespace) -> int:
@@ -27,10 +28,10 @@ def cmd_decode(args: argparse.Namespace) -> int:
     try:
         data = bytes.fromhex(text.replace(":", " ").replace(",", " "))
     except ValueError as exc:
-        print(f"error: not hex: {exc}", file=sys.stderr)
+        say.error(f"not hex: {exc}")
         return 2
     if not data:
-        print("error: no bytes given", file=sys.stderr)
+        say.error("no bytes given")
         return 2
     if not data.endswith(b"\x00"):
         data += b"\x00"  # the last frame's delimiter may be left out

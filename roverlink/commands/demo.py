@@ -31,7 +31,7 @@ from host_sdk import (
     enums,
 )
 from host_sdk.profiles import steering_limits
-from roverlink import argtypes
+from roverlink import argtypes, say
 from roverlink.console import add_profile_args, warn_mismatches
 
 _TURN_TOLERANCE_RAD = math.radians(1.0)
@@ -55,6 +55,19 @@ class DemoResult:
     duration_s: float
     side_m: float = 1.0
     """The side of the square driven."""
+    corner_radius_m: float = 0.0
+    """0: the corners are turns in place; an Ackermann robot's: its tightest turning radius."""
+
+    @property
+    def course(self) -> str:
+        """What was driven, in words: the square, its corners and the size of the path."""
+        corners = "turns in place" if not self.corner_radius_m else f"{self.corner_radius_m:.2f} m radius corners"
+        points = self.track.truth or self.track.odometry
+        if not points:
+            return f"{self.side_m:g} m square, {corners}"
+        xs, ys = zip(*points, strict=True)
+        size = f"{max(xs) - min(xs):.2f} x {max(ys) - min(ys):.2f} m"
+        return f"{self.side_m:g} m square, {corners}: a {size} path"
 
     @property
     def position_error_m(self) -> float | None:
@@ -157,8 +170,9 @@ def drive_square(
     robot.disarm()
     robot.sleep(0.3)
     square.progress.done()
+    radius = _ackermann_radius(robot, kin) if isinstance(kin, Ackermann) else 0.0
     return DemoResult(
-        robot.odometry.pose, square.truth.now(), robot.stats, square.track, robot.now() - square.start, side_m
+        robot.odometry.pose, square.truth.now(), robot.stats, square.track, robot.now() - square.start, side_m, radius
     )
 
 
@@ -305,9 +319,10 @@ def format_report(result: DemoResult) -> str:
                 f"min {r.min_s * 1000:.2f} / mean {r.mean_s * 1000:.2f} / max {r.max_s * 1000:.2f} ms ({r.samples})",
             )
         )
-    if s.clock_offset_us is not None:
-        drift = f", drift {s.clock_drift_ppm:+.1f} ppm" if s.clock_drift_ppm is not None else ""
-        rows.append(("MCU clock offset", f"{s.clock_offset_us / 1000:+.3f} ms{drift}"))
+    # The offset between the clocks is not shown: the board's counts from its boot, the host's from
+    # the machine's, so its size says nothing; how fast the board's runs is what time sync corrects.
+    if s.clock_drift_ppm is not None:
+        rows.append(("board clock drift", f"{s.clock_drift_ppm:+.1f} ppm against the host's (time sync corrects it)"))
     width = max(len(k) for k, _ in rows)
     lines += [f"  {k:<{width}}  {v}" for k, v in rows]
     return "\n".join(lines)
@@ -332,27 +347,34 @@ def _install_hint(extra: str) -> str:
     return f"{sys.executable} -m pip install 'roverlink[{extra}]'"
 
 
-def plot(result: DemoResult, path: str, course: str = "") -> None:
-    """Odometry against ground truth, as a PNG at `path`; `course` names what was driven (title)."""
+def figure(result: DemoResult, robot: str = "") -> Any:
+    """Odometry against ground truth: the truth a wide pale band, odometry a thin dark line on top,
+    so both show where they lie on each other; the title says what was driven (`robot`: whose)."""
     plt = plot_module()
     fig, ax = plt.subplots(figsize=(6, 6))
     if result.track.truth:
         xs, ys = zip(*result.track.truth, strict=True)
-        ax.plot(xs, ys, label="ground truth (emulator)", linewidth=3, alpha=0.5)
+        ax.plot(xs, ys, label="ground truth (emulator)", color="tab:blue", linewidth=6, alpha=0.35, zorder=2)
     if result.track.odometry:
         xs, ys = zip(*result.track.odometry, strict=True)
-        ax.plot(xs, ys, label="odometry (SDK)", linestyle="--")
+        ax.plot(xs, ys, label="odometry (SDK)", color="tab:red", linewidth=1.2, zorder=3)
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.grid(True)
-    title = f"RoverLink demo: {course or f'{result.side_m:g} m square'}"
+    title = f"RoverLink demo{f' ({robot})' if robot else ''}: {result.course}"
     if result.position_error_m is not None:
         title += f"\nend error {result.position_error_m * 1000:.1f} mm"
     ax.set_title(title)
     ax.legend()
+    return fig
+
+
+def plot(result: DemoResult, path: str, robot: str = "") -> None:
+    """`figure` as a PNG at `path`."""
+    fig = figure(result, robot)
     fig.savefig(path, dpi=100, bbox_inches="tight")
-    plt.close(fig)
+    plot_module().close(fig)
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -393,13 +415,13 @@ def cmd_demo(args: argparse.Namespace) -> int:
         own_mode, caps = PROFILES[profile].feedback_mode.name, PROFILES[profile].capabilities
     mode: Literal["stream", "lockstep"] = "lockstep" if (args.mode or own_mode).lower() == "lockstep" else "stream"
     if mode == "lockstep" and args.url is None and not caps & enums.Capability.LOCKSTEP:
-        print(f"error: {profile} has no lockstep feedback: run the demo with --mode stream", file=sys.stderr)
+        say.error(f"{profile} has no lockstep feedback: run the demo with --mode stream")
         return 2
     if args.plot:  # before any driving: a missing matplotlib must not cost the whole course
         try:
             plot_module()
         except RoverLinkError as exc:
-            print(f"error: {exc}", file=sys.stderr)
+            say.error(f"{exc}")
             return 1
     if args.url is None:
         query = f"seed={args.seed}&clock={'virtual' if args.fast else 'real'}"
@@ -431,21 +453,19 @@ def cmd_demo(args: argparse.Namespace) -> int:
             result = drive_square(robot, args.side, args.speed)
     except UnsupportedError as exc:
         if exc.capability is enums.Capability.LOCKSTEP:
-            print(
-                f"error: the board on {url} has no lockstep feedback: run the demo with --mode stream", file=sys.stderr
-            )
+            say.error(f"the board on {url} has no lockstep feedback: run the demo with --mode stream")
         else:
-            print(f"error: {exc}", file=sys.stderr)
+            say.error(f"{exc}")
         return 1
     except RoverLinkError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     print(format_report(result))
     if args.plot:
         try:
-            plot(result, args.plot, f"{profile}, {result.side_m:g} m square, {mode} feedback")
+            plot(result, args.plot, f"{profile}, {mode} feedback")
         except RoverLinkError as exc:
-            print(f"error: {exc}", file=sys.stderr)
+            say.error(f"{exc}")
             return 1
         print(f"\nplot written to {args.plot}")
     return 0

@@ -35,7 +35,7 @@ from emulator.transport.realtime import Endpoint, SerialPeripheral, serve
 from emulator.transport.socket import SocketEndpoint
 from protocol.robotfile import RobotFileError
 from protocol.sensors import SensorSpecError
-from roverlink import argtypes, firmware
+from roverlink import argtypes, firmware, say
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -160,7 +160,7 @@ def cmd_emulate(args: argparse.Namespace) -> int:
         values[key] = None if values[key] is None else str(values[key])
     if getattr(args, "backend", "python") == "simavr":
         if any(values.values()):
-            print("error: --world, --lidar, --imu and --camera need --backend python", file=sys.stderr)
+            say.error("--world, --lidar, --imu and --camera need --backend python")
             return 2
         return _cmd_emulate_simavr(args)
     try:
@@ -170,12 +170,12 @@ def cmd_emulate(args: argparse.Namespace) -> int:
         if sensors is not None:
             sensors.attach(emu, seed=args.seed)
     except (EmulatorError, SensorSpecError, RobotFileError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 2
     try:
         endpoint, stopping, log = _open_endpoint(args)
     except EndpointError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     extras, closers = _serve_sensors(emu, args.camera_port)
     if log is not None:
@@ -278,16 +278,16 @@ def _cmd_emulate_simavr(args: argparse.Namespace) -> int:
         profile, elf = _simavr_firmware(args)
         robot = SimavrRobot(profile, elf=elf, seed=args.seed, **_board_options(args))
     except (SimavrError, EmulatorError, firmware.FirmwareError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 2
     except RobotFileError as exc:
-        print(exc, file=sys.stderr)
+        say.error(exc)
         return 2
     try:
         endpoint, stopping, log = _open_endpoint(args)
     except EndpointError as exc:
         robot.close()
-        print(f"error: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     if log is not None:
         print(

@@ -7,16 +7,15 @@ import argparse
 import shlex
 import shutil
 import subprocess
-import sys
 from collections.abc import Callable
 from pathlib import Path
 
 from serial.tools import list_ports
 
 from protocol.robotfile import RobotFileError
+from roverlink import say
 from roverlink.firmware import (
     BOARDS,
-    BUILD_ROOT,
     BoardSpec,
     Builder,
     CompileError,
@@ -60,12 +59,12 @@ def _targets(args: argparse.Namespace) -> list[tuple[Path, BoardSpec]]:
 
 
 def _out(args: argparse.Namespace, sketch: Path, board: BoardSpec) -> Path:
-    """Where the ELF and HEX go: --out, else beside a robot file's sketch, else per sketch and board."""
+    """Where the ELF and HEX go: --out, else where the user is: ./firmware/<name>/<board>/ in the
+    current directory, <name> the robot file's (its stem) or the sketch's."""
     if args.out:
         return Path(args.out)
-    if getattr(args, "robot", None):
-        return sketch.parent / board.name  # not the example's own folder: that is the reference build's
-    return BUILD_ROOT / sketch.name / board.name
+    name = Path(args.robot).stem if getattr(args, "robot", None) else sketch.name
+    return Path.cwd() / "firmware" / name / board.name
 
 
 def cmd_build(args: argparse.Namespace) -> int:
@@ -176,13 +175,13 @@ def _guarded(command: Callable[[argparse.Namespace], int]) -> Callable[[argparse
         try:
             return command(args)
         except CompileError as exc:
-            print(f"error: {exc}", file=sys.stderr)
+            say.error(f"{exc}")
             return 1
         except FirmwareError as exc:
-            print(f"error: {exc}", file=sys.stderr)
+            say.error(f"{exc}")
             return 2
         except RobotFileError as exc:
-            print(exc, file=sys.stderr)
+            say.error(exc)
             return 2
 
     run.__doc__ = command.__doc__

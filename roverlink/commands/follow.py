@@ -38,13 +38,14 @@ from host_sdk.errors import CommandRangeError
 from host_sdk.extras import MissingDependencyError, require
 from host_sdk.perception.detectors import KINDS
 from host_sdk.perception.template import read_template
+from roverlink import say
 from roverlink.argtypes import positive
 from roverlink.commands.record import add_foxglove_address_args
 from roverlink.console import add_profile_args
-from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, RobotPorts, run_emulated, run_robot
+from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, robot_ports, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress
-from roverlink.sensors.options import CAMERA_HELP, camera_source
+from roverlink.sensors.options import add_sensor_args
 
 
 def _box(text: str) -> tuple[float, float, float, float]:
@@ -90,10 +91,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     r = p.add_argument_group("on a robot")
     r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, ...")
     r.add_argument("--baud", type=int, default=115200, help="the board's line speed (default 115200)")
-    r.add_argument("--lidar", metavar="PORT", help="the lidar's port")
-    r.add_argument("--lidar-model", choices=("rplidar-a1", "ydlidar-f4"), help="default: the profile's or file's")
-    r.add_argument("--imu", metavar="PORT", help="the JY901's port (optional: fuses its gyro with odometry)")
-    r.add_argument("--camera", metavar="SOURCE", help=CAMERA_HELP)
+    add_sensor_args(p, off=None)
     r.add_argument(
         "--template",
         type=Path,
@@ -143,8 +141,9 @@ def cmd_follow(args: argparse.Namespace) -> int:
     settings = FollowSettings(args.follow_gap, args.max_speed, args.target_height, args.duration, args.target,
                               args.rearm)  # fmt: skip
     if args.rearm:
-        print("roverlink follow: --rearm: the robot is armed again by itself after a failsafe or a board reset, "
-              "and goes on following", file=sys.stderr, flush=True)  # fmt: skip
+        say.notice(
+            "--rearm: the robot is armed again by itself after a failsafe or a board reset, and goes on following"
+        )
     record = None
     if args.foxglove or args.foxglove_live:
         record = RecordTo(args.foxglove, args.foxglove_live, args.foxglove_host, args.foxglove_port)
@@ -153,22 +152,21 @@ def cmd_follow(args: argparse.Namespace) -> int:
     try:
         if args.url is None:
             if args.target is not None:
-                print("roverlink follow: --target needs a robot's camera (--url): the emulated target is a "
-                      "rendered cylinder, not a person", file=sys.stderr)  # fmt: skip
+                say.error(
+                    "--target needs a robot's camera (--url): the emulated target is a rendered cylinder, not a person"
+                )
                 return 2
             given = [name for name in ("select", "template") if getattr(args, name) is not None]
             if given:
-                print(f"roverlink follow: --{given[0]} is for a robot's camera (--url): on the emulator the target "
-                      "is the world's (roverlink console lets you draw it)", file=sys.stderr)  # fmt: skip
+                say.error(f"--{given[0]} is for a robot's camera (--url): on the emulator the target "
+                          "is the world's (roverlink console lets you draw it)")  # fmt: skip
                 return 2
             metrics = run_emulated(robot, args.world or f"random:{args.seed}", pilot=args.pilot, seed=args.seed,
                                    camera_fps=args.camera_fps, imu=not args.no_imu, settings=settings,
                                    camera_look=args.camera_look, progress=progress, record=record)  # fmt: skip
         else:
-            missing = [name for name in ("lidar", "camera") if getattr(args, name) is None]
-            if missing or sum(v is not None for v in (args.template, args.select, args.target)) != 1:
-                print("roverlink follow: on a robot give --lidar, --camera, and one of --template, --select, --target",
-                      file=sys.stderr)  # fmt: skip
+            if sum(v is not None for v in (args.template, args.select, args.target)) != 1:
+                say.error("on a robot give one of --template, --select, --target")
                 return 2
             template = None
             if args.template is not None:
@@ -176,23 +174,20 @@ def cmd_follow(args: argparse.Namespace) -> int:
                 try:
                     template = read_template(args.template)
                 except CommandRangeError:
-                    print(f"roverlink follow: cannot read the image {args.template}", file=sys.stderr)
+                    say.error(f"cannot read the image {args.template}")
                     return 2
-            ports = RobotPorts(
-                args.url,
-                args.lidar,
-                camera_source(args.camera),
-                args.imu,
-                args.lidar_model,
-                args.baud,
-                args.allow_mismatch,
-            )
+            ports = robot_ports(args)
+            try:
+                ports.check(robot)
+            except RoverLinkError as exc:
+                say.error(exc)
+                return 2
             metrics = run_robot(ports, robot, template=template, select=args.select, pilot=args.pilot,
                                 settings=settings, progress=progress, record=record)  # fmt: skip
     except MissingDependencyError:
         raise  # cli.main names the extra
     except (RoverLinkError, ValueError, OSError, RuntimeError) as exc:
-        print(f"roverlink follow: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     if args.json:
         print(json.dumps(metrics.to_json(), indent=1))

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import sys
 
 from host_sdk import RoverLinkError
 from host_sdk.extras import MissingDependencyError
+from roverlink import say
 from roverlink.console import add_robot_args, connect
 
 
@@ -52,7 +52,7 @@ def cmd_info(args: argparse.Namespace) -> int:
     except MissingDependencyError:
         raise  # cli.main names the extra
     except RoverLinkError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     return 0
 

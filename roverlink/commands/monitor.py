@@ -18,6 +18,7 @@ import sys
 from host_sdk import Robot, RoverLinkError
 from host_sdk.extras import MissingDependencyError
 from host_sdk.recording import Recorder
+from roverlink import say
 from roverlink.commands.record import POLL_S, add_foxglove_args
 from roverlink.console import add_robot_args, announce_live_view, connect
 from roverlink.dashboard import Dashboard, lines, one_line
@@ -80,7 +81,7 @@ def cmd_monitor(args: argparse.Namespace) -> int:
     except MissingDependencyError:
         raise  # cli.main names the extra
     except (RoverLinkError, OSError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     return 0
 

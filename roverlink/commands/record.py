@@ -14,12 +14,12 @@ host_sdk.recording, or `follow --foxglove`) to record a drive.
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from host_sdk import Robot, RoverLinkError
 from host_sdk.extras import MissingDependencyError
 from host_sdk.recording import Recorder, RecordingSummary
+from roverlink import say
 from roverlink.console import LAYOUT_HINT, Progress, add_robot_args, announce_live_view, bar, connect
 from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
 
@@ -68,13 +68,13 @@ def cmd_record(args: argparse.Namespace) -> int:
     """Record feedback, odometry, wheel series, link statistics, LOG lines and the sensors to MCAP."""
     path = Path(args.output)
     if path.suffix != ".mcap":
-        print(f"error: -o {path}: the file name should end in .mcap", file=sys.stderr)
+        say.error(f"-o {path}: the file name should end in .mcap")
         return 2
     if path.exists() and not args.force:
-        print(f"error: {path} exists (pass --force to overwrite)", file=sys.stderr)
+        say.error(f"{path} exists (pass --force to overwrite)")
         return 1
     if args.duration is not None and args.duration <= 0:
-        print(f"error: --duration {args.duration:g}: a number of seconds > 0", file=sys.stderr)
+        say.error(f"--duration {args.duration:g}: a number of seconds > 0")
         return 2
     try:
         with connect(args, feedback_hz=args.rate) as robot:
@@ -98,7 +98,7 @@ def cmd_record(args: argparse.Namespace) -> int:
     except MissingDependencyError:
         raise  # cli.main names the extra
     except (RoverLinkError, OSError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     print("\n".join(summary.lines()))
     print(f"open {path} in Foxglove with the layout {LAYOUT_HINT}")

@@ -10,6 +10,7 @@ import argparse
 import sys
 from typing import Any
 
+from roverlink import say
 from roverlink.console import add_profile_args
 from roverlink.ros2 import INSTALL_HINT, missing_modules
 
@@ -20,7 +21,7 @@ def cmd_ros2(args: argparse.Namespace) -> int:
     """Run the ROS 2 bridge node: cmd_vel in; odom, tf, joint_states and diagnostics out."""
     missing = missing_modules()
     if missing:
-        print(f"roverlink ros2: cannot import {', '.join(missing)}; {INSTALL_HINT}", file=sys.stderr)
+        say.error(f"cannot import {', '.join(missing)}; {INSTALL_HINT}")
         return 2
     from roverlink.ros2.run import run  # noqa: PLC0415 (rclpy: only when the command runs)
 
@@ -41,6 +42,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="roverlink ros2", description=_DESCRIPTION)
     _add_arguments(parser)
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
+    say.running(parser.prog)
     return cmd_ros2(args)
 
 

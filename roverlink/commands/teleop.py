@@ -18,6 +18,7 @@ from host_sdk.autonomy.guard import LidarGuard
 from host_sdk.extras import MissingDependencyError
 from host_sdk.sensors import Lidar
 from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
+from roverlink import say
 from roverlink.console import add_robot_args, connect
 from roverlink.dashboard import Dashboard, lines
 from roverlink.sensors import add_sensor_args, choose_sensors
@@ -29,17 +30,17 @@ def obstacle_guard(args: argparse.Namespace, robot: Robot) -> Iterator[LidarGuar
     """The guard on the robot's lidar (None without one: said on stderr, as driving is unprotected)."""
     choice = choose_sensors(args, robot, ("lidar",))
     if choice.lidar is None:
-        print("teleop: no lidar (--lidar PORT): no obstacle protection", file=sys.stderr)
+        say.notice("no lidar (--lidar PORT, or [sensors.lidar] port in the --robot FILE): no obstacle protection")
         yield None
         return
     with Lidar.open(choice.lidar, choice.lidar_model) as lidar:
         try:
             guard = LidarGuard(robot, lidar)
         except RoverLinkError as exc:  # no footprint to guard: an unknown robot without a robot file
-            print(f"teleop: no obstacle protection: {exc} (give --robot FILE)", file=sys.stderr)
+            say.notice(f"no obstacle protection: {exc} (give --robot FILE)")
             yield None
             return
-        print(f"teleop: obstacle guard on the {choice.lidar_model} on {choice.lidar}", file=sys.stderr)
+        say.notice(f"obstacle guard on the {choice.lidar_model} on {choice.lidar}")
         guard.start()
         try:
             yield guard
@@ -50,7 +51,7 @@ def obstacle_guard(args: argparse.Namespace, robot: Robot) -> Iterator[LidarGuar
 def cmd_teleop(args: argparse.Namespace) -> int:
     """Keyboard driving (arrows/WASD, +/- speed, space stop, enter arm, x disarm, q quit)."""
     if not sys.stdin.isatty():
-        print("error: teleop reads the keyboard: run it in a terminal", file=sys.stderr)
+        say.error("teleop reads the keyboard: run it in a terminal")
         return 2
     from roverlink.tui import TeleopApp  # noqa: PLC0415 (Textual is an extra, loaded for the terminal view only)
 
@@ -70,7 +71,7 @@ def cmd_teleop(args: argparse.Namespace) -> int:
     except MissingDependencyError:
         raise  # cli.main names the extra
     except RoverLinkError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     return 0
 

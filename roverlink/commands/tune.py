@@ -17,6 +17,7 @@ from host_sdk.extras import MissingDependencyError, require
 from protocol.generated.constants import FEEDBACK_HZ_MAX
 from protocol.robotfile.model import GAIN_NAMES
 from roverlink import robot_file_edit as edit
+from roverlink import say
 from roverlink.console import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
 from roverlink.emulated import place_on_stand
 from roverlink.robot_file_edit import Value
@@ -207,9 +208,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
             if args.speed is None:
                 args.speed = round(limit * DEFAULT_SPEED_FRACTION, 2)
             if not 0 < args.speed <= limit:
-                print(
-                    f"error: --speed {args.speed:g}: 0 < speed <= {limit:g} m/s (max_wheel_speed_mm_s)", file=sys.stderr
-                )
+                say.error(f"--speed {args.speed:g}: 0 < speed <= {limit:g} m/s (max_wheel_speed_mm_s)")
                 return 2
             if not _stand(robot, prompter, args.speed):
                 print("not tuned: the robot must be on a stand")
@@ -229,7 +228,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
     except MissingDependencyError:
         raise  # cli.main names the extra
     except (RoverLinkError, EOFError, ValueError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        say.error(f"{exc}")
         return 1
     except KeyboardInterrupt:
         print("\ninterrupted: the robot was stopped and its gains and ramp put back", file=sys.stderr)

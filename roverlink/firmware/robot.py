@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import hashlib
 import re
+import textwrap
 from pathlib import Path
 
 from protocol.generator import wiring as rules
@@ -117,12 +118,46 @@ def write_sketch(robot: RobotFile, folder: Path, *, force: bool = False) -> Path
     if existing and not force:
         raise FirmwareError(f"{', '.join(existing)} exists (--force to overwrite)")
     source = example_dir(example) / f"{example}.ino"
-    origin = f"// {robot.name}, from {robot.path}: the {example} example; its robot_profile.h is generated\n"
-    origin += f"// from that file (`roverlink firmware sketch --robot {robot.path}`): edit the file, not the header.\n"
     folder.mkdir(parents=True, exist_ok=True)
-    ino.write_text(origin + source.read_text(encoding="utf-8"), encoding="utf-8")
+    ino.write_text(sketch_text(robot, example, source.read_text(encoding="utf-8")), encoding="utf-8")
     header.write_text(profile_header(robot, example, robot.path), encoding="utf-8")
     return folder
+
+
+def _about(robot: RobotFile) -> str:
+    """The robot in a few words, from its file (what the example's own first comment says of the
+    reference robot)."""
+    parts = [f"{robot.drive.kind} drive ({robot.drive.driver}) on the {robot.board}"]
+    st = robot.steering
+    if st is not None:
+        step = f", {st.step_deg:g} degree steps" if st.step_deg else ""
+        parts.append(f"steering servo {st.min_deg:g}..{st.max_deg:g} degrees, centre {st.center_deg:g}{step}")
+    enc = robot.encoders
+    if robot.wiring.encoders:
+        parts.append(f"{len(robot.wiring.encoders)} encoder(s), {enc.counts_per_rev} counts/rev ({enc.decoding})")
+    parts.append(f"wheels {robot.geometry.wheel_diameter_m * 1000:g} mm")
+    parts.append(f"{robot.feedback.mode} feedback")
+    return f"{robot.name}: " + ", ".join(parts) + "."
+
+
+def sketch_text(robot: RobotFile, example: str, source: str) -> str:
+    """The example's sketch for `robot`: its first comment, which describes the reference robot,
+    replaced by one from the file; the code and the comments on it kept."""
+    lines = source.splitlines(keepends=True)
+    body = 0
+    while body < len(lines) and lines[body].startswith("//"):
+        body += 1
+    paragraphs = [_about(robot)] + ([robot.description] if robot.description else [])
+    paragraphs.append(
+        f"From {robot.path}: the {example} example, its robot_profile.h generated from that file "
+        f"(`roverlink firmware sketch --robot {robot.path}`): edit the file, not the header. Wiring, timers "
+        "and flashing: docs/firmware.md."
+    )
+    head = "//\n".join(textwrap.fill(text, 100, initial_indent="// ", subsequent_indent="// ", break_on_hyphens=False,
+                                     break_long_words=False) + "\n"
+                       for text in paragraphs)  # fmt: skip
+    rest = "".join(lines[body:])
+    return head + ("" if rest.startswith("\n") else "\n") + rest
 
 
 def build_folder(path: str | Path) -> Path:

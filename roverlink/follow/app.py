@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import importlib
 from collections.abc import Callable, Iterator
@@ -25,6 +26,7 @@ from roverlink.follow import emulated
 from roverlink.follow.baseline import PiCarBaseline
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress, run_follow
+from roverlink.sensors.options import SensorChoice, require_sensors, sensors_for
 
 PILOTS = ("roverlink", "picar-2018")
 LIDAR_FOR = emulated.LIDAR_FOR
@@ -152,15 +154,48 @@ def run_emulated(profile: str | RobotDescription, world: str | Path, *, pilot: s
 class RobotPorts:
     url: str
     """The board."""
-    lidar: str
-    camera: str | int
-    """Any host_sdk.sensors.CameraSource source: picamera2, a V4L2 index or path, jetson-csi, a pipeline, a URL."""
+    lidar: str | None
+    """None: an emu:// URL's lidar, else the robot file's [sensors.lidar] port (roverlink.sensors)."""
+    camera: str | int | None
+    """Any host_sdk.sensors.CameraSource source: picamera2, a V4L2 index or path, jetson-csi, a pipeline, a URL
+    (None: an emu:// URL's camera, else the robot file's [sensors.camera] source)."""
     imu: str | None = None
     lidar_model: str | None = None
     """rplidar-a1 or ydlidar-f4 (default: the profile's or the robot file's)."""
     baud: int = 115200
     allow_mismatch: bool = False
     """With a robot file: connect even if the board differs from it (warned about)."""
+    imu_baud: int | None = None
+    """None: the robot file's [sensors.imu] baud, else the JY901's default."""
+
+    def check(self, which: str | RobotDescription) -> None:
+        """Before connecting to a real port: RoverLinkError when neither the options nor the robot
+        file give the lidar and the camera (an emu:// URL's own are known once it is connected)."""
+        if self.url.startswith("emu://"):
+            return
+        desc = which if isinstance(which, RobotDescription) else None
+        lidar = self.lidar or (desc.lidar.port if desc is not None and desc.lidar is not None else None)
+        camera = self.camera or (desc.camera.source if desc is not None and desc.camera is not None else None)
+        require_sensors(SensorChoice(lidar=lidar or None, camera=camera or None), ("lidar", "camera"))
+
+    def devices(self, robot: Robot, which: str | RobotDescription) -> SensorChoice:
+        """The lidar, camera and IMU to open for the connected `robot`: these ports, else its emu://
+        URL's devices, else the robot file's (roverlink.sensors.sensors_for); the lidar and the
+        camera are needed (RoverLinkError naming how to give them)."""
+        desc = which if isinstance(which, RobotDescription) else None
+        choice = sensors_for(robot, desc, lidar=self.lidar, lidar_model=self.lidar_model, imu=self.imu,
+                             imu_baud=self.imu_baud, camera=self.camera)  # fmt: skip
+        require_sensors(choice, ("lidar", "camera"))
+        if self.lidar_model is None and choice.lidar != robot.transport.endpoints.get("lidar"):
+            choice = replace(choice, lidar_model=emulated.lidar_for(which))
+        return choice
+
+
+def robot_ports(args: argparse.Namespace) -> RobotPorts:
+    """The board and the sensors `roverlink console` and `roverlink follow` were given (--url, --baud,
+    --allow-mismatch and roverlink.sensors' options); what is not given is chosen on connecting."""
+    return RobotPorts(args.url, args.lidar, args.camera, args.imu, args.lidar_model, args.baud, args.allow_mismatch,
+                      args.imu_baud)  # fmt: skip
 
 
 def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: NDArray[np.uint8] | None = None,
@@ -184,7 +219,9 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
     try:
         geo = geometry_for(robot, profile)
         # asked at the size the pilot's camera model has (a device that cannot set it gives its own)
-        camera = CameraSource(ports.camera, width=geo.camera.width, height=geo.camera.height)
+        devices = ports.devices(robot, profile)
+        assert devices.lidar is not None and devices.camera is not None  # ports.devices required them
+        camera = CameraSource(devices.camera, width=geo.camera.width, height=geo.camera.height)
         if select is not None:
             image = camera.read(5.0).image
             x, y, w, h = (round(v) for v in select)
@@ -194,8 +231,8 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
                 raise CommandRangeError("--select", ",".join(str(v) for v in (x, y, w, h)), where)
             template = image[y : y + h, x : x + w].copy()
         chosen = make_pilot(pilot, geo, template, settings)
-        lidar = Lidar.open(ports.lidar, ports.lidar_model or emulated.lidar_for(profile))
-        imu = Jy901.open(ports.imu) if ports.imu else None
+        lidar = Lidar.open(devices.lidar, devices.lidar_model)
+        imu = Jy901.open(devices.imu, devices.imu_baud) if devices.imu else None
         metrics = _metrics(chosen.name, profile, url=ports.url)
         with recording(robot, chosen, record) as on_step:
             return run_follow(sup, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,

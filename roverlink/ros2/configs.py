@@ -21,7 +21,7 @@ from host_sdk import RobotDescription
 from protocol.robotfile import REFERENCES, reference_path
 from roverlink.ros2.nav2config import nav2_params
 from roverlink.ros2.params import SPECS, ParamValue
-from roverlink.ros2.robotfacts import MAP_FRAME, TOPICS, RobotFacts, frame
+from roverlink.ros2.robotfacts import FILTERED_ODOM, MAP_FRAME, TOPICS, RobotFacts, frame
 
 Scalar = bool | int | float | str
 Tree = Mapping[str, Union["Tree", Scalar, Sequence[Scalar]]]
@@ -148,3 +148,15 @@ def write(
         path.write_text(text, encoding="utf-8")
         paths.append(path)
     return paths
+
+
+def warnings(robot: RobotDescription, odom_topic: str) -> list[str]:
+    """What the files would get wrong for `robot`: Nav2 on odometry/filtered, which only an IMU
+    (the node's EKF, or robot_localization fusing `imu`) publishes."""
+    if odom_topic == FILTERED_ODOM and robot.imu is None:
+        return [
+            f"--odom-topic {FILTERED_ODOM}: {robot.path} has no [sensors.imu], so nothing publishes "
+            f"{FILTERED_ODOM} (the node fuses the IMU's gyro into it) and Nav2 gets no odometry: add the IMU "
+            f"to the robot file, or keep --odom-topic {TOPICS['odom']}"
+        ]
+    return []

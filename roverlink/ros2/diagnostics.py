@@ -6,7 +6,8 @@ Two statuses per node, as rqt_robot_monitor and diagnostic_aggregator expect:
   ERROR while there is no connection (reconnecting), WARN when an error counter rose since the
   last report or the host sent paced lockstep setpoints late (`paced_late`), else OK.
 - `<node>: robot`: the firmware's identity and the robot's state. ERROR in FAILSAFE (with the
-  reason), WARN while a board reset has left it disarmed or the session is re-opening, else OK.
+  reason), WARN while a board reset has left it disarmed or the session is re-opening, or while
+  the board differs from the robot file (allowed with allow_mismatch: each difference named), else OK.
 """
 
 from __future__ import annotations
@@ -95,6 +96,8 @@ class Snapshot:
     last_refusal: str = ""
     tf: str = ""
     """What happens to /tf: published, off, or why it is not published."""
+    mismatches: tuple[str, ...] = ()
+    """How the board differs from the robot file, allowed with allow_mismatch (host_sdk Mismatch)."""
     extra: tuple[Report, ...] = ()
     """Reports of the sensors (lidar, imu), added as they are."""
 
@@ -234,6 +237,7 @@ class DiagnosticsBuilder:
         ]
         if snap.tf:
             values.append(("tf", snap.tf))
+        values += [(f"mismatch {i + 1}", text) for i, text in enumerate(snap.mismatches)]
         if snap.connection != "connected":
             level, message = STALE, "no connection"
         elif reason is not None:
@@ -243,6 +247,12 @@ class DiagnosticsBuilder:
             level, message = WARN, "re-opening the session after a board reset"
         elif snap.last_reset is not None and not snap.rearmed_since_reset and snap.state != "armed":
             level, message = WARN, f"board reset ({snap.last_reset.text}): disarmed, call ~/arm"
+        elif snap.mismatches:
+            count = len(snap.mismatches)
+            level = WARN
+            message = f"{snap.state}; the board differs from the robot file (allow_mismatch, {count}): " + "; ".join(
+                snap.mismatches
+            )
         else:
             level, message = OK, snap.state
         return Report(level, f"{self.node_name}: robot", message, hardware_id, tuple(values))

@@ -82,8 +82,9 @@ def static_frames(
 ) -> tuple[StaticFrame, ...]:
     """base_link -> base_footprint (REP-120: the same place), base_link -> each sensor at its mount,
     and camera -> its optical frame. `source`: a robot file or a reference robot's name; `kinds`:
-    see mounts_of."""
-    out = [StaticFrame(names.base, names.footprint, 0.0, 0.0, 0.0)]
+    see mounts_of. A base frame named as the footprint (`base_frame: base_footprint`, as many
+    ros_arduino_bridge set-ups have it) is that frame itself: no transform from a frame to itself."""
+    out = [] if names.base == names.footprint else [StaticFrame(names.base, names.footprint, 0.0, 0.0, 0.0)]
     for m in mounts_of(source, kinds):
         out.append(StaticFrame(names.base, names.sensor(m.name), m.x_m, m.y_m, m.z_m, yaw=m.yaw_rad))
         if m.name == "camera":

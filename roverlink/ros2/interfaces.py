@@ -234,7 +234,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         built = build(args.prefix, force=args.force, quiet=not args.verbose)
     except InterfaceBuildError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"{parser.prog}: {exc}", file=sys.stderr)
         return 1
     where = args.prefix.resolve()
     print(f"tf2_msgs {'built into' if built else 'already built in'} {where}")

@@ -38,10 +38,12 @@ from host_sdk.transport import Transport
 from protocol.generated.enums import FailsafeReason, FeedbackMode
 from protocol.robotfile import reference_path
 from roverlink.ros2 import convert, fused
+from roverlink.ros2 import params as rules
 from roverlink.ros2.diagnostics import DiagnosticsBuilder, Event, Snapshot, feedback_expected_s
 from roverlink.ros2.driver import Driver, RefusalLog, arm_hint, in_ros_words
 from roverlink.ros2.lights import LightsInterface
 from roverlink.ros2.params import SPECS, BridgeParams, ParamSpec, mode_for, odom_rate_for, robot_url
+from roverlink.ros2.ros_log import RosLogHandler
 from roverlink.ros2.sensors import ImuPublisher, LidarPublisher, SensorPublisher
 from roverlink.ros2.static_tf import StaticTf
 
@@ -70,25 +72,6 @@ def _descriptor(spec: ParamSpec) -> ParameterDescriptor:
     return d
 
 
-class _RosLogHandler(logging.Handler):
-    """The SDK's log records (board LOG frames included) into the node's ROS logger."""
-
-    def __init__(self, node: Node) -> None:
-        super().__init__()
-        self._logger = node.get_logger()
-
-    def emit(self, record: logging.LogRecord) -> None:
-        text = self.format(record)
-        if record.levelno >= logging.ERROR:
-            self._logger.error(text)
-        elif record.levelno >= logging.WARNING:
-            self._logger.warning(text)
-        elif record.levelno >= logging.INFO:
-            self._logger.info(text)
-        else:
-            self._logger.debug(text)
-
-
 class BridgeNode(Node):
     def __init__(self, overrides: dict[str, Any] | None = None) -> None:
         super().__init__(
@@ -98,7 +81,11 @@ class BridgeNode(Node):
         for spec in SPECS:
             self.declare_parameter(spec.name, spec.default, _descriptor(spec))
         self.params = p = BridgeParams.from_values({s.name: self.get_parameter(s.name).value for s in SPECS})
-        self._log_handler = _RosLogHandler(self)
+        # What the command line and parameters files set for this node: rclpy keeps it (Humble and
+        # Jazzy alike) but declares only what is asked for, so a name the node lacks would pass unseen.
+        given = [name for name in self._parameter_overrides if not self.has_parameter(name)]
+        self.parameter_warnings = rules.unknown_parameter_warnings(given)
+        self._log_handler = RosLogHandler(self)
         for name in ("host_sdk", "roverlink.ros2"):
             logging.getLogger(name).addHandler(self._log_handler)
             logging.getLogger(name).setLevel(logging.INFO)
@@ -157,6 +144,9 @@ class BridgeNode(Node):
         # enough: the SDK repeats live setpoints itself (in lockstep once per period, paced).
         self.create_timer(STREAM_TICK_S, self._tick)
         self.create_timer(1.0 / p.diagnostics_rate, self._publish_diagnostics)
+        self.parameter_warnings += rules.profile_sensor_warnings(p)
+        for line in self.parameter_warnings:
+            self.get_logger().warning(line)
         self._start_sensors({})  # those named by parameters; an emulated robot's when it connects
         self._publish_static_tf(None)
         self.connection.start()
@@ -212,13 +202,16 @@ class BridgeNode(Node):
         if lidar_url and "lidar" not in started:
             emu = self._emu_options() if not p.lidar_url else None
             model = emu.sensors.lidar if emu is not None and emu.sensors is not None else p.lidar_model
-            lidar = files["lidar"]
+            lidar = self.robot_file.lidar if self.robot_file is not None else None
             if lidar is not None and lidar_url == lidar.port:
                 model = lidar.model
-            self.sensors.append(LidarPublisher(self, lidar_url, model, p.lidar_frame, p.scan_bins))
+            baud = rules.sensor_baud(p.lidar_baud, lidar)
+            self.sensors.append(LidarPublisher(self, lidar_url, model, p.lidar_frame, p.scan_bins, baud=baud))
         imu_url = p.imu_url or endpoints.get("imu", "") or ports["imu"]
         if imu_url and "imu" not in started:
-            self.sensors.append(ImuPublisher(self, imu_url, p, self.fusion))
+            imu = self.robot_file.imu if self.robot_file is not None else None
+            baud = rules.sensor_baud(p.imu_baud, imu)
+            self.sensors.append(ImuPublisher(self, imu_url, p, self.fusion, baud=baud))
         running = {s.kind for s in self.sensors}
         for kind, dev in files.items():
             if dev is not None and not endpoints and kind not in running:
@@ -460,6 +453,7 @@ class BridgeNode(Node):
                 host=robot.stats,
                 board=board[0] if board else None,
                 board_time_s=board[1] if board else None,
+                mismatches=tuple(str(m) for m in robot.mismatches),
             )
         except RoverLinkError:  # closed meanwhile
             return snap

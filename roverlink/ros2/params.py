@@ -7,8 +7,9 @@ ROS import here: the table and its checks are plain Python.
 
 from __future__ import annotations
 
+import difflib
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -22,7 +23,8 @@ from protocol.generated.constants import (
     WATCHDOG_MAX_MS,
     WATCHDOG_MIN_MS,
 )
-from protocol.sensors import DEVICES
+from protocol.robotfile import SerialSensor
+from protocol.sensors import DEVICES, ROBOT_SENSORS
 
 ParamValue = bool | int | float | str | list[float] | list[str]
 
@@ -41,6 +43,7 @@ def _jy901_variance(figure: str, scale: float) -> float:
 
 
 _DEG = math.pi / 180
+_IMU_BAUD = DEVICES["jy901"].baud  # type: ignore[union-attr]
 IMU_ORIENTATION_VARIANCE = [_jy901_variance(k, _DEG) for k in ("angle_sigma_deg",) * 2 + ("heading_sigma_deg",)]
 """roll, pitch: the static angle accuracy; yaw: the heading accuracy with a calibrated magnetometer."""
 IMU_GYRO_VARIANCE = [_jy901_variance("gyro_sigma_dps", _DEG)] * 3
@@ -149,9 +152,24 @@ SPECS: tuple[ParamSpec, ...] = (
     ),
     ParamSpec("lidar_url", "", "the lidar's port (empty: none, or the emulated one of an emu:// robot)"),
     ParamSpec("lidar_model", LIDARS[0], f"the lidar: {' or '.join(LIDARS)}", choices=LIDARS),
+    ParamSpec(
+        "lidar_baud",
+        0,
+        "the lidar's line speed in bit/s (0: the robot file's [sensors.lidar] baud, else the model's datasheet's)",
+        low=0,
+        high=4_000_000,
+    ),
     ParamSpec("lidar_frame", "laser", "frame of scan (placed at the lidar's mount on /tf_static, or by your URDF)"),
     ParamSpec("scan_bins", 360, "scan: the revolution binned on this many evenly spaced angles", low=8, high=8192),
     ParamSpec("imu_url", "", "the JY901 IMU's port (empty: none, or the emulated one of an emu:// robot)"),
+    ParamSpec(
+        "imu_baud",
+        0,
+        f"the IMU's line speed in bit/s (0: the robot file's [sensors.imu] baud, else the JY901's {_IMU_BAUD}; "
+        "a factory-new JY901 runs at 9600)",
+        low=0,
+        high=4_000_000,
+    ),
     ParamSpec("imu_frame", "imu_link", "frame of imu (placed at the IMU's mount on /tf_static, or by your URDF)"),
     ParamSpec(
         "imu_orientation_covariance_diagonal",
@@ -237,9 +255,11 @@ class BridgeParams:
     auto_arm: bool
     lidar_url: str
     lidar_model: str
+    lidar_baud: int
     lidar_frame: str
     scan_bins: int
     imu_url: str
+    imu_baud: int
     imu_frame: str
     imu_orientation_covariance_diagonal: tuple[float, ...]
     imu_angular_velocity_covariance_diagonal: tuple[float, ...]
@@ -327,3 +347,77 @@ def robot_url(params: BridgeParams) -> str:
         return url
     query = url.partition("?")[2]
     return f"emu://?robot={Path(path).resolve()}" + (f"&{query}" if query else "")
+
+
+OLD_NAMES: dict[str, str] = {
+    "port": "the url parameter",
+    "timeout": "connect_timeout",
+    "rate": "odom_rate",
+    "base_controller_rate": "odom_rate",
+    "base_controller_timeout": "cmd_vel_timeout",
+    "sensorstate_rate": "diagnostics_rate",
+    "use_base_controller": "nothing: the node always drives the base from cmd_vel",
+    "sensors": "lidar_url and imu_url",
+    "wheel_diameter": "the robot file's [geometry] wheel_diameter_m (robot_file)",
+    "wheel_track": "the robot file's [geometry] track_m (robot_file)",
+    "encoder_resolution": "the robot file's [encoders] counts_per_rev, per wheel revolution (robot_file)",
+    "gear_reduction": "the robot file's [encoders] counts_per_rev, gearing included (robot_file)",
+    "motors_reversed": "the robot file's [drive] motor_invert (robot_file)",
+    "Kp": "the robot file's [pid] kp (robot_file)",
+    "Ki": "the robot file's [pid] ki (robot_file)",
+    "Kd": "the robot file's [pid] kd (robot_file)",
+    "Ko": "nothing: the robot file's [pid] gains are in effort per m/s, with no output scale",
+    "accel_limit": "the robot file's [limits] accel_m_s2 (robot_file)",
+    "odom_linear_scale_correction": "the robot file's [calibration] wheel_diameter_m (roverlink calibrate)",
+    "odom_angular_scale_correction": "the robot file's [calibration] track_m (roverlink calibrate)",
+}
+"""ros_arduino_bridge's parameters (its arduino_params.yaml) and what RoverLink has instead."""
+
+_ROS_OWN_PREFIXES = ("qos_overrides.",)
+"""Parameters rclpy reads itself (a publisher's QoS overrides)."""
+
+
+def unknown_parameter_warnings(undeclared: Iterable[str]) -> list[str]:
+    """One line per parameter set (command line, parameters file) that the node does not have:
+    a ros_arduino_bridge name says RoverLink's, another the nearest names (a typo)."""
+    out = []
+    for name in sorted(set(undeclared) - set(BY_NAME)):
+        if name.startswith(_ROS_OWN_PREFIXES):
+            continue
+        if name in OLD_NAMES:
+            out.append(f"parameter {name} is ros_arduino_bridge's and is ignored: RoverLink's is {OLD_NAMES[name]}")
+            continue
+        near = difflib.get_close_matches(name, BY_NAME, n=2)
+        hint = f"did you mean {' or '.join(near)}?" if near else "docs/ros2.md lists the node's parameters"
+        out.append(f"unknown parameter {name} is ignored: {hint}")
+    return out
+
+
+def sensor_baud(param: int, device: SerialSensor | None) -> int | None:
+    """A sensor's line speed: the parameter, else the robot file's (`baud` of its [sensors.*]),
+    else None (the driver's datasheet default)."""
+    if param:
+        return param
+    if device is not None and device.baud:
+        return device.baud
+    return None
+
+
+def profile_sensor_warnings(params: BridgeParams) -> list[str]:
+    """A reference robot named by the profile parameter that carries a lidar or an IMU, on a real
+    port with no lidar_url/imu_url: the node has no such device (no scan and no laser frame), said
+    naming the parameter to set."""
+    if not params.profile or params.url.startswith("emu://") or params.profile not in ROBOT_SENSORS:
+        return []
+    out = []
+    for kind, url, frame, topic in (
+        ("lidar", params.lidar_url, params.lidar_frame, "scan"),
+        ("imu", params.imu_url, params.imu_frame, "imu"),
+    ):
+        mount = ROBOT_SENSORS[params.profile].mount(kind)
+        if mount is not None and not url:
+            out.append(
+                f"the {params.profile} robot carries a {mount.device} but the {kind}_url parameter is empty: "
+                f"no {topic} and no {frame} frame; set {kind}_url to its port (e.g. a /dev/serial/by-id/... path)"
+            )
+    return out

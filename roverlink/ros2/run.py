@@ -16,6 +16,7 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import try_shutdown
 
 from host_sdk import RoverLinkError
+from roverlink import say
 from roverlink.ros2.node import BridgeNode
 
 SWITCH_INTERVAL_S = 0.001
@@ -51,7 +52,7 @@ def run(ros_args: Sequence[str], overrides: dict[str, Any]) -> int:
                 break
     except (RoverLinkError, ParameterException, NameValidationException) as exc:
         # A parameter out of its range or of the wrong type, a bad namespace or node name.
-        print(f"roverlink ros2: {exc}", file=sys.stderr)
+        say.error(exc)
         status = 1
     finally:
         if node is not None:

@@ -25,6 +25,7 @@ from sensor_msgs.msg import Imu, LaserScan
 
 from host_sdk import RoverLinkError
 from host_sdk.sensors import ImuSample, Jy901, LaserScanner, Lidar
+from host_sdk.sensors.imu import DEFAULT_BAUD
 from roverlink.ros2 import convert
 from roverlink.ros2.diagnostics import ERROR, OK, WARN, Report
 from roverlink.ros2.params import BridgeParams
@@ -40,6 +41,8 @@ class SensorPublisher:
     """A device on its own thread: subclasses open it, read one item and publish it."""
 
     kind = ""
+    baud: int | None = None
+    """The line speed the device is opened at (None: its datasheet's); set before __init__."""
 
     def __init__(self, node: Node, url: str, frame: str) -> None:
         self.node = node
@@ -116,7 +119,8 @@ class SensorPublisher:
         now = time.monotonic()
         times = [t for t in self._times if t > now - 5.0]
         rate = (len(times) - 1) / (times[-1] - times[0]) if len(times) > 2 and times[-1] > times[0] else 0.0
-        values = [("url", self.url), ("frame", self.frame), (f"{self.kind} messages", str(self.count))]
+        values = [("url", self.url), ("baud", str(self.baud or "the datasheet's")), ("frame", self.frame)]
+        values.append((f"{self.kind} messages", str(self.count)))
         values += [("rate (Hz)", f"{rate:.1f}"), ("opened", str(self.opened))]
         values += [(k.replace("_", " "), str(v)) for k, v in self.counters().items()]
         if self.error:
@@ -131,15 +135,15 @@ class SensorPublisher:
 class LidarPublisher(SensorPublisher):
     kind = "lidar"
 
-    def __init__(self, node: Node, url: str, model: str, frame: str, bins: int) -> None:
-        self.model, self.bins = model, bins
+    def __init__(self, node: Node, url: str, model: str, frame: str, bins: int, *, baud: int | None = None) -> None:
+        self.model, self.bins, self.baud = model, bins, baud
         self.scanner = LaserScanner(bins, clockwise=True)
         self.rewrites = StampRewrites()
         self.pub = node.create_publisher(LaserScan, "scan", QoSProfile(depth=5, reliability=_BEST_EFFORT))
         super().__init__(node, url, frame)
 
     def _open(self) -> Lidar:
-        lidar = Lidar.open(self.url, self.model)
+        lidar = Lidar.open(self.url, self.model, self.baud)
         self.scanner = LaserScanner(self.bins, clockwise=lidar.spec.clockwise)  # afresh on each open
         lidar.start()
         return lidar
@@ -166,7 +170,17 @@ class ImuListener(Protocol):
 class ImuPublisher(SensorPublisher):
     kind = "imu"
 
-    def __init__(self, node: Node, url: str, params: BridgeParams, listener: ImuListener | None = None) -> None:
+    def __init__(
+        self,
+        node: Node,
+        url: str,
+        params: BridgeParams,
+        listener: ImuListener | None = None,
+        *,
+        baud: int | None = None,
+    ) -> None:
+        self.baud = baud or DEFAULT_BAUD
+        """The robot file's [sensors.imu] baud or the imu_baud parameter (roverlink.ros2.params.sensor_baud)."""
         self.pub = node.create_publisher(Imu, "imu", QoSProfile(depth=10, reliability=_BEST_EFFORT))
         self.covariance = convert.ImuCovariance(
             params.imu_orientation_covariance_diagonal,
@@ -177,7 +191,7 @@ class ImuPublisher(SensorPublisher):
         super().__init__(node, url, params.imu_frame)
 
     def _open(self) -> Jy901:
-        return Jy901.open(self.url)
+        return Jy901.open(self.url, self.baud or DEFAULT_BAUD)
 
     def _read_and_publish(self, imu: Any) -> None:
         sample = imu.read(timeout_s=QUIET_S)

@@ -4,10 +4,14 @@
         --imu /dev/ttyUSB1 --camera libcamera
     roverlink record "emu://picar?lidar=ydlidar-f4&imu=jy901&camera=1" -o run.mcap   # no options needed
 
-An `emu://` robot lists the devices its URL attached in `robot.transport.endpoints`; they are used
-unless `--no-sensors` is given, and an option names a device instead of the URL's. A lidar's model
-decides its protocol: `--lidar-model`, else the emulated device's, else the lidar the robot's
-reference profile carries (protocol/spec/sensors.toml), else rplidar-a1.
+Every command that reads sensors beside the board takes them the same way (`add_sensor_args`,
+`sensors_for`), in this order: an option names a device; else an `emu://` robot's own (its URL
+attached them: `robot.transport.endpoints`); else, on a real port, the `--robot FILE`'s
+`[sensors.lidar] port`, `[sensors.imu] port` and `[sensors.camera] source`. `--no-sensors` uses
+none. A lidar's model decides its protocol: `--lidar-model`, else the emulated device's, else the
+robot file's, else the lidar the robot's reference profile carries (protocol/spec/sensors.toml),
+else rplidar-a1; the IMU's baud: `--imu-baud`, else the file's `[sensors.imu] baud`, else the
+JY901's default.
 """
 
 from __future__ import annotations
@@ -16,7 +20,7 @@ import argparse
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from host_sdk import Robot
+from host_sdk import Robot, RobotDescription, RoverLinkError
 from host_sdk.profiles import profile_for_example
 from host_sdk.sensors.hub import Sensors, short_source
 from host_sdk.sensors.imu import DEFAULT_BAUD
@@ -57,10 +61,12 @@ class SensorChoice:
         return out
 
 
-def add_sensor_args(p: argparse.ArgumentParser, kinds: Sequence[str] = KINDS, off: str = "--no-sensors") -> None:
+def add_sensor_args(p: argparse.ArgumentParser, kinds: Sequence[str] = KINDS, off: str | None = "--no-sensors") -> None:
     """--lidar, --lidar-model, --imu, --imu-baud, --camera (those of `kinds`) and `off`
-    (--no-sensors: use none, not even those an emu:// URL attached)."""
-    g = p.add_argument_group("sensors", "devices beside the board; an emu:// URL's own are used without these")
+    (--no-sensors: use none, not even those an emu:// URL attached; None: no such option)."""
+    g = p.add_argument_group(
+        "sensors", "devices beside the board; without these an emu:// URL's own, else the --robot FILE's ports"
+    )
     if "lidar" in kinds:
         g.add_argument("--lidar", metavar="PORT", help="the lidar's serial port, e.g. /dev/ttyUSB0")
         g.add_argument(
@@ -72,10 +78,16 @@ def add_sensor_args(p: argparse.ArgumentParser, kinds: Sequence[str] = KINDS, of
     if "imu" in kinds:
         g.add_argument("--imu", metavar="PORT", help="the JY901's serial port, e.g. /dev/ttyUSB1")
         g.add_argument(
-            "--imu-baud", type=BAUD, default=DEFAULT_BAUD, metavar="BAUD", help=f"its baud (default {DEFAULT_BAUD})"
+            "--imu-baud",
+            type=BAUD,
+            default=None,
+            metavar="BAUD",
+            help=f"its baud (default: the robot file's [sensors.imu] baud, else {DEFAULT_BAUD})",
         )
     if "camera" in kinds:
         g.add_argument("--camera", metavar="SOURCE", help=CAMERA_HELP)
+    if off is None:
+        return
     what = "sensors" if len(kinds) > 1 else {"imu": "IMU"}.get(kinds[0], kinds[0])
     g.add_argument(off, dest="no_sensors", action="store_true", help=f"use no {what}, not even an emu:// URL's")
 
@@ -87,25 +99,78 @@ def camera_source(text: str) -> str | int:
 
 def choose_sensors(args: argparse.Namespace, robot: Robot, kinds: Sequence[str] = KINDS) -> SensorChoice:
     """The devices of `kinds` the command line names, completed with those the robot's emu:// URL
-    attached."""
+    attached, else the --robot FILE's ports."""
     if getattr(args, "no_sensors", False):
         return SensorChoice()
-    attached = robot.transport.endpoints
-    endpoints = {kind: url for kind, url in attached.items() if kind in kinds}
-    lidar = getattr(args, "lidar", None) or endpoints.get("lidar")
-    imu = getattr(args, "imu", None) or endpoints.get("imu")
-    camera_text = getattr(args, "camera", None)
-    camera = camera_source(camera_text) if camera_text else endpoints.get("camera")
-    model = getattr(args, "lidar_model", None)
+    description = getattr(args, "robot", None)
+    return sensors_for(
+        robot,
+        description if isinstance(description, RobotDescription) else None,
+        kinds,
+        lidar=getattr(args, "lidar", None),
+        lidar_model=getattr(args, "lidar_model", None),
+        imu=getattr(args, "imu", None),
+        imu_baud=getattr(args, "imu_baud", None),
+        camera=getattr(args, "camera", None),
+    )
+
+
+def sensors_for(
+    robot: Robot,
+    description: RobotDescription | None,
+    kinds: Sequence[str] = KINDS,
+    *,
+    lidar: str | None = None,
+    lidar_model: str | None = None,
+    imu: str | None = None,
+    imu_baud: int | None = None,
+    camera: str | int | None = None,
+) -> SensorChoice:
+    """The devices of `kinds`: those given, else the emu:// robot's own, else (on a real port) the
+    robot file's (module docstring)."""
+    attached = {kind: url for kind, url in robot.transport.endpoints.items() if kind in kinds}
+    own = description if description is not None and not robot.url.startswith("emu://") else None
+    files = {
+        "lidar": own.lidar.port if own is not None and own.lidar is not None else "",
+        "imu": own.imu.port if own is not None and own.imu is not None else "",
+        "camera": own.camera.source if own is not None and own.camera is not None else "",
+    }
+    files = {kind: port for kind, port in files.items() if kind in kinds}
+    lidar = lidar or attached.get("lidar") or files.get("lidar") or None
+    imu = imu or attached.get("imu") or files.get("imu") or None
+    if isinstance(camera, str):
+        camera = camera_source(camera) if camera else None
+    if camera is None:
+        text = attached.get("camera") or files.get("camera") or None
+        camera = camera_source(text) if text else None
+    model = lidar_model
     if lidar is not None and model is None:
-        model = (_emulated(robot, "lidar") if lidar == endpoints.get("lidar") else None) or _profile_lidar(robot)
+        if lidar == attached.get("lidar"):
+            model = _emulated(robot, "lidar")
+        elif description is not None and description.lidar is not None:
+            model = description.lidar.model
+        model = model or _profile_lidar(robot)
+    baud = imu_baud or (description.imu.baud if description is not None and description.imu is not None else 0)
     return SensorChoice(
         lidar=lidar,
         lidar_model=model or MODELS[0],
         imu=imu,
-        imu_baud=getattr(args, "imu_baud", DEFAULT_BAUD),
+        imu_baud=baud or DEFAULT_BAUD,
         camera=camera,
     )
+
+
+def require_sensors(choice: SensorChoice, kinds: Sequence[str]) -> None:
+    """RoverLinkError naming each of `kinds` the choice lacks and the three ways to give it."""
+    missing = [kind for kind in kinds if getattr(choice, kind) is None]
+    if missing:
+        ways = "; ".join(
+            f"--{kind} {'SOURCE' if kind == 'camera' else 'PORT'}, "
+            f"{'[sensors.camera] source' if kind == 'camera' else f'[sensors.{kind}] port'} in the --robot FILE, "
+            f"or {kind}= in an emu:// URL"
+            for kind in missing
+        )
+        raise RoverLinkError(f"no {' and no '.join(missing)} for this robot: give {ways}")
 
 
 def open_sensors(choice: SensorChoice) -> Sensors:

@@ -163,6 +163,15 @@ def test_example_builds_for_its_board(
     assert 0 < result.sram_used < result.board.sram_bytes
 
 
+def test_robot_shows_flash_estimates_are_the_builds_figures(example_builds: dict[str, firmware.BuildResult]) -> None:
+    """`roverlink robot show` estimates a file's flash from these builds: within 2 % of what they are."""
+    from roverlink.commands.robot import REFERENCE_FLASH
+
+    for example, size in set(REFERENCE_FLASH.values()):
+        built = example_builds[example].flash_used
+        assert abs(size - built) <= 0.02 * built, (example, size, built)
+
+
 def test_uno_firmware_leaves_half_of_flash_and_sram_free(
     example_builds: dict[str, firmware.BuildResult], record_property: pytest.RecordProperty
 ) -> None:

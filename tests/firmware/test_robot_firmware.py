@@ -42,16 +42,28 @@ def _library_status() -> str:
 
 
 def test_build_from_a_robot_file(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path, record_property: pytest.RecordProperty
+    capsys: pytest.CaptureFixture[str],
+    tmp_path: Path,
+    record_property: pytest.RecordProperty,
+    monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     require_toolchain()
     before = _library_status()
-    path = _my_car(tmp_path)
+    path = _my_car(tmp_path, ("min_deg = 65.0", "min_deg = 70.0"), ("step_deg = 15.0", "step_deg = 10.0"))
+    here = tmp_path / "here"
+    here.mkdir()
+    monkeypatch.chdir(here)  # the firmware goes where the user is, not into the checkout's build/
     code, out, err = firmware_cli(capsys, "firmware", "build", "--robot", str(path))
     assert code == 0, err
     folder = build_folder(path)
-    hex_file = folder / "uno" / "AckermannPiCar.hex"
+    hex_file = here / "firmware" / "my_car" / "uno" / "AckermannPiCar.hex"
     assert str(hex_file) in out and hex_file.is_file()
+    # The sketch's first comment is the file's robot, not the reference PiCar's.
+    ino = (folder / "AckermannPiCar" / "AckermannPiCar.ino").read_text()
+    words = " ".join(line.removeprefix("//").strip() for line in ino.splitlines())
+    assert "steering servo 70..125 degrees, centre 90, 10 degree steps" in words
+    assert "A brushless motor behind an RC ESC" not in words  # the example's account of the reference PiCar
+    assert ino.startswith("// my-car: ackermann drive (ESC+servo) on the uno")
     header = (folder / "AckermannPiCar" / "robot_profile.h").read_text()
     assert header.startswith(f"// DO NOT EDIT: generated from {path}")
     assert 'static const char NAME[] = "my-car";' in header
@@ -111,13 +123,16 @@ def test_sketch_folder_builds_as_a_sketch(capsys: pytest.CaptureFixture[str], tm
     assert (tmp_path / "MyCar.hex").is_file()
 
 
-def test_flash_dry_run_names_the_files_firmware(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+def test_flash_dry_run_names_the_files_firmware(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     path = _my_car(tmp_path)
+    monkeypatch.chdir(tmp_path)
     code, out, _ = firmware_cli(
         capsys, "firmware", "flash", "--robot", str(path), "--port", "/dev/ttyACM0", "--dry-run"
     )
     assert code == 0
-    hex_file = build_folder(path).resolve() / "uno" / "AckermannPiCar.hex"
+    hex_file = tmp_path.resolve() / "firmware" / "my_car" / "uno" / "AckermannPiCar.hex"
     assert f"# build first: roverlink firmware build --robot {path}" in out
     assert f"avrdude -p atmega328p -c arduino -P /dev/ttyACM0 -b 115200 -U flash:w:{hex_file}:i" in out
 

@@ -3,6 +3,7 @@ works for a user's own test file."""
 
 from __future__ import annotations
 
+import ast
 import json
 import re
 import runpy
@@ -21,12 +22,23 @@ SCRIPTS = ["drive_square.py", "read_odometry.py", "tune_pid.py"]
 
 
 def named_profiles(script: str) -> list[str]:
-    """The emu:// profiles an example's docstring names (`python examples/x.py` alone: the default)."""
+    """The emu:// profiles an example's docstring names (`.venv/bin/python examples/x.py` alone: the default)."""
     doc = runpy.run_path(str(EXAMPLES / script))["__doc__"]
     return sorted(set(re.findall(r"emu://([a-z0-9-]+)", doc)) | {"diffdrive-tb6612"})
 
 
 CASES = [(script, profile) for script in SCRIPTS for profile in named_profiles(script)]
+
+
+def test_example_headers_run_as_a_newcomer_types_them() -> None:
+    """Debian has no `python` outside a venv and refuses an unquoted `pip install roverlink[dev]`
+    in zsh (a glob): the headers say the checkout's `.venv/bin/python` and quote the extras."""
+    for path in sorted(EXAMPLES.glob("*.py")):
+        doc = ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or ""
+        assert not re.search(r"^\s*python3? examples/", doc, re.M), path.name
+        assert not re.search(r"pip install roverlink\[", doc), path.name
+        for line in re.findall(r"^\s*(\S*python \S*examples/\S+)", doc, re.M):
+            assert line.startswith(".venv/bin/python "), (path.name, line)
 
 
 def test_every_example_names_every_reference_robot() -> None:
@@ -76,6 +88,9 @@ def test_demo_command_reports_odometry_against_truth(capsys: pytest.CaptureFixtu
     assert main(["demo", "--fast", "--side", "0.5"]) == 0
     out = capsys.readouterr().out
     assert "position error" in out and "round trip (PING/PONG)" in out and "CRC / COBS / length errors" in out
+    # The clocks' offset (the board counts from its boot) means nothing to a reader: its drift is shown.
+    assert "clock offset" not in out
+    assert re.search(r"board clock drift +[+-]\d+\.\d ppm against the host's \(time sync corrects it\)", out), out
 
 
 def test_demo_plot_names_the_robot_and_the_course(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -102,6 +117,28 @@ def test_demo_plot_names_the_robot_and_the_course(tmp_path: Path, monkeypatch: p
     assert main(["demo", "--fast", "--profile", "picar", "--side", "0.8", "--plot", str(target)]) == 0
     assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert titles and "picar" in titles[-1] and "0.8 m square" in titles[-1] and "stream" in titles[-1]
+    # The PiCar cannot turn in place: the title says its corners and the path's real size.
+    corners = re.search(r"0\.8 m square, (\d\.\d\d) m radius corners: a (\d\.\d\d) x (\d\.\d\d) m path", titles[-1])
+    assert corners, titles[-1]
+    assert float(corners[1]) > 0.3 and float(corners[2]) > 0.8 and float(corners[3]) > 0.8
+
+
+def test_demo_plot_shows_both_lines_where_they_coincide() -> None:
+    pytest.importorskip("matplotlib", reason="the plot extra (the full suite has it)")
+    from host_sdk import LinkStatistics, Pose
+    from roverlink.commands import demo
+
+    square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0), (0.0, 0.0)]
+    track = demo.Track(odometry=list(square), truth=list(square))
+    result = demo.DemoResult(Pose(0.0, 0.0, 0.0, 0.0, 0.0, 0), (0.0, 0.0, 0.0), LinkStatistics(), track, 10.0)
+    fig = demo.figure(result)
+    truth, odometry = fig.axes[0].get_lines()
+    assert truth.get_color() != odometry.get_color()
+    # the odometry drawn on top and narrower, so the truth shows on both sides of it
+    assert odometry.get_zorder() > truth.get_zorder() and odometry.get_linewidth() < truth.get_linewidth() / 2
+    assert odometry.get_linestyle() == "-"  # a dashed line over a band hides its gaps in the band
+    assert fig.axes[0].get_title().startswith("RoverLink demo: 1 m square, turns in place: a 1.00 x 1.00 m path")
+    demo.plot_module().close(fig)
 
 
 ASYNC_SERVER = EXAMPLES / "async_server.py"
@@ -110,7 +147,7 @@ ASYNC_SERVER = EXAMPLES / "async_server.py"
 def async_server_commands() -> list[list[str]]:
     """The arguments of the emulator command lines in examples/async_server.py's docstring."""
     doc = runpy.run_path(str(ASYNC_SERVER))["__doc__"]
-    lines = re.findall(r"^python examples/async_server\.py([^#\n]*)", doc, re.M)
+    lines = re.findall(r"^\.venv/bin/python examples/async_server\.py([^#\n]*)", doc, re.M)
     return [args for args in map(shlex.split, lines) if not args or args[0].startswith("emu://")]
 
 

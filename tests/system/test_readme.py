@@ -5,7 +5,10 @@ from __future__ import annotations
 import contextlib
 import io
 import re
+import subprocess
 from pathlib import Path
+
+import pytest
 
 from protocol.errors import TOOLS_EXTRAS, MissingDependencyError
 from protocol.generated.version import __version__
@@ -76,7 +79,6 @@ def test_readme_install_names_every_extra_and_no_other() -> None:
     extras = set(_pyproject_extras())
     assert table == extras, f"README's extras table {sorted(table)} != pyproject.toml's {sorted(extras)}"
     assert named <= extras, f"README installs extras pyproject.toml does not have: {sorted(named - extras)}"
-    assert "PYTHON=/usr/bin/python3 bash scripts/demo.sh" in install.group(1)
     assert 'PYTHON="${PYTHON:-python3}"' in (README.parent / "scripts" / "venv.sh").read_text(encoding="utf-8")
 
 
@@ -86,3 +88,42 @@ def test_the_tools_extra_is_the_extras_its_messages_name() -> None:
     assert sorted(extras["tools"]) == sorted(req for name in TOOLS_EXTRAS for req in extras[name])
     assert "'roverlink[tools]'" in str(MissingDependencyError("textual", "tui", "x"))
     assert "'roverlink[tools]'" not in str(MissingDependencyError("cv2", "vision", "the camera"))
+
+
+def _section(title: str) -> str:
+    text = README.read_text(encoding="utf-8")
+    found = re.search(rf"^## {re.escape(title)}\n(.*?)(?=^## )", text, re.S | re.M)
+    assert found, title
+    return found.group(1)
+
+
+def test_the_debian_python_hint_sits_under_the_two_commands() -> None:
+    assert "PYTHON=/usr/bin/python3 bash scripts/demo.sh" in _section("Two commands")
+
+
+def test_the_account_of_test_sh_names_what_it_installs_and_runs_and_how_long_it_takes() -> None:
+    words = " ".join(_section("Two commands").split())
+    for what in ("Chromium", "clang 14 with libFuzzer", "fuzzing", "console benchmarks", "25 minutes"):
+        assert what in words, what
+    testing = (README.parent / "docs" / "testing.md").read_text(encoding="utf-8")
+    total = re.search(r"\*\*the full run, total\*\* \| \*\*([\d,]+)\*\*", testing)
+    assert total, "docs/testing.md#time has the full run's total"
+    seconds = int(total.group(1).replace(",", ""))
+    assert f"about {round(seconds / 60)} minutes on a 2-core machine ({total.group(1)} s measured)" in words
+
+
+def test_demo_sh_plot_installs_nothing_after_the_tests_dev_extra() -> None:
+    """`dev` has matplotlib: a venv with it serves `--plot`'s `plot` extra without installing it again."""
+    venv = README.parent / ".venv"
+    stamps = list(venv.glob(".installed-compat-*dev*"))
+    if not stamps:
+        pytest.skip(".venv has no `dev` install (scripts/test.sh makes one)")
+    result = subprocess.run(
+        ["bash", "-c", 'source scripts/venv.sh plot,tui && echo "venv ok"'],  # a pair no install is stamped with
+        cwd=README.parent,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert result.stdout.strip().splitlines() == ["venv ok"], result.stdout + result.stderr

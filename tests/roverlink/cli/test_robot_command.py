@@ -36,7 +36,10 @@ def test_the_issue_scenario(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     code, out = _run(capsys, "show", str(path))
     assert code == 0
     assert "metres per count      0.4800 mm (720 counts/rev)" in out
-    assert "estimated from the AckermannPiCar build" in out
+    assert (
+        "flash (estimate)      about 14,998 B (46% of 32,256 B): the AckermannPiCar example's build, not this " in out
+    )
+    assert f"`roverlink firmware build --robot {path}` prints its own" in out
 
 
 def test_new_refuses_to_overwrite_without_force(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -55,8 +55,10 @@ def test_off_loopback_the_console_prints_a_url_with_its_token_and_wants_it() -> 
 
 
 def test_on_a_robot_the_console_names_the_sensor_options_it_needs(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["console", "--url", "/dev/ttyACM0"]) == 2
-    assert "--lidar and --camera" in capsys.readouterr().err
+    assert main(["console", "--url", "/dev/ttyACM0"]) == 2  # before it connects
+    err = capsys.readouterr().err
+    assert err.startswith("roverlink console: no lidar and no camera for this robot: give --lidar PORT, ")
+    assert "[sensors.camera] source in the --robot FILE" in err
 
 
 def test_a_port_out_of_range_is_refused_naming_the_range(capsys: pytest.CaptureFixture[str]) -> None:

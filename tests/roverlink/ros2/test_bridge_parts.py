@@ -23,6 +23,7 @@ from host_sdk.session.types import RobotIdentity
 from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
 from protocol.generated.enums import Board, Capability, FailsafeReason, FeedbackMode, Status
 from protocol.generated.messages import LinkStats
+from protocol.robotfile import reference_path
 from roverlink.ros2 import convert
 from roverlink.ros2.diagnostics import (
     ERROR,
@@ -51,7 +52,6 @@ def test_odom_rate_zero_is_the_robots_own_feedback_rate(tmp_path: Path) -> None:
     """`--robot FILE` alone runs at the file's rate, a reference profile at its robot's; a rate set
     by the user wins; a board the node knows nothing of gets the spec's default."""
     from host_sdk import RobotDescription
-    from protocol.robotfile import reference_path
 
     bts = RobotDescription.load(reference_path("diffdrive-bts7960"))
     tb = RobotDescription.load(reference_path("diffdrive-tb6612"))

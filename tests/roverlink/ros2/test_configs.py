@@ -257,3 +257,14 @@ def test_the_command_writes_a_users_robot(tmp_path: Path, capsys: pytest.Capture
     assert cli_main(["robot", "ros2-config", str(tmp_path / "missing.toml"), "--out", str(out)]) == 2
     assert cli_main(["robot", "ros2-config", str(mine), "--out", str(out), "--max-speed", "0"]) == 2
     assert "--max-speed 0: must be > 0 m/s" in capsys.readouterr().err
+
+
+def test_odometry_filtered_without_an_imu_is_warned_about(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Nav2 on odometry/filtered needs an IMU to fuse: the PiCar has none, the TB6612 robot one."""
+    for robot, warned in (("picar", True), ("diffdrive-tb6612", False)):
+        args = ["robot", "ros2-config", robot, "--out", str(tmp_path / robot), "--odom-topic", FILTERED_ODOM]
+        assert cli_main(args) == 0
+        err = capsys.readouterr().err
+        assert ("has no [sensors.imu], so nothing publishes odometry/filtered" in err) is warned, err
+    assert cli_main(["robot", "ros2-config", "picar", "--out", str(tmp_path / "odom")]) == 0
+    assert capsys.readouterr().err == ""

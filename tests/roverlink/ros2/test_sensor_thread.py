@@ -115,7 +115,7 @@ class _LateLidar:
         self.now = 0.0
         self.port = SimpleNamespace(clock=lambda: self.now)
 
-    def open(self, url: str, model: str) -> _LateLidar:
+    def open(self, url: str, model: str, baud: int | None = None) -> _LateLidar:
         return self
 
     def start(self) -> None:

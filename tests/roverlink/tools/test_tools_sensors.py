@@ -198,7 +198,7 @@ def test_a_device_that_cannot_open_is_named(capsys: pytest.CaptureFixture[str], 
     code = main(["record", "emu://picar?clock=virtual", "-o", str(tmp_path / "x.mcap"), "--lidar", "/dev/nonexistent"])
     assert code == 1
     # Named with its model: the PiCar's own lidar, a YDLIDAR F4, by default.
-    assert "error: lidar ydlidar-f4 on /dev/nonexistent: could not open" in capsys.readouterr().err
+    assert "roverlink record: lidar ydlidar-f4 on /dev/nonexistent: could not open" in capsys.readouterr().err
 
 
 @pytest.fixture(scope="module")

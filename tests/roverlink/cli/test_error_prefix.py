@@ -1,0 +1,66 @@
+"""Every command says it failed the same way: `roverlink COMMAND: what went wrong` on stderr
+(roverlink.say), never a bare `error:` line or a message without the command's name."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from roverlink.cli import main
+from roverlink.commands import COMMANDS
+
+ROOT = Path(__file__).resolve().parents[3]
+NO_PORT = "/dev/roverlink-no-such-port"
+MISSING = "/nonexistent/robot.toml"
+
+FAILING = {
+    "demo": ["demo", "--url", NO_PORT],
+    "info": ["info", NO_PORT],
+    "robot": ["robot", "show", MISSING],
+    "emulate": ["emulate", "--robot", MISSING],
+    "firmware": ["firmware", "build", "--robot", MISSING],
+    "monitor": ["monitor", NO_PORT],
+    "teleop": ["teleop", NO_PORT],
+    "console": ["console", "--url", NO_PORT],
+    "calibrate": ["calibrate", NO_PORT, "--no-imu"],
+    "tune": ["tune", NO_PORT],
+    "record": ["record", NO_PORT, "-o", "out.txt"],
+    "ros2": ["ros2", "--url", NO_PORT],
+    "follow": ["follow", "--url", NO_PORT],
+    "decode": ["decode", "zz"],
+}
+"""One way each command fails (no board on the port, no such robot file, bad input)."""
+CANNOT_FAIL = {"doctor", "ports", "cameras", "roundtrip", "spec"}
+"""Commands that report what they find and have no failure of their own."""
+PREFIXES = {"robot": "roverlink robot show: ", "firmware": "roverlink firmware build: "}
+
+
+def test_every_command_is_listed_here() -> None:
+    names = {module.__name__.rsplit(".", 1)[1] for module in COMMANDS}
+    assert names == set(FAILING) | CANNOT_FAIL
+
+
+@pytest.mark.parametrize("name", sorted(FAILING))
+def test_a_failing_command_names_itself(
+    name: str, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    if name == "ros2":  # fails the same way whether rclpy is installed or not: without it
+        monkeypatch.setattr("roverlink.commands.ros2.missing_modules", lambda: ["rclpy"])
+    assert main(FAILING[name]) != 0
+    err = capsys.readouterr().err
+    prefix = PREFIXES.get(name, f"roverlink {name}: ")
+    assert err.startswith(prefix), err
+    assert not re.search(r"^error:", err, re.MULTILINE), err
+
+
+def test_no_command_prints_a_bare_error_line() -> None:
+    """The rule has one place (roverlink/say.py): no command writes `error:` or its own name itself."""
+    bad = []
+    for path in sorted((ROOT / "roverlink").rglob("*.py")):
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            if re.search(r"""print\(f?["'](error: |roverlink [a-z0-9 -]+: )""", line):
+                bad.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
+    assert bad == []
