@@ -85,14 +85,7 @@ class BridgeNode(Node):
         # Jazzy alike) but declares only what is asked for, so a name the node lacks would pass unseen.
         given = [name for name in self._parameter_overrides if not self.has_parameter(name)]
         self.parameter_warnings = rules.unknown_parameter_warnings(given)
-        self._log_handler = RosLogHandler(self)
-        for name in ("host_sdk", "roverlink.ros2"):
-            logging.getLogger(name).addHandler(self._log_handler)
-            logging.getLogger(name).setLevel(logging.INFO)
-        # The differences allowed from the robot file (allow_mismatch) go to the ROS log, once: the
-        # `roverlink` command keeps their logger from propagating, and so does the node.
-        logging.getLogger(MISMATCH_LOGGER).addHandler(self._log_handler)
-        logging.getLogger(MISMATCH_LOGGER).propagate = False
+        self._log_handler = self._route_logs()
         # Read once: a bad file ends the node before it connects (RobotFileError lists the problems).
         self.robot_file = RobotDescription.load(p.robot_file) if p.robot_file else None
         self.params = p = dataclasses.replace(p, url=robot_url(p))
@@ -154,6 +147,18 @@ class BridgeNode(Node):
         if p.auto_arm:  # an opt-in that drives again by itself: said once, at the start
             self.get_logger().warning("auto_arm is on: the robot is armed at start and again on the next cmd_vel "
                                       "after a board reset or a watchdog failsafe")  # fmt: skip
+
+    def _route_logs(self) -> RosLogHandler:
+        """The SDK's and the bridge's Python logs into the ROS log."""
+        handler = RosLogHandler(self)
+        for name in ("host_sdk", "roverlink.ros2"):
+            logging.getLogger(name).addHandler(handler)
+            logging.getLogger(name).setLevel(logging.INFO)
+        # The differences allowed from the robot file (allow_mismatch) go to the ROS log, once: the
+        # `roverlink` command keeps their logger from propagating, and so does the node.
+        logging.getLogger(MISMATCH_LOGGER).addHandler(handler)
+        logging.getLogger(MISMATCH_LOGGER).propagate = False
+        return handler
 
     def _create_publishers(self, p: BridgeParams) -> None:
         """odom, joint_states, /diagnostics, /tf and /tf_static (the last two need tf2_msgs)."""
