@@ -103,7 +103,7 @@ def test_the_files_limits_and_gains_are_set_at_connect(tmp_path: Path) -> None:
 
 
 def test_the_files_calibration_is_set_on_a_board_with_the_nominal_values(tmp_path: Path) -> None:
-    path = robot_file(tmp_path, "diffdrive-tb6612", ("# wheel_diameter_m = 0.064", "wheel_diameter_m = 0.0655"))
+    path = robot_file(tmp_path, "diffdrive-tb6612", ("# wheel_diameter_m = ...", "wheel_diameter_m = 0.0655"))
     with Robot.connect(TB6612, robot=path) as robot:
         assert robot.read_config().wheel_diameter_um == 65_500
         assert robot.kinematics is not None and robot.kinematics.wheel_radius_m == pytest.approx(0.03275)

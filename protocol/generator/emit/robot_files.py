@@ -108,13 +108,14 @@ def render(r: Robot) -> str:
     o += _section("footprint", {"radius_m": body.footprint_radius_m, "x_m": body.footprint_x_m})
     o.append("\n[calibration]")
     o.append("# Measured values (`roverlink calibrate` writes them); absent keys: the nominal ones above.")
-    # The keys calibrate writes for this drive, shown with this robot's nominal values.
-    o.append(f"# wheel_diameter_m = {geo['wheel_diameter_m']!r}  # [m] measured wheel diameter")
+    # The keys calibrate writes for this drive, without values: uncommented as they are, they are
+    # refused, so no one drives on a figure nobody measured.
+    o.append("# wheel_diameter_m = ...  # [m] measured wheel diameter")
     if w.servo is None:
-        o.append(f"# track_m = {geo['track_m']!r}  # [m] measured effective track")
-    o.append(f"# counts_per_rev = {c('encoder_cpr')}  # [counts/rev] measured counts per wheel revolution")
+        o.append("# track_m = ...  # [m] measured effective track")
+    o.append("# counts_per_rev = ...  # [counts/rev] measured counts per wheel revolution")
     if w.servo is not None:
-        o.append("# steering_trim_deg = 0.0  # [deg] added to steering.center_deg to drive straight")
+        o.append("# steering_trim_deg = ...  # [deg] added to steering.center_deg to drive straight")
     return "\n".join(o) + "\n"
 
 
