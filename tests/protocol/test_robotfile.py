@@ -114,9 +114,7 @@ def test_load_raises_one_error_listing_all(tmp_path: Path) -> None:
 
 
 def test_calibration_overrides_nominal_values(tmp_path: Path) -> None:
-    path = _variant(
-        tmp_path, "picar", "# wheel_diameter_m = ...", "wheel_diameter_m = 0.0662\nsteering_trim_deg = 1.5"
-    )
+    path = _variant(tmp_path, "picar", "# wheel_diameter_m = ...", "wheel_diameter_m = 0.0662\nsteering_trim_deg = 1.5")
     config = load(path).config()
     assert (config.wheel_diameter_um, config.steering_center_cdeg) == (66200, 9150)
     # The servo's travel moves with its centre, as `roverlink calibrate` moves it on the board.
