@@ -165,8 +165,15 @@ def cmd_follow(args: argparse.Namespace) -> int:
                                    camera_fps=args.camera_fps, imu=not args.no_imu, settings=settings,
                                    camera_look=args.camera_look, progress=progress, record=record)  # fmt: skip
         else:
-            if sum(v is not None for v in (args.template, args.select, args.target)) != 1:
-                say.error("on a robot give one of --template, --select, --target")
+            targets = sum(v is not None for v in (args.template, args.select, args.target))
+            emulated = args.url.startswith("emu://")
+            if emulated and args.target is not None:
+                say.error("--target needs a robot's camera: the emulated target is a rendered cylinder, not a person")
+                return 2
+            if targets > 1 or (targets == 0 and not emulated):
+                say.error(
+                    "on a robot give one of --template, --select, --target (an emu:// robot follows its own target)"
+                )
                 return 2
             template = None
             if args.template is not None:

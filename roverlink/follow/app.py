@@ -207,7 +207,8 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
     `profile`: a reference robot, or a robot file's description (compared with the board, its limits
     and gains applied; the geometry, lidar model and footprint are the file's)."""
     settings = settings or FollowSettings()
-    if sum(v is not None for v in (template, select, settings.target)) != 1:
+    given = sum(v is not None for v in (template, select, settings.target))
+    if given > 1 or (given == 0 and not ports.url.startswith("emu://")):  # an emu:// robot serves its target
         raise ValueError("give the target as a template image, a region of the first frame or a kind "
                          "(person or face): one of them")  # fmt: skip
     desc, name = (profile, None) if isinstance(profile, RobotDescription) else (None, profile)
@@ -222,6 +223,8 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
         devices = ports.devices(robot, profile)
         assert devices.lidar is not None and devices.camera is not None  # ports.devices required them
         camera = CameraSource(devices.camera, width=geo.camera.width, height=geo.camera.height)
+        if template is None and select is None and settings.target is None:
+            template = _emulated_target(robot)
         if select is not None:
             image = camera.read(5.0).image
             x, y, w, h = (round(v) for v in select)
@@ -243,3 +246,13 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
             if device is not None:
                 device.close()
         sup.close()
+
+
+def _emulated_target(robot: Robot) -> NDArray[np.uint8]:
+    """The photo of its world's target an emulated robot with a camera serves (`endpoints["target"]`);
+    a real robot has none, so the target must be given."""
+    url = robot.transport.endpoints.get("target")
+    if url is None:
+        raise ValueError("give the target as a template image, a region of the first frame or a kind (person or face)")
+    with CameraSource(url) as photo:
+        return photo.read(5.0).image

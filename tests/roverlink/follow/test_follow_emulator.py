@@ -56,5 +56,18 @@ def test_bad_arguments(capsys: pytest.CaptureFixture[str]) -> None:
     # tests/roverlink/cli/test_robot_sensors.py).
     assert main(["follow", "--url", "loop://", "--quiet"]) == 2
     assert "roverlink follow: on a robot give one of --template, --select, --target" in capsys.readouterr().err
+    # An emu:// robot follows the target its world has; a person or a face it has not.
+    emulated = "emu://picar?world=random:3&camera=320x240&lidar=ydlidar-f4"
+    assert main(["follow", "--url", emulated, "--target", "person", "--quiet"]) == 2
+    assert "--target needs a robot's camera: the emulated target is a rendered cylinder" in capsys.readouterr().err
     assert main(["follow", "--world", "random:x", "--quiet"]) == 1
     assert "random:SEED" in capsys.readouterr().err
+
+
+def test_an_emu_url_robot_follows_its_worlds_target(capsys: pytest.CaptureFixture[str]) -> None:
+    """`follow --url emu://...` with no target given: the photo of the target the emulated robot
+    serves (`endpoints["target"]`), as examples/follow.py takes it."""
+    url = "emu://picar?clock=virtual&world=random:3&camera=320x240&lidar=ydlidar-f4"
+    assert main(["follow", "--url", url, "--duration", "12", "--json", "--quiet"]) == 0
+    m = json.loads(capsys.readouterr().out)
+    assert m["first_sight_s"] is not None and m["distance_m"] > 0.5
