@@ -52,8 +52,9 @@ def cmd_new(args: argparse.Namespace) -> int:
 def cmd_check(args: argparse.Namespace) -> int:
     problems = check(args.file)
     if problems:
-        for problem in problems:
+        for problem in problems:  # FILE:LINE: key: ..., as compilers and linters write them
             print(problem)
+        say.error(f"{args.file}: {len(problems)} problem{'s' if len(problems) > 1 else ''}")
         return 2
     print(f"{args.file}: ok")
     return 0

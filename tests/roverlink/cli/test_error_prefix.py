@@ -64,3 +64,12 @@ def test_no_command_prints_a_bare_error_line() -> None:
             if re.search(r"""print\(f?["'](error: |roverlink [a-z0-9 -]+: )""", line):
                 bad.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
     assert bad == []
+
+
+def test_robot_check_lists_the_problems_and_names_itself(capsys: pytest.CaptureFixture[str]) -> None:
+    """Its findings are `FILE:LINE: ...` lines, as a linter writes them; the failure is said once more
+    in the commands' form."""
+    assert main(["robot", "check", MISSING]) == 2
+    out, err = capsys.readouterr()
+    assert out == f"{MISSING}: no such file\n"
+    assert err == f"roverlink robot check: {MISSING}: 1 problem\n"

@@ -27,7 +27,7 @@ def test_the_issue_scenario(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     expected = (
         "steering.pin: esc 9, servo 6: the ESC and servo pulses need the pins of one 16-bit timer (Timer1: pins 9, 10)"
     )
-    assert out == f"{path}:{line}: {expected}\n"
+    assert out == f"{path}:{line}: {expected}\nroverlink robot check: {path}: 1 problem\n"
     edited = text.replace("track_m = 0.16", "track_m = 0.31").replace("wheelbase_m = 0.26", "wheelbase_m = 0.42")
     edited = edited.replace("wheel_diameter_m = 0.065", "wheel_diameter_m = 0.11")
     edited = edited.replace("x_m = 0.18  #", "x_m = 0.05  #").replace("z_m = 0.16  #", "z_m = 0.3  #")
@@ -66,4 +66,5 @@ def test_check_lists_every_problem_and_show_refuses_a_bad_file(
     assert "pid.kpp: unknown key (did you mean 'kp'?)" in out
     assert "board: = 'due': not one of uno, mega2560, native" in out
     assert _run(capsys, "show", str(path))[0] == 2
-    assert _run(capsys, "check", str(tmp_path / "none.toml")) == (2, f"{tmp_path / 'none.toml'}: no such file\n")
+    none = tmp_path / "none.toml"
+    assert _run(capsys, "check", str(none)) == (2, f"{none}: no such file\nroverlink robot check: {none}: 1 problem\n")
