@@ -6,7 +6,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 
-from conformance_backends import Host, wire
+from conformance_backends import Host, Pins, wire
 from conformance_scenarios import BOOT_TIMEOUT_MS, TICK_MS, boot, tick_origin
 
 from host_sdk import messages
@@ -258,25 +258,33 @@ LED_PHASES: tuple[tuple[str, tuple[int, int] | None], ...] = (
 )
 
 
+def _hold(h: Host, held: tuple[int, int] | None, until_us: int) -> None:
+    """Run the board until `until_us`, renewing the setpoint `held` every tick (None: silence)."""
+    while h.b.now_us < until_us:
+        if held is None:
+            h.step()
+        else:
+            h.send(messages.SetWheelSpeeds(*held))
+            h.run_ms(TICK_MS)
+
+
+def _steady_leds(log: list[tuple[int, Pins]] | None) -> list[tuple[int, int]]:
+    """The LED states of a pin log that hold for two samples (see sc_leds)."""
+    assert log is not None
+    return [(t, q.leds) for (t, q), (_, nxt) in itertools.pairwise(log) if nxt.leds == q.leds]
+
+
 def sc_leds(h: Host) -> dict[str, object]:
     """Turn signals follow the motion state (docs/firmware.md, Lights), read from the LED pins."""
     h.pin_log = []
     b = boot(h)
     held: tuple[int, int] | None = None  # the setpoint renewed every tick (None: silence)
 
-    def hold(until_us: int) -> None:
-        while h.b.now_us < until_us:
-            if held is None:
-                h.step()
-            else:
-                h.send(messages.SetWheelSpeeds(*held))
-                h.run_ms(TICK_MS)
-
     h.wait_for(messages.Feedback, 200, lambda m: m.tick >= 5)
     t0 = tick_origin(h)  # the schedule follows the firmware's blink phase, from its tick 0
     starts: list[float] = []
     for i, (name, speeds) in enumerate(LED_PHASES):
-        hold(t0 + (SCHEDULE_OFFSET_MS + i * BLINK_PERIOD_MS) * 1000)
+        _hold(h, held, t0 + (SCHEDULE_OFFSET_MS + i * BLINK_PERIOD_MS) * 1000)
         starts.append((h.b.now_us - t0) / 1000)
         if name == "straight":
             h.request(hello())
@@ -285,13 +293,13 @@ def sc_leds(h: Host) -> dict[str, object]:
             h.request(messages.Disarm())
         held = speeds
     end = t0 + (SCHEDULE_OFFSET_MS + len(LED_PHASES) * BLINK_PERIOD_MS) * 1000
-    hold(end)
+    _hold(h, held, end)
     # The simavr harness snapshots the PORT registers at 1 ms boundaries, which can fall between
     # the four pin writes of one LED update (microseconds apart): a state seen in a single sample
     # is such a snapshot, not something an eye or a camera sees. Patterns change at most once a
     # tick (10 samples), so keep the states that hold for two samples.
     log = h.pin_log
-    leds = [(t, q.leds) for (t, q), (_, nxt) in itertools.pairwise(log) if nxt.leds == q.leds]
+    leds = _steady_leds(log)
     changes: list[tuple[float, int]] = []
     last = 0
     for t, mask in leds:  # from power-up: dark until the boot lights the IDLE pattern
@@ -333,19 +341,11 @@ def sc_host_lights(h: Host) -> dict[str, object]:
     h.request(hello())
     held: tuple[int, int] | None = None
 
-    def hold(until_us: int) -> None:
-        while h.b.now_us < until_us:
-            if held is None:
-                h.step()
-            else:
-                h.send(messages.SetWheelSpeeds(*held))
-                h.run_ms(TICK_MS)
-
     h.wait_for(messages.Feedback, 200, lambda m: m.tick >= 5)
     t0 = tick_origin(h)
     starts: list[float] = []
     for i, name in enumerate(HOST_LIGHTS_PHASES):
-        hold(t0 + (SCHEDULE_OFFSET_MS + i * BLINK_PERIOD_MS) * 1000)
+        _hold(h, held, t0 + (SCHEDULE_OFFSET_MS + i * BLINK_PERIOD_MS) * 1000)
         starts.append((h.b.now_us - t0) / 1000)
         if name == "off":
             out["set_off"] = wire(h.request(messages.SetLights(LightsMode.OFF, 0, 0, 0)))
@@ -369,9 +369,9 @@ def sc_host_lights(h: Host) -> dict[str, object]:
         h.run_ms(3 * TICK_MS)
         out[f"state_{name}"] = wire(h.request(messages.GetLights()))
     end = t0 + (SCHEDULE_OFFSET_MS + len(HOST_LIGHTS_PHASES) * BLINK_PERIOD_MS) * 1000
-    hold(end)
+    _hold(h, held, end)
     log = h.pin_log
-    leds = [(t, q.leds) for (t, q), (_, nxt) in itertools.pairwise(log) if nxt.leds == q.leds]
+    leds = _steady_leds(log)
     masks: dict[str, list[int]] = {}
     for i, name in enumerate(HOST_LIGHTS_PHASES):
         settle = HOST_LIGHTS_WATCHDOG_MS if name == "failsafe" else 0
