@@ -117,10 +117,13 @@ def pwm_problem(number: int, label: str, board: str, driver: str | None = None) 
     [[pwm_timers]])."""
     pwm, facts = BOARD_PINS[board].pwm, pwm_facts()
     need = facts.driver(driver) if driver else None
-    able = tuple(p for p in pwm if need is None or facts.hz(board, p, need.driver))
+
+    def able() -> str:  # the pins that would do, named only when one will not
+        return _names(tuple(p for p in pwm if need is None or facts.hz(board, p, need.driver)))
+
     if number not in pwm:
         which = f"PWM pins whose timer can drive the {need.driver}" if need is not None else "PWM pins"
-        return f"pin {label} has no PWM output on the {board} ({which}: {_names(able)})"
+        return f"pin {label} has no PWM output on the {board} ({which}: {able()})"
     timer = facts.timer_of(board, number)
     if need is None or timer is None or facts.hz(board, number, need.driver) is not None:
         return ""
@@ -129,7 +132,7 @@ def pwm_problem(number: int, label: str, board: str, driver: str | None = None) 
     return (
         f"pin {label} is on {timer.timer} of the {board}, which gives {gives} Hz only{why}; "
         f"the {need.driver} needs {need.min_hz}..{need.max_hz} Hz, {need.why} "
-        f"(PWM pins whose timer can: {_names(able)})"
+        f"(PWM pins whose timer can: {able()})"
     )
 
 
