@@ -57,7 +57,9 @@ with Supervisor.connect(args.url, profile=args.profile, robot=args.robot, clamp=
                 shown += 1.0
                 print(f"{t:5.1f} s  {step.mode:8s} x {step.pose.x_m:5.2f} m  y {step.pose.y_m:5.2f} m")
                 if (banner := step.health.banner()) is not None:
-                    print(f"        {banner.text}; {banner.hint}")
+                    # A failsafe met while driving, with what the lidar saw at the footprint then.
+                    text = loop.last_failsafe if step.health.failsafe and loop.last_failsafe else banner.text
+                    print(f"        {text}; {banner.hint}")
             loop.wait()
     for device in (lidar, camera, imu):
         if device is not None:

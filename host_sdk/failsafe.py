@@ -14,10 +14,10 @@ from __future__ import annotations
 from protocol.generated.enums import FailsafeReason
 
 FAILSAFE_TEXT: dict[FailsafeReason, str] = {
-    FailsafeReason.COMM_TIMEOUT: "no valid frame reached the board for its watchdog period",
+    FailsafeReason.COMM_TIMEOUT: "no valid frame from the host reached the board for its watchdog period",
     FailsafeReason.ENCODER_FAULT: "a wheel did not turn under effort: blocked, or its encoder unplugged",
     FailsafeReason.BAD_CONFIG: "the board's configuration is inconsistent",
-    FailsafeReason.LOW_VOLTAGE: "the supply voltage is below the safe limit",
+    FailsafeReason.LOW_VOLTAGE: "the supply is below its limit (charge or change the battery)",
 }
 
 

@@ -19,6 +19,7 @@ from protocol.generated.constants import WATCHDOG_DEFAULT_MS
 from roverlink.console import warn_mismatches
 from roverlink.follow import emulated
 from roverlink.follow.app import RobotPorts, geometry_for
+from roverlink.sensors.options import open_imu, open_lidar
 
 EMULATED_LOST_AFTER_S = 1.5
 """How long the in-process emulator's FEEDBACK may pause before its link counts as lost."""
@@ -152,9 +153,9 @@ def start_robot(ports: RobotPorts, which: str | RobotDescription, settings: Cons
         assert devices.lidar is not None and devices.camera is not None  # ports.devices required them
         camera = CameraSource(devices.camera, width=geo.camera.width, height=geo.camera.height)
         opened.append(camera)
-        lidar = Lidar.open(devices.lidar, devices.lidar_model)
+        lidar = open_lidar(devices)
         opened.append(lidar)
-        imu = Jy901.open(devices.imu, devices.imu_baud) if devices.imu else None
+        imu = open_imu(devices)
         run = _assemble(sup, which, settings, lidar=lidar, camera=camera, imu=imu, em=None)
         run.console.start()
     except BaseException:

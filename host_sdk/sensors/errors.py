@@ -21,7 +21,12 @@ class SensorClosedError(RoverLinkError, ConnectionError):
 
 
 class SensorOpenError(RoverLinkError, OSError):
-    """A sensor could not be opened; names the kind of device, where, and why."""
+    """A sensor could not be opened; names the kind of device, where, and why. `kind` is lidar,
+    imu or camera when known ("" otherwise)."""
+
+    def __init__(self, message: str, kind: str = "") -> None:
+        self.kind = kind
+        super().__init__(message)
 
 
 class CameraBackendError(MissingDependencyError):

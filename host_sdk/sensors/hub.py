@@ -153,7 +153,7 @@ class Sensors:
                 sensors.camera = CameraSource(camera)
         except (TransportError, SensorTimeoutError, OSError) as exc:
             sensors.close()
-            raise SensorOpenError(f"{kind} on {where}: {exc}") from exc
+            raise SensorOpenError(f"{kind} on {where}: {exc}", kind.split(" ")[0]) from exc
         except BaseException:
             sensors.close()
             raise

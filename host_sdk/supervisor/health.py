@@ -7,14 +7,10 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-LINK_UP, LINK_LOST, LINK_RECONNECTING, LINK_CLOSED = "up", "lost", "reconnecting", "closed"
+from host_sdk.failsafe import failsafe_meaning
+from protocol.generated.enums import FailsafeReason
 
-FAILSAFE_WHY = {
-    "COMM_TIMEOUT": "no command reached the board for its watchdog period",
-    "ENCODER_FAULT": "a wheel was driven but its encoder did not move (stalled, or its encoder is off)",
-    "BAD_CONFIG": "the board's configuration is inconsistent",
-    "LOW_VOLTAGE": "the supply is below its limit (charge or change the battery)",
-}
+LINK_UP, LINK_LOST, LINK_RECONNECTING, LINK_CLOSED = "up", "lost", "reconnecting", "closed"
 
 
 def clock_time(wall: float) -> str:
@@ -119,7 +115,8 @@ class Health:
         if self.link == LINK_CLOSED:
             return Banner("error", f"{self.url} is closed", "start the program again")
         if self.failsafe is not None:
-            why = FAILSAFE_WHY.get(self.failsafe, "the board stopped the motors")
+            known = self.failsafe in FailsafeReason.__members__
+            why = failsafe_meaning(FailsafeReason[self.failsafe]) if known else "the board stopped the motors"
             return Banner("warning", f"failsafe {self.failsafe}: {why}", "arm to drive again")
         if self.reset is not None and not self.armed:
             return Banner("warning", self.reset.text() + ": disarmed", "arm to drive again")

@@ -26,7 +26,7 @@ from roverlink.follow import emulated
 from roverlink.follow.baseline import PiCarBaseline
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress, run_follow
-from roverlink.sensors.options import SensorChoice, require_sensors, sensors_for
+from roverlink.sensors.options import SensorChoice, open_imu, open_lidar, require_sensors, sensors_for
 
 PILOTS = ("roverlink", "picar-2018")
 LIDAR_FOR = emulated.LIDAR_FOR
@@ -234,8 +234,8 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
                 raise CommandRangeError("--select", ",".join(str(v) for v in (x, y, w, h)), where)
             template = image[y : y + h, x : x + w].copy()
         chosen = make_pilot(pilot, geo, template, settings)
-        lidar = Lidar.open(devices.lidar, devices.lidar_model)
-        imu = Jy901.open(devices.imu, devices.imu_baud) if devices.imu else None
+        lidar = open_lidar(devices)
+        imu = open_imu(devices)
         metrics = _metrics(chosen.name, profile, url=ports.url)
         with recording(robot, chosen, record) as on_step:
             return run_follow(sup, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,

@@ -7,12 +7,22 @@ scan, IMU sample and frame, and keeps the status the monitor shows. `host_sdk.re
 records them; `roverlink.calibration.ImuObserver` measures turns with the IMU.
 """
 
-from roverlink.sensors.options import SensorChoice, add_sensor_args, camera_source, choose_sensors, open_sensors
+from roverlink.sensors.options import (
+    SensorChoice,
+    add_sensor_args,
+    camera_source,
+    choose_sensors,
+    open_imu,
+    open_lidar,
+    open_sensors,
+)
 
 __all__ = [
     "SensorChoice",
     "add_sensor_args",
     "camera_source",
     "choose_sensors",
+    "open_imu",
+    "open_lidar",
     "open_sensors",
 ]

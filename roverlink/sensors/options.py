@@ -18,13 +18,15 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from host_sdk import Robot, RobotDescription, RoverLinkError
+from host_sdk.errors import TransportError
 from host_sdk.profiles import profile_for_example
+from host_sdk.sensors.errors import SensorOpenError
 from host_sdk.sensors.hub import Sensors, short_source
-from host_sdk.sensors.imu import DEFAULT_BAUD
-from host_sdk.sensors.lidar import MODELS
+from host_sdk.sensors.imu import DEFAULT_BAUD, Jy901
+from host_sdk.sensors.lidar import MODELS, Lidar
 from protocol.sensors import ROBOT_SENSORS
 from roverlink.argtypes import BAUD
 from roverlink.emulated import emulator_of
@@ -48,6 +50,8 @@ class SensorChoice:
     imu: str | None = None
     imu_baud: int = DEFAULT_BAUD
     camera: str | int | None = None
+    #: where a device came from when not from the command line: kind -> e.g. "[sensors.lidar] port in car.toml"
+    origin: dict[str, str] = field(default_factory=dict)
 
     def lines(self) -> list[str]:
         """One line per device: what it is and where."""
@@ -136,6 +140,13 @@ def sensors_for(
         "camera": own.camera.source if own is not None and own.camera is not None else "",
     }
     files = {kind: port for kind, port in files.items() if kind in kinds}
+    origin = {
+        kind: f"[sensors.{kind}] {'source' if kind == 'camera' else 'port'} in {own.path}"
+        for kind, port in files.items()
+        if port and own is not None and not attached.get(kind)
+    }
+    given = {"lidar": lidar, "imu": imu, "camera": camera}
+    origin = {kind: where for kind, where in origin.items() if given[kind] in (None, "")}
     lidar = lidar or attached.get("lidar") or files.get("lidar") or None
     imu = imu or attached.get("imu") or files.get("imu") or None
     if isinstance(camera, str):
@@ -157,6 +168,7 @@ def sensors_for(
         imu=imu,
         imu_baud=baud or DEFAULT_BAUD,
         camera=camera,
+        origin=origin,
     )
 
 
@@ -174,9 +186,40 @@ def require_sensors(choice: SensorChoice, kinds: Sequence[str]) -> None:
 
 
 def open_sensors(choice: SensorChoice) -> Sensors:
-    """Open the chosen devices (host_sdk.sensors.Sensors.open)."""
-    return Sensors.open(lidar=choice.lidar, lidar_model=choice.lidar_model, imu=choice.imu,
-                        imu_baud=choice.imu_baud, camera=choice.camera)  # fmt: skip
+    """Open the chosen devices (host_sdk.sensors.Sensors.open); a device that will not open and
+    came from the robot file is named with the file's key, so the user knows what to change."""
+    try:
+        return Sensors.open(lidar=choice.lidar, lidar_model=choice.lidar_model, imu=choice.imu,
+                            imu_baud=choice.imu_baud, camera=choice.camera)  # fmt: skip
+    except SensorOpenError as exc:
+        raise _from_file(choice, exc) from exc
+
+
+def open_lidar(choice: SensorChoice) -> Lidar:
+    """The chosen lidar, opened (the choice must have one); SensorOpenError as `open_sensors` says."""
+    assert choice.lidar is not None
+    try:
+        return Lidar.open(choice.lidar, choice.lidar_model)
+    except (TransportError, OSError) as exc:
+        opened = SensorOpenError(f"lidar {choice.lidar_model} on {choice.lidar}: {exc}", "lidar")
+        raise _from_file(choice, opened) from exc
+
+
+def open_imu(choice: SensorChoice) -> Jy901 | None:
+    """The chosen IMU, opened (None when there is none); SensorOpenError as `open_sensors` says."""
+    if choice.imu is None:
+        return None
+    try:
+        return Jy901.open(choice.imu, choice.imu_baud)
+    except (TransportError, OSError) as exc:
+        opened = SensorOpenError(f"imu jy901 on {choice.imu} at {choice.imu_baud} baud: {exc}", "imu")
+        raise _from_file(choice, opened) from exc
+
+
+def _from_file(choice: SensorChoice, exc: SensorOpenError) -> SensorOpenError:
+    """`exc`, naming the robot file's key when the device came from there."""
+    where = choice.origin.get(exc.kind)
+    return exc if where is None else SensorOpenError(f"{exc} (from {where})", exc.kind)
 
 
 def _emulated(robot: Robot, kind: str) -> str | None:

@@ -107,3 +107,19 @@ def test_the_sdk_docs_supervisor_section_runs_as_documented(capsys: pytest.Captu
     exec(compile(code, "docs/sdk.md", "exec"), {})
     claimed = re.search(r"print\(.*\)\s+# (.*)", code)
     assert claimed and capsys.readouterr().out.strip() == claimed.group(1)
+
+
+def test_a_failsafe_banner_words_the_reason_as_the_sdk_does_everywhere() -> None:
+    from host_sdk.failsafe import failsafe_meaning
+    from protocol.generated.enums import FailsafeReason
+
+    def health(reason: str) -> Health:
+        return Health(link="up", since_s=None, since_wall=None, now_s=1.0, armed=False, state="failsafe",
+                      failsafe=reason, reset=None, refusals=(), busy=None, halts=1, halt_why="", port_error="",
+                      attempts=0, url="emu://x")  # fmt: skip
+
+    banner = health("ENCODER_FAULT").banner()
+    words = failsafe_meaning(FailsafeReason.ENCODER_FAULT)
+    assert banner is not None and banner.text == f"failsafe ENCODER_FAULT: {words}" and "blocked" in words
+    unknown = health("SOMETHING_NEW").banner()
+    assert unknown is not None and unknown.text == "failsafe SOMETHING_NEW: the board stopped the motors"

@@ -123,3 +123,24 @@ def test_before_connecting_a_real_port_needs_the_lidar_and_camera_from_options_o
     RobotPorts(SENSORS, None, None).check("picar")  # an emu:// URL's are known once connected
     with pytest.raises(RoverLinkError, match="no camera for this robot"):
         RobotPorts("/dev/ttyACM0", "/dev/ttyUSB0", None).check("picar")
+
+
+def test_a_device_from_the_robot_file_that_will_not_open_names_the_files_key(tmp_path: Path) -> None:
+    from host_sdk.sensors.errors import SensorOpenError
+    from roverlink.sensors import open_imu, open_lidar
+
+    desc = _file(tmp_path)
+    choice = RobotPorts("/dev/ttyACM0", None, None).devices(_real(), desc)
+    with pytest.raises(SensorOpenError) as lidar:
+        open_lidar(choice)
+    assert str(lidar.value).startswith("lidar ydlidar-f4 on /dev/serial/by-id/usb-lidar: could not open ")
+    assert str(lidar.value).endswith(f"(from [sensors.lidar] port in {desc.path})") and lidar.value.kind == "lidar"
+    with pytest.raises(SensorOpenError) as imu:
+        open_imu(choice)
+    assert str(imu.value).startswith("imu jy901 on /dev/ttyUSB1 at 9600 baud: could not open ")
+    assert str(imu.value).endswith(f"(from [sensors.imu] port in {desc.path})")
+    # A port given on the command line is the user's own: no file to point at.
+    given = RobotPorts("/dev/ttyACM0", "/dev/nonexistent-lidar", None).devices(_real(), desc)
+    with pytest.raises(SensorOpenError) as option:
+        open_lidar(given)
+    assert "from [sensors" not in str(option.value) and "/dev/nonexistent-lidar" in str(option.value)
