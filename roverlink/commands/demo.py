@@ -431,11 +431,13 @@ def cmd_demo(args: argparse.Namespace) -> int:
         url = f"emu://?robot={quote(robot_file.path)}&{query}" if robot_file else f"emu://{profile}?{query}"
     else:
         url = args.url
-    print(f"RoverLink demo: {profile} on {url} ({mode} feedback)")
+    # On a URL of the user's, the robot is the board's own until it answers (no profile assumed).
+    named = robot_file is not None or args.profile is not None or args.url is None
+    print(f"RoverLink demo: {profile + ' on ' if named else ''}{url} ({mode} feedback)")
     try:
         with Robot.connect(
             url,
-            profile=None if robot_file else profile,
+            profile=profile if named and robot_file is None else None,
             robot=robot_file,
             allow_mismatch=args.allow_mismatch,
             baud=args.baud,

@@ -137,7 +137,7 @@ class BridgeNode(Node):
         # enough: the SDK repeats live setpoints itself (in lockstep once per period, paced).
         self.create_timer(STREAM_TICK_S, self._tick)
         self.create_timer(1.0 / p.diagnostics_rate, self._publish_diagnostics)
-        self.parameter_warnings += rules.profile_sensor_warnings(p)
+        self.parameter_warnings += rules.profile_sensor_warnings(p) + rules.link_warnings(p)
         for line in self.parameter_warnings:
             self.get_logger().warning(line)
         self._start_sensors({})  # those named by parameters; an emulated robot's when it connects

@@ -12,6 +12,7 @@ import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from urllib.parse import parse_qs, urlsplit
 
 from host_sdk.errors import CommandRangeError
 from host_sdk.robot_description import RobotDescription
@@ -420,4 +421,24 @@ def profile_sensor_warnings(params: BridgeParams) -> list[str]:
                 f"the {params.profile} robot carries a {mount.device} but the {kind}_url parameter is empty: "
                 f"no {topic} and no {frame} frame; set {kind}_url to its port (e.g. a /dev/serial/by-id/... path)"
             )
+    return out
+
+
+def link_warnings(params: BridgeParams) -> list[str]:
+    """Settings that pass without effect or break the handshake: a board baud other than the
+    firmware's (ros_arduino_bridge's 57600 carried over), and an emu:// URL's camera (the node
+    publishes no image topic)."""
+    out = []
+    default = next(spec.default for spec in SPECS if spec.name == "baud")
+    if params.baud != default and not params.url.startswith("emu://"):
+        out.append(
+            f"baud {params.baud}: the RoverLink firmware opens its port at {default} "
+            f"(ros_arduino_bridge's 57600 does not carry over); the handshake fails unless your sketch's "
+            f"Serial.begin says {params.baud} too"
+        )
+    if params.url.startswith("emu://") and "camera" in parse_qs(urlsplit(params.url).query):
+        out.append(
+            "the url's camera= is not used: the ROS 2 node publishes no image topic "
+            "(the camera is for roverlink console and roverlink follow)"
+        )
     return out

@@ -58,6 +58,13 @@ def test_lockstep_demo_on_a_robot_without_it_says_which_option_to_use(capsys: py
     assert "--mode stream" in err and "mode='stream'" not in err
 
 
+def test_demo_on_a_url_drives_the_boards_own_robot_and_names_no_other(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["demo", "--url", "emu://picar?clock=virtual", "--side", "0.3"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("RoverLink demo: emu://picar?clock=virtual (stream feedback)\n"), out[:200]
+    assert "connected to AckermannPiCar" in out and "diffdrive" not in out
+
+
 def test_demo_plot_without_matplotlib_fails_before_driving(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:

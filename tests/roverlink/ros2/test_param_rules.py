@@ -18,6 +18,7 @@ from roverlink.ros2.params import (
     BY_NAME,
     OLD_NAMES,
     BridgeParams,
+    link_warnings,
     profile_sensor_warnings,
     sensor_baud,
     unknown_parameter_warnings,
@@ -69,3 +70,14 @@ def test_a_profile_with_sensors_and_no_urls_warns_on_a_real_port_only() -> None:
 def test_a_base_frame_named_as_the_footprint_has_no_transform_to_itself() -> None:
     frames = static_frames("diffdrive-tb6612", FrameNames(base="base_footprint"), ["imu"])
     assert [(f.parent, f.child) for f in frames] == [("base_footprint", "imu_link")]
+
+
+def test_a_board_baud_carried_over_from_ros_arduino_bridge_and_an_unused_camera_warn() -> None:
+    board = BridgeParams.defaults(url="/dev/ttyACM0")
+    assert link_warnings(board) == []
+    (line,) = link_warnings(dataclasses.replace(board, baud=57600))
+    assert line.startswith("baud 57600: the RoverLink firmware opens its port at 115200 ") and "57600" in line
+    assert link_warnings(dataclasses.replace(board, baud=57600, url="emu://picar")) == []  # the emulator takes any
+    (line,) = link_warnings(BridgeParams.defaults(url="emu://picar?lidar=ydlidar-f4&camera=320x240"))
+    assert "camera= is not used" in line
+    assert link_warnings(BridgeParams.defaults(url="emu://picar?lidar=ydlidar-f4")) == []
