@@ -1,8 +1,10 @@
 """The scenes benchmarks/tracking.py runs its trackers on, each a list of 320x240 frames at 30 fps
 with the truth: the object's box (None while it is out of the picture) and the share of it in view.
 
-* `slide`, `easy`, `medium`, `hard`: tests/support/photo_sequences.py's sequences built from real
-  photographs (visible: the share of the target inside the frame and not behind the pole);
+* `slide`, `easy`, `medium`, `hard`, `small-plain`, `small-textured`: tests/support/photo_sequences.py's
+  sequences built from the photographs the tracker was tuned on, and `held-*` the same kinds built
+  from OpenCV's sample photographs, which it was not (visible: the share of the target inside the
+  frame and not behind the pole);
 * `follow`: the emulator's Pi Camera v2 model in world random:3 from a robot trailing the moving
   target 1.2 m behind with a lagging, swaying heading, so the target wanders across the image and
   changes size (visible: the share of its box inside the frame; the room's obstacles passing in
@@ -31,6 +33,9 @@ Box = tuple[float, float, float, float]
 SIZE = (320, 240)
 FPS = 30.0
 PHOTO_SCENES = tuple(s.name for s in photo_sequences.SPECS)
+PHOTO_SET = {s.name: s.photos for s in photo_sequences.SPECS}
+"""Each photo scene's set: tune (the photographs the tracker was tuned on) or held-out."""
+SETS = photo_sequences.SETS
 EMULATOR_SCENES = ("follow", "lost")
 NAMES = (*PHOTO_SCENES, *EMULATOR_SCENES)
 OUT_OF_VIEW = 0.3

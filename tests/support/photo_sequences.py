@@ -1,4 +1,9 @@
-"""Tracking sequences built from real photographs (tests/data/photos), seeded and reproducible.
+"""Tracking sequences built from real photographs, seeded and reproducible, in two disjoint sets.
+
+`tune` is built from scikit-image's photographs in tests/data/photos (the tracker's parameters were
+chosen on these); `held-out` from other photographs, OpenCV's sample data as Debian's `opencv-doc`
+installs it (scripts/test.sh installs the package), which no parameter was chosen on. Each set has
+sequences with a small, far target (about 34 px across): a plain one and a textured one.
 
 A target cut out of a photo with a soft elliptical edge (so its bounding box holds background, as a
 user's selection does) moves over another real, cluttered photo while the camera pans; it nears and
@@ -27,6 +32,10 @@ import cv2
 import numpy as np
 
 PHOTOS = Path(__file__).resolve().parents[1] / "data" / "photos"
+OPENCV_SAMPLES = Path("/usr/share/doc/opencv-doc/examples/data")
+"""OpenCV's sample photographs, from Debian's opencv-doc (apt-get install opencv-doc)."""
+FOLDERS = {"tune": PHOTOS, "held-out": OPENCV_SAMPLES}
+SETS = tuple(FOLDERS)
 SIZE = (320, 240)
 FPS = 30.0
 Box = tuple[float, float, float, float]
@@ -38,11 +47,17 @@ class Cutout:
     centre: tuple[int, int]
     radii: tuple[int, int]
     """Ellipse of the object in the photo, pixels."""
+    photos: str = "tune"
+    """The set its photo belongs to (FOLDERS)."""
 
 
 CUTOUTS = {
     "cat": Cutout("chelsea.jpg", (150, 100), (105, 88)),  # a textured face
     "cup": Cutout("coffee.jpg", (218, 178), (160, 126)),  # a red cup on its saucer: few corners
+    "baboon": Cutout("baboon.jpg", (256, 250), (200, 210), "held-out"),  # a face, strongly coloured
+    "squirrel": Cutout("squirrel_cls.jpg", (262, 222), (112, 158), "held-out"),  # fur, soft, brown
+    "orange": Cutout("orange.jpg", (250, 272), (196, 196), "held-out"),  # one colour, almost no texture
+    "apple": Cutout("apple.jpg", (252, 268), (196, 212), "held-out"),  # red, a highlight, no corners
 }
 
 
@@ -52,6 +67,8 @@ class Spec:
     target: str
     background: str
     seed: int
+    photos: str = "tune"
+    """The set (FOLDERS) the target's and the background's photographs come from."""
     frames: int = 150
     height_px: float = 70.0
     """The target's height in the frame at scale 1."""
@@ -78,6 +95,22 @@ SPECS = (
          occlusion=(35, 24, 0.4), out=(90, 28)),
     Spec("hard", "cup", "astronaut.jpg", seed=4, sway_px=90.0, pan_px=90.0, scale=(0.6, 1.4), rotation_deg=6.0,
          exposure=0.3, occlusion=(30, 24, 0.45), out=(85, 32)),
+    Spec("small-plain", "cup", "rocket_launch.jpg", seed=5, height_px=34.0, sway_px=90.0, pan_px=60.0,
+         scale=(0.9, 1.15), rotation_deg=3.0, exposure=0.2, occlusion=(40, 16, 0.3), out=(95, 24)),
+    Spec("small-textured", "cat", "astronaut_collins.jpg", seed=6, height_px=34.0, sway_px=90.0, pan_px=60.0,
+         scale=(0.9, 1.15), rotation_deg=3.0, exposure=0.2, occlusion=(40, 16, 0.3), out=(95, 24)),
+    Spec("held-slide", "baboon", "building.jpg", seed=11, photos="held-out", frames=90, sway_px=80.0, pan_px=0.0),
+    Spec("held-easy", "squirrel", "leuvenA.jpg", seed=12, photos="held-out", scale=(0.85, 1.2), rotation_deg=3.0,
+         exposure=0.15, occlusion=(40, 20, 0.3), out=(95, 20)),
+    Spec("held-medium", "baboon", "home.jpg", seed=13, photos="held-out", scale=(0.7, 1.3), rotation_deg=4.0,
+         exposure=0.2, occlusion=(35, 24, 0.4), out=(90, 28)),
+    Spec("held-hard", "apple", "stuff.jpg", seed=14, photos="held-out", sway_px=90.0, pan_px=90.0,
+         scale=(0.6, 1.4), rotation_deg=6.0, exposure=0.3, occlusion=(30, 24, 0.45), out=(85, 32)),
+    Spec("held-small-plain", "orange", "building.jpg", seed=15, photos="held-out", height_px=34.0, sway_px=90.0,
+         pan_px=60.0, scale=(0.9, 1.15), rotation_deg=3.0, exposure=0.2, occlusion=(40, 16, 0.3), out=(95, 24)),
+    Spec("held-small-textured", "squirrel", "leuvenB.jpg", seed=16, photos="held-out", height_px=34.0,
+         sway_px=90.0, pan_px=60.0, scale=(0.9, 1.15), rotation_deg=3.0, exposure=0.2, occlusion=(40, 16, 0.3),
+         out=(95, 24)),
 )  # fmt: skip
 
 
@@ -101,10 +134,12 @@ class Sequence:
 
 
 @cache
-def photo(name: str) -> np.ndarray:
-    image = cv2.imread(str(PHOTOS / name), cv2.IMREAD_COLOR)
+def photo(name: str, photos: str = "tune") -> np.ndarray:
+    path = FOLDERS[photos] / name
+    image = cv2.imread(str(path), cv2.IMREAD_COLOR)
     if image is None:
-        raise FileNotFoundError(PHOTOS / name)
+        where = " (Debian's opencv-doc: apt-get install opencv-doc)" if photos == "held-out" else ""
+        raise FileNotFoundError(f"{path}: no such photograph{where}")
     return np.asarray(image, dtype=np.uint8)
 
 
@@ -112,7 +147,7 @@ def photo(name: str) -> np.ndarray:
 def cutout(name: str) -> tuple[np.ndarray, np.ndarray]:
     """The object's pixels (BGR float) and its soft alpha (0..1), cropped to the ellipse's box."""
     c = CUTOUTS[name]
-    img = photo(c.photo)
+    img = photo(c.photo, c.photos)
     (cx, cy), (rx, ry) = c.centre, c.radii
     x0, y0, x1, y1 = max(0, cx - rx), max(0, cy - ry), min(img.shape[1], cx + rx), min(img.shape[0], cy + ry)
     alpha = np.zeros(img.shape[:2], np.float32)
@@ -155,7 +190,7 @@ def _paths(spec: Spec, rng: np.random.Generator) -> dict[str, np.ndarray]:
 
 def _render(spec: Spec, p: dict[str, np.ndarray], i: int, rng: np.random.Generator) -> Frame:
     W, H = SIZE
-    bg = photo(spec.background)
+    bg = photo(spec.background, spec.photos)
     bx = (bg.shape[1] - W) / 2 + p["pan_x"][i]
     by = (bg.shape[0] - H) / 2 + p["pan_y"][i]
     shift = np.array([[1.0, 0.0, -bx], [0.0, 1.0, -by]])
@@ -207,13 +242,15 @@ def _pole_span(spec: Spec, p: dict[str, np.ndarray], i: int) -> tuple[int, int] 
 
 
 def build(spec: Spec) -> Sequence:
+    assert CUTOUTS[spec.target].photos == spec.photos, f"{spec.name}: its target and background are of one set"
     rng = np.random.default_rng(spec.seed)
     paths = _paths(spec, rng)
     return Sequence(spec, tuple(_render(spec, paths, i, rng) for i in range(spec.frames)))
 
 
-def sequences(names: tuple[str, ...] | None = None) -> list[Sequence]:
-    return [build(s) for s in SPECS if names is None or s.name in names]
+def sequences(names: tuple[str, ...] | None = None, photos: str | None = None) -> list[Sequence]:
+    """The sequences named (all: None), of one set (`photos`; both: None)."""
+    return [build(s) for s in SPECS if (names is None or s.name in names) and photos in (None, s.photos)]
 
 
 def iou(a: Box | None, b: Box | None) -> float:

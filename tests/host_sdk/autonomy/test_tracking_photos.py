@@ -2,10 +2,9 @@
 object whose box holds background, a cluttered real scene, pan, scale, rotation, exposure, a pole in
 front, out of the picture and back, JPEG q60. Seeded: the same frames every run.
 
-The floors sit a little below what the tracker does (benchmarks/tracking.py prints it: slide 100 %,
-easy 89 %, medium 87 %, hard 82 % kept) and at or above what OpenCV's TrackerMIL does on the same
-frames (100, 72, 20, 39 %, OpenCV's seed 1), slide excepted (97 %: MIL keeps every frame there too);
-docs/autonomy.md has the table."""
+The floors sit a little below what the tracker does (benchmarks/tracking.py prints it), on the set
+it was tuned on (scikit-image's photographs) and on the held-out set (OpenCV's, Debian's opencv-doc),
+which no parameter was chosen on; docs/autonomy.md has the table."""
 
 from __future__ import annotations
 
@@ -19,7 +18,12 @@ from tests.support.photo_sequences import SPECS as PHOTO_SPECS
 from tests.support.photo_sequences import Sequence, build, iou
 
 CAMERA = CameraModel.pi_camera_v2(320, 240)
-FLOORS = {"slide": 0.97, "easy": 0.8, "medium": 0.75, "hard": 0.78}
+FLOORS = {
+    "slide": 0.97, "easy": 0.8, "medium": 0.75, "hard": 0.78, "small-textured": 0.8,
+    # The held-out set (OpenCV's photographs): no parameter was chosen on these.
+    "held-slide": 0.97, "held-easy": 0.85, "held-medium": 0.8, "held-hard": 0.78, "held-small-plain": 0.85,
+    "held-small-textured": 0.85,
+}  # fmt: skip
 
 
 @pytest.fixture(scope="module")
@@ -29,6 +33,8 @@ def runs() -> dict[str, tuple[Sequence, list[Track]]]:
     cv2.setNumThreads(1)
     out = {}
     for spec in PHOTO_SPECS:
+        if spec.name not in FLOORS:
+            continue
         seq = build(spec)
         first = seq.frames[0]
         assert first.box is not None
@@ -46,7 +52,7 @@ def test_keeps_the_object_while_it_is_in_view(runs: dict[str, tuple[Sequence, li
     assert kept >= FLOORS[name], f"{name}: kept {kept:.2f}"
 
 
-@pytest.mark.parametrize("name", [s.name for s in PHOTO_SPECS if s.out is not None])
+@pytest.mark.parametrize("name", [s.name for s in PHOTO_SPECS if s.out is not None and s.name in FLOORS])
 def test_never_found_out_of_view_and_reacquired_on_return(
     runs: dict[str, tuple[Sequence, list[Track]]], name: str
 ) -> None:
@@ -54,7 +60,9 @@ def test_never_found_out_of_view_and_reacquired_on_return(
     truth = [f.box for f in seq.frames[1:]]
     out = [i for i, b in enumerate(truth) if b is None]
     assert out, "the sequence takes the object out of the picture"
-    assert [i for i in out if tracks[i].found] == []  # nothing on the background passes for it
+    # Nothing on the background passes for it (a target still partly in the picture as it leaves,
+    # under the truth's 30 %, may still be tracked: it is there).
+    assert [i for i in out if tracks[i].found and seq.frames[i + 1].visible < 0.1] == []
     assert all(tracks[i].state is TrackState.LOST for i in out[3:])
     back = max(out) + 1
     held = [i for i in range(back, len(truth)) if iou(tracks[i].box, truth[i]) >= 0.5]
