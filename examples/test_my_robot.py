@@ -3,9 +3,9 @@
     pip install 'roverlink[dev]'                     # into a venv (a checkout: bash scripts/venv.sh dev)
     .venv/bin/python -m pytest examples/test_my_robot.py
 
-The `robot` fixture is a connected Robot on a virtual clock (time moves only when the robot waits
-or sleeps, so these run in milliseconds and the same way every time); `emulator` gives ground
-truth and fault injection. Configure them with @pytest.mark.roverlink(...).
+The `roverlink_robot` fixture is a connected Robot on a virtual clock (time moves only when the
+robot waits or sleeps, so these run in milliseconds and the same way every time);
+`roverlink_emulator` gives ground truth and fault injection. Configure them with @pytest.mark.roverlink(...).
 """
 
 from __future__ import annotations
@@ -24,26 +24,26 @@ def drive_forward(robot: Robot, metres: float, speed: float = 0.3) -> None:
     robot.stop()
 
 
-def test_drive_forward_stops_near_the_goal(robot, emulator) -> None:
-    robot.arm()
-    drive_forward(robot, 0.5)
-    robot.sleep(0.5)
-    assert emulator.truth.plant.x_m == pytest.approx(0.5, abs=0.05)
+def test_drive_forward_stops_near_the_goal(roverlink_robot, roverlink_emulator) -> None:
+    roverlink_robot.arm()
+    drive_forward(roverlink_robot, 0.5)
+    roverlink_robot.sleep(0.5)
+    assert roverlink_emulator.truth.plant.x_m == pytest.approx(0.5, abs=0.05)
 
 
 @pytest.mark.roverlink(profile="picar", armed=True)
-def test_the_picar_steers_left(robot, emulator) -> None:
+def test_the_picar_steers_left(roverlink_robot, roverlink_emulator) -> None:
     for _ in range(100):
-        robot.drive_ackermann(0.4, 0.4)
-        robot.sleep(0.02)
-    assert emulator.truth.plant.theta_rad > 0.3
+        roverlink_robot.drive_ackermann(0.4, 0.4)
+        roverlink_robot.sleep(0.02)
+    assert roverlink_emulator.truth.plant.theta_rad > 0.3
 
 
 @pytest.mark.roverlink(faults="drop=1e-3")
-def test_my_code_notices_a_board_reset(robot, emulator) -> None:
-    robot.arm()
-    emulator.reset_mcu()
+def test_my_code_notices_a_board_reset(roverlink_robot, roverlink_emulator) -> None:
+    roverlink_robot.arm()
+    roverlink_emulator.reset_mcu()
     with pytest.raises(SessionResetError):
         for _ in range(500):
-            robot.drive(0.2, 0.0)
-            robot.sleep(0.02)
+            roverlink_robot.drive(0.2, 0.0)
+            roverlink_robot.sleep(0.02)

@@ -1,6 +1,6 @@
 """Test helpers for code built on the SDK: an emulated robot per test, drive commands as values,
-Hypothesis strategies derived from the spec, and the pytest plugin (fixtures `robot`, `emulator`,
-`roverlink_options`; host_sdk.testing.pytest_plugin). docs/sdk.md, "Testing your robot code".
+Hypothesis strategies derived from the spec, and the pytest plugin (fixtures `roverlink_robot`,
+`roverlink_emulator`, `roverlink_options`; host_sdk.testing.pytest_plugin). docs/sdk.md, "Testing your robot code".
 
 The strategies need hypothesis (the SDK's ``dev`` extra); ``import host_sdk`` never imports it,
 and neither do the pytest plugin, `emulated_robot` and the commands, so installing the SDK never

@@ -1,20 +1,21 @@
 """pytest fixtures for testing robot code against the emulator (registered as the `roverlink` plugin).
 
-    def test_drives_forward(robot, emulator):
-        robot.arm()
+    def test_drives_forward(roverlink_robot, roverlink_emulator):
+        roverlink_robot.arm()
         for _ in range(50):
-            robot.drive(0.3, 0.0)
-            robot.sleep(0.02)             # virtual time: instant, deterministic
-        assert emulator.truth.plant.x_m > 0.2
+            roverlink_robot.drive(0.3, 0.0)
+            roverlink_robot.sleep(0.02)   # virtual time: instant, deterministic
+        assert roverlink_emulator.truth.plant.x_m > 0.2
 
-Fixtures:
+Fixtures (every name starts with `roverlink_`, so none shadows or is shadowed by a project's own
+`robot` or `emulator` fixture; the plugin is registered whenever RoverLink is installed):
 
-- `robot`: a `host_sdk.Robot` connected to an in-process emulator on a virtual clock, ready
+- `roverlink_robot`: a `host_sdk.Robot` connected to an in-process emulator on a virtual clock, ready
   (disarmed unless `armed=True`). Time passes only while it waits: `robot.sleep(s)`,
   `robot.wait_feedback()`, requests. No threads, so runs are reproducible from the seed.
-- `emulator`: the `emulator.Emulator` behind it, typed as `host_sdk.emulated.EmulatorHandle`:
+- `roverlink_emulator`: the `emulator.Emulator` behind it, typed as `host_sdk.emulated.EmulatorHandle`:
   `.truth` (ground truth: pose, wheel speeds, firmware state), fault injection (`cut_link()`,
-  `reset_mcu()`, `set_drop_rate()`, ...). Calling `emulator.advance(s)` directly runs the robot
+  `reset_mcu()`, `set_drop_rate()`, ...). Calling `roverlink_emulator.advance(s)` directly runs the robot
   while the host is frozen (the watchdog acts).
 - `roverlink_options`: the dict the fixtures are built from; override it in a conftest.py, or set
   fields per test with `@pytest.mark.roverlink(profile="picar", seed=3, faults="drop=1e-3",
@@ -36,14 +37,14 @@ from host_sdk.emulated import EmulatorHandle
 from host_sdk.robot import Robot
 from host_sdk.testing.emulated_robot import DEFAULTS, OPTIONS, check_options, emulated_robot, emulator_url
 
-__all__ = ["DEFAULTS", "emulator", "emulator_url", "robot", "roverlink_options"]
+__all__ = ["DEFAULTS", "emulator_url", "roverlink_emulator", "roverlink_options", "roverlink_robot"]
 
 
 def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line(
         "markers",
-        f"roverlink(**options): configure the emulated `robot` and `emulator` fixtures of the roverlink "
-        f"plugin; options: {', '.join(OPTIONS)}",
+        f"roverlink(**options): configure the emulated `roverlink_robot` and `roverlink_emulator` fixtures "
+        f"of the roverlink plugin; options: {', '.join(OPTIONS)}",
     )
 
 
@@ -66,15 +67,15 @@ def roverlink_options(request: pytest.FixtureRequest) -> dict[str, Any]:
 
 
 @pytest.fixture
-def robot(roverlink_options: dict[str, Any]) -> Iterator[Robot]:
+def roverlink_robot(roverlink_options: dict[str, Any]) -> Iterator[Robot]:
     """A Robot on an in-process emulator with a virtual clock, connected and ready."""
     with emulated_robot(**roverlink_options) as bot:
         yield bot
 
 
 @pytest.fixture
-def emulator(robot: Robot) -> EmulatorHandle:
-    """The emulator.Emulator behind `robot`: ground truth (`.truth`) and fault injection."""
-    emu = robot.emulator
+def roverlink_emulator(roverlink_robot: Robot) -> EmulatorHandle:
+    """The emulator.Emulator behind `roverlink_robot`: ground truth (`.truth`) and fault injection."""
+    emu = roverlink_robot.emulator
     assert emu is not None, "the roverlink plugin's robot is always an emu:// one"
     return emu

@@ -390,24 +390,24 @@ class _Loader:
         guards = self.named(sm["guards"], f"{sec}.guards", SNAKE, "snake_case")
         actions = self.named(sm["actions"], f"{sec}.actions", SNAKE, "snake_case")
         state_names = [s.name for s in states]
-        if sm["initial"] not in state_names:
+        if self.typed(sm["initial"], str, sec, "initial") not in state_names:
             raise self.fail(sec, f"initial state {sm['initial']!r} is not a declared state")
         transitions = []
         for i, t in enumerate(self.typed(sm["transitions"], list, sec, "transitions")):
             entry = f"{sec}.transitions[{i}]"
             t = self.keys(t, entry, {"from", "event", "actions"}, {"to", "guard"})
-            sources = self.typed(t["from"], list, entry, "from")
+            sources = [self.typed(s, str, entry, "from") for s in self.typed(t["from"], list, entry, "from")]
             if sources == ["*"]:
                 sources = state_names
             for s in sources:
                 if s not in state_names:
                     raise self.fail(entry, f"unknown state {s!r} in 'from' (states: {', '.join(state_names)})")
-            target = t.get("to")
+            target = None if t.get("to") is None else self.typed(t["to"], str, entry, "to")
             if target is not None and target not in state_names:
                 raise self.fail(entry, f"unknown state {target!r} in 'to'")
-            if t["event"] not in [e.name for e in events]:
+            if self.typed(t["event"], str, entry, "event") not in [e.name for e in events]:
                 raise self.fail(entry, f"unknown event {t['event']!r}")
-            guard = t.get("guard")
+            guard = None if t.get("guard") is None else self.typed(t["guard"], str, entry, "guard")
             negated = False
             if guard is not None:
                 negated = guard.startswith("!")
@@ -415,7 +415,7 @@ class _Loader:
                 if guard not in [g.name for g in guards]:
                     raise self.fail(entry, f"unknown guard {guard!r}")
             for a in self.typed(t["actions"], list, entry, "actions"):
-                if a not in [x.name for x in actions]:
+                if self.typed(a, str, entry, "actions") not in [x.name for x in actions]:
                     raise self.fail(entry, f"unknown action {a!r}")
             transitions.append(Transition(tuple(sources), t["event"], guard, negated, target, tuple(t["actions"])))
         machine = StateMachine(

@@ -46,24 +46,24 @@ async def fetch(port: int, path: str = "/odometry") -> tuple[str, bytes]:
 
 # -- the new user's pitfall ---------------------------------------------------------------------------
 async def test_the_call_soon_threadsafe_bridge_starves_on_a_virtual_clock_and_async_robot_does_not(
-    robot: Robot,
+    roverlink_robot: Robot,
 ) -> None:
     """Queuing on_feedback into the loop works on a real clock, but on a virtual one nothing moves
     time, so the loop waits for ever; AsyncRobot's awaits move it."""
     loop = asyncio.get_running_loop()
     queue: asyncio.Queue[FeedbackSample] = asyncio.Queue()
-    robot.on_feedback(lambda sample: loop.call_soon_threadsafe(queue.put_nowait, sample))
-    start = robot.now()
+    roverlink_robot.on_feedback(lambda sample: loop.call_soon_threadsafe(queue.put_nowait, sample))
+    start = roverlink_robot.now()
     with pytest.raises(asyncio.TimeoutError):  # the built-in TimeoutError from Python 3.11 on
         await asyncio.wait_for(queue.get(), 0.3)
-    assert robot.now() == start  # the emulator's time stood still
+    assert roverlink_robot.now() == start  # the emulator's time stood still
 
-    bot = AsyncRobot(robot)
+    bot = AsyncRobot(roverlink_robot)
     sample = await bot.wait_feedback()
     async for streamed in bot.feedback():
         assert streamed.index == sample.index + 1
         break
-    assert robot.now() > start
+    assert roverlink_robot.now() > start
     assert (await queue.get()).index == sample.index  # and the bridge saw them too, now that time moves
 
 
@@ -167,8 +167,8 @@ async def test_other_tasks_run_while_the_robot_is_awaited(url: str) -> None:
 
 
 # -- the feedback stream ------------------------------------------------------------------------------
-async def test_a_slow_consumer_loses_nothing_within_the_bound_and_the_oldest_beyond_it(robot: Robot) -> None:
-    bot = AsyncRobot(robot)
+async def test_a_slow_consumer_loses_nothing_within_the_bound_and_the_oldest_beyond_it(roverlink_robot: Robot) -> None:
+    bot = AsyncRobot(roverlink_robot)
     async with bot.feedback() as stream:
         first = await anext(stream)
         await bot.sleep(0.5)  # ~25 samples arrive meanwhile: all buffered
@@ -186,8 +186,8 @@ async def test_a_slow_consumer_loses_nothing_within_the_bound_and_the_oldest_bey
         assert [s.index for s in rest] == list(range(rest[0].index, rest[0].index + 5))  # the newest five
 
 
-async def test_the_stream_ends_when_the_robot_closes(robot: Robot) -> None:
-    bot = AsyncRobot(robot)
+async def test_the_stream_ends_when_the_robot_closes(roverlink_robot: Robot) -> None:
+    bot = AsyncRobot(roverlink_robot)
     seen = 0
     async for _ in bot.feedback():
         seen += 1
@@ -196,19 +196,21 @@ async def test_the_stream_ends_when_the_robot_closes(robot: Robot) -> None:
     assert seen == 3
 
 
-async def test_a_stream_left_by_break_unsubscribes(robot: Robot) -> None:
-    bot = AsyncRobot(robot)
-    subscribers = len(robot._callbacks.feedback)
+async def test_a_stream_left_by_break_unsubscribes(roverlink_robot: Robot) -> None:
+    bot = AsyncRobot(roverlink_robot)
+    subscribers = len(roverlink_robot._callbacks.feedback)
     async for _ in bot.feedback():
         break
-    assert len(robot._callbacks.feedback) == subscribers  # collected at once: its finalizer unsubscribed
+    assert len(roverlink_robot._callbacks.feedback) == subscribers  # collected at once: its finalizer unsubscribed
 
 
 # -- cancellation -------------------------------------------------------------------------------------
-async def test_cancelling_a_task_awaiting_feedback_leaves_the_robot_usable(robot: Robot, emulator: Any) -> None:
-    bot = AsyncRobot(robot)
+async def test_cancelling_a_task_awaiting_feedback_leaves_the_robot_usable(
+    roverlink_robot: Robot, roverlink_emulator: Any
+) -> None:
+    bot = AsyncRobot(roverlink_robot)
     await bot.arm()
-    emulator.cut_link()  # no FEEDBACK comes: the tasks are surely waiting when cancelled
+    roverlink_emulator.cut_link()  # no FEEDBACK comes: the tasks are surely waiting when cancelled
     waiting = asyncio.create_task(bot.wait_feedback(timeout_s=5.0))
     stream = bot.feedback()
     iterating = asyncio.create_task(anext(stream))
@@ -218,7 +220,7 @@ async def test_cancelling_a_task_awaiting_feedback_leaves_the_robot_usable(robot
     for task in (waiting, iterating):
         with pytest.raises(asyncio.CancelledError):
             await task
-    emulator.restore_link()
+    roverlink_emulator.restore_link()
     await bot.arm()  # the robot (which failed safe meanwhile) answers requests again
     for _ in range(25):
         bot.drive(0.3, 0.0)
@@ -229,26 +231,26 @@ async def test_cancelling_a_task_awaiting_feedback_leaves_the_robot_usable(robot
     await stream.aclose()
 
 
-async def test_cancelling_a_virtual_sleep_stops_the_emulator_within_a_slice(robot: Robot) -> None:
+async def test_cancelling_a_virtual_sleep_stops_the_emulator_within_a_slice(roverlink_robot: Robot) -> None:
     # One worker thread: a call queued behind the cancelled sleep's last slice runs when it has ended.
     asyncio.get_running_loop().set_default_executor(ThreadPoolExecutor(max_workers=1))
-    bot = AsyncRobot(robot)
-    start = robot.now()
+    bot = AsyncRobot(roverlink_robot)
+    start = roverlink_robot.now()
     sleeping = asyncio.create_task(bot.sleep(1000.0))
     await bot.wait_feedback()
     sleeping.cancel()
     with pytest.raises(asyncio.CancelledError):
         await sleeping
-    cancelled = robot.now()
-    after_last_slice = await asyncio.to_thread(robot.now)
+    cancelled = roverlink_robot.now()
+    after_last_slice = await asyncio.to_thread(roverlink_robot.now)
     assert cancelled - start < 1.0
     assert after_last_slice - cancelled <= VIRTUAL_SLICE_S + 1e-6
-    assert await asyncio.to_thread(robot.now) == after_last_slice  # nothing moves time any more
+    assert await asyncio.to_thread(roverlink_robot.now) == after_last_slice  # nothing moves time any more
 
 
 # -- errors -------------------------------------------------------------------------------------------
-async def test_errors_are_the_robots_own(robot: Robot) -> None:
-    bot = AsyncRobot(robot)
+async def test_errors_are_the_robots_own(roverlink_robot: Robot) -> None:
+    bot = AsyncRobot(roverlink_robot)
     with pytest.raises(NotArmedError):
         bot.drive(0.1, 0.0)
     with pytest.raises(CommandRangeError, match="bogus"):

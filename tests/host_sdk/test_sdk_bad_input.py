@@ -69,11 +69,11 @@ ROBOT_CALLS: list[tuple[Callable[[Robot], Any], str]] = [
 
 @pytest.mark.parametrize(("call", "argument"), ROBOT_CALLS, ids=[a for _, a in ROBOT_CALLS])
 def test_robot_methods_refuse_bad_arguments_naming_them(
-    robot: Robot, call: Callable[[Robot], Any], argument: str
+    roverlink_robot: Robot, call: Callable[[Robot], Any], argument: str
 ) -> None:
-    robot.arm()
+    roverlink_robot.arm()
     with pytest.raises(ArgumentError) as err:
-        call(robot)
+        call(roverlink_robot)
     assert err.value.argument == argument
 
 
@@ -100,19 +100,19 @@ def test_wrong_types_are_also_type_errors() -> None:
     assert issubclass(ArgumentTypeError, ArgumentError) and issubclass(ArgumentTypeError, ValueError)
 
 
-def test_odometry_of_a_closed_robot_raises(robot: Robot) -> None:
-    assert robot.odometry.pose is not None
-    robot.close()
+def test_odometry_of_a_closed_robot_raises(roverlink_robot: Robot) -> None:
+    assert roverlink_robot.odometry.pose is not None
+    roverlink_robot.close()
     with pytest.raises(RobotClosedError):
-        robot.odometry.pose  # noqa: B018
+        roverlink_robot.odometry.pose  # noqa: B018
     with pytest.raises(RobotClosedError):
-        robot.odometry.reset()
+        roverlink_robot.odometry.reset()
 
 
-def test_capability_messages_name_the_kind_of_robot(robot: Robot) -> None:
-    robot.arm()
+def test_capability_messages_name_the_kind_of_robot(roverlink_robot: Robot) -> None:
+    roverlink_robot.arm()
     with pytest.raises(UnsupportedError) as err:
-        robot.drive_ackermann(0.2, 0.1)
+        roverlink_robot.drive_ackermann(0.2, 0.1)
     assert "needs an Ackermann (steered) robot" in str(err.value) and "a ACKERMANN" not in str(err.value)
 
 

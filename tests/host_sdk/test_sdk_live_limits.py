@@ -19,24 +19,26 @@ def drive_for(robot: Robot, seconds: float, linear: float, angular: float = 0.0)
         robot.sleep(0.02)
 
 
-def test_lowering_the_speed_limit_while_driving_clamps_the_running_setpoint(robot: Robot, emulator: Any) -> None:
+def test_lowering_the_speed_limit_while_driving_clamps_the_running_setpoint(
+    roverlink_robot: Robot, roverlink_emulator: Any
+) -> None:
     # Measured on the code before: the board kept 500 mm/s, refused the session's next repeat of
     # it (OUT_OF_RANGE), the session went quiet, the watchdog failed safe 0.3 s later, and the next
     # valid drive raised that stale NackError.
-    robot.arm()
-    robot.drive(0.5, 0.2, hold_s=5.0)  # held live by the session's repeats, not by this test
-    robot.sleep(1.0)
-    before = emulator.truth.firmware.targets_mm_s
+    roverlink_robot.arm()
+    roverlink_robot.drive(0.5, 0.2, hold_s=5.0)  # held live by the session's repeats, not by this test
+    roverlink_robot.sleep(1.0)
+    before = roverlink_emulator.truth.firmware.targets_mm_s
     assert before == (480.0, 520.0)
-    robot.set_config(max_wheel_speed_mm_s=200)
-    fw = emulator.truth.firmware
+    roverlink_robot.set_config(max_wheel_speed_mm_s=200)
+    fw = roverlink_emulator.truth.firmware
     # Both wheels scaled by one factor (the curvature is kept): 480 * 200 / 520 = 184.6.
     assert fw.targets_mm_s == (185.0, 200.0)
-    robot.sleep(1.0)  # several repeats of the running setpoint, all accepted
-    fw = emulator.truth.firmware
+    roverlink_robot.sleep(1.0)  # several repeats of the running setpoint, all accepted
+    fw = roverlink_emulator.truth.firmware
     assert fw.state is SessionState.ARMED
     assert fw.targets_mm_s == (185.0, 200.0) and fw.ramped_mm_s == (185.0, 200.0)
-    assert robot.armed
-    robot.drive(0.1, 0.0)
-    robot.sleep(0.05)
-    assert emulator.truth.firmware.targets_mm_s == (100.0, 100.0)
+    assert roverlink_robot.armed
+    roverlink_robot.drive(0.1, 0.0)
+    roverlink_robot.sleep(0.05)
+    assert roverlink_emulator.truth.firmware.targets_mm_s == (100.0, 100.0)

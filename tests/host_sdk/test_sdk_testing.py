@@ -27,10 +27,10 @@ ROOT = Path(__file__).resolve().parents[2]
 
 # == the marker =====================================================================================
 @pytest.mark.roverlink(profile="picar", imu="jy901", world="empty", camera=True)
-def test_the_marker_attaches_sensors(robot: Robot, emulator: EmulatorHandle) -> None:
-    assert set(robot.transport.endpoints) >= {"imu", "camera"}
-    assert "imu=jy901" in robot.url and "world=empty" in robot.url
-    assert emulator.truth.world is not None
+def test_the_marker_attaches_sensors(roverlink_robot: Robot, roverlink_emulator: EmulatorHandle) -> None:
+    assert set(roverlink_robot.transport.endpoints) >= {"imu", "camera"}
+    assert "imu=jy901" in roverlink_robot.url and "world=empty" in roverlink_robot.url
+    assert roverlink_emulator.truth.world is not None
 
 
 def test_a_bad_marker_key_is_named_with_the_allowed_ones(pytester: pytest.Pytester) -> None:
@@ -39,7 +39,7 @@ def test_a_bad_marker_key_is_named_with_the_allowed_ones(pytester: pytest.Pytest
         import pytest
 
         @pytest.mark.roverlink(imux="jy901")
-        def test_it(robot):
+        def test_it(roverlink_robot):
             pass
         """
     )

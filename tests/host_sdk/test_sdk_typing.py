@@ -56,10 +56,11 @@ ROBOT_TEST = """
         return emu  # the emulator has every member the Protocol declares
 
 
-    def test_fixtures(robot: Robot, emulator: EmulatorHandle) -> None:
-        robot.arm()
-        emulator.reset_mcu()
-        state = emulator.truth.firmware.state if emulator.truth.firmware is not None else None
+    def test_fixtures(roverlink_robot: Robot, roverlink_emulator: EmulatorHandle) -> None:
+        roverlink_robot.arm()
+        roverlink_emulator.reset_mcu()
+        truth = roverlink_emulator.truth
+        state = truth.firmware.state if truth.firmware is not None else None
 
 
     @given(rls.command_sequences("picar"))

@@ -56,6 +56,9 @@ def test_the_real_spec_is_valid() -> None:
         pytest.param('event = "INIT_DONE", to = "IDLE"', 'event = "INIT_DONE", to = "LIMBO"', "state_machine.transitions[0]", "unknown state 'LIMBO'", id="unknown-target-state"),
         pytest.param('guard = "compatible", to = "DISARMED", actions = ["accept_hello"] }', 'guard = "compatible", to = "DISARMED", actions = ["accept_helo"] }', "state_machine.transitions[1]", "unknown action 'accept_helo'", id="unknown-action"),
         pytest.param('{ name = "SESSION", value = 0x01,', '{ name = "SESSION", value = 0x01, bits = 1,', "Status > values[0]", "unknown key(s): bits", id="unknown-enum-key"),
+        pytest.param('guard = "compatible", to = "DISARMED"', 'guard = 7, to = "DISARMED"', "state_machine.transitions[1]", "'guard' must be str, got 7", id="guard-not-text"),
+        pytest.param('event = "INIT_DONE", to = "IDLE"', 'event = ["INIT_DONE"], to = "IDLE"', "state_machine.transitions[0]", "'event' must be str", id="event-not-text"),
+        pytest.param('event = "INIT_DONE", to = "IDLE"', 'event = "INIT_DONE", to = 1', "state_machine.transitions[0]", "'to' must be str, got 1", id="target-not-text"),
     ],
 )  # fmt: skip
 def test_invalid_spec_is_refused_with_file_entry_and_problem(old: str, new: str, entry: str, problem: str) -> None:
