@@ -49,6 +49,63 @@ from host_sdk.pose import Pose2D
 
 F64 = NDArray[np.float64]
 
+MIN_DRIVE_M_S = 0.02
+"""A commanded speed below this is not driven: there is no room to move on that way (stand, or do
+something else)."""
+MIN_LEG_M_S = 0.05
+"""Ackermann K-turn: a leg whose safe speed falls below this is at its end."""
+SPIN_CLEARANCE_M = 0.03
+"""Room kept round the disc a differential drive sweeps turning in place."""
+UNSTICK_M_S = 0.15
+"""Speed of the straight move away from something too close to turn in place."""
+BACK_OUT_ROOM_M = 0.25
+"""Ackermann: room a reverse arc needs behind to back out on it..."""
+PULL_OUT_ROOM_M = 0.35
+"""...and a forward arc ahead to pull out on it instead."""
+MANOEUVRE_SPEED_SHARE = 0.6
+"""Backing or pulling out runs at this share of the reverse speed."""
+STEP_OFF_S = 1.5
+"""How long the search first steps off the lost target's route."""
+LOOK_AHEAD_S = 8.0
+"""How far ahead the search predicts where the lost target went."""
+GO_THERE_M = 0.8
+"""The search drives to where the target went when that is farther than this."""
+WANDER_S = 8.0
+"""How long the search spends getting to another place to look from..."""
+WANDER_M = 1.5
+"""...that far into the most open direction (or where it was last seen, if over WANDER_FAR_M away)."""
+WANDER_FAR_M = 1.0
+WANDER_ARRIVED_M = 0.5
+WANDER_SPIN_RAD = 0.6
+"""Differential drive: a place to look from more than this off the heading is turned to on the spot."""
+
+
+@dataclass(frozen=True, slots=True)
+class _Manoeuvre:
+    """Backing out (or, blocked behind, pulling out) on one arc until a time."""
+
+    until_s: float
+    curvature: float
+    direction: float
+    """+1 forwards, -1 backwards."""
+
+
+@dataclass(frozen=True, slots=True)
+class _Aim:
+    """A heading (odometry frame) to hold until a time: a step off the target's route."""
+
+    until_s: float
+    heading_rad: float
+
+
+@dataclass(frozen=True, slots=True)
+class _Place:
+    """A place (odometry frame) to go and look from, until a time."""
+
+    until_s: float
+    x_m: float
+    y_m: float
+
 
 class Mode(Enum):
     SEARCH = "search"
@@ -163,33 +220,39 @@ class Follower:
             w = p.max_turn_rate
             self.planner = ViewPlanner(footprint, camera, turn_rates=(-w, -w / 2, w / 2, w), params=plan)
         self._arcs = None if curvatures is None else np.array(sorted(curvatures), dtype=np.float64)
-        self._last = (0.0, 0.0)
-        """The command decided last (linear, angular)."""
+        self._last_v = 0.0
+        """The command decided last: linear..."""
+        self._last_w = 0.0
+        """...and angular."""
         self._speed = 0.0
         """The speed measured from the poses, m/s."""
         self._gave_up = False
         """Looking where the target was predicted to go showed nothing to do: search."""
-        self._direction = (0.0, -math.inf)
-        """(+1 forwards or -1 backwards, since when): the way it last began to move."""
+        self._way = 0.0
+        """+1 forwards or -1 backwards: the way it last began to move..."""
+        self._way_since = -math.inf
+        """...and when."""
         self._started = -math.inf
         """When it last started from standing."""
         self._search_from: float | None = None
         """Heading when the search began (a whole turn round without the target: go elsewhere)."""
-        self._wander: tuple[float, float, float] | None = None
-        """(until, x, y) of a place to look from, in the odometry frame."""
+        self._wander: _Place | None = None
+        """A place to look from."""
         self._search_side = 1.0
         """The way the search turns (+1: left), chosen when it begins."""
         self._going = False
         """The search is on its way to where the target was heading..."""
         self._no_go = False
         """...or found the way there blocked, and looks round instead."""
-        self._step_off: tuple[float, float] | None = None
-        """(until, heading in the odometry frame) of a step off the target's route."""
-        self._k_leg = (1.0, 0.0)
-        """Ackermann search: the direction of the current K-turn leg and how far it has gone."""
+        self._step_off: _Aim | None = None
+        """A step off the target's route."""
+        self._leg = 1.0
+        """Ackermann search: the direction of the current K-turn leg (+1 forwards)..."""
+        self._leg_m = 0.0
+        """...and how far it has gone."""
         self._blocked_since: float | None = None
-        self._recover: tuple[float, float, float] | None = None
-        """(until, curvature, direction) of a manoeuvre backing out (or, blocked behind, pulling out)."""
+        self._recover: _Manoeuvre | None = None
+        """A manoeuvre backing out (or, blocked behind, pulling out)."""
         self._t = 0.0
         self._pose: Pose2D = (0.0, 0.0, 0.0)
 
@@ -203,11 +266,11 @@ class Follower:
         if self._arcs is not None and v != 0.0:  # a car drives the arc its steering reaches nearest
             k = self._arcs[int(np.argmin(np.abs(self._arcs - w / v)))]
             decision = replace(decision, angular_rad_s=float(v * k))
-        if v != 0.0 and math.copysign(1.0, v) != self._direction[0]:
-            self._direction = (math.copysign(1.0, v), t)
-        if v != 0.0 and self._last[0] == 0.0:
+        if v != 0.0 and math.copysign(1.0, v) != self._way:
+            self._way, self._way_since = math.copysign(1.0, v), t
+        if v != 0.0 and self._last_v == 0.0:
             self._started = t
-        self._last = (decision.linear_m_s, decision.angular_rad_s)
+        self._last_v, self._last_w = decision.linear_m_s, decision.angular_rad_s
         return decision
 
     def _step(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *,
@@ -239,8 +302,8 @@ class Follower:
             # Looking where it went, the planner would stand: nothing it can do shows that place.
             # Search instead (and do not come back to looking until the target is found again).
             self._gave_up = True
-        if self._recover is not None and t < self._recover[0]:
-            return self._manoeuvre(view, self._recover[1], self._recover[2])
+        if self._recover is not None and t < self._recover.until_s:
+            return self._manoeuvre(view, self._recover.curvature, self._recover.direction)
         self._recover = None
         return self._search(view, pose, dt)
 
@@ -254,11 +317,10 @@ class Follower:
         """The planner's manoeuvre for the target where it is or, while `searching`, where it is
         predicted to be (a car turning round on the spot is slow, and it is most likely there)."""
         p, fp = self.params, self.footprint
-        way, since = self._direction
-        just_started = self.ackermann and self._last[0] != 0.0 and self._t - self._started < p.go_s
+        just_started = self.ackermann and self._last_v != 0.0 and self._t - self._started < p.go_s
         choice = self.planner.plan(view.ox, view.oy, target=goal, target_velocity=self.memory.velocity_in(pose),
-                                   gap_m=p.follow_gap_m, last=self._last, speed_m_s=self._speed,
-                                   direction=way if self._t - since < p.hold_s else 0.0,
+                                   gap_m=p.follow_gap_m, last=(self._last_v, self._last_w), speed_m_s=self._speed,
+                                   direction=self._way if self._t - self._way_since < p.hold_s else 0.0,
                                    moving=just_started,
                                    target_path=self.memory.ahead(self._t, pose, self.planner.path_times))  # fmt: skip
         gap = math.hypot(goal[0] - fp.x_m, goal[1]) - fp.radius_m
@@ -283,13 +345,13 @@ class Follower:
             return plan.speed_m_s, plan.speed_m_s * plan.curvature
         w = max(-p.max_turn_rate, min(p.max_turn_rate, p.gain_turn * turn_to))
         v = plan.speed_m_s * max(0.0, math.cos(turn_to))
-        if v > 0.02:
+        if v > MIN_DRIVE_M_S:
             k = np.array([w / v])
             a = self.avoider.params
             free = float(self._room(ox, oy, k)[0])
             on_target = float(self._room(tx, ty, k)[0])
             v = min(v, safe_speed(free, a), safe_speed(on_target, a, ttc=False))
-        if v <= 0.02:
+        if v <= MIN_DRIVE_M_S:
             v = 0.0
             if not self._can_spin(view):
                 w = 0.0
@@ -301,7 +363,7 @@ class Follower:
         it went; after a whole turn round without it, go somewhere else to look from (`_wander`). The
         side is chosen when the search begins and kept: a search that changes its mind sees nothing."""
         p = self.params
-        last = self.memory.predicted(self._t, pose, 8.0)
+        last = self.memory.predicted(self._t, pose, LOOK_AHEAD_S)
         if self._search_from is None:
             self._search_from = pose[2]
             if last is None:
@@ -310,7 +372,7 @@ class Follower:
                 lateral = last[1] + 2.0 * self.memory.velocity_in(pose)[1]
                 self._search_side = 1.0 if lateral >= 0 else -1.0
             off = self.memory.off_route(pose, self.footprint.radius_m, self.footprint.x_m)
-            self._step_off = None if off is None else (self._t + 1.5, pose[2] + off)
+            self._step_off = None if off is None else _Aim(self._t + STEP_OFF_S, pose[2] + off)
             self._going = self._no_go = False
         if self._wander is None and abs(pose[2] - self._search_from) > 2 * math.pi:
             self._wander = self._wander_goal(view, pose)
@@ -319,12 +381,12 @@ class Follower:
             if decision is not None:
                 return decision
         if self._step_off is not None:  # standing on its route while it cannot be seen: off it first
-            until, heading = self._step_off
-            decision = self._search_towards(view, math.remainder(heading - pose[2], 2 * math.pi), dt)
-            if self._t < until and decision is not None:
+            aim = self._step_off
+            decision = self._search_towards(view, math.remainder(aim.heading_rad - pose[2], 2 * math.pi), dt)
+            if self._t < aim.until_s and decision is not None:
                 return decision
             self._step_off = None
-        if last is not None and math.hypot(*last) > 0.8 and not self._no_go:
+        if last is not None and math.hypot(*last) > GO_THERE_M and not self._no_go:
             decision = self._search_towards(view, math.atan2(last[1], last[0]), dt)
             if decision is not None:
                 self._going = True
@@ -349,40 +411,40 @@ class Follower:
             return None
         v, w = self._command(plan, view, turn_to=plan.direction_rad)
         w = max(-p.search_turn_rate, min(p.search_turn_rate, w))
-        if self._stuck(v < 0.02, dt):
+        if self._stuck(v < MIN_DRIVE_M_S, dt):
             return self._start_backing(view, side=self._search_side)
-        if v < 0.02 and not self.ackermann:
+        if v < MIN_DRIVE_M_S and not self.ackermann:
             return None
         return Decision(v, w, Mode.SEARCH, None, None, plan)
 
-    def _wander_goal(self, view: _View, pose: Pose2D) -> tuple[float, float, float]:
-        """(until, x, y): where it was last seen if that is some way off (it comes back along its
-        route), else 1.5 m into the most open direction."""
+    def _wander_goal(self, view: _View, pose: Pose2D) -> _Place:
+        """Where it was last seen if that is some way off (it comes back along its route), else
+        WANDER_M into the most open direction."""
         seen = self.memory.seen
         if seen is not None:
             bx, by = to_base(pose, seen[1], seen[2])
-            if math.hypot(bx, by) > 1.0:
-                return self._t + 8.0, seen[1], seen[2]
+            if math.hypot(bx, by) > WANDER_FAR_M:
+                return _Place(self._t + WANDER_S, seen[1], seen[2])
         _, clear = self.avoider.free_directions(view.ox, view.oy)
         best = float(self.avoider.directions[int(np.argmax(clear))])
-        wx, wy = to_world(pose, 1.5 * math.cos(best), 1.5 * math.sin(best))
-        return self._t + 8.0, wx, wy
+        wx, wy = to_world(pose, WANDER_M * math.cos(best), WANDER_M * math.sin(best))
+        return _Place(self._t + WANDER_S, wx, wy)
 
     def _go_wander(self, view: _View, pose: Pose2D, dt: float) -> Decision | None:
         assert self._wander is not None
-        until, wx, wy = self._wander
-        gx, gy = to_base(pose, wx, wy)
-        if self._t > until or math.hypot(gx, gy) < 0.5:
+        place = self._wander
+        gx, gy = to_base(pose, place.x_m, place.y_m)
+        if self._t > place.until_s or math.hypot(gx, gy) < WANDER_ARRIVED_M:
             self._wander = None
             self._search_from = pose[2]  # look round again from here
             return None
         bearing = math.atan2(gy, gx)
-        if not self.ackermann and abs(bearing) > 0.6 and self._can_spin(view):
+        if not self.ackermann and abs(bearing) > WANDER_SPIN_RAD and self._can_spin(view):
             return Decision(0.0, math.copysign(self.params.search_turn_rate, bearing), Mode.SEARCH, None, None)
         plan = self.avoider.plan(view.ox, view.oy, bearing, self.params.search_speed_m_s, target_xy=(view.tx, view.ty),
                                  goal_m=math.hypot(gx, gy))  # fmt: skip
         v, w = self._command(plan, view, turn_to=plan.direction_rad)
-        if self._stuck(v < 0.02, dt):
+        if self._stuck(v < MIN_DRIVE_M_S, dt):
             return self._start_backing(view, side=1.0 if bearing > 0 else -1.0)
         return Decision(v, w, Mode.SEARCH, None, None, plan)
 
@@ -392,20 +454,20 @@ class Follower:
         way is not clear; the heading turns the same way on both legs and the camera sweeps round."""
         p, a = self.params, self.avoider.params
         x, y = view.xy
-        leg, travelled = self._k_leg
+        leg, travelled = self._leg, self._leg_m
         k = self._search_side * a.max_curvature * leg  # forwards: towards the side; backwards: away from it
         free = float(self._room(x, y, np.array([k]), reverse=leg < 0)[0])
         v = min(p.search_speed_m_s, safe_speed(free, a, ttc=False))
-        if v < 0.05 or travelled >= p.k_turn_leg_m:
-            self._k_leg = (-leg, 0.0)
+        if v < MIN_LEG_M_S or travelled >= p.k_turn_leg_m:
+            self._leg, self._leg_m = -leg, 0.0
             return Decision(0.0, 0.0, Mode.SEARCH, None, None)
-        self._k_leg = (leg, travelled + v * dt)
+        self._leg_m = travelled + v * dt
         return Decision(leg * v, leg * v * k, Mode.SEARCH, None, None)
 
     def _can_spin(self, view: _View) -> bool:
         """A differential drive turning in place sweeps a disc round its pose point."""
         fp = self.footprint
-        reach = abs(fp.x_m) + fp.radius_m + 0.03
+        reach = abs(fp.x_m) + fp.radius_m + SPIN_CLEARANCE_M
         x, y = view.xy
         return not bool((np.hypot(x, y) < reach).any())
 
@@ -415,8 +477,8 @@ class Follower:
         x, y = view.xy
         ahead = float(self._room(x, y, np.array([0.0]))[0])
         behind = float(self._room(x, y, np.array([0.0]), reverse=True)[0])
-        v = min(0.15, safe_speed(max(ahead, behind), a, ttc=False))
-        if v < 0.02:
+        v = min(UNSTICK_M_S, safe_speed(max(ahead, behind), a, ttc=False))
+        if v < MIN_DRIVE_M_S:
             return Decision(0.0, 0.0, Mode.STOP, view.fix, gap)
         return Decision(v if ahead >= behind else -v, 0.0, Mode.RECOVER, view.fix, gap)
 
@@ -440,18 +502,18 @@ class Follower:
         x, y = view.xy
         options = (-side * a.max_curvature, 0.0, side * a.max_curvature)
         free = self._room(x, y, np.array(options), reverse=True)
-        usable = [i for i in range(3) if free[i] > 0.25]
+        usable = [i for i in range(3) if free[i] > BACK_OUT_ROOM_M]
         if usable:
             k = options[usable[0]] if 0 in usable else options[int(np.argmax(free))]
-            self._recover = (self._t + self.params.recover_s, k, -1.0)
+            self._recover = _Manoeuvre(self._t + self.params.recover_s, k, -1.0)
             return self._manoeuvre(view, k, -1.0)
         forwards = options[::-1]
         ahead = self._room(x, y, np.array(forwards))
-        usable = [i for i in range(3) if ahead[i] > 0.35]
+        usable = [i for i in range(3) if ahead[i] > PULL_OUT_ROOM_M]
         if not usable:
             return Decision(0.0, 0.0, Mode.STOP, fix, None)
         k = forwards[usable[0]]
-        self._recover = (self._t + self.params.recover_s, k, 1.0)
+        self._recover = _Manoeuvre(self._t + self.params.recover_s, k, 1.0)
         return self._manoeuvre(view, k, 1.0)
 
     def _manoeuvre(self, view: _View, k: float, direction: float) -> Decision:
@@ -459,8 +521,8 @@ class Follower:
         a, fix = self.avoider.params, view.fix
         px, py = view.xy
         free = float(self._room(px, py, np.array([k]), reverse=direction < 0)[0])
-        v = min(self.params.reverse_speed_m_s * 0.6, safe_speed(free, a, ttc=False))
-        if v < 0.02:
+        v = min(self.params.reverse_speed_m_s * MANOEUVRE_SPEED_SHARE, safe_speed(free, a, ttc=False))
+        if v < MIN_DRIVE_M_S:
             self._recover = None
             return Decision(0.0, 0.0, Mode.STOP, fix, None)
         return Decision(direction * v, direction * v * k, Mode.RECOVER, fix, None)
