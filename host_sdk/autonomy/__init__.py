@@ -11,7 +11,8 @@ see docs/autonomy.md.
 """
 
 from host_sdk.autonomy.finder import TargetFinder
-from host_sdk.autonomy.follow import Decision, Follower, FollowParams, Mode
+from host_sdk.autonomy.follow import Decision, Follower
+from host_sdk.autonomy.follow_params import FollowParams, Mode
 from host_sdk.autonomy.guard import Guarded, GuardState, LidarGuard, TeleopGuard, explain_failsafe
 from host_sdk.autonomy.loop import ControlLoop, Step
 from host_sdk.autonomy.pilot import FollowPilot, Halting, Pilot, follow_gap

@@ -32,12 +32,33 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from enum import Enum
 
 import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk.autonomy.finder import TargetFinder
+from host_sdk.autonomy.follow_params import (
+    BACK_OUT_ROOM_M,
+    GO_THERE_M,
+    LOOK_AHEAD_S,
+    MANOEUVRE_SPEED_SHARE,
+    MIN_DRIVE_M_S,
+    MIN_LEG_M_S,
+    PULL_OUT_ROOM_M,
+    SPIN_CLEARANCE_M,
+    STEP_OFF_S,
+    UNSTICK_M_S,
+    WANDER_ARRIVED_M,
+    WANDER_FAR_M,
+    WANDER_M,
+    WANDER_S,
+    WANDER_SPIN_RAD,
+    Aim,
+    FollowParams,
+    Manoeuvre,
+    Mode,
+    Place,
+)
 from host_sdk.autonomy.memory import to_base, to_world
 from host_sdk.autonomy.planner import PlanChoice, PlannerParams, ViewPlanner
 from host_sdk.autonomy.target import TargetFix
@@ -48,115 +69,6 @@ from host_sdk.perception.tracking import Track
 from host_sdk.pose import Pose2D
 
 F64 = NDArray[np.float64]
-
-MIN_DRIVE_M_S = 0.02
-"""A commanded speed below this is not driven: there is no room to move on that way (stand, or do
-something else)."""
-MIN_LEG_M_S = 0.05
-"""Ackermann K-turn: a leg whose safe speed falls below this is at its end."""
-SPIN_CLEARANCE_M = 0.03
-"""Room kept round the disc a differential drive sweeps turning in place."""
-UNSTICK_M_S = 0.15
-"""Speed of the straight move away from something too close to turn in place."""
-BACK_OUT_ROOM_M = 0.25
-"""Ackermann: room a reverse arc needs behind to back out on it..."""
-PULL_OUT_ROOM_M = 0.35
-"""...and a forward arc ahead to pull out on it instead."""
-MANOEUVRE_SPEED_SHARE = 0.6
-"""Backing or pulling out runs at this share of the reverse speed."""
-STEP_OFF_S = 1.5
-"""How long the search first steps off the lost target's route."""
-LOOK_AHEAD_S = 8.0
-"""How far ahead the search predicts where the lost target went."""
-GO_THERE_M = 0.8
-"""The search drives to where the target went when that is farther than this."""
-WANDER_S = 8.0
-"""How long the search spends getting to another place to look from..."""
-WANDER_M = 1.5
-"""...that far into the most open direction (or where it was last seen, if over WANDER_FAR_M away)."""
-WANDER_FAR_M = 1.0
-WANDER_ARRIVED_M = 0.5
-WANDER_SPIN_RAD = 0.6
-"""Differential drive: a place to look from more than this off the heading is turned to on the spot."""
-
-
-@dataclass(frozen=True, slots=True)
-class _Manoeuvre:
-    """Backing out (or, blocked behind, pulling out) on one arc until a time."""
-
-    until_s: float
-    curvature: float
-    direction: float
-    """+1 forwards, -1 backwards."""
-
-
-@dataclass(frozen=True, slots=True)
-class _Aim:
-    """A heading (odometry frame) to hold until a time: a step off the target's route."""
-
-    until_s: float
-    heading_rad: float
-
-
-@dataclass(frozen=True, slots=True)
-class _Place:
-    """A place (odometry frame) to go and look from, until a time."""
-
-    until_s: float
-    x_m: float
-    y_m: float
-
-
-class Mode(Enum):
-    SEARCH = "search"
-    TRACK = "track"
-    AVOID = "avoid"
-    YIELD = "yield"
-    STOP = "stop"
-    RECOVER = "recover"
-
-
-@dataclass(frozen=True, slots=True)
-class FollowParams:
-    follow_gap_m: float = 0.5
-    """Wanted gap between the robot's footprint and the target's surface."""
-    max_speed_m_s: float = 0.45
-    reverse_speed_m_s: float = 0.35
-    gain_turn: float = 2.5
-    """Differential drive, searching: turn rate per radian of heading error, 1/s."""
-    max_turn_rate: float = 1.6
-    coast_s: float = 1.5
-    """How long a lost target is still taken to be where it is predicted (and followed there)."""
-    hold_s: float = 0.6
-    """Having begun to move forwards (or backwards), the planner keeps that way this long: choosing
-    again 20 times a second, a car chattered between the two and never moved."""
-    go_s: float = 0.3
-    """Ackermann: having started from standing, it keeps moving for this long (unless that runs into
-    the target). A differential drive stands to turn, so it is not held to going."""
-    look_s: float = 5.0
-    """How long after that the planner still looks where it is predicted to be, before the search
-    turns round to look for it."""
-    doubt_s: float = 1.0
-    """The target followed in the scan alone is dropped when the camera, looking straight at it, has
-    not seen it for this long (the cluster followed is something else)."""
-    reject_s: float = 5.0
-    """How long a place so found not to be the target is not taken for it again."""
-    confirm_s: float = 8.0
-    """A mover followed this long without the camera confirming it is dropped too..."""
-    keep_near_m: float = 1.0
-    """...unless it is this close (a moving body that near is one to keep clear of)."""
-    search_speed_m_s: float = 0.25
-    search_turn_rate: float = 0.9
-    """Differential drive: turn rate while searching."""
-    k_turn_leg_m: float = 0.4
-    """Ackermann: length of each leg of the K-turn it searches with."""
-    blocked_s: float = 0.6
-    """Ackermann: blocked this long while searching, it backs out."""
-    recover_s: float = 1.2
-    target_size_m: float = 0.3
-    """About how wide the target is (to pick its returns out of the scan)."""
-    planner: PlannerParams | None = None
-    """The manoeuvre planner's weights and limits (default: `PlannerParams` with the speeds above)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -236,7 +148,7 @@ class Follower:
         """When it last started from standing."""
         self._search_from: float | None = None
         """Heading when the search began (a whole turn round without the target: go elsewhere)."""
-        self._wander: _Place | None = None
+        self._wander: Place | None = None
         """A place to look from."""
         self._search_side = 1.0
         """The way the search turns (+1: left), chosen when it begins."""
@@ -244,14 +156,14 @@ class Follower:
         """The search is on its way to where the target was heading..."""
         self._no_go = False
         """...or found the way there blocked, and looks round instead."""
-        self._step_off: _Aim | None = None
+        self._step_off: Aim | None = None
         """A step off the target's route."""
         self._leg = 1.0
         """Ackermann search: the direction of the current K-turn leg (+1 forwards)..."""
         self._leg_m = 0.0
         """...and how far it has gone."""
         self._blocked_since: float | None = None
-        self._recover: _Manoeuvre | None = None
+        self._recover: Manoeuvre | None = None
         """A manoeuvre backing out (or, blocked behind, pulling out)."""
         self._t = 0.0
         self._pose: Pose2D = (0.0, 0.0, 0.0)
@@ -372,7 +284,7 @@ class Follower:
                 lateral = last[1] + 2.0 * self.memory.velocity_in(pose)[1]
                 self._search_side = 1.0 if lateral >= 0 else -1.0
             off = self.memory.off_route(pose, self.footprint.radius_m, self.footprint.x_m)
-            self._step_off = None if off is None else _Aim(self._t + STEP_OFF_S, pose[2] + off)
+            self._step_off = None if off is None else Aim(self._t + STEP_OFF_S, pose[2] + off)
             self._going = self._no_go = False
         if self._wander is None and abs(pose[2] - self._search_from) > 2 * math.pi:
             self._wander = self._wander_goal(view, pose)
@@ -417,18 +329,18 @@ class Follower:
             return None
         return Decision(v, w, Mode.SEARCH, None, None, plan)
 
-    def _wander_goal(self, view: _View, pose: Pose2D) -> _Place:
+    def _wander_goal(self, view: _View, pose: Pose2D) -> Place:
         """Where it was last seen if that is some way off (it comes back along its route), else
         WANDER_M into the most open direction."""
         seen = self.memory.seen
         if seen is not None:
             bx, by = to_base(pose, seen[1], seen[2])
             if math.hypot(bx, by) > WANDER_FAR_M:
-                return _Place(self._t + WANDER_S, seen[1], seen[2])
+                return Place(self._t + WANDER_S, seen[1], seen[2])
         _, clear = self.avoider.free_directions(view.ox, view.oy)
         best = float(self.avoider.directions[int(np.argmax(clear))])
         wx, wy = to_world(pose, WANDER_M * math.cos(best), WANDER_M * math.sin(best))
-        return _Place(self._t + WANDER_S, wx, wy)
+        return Place(self._t + WANDER_S, wx, wy)
 
     def _go_wander(self, view: _View, pose: Pose2D, dt: float) -> Decision | None:
         assert self._wander is not None
@@ -505,7 +417,7 @@ class Follower:
         usable = [i for i in range(3) if free[i] > BACK_OUT_ROOM_M]
         if usable:
             k = options[usable[0]] if 0 in usable else options[int(np.argmax(free))]
-            self._recover = _Manoeuvre(self._t + self.params.recover_s, k, -1.0)
+            self._recover = Manoeuvre(self._t + self.params.recover_s, k, -1.0)
             return self._manoeuvre(view, k, -1.0)
         forwards = options[::-1]
         ahead = self._room(x, y, np.array(forwards))
@@ -513,7 +425,7 @@ class Follower:
         if not usable:
             return Decision(0.0, 0.0, Mode.STOP, fix, None)
         k = forwards[usable[0]]
-        self._recover = _Manoeuvre(self._t + self.params.recover_s, k, 1.0)
+        self._recover = Manoeuvre(self._t + self.params.recover_s, k, 1.0)
         return self._manoeuvre(view, k, 1.0)
 
     def _manoeuvre(self, view: _View, k: float, direction: float) -> Decision:

@@ -17,7 +17,8 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import NDArray
 
-from host_sdk.autonomy.follow import Decision, Follower, FollowParams
+from host_sdk.autonomy.follow import Decision, Follower
+from host_sdk.autonomy.follow_params import FollowParams
 from host_sdk.autonomy.guard import LatestScan, explain_failsafe, within_margin
 from host_sdk.geometry import RobotGeometry
 from host_sdk.perception import AvoidanceParams, MotionDetector, Mover, ObstacleScan, ScanFilter

@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from host_sdk.autonomy import Follower
-from host_sdk.autonomy.follow import Mode
+from host_sdk.autonomy.follow_params import Mode
 from host_sdk.perception import CameraModel, Footprint, MotionDetector, ObstacleScan
 from host_sdk.perception.scan import bin_points, move_points
 
