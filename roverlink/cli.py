@@ -11,7 +11,7 @@ from host_sdk.extras import MissingDependencyError
 from host_sdk.robot_file_check import MISMATCH_LOGGER
 from roverlink import __version__, say
 from roverlink.commands import COMMANDS
-from roverlink.console import take_url
+from roverlink.interactive import take_url
 
 
 def build_parser() -> argparse.ArgumentParser:

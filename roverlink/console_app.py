@@ -16,9 +16,9 @@ from host_sdk.console import Console
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 from host_sdk.supervisor import Supervisor
 from protocol.generated.constants import WATCHDOG_DEFAULT_MS
-from roverlink.console import warn_mismatches
 from roverlink.follow import emulated
 from roverlink.follow.app import RobotPorts, geometry_for
+from roverlink.interactive import warn_mismatches
 from roverlink.sensors.options import open_imu, open_lidar
 
 EMULATED_LOST_AFTER_S = 1.5

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 from host_sdk import Robot
-from roverlink.console import Prompter
 from roverlink.emulated import emulator_of
+from roverlink.interactive import Prompter
 
 
 class Observer(Protocol):

@@ -35,8 +35,8 @@ from roverlink.calibration import (
     verify,
 )
 from roverlink.calibration.robot_file import build_facts, measured, outside_section, write_measured
-from roverlink.console import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
 from roverlink.emulated import first_collision
+from roverlink.interactive import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
 from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
 
 DEFAULT_OUTPUT = Path("calibration.json")

@@ -24,9 +24,9 @@ from host_sdk.extras import MissingDependencyError, require
 from protocol.generated.constants import WATCHDOG_MAX_MS, WATCHDOG_MIN_MS
 from roverlink import say
 from roverlink.argtypes import number, positive
-from roverlink.console import add_profile_args
 from roverlink.console_app import ConsoleSettings, start_emulated, start_robot
 from roverlink.follow.app import robot_ports
+from roverlink.interactive import add_profile_args
 from roverlink.sensors.options import add_sensor_args
 
 

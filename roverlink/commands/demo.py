@@ -32,7 +32,7 @@ from host_sdk import (
 )
 from host_sdk.profiles import steering_limits
 from roverlink import argtypes, say
-from roverlink.console import add_profile_args, warn_mismatches
+from roverlink.interactive import add_profile_args, warn_mismatches
 
 _TURN_TOLERANCE_RAD = math.radians(1.0)
 

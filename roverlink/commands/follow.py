@@ -41,10 +41,10 @@ from host_sdk.perception.template import read_template
 from roverlink import say
 from roverlink.argtypes import positive
 from roverlink.commands.record import add_foxglove_address_args
-from roverlink.console import add_profile_args
 from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, robot_ports, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress
+from roverlink.interactive import add_profile_args
 from roverlink.sensors.options import add_sensor_args
 
 

@@ -8,7 +8,7 @@ import dataclasses
 from host_sdk import RoverLinkError
 from host_sdk.extras import MissingDependencyError
 from roverlink import say
-from roverlink.console import add_robot_args, connect
+from roverlink.interactive import add_robot_args, connect
 
 
 def cmd_info(args: argparse.Namespace) -> int:

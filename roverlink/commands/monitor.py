@@ -20,8 +20,8 @@ from host_sdk.extras import MissingDependencyError
 from host_sdk.recording import Recorder
 from roverlink import say
 from roverlink.commands.record import POLL_S, add_foxglove_args
-from roverlink.console import add_robot_args, announce_live_view, connect
 from roverlink.dashboard import Dashboard, lines, one_line
+from roverlink.interactive import add_robot_args, announce_live_view, connect
 from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
 
 

@@ -20,7 +20,7 @@ from host_sdk import Robot, RoverLinkError
 from host_sdk.extras import MissingDependencyError
 from host_sdk.recording import Recorder, RecordingSummary
 from roverlink import say
-from roverlink.console import LAYOUT_HINT, Progress, add_robot_args, announce_live_view, bar, connect
+from roverlink.interactive import LAYOUT_HINT, Progress, add_robot_args, announce_live_view, bar, connect
 from roverlink.sensors import add_sensor_args, choose_sensors, open_sensors
 
 POLL_S = 0.05

@@ -11,7 +11,7 @@ import sys
 from typing import Any
 
 from roverlink import say
-from roverlink.console import add_profile_args
+from roverlink.interactive import add_profile_args
 from roverlink.ros2 import INSTALL_HINT, missing_modules
 
 _DESCRIPTION = __doc__.split("\n\n")[1]

@@ -19,8 +19,8 @@ from host_sdk.extras import MissingDependencyError
 from host_sdk.sensors import Lidar
 from protocol.generated.constants import FEEDBACK_HZ_DEFAULT
 from roverlink import say
-from roverlink.console import add_robot_args, connect
 from roverlink.dashboard import Dashboard, lines
+from roverlink.interactive import add_robot_args, connect
 from roverlink.sensors import add_sensor_args, choose_sensors
 from roverlink.teleop import TeleopController
 

@@ -18,8 +18,8 @@ from protocol.generated.constants import FEEDBACK_HZ_MAX
 from protocol.robotfile.model import GAIN_NAMES
 from roverlink import robot_file_edit as edit
 from roverlink import say
-from roverlink.console import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
 from roverlink.emulated import place_on_stand
+from roverlink.interactive import ConsolePrompter, Progress, Prompter, add_robot_args, bar, connect
 from roverlink.robot_file_edit import Value
 from roverlink.tuning.design import Design
 from roverlink.tuning.metrics import StepMetrics, StepResponse

@@ -21,11 +21,11 @@ from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
 from host_sdk.recording.follow import FollowSource
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 from host_sdk.supervisor import Supervisor
-from roverlink.console import announce_live_view, warn_mismatches
 from roverlink.follow import emulated
 from roverlink.follow.baseline import PiCarBaseline
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress, run_follow
+from roverlink.interactive import announce_live_view, warn_mismatches
 from roverlink.sensors.options import SensorChoice, open_imu, open_lidar, require_sensors, sensors_for
 
 PILOTS = ("roverlink", "picar-2018")

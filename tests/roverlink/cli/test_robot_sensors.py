@@ -14,8 +14,8 @@ import pytest
 from host_sdk import Robot, RobotDescription, RoverLinkError
 from protocol.robotfile import reference_path
 from roverlink.cli import build_parser, main
-from roverlink.console import take_url
 from roverlink.follow.app import RobotPorts
+from roverlink.interactive import take_url
 from roverlink.sensors import choose_sensors
 
 SENSORS = "emu://picar?world=random:3&camera=320x240&lidar=ydlidar-f4"

@@ -24,8 +24,8 @@ from roverlink.calibration import (
 )
 from roverlink.calibration import geometry as g
 from roverlink.cli import main
-from roverlink.console import ConsolePrompter
 from roverlink.emulated import first_collision
+from roverlink.interactive import ConsolePrompter
 from roverlink.sensors import SensorChoice, open_sensors
 
 PROFILES = ["diffdrive-tb6612", "diffdrive-bts7960", "picar"]

@@ -15,7 +15,7 @@ from emulator.firmware.config import IMAGE_ADDR, IMAGE_SIZE, decode_image
 from host_sdk import PidGains, Robot
 from roverlink.cli import main
 from roverlink.commands.tune import apply_proposals, parse_gains
-from roverlink.console import ConsolePrompter
+from roverlink.interactive import ConsolePrompter
 from roverlink.tuning.feedforward import held_line
 from roverlink.tuning.fopdt import Fopdt, IdentificationError, fit_fopdt
 from roverlink.tuning.metrics import StepResponse, step_metrics

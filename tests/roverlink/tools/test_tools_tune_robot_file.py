@@ -16,7 +16,7 @@ from protocol.robotfile import load, parse
 from roverlink.cli import main
 from roverlink.commands import tune
 from roverlink.commands.tune import write_gains
-from roverlink.console import ConsolePrompter
+from roverlink.interactive import ConsolePrompter
 
 URL = "emu://diffdrive-tb6612?clock=virtual&stand=1&seed=5"
 USER_NOTE = "# gains: my notes\n"
