@@ -9,31 +9,32 @@ re-detection over the whole frame when the object is lost.
 
 Tracking (every frame): the object's box is predicted from its image velocity (plus, if given, the
 robot's own rotation since the last frame, which moves everything sideways by fx * tan(angle)); a
-window around it is cut out and scaled so the template's core is about `work_px` pixels across
-(the cost stays flat with distance); the core is matched there with OpenCV's normalised
-cross-correlation (grey plus chromaticity, mean removed per channel: appearance.py says why) at
-three scales, so the box follows the object
-as it nears or recedes. The core (appearance.py) is the whole template for an image of the object,
-the central `region_core` of a user's box (whose corners are background), the solid middle of a
-cut-out (BGRA, alpha on the object). The template adapts on
+window around it is cut out and scaled so the template's core is about `work_px` pixels across (the
+cost stays flat with distance); the core is matched there with OpenCV's normalised cross-correlation
+(grey plus chromaticity, mean removed per channel: appearance.py says why) at three scales, so the
+box follows the object as it nears or recedes; every few frames the scale check (scale_check.py)
+fits the first template at a wider ladder of sizes (and the size last tracked with confidence), so a
+box left on a part of a plain object grows back to all of it. The core (appearance.py) is the whole
+template for an image of the object, the central `region_core` of a user's box (whose corners are
+background), the solid middle of a cut-out (BGRA, alpha on the object). The template adapts on
 confident frames, anchored to the first one. A match keeps the track only if it is plausible: it
 correlates (`accept`), its core still correlates with the first template (`anchor_accept`: a track
 that slid onto the background fails this), and its colours are the object's (`colour`). A miss
 coasts on the prediction for `lost_after` - 1 frames (a brief occlusion), never off the picture.
 
 Re-detection (while lost, and at start-up from an image): ORB features of the template (a region's:
-those on the object, inside its ellipse) matched to the frame's with a ratio test and a robust homography
-(OpenCV's USAC: a frame without the object costs a millisecond, not RANSAC's 2000 tries), as
-find_object_2d does; that needs texture, so when the template has too few features, the homography
-fails or its candidate fails the checks below, a multi-scale correlation of the first template's core
-over the whole (reduced) frame stands in, near the last size for a while after a loss. Either way a candidate is
-accepted only if the correlation at its box reaches `accept_redetect`, stricter than what keeps a
-track alive, and its colours match (`colour_redetect`, also stricter), so clutter does not get
-"re-acquired"; a cut-out's candidate must also fit its whole figure (`figure_redetect`) with none
-of its colours round it (`surround_redetect`), so a look-alike of another shape does not either. A
-cut-out's track that stops fitting its figure (`figure_keep`, `surround_keep`, looser) for `misfit_s`
-is dropped (after `lost_after` - 1 frames of coasting): the object went behind a look-alike and the
-match slid onto it.
+those on the object, inside its ellipse) matched to the frame's with a ratio test and a robust
+homography (OpenCV's USAC: a frame without the object costs a millisecond, not RANSAC's 2000 tries),
+as find_object_2d does; that needs texture, so when the template has too few features, the
+homography fails or its candidate fails the checks below, a multi-scale correlation of the first
+template's core over the whole (reduced) frame stands in, near the size last tracked with confidence
+for a while. Either way a candidate is accepted only if the correlation at its box reaches
+`accept_redetect`, stricter than what keeps a track alive, and its colours match (`colour_redetect`,
+also stricter), so clutter does not get "re-acquired"; a cut-out's candidate must also fit its whole
+figure (`figure_redetect`) with none of its colours round it (`surround_redetect`), so a look-alike
+of another shape does not either. A cut-out's track that stops fitting its figure (`figure_keep`,
+`surround_keep`, looser) for `misfit_s` is dropped (after `lost_after` - 1 frames of coasting): the
+object went behind a look-alike and the match slid onto it.
 
 States: TRACKING, LOST, and REACQUIRED on the first frame of a track found again by re-detection.
 OpenCV is imported when a tracker is made (the `vision` extra).
@@ -53,6 +54,7 @@ from host_sdk.errors import CommandRangeError
 from host_sdk.extras import require
 from host_sdk.perception.appearance import Appearance
 from host_sdk.perception.camera import CameraModel
+from host_sdk.perception.scale_check import best_size
 from host_sdk.perception.template import cutout_core, on_cutout
 from host_sdk.perception.tracker_params import TrackerParams
 
@@ -161,6 +163,11 @@ class Tracker:
         self._misfit_s = 0.0
         """How long the track has not fitted its figure (`_misfits`)."""
         self._seen_s: float | None = None if box is None else time_s
+        self._sure: tuple[float, float, float] | None = None if box is None else (box[2], box[3], time_s)
+        """Width, height and time of the last confident frame's box (`_confident`)."""
+        self._found_s: float | None = None
+        """When the track was last re-detected."""
+        self._frames = 0
 
     @classmethod
     def from_region(cls, image: Image, box: Box, camera: CameraModel, **kwargs: Any) -> Tracker:
@@ -191,7 +198,11 @@ class Tracker:
         agree = self.look.agreement(image, found[0]) if found is not None else 0.0
         if found is not None and self._plausible(image, found, agree) and not self._misfits(image, found[0], dt):
             box, score = found
+            self._frames += 1
+            if self._frames % self.params.scale_check_every == 0:
+                box = self._rescale(image, box, shrink=score >= self.params.scale_check_above)
             self._accept(box, dt)
+            self._confident(box, score, agree)
             if self._misfit_s == 0.0:  # a frame that does not fit the figure teaches nothing
                 self.look.learn(image, box, score, agree)
             self._misses = 0
@@ -224,6 +235,14 @@ class Tracker:
             return False
         self._misfit_s += dt
         return self._misfit_s >= p.misfit_s
+
+    def _confident(self, box: Box, score: float, agree: float) -> None:
+        """Remember the box's size if the frame is one the template learns from (`Appearance.learn`),
+        but not for `redetect_near_s` after a re-detection: its box may be on a part of the object."""
+        a = self.params.appearance
+        held = self._found_s is not None and self.time_s - self._found_s < self.params.redetect_near_s
+        if score >= a.learn_above and agree >= a.anchor_agree and not held:
+            self._sure = (box[2], box[3], self.time_s)
 
     def _predict(self, dt: float, rotation_rad: float) -> Box:
         assert self.box is not None
@@ -327,6 +346,18 @@ class Tracker:
                 best = ((bx, by, bw, bh), float(score))
         return best
 
+    def _rescale(self, image: Image, box: Box, *, shrink: bool) -> Box:
+        """`box` at the size the first template fits best (scale_check.py): a few sizes either side
+        (smaller ones only if `shrink`) and, for `redetect_near_s` after it, the size last tracked
+        with confidence, if bigger (a box re-detected on a part of the object grows back)."""
+        p = self.params
+        k, step = p.scale_check_steps, p.scale_check_step
+        scales = [step**i for i in range(-k if shrink else 0, k + 1)]
+        if self._sure is not None and self.time_s - self._sure[2] < p.redetect_near_s:
+            ref = self._sure[1] / box[3]
+            scales += [ref * step**i for i in (-1, 0, 1) if ref * step**i > scales[-1] * 1.02]
+        return best_size(self.cv2, self.look, image, box, scales, work_px=p.work_px, margin=p.scale_check_margin)
+
     def detect(self, image: Image, time_s: float) -> Track:
         """A detection from scratch over the whole frame at every scale at once (what `update` spreads
         over a few frames while lost): REACQUIRED with the box, or LOST. The track starts from it."""
@@ -345,6 +376,8 @@ class Tracker:
             else:
                 box = self._detect_correlation(image, every_scale=every_scale)
             refined = None if box is None else self._match_near(image, box)
+            if refined is not None:
+                refined = (self._rescale(image, refined[0], shrink=False), refined[1])
             if refined is None or any(_same(refined[0], other) for other in tried):
                 continue
             tried.append(refined[0])
@@ -358,6 +391,7 @@ class Tracker:
                 self.velocity = (0.0, 0.0)
                 self._misses = 0
                 self._misfit_s = 0.0
+                self._found_s = None if self._sure is None else time_s  # a first detection holds nothing
                 return self._track(TrackState.REACQUIRED, refined[1])
         return self._lost(time_s)
 
@@ -400,8 +434,11 @@ class Tracker:
         reduced: dict[float, NDArray[np.float32]] = {}
         best: tuple[float, Box] | None = None
         lo, hi, n = p.redetect_scales
-        if not every_scale and self._seen_s is not None and self.time_s - self._seen_s < p.redetect_near_s:
-            lo, hi, n = max(lo, self.scale / 2), min(hi, self.scale * 2), max(2, n // 2)
+        if not every_scale and self._sure is not None and self.time_s - self._sure[2] < p.redetect_near_s:
+            ref, k = self._sure[1] / th, p.redetect_near
+            lo, hi, n = max(lo, ref / k), min(hi, ref * k), max(2, n // 2)
+        elif not every_scale and self._seen_s is not None and self.time_s - self._seen_s < p.redetect_near_s:
+            lo, hi, n = max(lo, self.scale / 2), min(hi, self.scale * 2), max(2, n // 2)  # never confident
         scales = np.geomspace(lo, hi, n)
         rounds = 1 if every_scale else math.ceil(scales.shape[0] / p.redetect_per_frame)
         self._phase %= rounds
