@@ -53,16 +53,13 @@ from numpy.typing import NDArray
 from host_sdk.errors import CommandRangeError
 from host_sdk.extras import require
 from host_sdk.perception.appearance import Appearance
+from host_sdk.perception.boxes import Box, Image, centre, in_ellipse, near_same, subpixel_peak, visible_share
 from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.scale_check import best_size
 from host_sdk.perception.template import cutout_core, on_cutout
 from host_sdk.perception.tracker_params import TrackerParams
 
 __all__ = ["Box", "Image", "Track", "TrackState", "Tracker", "TrackerParams"]
-
-Image = NDArray[np.uint8]
-Box = tuple[float, float, float, float]
-"""x, y (top-left), width, height in pixels."""
 
 
 class TrackState(Enum):
@@ -145,7 +142,7 @@ class Tracker:
         kp, des = self._orb.detectAndCompute(self.cv2.cvtColor(big, self.cv2.COLOR_BGR2GRAY), None)
         if des is not None and (core < 1.0 or opaque is not None):  # keep the object's features
             keep = [i for i, k in enumerate(kp)
-                    if (_in_ellipse(k.pt, big.shape) if opaque is None else on_cutout(opaque, k.pt, f))]  # fmt: skip
+                    if (in_ellipse(k.pt, big.shape) if opaque is None else on_cutout(opaque, k.pt, f))]  # fmt: skip
             kp, des = [kp[i] for i in keep], (des[keep] if keep else None)
         self._tpl_kp = np.array([k.pt for k in kp], dtype=np.float32).reshape(-1, 2) / f
         self._tpl_des = des
@@ -208,7 +205,7 @@ class Tracker:
             self._misses = 0
             return self._track(TrackState.TRACKING, score)
         self._misses += 1
-        if self._misses < self.params.lost_after and _visible(pred, image) >= 0.5:
+        if self._misses < self.params.lost_after and visible_share(pred, image) >= 0.5:
             self.box = pred  # coast on the prediction through a brief occlusion (not off the picture)
             return self._track(TrackState.TRACKING, found[1] if found else 0.0)
         self.box = None
@@ -254,7 +251,7 @@ class Tracker:
 
     def _accept(self, box: Box, dt: float) -> None:
         if self.box is not None and dt > 0:
-            (ox, oy), (nx, ny) = _centre(self.box), _centre(box)
+            (ox, oy), (nx, ny) = centre(self.box), centre(box)
             # The object's own image motion: the camera's turn (the prediction's shift) is not repeated.
             vx, vy = (nx - ox - self._shift) / dt, (ny - oy) / dt
             a = 0.5  # smoothing: a box jitters by a pixel or so from frame to frame
@@ -285,7 +282,7 @@ class Tracker:
         cv2, p = self.cv2, self.params
         H, W = image.shape[:2]
         x, y, w, h = pred
-        if not (p.min_size_px <= min(w, h) and max(w / W, h / H) <= 2.0) or _visible(pred, image) <= 0.0:
+        if not (p.min_size_px <= min(w, h) and max(w / W, h / H) <= 2.0) or visible_share(pred, image) <= 0.0:
             return None  # not an object this camera can show (a degenerate homography's box)
         m = p.search
         big = p.scale_step
@@ -339,7 +336,7 @@ class Tracker:
             if s == 1.0:
                 peak = (loc[0], loc[1], tw, th)
             if best is None or score > best[1]:
-                dx, dy = _subpixel(res, loc)
+                dx, dy = subpixel_peak(res, loc)
                 bw, bh = tw / f / core, th / f / core
                 bx = (x0 + loc[0] + dx) / f + origin[0] - bw * (1 - core) / 2
                 by = (y0 + loc[1] + dy) / f + origin[1] - bh * (1 - core) / 2
@@ -378,7 +375,7 @@ class Tracker:
             refined = None if box is None else self._match_near(image, box)
             if refined is not None:
                 refined = (self._rescale(image, refined[0], shrink=False), refined[1])
-            if refined is None or any(_same(refined[0], other) for other in tried):
+            if refined is None or any(near_same(refined[0], other) for other in tried):
                 continue
             tried.append(refined[0])
             if (
@@ -418,7 +415,8 @@ class Tracker:
         w, h = float(x1 - x0), float(y1 - y0)
         if w < self.params.min_size_px or h < self.params.min_size_px or not np.isfinite(pts).all():
             return None
-        if max(w / image.shape[1], h / image.shape[0]) > 2.0 or _visible((float(x0), float(y0), w, h), image) < 0.5:
+        found = (float(x0), float(y0), w, h)
+        if max(w / image.shape[1], h / image.shape[0]) > 2.0 or visible_share(found, image) < 0.5:
             return None  # a homography from a few clustered matches can throw the box anywhere
         # A homography of a template onto a rigid object keeps its aspect ratio roughly.
         if not 0.5 < (w / h) / (tw / th) < 2.0:
@@ -471,43 +469,3 @@ class Tracker:
         if best is None or best[0] < p.accept:
             return None
         return best[1]
-
-
-def _in_ellipse(pt: tuple[float, float], shape: tuple[int, ...]) -> bool:
-    """Inside the ellipse inscribed in an image of `shape` (where a selected object is)."""
-    h, w = shape[:2]
-    return ((pt[0] - w / 2) / (w / 2)) ** 2 + ((pt[1] - h / 2) / (h / 2)) ** 2 <= 0.8
-
-
-def _visible(box: Box, image: Image) -> float:
-    """Share of the box inside the image."""
-    H, W = image.shape[:2]
-    x, y, w, h = box
-    iw = max(0.0, min(x + w, W) - max(x, 0.0))
-    ih = max(0.0, min(y + h, H) - max(y, 0.0))
-    return float(iw * ih / max(w * h, 1e-9))
-
-
-def _same(a: Box, b: Box) -> bool:
-    """Two boxes within a few pixels of each other (a candidate already judged)."""
-    return all(abs(u - v) <= 3.0 for u, v in zip(a, b, strict=True))
-
-
-def _centre(box: Box) -> tuple[float, float]:
-    return box[0] + box[2] / 2, box[1] + box[3] / 2
-
-
-def _subpixel(res: NDArray[np.float32], loc: tuple[int, int]) -> tuple[float, float]:
-    """Parabola through the peak and its neighbours, per axis (a quarter-pixel better than the grid)."""
-    x, y = loc
-    h, w = res.shape
-    dx = dy = 0.0
-    if 0 < x < w - 1:
-        a, b, c = float(res[y, x - 1]), float(res[y, x]), float(res[y, x + 1])
-        den = a - 2 * b + c
-        dx = 0.5 * (a - c) / den if den < 0 else 0.0
-    if 0 < y < h - 1:
-        a, b, c = float(res[y - 1, x]), float(res[y, x]), float(res[y + 1, x])
-        den = a - 2 * b + c
-        dy = 0.5 * (a - c) / den if den < 0 else 0.0
-    return dx, dy
