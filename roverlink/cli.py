@@ -23,8 +23,23 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _parse(argv: Sequence[str] | None) -> argparse.Namespace:
+    """The arguments; one the command does not take is reported by the command's own parser
+    (`roverlink COMMAND: error: ...`, with its usage), as every other error of the command is."""
+    parser = build_parser()
+    args, unknown = parser.parse_known_args(argv)
+    if unknown:
+        sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        command: argparse.ArgumentParser = sub.choices[args.command]
+        hint = ""
+        if args.command == "ros2" and any(a in ("-p", "--param", "--params-file", "-r") for a in unknown):
+            hint = " (ROS arguments go after --ros-args: roverlink ros2 ... --ros-args -p NAME:=VALUE)"
+        command.error(f"unrecognized arguments: {' '.join(unknown)}{hint}")
+    return args
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    args = _parse(argv)
     action = getattr(args, "action", None) or getattr(args, "firmware_command", None)
     say.running(f"roverlink {args.command}" + (f" {action}" if action else ""))
     wrong = take_url(args)

@@ -15,7 +15,6 @@ from host_sdk.autonomy import ControlLoop
 from host_sdk.console import Console
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 from host_sdk.supervisor import Supervisor
-from protocol.generated.constants import WATCHDOG_DEFAULT_MS
 from roverlink.follow import emulated
 from roverlink.follow.app import RobotPorts, geometry_for
 from roverlink.interactive import warn_mismatches
@@ -141,7 +140,7 @@ def start_emulated(which: str | RobotDescription, world: str | Path, settings: C
 def start_robot(ports: RobotPorts, which: str | RobotDescription, settings: ConsoleSettings) -> ConsoleRun:
     """The console on a real robot; listening once this returns."""
     desc, name = (which, None) if isinstance(which, RobotDescription) else (None, which)
-    watchdog = WATCHDOG_DEFAULT_MS / 1000 if settings.watchdog_s is None else settings.watchdog_s
+    watchdog = emulated.watchdog_for(ports.url, settings.watchdog_s)
     sup = Supervisor.connect(ports.url, profile=name, robot=desc, baud=ports.baud, allow_mismatch=ports.allow_mismatch,
                              clamp=True, watchdog_s=watchdog, lost_after_s=settings.lost_after_s)  # fmt: skip
     robot = sup.robot

@@ -26,6 +26,7 @@ from roverlink import say
 from roverlink.argtypes import number, positive
 from roverlink.console_app import ConsoleSettings, start_emulated, start_robot
 from roverlink.follow.app import robot_ports
+from roverlink.follow.emulated import watchdog_for
 from roverlink.interactive import add_profile_args
 from roverlink.sensors.options import add_sensor_args
 
@@ -64,7 +65,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     e.add_argument("--camera-look", choices=LOOKS, default="plain", help="emulated camera: plain or photo")
     e.add_argument("--no-imu", action="store_true", help="no IMU: wheel odometry alone")
     r = p.add_argument_group("on a robot")
-    r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, ...")
+    r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, or an emu:// URL with its sensors")
     r.add_argument("--baud", type=int, default=115200, help="the board's line speed (default 115200)")
     r.add_argument("--watchdog", type=number(WATCHDOG_MIN_MS / 1000, WATCHDOG_MAX_MS / 1000, "s"), metavar="S",
                    help="the board's watchdog, which is also how long a command from the page lives (default the "
@@ -89,7 +90,8 @@ def cmd_console(args: argparse.Namespace) -> int:
             # The emulator shares this process on the wall clock: a 1 s watchdog keeps a busy machine
             # from failing it safe every few seconds (docs/console.md, "On the emulator").
             run = start_emulated(which, world, settings, seed=args.seed, camera_fps=args.camera_fps,
-                                 imu=not args.no_imu, camera_look=args.camera_look, watchdog_s=1.0)  # fmt: skip
+                                 imu=not args.no_imu, camera_look=args.camera_look,
+                                 watchdog_s=watchdog_for(None, args.watchdog))  # fmt: skip
         else:
             ports = robot_ports(args)
             try:

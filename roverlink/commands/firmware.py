@@ -139,8 +139,8 @@ def _add_target_options(p: argparse.ArgumentParser, *, example_required: bool) -
     p.add_argument(
         "--out",
         metavar="DIR",
-        help="where the ELF and HEX go (default: build/firmware/<sketch>/<board>; "
-        "--robot: build/firmware/robots/<file>/<board>)",
+        help="where the ELF and HEX go (default: ./firmware/<sketch>/<board> in the current directory; "
+        "--robot: ./firmware/<file name>/<board>)",
     )
     p.add_argument("--no-lto", action="store_true", help="link without link-time optimisation")
 

@@ -89,7 +89,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
                    help="emulated camera: plain (flat colours, default) or photo (docs/emulator.md)")  # fmt: skip
     e.add_argument("--no-imu", action="store_true", help="no IMU: wheel odometry alone")
     r = p.add_argument_group("on a robot")
-    r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, ...")
+    r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, or an emu:// URL with its sensors")
     r.add_argument("--baud", type=int, default=115200, help="the board's line speed (default 115200)")
     add_sensor_args(p, off=None)
     r.add_argument(

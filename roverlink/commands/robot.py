@@ -1,4 +1,4 @@
-"""`roverlink robot`: start, check and explain a robot file (docs/robot-file.md).
+"""`roverlink robot`: make (`new`), check and explain a robot file (docs/robot-file.md).
 
 roverlink robot new my.toml --from picar   # a commented copy of a reference robot
 roverlink robot check my.toml              # exit 0 "my.toml: ok", or 2 and every problem
@@ -148,7 +148,7 @@ def cmd_urdf(args: argparse.Namespace) -> int:
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser(
         "robot",
-        help="start, check and explain a robot file",
+        help="make (robot new), check and explain a robot file",
         description="A robot file describes your robot (docs/robot-file.md): start one from a reference robot, "
         "check it, show what the firmware and the host derive from it.",
     )

@@ -11,8 +11,10 @@ import sys
 from typing import Any
 
 from roverlink import say
+from roverlink.argtypes import BAUD
 from roverlink.interactive import add_profile_args
 from roverlink.ros2 import INSTALL_HINT, missing_modules
+from roverlink.sensors.options import add_sensor_args
 
 _DESCRIPTION = __doc__.split("\n\n")[1]
 
@@ -25,16 +27,25 @@ def cmd_ros2(args: argparse.Namespace) -> int:
         return 2
     from roverlink.ros2.run import run  # noqa: PLC0415 (rclpy: only when the command runs)
 
-    overrides: dict[str, Any] = {}
+    return run(args.ros_args or [], overrides(args))
+
+
+def overrides(args: argparse.Namespace) -> dict[str, Any]:
+    """The node's parameters the command line sets (they win over a parameters file)."""
+    out: dict[str, Any] = {}
     if args.url is not None:
-        overrides["url"] = args.url
+        out["url"] = args.url
     if args.profile is not None:
-        overrides["profile"] = args.profile
+        out["profile"] = args.profile
     if args.robot is not None:
-        overrides["robot_file"] = args.robot.path
+        out["robot_file"] = args.robot.path
     if args.allow_mismatch:
-        overrides["allow_mismatch"] = True
-    return run(args.ros_args or [], overrides)
+        out["allow_mismatch"] = True
+    for option, parameter in (("baud", "baud"), ("lidar", "lidar_url"), ("lidar_model", "lidar_model"),
+                              ("imu", "imu_url"), ("imu_baud", "imu_baud")):  # fmt: skip
+        if getattr(args, option) is not None:
+            out[parameter] = getattr(args, option)
+    return out
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -53,6 +64,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 def _add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--url", default=None, help="serial port or URL (default: the url parameter, /dev/ttyACM0)")
     add_profile_args(p, help_text="reference robot (default: from the firmware)")  # + robot_file, allow_mismatch
+    p.add_argument("--baud", type=BAUD, default=None, help="the board's line speed (default: the baud parameter)")
+    # The sensor options every command takes, as the parameters they set (lidar_url, imu_url...).
+    add_sensor_args(p, ("lidar", "imu"), off=None)
     p.add_argument(
         "--ros-args",
         nargs=argparse.REMAINDER,

@@ -213,7 +213,8 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
                          "(person or face): one of them")  # fmt: skip
     desc, name = (profile, None) if isinstance(profile, RobotDescription) else (None, profile)
     sup = Supervisor.connect(ports.url, profile=name, robot=desc, baud=ports.baud,
-                             allow_mismatch=ports.allow_mismatch, clamp=True)  # fmt: skip
+                             allow_mismatch=ports.allow_mismatch, clamp=True,
+                             watchdog_s=emulated.watchdog_for(ports.url, None))  # fmt: skip
     robot = sup.robot
     warn_mismatches(robot)
     camera = lidar = imu = None

@@ -30,6 +30,21 @@ from protocol.generated.constants import WATCHDOG_DEFAULT_MS
 from protocol.sensors import DEVICES, CameraSpec, Mount
 from roverlink.follow.metrics import TruthSample
 
+SHARED_WATCHDOG_S = 1.0
+"""The watchdog asked for when the emulator shares this process on the wall clock: its work, the
+robot program's and a browser's share the machine, and a busy one misses the firmware's 250 ms
+every few seconds (docs/console.md, "On the emulator")."""
+
+
+def watchdog_for(url: str | None, asked_s: float | None) -> float:
+    """The watchdog to connect with: the one asked for, else SHARED_WATCHDOG_S for an in-process
+    emulator on the wall clock (no URL, or an emu:// URL without clock=virtual), else the firmware's."""
+    if asked_s is not None:
+        return asked_s
+    shared = url is None or (url.startswith("emu://") and "clock=virtual" not in url)
+    return SHARED_WATCHDOG_S if shared else WATCHDOG_DEFAULT_MS / 1000
+
+
 RUN_INTO_M_S = 0.02
 """A contact in which the robot moved towards the contact point no faster than this was not driven
 into: the robot stood (or crept, or moved away) and the target walked into it."""

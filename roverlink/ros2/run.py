@@ -47,7 +47,8 @@ def run(ros_args: Sequence[str], overrides: dict[str, Any]) -> int:
         executor.add_node(node)
         while not stop.is_set():
             executor.spin_once(timeout_sec=0.1)
-            if node.connection.fatal is not None:
+            if node.connection.fatal is not None:  # logged to the ROS log; the command says it ended
+                say.error(f"cannot connect: {node.connection.fatal}")
                 status = 1
                 break
     except (RoverLinkError, ParameterException, NameValidationException) as exc:

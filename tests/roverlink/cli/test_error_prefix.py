@@ -73,3 +73,22 @@ def test_robot_check_lists_the_problems_and_names_itself(capsys: pytest.CaptureF
     out, err = capsys.readouterr()
     assert out == f"{MISSING}: no such file\n"
     assert err == f"roverlink robot check: {MISSING}: 1 problem\n"
+
+
+@pytest.mark.parametrize("command", [c.__name__.rsplit(".", 1)[-1] for c in COMMANDS])
+def test_an_argument_a_command_does_not_take_is_reported_by_that_command(
+    command: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    argv = [command, "--no-such-option"]
+    with pytest.raises(SystemExit) as exit_:
+        main(argv)
+    err = capsys.readouterr().err
+    assert exit_.value.code == 2
+    assert f"roverlink {command}: error: " in err and "roverlink: error:" not in err, err
+
+
+def test_ros_parameters_before_ros_args_are_pointed_there(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit):
+        main(["ros2", "--url", "emu://picar", "-p", "baud:=57600"])
+    err = capsys.readouterr().err
+    assert "unrecognized arguments: -p baud:=57600 (ROS arguments go after --ros-args" in err

@@ -144,3 +144,28 @@ def test_a_device_from_the_robot_file_that_will_not_open_names_the_files_key(tmp
     with pytest.raises(SensorOpenError) as option:
         open_lidar(given)
     assert "from [sensors" not in str(option.value) and "/dev/nonexistent-lidar" in str(option.value)
+
+
+def test_an_in_process_emulator_on_the_wall_clock_gets_the_longer_watchdog() -> None:
+    from roverlink.follow.emulated import SHARED_WATCHDOG_S, watchdog_for
+
+    assert watchdog_for(None, None) == watchdog_for(SENSORS, None) == SHARED_WATCHDOG_S == 1.0
+    assert watchdog_for(SENSORS + "&clock=virtual", None) == watchdog_for("/dev/ttyACM0", None) == 0.25
+    assert watchdog_for(SENSORS, 0.5) == 0.5  # --watchdog wins
+    with Robot.connect(SENSORS, profile="picar", watchdog_s=watchdog_for(SENSORS, None)) as robot:
+        assert robot.watchdog_s == 1.0  # granted by the emulated firmware
+
+
+def test_roverlink_ros2_takes_the_sensor_options_as_the_parameters_they_set() -> None:
+    from roverlink.commands.ros2 import overrides
+    from roverlink.ros2.params import BY_NAME
+
+    args = build_parser().parse_args(
+        ["ros2", "--url", "/dev/ttyACM0", "--baud", "230400", "--lidar", "/dev/ttyUSB0", "--lidar-model",
+         "ydlidar-f4", "--imu", "/dev/ttyUSB1", "--imu-baud", "9600"]
+    )  # fmt: skip
+    got = overrides(args)
+    assert got == {"url": "/dev/ttyACM0", "baud": 230400, "lidar_url": "/dev/ttyUSB0", "lidar_model": "ydlidar-f4",
+                   "imu_url": "/dev/ttyUSB1", "imu_baud": 9600}  # fmt: skip
+    assert set(got) <= set(BY_NAME)  # each one a parameter the node declares
+    assert overrides(build_parser().parse_args(["ros2"])) == {}  # nothing given: the parameters decide
