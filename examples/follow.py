@@ -16,8 +16,12 @@ An emulated robot with a camera serves a photo of its world's target (`endpoints
 robot, `--template` is your photo of what to follow. It runs for `--duration` seconds (30). Only
 `host_sdk` is imported: docs/autonomy.md.
 
-It arms at the start and rides through the robot's failures (a line says what is wrong): after a
-failsafe or a board reset the robot stays disarmed, unless `--rearm` asks for it to be armed again.
+Once a second it prints what the follower does (waiting: for the first frame; search: looking for
+the target; track: following it; avoid: following round an obstacle; yield: getting out of the
+target's way; stop: standing, at its distance or with no way to go; recover: backing out) and where
+the robot is. It arms at the start and rides through the robot's failures (a line says what is
+wrong): after a failsafe or a board reset the robot stays disarmed, unless `--rearm` asks for it to
+be armed again.
 """
 
 import argparse
@@ -59,7 +63,9 @@ with Supervisor.connect(args.url, profile=args.profile, robot=args.robot, clamp=
                 if (banner := step.health.banner()) is not None:
                     # A failsafe met while driving, with what the lidar saw at the footprint then.
                     text = loop.last_failsafe if step.health.failsafe and loop.last_failsafe else banner.text
-                    print(f"        {text}; {banner.hint}")
+                    stays = not args.rearm and not step.health.armed  # nothing here arms it again
+                    hint = "disarmed: run it again, or with --rearm" if stays else banner.hint
+                    print(f"        {text}; {hint}")
             loop.wait()
     for device in (lidar, camera, imu):
         if device is not None:

@@ -25,10 +25,12 @@ from roverlink import say
 def cmd_decode(args: argparse.Namespace) -> int:
     """Decode RoverLink frames given in hex (arguments or stdin) and show them field by field."""
     text = " ".join(args.hex) if args.hex else sys.stdin.read()
+    cleaned = text.replace(":", " ").replace(",", " ")
     try:
-        data = bytes.fromhex(text.replace(":", " ").replace(",", " "))
-    except ValueError as exc:
-        say.error(f"not hex: {exc}")
+        data = bytes.fromhex(cleaned)
+    except ValueError:
+        bad = next((word for word in cleaned.split() if not _is_hex(word)), cleaned.strip()[:20])
+        say.error(f"not hex: {bad!r} (give bytes as hex digit pairs, e.g. 01 A2 ff, or 01a2ff)")
         return 2
     if not data:
         say.error("no bytes given")
@@ -102,3 +104,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 class _Raw(argparse.RawDescriptionHelpFormatter):
     pass
+
+
+def _is_hex(word: str) -> bool:
+    """Whole bytes of hex digits."""
+    return len(word) % 2 == 0 and all(c in "0123456789abcdefABCDEF" for c in word)

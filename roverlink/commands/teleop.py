@@ -51,7 +51,7 @@ def obstacle_guard(args: argparse.Namespace, robot: Robot) -> Iterator[LidarGuar
 def cmd_teleop(args: argparse.Namespace) -> int:
     """Keyboard driving (arrows/WASD, +/- speed, space stop, enter arm, x disarm, q quit)."""
     if not sys.stdin.isatty():
-        say.error("teleop reads the keyboard: run it in a terminal")
+        say.error("it reads the keyboard: run it in a terminal")
         return 2
     from roverlink.tui import TeleopApp  # noqa: PLC0415 (Textual is an extra, loaded for the terminal view only)
 

@@ -92,3 +92,9 @@ def test_ros_parameters_before_ros_args_are_pointed_there(capsys: pytest.Capture
         main(["ros2", "--url", "emu://picar", "-p", "baud:=57600"])
     err = capsys.readouterr().err
     assert "unrecognized arguments: -p baud:=57600 (ROS arguments go after --ros-args" in err
+
+
+def test_decode_names_the_word_that_is_not_hex(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["decode", "01", "zz"]) == 2
+    err = capsys.readouterr().err
+    assert "roverlink decode: not hex: 'zz' (give bytes as hex digit pairs" in err and "fromhex" not in err
