@@ -156,7 +156,8 @@ def sketch_text(robot: RobotFile, example: str, source: str) -> str:
     head = "//\n".join(textwrap.fill(text, 100, initial_indent="// ", subsequent_indent="// ", break_on_hyphens=False,
                                      break_long_words=False) + "\n"
                        for text in paragraphs)  # fmt: skip
-    rest = "".join(lines[body:])
+    # The code's own comments name where the header comes from: the user's file, not robots.toml.
+    rest = "".join(lines[body:]).replace("generated from robots.toml", f"generated from {Path(robot.path).name}")
     return head + ("" if rest.startswith("\n") else "\n") + rest
 
 
