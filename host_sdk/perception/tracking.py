@@ -196,12 +196,16 @@ class Tracker:
         if found is not None and self._plausible(image, found, agree) and not self._misfits(image, found[0], dt):
             box, score = found
             self._frames += 1
+            matched = box
             if self._frames % self.params.scale_check_every == 0:
                 box = self._rescale(image, box, shrink=score >= self.params.scale_check_above)
             self._accept(box, dt)
-            self._confident(box, score, agree)
-            if self._misfit_s == 0.0:  # a frame that does not fit the figure teaches nothing
-                self.look.learn(image, box, score, agree)
+            # The score and agreement are the matched box's: a box resized here is neither a sure
+            # size nor taught to the template until a frame matches it at that size.
+            if box == matched:
+                self._confident(box, score, agree)
+                if self._misfit_s == 0.0:  # a frame that does not fit the figure teaches nothing
+                    self.look.learn(image, box, score, agree)
             self._misses = 0
             return self._track(TrackState.TRACKING, score)
         self._misses += 1
