@@ -112,6 +112,22 @@ class SensorStatus:
     """Devices that stopped being read, and why."""
 
 
+def open_lidar(url: str, model: str = "rplidar-a1") -> Lidar:
+    """`Lidar.open`, with a port that will not open as SensorOpenError naming the lidar (kind "lidar")."""
+    try:
+        return Lidar.open(url, model)
+    except (TransportError, SensorTimeoutError, OSError) as exc:
+        raise SensorOpenError(f"lidar {model} on {url}: {exc}", "lidar") from exc
+
+
+def open_imu(url: str, baud: int = DEFAULT_BAUD) -> Jy901:
+    """`Jy901.open`, with a port that will not open as SensorOpenError naming the IMU (kind "imu")."""
+    try:
+        return Jy901.open(url, baud)
+    except (TransportError, SensorTimeoutError, OSError) as exc:
+        raise SensorOpenError(f"imu jy901 on {url} at {baud} baud: {exc}", "imu") from exc
+
+
 class Sensors:
     """A lidar, an IMU and a camera (any of them None), read together; see the module docstring."""
 
@@ -139,21 +155,17 @@ class Sensors:
         (those already open are closed again); the camera needs OpenCV (the `vision` extra:
         MissingDependencyError says so)."""
         sensors = cls()
-        kind, where = "", ""
         try:
             if lidar is not None:
-                kind, where = f"lidar {lidar_model}", lidar
-                sensors.lidar = Lidar.open(lidar, lidar_model)
+                sensors.lidar = open_lidar(lidar, lidar_model)
             if imu is not None:
-                kind, where = "imu jy901", imu
-                sensors.imu = Jy901.open(imu, imu_baud)
+                sensors.imu = open_imu(imu, imu_baud)
             if camera is not None:
                 require("cv2", "vision", "the camera")
-                kind, where = "camera", short_source(camera)
-                sensors.camera = CameraSource(camera)
-        except (TransportError, SensorTimeoutError, OSError) as exc:
-            sensors.close()
-            raise SensorOpenError(f"{kind} on {where}: {exc}", kind.split(" ")[0]) from exc
+                try:
+                    sensors.camera = CameraSource(camera)
+                except (TransportError, SensorTimeoutError, OSError) as exc:
+                    raise SensorOpenError(f"camera on {short_source(camera)}: {exc}", "camera") from exc
         except BaseException:
             sensors.close()
             raise

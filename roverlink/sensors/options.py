@@ -21,8 +21,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from host_sdk import Robot, RobotDescription, RoverLinkError
-from host_sdk.errors import TransportError
 from host_sdk.profiles import profile_for_example
+from host_sdk.sensors import hub
 from host_sdk.sensors.errors import SensorOpenError
 from host_sdk.sensors.hub import Sensors, short_source
 from host_sdk.sensors.imu import DEFAULT_BAUD, Jy901
@@ -140,13 +140,12 @@ def sensors_for(
         "camera": own.camera.source if own is not None and own.camera is not None else "",
     }
     files = {kind: port for kind, port in files.items() if kind in kinds}
-    origin = {
+    given = {"lidar": lidar, "imu": imu, "camera": camera}
+    origin = {  # the devices that will come from the file: named by its key if they fail to open
         kind: f"[sensors.{kind}] {'source' if kind == 'camera' else 'port'} in {own.path}"
         for kind, port in files.items()
-        if port and own is not None and not attached.get(kind)
+        if port and own is not None and not attached.get(kind) and given[kind] in (None, "")
     }
-    given = {"lidar": lidar, "imu": imu, "camera": camera}
-    origin = {kind: where for kind, where in origin.items() if given[kind] in (None, "")}
     lidar = lidar or attached.get("lidar") or files.get("lidar") or None
     imu = imu or attached.get("imu") or files.get("imu") or None
     if isinstance(camera, str):
@@ -199,10 +198,9 @@ def open_lidar(choice: SensorChoice) -> Lidar:
     """The chosen lidar, opened (the choice must have one); SensorOpenError as `open_sensors` says."""
     assert choice.lidar is not None
     try:
-        return Lidar.open(choice.lidar, choice.lidar_model)
-    except (TransportError, OSError) as exc:
-        opened = SensorOpenError(f"lidar {choice.lidar_model} on {choice.lidar}: {exc}", "lidar")
-        raise _from_file(choice, opened) from exc
+        return hub.open_lidar(choice.lidar, choice.lidar_model)
+    except SensorOpenError as exc:
+        raise _from_file(choice, exc) from exc
 
 
 def open_imu(choice: SensorChoice) -> Jy901 | None:
@@ -210,10 +208,9 @@ def open_imu(choice: SensorChoice) -> Jy901 | None:
     if choice.imu is None:
         return None
     try:
-        return Jy901.open(choice.imu, choice.imu_baud)
-    except (TransportError, OSError) as exc:
-        opened = SensorOpenError(f"imu jy901 on {choice.imu} at {choice.imu_baud} baud: {exc}", "imu")
-        raise _from_file(choice, opened) from exc
+        return hub.open_imu(choice.imu, choice.imu_baud)
+    except SensorOpenError as exc:
+        raise _from_file(choice, exc) from exc
 
 
 def _from_file(choice: SensorChoice, exc: SensorOpenError) -> SensorOpenError:
