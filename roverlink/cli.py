@@ -31,9 +31,9 @@ def _parse(argv: Sequence[str] | None) -> argparse.Namespace:
     if unknown:
         sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
         command: argparse.ArgumentParser = sub.choices[args.command]
-        hint = ""
-        if args.command == "ros2" and any(a in ("-p", "--param", "--params-file", "-r") for a in unknown):
-            hint = " (ROS arguments go after --ros-args: roverlink ros2 ... --ros-args -p NAME:=VALUE)"
+        # A command module may say where such arguments belong (`unknown_hint(unknown)`).
+        module = next(m for m in COMMANDS if m.__name__.rsplit(".", 1)[-1] == args.command)
+        hint = getattr(module, "unknown_hint", lambda _: "")(unknown)
         command.error(f"unrecognized arguments: {' '.join(unknown)}{hint}")
     return args
 

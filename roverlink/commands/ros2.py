@@ -48,6 +48,13 @@ def overrides(args: argparse.Namespace) -> dict[str, Any]:
     return out
 
 
+def unknown_hint(unknown: list[str]) -> str:
+    """Where ROS arguments given before --ros-args belong (roverlink.cli)."""
+    if any(a in ("-p", "--param", "--params-file", "-r", "--remap") for a in unknown):
+        return " (ROS arguments go after --ros-args: roverlink ros2 ... --ros-args -p NAME:=VALUE)"
+    return ""
+
+
 def main(argv: list[str] | None = None) -> int:
     """`roverlink ros2` as its own program (a console script for `ros2 run`; docs/ros2.md)."""
     parser = argparse.ArgumentParser(prog="roverlink ros2", description=_DESCRIPTION)
