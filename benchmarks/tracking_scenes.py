@@ -24,7 +24,7 @@ import numpy as np
 from emulator.sensors.camera import CameraOptions, Renderer
 from emulator.sensors.target import camera_mount, render_target
 from emulator.world import load_world
-from host_sdk.perception.camera import CameraModel
+from host_sdk.body import CameraModel
 from protocol.sensors import DEVICES
 from tests.support import photo_sequences
 

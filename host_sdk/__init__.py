@@ -37,14 +37,14 @@ from host_sdk.errors import (
     TransportError,
     UnsupportedError,
 )
-from host_sdk.gains_watch import PidGainsWarning
 from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.lights import LightsStatus
 from host_sdk.odometry import Pose
 from host_sdk.profiles import PROFILES, kinematics_for
 from host_sdk.robot import Robot
+from host_sdk.robot.file_check import Mismatch, RobotMismatchError
+from host_sdk.robot.gains_watch import PidGainsWarning
 from host_sdk.robot_description import RobotDescription, RobotFileError
-from host_sdk.robot_file_check import Mismatch, RobotMismatchError
 from host_sdk.session import FeedbackSample, LinkStatistics, PidGains, RobotConfig, RobotIdentity
 from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
 from protocol.generated.version import __version__ as release_version

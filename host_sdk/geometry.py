@@ -12,9 +12,9 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from host_sdk.body import CameraModel, Footprint, LidarMount
 from host_sdk.errors import CommandRangeError
 from host_sdk.kinematics import Ackermann, DiffDrive
-from host_sdk.perception import CameraModel, Footprint, LidarMount
 from host_sdk.profiles import profile_for_example, steering_angles
 from host_sdk.robot import Robot
 from host_sdk.robot_description import RobotDescription

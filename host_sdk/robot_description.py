@@ -17,8 +17,8 @@ import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 
+from host_sdk.body import CameraModel, Footprint, LidarMount
 from host_sdk.kinematics import Ackermann, DiffDrive
-from host_sdk.perception import CameraModel, Footprint, LidarMount
 from host_sdk.profiles import kinematics_from
 from protocol.robotfile import RobotFile, RobotFileError, load
 from protocol.sensors import DEVICES, CameraSpec

@@ -8,7 +8,7 @@ import sys
 from collections.abc import Sequence
 
 from host_sdk.extras import MissingDependencyError
-from host_sdk.robot_file_check import MISMATCH_LOGGER
+from host_sdk.robot.file_check import MISMATCH_LOGGER
 from roverlink import __version__, say
 from roverlink.commands import COMMANDS
 from roverlink.interactive import take_url

@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from host_sdk.autonomy.memory import TargetMemory, to_world
 from host_sdk.autonomy.target import TargetFix, locate_target
-from host_sdk.perception.camera import CameraModel
+from host_sdk.body import CameraModel
 from host_sdk.perception.motion import Mover
 from host_sdk.perception.tracking import Track
 from host_sdk.pose import Pose2D

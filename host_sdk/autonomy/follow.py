@@ -62,8 +62,8 @@ from host_sdk.autonomy.follow_params import (
 from host_sdk.autonomy.memory import to_base, to_world
 from host_sdk.autonomy.planner import PlanChoice, PlannerParams, ViewPlanner
 from host_sdk.autonomy.target import TargetFix
-from host_sdk.perception.avoidance import AvoidanceParams, Avoider, Footprint, Plan, arc_room, safe_speed
-from host_sdk.perception.camera import CameraModel
+from host_sdk.body import CameraModel, Footprint
+from host_sdk.perception.avoidance import AvoidanceParams, Avoider, Plan, arc_room, safe_speed
 from host_sdk.perception.motion import Mover
 from host_sdk.perception.tracking import Track
 from host_sdk.pose import Pose2D

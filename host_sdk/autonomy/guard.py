@@ -34,12 +34,13 @@ from enum import Enum
 import numpy as np
 from numpy.typing import NDArray
 
+from host_sdk.body import Footprint
 from host_sdk.failsafe import describe_failsafe
 from host_sdk.fusion.source import PoseSource
 from host_sdk.geometry import RobotGeometry, robot_geometry
 from host_sdk.kinematics import Arc
 from host_sdk.odometry import integrate_arc
-from host_sdk.perception.avoidance import AvoidanceParams, Footprint, arc_room, safe_speed, stopping_distance
+from host_sdk.perception.avoidance import AvoidanceParams, arc_room, safe_speed, stopping_distance
 from host_sdk.perception.scan import ObstacleScan, ScanFilter, move_points
 from host_sdk.pose import PoseAt, RobotPose
 from host_sdk.robot import Robot

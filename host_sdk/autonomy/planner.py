@@ -40,9 +40,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from host_sdk.body import CameraModel, Footprint
 from host_sdk.extras import require
-from host_sdk.perception.avoidance import Footprint
-from host_sdk.perception.camera import CameraModel
 
 F64 = NDArray[np.float64]
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from host_sdk.perception.camera import CameraModel
+from host_sdk.body import CameraModel
 
 F64 = NDArray[np.float64]
 

@@ -6,7 +6,8 @@
   (`Avoider`, `Footprint`, `AvoidanceParams`).
 - `motion`: what moves in the scan (`MotionDetector`, `Mover`): returns where earlier revolutions
   saw free space, clustered and confirmed.
-- `camera`: a pinhole camera model (`CameraModel`): pixels to bearings, size to range.
+- `CameraModel`, `Footprint`, `LidarMount` (from host_sdk.body, re-exported): the camera's
+  pinhole model, the body's disc and the lidar's mount, which a robot file describes.
 - `tracking`: a fast template tracker with feature re-detection (`Tracker`, `Track`, `TrackState`);
   it needs OpenCV (the `vision` extra), imported when a tracker is made. `appearance`: its model of
   the object (the template's core, an adaptive copy anchored to the first, a colour signature);
@@ -18,10 +19,10 @@
 numpy is the only import here; see docs/autonomy.md.
 """
 
-from host_sdk.perception.avoidance import AvoidanceParams, Avoider, Footprint, Plan
-from host_sdk.perception.camera import CameraModel
+from host_sdk.body import CameraModel, Footprint, LidarMount
+from host_sdk.perception.avoidance import AvoidanceParams, Avoider, Plan
 from host_sdk.perception.motion import MotionDetector, MotionParams, Mover
-from host_sdk.perception.scan import LidarMount, ObstacleScan, RawScan, ScanFilter
+from host_sdk.perception.scan import ObstacleScan, RawScan, ScanFilter
 from host_sdk.perception.tracker_params import TrackerParams
 from host_sdk.perception.tracking import Track, Tracker, TrackState
 

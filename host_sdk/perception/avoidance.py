@@ -25,21 +25,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from host_sdk.errors import CommandRangeError
+from host_sdk.body import Footprint
 
 F64 = NDArray[np.float64]
-
-
-@dataclass(frozen=True, slots=True)
-class Footprint:
-    """The robot's body as a disc of `radius_m` centred `x_m` ahead of the pose point."""
-
-    radius_m: float
-    x_m: float = 0.0
-
-    def __post_init__(self) -> None:
-        if not (math.isfinite(self.radius_m) and self.radius_m > 0):
-            raise CommandRangeError("radius_m", self.radius_m, "a radius > 0 in metres")
 
 
 @dataclass(frozen=True, slots=True)

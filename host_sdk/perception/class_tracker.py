@@ -24,8 +24,8 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Protocol
 
+from host_sdk.body import CameraModel
 from host_sdk.errors import CommandRangeError
-from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.detectors import (
     KINDS,
     TARGET_HEIGHT_M,

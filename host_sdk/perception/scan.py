@@ -46,6 +46,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import NDArray
 
+from host_sdk.body import LidarMount
 from host_sdk.errors import CommandRangeError
 from host_sdk.pose import Pose2D
 
@@ -143,15 +144,6 @@ def as_raw(scan: RawScan | DriverScanLike | LaserScanLike) -> RawScan:
     if isinstance(scan, LaserScanLike):
         return RawScan.from_laserscan(scan)
     raise CommandRangeError("scan", type(scan).__name__, "a LidarScan, a LaserScan-shaped object or a RawScan")
-
-
-@dataclass(frozen=True, slots=True)
-class LidarMount:
-    """Where the lidar sits relative to the robot's pose point (REP-103: x forward, y left)."""
-
-    x_m: float = 0.0
-    y_m: float = 0.0
-    yaw_rad: float = 0.0
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -50,11 +50,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from host_sdk.body import CameraModel
 from host_sdk.errors import CommandRangeError
 from host_sdk.extras import require
 from host_sdk.perception.appearance import Appearance
 from host_sdk.perception.boxes import Box, Image, centre, in_ellipse, near_same, subpixel_peak, visible_share
-from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.scale_check import best_size
 from host_sdk.perception.template import cutout_core, on_cutout
 from host_sdk.perception.tracker_params import TrackerParams

@@ -32,7 +32,7 @@ from std_srvs.srv import Trigger
 
 from host_sdk import FeedbackSample, Pose, Robot, RobotDescription, RoverLinkError, SessionResetError
 from host_sdk.profiles import PROFILES, get_profile
-from host_sdk.robot_file_check import MISMATCH_LOGGER
+from host_sdk.robot.file_check import MISMATCH_LOGGER
 from host_sdk.supervisor.connection import Connection
 from host_sdk.transport import Transport
 from protocol.generated.enums import FailsafeReason, FeedbackMode

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from host_sdk import ArgumentError, Robot, RobotDescription, RobotFileError, RobotMismatchError
-from host_sdk.robot_file_check import compare
+from host_sdk.robot.file_check import compare
 from protocol.generated.enums import Board
 from protocol.robotfile import REFERENCES, reference_path
 

@@ -198,10 +198,10 @@ async def test_the_stream_ends_when_the_robot_closes(roverlink_robot: Robot) -> 
 
 async def test_a_stream_left_by_break_unsubscribes(roverlink_robot: Robot) -> None:
     bot = AsyncRobot(roverlink_robot)
-    subscribers = len(roverlink_robot._callbacks.feedback)
+    subscribers = len(roverlink_robot._link.callbacks.feedback)
     async for _ in bot.feedback():
         break
-    assert len(roverlink_robot._callbacks.feedback) == subscribers  # collected at once: its finalizer unsubscribed
+    assert len(roverlink_robot._link.callbacks.feedback) == subscribers  # collected at once: its finalizer unsubscribed
 
 
 # -- cancellation -------------------------------------------------------------------------------------

@@ -8,7 +8,7 @@ import warnings
 import pytest
 
 from host_sdk import Robot
-from host_sdk.gains_watch import PidGainsWarning
+from host_sdk.robot.gains_watch import PidGainsWarning
 
 URL = "emu://diffdrive-tb6612?clock=virtual&seed=4"
 

@@ -1,4 +1,4 @@
-"""The I/O thread's loop (host_sdk/runner.py ThreadedRunner) against a scripted session and port:
+"""The I/O thread's loop (host_sdk/robot/runner.py ThreadedRunner) against a scripted session and port:
 how long each read may sleep, with callbacks that take their time."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ from typing import Any, cast
 
 import pytest
 
-from host_sdk.runner import ThreadedRunner
+from host_sdk.robot.runner import ThreadedRunner
 from host_sdk.session import Event, Session
 from host_sdk.transport import Transport
 

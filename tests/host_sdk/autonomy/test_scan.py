@@ -9,8 +9,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from host_sdk.body import LidarMount
 from host_sdk.errors import CommandRangeError
-from host_sdk.perception.scan import LidarMount, RawScan, ScanFilter, bin_points, spatial_filter
+from host_sdk.perception.scan import RawScan, ScanFilter, bin_points, spatial_filter
 from host_sdk.sensors.scan import LidarScan
 
 ANGLES = -math.pi + math.radians(0.72) * (np.arange(500) + 0.3)  # a YDLIDAR F4 revolution at 8 Hz

@@ -13,10 +13,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from host_sdk.autonomy.guard import GuardState, TeleopGuard, explain_failsafe, spin_angle, within_margin
+from host_sdk.body import Footprint
 from host_sdk.enums import FailsafeReason
 from host_sdk.errors import FailsafeError
 from host_sdk.failsafe import describe_failsafe
-from host_sdk.perception.avoidance import AvoidanceParams, Footprint, stopping_distance
+from host_sdk.perception.avoidance import AvoidanceParams, stopping_distance
 
 DIFF = Footprint(0.12, 0.03)  # the TB6612 car's body
 P = AvoidanceParams()

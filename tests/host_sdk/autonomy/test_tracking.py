@@ -13,8 +13,8 @@ from emulator.sensors.camera import CameraOptions, Renderer
 from emulator.sensors.target import camera_mount, render_target
 from emulator.world import load_world
 from emulator.world.scene import Scene
+from host_sdk.body import CameraModel
 from host_sdk.errors import CommandRangeError
-from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.template import cutout_core, read_template
 from host_sdk.perception.tracking import Tracker, TrackState
 from protocol.sensors import DEVICES

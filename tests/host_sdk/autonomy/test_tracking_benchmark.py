@@ -9,7 +9,7 @@ import tracking as bench  # benchmarks/ is on pytest's pythonpath
 from tracking_metrics import Step, Truth, score
 from tracking_scenes import Scene, Shot
 
-from host_sdk.perception.camera import CameraModel
+from host_sdk.body import CameraModel
 from tests.support.photo_sequences import SPECS, build
 
 BOX = (100.0, 80.0, 40.0, 20.0)  # larger side 40: a centre within 10 px is accurate

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from host_sdk.perception.camera import CameraModel
+from host_sdk.body import CameraModel
 from host_sdk.perception.tracking import Tracker, TrackState
 from tests.support.photo_sequences import SPECS, build
 

@@ -13,8 +13,8 @@ import dataclasses
 import numpy as np
 import pytest
 
+from host_sdk.body import CameraModel
 from host_sdk.errors import CommandRangeError
-from host_sdk.perception.camera import CameraModel
 from host_sdk.perception.tracking import Track, Tracker, TrackState
 from tests.support.photo_sequences import SPECS as PHOTO_SPECS
 from tests.support.photo_sequences import Sequence, build, iou

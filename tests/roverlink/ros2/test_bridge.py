@@ -158,7 +158,12 @@ def test_odom_joint_states_and_diagnostics_arrive_at_their_rates(bridge: Bridge)
     arrivals = [r.at for r in probe.since("diagnostics", t0)]
     assert all(0.5 < b - a < 1.6 for a, b in itertools.pairwise(arrivals))
     link, robot = values(probe.status("link")), values(probe.status("robot"))
-    assert probe.status("link").level == b"\x00", probe.status("link").message
+    # OK, or WARN for the host's own lateness alone (a loaded CI host sends a lockstep period late
+    # now and then, and the node says so); any link error counter rising fails.
+    status = probe.status("link")
+    rising = status.message.removeprefix("link errors rising: ").split(", ")
+    host_late_only = status.level == b"\x01" and all(r.startswith("host paced_late +") for r in rising)
+    assert status.level == b"\x00" or host_late_only, status.message
     assert link["feedback mode"] == ("lockstep" if case.lockstep else "stream")
     assert float(link["feedback rate (Hz)"]) == pytest.approx(rate, rel=0.25)
     for key in ("rtt last/min/mean/max (ms)", "clock drift (ppm)", "host frames received/s", "board frames sent/s"):

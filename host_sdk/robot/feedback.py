@@ -1,4 +1,4 @@
-"""Robot's feedback calls: the next FEEDBACK, a stream of them, and the callbacks.
+"""`Feedback`, the part of a Robot that reads: the next FEEDBACK, a stream of them, and the callbacks.
 
 A board reset is reported once, as SessionResetError, by whichever call meets it first; the
 bootloader's silence before the new boot announces itself is part of it (docs/sdk.md, "Resets"):
@@ -8,38 +8,27 @@ raising FeedbackTimeoutError, and ends with the reset when the new boot announce
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable, Iterator
 
 from host_sdk import checks
-from host_sdk.callbacks import (
-    Callbacks,
+from host_sdk.errors import FeedbackTimeoutError, RobotClosedError
+from host_sdk.robot.callbacks import (
     FailsafeCallback,
     FeedbackCallback,
     LogCallback,
     OdometryGapCallback,
     ResetCallback,
 )
-from host_sdk.errors import FeedbackTimeoutError, RobotClosedError
-from host_sdk.runner import Runner
-from host_sdk.session import FeedbackSample, Session
-from host_sdk.transport import Transport
+from host_sdk.robot.link import Link
+from host_sdk.session import FeedbackSample
 from protocol.generated.enums import FeedbackMode
 
 
-class FeedbackCalls:
-    """The feedback half of `Robot` (a mixin: Robot provides the runner, session and lock)."""
+class Feedback:
+    """Keeps nothing of its own: FEEDBACK lives in the session, the callbacks in the link."""
 
-    _runner: Runner
-    _session: Session
-    _transport: Transport
-    _lock: threading.RLock
-    _callbacks: Callbacks
-    _last_command_seq: int | None
-
-    @property
-    def closed(self) -> bool:
-        raise NotImplementedError
+    def __init__(self, link: Link) -> None:
+        self._link = link
 
     def wait_feedback(self, timeout_s: float = 1.0) -> FeedbackSample:
         """The next FEEDBACK. In lockstep mode while armed: the one answering the latest drive
@@ -49,7 +38,7 @@ class FeedbackCalls:
         TimeoutError) if none arrives within `timeout_s`. A board that went silent less than
         `reset_silence_s` (2 s) ago may be rebooting: the wait then goes on until that silence is
         over, and raises SessionResetError if it ends in a new boot."""
-        return self._next_feedback(checks.seconds("timeout_s", timeout_s), report_reset=True)
+        return self.next(checks.seconds("timeout_s", timeout_s), report_reset=True)
 
     def feedback_stream(self, timeout_s: float = 1.0) -> Iterator[FeedbackSample]:
         """Yield FEEDBACK samples as they arrive, until the robot is closed. It goes on across a
@@ -59,23 +48,25 @@ class FeedbackCalls:
         timeout = checks.seconds("timeout_s", timeout_s)
 
         def samples() -> Iterator[FeedbackSample]:
-            while not self.closed:
+            while not self._link.closed:
                 try:
-                    yield self._next_feedback(timeout, report_reset=False)
+                    yield self.next(timeout, report_reset=False)
                 except RobotClosedError:
                     return
 
         return samples()
 
-    def _next_feedback(self, timeout: float, report_reset: bool) -> FeedbackSample:
-        runner, s = self._runner, self._session
-        with self._lock:
+    def next(self, timeout: float, report_reset: bool) -> FeedbackSample:
+        """The next FEEDBACK (see wait_feedback); `report_reset`: raise a reset not yet reported."""
+        link = self._link
+        runner, s = link.runner, link.session
+        with link.lock:
             runner.check()
             self._report_reset(report_reset)
             start = s.latest.index if s.latest is not None else 0
             lockstep = s.feedback_mode is FeedbackMode.LOCKSTEP
             armed = s.armed
-            want = self._last_command_seq if lockstep and armed and s.setpoint_live else None
+            want = link.last_command_seq if lockstep and armed and s.setpoint_live else None
             # Lockstep while armed: only a command is answered. Otherwise the board streams.
             owed = not (lockstep and armed) or want is not None
 
@@ -90,13 +81,13 @@ class FeedbackCalls:
 
         left = 0.0
         if not runner.wait(arrived, timeout) and owed:
-            with self._lock:
-                now = self._transport.clock()
+            with link.lock:
+                now = link.clock()
                 until = s.silence_deadline(now)
                 left = 0.0 if until is None else until - now
             if left > 0:
                 runner.wait(arrived, left)  # the silence may be a reset: wait for its announcement
-        with self._lock:
+        with link.lock:
             runner.check()
             self._report_reset(report_reset)
             sample = fresh()
@@ -107,29 +98,29 @@ class FeedbackCalls:
 
     def _report_reset(self, report: bool) -> None:
         """Raise the reset not yet reported (lock held), once."""
-        error = self._session.take_reset() if report else None
+        error = self._link.session.take_reset() if report else None
         if error is not None:
             raise error
 
     # == callbacks ===================================================================================
     def on_feedback(self, callback: FeedbackCallback) -> Callable[[], None]:
         """Call `callback(sample)` for every FEEDBACK (on the I/O thread). Returns a function that unsubscribes."""
-        return self._callbacks.subscribe("feedback", callback)
+        return self._link.callbacks.subscribe("feedback", callback)
 
     def on_reset(self, callback: ResetCallback) -> Callable[[], None]:
         """Call `callback(SessionResetError)` when a board reset is detected (it does not count as
         reporting it: the next call still raises it)."""
-        return self._callbacks.subscribe("reset", callback)
+        return self._link.callbacks.subscribe("reset", callback)
 
     def on_odometry_gap(self, callback: OdometryGapCallback) -> Callable[[], None]:
         """Call `callback(OdometryGap)` when encoder counts were lost (a board reset): how long, and
         how much the pose's uncertainty grew."""
-        return self._callbacks.subscribe("odometry_gap", callback)
+        return self._link.callbacks.subscribe("odometry_gap", callback)
 
     def on_failsafe(self, callback: FailsafeCallback) -> Callable[[], None]:
         """Call `callback(reason)` when the board enters FAILSAFE (or the host knows it must have)."""
-        return self._callbacks.subscribe("failsafe", callback)
+        return self._link.callbacks.subscribe("failsafe", callback)
 
     def on_log(self, callback: LogCallback) -> Callable[[], None]:
         """Call `callback(level, text)` for every LOG frame of the firmware (they also go to logging)."""
-        return self._callbacks.subscribe("log", callback)
+        return self._link.callbacks.subscribe("log", callback)

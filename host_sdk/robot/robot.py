@@ -12,9 +12,12 @@
     1.00 m
 
 Layering: a Transport (bytes) under the sans-I/O Session (host_sdk.session), run by a Runner
-(host_sdk.runner: one I/O thread on real ports and `emu://` on the wall clock, or inline on the
-emulator's virtual clock), under this facade. Drive calls are checked and turned into setpoints
-by host_sdk.limits; every argument by host_sdk.checks.
+(host_sdk.robot.runner: one I/O thread on real ports and `emu://` on the wall clock, or inline on
+the emulator's virtual clock), all three held by one `Link`. `Robot` connects, arms and closes;
+its parts own the rest, each with its own state: `Driving` (drive calls, checked and turned into
+setpoints by host_sdk.limits), `Feedback` (waits and callbacks), `Settings` (CONFIG, PID, lights)
+and `OdometryView` (`robot.odometry`). Their methods are Robot's (`robot.drive` is
+`Driving.drive`), so the API is flat. Every argument is checked by host_sdk.checks.
 
 Threading (docs/sdk.md): every public method may be called from any thread; callbacks run on the
 I/O thread without the lock held, and must not block for long nor wait for the board.
@@ -25,38 +28,23 @@ from __future__ import annotations
 import dataclasses
 import functools
 import logging
-import threading
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal, cast
 
 from host_sdk import checks
-from host_sdk.callbacks import Callbacks
-from host_sdk.errors import (
-    RequestTimeoutError,
-    RobotClosedError,
-    RoverLinkError,
-    UnsupportedError,
-)
-from host_sdk.kinematics import Ackermann, DiffDrive, KinematicsError
-from host_sdk.limits import DriveLimits
-from host_sdk.options import check_connect
-from host_sdk.robot_config import ConfigCalls
+from host_sdk.errors import RequestTimeoutError, RoverLinkError, UnsupportedError
+from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.robot.driving import Driving
+from host_sdk.robot.feedback import Feedback
+from host_sdk.robot.file_check import Mismatch, RobotFileCheck, chosen_kinematics, prepare
+from host_sdk.robot.forward import part_method
+from host_sdk.robot.link import Link
+from host_sdk.robot.odometry import OdometryView
+from host_sdk.robot.options import check_connect
+from host_sdk.robot.settings import Settings
 from host_sdk.robot_description import RobotDescription
-from host_sdk.robot_drive import DriveCalls
-from host_sdk.robot_feedback import FeedbackCalls
-from host_sdk.robot_file_check import Mismatch, RobotFileCheck, chosen_kinematics, prepare
-from host_sdk.robot_odometry import OdometryView
-from host_sdk.runner import runner_for
-from host_sdk.session import (
-    FeedbackSample,
-    LinkState,
-    LinkStatistics,
-    RobotConfig,
-    RobotIdentity,
-    Session,
-    SessionOptions,
-)
+from host_sdk.session import FeedbackSample, LinkState, LinkStatistics, RobotConfig, RobotIdentity, SessionOptions
 from host_sdk.transport import Transport, open_transport
 from protocol.generated.constants import FEEDBACK_HZ_DEFAULT, WATCHDOG_DEFAULT_MS
 from protocol.generated.enums import Capability, FailsafeReason, FeedbackMode
@@ -68,8 +56,29 @@ if TYPE_CHECKING:
 log = logging.getLogger("host_sdk")
 
 
-class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
+class Robot:
     """A connected RoverLink robot. Make one with `Robot.connect(url, ...)`; see the module docstring."""
+
+    # == the parts' calls ==========================================================================
+    drive = part_method("_driving", Driving.drive)
+    set_wheel_speeds = part_method("_driving", Driving.set_wheel_speeds)
+    drive_ackermann = part_method("_driving", Driving.drive_ackermann)
+    stop = part_method("_driving", Driving.stop)
+    wait_feedback = part_method("_feedback", Feedback.wait_feedback)
+    feedback_stream = part_method("_feedback", Feedback.feedback_stream)
+    on_feedback = part_method("_feedback", Feedback.on_feedback)
+    on_reset = part_method("_feedback", Feedback.on_reset)
+    on_odometry_gap = part_method("_feedback", Feedback.on_odometry_gap)
+    on_failsafe = part_method("_feedback", Feedback.on_failsafe)
+    on_log = part_method("_feedback", Feedback.on_log)
+    read_config = part_method("_settings", Settings.read_config)
+    set_config = part_method("_settings", Settings.set_config)
+    pid = part_method("_settings", Settings.pid)
+    set_pid = part_method("_settings", Settings.set_pid)
+    save_config = part_method("_settings", Settings.save_config)
+    set_lights = part_method("_settings", Settings.set_lights)
+    lights = part_method("_settings", Settings.lights)
+    board_link_stats = part_method("_settings", Settings.board_link_stats)
 
     # == connecting ===============================================================================
     @classmethod
@@ -167,36 +176,29 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         clamp: bool = False,
     ) -> None:
         """Use `Robot.connect`; this only wires the pieces (nothing is sent)."""
-        self._transport = transport
-        self._options = options
-        self._session = Session(options)
-        self._callbacks = Callbacks()
-        self._runner = runner_for(self._session, transport, self._callbacks.dispatch)
-        self._lock = self._runner.lock
-        self._rmw = threading.RLock()  # one configuration read-modify-write at a time
+        self._link = link = Link(transport, options)
         self._profile_name = profile
         self._user_kinematics = kinematics
-        self._clamp = checks.flag("clamp", clamp)
-        self._last_command_seq: int | None = None
-        self._limits: tuple[RobotConfig | None, DriveLimits | None] = (None, None)
-        self.odometry = OdometryView(self._lock, self._check_open, self._session)
-        self._unwatch_gains: Callable[[], None] | None = None
-        self._file_check: RobotFileCheck | None = None
+        self._driving = Driving(link, self.arm, clamp)
+        self._feedback = Feedback(link)
+        self._settings = Settings(link, self._configured)
+        self.odometry = OdometryView(link)
         """Pose and body velocities from the wheel encoders; `odometry.reset()` sets the origin."""
+        self._file_check: RobotFileCheck | None = None
         self._again: Callable[[], Robot] | None = None
 
     def _open(self, timeout_s: float) -> None:
-        runner, s = self._runner, self._session
+        runner, s = self._link.runner, self._link.session
         runner.start()
         runner.wait(lambda: s.ready or runner.broken(), timeout_s)
-        with self._lock:
+        with self._link.lock:
             runner.check()
             if not s.ready:
                 raise s.connect_timeout_error(timeout_s)
             identity = s.identity
             assert identity is not None
             if (
-                self._options.feedback_mode is FeedbackMode.LOCKSTEP
+                self._link.options.feedback_mode is FeedbackMode.LOCKSTEP
                 and identity.feedback_mode is not FeedbackMode.LOCKSTEP
             ):
                 raise UnsupportedError(
@@ -209,10 +211,10 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
             s.set_kinematics(self._resolve_kinematics())
 
     def _resolve_kinematics(self) -> DiffDrive | Ackermann | None:
-        s = self._session
+        s = self._link.session
         assert s.identity is not None and s.config is not None
         caps = s.identity.capabilities
-        kin = chosen_kinematics(self._user_kinematics, self._profile_name, self._transport, s.identity, s.config)
+        kin = chosen_kinematics(self._user_kinematics, self._profile_name, self._link.transport, s.identity, s.config)
         if isinstance(kin, DiffDrive) and not caps & Capability.DIFF_DRIVE:
             raise UnsupportedError(
                 f"differential-drive kinematics, but the firmware on {self.url} cannot drive two wheels",
@@ -224,14 +226,24 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
             )
         return kin
 
+    def _configured(self) -> None:
+        """After a configuration change: kinematics taken from the board's config follow it."""
+        with self._link.lock:
+            if self._user_kinematics is None and self._link.session.kinematics is not None:
+                self._link.session.set_kinematics(self._resolve_kinematics())
+
+    def _next_feedback(self, timeout: float, report_reset: bool) -> FeedbackSample:
+        """host_sdk.aio's wait: `wait_feedback` with the choice of reporting a reset."""
+        return self._feedback.next(timeout, report_reset)
+
     # == properties ================================================================================
     @property
     def url(self) -> str:
-        return self._transport.url
+        return self._link.transport.url
 
     @property
     def transport(self) -> Transport:
-        return self._transport
+        return self._link.transport
 
     @property
     def emulator(self) -> EmulatorHandle | None:
@@ -241,43 +253,35 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         On the virtual clock use it freely; on the real clock an I/O thread drives it, so wrap
         access in `with robot.transport.locked() as emu:`."""
         # The emu:// plugin's device is an emulator.Emulator, which host_sdk must not import.
-        return cast("EmulatorHandle | None", self._transport.device)
+        return cast("EmulatorHandle | None", self._link.transport.device)
 
     @property
     def virtual_clock(self) -> bool:
         """True on an emulator's virtual clock: time moves only while the robot waits or sleeps."""
-        return self._transport.virtual
+        return self._link.transport.virtual
 
     @property
     def closed(self) -> bool:
-        return self._runner.closed
+        return self._link.runner.closed
 
     @property
     def clamp(self) -> bool:
         """The default of every drive call's `clamp` (set in connect)."""
-        return self._clamp
+        return self._driving.clamp
 
     @clamp.setter
     def clamp(self, value: bool) -> None:
-        self._clamp = checks.flag("clamp", value)
+        self._driving.clamp = checks.flag("clamp", value)
 
     @property
     def identity(self) -> RobotIdentity:
         """Firmware version, board, spec hash, capabilities and boot_id of the current session."""
-        with self._lock:
-            self._check_open()
-            identity = self._session.identity
-            assert identity is not None
-            return identity
+        return self._link.identity()
 
     @property
     def config(self) -> RobotConfig:
         """The board's configuration as last read or written (see `read_config()` for a fresh copy)."""
-        with self._lock:
-            self._check_open()
-            config = self._session.config
-            assert config is not None
-            return config
+        return self._link.config()
 
     @property
     def mismatches(self) -> tuple[Mismatch, ...]:
@@ -297,28 +301,28 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
 
     @property
     def kinematics(self) -> DiffDrive | Ackermann | None:
-        with self._lock:
-            return self._session.kinematics
+        with self._link.lock:
+            return self._link.session.kinematics
 
     @property
     def armed(self) -> bool:
         """The host's belief: ARM acknowledged and no failsafe, reset, DISARM or broken link since."""
-        with self._lock:
-            return self._session.armed
+        with self._link.lock:
+            return self._link.session.armed
 
     @property
     def failsafe(self) -> FailsafeReason | None:
         """The latched FAILSAFE reason (None when not in failsafe)."""
-        with self._lock:
-            return self._session.failsafe
+        with self._link.lock:
+            return self._link.session.failsafe
 
     @property
     def state(self) -> str:
         """ "connecting", "disarmed", "armed", "failsafe", "incompatible", "broken" (the link failed:
         the port vanished, or the runner stopped; every call raises why) or "closed"."""
-        with self._lock:
-            s = self._session
-            if self._runner.closed:
+        with self._link.lock:
+            s = self._link.session
+            if self._link.runner.closed:
                 return "closed"
             if s.state is not LinkState.OPEN:
                 return str(s.state.value)
@@ -329,48 +333,48 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
     @property
     def feedback(self) -> FeedbackSample | None:
         """The latest FEEDBACK (None before the first)."""
-        with self._lock:
-            return self._session.latest
+        with self._link.lock:
+            return self._link.session.latest
 
     @property
     def feedback_age_s(self) -> float | None:
         """Seconds since the last FEEDBACK arrived (None before the first): a board in its bootloader,
         a cut cable or an armed lockstep robot with no command in flight all go quiet (a lockstep
         robot that is not armed streams at feedback_hz, as in stream mode)."""
-        with self._lock:
-            last = self._session.last_feedback_s
-            return None if last is None else self._transport.clock() - last
+        with self._link.lock:
+            last = self._link.session.last_feedback_s
+            return None if last is None else self._link.transport.clock() - last
 
     @property
     def stats(self) -> LinkStatistics:
         """Link statistics of the host side (frames, errors, retries, NACKs, RTT, clock sync, resets)."""
-        with self._lock:
-            return self._session.stats(self._transport.clock())
+        with self._link.lock:
+            return self._link.session.stats(self._link.transport.clock())
 
     @property
     def watchdog_s(self) -> float:
         """Watchdog period the board granted."""
-        with self._lock:
-            return self._session.watchdog_s
+        with self._link.lock:
+            return self._link.session.watchdog_s
 
     @property
     def command_timeout_s(self) -> float:
-        return self._options.command_timeout
+        return self._link.options.command_timeout
 
     @property
     def mode(self) -> str:
-        with self._lock:
-            return "lockstep" if self._session.feedback_mode is FeedbackMode.LOCKSTEP else "stream"
+        with self._link.lock:
+            return "lockstep" if self._link.session.feedback_mode is FeedbackMode.LOCKSTEP else "stream"
 
     def now(self) -> float:
         """The session's clock in seconds (the host's monotonic clock, or the emulator's virtual time)."""
-        return self._transport.clock()
+        return self._link.transport.clock()
 
     def mcu_to_host_s(self, mcu_time_us: int) -> float:
         """Host time of an (unwrapped) MCU timestamp, from PING/PONG time sync."""
         us = checks.number("mcu_time_us", mcu_time_us, 0, 1e18, unit="us")
-        with self._lock:
-            return self._session.mcu_to_host_s(us)
+        with self._link.lock:
+            return self._link.session.mcu_to_host_s(us)
 
     # == arming ====================================================================================
     def arm(self, timeout_s: float = 2.0, *, wait_esc: bool = True) -> None:
@@ -383,8 +387,8 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         """
         timeout = checks.seconds("timeout_s", timeout_s)
         checks.flag("wait_esc", wait_esc)
-        runner, s = self._runner, self._session
-        with self._lock:
+        runner, s = self._link.runner, self._link.session
+        with self._link.lock:
             runner.check()
             error = s.take_reset()
             if error is not None:
@@ -394,33 +398,29 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
             raise RequestTimeoutError("ARM", 0, timeout)
         runner.check()
         if wait_esc:
-            left = s.esc_window_left(self._transport.clock())
+            left = s.esc_window_left(self._link.transport.clock())
             if left > 0:
                 self.sleep(left)
-        with self._lock:
+        with self._link.lock:
             identity = s.identity
             assert identity is not None
             msg = Arm(boot_id=identity.boot_id)
-        self._request(msg)
+        self._link.request(msg)
 
     def disarm(self) -> None:
         """Disable the motors (the configured safe state). Also clears a latched FAILSAFE."""
-        with self._lock:
-            self._runner.check()
-            self._session.release()
-        self._runner.request(Disarm(), report_reset=False)  # cleanup: a reset is left to other calls
+        with self._link.lock:
+            self._link.runner.check()
+            self._link.session.release()
+        self._link.runner.request(Disarm(), report_reset=False)  # cleanup: a reset is left to other calls
 
     def sleep(self, seconds: float) -> None:
         """Wait `seconds` on the session's clock: wall time, or virtual time with an emu://...?clock=virtual
         robot, where this is what moves the emulator forward (so the same robot code runs in tests)."""
         duration = checks.seconds("seconds", seconds, zero=True)
-        with self._lock:
-            self._check_open()
-        self._runner.wait(lambda: self._runner.closed, duration)
-
-    def _check_open(self) -> None:
-        if self._runner.closed:
-            raise RobotClosedError(self.url)
+        with self._link.lock:
+            self._link.check_open()
+        self._link.runner.wait(lambda: self._link.runner.closed, duration)
 
     # == closing ===================================================================================
     def close(self) -> None:
@@ -428,14 +428,14 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         self._shutdown(disarm=True)
 
     def _shutdown(self, disarm: bool) -> None:
-        runner, s = self._runner, self._session
-        with self._lock:
+        runner, s = self._link.runner, self._link.session
+        with self._link.lock:
             if runner.closed:
                 return
             req = None
             if disarm and s.state is LinkState.OPEN and (s.armed or s.setpoint_live):
                 s.release()
-                req = s.submit(Disarm(), self._transport.clock(), tries=2, timeout_s=0.1)
+                req = s.submit(Disarm(), self._link.transport.clock(), tries=2, timeout_s=0.1)
                 try:
                     runner.flush()
                 except RoverLinkError:
@@ -452,7 +452,8 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
 
     def __del__(self) -> None:
         # A robot dropped without close(): stop the I/O thread, which then releases the port.
-        runner = getattr(self, "_runner", None)
+        link = getattr(self, "_link", None)
+        runner = link.runner if link is not None else None
         if runner is not None and not runner.closed:
             runner.abandon()
 
@@ -460,4 +461,4 @@ class Robot(DriveCalls, FeedbackCalls, ConfigCalls):
         return f"<Robot {self.url} {self.state}>"
 
 
-__all__ = ["KinematicsError", "OdometryView", "Robot"]
+__all__ = ["Robot"]

@@ -1,4 +1,4 @@
-"""Robot's configuration calls: the board's CONFIG and PID gains, read, changed and saved.
+"""`Settings`, the part of a Robot that configures: the board's CONFIG, PID gains and turn signals.
 
 A change is a read-modify-write of the board's whole CONFIG (or one wheel's gains): the calls
 here do it as one step under a lock of their own, so concurrent changes to different fields all
@@ -15,13 +15,11 @@ from typing import Any
 import numpy as np
 
 from host_sdk import checks, lights
-from host_sdk.callbacks import FeedbackCallback
 from host_sdk.errors import CommandRangeError, EncodeError, RoverLinkError, UnsupportedError
-from host_sdk.gains_watch import GainsWatch, warn_about_gains
-from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.lights import LightsStatus
-from host_sdk.runner import Runner
-from host_sdk.session import FeedbackSample, PidGains, RobotConfig, RobotIdentity, Session
+from host_sdk.robot.gains_watch import GainsWatch, warn_about_gains
+from host_sdk.robot.link import Link
+from host_sdk.session import FeedbackSample, PidGains, RobotConfig
 from protocol.codec.message import Message
 from protocol.generated.constants import CONTROL_RATE_HZ, PID_ALL_WHEELS
 from protocol.generated.enums import Capability, LightsMode
@@ -43,38 +41,27 @@ CONFIG_FIELDS = tuple(f.name for f in SetConfig.FIELDS)
 _GAINS = {f.name: f for f in SetPid.FIELDS if f.name != "wheel"}
 
 
-class ConfigCalls:
-    """The configuration half of `Robot` (a mixin: Robot provides the runner, session and lock)."""
+class Settings:
+    """Owns the read-modify-write lock and the watch on the latest gains; `configured` is called
+    after the configuration changed (the robot refreshes kinematics it took from it)."""
 
-    _runner: Runner
-    _session: Session
-    _lock: threading.RLock
-    _rmw: threading.RLock
-    _user_kinematics: DiffDrive | Ackermann | None
-    _unwatch_gains: Callable[[], None] | None
-
-    @property
-    def identity(self) -> RobotIdentity:
-        raise NotImplementedError
-
-    @property
-    def config(self) -> RobotConfig:
-        raise NotImplementedError
-
-    def _resolve_kinematics(self) -> DiffDrive | Ackermann | None:
-        raise NotImplementedError
+    def __init__(self, link: Link, configured: Callable[[], None]) -> None:
+        self._link = link
+        self._configured = configured
+        self._rmw = threading.RLock()  # one configuration read-modify-write at a time
+        self._unwatch_gains: Callable[[], None] | None = None
 
     def _request(self, msg: Message) -> Message:
-        return self._runner.request(msg)
+        return self._link.request(msg)
 
     # == configuration =============================================================================
     def read_config(self) -> RobotConfig:
         """Fetch the configuration from the board (GET_CONFIG)."""
         reply = self._request(GetConfig())
         assert isinstance(reply, Config)
-        return self.config
+        return self._link.config()
 
-    def set_config(self, **changes: Any) -> RobotConfig:
+    def set_config(self, /, **changes: Any) -> RobotConfig:
         """Change configuration fields (names as in docs/protocol.md CONFIG), e.g.
         `robot.set_config(max_wheel_speed_mm_s=400, safe_state=SafeState.RAMP_DOWN)`.
 
@@ -85,23 +72,18 @@ class ConfigCalls:
         for key, value in changes.items():
             if key not in CONFIG_FIELDS:
                 raise CommandRangeError(key, value, f"a CONFIG field: one of {', '.join(CONFIG_FIELDS)}")
-        _config_with(self.config, changes)  # every value checked before anything is sent
+        _config_with(self._link.config(), changes)  # every value checked before anything is sent
         with self._rmw:
             wanted = _config_with(self.read_config(), changes)
             self._request(SetConfig(**wanted.fields()))
             after = self.read_config()
             if after != wanted:
                 raise RoverLinkError(f"the board's configuration read back differs from what was set: {after}")
-            self._refresh_kinematics()
+            self._configured()
         return after
 
-    def _refresh_kinematics(self) -> None:
-        with self._lock:
-            if self._user_kinematics is None and self._session.kinematics is not None:
-                self._session.set_kinematics(self._resolve_kinematics())
-
     def _wheels(self) -> int:
-        identity = self.identity
+        identity = self._link.identity()
         return 2 if identity.capabilities & Capability.DIFF_DRIVE else 1
 
     def pid(self, wheel: int = 0) -> PidGains:
@@ -158,10 +140,7 @@ class ConfigCalls:
             if watch.finished:
                 unsubscribe()
 
-        self._unwatch_gains = unsubscribe = self.on_feedback(feed)
-
-    def on_feedback(self, callback: FeedbackCallback) -> Callable[[], None]:
-        raise NotImplementedError
+        self._unwatch_gains = unsubscribe = self._link.callbacks.subscribe("feedback", feed)
 
     def save_config(self) -> None:
         """Write configuration and PID gains to the board's EEPROM (refused while armed: disarm first)."""
@@ -190,7 +169,8 @@ class ConfigCalls:
         self._request(wanted)
         # The board applies it at its next control tick: read back after that tick, so `lit`
         # shows the new mode's lamps, not the old one's.
-        self._runner.wait(lambda: self._runner.closed, 1.0 / CONTROL_RATE_HZ)
+        runner = self._link.runner
+        runner.wait(lambda: runner.closed, 1.0 / CONTROL_RATE_HZ)
         return self.lights()
 
     def lights(self) -> LightsStatus:
@@ -202,7 +182,7 @@ class ConfigCalls:
         return LightsStatus.of(reply)
 
     def _need_turn_signals(self, call: str) -> None:
-        identity = self.identity
+        identity = self._link.identity()
         if not identity.capabilities & Capability.TURN_SIGNALS:
             raise UnsupportedError(
                 f"{call}(): {identity.robot_name or 'this robot'} has no turn signals (its firmware lacks "

@@ -1,4 +1,8 @@
-"""A pinhole camera on the robot: pixels to bearings, apparent size to range.
+"""The robot's body as the applications see it: its footprint, where its lidar sits, and its camera.
+
+`Footprint` and `LidarMount` are where things are on the robot (REP-103: x forward, y left);
+`CameraModel` is a pinhole camera on the robot: pixels to bearings, apparent size to range.
+They sit in the core (below perception) because a robot file describes them (RobotDescription).
 
     cam = CameraModel.pi_camera_v2(320, 240, mount_x_m=0.30)
     cam.bearing(u)                      # rad, counter-clockwise (left positive) from the robot's forward axis
@@ -89,3 +93,24 @@ class CameraModel:
         rel = bearing_rad - self.mount_yaw_rad
         slant = depth_m / math.cos(rel)
         return (self.mount_x_m + slant * math.cos(bearing_rad), self.mount_y_m + slant * math.sin(bearing_rad))
+
+
+@dataclass(frozen=True, slots=True)
+class Footprint:
+    """The robot's body as a disc of `radius_m` centred `x_m` ahead of the pose point."""
+
+    radius_m: float
+    x_m: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.radius_m) and self.radius_m > 0):
+            raise CommandRangeError("radius_m", self.radius_m, "a radius > 0 in metres")
+
+
+@dataclass(frozen=True, slots=True)
+class LidarMount:
+    """Where the lidar sits relative to the robot's pose point (REP-103: x forward, y left)."""
+
+    x_m: float = 0.0
+    y_m: float = 0.0
+    yaw_rad: float = 0.0

@@ -4,13 +4,11 @@ thread (under the robot's lock)."""
 from __future__ import annotations
 
 import math
-import threading
-from collections.abc import Callable
 
 from host_sdk import checks
 from host_sdk.errors import RoverLinkError, UnsupportedError
 from host_sdk.odometry import MAX_POSITION_M, Pose
-from host_sdk.session import Session
+from host_sdk.robot.link import Link
 
 _POSE = ("x_m", "y_m", "theta_rad")
 
@@ -18,17 +16,15 @@ _POSE = ("x_m", "y_m", "theta_rad")
 class OdometryView:
     """The robot's odometry: pose and body velocity from cumulative encoder counts (thread-safe view)."""
 
-    def __init__(self, lock: threading.RLock, check_open: Callable[[], None], session: Session) -> None:
-        self._lock = lock
-        self._check_open = check_open
-        self._session = session
+    def __init__(self, link: Link) -> None:
+        self._link = link
 
     @property
     def pose(self) -> Pose:
         """x, y (m), theta (rad, unwrapped), linear and angular velocity, MCU time of the last sample."""
-        with self._lock:
-            self._check_open()
-            pose = self._session.pose()
+        with self._link.lock:
+            self._link.check_open()
+            pose = self._link.session.pose()
         if pose is None:
             raise self._unsupported()
         return pose
@@ -37,9 +33,9 @@ class OdometryView:
         """Set the pose (default: the origin); counting goes on from the next sample."""
         pose = zip(_POSE, (x_m, y_m, theta_rad), strict=True)
         values = [checks.number(n, v, -MAX_POSITION_M, MAX_POSITION_M) for n, v in pose]
-        with self._lock:
-            self._check_open()
-            if not self._session.reset_pose(*values):
+        with self._link.lock:
+            self._link.check_open()
+            if not self._link.session.reset_pose(*values):
                 raise self._unsupported()
 
     @staticmethod

@@ -21,14 +21,16 @@ from __future__ import annotations
 import dataclasses
 import logging
 import struct
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any, Protocol
 
 from host_sdk import checks
 from host_sdk.errors import ArgumentError, RoverLinkError
 from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.lights import LightsStatus
 from host_sdk.profiles import get_profile, kinematics_for, profile_for_example
-from host_sdk.robot_config import ConfigCalls
 from host_sdk.robot_description import RobotDescription
 from host_sdk.session import PidGains, RobotConfig, RobotIdentity
 from host_sdk.transport import Transport
@@ -40,6 +42,21 @@ MISMATCH_LOGGER = "host_sdk.robot_file"
 """Where the differences allowed with allow_mismatch are logged (a program that reports
 `robot.mismatches` itself may keep this logger quiet)."""
 _log = logging.getLogger(MISMATCH_LOGGER)
+
+
+class Configurable(Protocol):
+    """What of a Robot the check reads and sets (Robot is one)."""
+
+    @property
+    def identity(self) -> RobotIdentity: ...
+    @property
+    def config(self) -> RobotConfig: ...
+    def lights(self) -> LightsStatus: ...
+    def set_config(self, **changes: Any) -> RobotConfig: ...
+    def pid(self, wheel: int = 0) -> PidGains: ...
+    @property
+    def set_pid(self) -> Callable[..., PidGains]: ...  # Robot.set_pid: gains by name, and wheel
+
 
 # CONFIG fields the file's hardware fixes: (field, the file's key, scale to the file's unit, unit).
 _BUILD = (
@@ -134,7 +151,7 @@ class RobotFileCheck:
             raise error
         _log.warning("allow_mismatch: %s", error)
 
-    def compare_lights(self, robot: ConfigCalls, url: str) -> None:
+    def compare_lights(self, robot: Configurable, url: str) -> None:
         """The power-up mode of the turn signals, which the new session has just brought back
         (RobotMismatchError, or with allow_mismatch a warning, when it is not the file's)."""
         desc = self.description
@@ -151,7 +168,7 @@ class RobotFileCheck:
             raise error
         _log.warning("allow_mismatch: %s", error)
 
-    def apply(self, robot: ConfigCalls) -> None:
+    def apply(self, robot: Configurable) -> None:
         """Send the file's limits, feedback rate, calibration and PID gains where the board's differ."""
         changes = changes_for(self.description, robot.config)
         if changes:

@@ -1,4 +1,4 @@
-"""Robot's drive calls: body twist, wheel speeds, Ackermann speed and steering, stop.
+"""`Driving`, the part of a Robot that drives: body twist, wheel speeds, Ackermann speed and steering, stop.
 
 Each call checks its arguments, turns them into one setpoint within the robot's limits
 (host_sdk.limits, from the board's live configuration) and sends it; the session keeps it live
@@ -8,16 +8,14 @@ Each call checks its arguments, turns them into one setpoint within the robot's 
 from __future__ import annotations
 
 import math
-import threading
 from collections.abc import Callable
 
 from host_sdk import checks
 from host_sdk.errors import UnsupportedError
 from host_sdk.kinematics import MAX_RATE
 from host_sdk.limits import DriveLimits, Setpoint
-from host_sdk.runner import Runner
-from host_sdk.session import RobotConfig, Session, SessionOptions
-from host_sdk.transport import Transport
+from host_sdk.robot.link import Link
+from host_sdk.session import RobotConfig
 from protocol.generated.enums import Capability
 
 _ROBOT_KINDS = {
@@ -30,20 +28,15 @@ def _speed(name: str, value: object) -> float:
     return checks.number(name, value, -MAX_RATE, MAX_RATE, unit="m/s")
 
 
-class DriveCalls:
-    """The driving half of `Robot` (a mixin: Robot provides the runner, session and lock)."""
+class Driving:
+    """Owns the default `clamp` and the limits built from the board's configuration; `rearm` is
+    the robot's arm(), called before a command when auto_rearm is on and the board wants it."""
 
-    _runner: Runner
-    _session: Session
-    _transport: Transport
-    _options: SessionOptions
-    _lock: threading.RLock
-    _clamp: bool
-    _last_command_seq: int | None
-    _limits: tuple[RobotConfig | None, DriveLimits | None]
-
-    def arm(self, timeout_s: float = 2.0, *, wait_esc: bool = True) -> None:
-        raise NotImplementedError
+    def __init__(self, link: Link, rearm: Callable[[], None], clamp: bool) -> None:
+        self._link = link
+        self._rearm = rearm
+        self.clamp = checks.flag("clamp", clamp)
+        self._limits: tuple[RobotConfig | None, DriveLimits | None] = (None, None)
 
     # == driving ===================================================================================
     def drive(
@@ -60,7 +53,7 @@ class DriveCalls:
         angular = checks.number("angular_rad_s", angular_rad_s, -MAX_RATE, MAX_RATE, unit="rad/s")
 
         def setpoint(limits: DriveLimits, clamp: bool) -> Setpoint:
-            kin = self._session.kinematics
+            kin = self._link.session.kinematics
             if kin is None:
                 raise UnsupportedError(
                     "drive() needs the robot's kinematics: pass profile=... or kinematics=... to Robot.connect, "
@@ -97,41 +90,43 @@ class DriveCalls:
 
     def stop(self) -> None:
         """Zero speed (steering centred). Does nothing when the robot is not armed: it is stopped already."""
-        with self._lock:
-            self._runner.check()
-            seq = self._session.stop(self._transport.clock())
+        link = self._link
+        with link.lock:
+            link.runner.check()
+            seq = link.session.stop(link.clock())
             if seq is not None:
-                self._last_command_seq = seq
-                self._runner.flush()
+                link.last_command_seq = seq
+                link.runner.flush()
 
     def _command(
         self, setpoint: Callable[[DriveLimits, bool], Setpoint], clamp: bool | None, hold_s: float | None
     ) -> None:
         """Check the call, build its setpoint within the limits, send it and keep it live for `hold_s`."""
-        clamp_ = self._clamp if clamp is None else checks.flag("clamp", clamp)
+        clamp_ = self.clamp if clamp is None else checks.flag("clamp", clamp)
         hold = checks.optional(checks.seconds, "hold_s", hold_s)
-        runner, s = self._runner, self._session
-        with self._lock:
+        link = self._link
+        runner, s = link.runner, link.session
+        with link.lock:
             runner.check()
             msg = setpoint(self._drive_limits(), clamp_)
             error = s.take_command_error()
             if error is not None:
                 raise error
-        if self._options.auto_rearm and s.wants_rearm():
-            self.arm()
-        with self._lock:
+        if link.options.auto_rearm and s.wants_rearm():
+            self._rearm()
+        with link.lock:
             runner.check()
             error = s.take_command_error()
             if error is not None:
                 raise error
             if not s.armed:
                 raise s.not_armed_error()
-            self._last_command_seq = s.command(msg, self._transport.clock(), hold)
+            link.last_command_seq = s.command(msg, link.clock(), hold)
             runner.flush()
 
     def _drive_limits(self) -> DriveLimits:
         """The limits of the current configuration (lock held), built once per configuration."""
-        config = self._session.config
+        config = self._link.session.config
         assert config is not None
         cached_for, limits = self._limits
         if cached_for is not config or limits is None:
@@ -140,7 +135,7 @@ class DriveCalls:
         return limits
 
     def _require(self, capability: Capability, what: str, instead: str) -> None:
-        identity = self._session.identity
+        identity = self._link.session.identity
         if identity is not None and not identity.capabilities & capability:
             raise UnsupportedError(
                 f"{what}() needs {_ROBOT_KINDS.get(capability, capability.name)}; "
