@@ -39,7 +39,7 @@ from host_sdk.errors import (
 )
 from host_sdk.kinematics import Ackermann, DiffDrive
 from host_sdk.lights import LightsStatus
-from host_sdk.odometry import Pose
+from host_sdk.pose import Pose
 from host_sdk.profiles import PROFILES, kinematics_for
 from host_sdk.robot import Robot
 from host_sdk.robot.file_check import Mismatch, RobotMismatchError

@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 from host_sdk import checks
 from host_sdk.errors import ArgumentTypeError
 from host_sdk.kinematics import MAX_RATE, Ackermann, Arc, DiffDrive
+from host_sdk.pose import Pose
 
 MAX_POSITION_M = 1e9
 """Largest |x|, |y| or |theta| a pose may be set to (beyond it the arc maths loses all precision)."""
@@ -45,31 +45,6 @@ def _coordinate(name: str, value: object) -> float:
     return checks.number(name, value, -MAX_POSITION_M, MAX_POSITION_M)
 
 
-@dataclass(frozen=True, slots=True)
-class Pose:
-    x_m: float
-    y_m: float
-    theta_rad: float
-    """Heading, unwrapped (keeps counting past +-pi so turns can be totalled)."""
-    linear_m_s: float
-    angular_rad_s: float
-    mcu_time_us: int
-    """Unwrapped MCU time of the latest sample (0 before the first)."""
-    gaps: int = 0
-    """Times counts were lost (a board reset: what the wheels turned while it rebooted is not
-    counted) since the pose was last set."""
-    position_uncertainty_m: float = 0.0
-    """How far the position may be off because of those gaps: the speed at the last sample before
-    each gap times the time without counts, summed (an estimate, not a bound)."""
-    heading_uncertainty_rad: float = 0.0
-    """The same for the heading: the turn rate at the last sample times the time without counts."""
-
-    @property
-    def heading_rad(self) -> float:
-        """Heading wrapped to (-pi, pi]."""
-        return math.atan2(math.sin(self.theta_rad), math.cos(self.theta_rad))
-
-
 class Odometry:
     """Integrates samples of (cumulative counts, MCU time[, steering]) into a pose.
 
@@ -80,6 +55,7 @@ class Odometry:
         "_counts",
         "_gaps",
         "_heading_unc",
+        "_host_s",
         "_position_unc",
         "_theta",
         "_time_us",
@@ -115,6 +91,7 @@ class Odometry:
         self._v = self._w = 0.0
         self._counts: Sequence[int] | None = None
         self._time_us: int | None = None
+        self._host_s = 0.0
 
     def restore(self, pose: Pose) -> None:
         """Carry on from `pose` (its gaps and uncertainty too), e.g. with new kinematics."""
@@ -147,11 +124,12 @@ class Odometry:
         self.advance(counts, mcu_time_us, steering_rad)
         return self.pose
 
-    def advance(self, counts: Sequence[int], mcu_time_us: int, steering_rad: float) -> None:
+    def advance(self, counts: Sequence[int], mcu_time_us: int, steering_rad: float, host_time_s: float = 0.0) -> None:
         """`update` without the argument checks and without building a Pose: the session's
-        per-frame path, fed values it has decoded and unwrapped itself."""
+        per-frame path, fed values it has decoded and unwrapped itself, and the sample's host time
+        (the pose's `time_s`)."""
         last, last_us = self._counts, self._time_us
-        self._counts, self._time_us = counts, mcu_time_us
+        self._counts, self._time_us, self._host_s = counts, mcu_time_us, host_time_s
         if last is None or last_us is None:
             return
         kin = self.kinematics
@@ -177,4 +155,5 @@ class Odometry:
             self._gaps,
             self._position_unc,
             self._heading_unc,
+            self._host_s,
         )

@@ -1,8 +1,8 @@
-"""The robot's planar pose, as the perception and autonomy code pass it around.
+"""The robot's pose: `Pose`, and `Pose2D`, a place.
 
-`Pose2D` is the bare (x m, y m, theta rad) tuple the numpy-heavy code computes with; `RobotPose`
-is the same pose with the time it holds for and the speeds the board measured then, which is what a
-pose source hands to a pilot (so the follower need not re-estimate speed from pose differences).
+`Pose` is where the robot is, how fast it moves (measured) and when: what `robot.odometry.pose`
+and a pose source give, so a follower need not re-estimate speed from pose differences. `Pose2D`
+is a place alone, the bare (x m, y m, theta rad) tuple the numpy-heavy code computes with.
 """
 
 from __future__ import annotations
@@ -16,26 +16,48 @@ Pose2D = tuple[float, float, float]
 
 
 @dataclass(frozen=True, slots=True)
-class RobotPose:
-    """Where the robot was at `time_s` and how fast it was moving (measured, not commanded)."""
+class Pose:
+    """Where the robot is (the odometry frame) and how fast it moves (measured, not commanded).
 
-    time_s: float
+    `robot.odometry.pose` gives the wheels' (with the board's time and the gaps a reset left); a
+    pose source (host_sdk.fusion.PoseSource) gives the fused or the wheels' at a host time, which
+    is what a pilot takes."""
+
     x_m: float
     y_m: float
     theta_rad: float
+    """Heading, unwrapped (keeps counting past +-pi so turns can be totalled)."""
     linear_m_s: float = 0.0
     angular_rad_s: float = 0.0
+    mcu_time_us: int = 0
+    """Unwrapped MCU time of the latest wheel sample (0: before the first, or not from the wheels)."""
+    gaps: int = 0
+    """Times counts were lost (a board reset: what the wheels turned while it rebooted is not
+    counted) since the pose was last set."""
+    position_uncertainty_m: float = 0.0
+    """How far the position may be off because of those gaps: the speed at the last sample before
+    each gap times the time without counts, summed (an estimate, not a bound)."""
+    heading_uncertainty_rad: float = 0.0
+    """The same for the heading: the turn rate at the last sample times the time without counts."""
+    time_s: float = 0.0
+    """The session's clock (robot.now()) the pose holds for: when the board sampled the wheels,
+    on the host's clock; 0.0 from an `Odometry` fed by hand (it knows the MCU time only)."""
+
+    @property
+    def heading_rad(self) -> float:
+        """Heading wrapped to (-pi, pi]."""
+        return math.atan2(math.sin(self.theta_rad), math.cos(self.theta_rad))
 
     @property
     def xyt(self) -> Pose2D:
         return self.x_m, self.y_m, self.theta_rad
 
-    def moved_to(self, time_s: float, xyt: Pose2D) -> RobotPose:
+    def moved_to(self, time_s: float, xyt: Pose2D) -> Pose:
         """The same speeds at another time and place (an interpolated pose)."""
-        return RobotPose(time_s, xyt[0], xyt[1], xyt[2], self.linear_m_s, self.angular_rad_s)
+        return Pose(xyt[0], xyt[1], xyt[2], self.linear_m_s, self.angular_rad_s, time_s=time_s)
 
 
-PoseAt = Callable[[float], RobotPose]
+PoseAt = Callable[[float], Pose]
 """The robot's pose at any recent time (`PoseSource.at`): what de-skews a lidar revolution."""
 
 

@@ -42,7 +42,7 @@ from host_sdk.kinematics import Arc
 from host_sdk.odometry import integrate_arc
 from host_sdk.perception.avoidance import AvoidanceParams, arc_room, safe_speed, stopping_distance
 from host_sdk.perception.scan import ObstacleScan, ScanFilter, move_points
-from host_sdk.pose import PoseAt, RobotPose
+from host_sdk.pose import Pose, PoseAt
 from host_sdk.robot import Robot
 from host_sdk.sensors import Lidar, LidarScan
 from protocol.generated.enums import FailsafeReason
@@ -143,16 +143,16 @@ class LatestScan:
     def __init__(self, scan_filter: ScanFilter) -> None:
         self.scan_filter = scan_filter
         self.scan: ObstacleScan | None = None
-        self.pose: RobotPose | None = None
+        self.pose: Pose | None = None
 
-    def update(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> ObstacleScan:
+    def update(self, scan: LidarScan, pose: Pose, *, pose_at: PoseAt | None = None) -> ObstacleScan:
         """Filter a revolution taken at `pose` (its mid-time); `pose_at` de-skews it."""
         deskew = None if pose_at is None else (lambda t: pose_at(t).xyt)
         self.scan = self.scan_filter.update(scan, pose.xyt, pose_at=deskew)
         self.pose = pose
         return self.scan
 
-    def seen_from(self, pose: RobotPose) -> tuple[Points, float] | None:
+    def seen_from(self, pose: Pose) -> tuple[Points, float] | None:
         """The newest picture's points seen from `pose`, and how old it is (None: no scan yet)."""
         if self.scan is None or self.pose is None:
             return None
@@ -181,13 +181,13 @@ class TeleopGuard:
                    scan_filter=ScanFilter(geometry.lidar_mount))  # fmt: skip
 
     # -- fed with revolutions -------------------------------------------------------------------------
-    def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
+    def on_scan(self, scan: LidarScan, pose: Pose, *, pose_at: PoseAt | None = None) -> None:
         """A revolution and the pose at its mid-time (`pose_at`, the pose at any recent time, de-skews it)."""
         if self.scans is None:
             raise RuntimeError("this guard has no scan filter: give it points with limit()")
         self.scans.update(scan, pose, pose_at=pose_at)
 
-    def check(self, linear_m_s: float, angular_rad_s: float, pose: RobotPose, *, override: bool = False) -> Guarded:
+    def check(self, linear_m_s: float, angular_rad_s: float, pose: Pose, *, override: bool = False) -> Guarded:
         """`limit` against the latest revolution, seen from `pose` (now)."""
         seen = None if self.scans is None else self.scans.seen_from(pose)
         points, age = (None, None) if seen is None else seen
@@ -287,7 +287,7 @@ class LidarGuard:
         self.poses.update(self.robot.now())
         self.lidar.start()
 
-    def poll(self) -> RobotPose:
+    def poll(self) -> Pose:
         """Take in the revolutions completed so far; the pose now."""
         poses = self.poses
         pose = poses.update(self.robot.now())

@@ -40,7 +40,7 @@ from host_sdk.errors import RoverLinkError
 from host_sdk.failsafe import describe_failsafe
 from host_sdk.fusion.source import PoseSource
 from host_sdk.perception.tracking import TrackState
-from host_sdk.pose import RobotPose
+from host_sdk.pose import Pose
 from host_sdk.robot import Robot
 from host_sdk.sensors import CameraFrame, CameraSource, FrameGrabber, Jy901, Lidar, LidarScan
 from host_sdk.supervisor import Health, Supervisor
@@ -55,7 +55,7 @@ REARM_RETRY_S = 1.0
 class Step:
     """What one period did."""
 
-    pose: RobotPose
+    pose: Pose
     linear_m_s: float
     angular_rad_s: float
     mode: str
@@ -98,7 +98,7 @@ class ControlLoop:
         self._tick = 0.0
         self._halts = 0
         self._driving = False
-        self._pose: RobotPose | None = None
+        self._pose: Pose | None = None
         self._rearm_at = 0.0
 
     @property
@@ -106,7 +106,7 @@ class ControlLoop:
         """The robot now (another object once a lost port was opened again)."""
         return self.supervisor.robot
 
-    def start(self) -> RobotPose:
+    def start(self) -> Pose:
         """Arm (with `arm` or `rearm`), start the lidar and the camera reader; the pose at the start."""
         if self.rearm:
             log.warning("%s: rearm is on: the control loop arms again by itself after a failsafe or a board reset",
@@ -164,7 +164,7 @@ class ControlLoop:
             self.pilot.halt(health.halt_why)
         self.supervisor.stop_driving()
 
-    def _pose_now(self, t: float, health: Health) -> RobotPose:
+    def _pose_now(self, t: float, health: Health) -> Pose:
         """The pose now; while the port is gone, the last one held."""
         last = self._pose
         if health.link in (LINK_RECONNECTING, LINK_CLOSED) and last is not None:
@@ -203,7 +203,7 @@ class ControlLoop:
         self.sensor_errors[name] = str(error)
         log.error("%s stopped: %s (the loop goes on without it)", name, error)
 
-    def _explain(self, pose: RobotPose) -> str | None:
+    def _explain(self, pose: Pose) -> str | None:
         reason = self.robot.failsafe
         if reason is None:
             return None

@@ -24,7 +24,7 @@ from host_sdk.geometry import RobotGeometry
 from host_sdk.perception import AvoidanceParams, MotionDetector, Mover, ObstacleScan, ScanFilter
 from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
 from host_sdk.perception.tracking import Track, Tracker
-from host_sdk.pose import PoseAt, RobotPose
+from host_sdk.pose import Pose, PoseAt
 from host_sdk.sensors import CameraFrame, LidarScan
 from protocol.generated.enums import FailsafeReason
 
@@ -37,13 +37,13 @@ TRACK_FRESH_S = 0.3
 class Pilot(Protocol):
     name: str
 
-    def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
+    def on_scan(self, scan: LidarScan, pose: Pose, *, pose_at: PoseAt | None = None) -> None:
         """A revolution, the pose at its mid-time, and (to de-skew it) the pose at any recent time."""
         ...
 
-    def on_frame(self, frame: CameraFrame, pose: RobotPose) -> Track | None: ...
+    def on_frame(self, frame: CameraFrame, pose: Pose) -> Track | None: ...
 
-    def command(self, pose: RobotPose) -> tuple[float, float, str]:
+    def command(self, pose: Pose) -> tuple[float, float, str]:
         """(linear m/s, angular rad/s, what it is doing) at `pose.time_s`."""
         ...
 
@@ -79,8 +79,8 @@ class FollowPilot:
         self.last_frame: CameraFrame | None = None
         self.last_track: Track | None = None
         """The latest frame and track (for recording and live views; the scan: `last_scan`)."""
-        self._track: tuple[Track, RobotPose] | None = None
-        self._frame_pose: RobotPose | None = None
+        self._track: tuple[Track, Pose] | None = None
+        self._frame_pose: Pose | None = None
 
     @classmethod
     def for_robot(cls, geometry: RobotGeometry, template: NDArray[np.uint8], *, follow_gap_m: float | None = None,
@@ -114,11 +114,11 @@ class FollowPilot:
         """The latest filtered scan."""
         return self.scans.scan
 
-    def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
+    def on_scan(self, scan: LidarScan, pose: Pose, *, pose_at: PoseAt | None = None) -> None:
         obstacles = self.scans.update(scan, pose, pose_at=pose_at)
         self.movers = self.motion.update(obstacles, pose.xyt)
 
-    def on_frame(self, frame: CameraFrame, pose: RobotPose) -> Track:
+    def on_frame(self, frame: CameraFrame, pose: Pose) -> Track:
         turned = 0.0 if self._frame_pose is None else pose.theta_rad - self._frame_pose.theta_rad
         self._frame_pose = pose
         track = self.tracker.update(frame.image, frame.time_s, rotation_rad=turned)
@@ -126,7 +126,7 @@ class FollowPilot:
         self.last_frame, self.last_track = frame, track
         return track
 
-    def command(self, pose: RobotPose) -> tuple[float, float, str]:
+    def command(self, pose: Pose) -> tuple[float, float, str]:
         seen = self.scans.seen_from(pose)  # the latest revolution, moved to where the robot is now
         if seen is None:
             return 0.0, 0.0, "waiting"
@@ -145,7 +145,7 @@ class FollowPilot:
         self.decision = decision
         return decision.linear_m_s, decision.angular_rad_s, decision.mode.value
 
-    def explain_failsafe(self, reason: FailsafeReason, pose: RobotPose) -> str:
+    def explain_failsafe(self, reason: FailsafeReason, pose: Pose) -> str:
         """`reason` in words, naming what the latest scan shows inside the footprint's margin."""
         seen = self.scans.seen_from(pose)
         follower = self.follower

@@ -29,7 +29,7 @@ from host_sdk.geometry import RobotGeometry
 from host_sdk.perception.class_tracker import ClassTracker, FrameTracker
 from host_sdk.perception.detectors import KINDS
 from host_sdk.perception.tracking import Track, Tracker, TrackState
-from host_sdk.pose import RobotPose
+from host_sdk.pose import Pose
 from host_sdk.robot import Robot
 from host_sdk.sensors import CameraFrame, LidarScan
 from host_sdk.supervisor import Health, Supervisor
@@ -84,11 +84,11 @@ class ConsolePilot:
         return self.supervisor.robot
 
     # -- the Pilot protocol -----------------------------------------------------------------------------
-    def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
+    def on_scan(self, scan: LidarScan, pose: Pose, *, pose_at: PoseAt | None = None) -> None:
         self._rates["scans"].tick(scan.time_s)
         self.follow.on_scan(scan, pose, pose_at=pose_at)
 
-    def on_frame(self, frame: CameraFrame, pose: RobotPose) -> Track | None:
+    def on_frame(self, frame: CameraFrame, pose: Pose) -> Track | None:
         self._frame = frame
         self._rates["camera"].tick(frame.time_s)
         track = self.follow.on_frame(frame, pose)
@@ -102,7 +102,7 @@ class ConsolePilot:
         self.hub.show_frame(frame.image, frame.time_s, overlay, jpeg=frame.jpeg, device_time_s=frame.device_time_s)
         return track
 
-    def command(self, pose: RobotPose) -> tuple[float, float, str]:
+    def command(self, pose: Pose) -> tuple[float, float, str]:
         asked = self.hub.take()
         self._apply(asked)
         health = self.supervisor.health()
@@ -171,7 +171,7 @@ class ConsolePilot:
         if asked.arm:  # also while the host still believes it armed: tried, and a refusal says why
             self.supervisor.arm_soon()
 
-    def _show(self, pose: RobotPose, motion: tuple[float, float], health: Health) -> None:
+    def _show(self, pose: Pose, motion: tuple[float, float], health: Health) -> None:
         scan = self.follow.last_scan
         rates = {f"{name} rate": text for name, r in self._rates.items() if (text := r.describe(name)) is not None}
         state: dict[str, Any] = {
@@ -199,11 +199,11 @@ class ConsolePilot:
             state["scan"] = {"points": keep[::step], "range_m": 4.0, "footprint": self._footprint()}
         self.hub.show_state(**state)
 
-    def explain_failsafe(self, reason: FailsafeReason, pose: RobotPose) -> str:
+    def explain_failsafe(self, reason: FailsafeReason, pose: Pose) -> str:
         """`reason` in words, naming what the scan shows inside the footprint's margin."""
         return self.follow.explain_failsafe(reason, pose)
 
-    def _failsafe_text(self, pose: RobotPose) -> str | None:
+    def _failsafe_text(self, pose: Pose) -> str | None:
         """The failsafe explained when it is entered, and kept while it lasts (the scan of that moment
         says what was touched; later ones may have lost it)."""
         reason = self.robot.failsafe

@@ -2,7 +2,7 @@
 IMU's gyro) when an IMU is given, else wheel odometry; with the speeds the board measured.
 
     poses = PoseSource(robot, imu)        # imu: a host_sdk.sensors.Jy901, or None
-    pose = poses.update(robot.now())      # RobotPose: time, x, y, theta, measured speeds
+    pose = poses.update(robot.now())      # Pose: time, x, y, theta, measured speeds
     then = poses.at(scan_time)            # interpolated between the recent poses
 """
 
@@ -13,7 +13,7 @@ import math
 from collections import deque
 
 from host_sdk.fusion.ekf import OdometryIncrements, PoseEkf, params_for
-from host_sdk.pose import RobotPose, interpolate
+from host_sdk.pose import Pose, interpolate
 from host_sdk.robot import Robot
 from host_sdk.sensors.imu import Jy901
 from host_sdk.session import FeedbackSample
@@ -29,7 +29,7 @@ class PoseSource:
         self.robot = robot
         self.imu = imu
         self.ekf: PoseEkf | None = None
-        self._history: deque[RobotPose] = deque(maxlen=HISTORY)
+        self._history: deque[Pose] = deque(maxlen=HISTORY)
         self.distance_m = 0.0
         """Distance driven (odometry), m."""
         self._steps = OdometryIncrements()
@@ -53,7 +53,7 @@ class PoseSource:
             ds, turn = self._steps.step(sample.pose.x_m, sample.pose.y_m, sample.pose.theta_rad)
             self._odometry.append((sample.host_time_s, ds, turn))
 
-    def update(self, t: float) -> RobotPose:
+    def update(self, t: float) -> Pose:
         """The pose at `t` (now), kept for `at()`."""
         wheels = self.robot.odometry.pose
         if self.imu is not None and self.ekf is not None:
@@ -71,11 +71,11 @@ class PoseSource:
             if self._history:
                 last = self._history[-1]
                 self.distance_m += math.hypot(x - last.x_m, y - last.y_m)
-        pose = RobotPose(t, x, y, theta, wheels.linear_m_s, wheels.angular_rad_s)
+        pose = Pose(x, y, theta, wheels.linear_m_s, wheels.angular_rad_s, time_s=t)
         self._history.append(pose)
         return pose
 
-    def at(self, t: float) -> RobotPose:
+    def at(self, t: float) -> Pose:
         """The pose at `t`, interpolated between the recent ones (held beyond them). A control step
         is 50 ms: the nearest pose alone would be up to 2.5 cm and 2 degrees off while turning, which
         is what a lidar revolution is registered and compared by."""

@@ -7,7 +7,8 @@ import math
 
 from host_sdk import checks
 from host_sdk.errors import RoverLinkError, UnsupportedError
-from host_sdk.odometry import MAX_POSITION_M, Pose
+from host_sdk.odometry import MAX_POSITION_M
+from host_sdk.pose import Pose
 from host_sdk.robot.link import Link
 
 _POSE = ("x_m", "y_m", "theta_rad")

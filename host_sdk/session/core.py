@@ -35,7 +35,7 @@ from __future__ import annotations
 from host_sdk.errors import ConnectTimeoutError, NotArmedError, RoverLinkError, SessionResetError
 from host_sdk.framing import Frame, FrameDecoder
 from host_sdk.kinematics import Ackermann, DiffDrive
-from host_sdk.odometry import Pose
+from host_sdk.pose import Pose
 from host_sdk.session.arming import Arming
 from host_sdk.session.counters import HostCounters, link_statistics
 from host_sdk.session.events import Event

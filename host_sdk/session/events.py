@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from host_sdk.errors import RoverLinkError
-from host_sdk.odometry import Pose
+from host_sdk.pose import Pose
 from host_sdk.session.requests import Request
 from host_sdk.session.types import FeedbackSample, RobotIdentity
 from protocol.generated.enums import FailsafeReason, LogLevel

@@ -8,7 +8,8 @@ decoded and range-checked by the codec), no allocation beyond the sample itself.
 from __future__ import annotations
 
 from host_sdk.kinematics import Ackermann, DiffDrive
-from host_sdk.odometry import Odometry, Pose
+from host_sdk.odometry import Odometry
+from host_sdk.pose import Pose
 from host_sdk.session.events import OdometryGap
 from host_sdk.session.types import FeedbackSample
 from host_sdk.timesync import ClockSync, Unwrapper
@@ -94,18 +95,18 @@ class FeedbackTracker:
         counts = tuple(map(Unwrapper.step, self._counts, msg.encoder_counts))
         mcu_us = clock.unwrap_raw(msg.mcu_time_us)
         steering = msg.steering_mrad / 1000
-        pose: Pose | None = None
-        odo = self.odometry
-        if odo is not None:
-            odo.advance(counts, mcu_us, self._prev_steering)
-            pose = odo.pose
-        self._prev_steering = steering
-        self._index += 1
         # The board's sampling time on the host's clock, never before the previous sample's: the
         # clock fit moves as PONGs arrive (the first from receive time to the fitted line, a queued
         # round trip shifting the line), and consumers of the stamps (tf2, odometry) need order.
         stamp = clock.host_s_of(mcu_us) if clock.synced else now
         self._stamp = stamp = stamp if stamp > self._stamp else self._stamp + 1e-6
+        pose: Pose | None = None
+        odo = self.odometry
+        if odo is not None:
+            odo.advance(counts, mcu_us, self._prev_steering, stamp)
+            pose = odo.pose
+        self._prev_steering = steering
+        self._index += 1
         self._latest = sample = FeedbackSample(
             self._index,
             msg.boot_id,

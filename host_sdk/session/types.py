@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field, fields
 
-from host_sdk.odometry import Pose
+from host_sdk.pose import Pose
 from protocol.generated.enums import Board, Capability, FailsafeReason, FeedbackMode, Status
 from protocol.generated.messages import Identity, SetConfig
 from protocol.generated.structs import DecoderCountersSnapshot

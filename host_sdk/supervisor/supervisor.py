@@ -45,7 +45,7 @@ from host_sdk.errors import (
     TransportError,
     UnsupportedError,
 )
-from host_sdk.odometry import Pose
+from host_sdk.pose import Pose
 from host_sdk.robot import Robot
 from host_sdk.supervisor.connection import UNUSABLE, Connection
 from host_sdk.supervisor.health import (

@@ -16,7 +16,7 @@ from host_sdk.perception import CameraModel, LidarMount
 from host_sdk.perception.class_tracker import FrameTracker
 from host_sdk.perception.scan import bin_points
 from host_sdk.perception.tracking import Track, TrackState
-from host_sdk.pose import RobotPose
+from host_sdk.pose import Pose
 from host_sdk.sensors import CameraFrame, LidarScan
 
 F64 = NDArray[np.float64]
@@ -63,7 +63,7 @@ class PiCarBaseline:
         self.steer = "straight"
         """The latest command sent (what the Arduino holds)."""
 
-    def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: PoseAt | None = None) -> None:
+    def on_scan(self, scan: LidarScan, pose: Pose, *, pose_at: PoseAt | None = None) -> None:
         """Their filter had no motion compensation: `pose` and `pose_at` are not used."""
         ok = np.isfinite(scan.ranges_m)
         a = scan.angles_rad[ok] + self.mount.yaw_rad
@@ -83,7 +83,7 @@ class PiCarBaseline:
             self.steer = "straight"
         self._obstacle = seen
 
-    def on_frame(self, frame: CameraFrame, pose: RobotPose) -> Track | None:
+    def on_frame(self, frame: CameraFrame, pose: Pose) -> Track | None:
         if frame.time_s < self._next_detect:
             return None
         self._next_detect = frame.time_s + self.period_s
@@ -96,6 +96,6 @@ class PiCarBaseline:
                 self.steer = zone
         return track
 
-    def command(self, pose: RobotPose) -> tuple[float, float, str]:
+    def command(self, pose: Pose) -> tuple[float, float, str]:
         steer = {"left": self.STEER_RAD, "right": -self.STEER_RAD, "straight": 0.0}[self.steer]
         return self.speed, self.speed * math.tan(steer) / self.WHEELBASE_M, self.steer

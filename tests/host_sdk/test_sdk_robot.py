@@ -417,3 +417,17 @@ def test_close_leaves_no_threads_or_descriptors_and_calls_are_thread_safe() -> N
             assert robot.feedback is not None and robot.feedback.armed
     assert set(threading.enumerate()) == threads
     assert _fds() == fds
+
+
+def test_the_odometry_pose_says_when_the_board_sampled_it(roverlink_robot: Robot) -> None:
+    """One pose type for the wheels' pose and a pose source's: the wheels' carries the host time
+    of the FEEDBACK it was integrated from, which a pilot needs as much as the place."""
+    roverlink_robot.arm()
+    for _ in range(5):
+        roverlink_robot.drive(0.2, 0.0)
+        sample = roverlink_robot.wait_feedback()
+    pose = roverlink_robot.odometry.pose
+    latest = roverlink_robot.feedback
+    assert latest is not None and pose.mcu_time_us == latest.mcu_time_us
+    assert pose.time_s == latest.host_time_s and 0 < pose.time_s <= roverlink_robot.now()
+    assert sample.pose is not None and sample.pose.time_s == sample.host_time_s

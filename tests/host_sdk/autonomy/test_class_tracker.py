@@ -17,7 +17,7 @@ from host_sdk.perception.class_tracker import ClassTracker, ClassTrackerParams
 from host_sdk.perception.detectors import iou
 from host_sdk.perception.tracker_params import TrackerParams
 from host_sdk.perception.tracking import TrackState
-from host_sdk.pose import RobotPose
+from host_sdk.pose import Pose
 from host_sdk.sensors import CameraFrame
 from tests.host_sdk.autonomy.photos import FACES, PERSONS, needs_detectors, photo
 
@@ -57,7 +57,7 @@ def run_pilot(tracker: ClassTracker) -> list[tuple[TrackState, float | None, int
     pilot = FollowPilot(ScanFilter(), tracker, Follower(Footprint(0.12, 0.03), CAMERA))
     seen = []
     for image, t, x0 in pan(OUT_AND_BACK):
-        pilot.on_frame(CameraFrame(image, t, int(t * FPS)), RobotPose(t, 0.0, 0.0, 0.0))
+        pilot.on_frame(CameraFrame(image, t, int(t * FPS)), Pose(0.0, 0.0, 0.0, time_s=t))
         track = pilot.last_track
         assert track is not None
         overlap = None if track.box is None else iou(track.box, truth(x0))

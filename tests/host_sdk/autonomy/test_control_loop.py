@@ -8,7 +8,7 @@ import pytest
 from host_sdk import Robot
 from host_sdk.autonomy import ControlLoop
 from host_sdk.perception.tracking import Track
-from host_sdk.pose import RobotPose
+from host_sdk.pose import Pose
 from host_sdk.sensors import CameraFrame, CameraSource, Lidar, LidarScan
 
 URL = "emu://diffdrive-tb6612?clock=virtual&seed=2&world=random:2&lidar=rplidar-a1&camera=320x240"
@@ -18,18 +18,18 @@ class RecordingPilot:
     name = "recording"
 
     def __init__(self) -> None:
-        self.scans: list[tuple[LidarScan, RobotPose]] = []
-        self.frames: list[tuple[CameraFrame, RobotPose]] = []
-        self.commands: list[RobotPose] = []
+        self.scans: list[tuple[LidarScan, Pose]] = []
+        self.frames: list[tuple[CameraFrame, Pose]] = []
+        self.commands: list[Pose] = []
 
-    def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: object = None) -> None:
+    def on_scan(self, scan: LidarScan, pose: Pose, *, pose_at: object = None) -> None:
         self.scans.append((scan, pose))
 
-    def on_frame(self, frame: CameraFrame, pose: RobotPose) -> Track | None:
+    def on_frame(self, frame: CameraFrame, pose: Pose) -> Track | None:
         self.frames.append((frame, pose))
         return None
 
-    def command(self, pose: RobotPose) -> tuple[float, float, str]:
+    def command(self, pose: Pose) -> tuple[float, float, str]:
         self.commands.append(pose)
         return 0.2, 0.3, "turning"
 

@@ -9,7 +9,7 @@ from urllib.parse import quote
 from host_sdk import Robot
 from host_sdk.autonomy import ControlLoop, Step
 from host_sdk.perception.tracking import Track
-from host_sdk.pose import RobotPose
+from host_sdk.pose import Pose
 from host_sdk.sensors import CameraFrame, CameraSource, Lidar, LidarScan
 
 URL = "emu://diffdrive-tb6612?clock=virtual&seed=2&world=random:2&lidar=rplidar-a1&camera=320x240"
@@ -22,13 +22,13 @@ class HaltingPilot:
         self.halts: list[tuple[float, str]] = []
         self.now = 0.0
 
-    def on_scan(self, scan: LidarScan, pose: RobotPose, *, pose_at: object = None) -> None:
+    def on_scan(self, scan: LidarScan, pose: Pose, *, pose_at: object = None) -> None:
         pass
 
-    def on_frame(self, frame: CameraFrame, pose: RobotPose) -> Track | None:
+    def on_frame(self, frame: CameraFrame, pose: Pose) -> Track | None:
         return None
 
-    def command(self, pose: RobotPose) -> tuple[float, float, str]:
+    def command(self, pose: Pose) -> tuple[float, float, str]:
         self.now = pose.time_s
         return 0.1, 0.0, "creeping"
 

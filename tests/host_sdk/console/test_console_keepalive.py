@@ -19,12 +19,12 @@ from host_sdk.console.hub import Drive, Hub
 from host_sdk.console.pilot import ConsolePilot
 from host_sdk.console.server import ConsoleServer
 from host_sdk.geometry import geometry
-from host_sdk.pose import RobotPose
+from host_sdk.pose import Pose
 from tests.support.wait import Deadline, wait_until
 
 pytest.importorskip("cv2")
 LIFETIME_S = 0.25
-AT = RobotPose(0.0, 0.0, 0.0, 0.0)
+AT = Pose(0.0, 0.0, 0.0, time_s=0.0)
 
 
 def console(*, autonomous: bool = False) -> tuple[ConsolePilot, Hub, list[float]]:

@@ -17,7 +17,7 @@ from host_sdk.console.pilot import ConsolePilot
 from host_sdk.geometry import geometry
 from host_sdk.perception.class_tracker import ClassTracker
 from host_sdk.perception.detectors import iou
-from host_sdk.pose import RobotPose
+from host_sdk.pose import Pose
 from host_sdk.sensors import CameraFrame, LidarScan
 from tests.host_sdk.autonomy.photos import PERSONS, needs_detectors, photo
 
@@ -57,8 +57,8 @@ def pilot() -> tuple[ConsolePilot, Hub]:
 
 def show(p: ConsolePilot, image: NDArray[np.uint8], i: int) -> Any:
     t = i / FPS
-    track = p.on_frame(CameraFrame(image, t, i), RobotPose(t, 0.0, 0.0, 0.0))
-    p.command(RobotPose(t, 0.0, 0.0, 0.0))  # takes the page's requests
+    track = p.on_frame(CameraFrame(image, t, i), Pose(0.0, 0.0, 0.0, time_s=t))
+    p.command(Pose(0.0, 0.0, 0.0, time_s=t))  # takes the page's requests
     return track
 
 
@@ -84,7 +84,7 @@ def test_a_box_drawn_on_an_older_frame_starts_the_tracker_on_that_frame() -> Non
     frame = hub.frame(drawn_on + 1)  # the hub numbers frames from 1
     assert frame is not None and np.array_equal(frame.image, frames[drawn_on][0])
     hub.post(select=Select(frame, frames[drawn_on][1]))
-    p.command(RobotPose(10 / FPS, 0.0, 0.0, 0.0))
+    p.command(Pose(0.0, 0.0, 0.0, time_s=10 / FPS))
     assert p.has_target
     for i in range(10, 16):
         image, truth = frames[i]
@@ -98,7 +98,7 @@ def test_a_person_clicked_among_two_is_the_one_followed() -> None:
     image = photo("pedestrians_f050")  # two people walking side by side
     p, hub = pilot()
     hub.post(target_kind="person")
-    p.command(RobotPose(0.0, 0.0, 0.0, 0.0))
+    p.command(Pose(0.0, 0.0, 0.0, time_s=0.0))
     assert isinstance(p.follow.tracker, ClassTracker)
     show(p, image, 0)
     _, _, overlay, _ = hub.latest()
@@ -112,7 +112,7 @@ def test_a_person_clicked_among_two_is_the_one_followed() -> None:
     shown = hub.frame(hub.frame_id)
     assert shown is not None
     hub.post(select=Select(shown, clicked))
-    p.command(RobotPose(2 / FPS, 0.0, 0.0, 0.0))
+    p.command(Pose(0.0, 0.0, 0.0, time_s=2 / FPS))
     for i in range(2, 8):
         track = show(p, image, i)
         assert track.found and track.box is not None
@@ -124,7 +124,7 @@ def open_floor(p: ConsolePilot) -> ConsolePilot:
     angles = np.linspace(-np.pi, np.pi, 360, endpoint=False)
     nothing = np.full(360, np.nan)
     scan = LidarScan("rplidar-a1", 0, angles, nothing, np.zeros(360, dtype=np.int64), np.zeros(360), 0.15, 12.0)
-    p.on_scan(scan, RobotPose(0.0, 0.0, 0.0, 0.0))
+    p.on_scan(scan, Pose(0.0, 0.0, 0.0, time_s=0.0))
     return p
 
 
@@ -136,22 +136,22 @@ def test_a_car_is_not_asked_to_turn_standing_still_nor_tighter_than_its_steering
     p = open_floor(ConsolePilot(hub, robot, replace(car, min_turn_radius_m=0.5)))
     now = hub.clock()
     hub.post(drive=Drive(0.0, 1.2, now))  # A or left arrow alone
-    assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == (0.0, 0.0)
+    assert p.command(Pose(0.0, 0.0, 0.0, time_s=0.0))[:2] == (0.0, 0.0)
     hub.post(drive=Drive(0.3, 1.2, now))  # W and A: the tightest circle it steers
-    assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == pytest.approx((0.3, 0.6))
+    assert p.command(Pose(0.0, 0.0, 0.0, time_s=0.0))[:2] == pytest.approx((0.3, 0.6))
     hub.post(drive=Drive(-0.3, -0.2, now))  # S and a little right: backing with the wheels to the right
-    assert p.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == pytest.approx((-0.3, 0.2))  # the nose swings left
+    assert p.command(Pose(0.0, 0.0, 0.0, time_s=0.0))[:2] == pytest.approx((-0.3, 0.2))  # the nose swings left
     diff = open_floor(ConsolePilot(hub, robot, geometry("diffdrive-tb6612", None)))
     hub.post(drive=Drive(0.0, 1.2, now))  # a differential drive spins in place
-    assert diff.command(RobotPose(0.0, 0.0, 0.0, 0.0))[:2] == (0.0, 1.2)
+    assert diff.command(Pose(0.0, 0.0, 0.0, time_s=0.0))[:2] == (0.0, 1.2)
 
 
 def test_stop_ends_following_too() -> None:
     p, hub = pilot()
     hub.alive()  # the driving page's keep-alive
     hub.post(follow=True)
-    p.command(RobotPose(0.0, 0.0, 0.0, 0.0))
+    p.command(Pose(0.0, 0.0, 0.0, time_s=0.0))
     assert p.following
     hub.stop()
-    p.command(RobotPose(0.0, 0.0, 0.0, 0.0))
+    p.command(Pose(0.0, 0.0, 0.0, time_s=0.0))
     assert not p.following

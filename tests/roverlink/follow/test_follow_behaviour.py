@@ -13,7 +13,7 @@ import pytest
 from host_sdk.autonomy import Decision, Follower, FollowParams, Mode, PlanChoice, locate_target
 from host_sdk.perception import CameraModel, Footprint, LidarMount, Mover
 from host_sdk.perception.tracking import Track, TrackState
-from host_sdk.pose import RobotPose
+from host_sdk.pose import Pose
 from host_sdk.sensors import CameraFrame, LidarScan
 from roverlink.follow.baseline import PiCarBaseline
 
@@ -408,10 +408,10 @@ def test_baseline_obstacle_node_three_beams_threshold_alternating_turns() -> Non
     turns = []
     for front in (None, 1.0, 1.0, None, 1.2, None, 1.5, 0.8):
         for _ in range(13):  # the 13-revolution median needs its majority to change its mind
-            base.on_scan(scan_with(front), RobotPose(0.0, 0.0, 0.0, 0.0))
+            base.on_scan(scan_with(front), Pose(0.0, 0.0, 0.0, time_s=0.0))
         turns.append(base.steer)
     assert turns == ["straight", "left", "left", "straight", "right", "straight", "straight", "left"]
-    v, w, _ = base.command(RobotPose(0.0, 0.0, 0.0, 0.0))
+    v, w, _ = base.command(Pose(0.0, 0.0, 0.0, time_s=0.0))
     assert v == 0.45 and w / v == pytest.approx(math.tan(math.radians(15)) / 0.26)  # one 15 degree step
 
 
@@ -423,7 +423,7 @@ def test_baseline_camera_node_three_zones_about_once_a_second() -> None:
     for i, u in enumerate([50.0, 60.0, 160.0, 300.0]):
         tracker.u = u
         for k in range(15):  # 15 frames a second, one detection a second
-            base.on_frame(CameraFrame(image, i + k / 15, 1), RobotPose(i + k / 15, 0.0, 0.0, 0.0))
+            base.on_frame(CameraFrame(image, i + k / 15, 1), Pose(0.0, 0.0, 0.0, time_s=i + k / 15))
         zones.append(base.steer)
     assert tracker.calls == 4
     assert zones == ["left", "left", "straight", "right"]  # 280 and 580 of 800 px: 112 and 232 of 320
@@ -449,7 +449,7 @@ def test_follow_source_publishes_scan_camera_and_state() -> None:
 
     from host_sdk.autonomy import FollowPilot
     from host_sdk.perception import ScanFilter, Tracker
-    from host_sdk.pose import RobotPose
+    from host_sdk.pose import Pose
     from host_sdk.recording.follow import TOPIC_FOLLOW, TOPIC_IMAGE, TOPIC_SCAN, FollowSource
 
     image = np.full((240, 320, 3), 90, dtype=np.uint8)
@@ -460,9 +460,9 @@ def test_follow_source_publishes_scan_camera_and_state() -> None:
     source = FollowSource(pilot, image_hz=2.0)
     out = FakePublisher()
     source.start(out)
-    pilot.on_scan(scan_with(1.0), RobotPose(0.0, 0.0, 0.0, 0.0))
-    pilot.on_frame(CameraFrame(image, 0.0, 1), RobotPose(0.0, 0.0, 0.0, 0.0))
-    pilot.command(RobotPose(0.05, 0.0, 0.0, 0.0))
+    pilot.on_scan(scan_with(1.0), Pose(0.0, 0.0, 0.0, time_s=0.0))
+    pilot.on_frame(CameraFrame(image, 0.0, 1), Pose(0.0, 0.0, 0.0, time_s=0.0))
+    pilot.command(Pose(0.0, 0.0, 0.0, time_s=0.05))
     for t in (0.05, 0.1, 0.6):
         source.poll(t)
     kinds = [(kind, topic) for kind, topic, _ in out.calls]

@@ -12,7 +12,7 @@ import pytest
 from host_sdk import Robot
 from host_sdk.autonomy import FollowPilot
 from host_sdk.geometry import robot_geometry
-from host_sdk.pose import RobotPose
+from host_sdk.pose import Pose
 from host_sdk.sensors import CameraSource, Lidar
 from roverlink.commands.follow import _progress
 from roverlink.follow.metrics import FollowMetrics
@@ -25,7 +25,7 @@ pytest.importorskip("cv2")
 class Straight(FollowPilot):
     """The follow pilot's scan handling, driving straight ahead whatever it sees."""
 
-    def command(self, pose: RobotPose) -> tuple[float, float, str]:
+    def command(self, pose: Pose) -> tuple[float, float, str]:
         return FORWARD_M_S, 0.0, "straight"
 
 
