@@ -17,6 +17,10 @@
 # `vision` extras, installed again when pyproject.toml is newer than the last install.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+ROOT="$PWD"
+# shellcheck source=scripts/editable.sh
+source scripts/editable.sh
+EDITABLE_TAG="$EDITABLE_MODE-$(editable_digest)"
 
 versions=()
 while [[ $# -gt 0 && "$1" != "--" ]]; do
@@ -69,12 +73,12 @@ run_version() {
         "$python" -m venv "$venv"
     fi
     local pin="${PINS[$version]:-}"
-    stamp="$venv/.installed-test-vision${pin:+-${pin//[^0-9a-z.]/}}"
+    stamp="$venv/.installed-$EDITABLE_TAG-test-vision${pin:+-${pin//[^0-9a-z.]/}}"
     if [[ ! -f "$stamp" || pyproject.toml -nt "$stamp" ]]; then
         echo "== installing roverlink[test,vision]${pin:+ with $pin} into $venv"
         rm -f "$venv"/.installed-*
         "$venv/bin/python" -m pip install -q --disable-pip-version-check \
-            --config-settings editable_mode=compat -e ".[test,vision]" ${pin:+"$pin"}
+            --config-settings editable_mode="$EDITABLE_MODE" -e ".[test,vision]" ${pin:+"$pin"}
         touch "$stamp"
     fi
     echo "== pytest on $("$venv/bin/python" --version), numpy $("$venv/bin/python" -c 'import numpy; print(numpy.__version__)'):" \

@@ -16,13 +16,17 @@ cd "$(dirname "$0")/.."
 SYSTEM_PYTHON=/usr/bin/python3
 # shellcheck source=scripts/debian-packages.sh
 source scripts/debian-packages.sh
+ROOT="$PWD"
+# shellcheck source=scripts/editable.sh
+source scripts/editable.sh
+EDITABLE_TAG="$EDITABLE_MODE-$(editable_digest)"
 install_debian_packages python3 python3-venv python3-opencv gstreamer1.0-plugins-base
 
 start=$SECONDS
 before="$("$SYSTEM_PYTHON" -c 'import cv2, numpy; print(numpy.__version__, numpy.__file__, cv2.__version__, cv2.__file__)')"
 
 make_venv() {
-    local venv="$1" stamp="$1/.installed-system-$2"
+    local venv="$1" stamp="$1/.installed-system-$EDITABLE_TAG-$2"
     shift 2
     if [[ ! -x "$venv/bin/python" ]] || ! "$venv/bin/python" -m pip --version >/dev/null 2>&1; then
         echo "== creating $venv ($("$SYSTEM_PYTHON" --version), --system-site-packages)"
@@ -32,7 +36,7 @@ make_venv() {
     if [[ ! -f "$stamp" || pyproject.toml -nt "$stamp" ]]; then
         echo "== installing into $venv: $*"
         "$venv/bin/python" -m pip install -q --disable-pip-version-check \
-            --config-settings editable_mode=compat "$@"
+            --config-settings editable_mode="$EDITABLE_MODE" "$@"
         touch "$stamp"
     fi
 }

@@ -76,19 +76,19 @@ if [[ "$sees_system" == true ]]; then
     fi
 fi
 
-# The editable install is a .pth file naming the checkout (setuptools' `compat` mode), not the
-# default import hook: type checkers cannot follow an import hook, so a robot program's
-# `mypy --strict` would not find host_sdk (tests/host_sdk/test_sdk_typing.py checks this).
-EDITABLE_MODE=compat
-# Install (again) when pyproject.toml is newer than the last install with these extras and this
-# mode (the mode in the stamp's name: a venv installed the old way is installed again).
+# shellcheck source=scripts/editable.sh
+source "$ROOT/scripts/editable.sh"
+EDITABLE_TAG="$EDITABLE_MODE-$(editable_digest)"
+# Install (again) when pyproject.toml is newer than the last install with these extras, this mode
+# and these package files (both in the stamp's name: a venv installed the old way, or before a
+# module was added, is installed again).
 # An install with more extras serves one that asks for fewer (the fast lane after a full run).
-stamp="$VENV/.installed-$EDITABLE_MODE${EXTRAS:+-$EXTRAS}"
+stamp="$VENV/.installed-$EDITABLE_TAG${EXTRAS:+-$EXTRAS}"
 _venv_has_extras() {
     local file have want
-    for file in "$VENV"/.installed-"$EDITABLE_MODE"*; do
+    for file in "$VENV"/.installed-"$EDITABLE_TAG"*; do
         [[ -f "$file" && ! "$ROOT/pyproject.toml" -nt "$file" ]] || continue
-        have=",$(basename "$file" | sed -e "s/^\.installed-$EDITABLE_MODE-\{0,1\}//"),"
+        have=",$(basename "$file" | sed -e "s/^\.installed-$EDITABLE_TAG-\{0,1\}//"),"
         for want in ${EXTRAS//,/ }; do
             [[ $have == *",$want,"* ]] || continue 2
         done
@@ -100,7 +100,7 @@ _venv_has_extras() {
 # `tools`'s ...): then nothing is installed, so `demo.sh --plot` after `test.sh` installs nothing.
 _venv_serves_extras() {
     local file current=false
-    for file in "$VENV"/.installed-"$EDITABLE_MODE"*; do
+    for file in "$VENV"/.installed-"$EDITABLE_TAG"*; do
         [[ -f "$file" && ! "$ROOT/pyproject.toml" -nt "$file" ]] && current=true
     done
     [[ $current == true && -n "$EXTRAS" ]] || return 1

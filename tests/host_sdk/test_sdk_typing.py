@@ -97,8 +97,9 @@ def test_mypy_strict_passes_on_a_robot_test(tmp_path: Path, mypy_cache: Path) ->
 
 
 def test_the_editable_install_is_one_mypy_can_follow() -> None:
-    """scripts/venv.sh installs with editable_mode=compat: a .pth naming the checkout, not the
-    default import hook (a `__editable___*_finder.py`), which mypy cannot see through."""
+    """scripts/venv.sh installs with editable_mode=strict: a .pth naming a tree of links to the
+    packages, not the default import hook (a `__editable___*_finder.py`), which mypy cannot see
+    through, nor the whole checkout (its tests, tools and benchmarks importable)."""
     # The install in this interpreter's site-packages (not an egg-info a build left in the checkout).
     found = list(importlib.metadata.distributions(name="roverlink", path=[sysconfig.get_paths()["purelib"]]))
     if not found:
@@ -112,15 +113,20 @@ def test_the_editable_install_is_one_mypy_can_follow() -> None:
     assert not finders, f"an import-hook editable install ({finders}): run scripts/venv.sh again"
     paths = [line for f in files if f.suffix == ".pth" for line in f.read_text().splitlines() if line.strip()]
     assert any((Path(p) / "host_sdk" / "__init__.py").is_file() for p in paths), paths
+    assert not [p for p in paths if any((Path(p) / name).exists() for name in ("tests", "tools", "benchmarks"))], paths
 
 
-def test_venv_sh_installs_in_compat_mode() -> None:
-    script = (Path(__file__).resolve().parents[2] / "scripts" / "venv.sh").read_text(encoding="utf-8")
-    assert "EDITABLE_MODE=compat" in script and '--config-settings editable_mode="$EDITABLE_MODE"' in script
+def test_the_scripts_install_in_strict_mode() -> None:
+    scripts = Path(__file__).resolve().parents[2] / "scripts"
+    assert "EDITABLE_MODE=strict" in (scripts / "editable.sh").read_text(encoding="utf-8")
+    for name in ("venv.sh", "test_pythons.sh", "test_system_opencv.sh"):
+        script = (scripts / name).read_text(encoding="utf-8")
+        assert "source" in script and "editable.sh" in script and 'editable_mode="$EDITABLE_MODE"' in script, name
+        assert "editable_mode=compat" not in script, name
 
 
 def test_every_editable_install_the_docs_show_is_one_mypy_can_follow() -> None:
-    """A user who installs by hand, as the README or the docs show, gets the same compat install."""
+    """A user who installs by hand, as the README or the docs show, gets the same strict install."""
     root = Path(__file__).resolve().parents[2]
     lines = [
         (doc.name, line)
@@ -129,7 +135,7 @@ def test_every_editable_install_the_docs_show_is_one_mypy_can_follow() -> None:
         if "pip install" in line and " -e " in line
     ]
     assert any(name == "README.md" for name, _ in lines)
-    assert [(n, line) for n, line in lines if "editable_mode=compat" not in line] == []
+    assert [(n, line) for n, line in lines if "editable_mode=strict" not in line] == []
 
 
 # == transport.endpoints ============================================================================

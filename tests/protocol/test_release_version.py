@@ -18,7 +18,13 @@ from protocol.generator.emit import release
 
 ROOT = generate.ROOT
 SPEC_DIR = Path("protocol/spec")
-PLACES = (release.VERSION_PY, release.VERSION_H, release.LIBRARY_PROPERTIES, release.ROS_PACKAGE_XML)
+PLACES = (
+    release.VERSION_PY,
+    release.VERSION_H,
+    release.LIBRARY_PROPERTIES,
+    release.LIBRARY_JSON,
+    release.ROS_PACKAGE_XML,
+)
 
 
 def checkout(tmp: Path) -> Path:
@@ -67,6 +73,7 @@ def test_the_spec_alone_moves_every_place(tmp_path: Path, capsys: pytest.Capture
     assert '__version__: Final = "1.2.3"' in (root / release.VERSION_PY).read_text()
     assert "#define ROVERLINK_FIRMWARE_VERSION_MINOR 2" in (root / release.VERSION_H).read_text()
     assert "\nversion=1.2.3\n" in (root / release.LIBRARY_PROPERTIES).read_text()
+    assert '"version": "1.2.3"' in (root / release.LIBRARY_JSON).read_text()
     assert "<version>1.2.3</version>" in (root / release.ROS_PACKAGE_XML).read_text()
 
 

@@ -7,6 +7,7 @@ compares; pyproject.toml reads protocol/generated/version.py itself (a dynamic v
 
 from __future__ import annotations
 
+import json
 import re
 from collections.abc import Callable
 from pathlib import Path
@@ -20,8 +21,16 @@ LICENSE = "MIT"
 VERSION_PY = "protocol/generated/version.py"
 VERSION_H = "arduino/RoverLink/src/core/version.h"
 LIBRARY_PROPERTIES = "arduino/RoverLink/library.properties"
+LIBRARY_JSON = "arduino/RoverLink/library.json"
+"""The Arduino library's manifests: the Arduino IDE's and arduino-cli's, and PlatformIO's."""
 ROS_PACKAGE_XML = "ros2/roverlink_ros/package.xml"
 
+_LIBRARY_NAME = "RoverLink"
+_LIBRARY_AUTHOR = "RoverLink maintainers"
+_LIBRARY_HEADER = "RoverLink.h"
+_ARCHITECTURES = {"avr": "atmelavr"}
+"""The library's architectures: Arduino's name -> PlatformIO's platform."""
+_KEYWORDS = ("robot", "serial", "protocol", "cobs", "crc", "motor", "encoder", "pid", "servo", "esc")
 _LIBRARY_SENTENCE = "A checked, resynchronising serial link between a robot's host computer and its Arduino."
 _LIBRARY_PARAGRAPH = (
     "COBS frames with CRC-16, a session with handshake, arming and failsafe watchdog, wheel-speed PID and "
@@ -36,6 +45,7 @@ def emit(spec: Spec) -> dict[str, str]:
         VERSION_PY: _version_py(spec),
         VERSION_H: _version_h(spec),
         LIBRARY_PROPERTIES: _library_properties(spec),
+        LIBRARY_JSON: _library_json(spec),
     }
 
 
@@ -69,16 +79,35 @@ def _library_properties(spec: Spec) -> str:
     return (
         banner(spec, "#")
         + f"# SPDX-License-Identifier: {LICENSE}\n"
-        + "name=RoverLink\n"
+        + f"name={_LIBRARY_NAME}\n"
         + f"version={spec.release_text}\n"
-        + "author=RoverLink maintainers\n"
-        + "maintainer=RoverLink maintainers\n"
+        + f"author={_LIBRARY_AUTHOR}\n"
+        + f"maintainer={_LIBRARY_AUTHOR}\n"
         + f"sentence={_LIBRARY_SENTENCE}\n"
         + f"paragraph={_LIBRARY_PARAGRAPH}\n"
         + "category=Communication\n"
-        + "architectures=avr\n"
-        + "includes=RoverLink.h\n"
+        + f"architectures={','.join(_ARCHITECTURES)}\n"
+        + f"includes={_LIBRARY_HEADER}\n"
     )
+
+
+def _library_json(spec: Spec) -> str:
+    """PlatformIO's manifest (JSON has no comments: the DO NOT EDIT line is the "_" key, which
+    PlatformIO's manifest schema drops, as the test vectors carry theirs)."""
+    head = banner(spec, "").replace("\n ", " ").strip()
+    manifest = {
+        "_": head,
+        "name": _LIBRARY_NAME,
+        "version": spec.release_text,
+        "description": _LIBRARY_SENTENCE,  # PlatformIO's documentation: 255 characters at most
+        "keywords": list(_KEYWORDS),
+        "authors": [{"name": _LIBRARY_AUTHOR, "maintainer": True}],
+        "license": LICENSE,
+        "frameworks": ["arduino"],
+        "platforms": list(_ARCHITECTURES.values()),
+        "headers": [_LIBRARY_HEADER],
+    }
+    return json.dumps(manifest, indent=2) + "\n"
 
 
 # -- stamped: one element of a hand-written file --------------------------------------------------
