@@ -115,7 +115,7 @@ def test_the_account_of_test_sh_names_what_it_installs_and_runs_and_how_long_it_
 def test_demo_sh_plot_installs_nothing_after_the_tests_dev_extra() -> None:
     """`dev` has matplotlib: a venv with it serves `--plot`'s `plot` extra without installing it again."""
     venv = README.parent / ".venv"
-    stamps = list(venv.glob(".installed-compat-*dev*"))
+    stamps = list(venv.glob(".installed-strict-*dev*"))
     if not stamps:
         pytest.skip(".venv has no `dev` install (scripts/test.sh makes one)")
     result = subprocess.run(
