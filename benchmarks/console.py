@@ -85,13 +85,14 @@ class Feeder:
                 image = self.scene.copy()
                 x = int((WIDTH - 40) * (0.5 + 0.5 * math.sin(t)))
                 image[100:160, x : x + 40] = (200, 40, 200)
-                frame = self.hub.show_frame(image, t, {"box": [x, 100, 40, 60], "state": "tracking",
-                                                       "confidence": 0.9})  # fmt: skip
+                frame = self.hub.show_frame(image, t, {"box": [x, 100, 40, 60], "state": "tracking", "confidence": 0.9})
                 self.shown[frame.id] = time.time()
             if self.state and tick % 15 == 0:
                 ranges = 2.0 + 0.5 * np.sin(angles * 3 + t)
-                points = [[round(float(r * math.cos(a)), 3), round(float(r * math.sin(a)), 3)]
-                          for a, r in zip(angles, ranges, strict=True)]  # fmt: skip
+                points = [
+                    [round(float(r * math.cos(a)), 3), round(float(r * math.sin(a)), 3)]
+                    for a, r in zip(angles, ranges, strict=True)
+                ]
                 self.hub.show_state(scan={"points": points, "range_m": 4.0})
             if self.state and tick % 3 == 0:
                 self.hub.show_state(pose={"x": round(0.1 * t, 3), "y": 0.0, "theta": 0.0})

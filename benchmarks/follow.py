@@ -52,8 +52,9 @@ def one(job: tuple[str, str, int, float, float, str]) -> dict[str, Any]:
     try:
         # rearm: a failsafe is counted and the run goes on, as it was always measured (an explicit opt-in)
         settings = FollowSettings(duration_s=duration, rearm=True)
-        m = run_emulated(profile, f"random:{seed}", pilot=pilot, seed=seed, camera_fps=fps, settings=settings,
-                          camera_look=look)  # fmt: skip
+        m = run_emulated(
+            profile, f"random:{seed}", pilot=pilot, seed=seed, camera_fps=fps, settings=settings, camera_look=look
+        )
         out = m.to_json()
     except Exception as exc:  # a run that breaks is reported, not allowed to end the benchmark
         out = {"pilot": pilot, "profile": profile, "world": f"random:{seed}", "error": repr(exc)}
@@ -143,8 +144,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             summary.setdefault(pr, {})[pi] = summarise([r for r in saved if r["profile"] == pr and r["pilot"] == pi])
         looks = sorted({r.get("look", "plain") for r in saved})
         if len(looks) > 1:
-            print(f"{args.from_json} mixes camera looks ({', '.join(looks)}): summarise one look per file",
-                  file=sys.stderr)  # fmt: skip
+            print(
+                f"{args.from_json} mixes camera looks ({', '.join(looks)}): summarise one look per file",
+                file=sys.stderr,
+            )
             return 2
         print(table(summary, worlds, round(duration), looks[0]))
         return 0
@@ -156,13 +159,24 @@ def main(argv: Sequence[str] | None = None) -> int:
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
         for i, r in enumerate(pool.map(one, jobs), 1):
             runs.append(r)
-            flag = f"ERROR {r['error']}" if "error" in r else (
-                f"coll {r['collisions']} view {100 * (r['in_view_fraction'] or 0):.0f}%"
-                f" err {r['follow_error_mean_m'] or math.nan:.2f} m")  # fmt: skip
-            print(f"[{i}/{len(jobs)}] {r['profile']:16s} {r['pilot']:10s} random:{r['seed']:<3d} {flag} "
-                  f"({r['wall_s']} s)", file=sys.stderr, flush=True)  # fmt: skip
-    summary = {pr: {pi: summarise([r for r in runs if r["profile"] == pr and r["pilot"] == pi]) for pi in pilots}
-               for pr in profiles}  # fmt: skip
+            flag = (
+                f"ERROR {r['error']}"
+                if "error" in r
+                else (
+                    f"coll {r['collisions']} view {100 * (r['in_view_fraction'] or 0):.0f}%"
+                    f" err {r['follow_error_mean_m'] or math.nan:.2f} m"
+                )
+            )
+            print(
+                f"[{i}/{len(jobs)}] {r['profile']:16s} {r['pilot']:10s} random:{r['seed']:<3d} {flag} "
+                f"({r['wall_s']} s)",
+                file=sys.stderr,
+                flush=True,
+            )
+    summary = {
+        pr: {pi: summarise([r for r in runs if r["profile"] == pr and r["pilot"] == pi]) for pi in pilots}
+        for pr in profiles
+    }
     print(table(summary, args.worlds, args.duration, args.look))
     print(f"\nwall time {time.perf_counter() - t0:.0f} s with {args.jobs} process(es)")
     if args.json:

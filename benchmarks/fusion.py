@@ -156,11 +156,13 @@ def drive(profile: str, plant: str, seed: int, seconds: float = 120.0) -> Drive:
                 truth = (c * px - s * py, s * px + c * py, plant_now.theta_rad - th0)
                 o = robot.odometry.pose
                 fused = [e.pose for e in ekfs]
-                readings.append(Reading(
-                    round(t, 2),
-                    _error((o.x_m, o.y_m, o.theta_rad), truth, None),
-                    *(_error((f.x_m, f.y_m, f.theta_rad), truth, f.covariance) for f in fused),
-                ))  # fmt: skip
+                readings.append(
+                    Reading(
+                        round(t, 2),
+                        _error((o.x_m, o.y_m, o.theta_rad), truth, None),
+                        *(_error((f.x_m, f.y_m, f.theta_rad), truth, f.covariance) for f in fused),
+                    )
+                )
                 continue
             speed, rate = PATTERN[int(t / 4) % 4] if t < seconds else (0.0, 0.0)
             if profile == "picar":
@@ -236,16 +238,25 @@ def rows(drives: Sequence[Drive], seconds: float) -> list[Row]:
                     abs(e.heading_deg) * 3 <= abs(r.wheels.heading_deg) and e.position_m * 3 <= r.wheels.position_m
                     for e, r in zip(ekf, picked, strict=True)
                 )
-                out.append(Row(
-                    profile, plant, compass, at, len(group),
-                    float(np.median([abs(r.wheels.heading_deg) for r in picked])),
-                    float(np.median([abs(e.heading_deg) for e in ekf])),
-                    float(np.median([e.heading_sigma_deg for e in ekf])),
-                    float(np.median([100 * r.wheels.position_m for r in picked])),
-                    float(np.median([100 * e.position_m for e in ekf])),
-                    sum(s <= 3 for s in sig), sum(e.position_sigmas <= 3 for e in ekf), max(sig), better,
-                    sum(_within_bound(d, compass) for d in group) if plant == "ideal" else None,
-                ))  # fmt: skip
+                out.append(
+                    Row(
+                        profile,
+                        plant,
+                        compass,
+                        at,
+                        len(group),
+                        float(np.median([abs(r.wheels.heading_deg) for r in picked])),
+                        float(np.median([abs(e.heading_deg) for e in ekf])),
+                        float(np.median([e.heading_sigma_deg for e in ekf])),
+                        float(np.median([100 * r.wheels.position_m for r in picked])),
+                        float(np.median([100 * e.position_m for e in ekf])),
+                        sum(s <= 3 for s in sig),
+                        sum(e.position_sigmas <= 3 for e in ekf),
+                        max(sig),
+                        better,
+                        sum(_within_bound(d, compass) for d in group) if plant == "ideal" else None,
+                    )
+                )
     return out
 
 
@@ -276,21 +287,30 @@ def goals(table: Sequence[Row]) -> list[tuple[str, bool]]:
             out.append((f"{name}: 3x better than the wheels in {r.better}/{r.seeds}", r.better == r.seeds))
         if r.within is not None and r.at_s == AT_S[0]:
             what = f"within max(1.5x the wheels, 0.5 deg / 1 cm) up to {IDEAL_WITHIN_S:g} s"
-            out.append((f"{r.profile} ideal {'compass' if r.compass else 'gyro'}: {what} in {r.within}/{r.seeds}",
-                        r.within == r.seeds))  # fmt: skip
+            out.append(
+                (
+                    f"{r.profile} ideal {'compass' if r.compass else 'gyro'}: {what} in {r.within}/{r.seeds}",
+                    r.within == r.seeds,
+                )
+            )
     return out
 
 
 def print_table(table: Sequence[Row]) -> None:
     head = ("profile", "plant", "compass", "at", "wheels", "EKF", "1-sigma", "wheels", "EKF", "3-sigma", "worst", "3x")
     print("{:17s} {:10s} {:7s} {:>5s} {:>8s} {:>7s} {:>7s} {:>8s} {:>7s} {:>11s} {:>6s} {:>5s}".format(*head))
-    print("{:17s} {:10s} {:7s} {:>5s} {:>8s} {:>7s} {:>7s} {:>8s} {:>7s} {:>11s} {:>6s} {:>5s}".format(
-        "", "", "", "s", "deg", "deg", "deg", "cm", "cm", "hdg/pos", "sigma", ""))  # fmt: skip
+    print(
+        "{:17s} {:10s} {:7s} {:>5s} {:>8s} {:>7s} {:>7s} {:>8s} {:>7s} {:>11s} {:>6s} {:>5s}".format(
+            "", "", "", "s", "deg", "deg", "deg", "cm", "cm", "hdg/pos", "sigma", ""
+        )
+    )
     for r in table:
         cover = f"{r.heading_covered}/{r.seeds} {r.position_covered}/{r.seeds}"
-        print(f"{r.profile:17s} {r.plant:10s} {'yes' if r.compass else 'no':7s} {r.at_s:5.0f} {r.wheels_deg:8.2f} "
-              f"{r.ekf_deg:7.2f} {r.sigma_deg:7.2f} {r.wheels_cm:8.1f} {r.ekf_cm:7.1f} {cover:>11s} "
-              f"{r.worst_sigmas:6.1f} {r.better:2d}/{r.seeds}")  # fmt: skip
+        print(
+            f"{r.profile:17s} {r.plant:10s} {'yes' if r.compass else 'no':7s} {r.at_s:5.0f} {r.wheels_deg:8.2f} "
+            f"{r.ekf_deg:7.2f} {r.sigma_deg:7.2f} {r.wheels_cm:8.1f} {r.ekf_cm:7.1f} {cover:>11s} "
+            f"{r.worst_sigmas:6.1f} {r.better:2d}/{r.seeds}"
+        )
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -305,8 +325,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = ap.parse_args(argv)
     seeds = range(args.first_seed, args.first_seed + args.seeds)
     cases = [(p, plant, s) for p in args.profile or PROFILES for plant in args.plant or PLANTS for s in seeds]
-    print(f"{args.seconds:g} s drives with turns and stops, seeds {seeds.start}..{seeds.stop - 1}, "
-          f"{len(cases)} drives\n", flush=True)  # fmt: skip
+    print(
+        f"{args.seconds:g} s drives with turns and stops, seeds {seeds.start}..{seeds.stop - 1}, {len(cases)} drives\n",
+        flush=True,
+    )
     wall = time.perf_counter()
     if args.jobs > 1:
         with ProcessPoolExecutor(args.jobs) as pool:
@@ -317,8 +339,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     print_table(table)
     print()
     for profile, plant, compass, heading, position, at in worst_readings(drives):
-        print(f"every reading, {profile} {plant} {'compass' if compass else 'gyro'}: worst heading error "
-              f"{heading:.1f} sigma, worst position error {position:.1f} sigma (at {at:g} s)")  # fmt: skip
+        print(
+            f"every reading, {profile} {plant} {'compass' if compass else 'gyro'}: worst heading error "
+            f"{heading:.1f} sigma, worst position error {position:.1f} sigma (at {at:g} s)"
+        )
     print()
     verdicts = goals(table)
     for text, ok in verdicts:

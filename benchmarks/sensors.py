@@ -140,15 +140,19 @@ def main() -> None:
     print("lidar parse (4 KiB reads)                 per CPU second             (per wall second)")
     for model, device_rate in DEVICE_RATE.items():
         rate, wall, points = lidar_parse(model, seconds, repeat)
-        print(f"  {model:11s} {rate:12,.0f} points/s = {rate / device_rate:6.1f}x the device's "
-              f"{device_rate:,.0f}/s  ({wall:,.0f}/s; {points} points a pass)")  # fmt: skip
+        print(
+            f"  {model:11s} {rate:12,.0f} points/s = {rate / device_rate:6.1f}x the device's "
+            f"{device_rate:,.0f}/s  ({wall:,.0f}/s; {points} points a pass)"
+        )
     fps_device = DEVICES["pi-camera-v2"].fps  # type: ignore[union-attr]
     print("camera render + JPEG encode (random:0 room)")
     for look in LOOKS:
         for w, h in ((320, 240), (640, 480)):
             fps, wall = camera_fps(w, h, frames, repeat, look)
-            print(f"  {look:5s} {w}x{h}   {fps:8.1f} fps = {fps / fps_device:5.1f}x the camera's {fps_device:g} fps "
-                  f"({wall:.1f} fps; {1000 / fps:.1f} ms a frame)")  # fmt: skip
+            print(
+                f"  {look:5s} {w}x{h}   {fps:8.1f} fps = {fps / fps_device:5.1f}x the camera's {fps_device:g} fps "
+                f"({wall:.1f} fps; {1000 / fps:.1f} ms a frame)"
+            )
     bare, bare_wall = emulator_speed(seconds, repeat, sensors=False)
     full, full_wall = emulator_speed(seconds, repeat, sensors=True)
     print("emulator on the virtual clock (picar), virtual seconds per CPU second (per wall second)")

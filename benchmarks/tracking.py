@@ -188,25 +188,35 @@ def row(s: Score) -> str:
     re = "-" if not s.returns else ("never" if s.reacquire_s is None else f"{s.reacquire_s:.2f} s")
     fps = [
         _cell(s, figure, "-" if v is None else f"{v:.0f} ({n})")
-        for figure, v, n in (("fps_tracking", s.fps_tracking, s.tracking_frames),
-                             ("fps_searching", s.fps_searching, s.searching_frames))
-    ]  # fmt: skip
-    return (f"{s.scene:19s} {s.tracker:19s} {pct(s.accuracy):>8s} {pct(s.kept):>5s} {ff:>11s} "
-            f"{_cell(s, 'reacquire_s', re):>11s} {fps[0]:>14s} {fps[1]:>14s}")  # fmt: skip
+        for figure, v, n in (
+            ("fps_tracking", s.fps_tracking, s.tracking_frames),
+            ("fps_searching", s.fps_searching, s.searching_frames),
+        )
+    ]
+    return (
+        f"{s.scene:19s} {s.tracker:19s} {pct(s.accuracy):>8s} {pct(s.kept):>5s} {ff:>11s} "
+        f"{_cell(s, 'reacquire_s', re):>11s} {fps[0]:>14s} {fps[1]:>14s}"
+    )
 
 
 def report(scores: Sequence[Score], missing: Sequence[str], repeat: int) -> None:
-    print(f"320x240 at 30 fps, OpenCV {cv2.__version__} on one thread, process CPU time (each frame's least of "
-          f"{repeat}); ✓: meets the goal\n")  # fmt: skip
-    print(f"{'scene':19s} {'tracker':19s} {'accuracy':>8s} {'kept':>5s} {'false found':>11s} {'reacquire':>11s} "
-          f"{'fps tracking':>14s} {'fps searching':>14s}")  # fmt: skip
+    print(
+        f"320x240 at 30 fps, OpenCV {cv2.__version__} on one thread, process CPU time (each frame's least of "
+        f"{repeat}); ✓: meets the goal\n"
+    )
+    print(
+        f"{'scene':19s} {'tracker':19s} {'accuracy':>8s} {'kept':>5s} {'false found':>11s} {'reacquire':>11s} "
+        f"{'fps tracking':>14s} {'fps searching':>14s}"
+    )
     print(f"{'':19s} {'':19s} {'':>8s} {'':>5s} {'<= 3':>11s} {'<= 1 s':>11s} {'>= 200 (fr)':>14s} {'>= 30 (fr)':>14s}")
     for i, s in enumerate(scores):
         if i and s.scene != scores[i - 1].scene:
             print()
         print(row(s))
-    print("\naccuracy: centre within 1/4 of the larger side and found, frames >= 80 % in view; kept: IoU >= 0.5 "
-          "in the picture;\nfalse found: of the frames out of the picture; (fr): frames the rate is over")  # fmt: skip
+    print(
+        "\naccuracy: centre within 1/4 of the larger side and found, frames >= 80 % in view; kept: IoU >= 0.5 "
+        "in the picture;\nfalse found: of the frames out of the picture; (fr): frames the rate is over"
+    )
     if missing:
         print(f"not available in this OpenCV build (they need opencv-contrib): {', '.join(missing)}")
 
@@ -234,8 +244,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     scores, missing = measure(chosen, repeat, args.mil_seed)
     if args.json:
         results = [{**asdict(s), "meets": {f: s.meets(f) for f in GOALS}} for s in scores]
-        print(json.dumps({"opencv": cv2.__version__, "repeat": repeat, "goals": GOALS, "results": results,
-                          "not_available": missing}, indent=2))  # fmt: skip
+        print(
+            json.dumps(
+                {
+                    "opencv": cv2.__version__,
+                    "repeat": repeat,
+                    "goals": GOALS,
+                    "results": results,
+                    "not_available": missing,
+                },
+                indent=2,
+            )
+        )
     else:
         report(scores, missing, repeat)
     return 0

@@ -101,8 +101,13 @@ def main() -> None:
             f"| {row.after_pause_deg:+.2f} |"
         )
     if args.json:
-        report = {"profile": args.profile, "turn_s": args.turn, "straight_mm_s": STRAIGHT_MM_S,
-                  "straight_s": STRAIGHT_S, "cases": [asdict(r) for r in rows]}  # fmt: skip
+        report = {
+            "profile": args.profile,
+            "turn_s": args.turn,
+            "straight_mm_s": STRAIGHT_MM_S,
+            "straight_s": STRAIGHT_S,
+            "cases": [asdict(r) for r in rows],
+        }
         args.json.write_text(json.dumps(report, indent=1))
 
 

@@ -46,8 +46,9 @@ class CameraModel:
                 raise CommandRangeError(name, value, "a focal length in pixels > 0")
 
     @classmethod
-    def from_fov(cls, width: int, height: int, hfov_deg: float, vfov_deg: float | None = None,
-                 **mount: float) -> CameraModel:  # fmt: skip
+    def from_fov(
+        cls, width: int, height: int, hfov_deg: float, vfov_deg: float | None = None, **mount: float
+    ) -> CameraModel:
         if not (0 < hfov_deg < 180):
             raise CommandRangeError("hfov_deg", hfov_deg, "0..180 degrees")
         fx = (width / 2) / math.tan(math.radians(hfov_deg) / 2)
@@ -77,8 +78,14 @@ class CameraModel:
         positive): within `half_fov_rad` either way it is in the picture."""
         return math.remainder(math.atan2(y_m - self.mount_y_m, x_m - self.mount_x_m) - self.mount_yaw_rad, 2 * math.pi)
 
-    def range_from_size(self, *, w_px: float | None = None, h_px: float | None = None,
-                        width_m: float | None = None, height_m: float | None = None) -> float | None:  # fmt: skip
+    def range_from_size(
+        self,
+        *,
+        w_px: float | None = None,
+        h_px: float | None = None,
+        width_m: float | None = None,
+        height_m: float | None = None,
+    ) -> float | None:
         """Depth (m, along the optical axis) of an object of known width and/or height from its
         apparent size; None when no size is known. With both, the mean of the two estimates."""
         est = []

@@ -102,8 +102,14 @@ def robot_geometry(
     return geometry(name, robot.kinematics, config=robot.config, width=width, height=height)
 
 
-def geometry(profile: str, kinematics: DiffDrive | Ackermann | None, *, config: SetConfig | None = None,
-             width: int = 320, height: int = 240) -> RobotGeometry:  # fmt: skip
+def geometry(
+    profile: str,
+    kinematics: DiffDrive | Ackermann | None,
+    *,
+    config: SetConfig | None = None,
+    width: int = 320,
+    height: int = 240,
+) -> RobotGeometry:
     """The robot's geometry; with the board's `config` an Ackermann robot's arcs are the ones its
     steering servo reaches, and the speed ramp is the board's."""
     body = ROBOT_SENSORS[profile]

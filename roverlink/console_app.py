@@ -100,26 +100,59 @@ class ConsoleRun:
         self.supervisor.close()
 
 
-def _assemble(sup: Supervisor, which: str | RobotDescription, settings: ConsoleSettings, *, lidar: Lidar,
-              camera: CameraSource, imu: Jy901 | None, em: emulated.EmulatedRobot | None) -> ConsoleRun:  # fmt: skip
+def _assemble(
+    sup: Supervisor,
+    which: str | RobotDescription,
+    settings: ConsoleSettings,
+    *,
+    lidar: Lidar,
+    camera: CameraSource,
+    imu: Jy901 | None,
+    em: emulated.EmulatedRobot | None,
+) -> ConsoleRun:
     geo = geometry_for(sup.robot, which)
-    console = Console(sup, geo, host=settings.host, port=settings.port, token=settings.token,
-                      target_height_m=settings.target_height_m, follow_gap_m=settings.follow_gap_m,
-                      max_speed_m_s=settings.max_speed_m_s, autonomous=settings.autonomous)  # fmt: skip
+    console = Console(
+        sup,
+        geo,
+        host=settings.host,
+        port=settings.port,
+        token=settings.token,
+        target_height_m=settings.target_height_m,
+        follow_gap_m=settings.follow_gap_m,
+        max_speed_m_s=settings.max_speed_m_s,
+        autonomous=settings.autonomous,
+    )
     # Only the page arms the robot: not at the start, not after a failsafe or a reset.
     loop = ControlLoop(sup, console.pilot, lidar=lidar, camera=camera, imu=imu, arm=False, rearm=False)
     devices: list[Lidar | CameraSource | Jy901] = [d for d in (lidar, camera, imu) if d is not None]
     return ConsoleRun(sup, console, loop, devices, em)
 
 
-def start_emulated(which: str | RobotDescription, world: str | Path, settings: ConsoleSettings, *, seed: int = 0,
-                   camera_fps: float = 15.0, imu: bool = True, camera_look: str = "plain",
-                   watchdog_s: float | None = None) -> ConsoleRun:  # fmt: skip
+def start_emulated(
+    which: str | RobotDescription,
+    world: str | Path,
+    settings: ConsoleSettings,
+    *,
+    seed: int = 0,
+    camera_fps: float = 15.0,
+    imu: bool = True,
+    camera_look: str = "plain",
+    watchdog_s: float | None = None,
+) -> ConsoleRun:
     """The console on an emulated robot in `world`, on the wall clock; listening once this returns.
     Only the user arms it (no re-arming after a failsafe); `watchdog_s`: the board's (default the
     firmware's), which is also how long a command from the page lives."""
-    em = emulated.start(which, world, seed=seed, camera_fps=camera_fps, imu=imu, camera_look=camera_look,
-                        clock="real", auto_rearm=False, watchdog_s=watchdog_s)  # fmt: skip
+    em = emulated.start(
+        which,
+        world,
+        seed=seed,
+        camera_fps=camera_fps,
+        imu=imu,
+        camera_look=camera_look,
+        clock="real",
+        auto_rearm=False,
+        watchdog_s=watchdog_s,
+    )
     try:
         lidar = Lidar.open(em.endpoints["lidar"], em.lidar_model)
         camera = CameraSource(em.endpoints["camera"])
@@ -141,8 +174,16 @@ def start_robot(ports: RobotPorts, which: str | RobotDescription, settings: Cons
     """The console on a real robot; listening once this returns."""
     desc, name = (which, None) if isinstance(which, RobotDescription) else (None, which)
     watchdog = emulated.watchdog_for(ports.url, settings.watchdog_s)
-    sup = Supervisor.connect(ports.url, profile=name, robot=desc, baud=ports.baud, allow_mismatch=ports.allow_mismatch,
-                             clamp=True, watchdog_s=watchdog, lost_after_s=settings.lost_after_s)  # fmt: skip
+    sup = Supervisor.connect(
+        ports.url,
+        profile=name,
+        robot=desc,
+        baud=ports.baud,
+        allow_mismatch=ports.allow_mismatch,
+        clamp=True,
+        watchdog_s=watchdog,
+        lost_after_s=settings.lost_after_s,
+    )
     robot = sup.robot
     warn_mismatches(robot)
     opened: list[Lidar | CameraSource | Jy901] = []

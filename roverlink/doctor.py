@@ -104,8 +104,11 @@ def check_ros2(m: Machine, py: PythonInfo, ros: Ros2) -> Finding:
         return Finding("ROS 2", f"{found}; missing {', '.join(missing)}", fix)
     if ros.installed:
         distro = ros.installed[-1]
-        return Finding("ROS 2", f"rclpy not found ({', '.join(ros.installed)} in /opt/ros)",
-                       f"source /opt/ros/{distro}/setup.bash before running `roverlink ros2`")  # fmt: skip
+        return Finding(
+            "ROS 2",
+            f"rclpy not found ({', '.join(ros.installed)} in /opt/ros)",
+            f"source /opt/ros/{distro}/setup.bash before running `roverlink ros2`",
+        )
     return Finding("ROS 2", "rclpy not found", _ros_install(m))
 
 

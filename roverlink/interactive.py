@@ -229,11 +229,17 @@ def announce_live_view(recorder: Recorder, out: TextIO | None = None) -> None:
     url = sink.url
     if url is None:
         return
-    print(f"live view: {url} (Foxglove: Open connection > Foxglove WebSocket; layout {LAYOUT_HINT})",
-          file=stream, flush=True)  # fmt: skip
+    print(
+        f"live view: {url} (Foxglove: Open connection > Foxglove WebSocket; layout {LAYOUT_HINT})",
+        file=stream,
+        flush=True,
+    )
     if not is_loopback(sink.host):
         if sink.host in ("0.0.0.0", "::"):
             print(f"  from another machine: ws://{socket.gethostname()}.local:{sink.port}", file=stream, flush=True)
-        print("  warning: the Foxglove server has no access control: anyone who can reach this address can "
-              "watch (it accepts no commands); an SSH tunnel keeps it private (docs/tools.md)",
-              file=stream, flush=True)  # fmt: skip
+        print(
+            "  warning: the Foxglove server has no access control: anyone who can reach this address can "
+            "watch (it accepts no commands); an SSH tunnel keeps it private (docs/tools.md)",
+            file=stream,
+            flush=True,
+        )

@@ -77,8 +77,9 @@ class TeleopController:
     """Turns keys into drive commands; `tick()` sends the current one: `start()` calls it at
     TICK_HZ from a thread of its own, or call it yourself at about that rate."""
 
-    def __init__(self, robot: Robot, *, key_timeout_s: float = 0.6, level: int = 1,
-                 guard: LidarGuard | None = None) -> None:  # fmt: skip
+    def __init__(
+        self, robot: Robot, *, key_timeout_s: float = 0.6, level: int = 1, guard: LidarGuard | None = None
+    ) -> None:
         self.robot = robot
         self.key_timeout_s = key_timeout_s
         self.level = level

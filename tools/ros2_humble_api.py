@@ -28,9 +28,22 @@ from pathlib import Path
 LIST = Path(__file__).resolve().parents[1] / "tests" / "roverlink" / "ros2" / "humble_api.toml"
 REF = "humble"
 PRIMITIVES = {
-    "bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16", "uint16", "int32", "uint32",
-    "int64", "uint64", "string", "wstring",
-}  # fmt: skip
+    "bool",
+    "byte",
+    "char",
+    "float32",
+    "float64",
+    "int8",
+    "uint8",
+    "int16",
+    "uint16",
+    "int32",
+    "uint32",
+    "int64",
+    "uint64",
+    "string",
+    "wstring",
+}
 
 
 class Source:
@@ -316,8 +329,10 @@ def main() -> int:
         return 1
     if args.write:
         write_checked(sources, versions)
-    print(f"{len(data.get('rclpy', {}))} rclpy entries, {len(data.get('messages', {}))} messages and "
-          f"{len(data.get('services', {}))} services agree with Humble")  # fmt: skip
+    print(
+        f"{len(data.get('rclpy', {}))} rclpy entries, {len(data.get('messages', {}))} messages and "
+        f"{len(data.get('services', {}))} services agree with Humble"
+    )
     return 0
 
 

@@ -119,8 +119,15 @@ class Renderer:
         self.background = np.empty((h, w, 3), dtype=np.float32)
         self.background[:] = np.array(SKY, dtype=np.float32)
 
-    def render(self, scene: Scene, pose: tuple[float, float, float], yaw_rate: float,
-               rng: np.random.Generator, *, time_s: float = 0.0) -> NDArray[np.uint8]:  # fmt: skip
+    def render(
+        self,
+        scene: Scene,
+        pose: tuple[float, float, float],
+        yaw_rate: float,
+        rng: np.random.Generator,
+        *,
+        time_s: float = 0.0,
+    ) -> NDArray[np.uint8]:
         """The BGR image the camera sees from the robot pose (x, y, heading) in the world at
         `time_s` (the photo look's lighting changes with it)."""
         cv2 = import_optional("cv2", "vision", "the emulated camera")

@@ -78,9 +78,16 @@ class CameraDevice:
     kind = "camera"
     name = "camera"
 
-    def __init__(self, spec: CameraSpec, mount: Mount, options: CameraOptions, streams: Streams,
-                 yaw_rate: Callable[[], float], *,
-                 realtime_us: Callable[[], Callable[[], int] | None] = lambda: None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        spec: CameraSpec,
+        mount: Mount,
+        options: CameraOptions,
+        streams: Streams,
+        yaw_rate: Callable[[], float],
+        *,
+        realtime_us: Callable[[], Callable[[], int] | None] = lambda: None,
+    ) -> None:
         # OpenCV encodes every frame: without it, fail when the camera is attached, not at its first frame.
         import_optional("cv2", "vision", "the emulated camera")
         self.spec = spec

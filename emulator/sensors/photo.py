@@ -183,8 +183,9 @@ class PhotoRenderer(Renderer):
     def _opaque(self, lay: Layers) -> NDArray[np.bool_] | bool:
         return True if self._opaque_map is None else self._opaque_map
 
-    def _colours(self, tab: _Tables, lay: Layers, rows: NDArray[np.int64], cols: NDArray[np.int64],
-                 layer: NDArray[np.int32]) -> NDArray[np.float32]:  # fmt: skip
+    def _colours(
+        self, tab: _Tables, lay: Layers, rows: NDArray[np.int64], cols: NDArray[np.int64], layer: NDArray[np.int32]
+    ) -> NDArray[np.float32]:
         """(N, 3) colours of the pixels (rows, cols) on their surfaces `layer` (-1: any)."""
         cell = cols * lay.k + np.maximum(layer, 0)
         height = np.float32(self.mount.z_m) + (np.float32(self.cy) - rows).astype(np.float32) * tab.zc[cell]

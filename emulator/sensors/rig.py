@@ -81,8 +81,14 @@ class SensorRig:
         else:
             assert isinstance(spec, CameraSpec)
             opts = options.get("camera_options")
-            dev = CameraDevice(spec, mount, opts if isinstance(opts, CameraOptions) else CameraOptions(),
-                               emu.streams, self._yaw_rate, realtime_us=lambda: emu.realtime_us)  # fmt: skip
+            dev = CameraDevice(
+                spec,
+                mount,
+                opts if isinstance(opts, CameraOptions) else CameraOptions(),
+                emu.streams,
+                self._yaw_rate,
+                realtime_us=lambda: emu.realtime_us,
+            )
         self.devices[kind] = dev
         return dev
 
@@ -115,8 +121,9 @@ def mount_on(profile: str, kind: str, device_name: str) -> Mount:
     return ROBOT_SENSORS[profile].placed(kind, device_name)
 
 
-def camera_options(size: str | None = None, *, look: str = "plain", distractors: int | None = None,
-                   **extra: float) -> CameraOptions:  # fmt: skip
+def camera_options(
+    size: str | None = None, *, look: str = "plain", distractors: int | None = None, **extra: float
+) -> CameraOptions:
     """CameraOptions from "WIDTHxHEIGHT" (one of the camera's sizes), in `look`."""
     spec = DEVICES["pi-camera-v2"]
     assert isinstance(spec, CameraSpec)

@@ -60,8 +60,9 @@ class LidarDevice(SerialSensor):
 
     kind = "lidar"
 
-    def __init__(self, spec: LidarSpec, model: LidarModel, streams: Streams,
-                 log: Callable[[int, str, str], None]) -> None:  # fmt: skip
+    def __init__(
+        self, spec: LidarSpec, model: LidarModel, streams: Streams, log: Callable[[int, str, str], None]
+    ) -> None:
         super().__init__("lidar", spec.baud, streams, log)
         self.spec = spec
         self.model = model

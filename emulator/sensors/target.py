@@ -42,8 +42,9 @@ def camera_mount(profile: str) -> Mount:
     return mount_on(profile, "camera", "pi-camera-v2")
 
 
-def render_target(scene: Scene, mount: Mount, *, width: int = 320, height: int = 240,
-                  distance_m: float = 0.8, look: str = "plain") -> TargetTemplate:  # fmt: skip
+def render_target(
+    scene: Scene, mount: Mount, *, width: int = 320, height: int = 240, distance_m: float = 0.8, look: str = "plain"
+) -> TargetTemplate:
     """The scene's target seen from `distance_m` (to its front) by a camera at `mount`'s height, in
     the camera's `look`."""
     target = scene.target
@@ -53,8 +54,7 @@ def render_target(scene: Scene, mount: Mount, *, width: int = 320, height: int =
     assert isinstance(spec, CameraSpec)
     r = target.radius_m
     d = distance_m + r
-    alone = make_scene(scene.name, [target.shape], [], [], [(d, 0.0, r)], cir_shape=[0], start=(0, 0, 0),
-                       target=None)  # fmt: skip
+    alone = make_scene(scene.name, [target.shape], [], [], [(d, 0.0, r)], cir_shape=[0], start=(0, 0, 0), target=None)
     cam = Mount(mount.device, "camera", 0.0, 0.0, mount.z_m, 0.0)
     options = CameraOptions(width=width, height=height, noise=0.0, exposure_s=0.0, look=look)
     renderer = renderer_for(spec, cam, options)

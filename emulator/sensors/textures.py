@@ -110,8 +110,13 @@ def level_for(texels_per_pixel: NDArray[np.float32]) -> NDArray[np.int32]:
     return ((texels_per_pixel > 1.5).astype(np.int32) + (texels_per_pixel > 4.0)).astype(np.int32)
 
 
-def sample(flat: NDArray[np.float32], material: NDArray[np.int64] | np.int64, level: NDArray[np.int32],
-           v: NDArray[np.float32], u: NDArray[np.float32]) -> NDArray[np.float32]:  # fmt: skip
+def sample(
+    flat: NDArray[np.float32],
+    material: NDArray[np.int64] | np.int64,
+    level: NDArray[np.int32],
+    v: NDArray[np.float32],
+    u: NDArray[np.float32],
+) -> NDArray[np.float32]:
     """Luminance factors at texture coordinates (v: rows, u: columns, in texels) of each pixel's
     material and level (`flat`: load_textures() flattened), interpolated between the four nearest
     texels (nearest-texel sampling turns a close surface into blocks)."""

@@ -61,8 +61,9 @@ def _words(*values: float) -> bytes:
 class JY901(SerialSensor):
     kind = "imu"
 
-    def __init__(self, spec: ImuSpec, mount: Mount, streams: Streams, log: Callable[[int, str, str], None],
-                 motion: Motion) -> None:  # fmt: skip
+    def __init__(
+        self, spec: ImuSpec, mount: Mount, streams: Streams, log: Callable[[int, str, str], None], motion: Motion
+    ) -> None:
         super().__init__("imu", spec.baud, streams, log)
         self.spec = spec
         self.model = ImuModel(spec, self.rng, mount.yaw_rad)
@@ -132,8 +133,13 @@ class JY901(SerialSensor):
         if addr == 0x2E:
             return VERSION
         if s is not None and 0x34 <= addr <= 0x40:
-            table = [*(a / 16 * 32768 for a in s.accel_g), *(w / 2000 * 32768 for w in s.gyro_dps), *s.mag_mg,
-                     *(a / 180 * 32768 for a in s.angle_deg), s.temperature_c * 100]  # fmt: skip
+            table = [
+                *(a / 16 * 32768 for a in s.accel_g),
+                *(w / 2000 * 32768 for w in s.gyro_dps),
+                *s.mag_mg,
+                *(a / 180 * 32768 for a in s.angle_deg),
+                s.temperature_c * 100,
+            ]
             return _i16(table[addr - 0x34])
         if s is not None and 0x51 <= addr <= 0x54:
             return _i16(s.quaternion[addr - 0x51] * 32768)

@@ -72,8 +72,11 @@ def _draw(rng: random.Random, seed: int) -> Scene | None:
         spot = free_spot(r, 2 * ROBOT_RADIUS_M + 0.2)
         if spot is None:
             continue
-        shapes.append(Shape("cylinder", f"cylinder {i}", rng.uniform(0.3, 0.8), rng.choice(_PALETTE), "plain",
-                            CYLINDER.colour2, 0.6))  # fmt: skip
+        shapes.append(
+            Shape(
+                "cylinder", f"cylinder {i}", rng.uniform(0.3, 0.8), rng.choice(_PALETTE), "plain", CYLINDER.colour2, 0.6
+            )
+        )
         circles.append((*spot, r))
         cir_shape.append(len(shapes) - 1)
         placed.append((*spot, r))

@@ -86,8 +86,9 @@ class _Read(Generic[T]):
 
     def __set__(self, robot: AsyncRobot, value: NoReturn) -> None:
         # None of these can be set on the Robot either: the calls that change them are named.
-        raise AttributeError(f"{self._name} is read-only: the robot's state, changed by its calls (arm, disarm, "
-                             "set_config, close...)")  # fmt: skip
+        raise AttributeError(
+            f"{self._name} is read-only: the robot's state, changed by its calls (arm, disarm, set_config, close...)"
+        )
 
 
 class Connecting:

@@ -33,8 +33,17 @@ F64 = NDArray[np.float64]
 
 
 class TargetFinder:
-    def __init__(self, camera: CameraModel, *, target_size_m: float, coast_s: float, doubt_s: float,
-                 reject_s: float, confirm_s: float, near_m: float = 1.0) -> None:  # fmt: skip
+    def __init__(
+        self,
+        camera: CameraModel,
+        *,
+        target_size_m: float,
+        coast_s: float,
+        doubt_s: float,
+        reject_s: float,
+        confirm_s: float,
+        near_m: float = 1.0,
+    ) -> None:
         self.camera = camera
         self.target_size_m = target_size_m
         self.coast_s = coast_s
@@ -52,8 +61,9 @@ class TargetFinder:
         self._rejected: list[tuple[float, float, float]] = []
         """(until, x, y) in the odometry frame: what the camera looked at and found not the target."""
 
-    def find(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *,
-             movers: Sequence[Mover] = ()) -> TargetFix | None:  # fmt: skip
+    def find(
+        self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *, movers: Sequence[Mover] = ()
+    ) -> TargetFix | None:
         """The target's fix now (base frame), or None; what was found is remembered."""
         dt, self._t = max(0.0, t - self._t), t
         mem = self.memory

@@ -109,16 +109,31 @@ class Follower:
     planner's own; `FollowParams.planner`, when given, is used as it is); a planner that assumes a
     slower start than the car's sends it farther than it predicts."""
 
-    def __init__(self, footprint: Footprint, camera: CameraModel, *, min_turn_radius_m: float = 0.0,
-                 avoidance: AvoidanceParams | None = None, params: FollowParams | None = None,
-                 curvatures: Sequence[float] | None = None, accel_m_s2: float | None = None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        footprint: Footprint,
+        camera: CameraModel,
+        *,
+        min_turn_radius_m: float = 0.0,
+        avoidance: AvoidanceParams | None = None,
+        params: FollowParams | None = None,
+        curvatures: Sequence[float] | None = None,
+        accel_m_s2: float | None = None,
+    ) -> None:
         self.footprint = footprint
         self.camera = camera
         self.ackermann = min_turn_radius_m > 0
         self.params = p = params or FollowParams()
         self.avoider = Avoider(footprint, replace(avoidance or AvoidanceParams(), min_turn_radius_m=min_turn_radius_m))
-        self.finder = TargetFinder(camera, target_size_m=p.target_size_m, coast_s=p.coast_s, doubt_s=p.doubt_s,
-                                   reject_s=p.reject_s, confirm_s=p.confirm_s, near_m=p.keep_near_m)  # fmt: skip
+        self.finder = TargetFinder(
+            camera,
+            target_size_m=p.target_size_m,
+            coast_s=p.coast_s,
+            doubt_s=p.doubt_s,
+            reject_s=p.reject_s,
+            confirm_s=p.confirm_s,
+            near_m=p.keep_near_m,
+        )
         self.memory = self.finder.memory
         speeds = (-p.reverse_speed_m_s, -0.2, 0.0, 0.2, 0.35, p.max_speed_m_s)
         plan = p.planner or PlannerParams(speeds_m_s=speeds, target_radius_m=p.target_size_m / 2)
@@ -169,8 +184,9 @@ class Follower:
         self._pose: Pose2D = (0.0, 0.0, 0.0)
 
     # -- the step -------------------------------------------------------------------------------------
-    def step(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *,
-             movers: Sequence[Mover] = ()) -> Decision:  # fmt: skip
+    def step(
+        self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *, movers: Sequence[Mover] = ()
+    ) -> Decision:
         """One control step: obstacle points in the base frame now, the latest track, the odometry pose,
         and what moves in the scan (`MotionDetector`), which is where a lost target is looked for."""
         decision = self._step(t, px, py, track, pose, movers=movers)
@@ -185,8 +201,9 @@ class Follower:
         self._last_v, self._last_w = decision.linear_m_s, decision.angular_rad_s
         return decision
 
-    def _step(self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *,
-              movers: Sequence[Mover]) -> Decision:  # fmt: skip
+    def _step(
+        self, t: float, px: F64, py: F64, track: Track | None, pose: Pose2D, *, movers: Sequence[Mover]
+    ) -> Decision:
         dt = max(0.0, t - self._t)
         if dt > 0:  # how fast it really moves (a command takes a while to become a speed)
             moved = (pose[0] - self._pose[0]) * math.cos(pose[2]) + (pose[1] - self._pose[1]) * math.sin(pose[2])
@@ -230,11 +247,18 @@ class Follower:
         predicted to be (a car turning round on the spot is slow, and it is most likely there)."""
         p, fp = self.params, self.footprint
         just_started = self.ackermann and self._last_v != 0.0 and self._t - self._started < p.go_s
-        choice = self.planner.plan(view.ox, view.oy, target=goal, target_velocity=self.memory.velocity_in(pose),
-                                   gap_m=p.follow_gap_m, last=(self._last_v, self._last_w), speed_m_s=self._speed,
-                                   direction=self._way if self._t - self._way_since < p.hold_s else 0.0,
-                                   moving=just_started,
-                                   target_path=self.memory.ahead(self._t, pose, self.planner.path_times))  # fmt: skip
+        choice = self.planner.plan(
+            view.ox,
+            view.oy,
+            target=goal,
+            target_velocity=self.memory.velocity_in(pose),
+            gap_m=p.follow_gap_m,
+            last=(self._last_v, self._last_w),
+            speed_m_s=self._speed,
+            direction=self._way if self._t - self._way_since < p.hold_s else 0.0,
+            moving=just_started,
+            target_path=self.memory.ahead(self._t, pose, self.planner.path_times),
+        )
         gap = math.hypot(goal[0] - fp.x_m, goal[1]) - fp.radius_m
         if searching:  # standing to let it pass is something to do, not nothing
             mode = Mode.YIELD if choice.min_separation_m < self.planner.params.guard_m else Mode.SEARCH
@@ -353,8 +377,14 @@ class Follower:
         bearing = math.atan2(gy, gx)
         if not self.ackermann and abs(bearing) > WANDER_SPIN_RAD and self._can_spin(view):
             return Decision(0.0, math.copysign(self.params.search_turn_rate, bearing), Mode.SEARCH, None, None)
-        plan = self.avoider.plan(view.ox, view.oy, bearing, self.params.search_speed_m_s, target_xy=(view.tx, view.ty),
-                                 goal_m=math.hypot(gx, gy))  # fmt: skip
+        plan = self.avoider.plan(
+            view.ox,
+            view.oy,
+            bearing,
+            self.params.search_speed_m_s,
+            target_xy=(view.tx, view.ty),
+            goal_m=math.hypot(gx, gy),
+        )
         v, w = self._command(plan, view, turn_to=plan.direction_rad)
         if self._stuck(v < MIN_DRIVE_M_S, dt):
             return self._start_backing(view, side=1.0 if bearing > 0 else -1.0)

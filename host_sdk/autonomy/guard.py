@@ -165,8 +165,15 @@ class TeleopGuard:
     standing). With `scan_filter` the guard filters revolutions itself (`on_scan`, `check`);
     without, give it points (`limit`), e.g. the follow pilot's."""
 
-    def __init__(self, footprint: Footprint, params: AvoidanceParams | None = None, *, min_turn_radius_m: float = 0.0,
-                 scan_filter: ScanFilter | None = None, stale_s: float = STALE_S) -> None:  # fmt: skip
+    def __init__(
+        self,
+        footprint: Footprint,
+        params: AvoidanceParams | None = None,
+        *,
+        min_turn_radius_m: float = 0.0,
+        scan_filter: ScanFilter | None = None,
+        stale_s: float = STALE_S,
+    ) -> None:
         self.footprint = footprint
         self.params = params or AvoidanceParams()
         self.car = min_turn_radius_m > 0
@@ -177,8 +184,12 @@ class TeleopGuard:
     @classmethod
     def for_robot(cls, geometry: RobotGeometry, params: AvoidanceParams | None = None) -> TeleopGuard:
         """The guard for a robot of `geometry`, filtering its own scans from the geometry's lidar mount."""
-        return cls(geometry.footprint, params, min_turn_radius_m=geometry.min_turn_radius_m,
-                   scan_filter=ScanFilter(geometry.lidar_mount))  # fmt: skip
+        return cls(
+            geometry.footprint,
+            params,
+            min_turn_radius_m=geometry.min_turn_radius_m,
+            scan_filter=ScanFilter(geometry.lidar_mount),
+        )
 
     # -- fed with revolutions -------------------------------------------------------------------------
     def on_scan(self, scan: LidarScan, pose: Pose, *, pose_at: PoseAt | None = None) -> None:
@@ -194,8 +205,15 @@ class TeleopGuard:
         return self.limit(linear_m_s, angular_rad_s, points, age_s=age, override=override)
 
     # -- the guard --------------------------------------------------------------------------------------
-    def limit(self, linear_m_s: float, angular_rad_s: float, points: Points | None, *, age_s: float | None = 0.0,
-              override: bool = False) -> Guarded:  # fmt: skip
+    def limit(
+        self,
+        linear_m_s: float,
+        angular_rad_s: float,
+        points: Points | None,
+        *,
+        age_s: float | None = 0.0,
+        override: bool = False,
+    ) -> Guarded:
         """The command (linear m/s, angular rad/s) limited by obstacle `points` (base frame, now; None:
         no scan), taken `age_s` ago."""
         v, w = float(linear_m_s), float(angular_rad_s)
@@ -213,8 +231,9 @@ class TeleopGuard:
         k, reverse = w / v, v < 0
         p = self.params
         # Along the arc as far as the avoider looks (`window_m`): farther changes no speed a person drives at.
-        free = float(arc_room(x, y, np.array([k]), self.footprint, pad_m=p.pad_m, horizon_m=p.window_m,
-                              reverse=reverse)[0])  # fmt: skip
+        free = float(
+            arc_room(x, y, np.array([k]), self.footprint, pad_m=p.pad_m, horizon_m=p.window_m, reverse=reverse)[0]
+        )
         speed = min(abs(v), safe_speed(free, p))
         # What the path meets, when it slows the command (with the override: when it would have).
         obstacle = self._met(x, y, k, -free if reverse else free) if speed < abs(v) else None

@@ -71,9 +71,18 @@ class Step:
 
 
 class ControlLoop:
-    def __init__(self, robot: Robot | Supervisor, pilot: Pilot, *, lidar: Lidar, camera: CameraSource,
-                 imu: Jy901 | None = None, period_s: float = 0.05, arm: bool = False,
-                 rearm: bool = False) -> None:  # fmt: skip
+    def __init__(
+        self,
+        robot: Robot | Supervisor,
+        pilot: Pilot,
+        *,
+        lidar: Lidar,
+        camera: CameraSource,
+        imu: Jy901 | None = None,
+        period_s: float = 0.05,
+        arm: bool = False,
+        rearm: bool = False,
+    ) -> None:
         self.supervisor = robot if isinstance(robot, Supervisor) else Supervisor(robot)
         """Owns the robot's lifetime: a `Supervisor.connect(...)` one also opens a lost port again."""
         self.arm_at_start = arm or rearm
@@ -109,8 +118,10 @@ class ControlLoop:
     def start(self) -> Pose:
         """Arm (with `arm` or `rearm`), start the lidar and the camera reader; the pose at the start."""
         if self.rearm:
-            log.warning("%s: rearm is on: the control loop arms again by itself after a failsafe or a board reset",
-                        self.robot.url)  # fmt: skip
+            log.warning(
+                "%s: rearm is on: the control loop arms again by itself after a failsafe or a board reset",
+                self.robot.url,
+            )
         if self.arm_at_start and not self.robot.armed:
             self.robot.arm()
         self.lidar.start()

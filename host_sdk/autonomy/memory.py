@@ -95,8 +95,9 @@ class TargetMemory:
         vx, vy = self.velocity
         return c * vx + s * vy, -s * vx + c * vy
 
-    def lidar_fix(self, px: F64, py: F64, predicted: tuple[float, float] | None, *,
-                  gate_m: float = 0.3) -> TargetFix | None:  # fmt: skip
+    def lidar_fix(
+        self, px: F64, py: F64, predicted: tuple[float, float] | None, *, gate_m: float = 0.3
+    ) -> TargetFix | None:
         """The target's returns where it should be now: a compact cluster within `gate_m` of the
         prediction with nothing else around it (a wall or a box nearby makes it ambiguous: then none)."""
         if predicted is None or not px.size:
@@ -108,9 +109,17 @@ class TargetMemory:
         fix, clear = self._cluster(px, py, float(px[i]), float(py[i]))
         return fix if clear else None
 
-    def mover_fix(self, px: F64, py: F64, movers: Sequence[Mover], pose: Pose2D, *,
-                  near: tuple[float, float] | None = None, gate_m: float = math.inf,
-                  compact: bool = False) -> TargetFix | None:  # fmt: skip
+    def mover_fix(
+        self,
+        px: F64,
+        py: F64,
+        movers: Sequence[Mover],
+        pose: Pose2D,
+        *,
+        near: tuple[float, float] | None = None,
+        gate_m: float = math.inf,
+        compact: bool = False,
+    ) -> TargetFix | None:
         """The moving cluster nearest `near` (base frame; by default where the target was last seen,
         or the robot), if within `gate_m` of it, with its returns among the points given (base frame).
         With `compact`, only one standing clear of everything else (against a wall or a box, which

@@ -83,30 +83,56 @@ class FollowPilot:
         self._frame_pose: Pose | None = None
 
     @classmethod
-    def for_robot(cls, geometry: RobotGeometry, template: NDArray[np.uint8], *, follow_gap_m: float | None = None,
-                  max_speed_m_s: float = 0.45, target_height_m: float | None = None) -> FollowPilot:  # fmt: skip
+    def for_robot(
+        cls,
+        geometry: RobotGeometry,
+        template: NDArray[np.uint8],
+        *,
+        follow_gap_m: float | None = None,
+        max_speed_m_s: float = 0.45,
+        target_height_m: float | None = None,
+    ) -> FollowPilot:
         """The pilot for a robot of `geometry` following what `template` (BGR, or a BGRA cut-out) shows;
         `target_height_m`, the target's real height, gives the tracker a range estimate."""
         tracker = Tracker(template, geometry.camera, height_m=target_height_m)
         return cls.with_tracker(geometry, tracker, follow_gap_m=follow_gap_m, max_speed_m_s=max_speed_m_s)
 
     @classmethod
-    def for_target(cls, geometry: RobotGeometry, kind: str, *, follow_gap_m: float | None = None,
-                   max_speed_m_s: float = 0.45, target_height_m: float | None = None) -> FollowPilot:  # fmt: skip
+    def for_target(
+        cls,
+        geometry: RobotGeometry,
+        kind: str,
+        *,
+        follow_gap_m: float | None = None,
+        max_speed_m_s: float = 0.45,
+        target_height_m: float | None = None,
+    ) -> FollowPilot:
         """The pilot following a "person" or a "face": detected, tracked, and detected again when lost
         (`ClassTracker`); `target_height_m` defaults to the kind's (1.7 m, 0.16 m)."""
         tracker = ClassTracker(kind, geometry.camera, height_m=target_height_m)
         return cls.with_tracker(geometry, tracker, follow_gap_m=follow_gap_m, max_speed_m_s=max_speed_m_s)
 
     @classmethod
-    def with_tracker(cls, geometry: RobotGeometry, tracker: FrameTracker, *, follow_gap_m: float | None = None,
-                     max_speed_m_s: float = 0.45) -> FollowPilot:  # fmt: skip
+    def with_tracker(
+        cls,
+        geometry: RobotGeometry,
+        tracker: FrameTracker,
+        *,
+        follow_gap_m: float | None = None,
+        max_speed_m_s: float = 0.45,
+    ) -> FollowPilot:
         """The pilot for a robot of `geometry` fed by any tracker (a `Tracker` or a `ClassTracker`)."""
         gap = follow_gap(geometry) if follow_gap_m is None else follow_gap_m
         params = FollowParams(follow_gap_m=gap, max_speed_m_s=max_speed_m_s)
-        follower = Follower(geometry.footprint, geometry.camera, min_turn_radius_m=geometry.min_turn_radius_m,
-                            avoidance=AvoidanceParams(), params=params, curvatures=geometry.curvatures,
-                            accel_m_s2=geometry.accel_m_s2)  # fmt: skip
+        follower = Follower(
+            geometry.footprint,
+            geometry.camera,
+            min_turn_radius_m=geometry.min_turn_radius_m,
+            avoidance=AvoidanceParams(),
+            params=params,
+            curvatures=geometry.curvatures,
+            accel_m_s2=geometry.accel_m_s2,
+        )
         return cls(ScanFilter(geometry.lidar_mount), tracker, follower)
 
     @property

@@ -130,8 +130,15 @@ class ViewPlanner:
     steering holds, or `turn_rates` (rad/s) for a differential drive, which turns at any speed,
     standing too."""
 
-    def __init__(self, footprint: Footprint, camera: CameraModel, *, curvatures: Sequence[float] | None = None,
-                 turn_rates: Sequence[float] | None = None, params: PlannerParams | None = None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        footprint: Footprint,
+        camera: CameraModel,
+        *,
+        curvatures: Sequence[float] | None = None,
+        turn_rates: Sequence[float] | None = None,
+        params: PlannerParams | None = None,
+    ) -> None:
         if (curvatures is None) == (turn_rates is None):
             raise ValueError("give the arcs a car steers (curvatures) or the turn rates of a differential drive")
         self.footprint = footprint
@@ -164,10 +171,20 @@ class ViewPlanner:
         self.path_times: F64 = p.step_s * np.arange(1, self.times.size + late + 1, dtype=np.float64)
         """When the target's predicted place is wanted: `times`, then (a car) `late_s` after them."""
 
-    def plan(self, ox: F64, oy: F64, *, target: tuple[float, float], target_velocity: tuple[float, float],
-             gap_m: float, last: tuple[float, float] = (0.0, 0.0), speed_m_s: float | None = None,
-             direction: float = 0.0, moving: bool = False,
-             target_path: tuple[F64, F64] | None = None) -> PlanChoice:  # fmt: skip
+    def plan(
+        self,
+        ox: F64,
+        oy: F64,
+        *,
+        target: tuple[float, float],
+        target_velocity: tuple[float, float],
+        gap_m: float,
+        last: tuple[float, float] = (0.0, 0.0),
+        speed_m_s: float | None = None,
+        direction: float = 0.0,
+        moving: bool = False,
+        target_path: tuple[F64, F64] | None = None,
+    ) -> PlanChoice:
         """The manoeuvre to start now: obstacle points and the target's nearest surface point in the
         base frame, the target's velocity (base frame, m/s), the wanted footprint-to-surface gap, and
         the command sent last (linear m/s, angular rad/s), which still drives for `latency_s`, and the
@@ -194,7 +211,8 @@ class ViewPlanner:
         sep = np.hypot(fx - cx, fy - cy) - fp.radius_m - r
         # After the horizon (a car): the target walks on while the robot stands where it stopped.
         late = (np.hypot(sfx[:, -1:] - centre_x[n:], sfy[:, -1:] - centre_y[n:]) - fp.radius_m - r).min(
-            axis=1, initial=np.inf)  # fmt: skip
+            axis=1, initial=np.inf
+        )
         seen, view, turn_left, shadow = self._views((ox, oy), (x, y, th), (cx, cy))
         reverse, flip, keep, change = self._command_changes(v0, w0)
         gap_err = np.where(sep < gap_m, 1.5 * (gap_m - sep), sep - gap_m)
@@ -214,21 +232,38 @@ class ViewPlanner:
             + p.w_late * np.maximum(-late, 0.0)
         )
         if direction:
-            held = ok & (self.v1 * direction > 0 if moving else self.v1 * direction >= 0)
-            clear_of_it = ok & (min_sep >= 0.0)
-            if held.any() and (min_sep[int(np.argmin(np.where(held, cost, np.inf)))] >= 0.0 or not clear_of_it.any()):
-                ok = held  # held, unless holding runs into the target and the other way does not
+            ok = self._hold(ok, cost, min_sep, direction, moving)
         if not ok.any():
-            return PlanChoice(0.0, 0.0, math.inf, 0.0, float(min_sep.max()), False,
-                              late_separation_m=float(late.max()))  # fmt: skip
+            return PlanChoice(0.0, 0.0, math.inf, 0.0, float(min_sep.max()), False, late_separation_m=float(late.max()))
         free = int(np.argmin(cost))
         i = int(np.argmin(np.where(ok, cost, np.inf)))
         path = tuple(zip(np.round(x[i], 3).tolist(), np.round(y[i], 3).tolist(), strict=True))
-        return PlanChoice(float(self.v1[i]), float(self.turn1[i]), float(cost[i]), float(seen[i].mean()),
-                          float(min_sep[i]), True, free != i, float(late[i]), path)  # fmt: skip
+        return PlanChoice(
+            float(self.v1[i]),
+            float(self.turn1[i]),
+            float(cost[i]),
+            float(seen[i].mean()),
+            float(min_sep[i]),
+            True,
+            free != i,
+            float(late[i]),
+            path,
+        )
 
-    def _clearance(self, obstacles: tuple[F64, F64], front: tuple[F64, F64],
-                   stop: tuple[F64, F64]) -> tuple[F64, NDArray[np.bool_]]:  # fmt: skip
+    def _hold(
+        self, ok: NDArray[np.bool_], cost: F64, min_sep: F64, direction: float, moving: bool
+    ) -> NDArray[np.bool_]:
+        """The manoeuvres that keep to `direction` (and keep moving, when `moving`), unless holding
+        to it runs into the target and the other way does not."""
+        held: NDArray[np.bool_] = ok & (self.v1 * direction > 0 if moving else self.v1 * direction >= 0)
+        clear_of_it = ok & (min_sep >= 0.0)
+        if held.any() and (min_sep[int(np.argmin(np.where(held, cost, np.inf)))] >= 0.0 or not clear_of_it.any()):
+            return held
+        return ok
+
+    def _clearance(
+        self, obstacles: tuple[F64, F64], front: tuple[F64, F64], stop: tuple[F64, F64]
+    ) -> tuple[F64, NDArray[np.bool_]]:
         """The footprint's clearance at every judged point and at the stop, and which manoeuvres keep
         `pad_m` of it (or, already closer than that, do not get closer)."""
         p, fp = self.params, self.footprint
@@ -239,8 +274,9 @@ class ViewPlanner:
         now = float(distance.at(np.array([fp.x_m]), np.array([0.0]))[0]) - fp.radius_m
         return clear, clear.min(axis=1) >= min(p.pad_m, now - 0.005)
 
-    def _target_centres(self, target: tuple[float, float], velocity: tuple[float, float],
-                        path: tuple[F64, F64] | None) -> tuple[F64, F64]:  # fmt: skip
+    def _target_centres(
+        self, target: tuple[float, float], velocity: tuple[float, float], path: tuple[F64, F64] | None
+    ) -> tuple[F64, F64]:
         """The target's centre at each of `path_times`, from its nearest surface point, moving at its
         velocity (or on its path)."""
         if path is None:
@@ -252,8 +288,9 @@ class ViewPlanner:
         r = self.params.target_radius_m
         return sx * (1 + r / d), sy * (1 + r / d)
 
-    def _views(self, obstacles: tuple[F64, F64], poses: tuple[F64, F64, F64],
-               centre: tuple[F64, F64]) -> tuple[NDArray[np.bool_], F64, F64, F64]:  # fmt: skip
+    def _views(
+        self, obstacles: tuple[F64, F64], poses: tuple[F64, F64, F64], centre: tuple[F64, F64]
+    ) -> tuple[NDArray[np.bool_], F64, F64, F64]:
         """Where the camera sees the target along each manoeuvre (seen, and the view cost per judged
         point), and where it ends: the turn still needed to face the target, and the way out of an
         obstacle's shadow (both give the choice a direction when nothing in the horizon sees it)."""
@@ -280,7 +317,8 @@ class ViewPlanner:
         way = np.where(v1 != 0.0, np.sign(v1), np.sign(v0))
         flip = (v1 * v0 < 0).astype(np.float64) + (v2 * way < 0)
         change = (np.abs(v1 - v0) + np.abs(v2 - v1)) / self.max_speed + (
-            np.abs(self.turn1 - w0) + np.abs(turn2 - self.turn1)) / self.max_turn  # fmt: skip
+            np.abs(self.turn1 - w0) + np.abs(turn2 - self.turn1)
+        ) / self.max_turn
         keep = (v1 == v0) & (np.abs(self.turn1 - w0) < 1e-9) & (v0 != 0.0)
         return (v1 < 0).astype(np.float64) + (v2 < 0), flip, keep, change
 
@@ -336,8 +374,9 @@ class _Sight:
             return
         dx, dy = ox[None, :] - cx[:, None], oy[None, :] - cy[:, None]
         flat = np.full(m * bins, np.inf)
-        np.minimum.at(flat, (self._bin(np.arctan2(dy, dx)) + bins * np.arange(m)[:, None]).ravel(),
-                      np.hypot(dx, dy).ravel())  # fmt: skip
+        np.minimum.at(
+            flat, (self._bin(np.arctan2(dy, dx)) + bins * np.arange(m)[:, None]).ravel(), np.hypot(dx, dy).ravel()
+        )
         near = flat.reshape(m, bins)
         self.nearest = np.minimum.reduce([np.roll(near, j, axis=1) for j in range(-2, 3)])
 

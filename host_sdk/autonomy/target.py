@@ -42,8 +42,16 @@ class TargetFix:
         return math.hypot(self.x_m, self.y_m)
 
 
-def locate_target(px: F64, py: F64, camera: CameraModel, bearing_rad: float, depth_m: float | None, *,
-                  size_m: float = 0.3, bearing_tol_rad: float = math.radians(3.0)) -> TargetFix | None:  # fmt: skip
+def locate_target(
+    px: F64,
+    py: F64,
+    camera: CameraModel,
+    bearing_rad: float,
+    depth_m: float | None,
+    *,
+    size_m: float = 0.3,
+    bearing_tol_rad: float = math.radians(3.0),
+) -> TargetFix | None:
     """The target among obstacle points (base frame) seen by `camera` at `bearing_rad` (from the
     camera model: the ray leaves the camera), `depth_m` its estimated depth if known, `size_m` about
     how wide it is. None when neither the lidar nor a depth estimate places it."""

@@ -20,19 +20,43 @@ class Console:
     runs (`pilot`). `autonomous`: following goes on with no browser keeping it alive (say so to the
     user: the page shows it)."""
 
-    def __init__(self, robot: Robot | Supervisor, geometry: RobotGeometry, *, host: str = "127.0.0.1",
-                 port: int = 8080, token: str | None = None, target_height_m: float | None = None,
-                 follow_gap_m: float | None = None, max_speed_m_s: float = 0.45, max_turn_rad_s: float = 2.0,
-                 jpeg_quality: int = 70, tracker: FrameTracker | None = None,
-                 autonomous: bool = False) -> None:  # fmt: skip
+    def __init__(
+        self,
+        robot: Robot | Supervisor,
+        geometry: RobotGeometry,
+        *,
+        host: str = "127.0.0.1",
+        port: int = 8080,
+        token: str | None = None,
+        target_height_m: float | None = None,
+        follow_gap_m: float | None = None,
+        max_speed_m_s: float = 0.45,
+        max_turn_rad_s: float = 2.0,
+        jpeg_quality: int = 70,
+        tracker: FrameTracker | None = None,
+        autonomous: bool = False,
+    ) -> None:
         self.supervisor = robot if isinstance(robot, Supervisor) else Supervisor(robot)
         self.access = Access.for_host(host, token)
         self.hub = Hub(command_lifetime_s=self.robot.watchdog_s, autonomous=autonomous)
-        self.server = ConsoleServer(self.hub, self.access, port, on_stop=self.supervisor.stop,
-                                    jpeg_quality=jpeg_quality, max_speed=(max_speed_m_s, max_turn_rad_s),
-                                    on_dismiss=self.supervisor.dismiss)  # fmt: skip
-        self.pilot = ConsolePilot(self.hub, self.supervisor, geometry, target_height_m=target_height_m,
-                                  follow_gap_m=follow_gap_m, max_speed_m_s=max_speed_m_s, tracker=tracker)  # fmt: skip
+        self.server = ConsoleServer(
+            self.hub,
+            self.access,
+            port,
+            on_stop=self.supervisor.stop,
+            jpeg_quality=jpeg_quality,
+            max_speed=(max_speed_m_s, max_turn_rad_s),
+            on_dismiss=self.supervisor.dismiss,
+        )
+        self.pilot = ConsolePilot(
+            self.hub,
+            self.supervisor,
+            geometry,
+            target_height_m=target_height_m,
+            follow_gap_m=follow_gap_m,
+            max_speed_m_s=max_speed_m_s,
+            tracker=tracker,
+        )
 
     @property
     def robot(self) -> Robot:

@@ -86,8 +86,14 @@ class _Shown:
 class Hub:
     """The exchange. `clock` is the monotonic clock drive commands are stamped and aged with."""
 
-    def __init__(self, *, keep_frames: int = 60, command_lifetime_s: float = 0.25,
-                 clock: Callable[[], float] = time.monotonic, autonomous: bool = False) -> None:  # fmt: skip
+    def __init__(
+        self,
+        *,
+        keep_frames: int = 60,
+        command_lifetime_s: float = 0.25,
+        clock: Callable[[], float] = time.monotonic,
+        autonomous: bool = False,
+    ) -> None:
         self.command_lifetime_s = command_lifetime_s
         self.autonomous = autonomous
         """Following goes on with no browser keeping it alive (the user asked for it explicitly)."""
@@ -102,8 +108,15 @@ class Hub:
         self._listeners: list[Callable[[], None]] = []
 
     # -- the program's side -------------------------------------------------------------------------
-    def show_frame(self, image: Image, time_s: float, overlay: dict[str, Any] | None = None, *,
-                   jpeg: bytes | None = None, device_time_s: float | None = None) -> Frame:  # fmt: skip
+    def show_frame(
+        self,
+        image: Image,
+        time_s: float,
+        overlay: dict[str, Any] | None = None,
+        *,
+        jpeg: bytes | None = None,
+        device_time_s: float | None = None,
+    ) -> Frame:
         """A new camera frame and what to draw on it (the track's box, state, confidence)."""
         with self._lock:
             frame = Frame(self._next_id, time_s, image, jpeg, device_time_s)

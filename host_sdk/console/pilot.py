@@ -53,18 +53,28 @@ class NoTarget:
 class ConsolePilot:
     name = "console"
 
-    def __init__(self, hub: Hub, robot: Robot | Supervisor, geometry: RobotGeometry, *,
-                 target_height_m: float | None = None, follow_gap_m: float | None = None, max_speed_m_s: float = 0.45,
-                 tracker: FrameTracker | None = None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        hub: Hub,
+        robot: Robot | Supervisor,
+        geometry: RobotGeometry,
+        *,
+        target_height_m: float | None = None,
+        follow_gap_m: float | None = None,
+        max_speed_m_s: float = 0.45,
+        tracker: FrameTracker | None = None,
+    ) -> None:
         self.hub = hub
         self.supervisor = robot if isinstance(robot, Supervisor) else Supervisor(robot)
         self.geometry = geometry
         self.target_height_m = target_height_m
-        self.follow = FollowPilot.with_tracker(geometry, tracker or NoTarget(), follow_gap_m=follow_gap_m,
-                                               max_speed_m_s=max_speed_m_s)  # fmt: skip
+        self.follow = FollowPilot.with_tracker(
+            geometry, tracker or NoTarget(), follow_gap_m=follow_gap_m, max_speed_m_s=max_speed_m_s
+        )
         follower = self.follow.follower
-        self.guard = TeleopGuard(follower.footprint, follower.avoider.params,
-                                 min_turn_radius_m=geometry.min_turn_radius_m)  # fmt: skip
+        self.guard = TeleopGuard(
+            follower.footprint, follower.avoider.params, min_turn_radius_m=geometry.min_turn_radius_m
+        )
         self.guarded: Guarded | None = None
         """What the guard made of the last teleop command (None: not driving by hand)."""
         self.following = False
@@ -113,8 +123,9 @@ class ConsolePilot:
         elif asked.drive is not None:
             seen = self.follow.scans.seen_from(pose)
             points, age = (None, None) if seen is None else seen
-            self.guarded = self.guard.limit(asked.drive.linear_m_s, self._steerable(asked.drive), points, age_s=age,
-                                            override=asked.drive.override)  # fmt: skip
+            self.guarded = self.guard.limit(
+                asked.drive.linear_m_s, self._steerable(asked.drive), points, age_s=age, override=asked.drive.override
+            )
             linear, angular, mode = self.guarded.linear_m_s, self.guarded.angular_rad_s, "teleop"
         elif self.following and self.has_target:
             linear, angular, mode = self.follow.command(pose)
@@ -158,11 +169,13 @@ class ConsolePilot:
             if isinstance(self.follow.tracker, ClassTracker):  # a detection clicked: that one, by its kind
                 tracker = self.follow.tracker
                 tracker.last_box = box
-                tracker.tracker = Tracker.from_region(frame.image, box, camera, height_m=tracker.height_m,
-                                                      time_s=frame.time_s)  # fmt: skip
+                tracker.tracker = Tracker.from_region(
+                    frame.image, box, camera, height_m=tracker.height_m, time_s=frame.time_s
+                )
             else:
-                self.follow.tracker = Tracker.from_region(frame.image, box, camera, height_m=self.target_height_m,
-                                                          time_s=frame.time_s)  # fmt: skip
+                self.follow.tracker = Tracker.from_region(
+                    frame.image, box, camera, height_m=self.target_height_m, time_s=frame.time_s
+                )
         if asked.follow is not None:
             self.following = asked.follow
             self.ended = ""
@@ -216,5 +229,7 @@ class ConsolePilot:
     def _footprint(self) -> list[tuple[float, float]]:
         fp = self.geometry.footprint
         r, cx = fp.radius_m, fp.x_m
-        return [(round(cx + r * math.cos(a), 3), round(r * math.sin(a), 3)) for a in
-                (i * 2 * math.pi / 16 for i in range(16))]  # fmt: skip
+        return [
+            (round(cx + r * math.cos(a), 3), round(r * math.sin(a), 3))
+            for a in (i * 2 * math.pi / 16 for i in range(16))
+        ]

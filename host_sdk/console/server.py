@@ -43,9 +43,17 @@ def _web() -> Any:
 class ConsoleServer:
     """Serves `hub` on `access.host`:`port` (0: any free port; `port` says which after `start`)."""
 
-    def __init__(self, hub: Hub, access: Access, port: int = 8080, *, on_stop: Callable[[], None],
-                 jpeg_quality: int = 70, max_speed: tuple[float, float] = (0.5, 2.0),
-                 on_dismiss: Callable[[int], None] = lambda refusal_id: None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        hub: Hub,
+        access: Access,
+        port: int = 8080,
+        *,
+        on_stop: Callable[[], None],
+        jpeg_quality: int = 70,
+        max_speed: tuple[float, float] = (0.5, 2.0),
+        on_dismiss: Callable[[int], None] = lambda refusal_id: None,
+    ) -> None:
         if not 0 <= port <= 65535:
             raise CommandRangeError("port", port, "0 to 65535")
         if not 10 <= jpeg_quality <= 100:
@@ -251,9 +259,16 @@ class ConsoleServer:
         sender = asyncio.ensure_future(self._send_loop(ws))
         try:
             lifetime = self.hub.command_lifetime_s
-            await ws.send_json({"type": "hello", "driving": False, "max_speed": list(self.max_speed),
-                                "command_lifetime_s": lifetime, "keepalive_s": lifetime / 3,
-                                "autonomous": self.hub.autonomous})  # fmt: skip
+            await ws.send_json(
+                {
+                    "type": "hello",
+                    "driving": False,
+                    "max_speed": list(self.max_speed),
+                    "command_lifetime_s": lifetime,
+                    "keepalive_s": lifetime / 3,
+                    "autonomous": self.hub.autonomous,
+                }
+            )
             async for msg in ws:
                 if msg.type == web.WSMsgType.TEXT:
                     await self._on_message(ws, msg.data)
@@ -313,8 +328,9 @@ class ConsoleServer:
         if self.driver is None or self.driver.closed:
             self.driver = ws
         if self.driver is not ws:
-            await ws.send_json({"type": "error", "error": "another browser is driving: you can watch, stop, "
-                                                          "or take the wheel"})  # fmt: skip
+            await ws.send_json(
+                {"type": "error", "error": "another browser is driving: you can watch, stop, or take the wheel"}
+            )
             return
         self.hub.alive()
         try:
@@ -352,8 +368,14 @@ class ConsoleServer:
                 )
             box = tuple(float(v) for v in msg["box"])
             h, w = frame.image.shape[:2]
-            if len(box) != 4 or not (box[0] >= 0 and box[1] >= 0 and box[2] >= 6 and box[3] >= 6
-                                     and box[0] + box[2] <= w and box[1] + box[3] <= h):  # fmt: skip
+            if len(box) != 4 or not (
+                box[0] >= 0
+                and box[1] >= 0
+                and box[2] >= 6
+                and box[3] >= 6
+                and box[0] + box[2] <= w
+                and box[1] + box[3] <= h
+            ):
                 raise CommandRangeError("box", list(box), f"x, y, w, h inside the {w}x{h} frame, at least 6 px a side")
             hub.post(select=Select(frame, (box[0], box[1], box[2], box[3])))
         elif kind == "follow":

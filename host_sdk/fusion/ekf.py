@@ -25,9 +25,7 @@ slip.
   times the offset between their clocks). Neither error adds up: a heading the wheels measured
   to a count a minute ago is still right to a count. Standing still or driving straight pins the
   bias down, turns teach k, and when the wheels are good (no slip, k learnt) the fused heading
-  follows them instead of a gyro whose bias random-walks. (Comparing each step's wheel turn with
-  the gyro's instead, with the clocks' offset counted in every step, the filter trusted the wheels
-  so little while turning that the bias drifted unseen.)
+  follows them instead of a gyro whose bias random-walks.
 - **Slip**: one step beyond a chi-square gate (99 %), or the wheels drifting away from the gyro
   step after step (a tyre spinning through a whole turn: the running average of the disagreement
   beyond what white noise leaves, 99.9 %). The step is flagged, e forgets what it was (the wheels'
@@ -40,9 +38,7 @@ slip.
   coefficients, learnt as the robot turns (gyro and wheels know the heading, the compass's
   readings then trace f); c is what they leave, changing only as the robot turns
   (`heading_correlation_rad`). A compass read at 200 Hz while standing still thus tells the filter
-  nothing new after its first sample. (Taken as white noise, the compass once pulled the heading 4
-  degrees off while the filter claimed 0.2; taken as one error that changes as the robot turns,
-  without the harmonics, it gave next to nothing: 0.48 degrees 1-sigma against 0.49 without it.)
+  nothing new after its first sample.
 
 Without gyro samples in an interval the filter falls back to the wheels' turn (pure odometry).
 """
@@ -50,7 +46,6 @@ Without gyro samples in an interval the filter falls back to the wheels' turn (p
 from __future__ import annotations
 
 import bisect
-import dataclasses
 import math
 from collections import deque
 from dataclasses import dataclass
@@ -59,15 +54,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from host_sdk.errors import CommandRangeError
-from host_sdk.kinematics import Ackermann, DiffDrive
+from host_sdk.fusion.ekf_params import EkfParams
 
 F64 = NDArray[np.float64]
 X, Y, TH, B, K, PSI, E, C, D = range(9)
 HARMONICS = range(9, 13)
 """The compass error's harmonics: cos and sin of the heading (hard iron), of twice the heading (soft iron)."""
 N = 13
-CHI2_1DOF_99 = 6.635
-CHI2_1DOF_999 = 10.83
 PAUSE_S = 0.5
 """A gap in the gyro's samples this long is a pause: nothing is integrated across it."""
 GYRO_HISTORY = 4096
@@ -78,56 +71,6 @@ UNKNOWN = math.pi**2
 the wheels' heading error after a slip."""
 DISAGREEMENT_WEIGHT = 0.05
 """Weight of a step in the running average of the wheels' disagreement with the gyro (about 20 steps)."""
-
-
-@dataclass(frozen=True, slots=True)
-class EkfParams:
-    gyro_arw: float = math.radians(0.005)
-    """Gyro angle random walk, rad/sqrt(s) (white rate noise density)."""
-    bias_walk: float = math.radians(0.01)
-    """Gyro bias random walk, rad/s per sqrt(s)."""
-    bias_sigma0: float = math.radians(0.3)
-    """Initial bias uncertainty, rad/s."""
-    distance_noise: float = 0.02
-    """Wheel distance error, as a fraction of the distance."""
-    slip_distance_noise: float = 0.3
-    """... while the wheels slip: a common error of the slipping steps (the tyres spin or slide for
-    a while, not a step at a time)."""
-    slip_time_s: float = 1.0
-    """How long the wheels' distance error stays after slip was last seen."""
-    wheel_turn_noise: float = 0.002
-    """Random walk of the wheels' heading error per turn, beyond the scale error the filter learns,
-    rad per sqrt(rad) (tyres scrubbing through a turn)."""
-    turn_scale_sigma0: float = 0.1
-    """Initial uncertainty of the wheels' turn scale (track width or steering calibration), fraction."""
-    turn_scale_walk: float = 1e-4
-    """How fast that scale may change (tyre wear, load), fraction per sqrt(s)."""
-    wheel_turn_per_m: float = 0.003
-    """Random walk of the wheels' heading error per distance (uneven wheels, floor), rad per sqrt(m)."""
-    turn_transient_s: float = 0.05
-    """Wheel heading error per change of the turn rate between steps, s (slip while the tyres take
-    up a new rate; a steering servo still slewing to its new angle)."""
-    distance_transient_s: float = 0.1
-    """Wheel distance error per change of the wheels' speed between steps, s (tyres slip while they
-    take up a new speed; on a straight a gyro cannot see it)."""
-    wheel_heading_resolution: float = 1e-3
-    """The wheels' heading quantum (one encoder count: metres per count over the track), rad."""
-    sync_s: float = 0.005
-    """Timing mismatch between the wheels' and the gyro's clocks (heading error = rate * sync)."""
-    heading_sigma: float = math.radians(5.0)
-    """Magnetometer heading error that depends on the heading, before the filter has learnt it: the
-    prior of each coefficient of its harmonics (a hard-iron offset gives a cos and sin of the heading,
-    soft iron of twice the heading), rad."""
-    heading_residual_sigma: float = math.radians(1.0)
-    """... what the harmonics leave (motor currents, tilt, nearby steel), rad: it changes as the robot turns."""
-    heading_noise: float = math.radians(1.0)
-    """Magnetometer heading noise from sample to sample, rad."""
-    heading_correlation_rad: float = 1.0
-    """How far the robot turns before the compass's residual error is another one, rad."""
-    gate: float = CHI2_1DOF_99
-    """A step whose wheel heading is this far off (chi-square, 1 dof) is slip."""
-    drift_gate: float = CHI2_1DOF_999
-    """... and so is a running average of the disagreement this far from zero."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -150,36 +93,21 @@ class FusedPose:
         return math.sqrt(max(float(self.covariance[2, 2]), 0.0))
 
 
-DIFF_DRIVE_PARAMS = EkfParams(wheel_turn_noise=0.0005, wheel_turn_per_m=0.0005, turn_transient_s=0.002)
-"""A differential drive's wheels: its heading is the difference of two encoders' counts, with no
-steering servo slewing behind its command or moving in coarse steps, so while the tyres grip it is
-right to a count and far better per turn and per metre than a car's (which the defaults are for).
-Slip beyond that is caught by the gate. (With the defaults on a diff drive, the filter trusted the
-gyro more than wheels that were right, and drifted with the bias it had to guess between stops.)"""
-
-
-def params_for(kinematics: DiffDrive | Ackermann | None, params: EkfParams | None = None) -> EkfParams:
-    """`params` (by default EkfParams(), or DIFF_DRIVE_PARAMS for a differential drive) with this
-    robot's wheel heading quantum where it is coarser than theirs: a differential drive's encoder
-    count over its track. (A car's heading comes from its distance counts times the steering's
-    curvature, far finer.)"""
-    if not isinstance(kinematics, DiffDrive):
-        return params or EkfParams()
-    p = params or DIFF_DRIVE_PARAMS
-    quantum = kinematics.metres_per_count / kinematics.track_m
-    if quantum > p.wheel_heading_resolution:
-        return dataclasses.replace(p, wheel_heading_resolution=quantum)
-    return p
-
-
 def compass_heading(mag: tuple[float, float, float] | tuple[int, int, int]) -> float:
     """Heading of a level magnetometer (x forward, y left), counter-clockwise, up to a constant."""
     return -math.atan2(mag[1], mag[0])
 
 
 class PoseEkf:
-    def __init__(self, params: EkfParams | None = None, *, x_m: float = 0.0, y_m: float = 0.0,
-                 theta_rad: float = 0.0, time_s: float = 0.0) -> None:  # fmt: skip
+    def __init__(
+        self,
+        params: EkfParams | None = None,
+        *,
+        x_m: float = 0.0,
+        y_m: float = 0.0,
+        theta_rad: float = 0.0,
+        time_s: float = 0.0,
+    ) -> None:
         self.params = p = params or EkfParams()
         self.x: F64 = np.zeros(N)
         self.x[[X, Y, TH]] = x_m, y_m, theta_rad
@@ -350,8 +278,16 @@ class PoseEkf:
         q_turn += (p.turn_transient_s * turn_change) ** 2
         return q_turn, (p.distance_noise * ds) ** 2 + (p.distance_transient_s * speed_change) ** 2
 
-    def _predict(self, ds: float, gyro_turn: float, gyro_dt: float, *, wheel_turn: float, dt: float,
-                 held: tuple[float, float] = (0.0, 0.0)) -> None:  # fmt: skip
+    def _predict(
+        self,
+        ds: float,
+        gyro_turn: float,
+        gyro_dt: float,
+        *,
+        wheel_turn: float,
+        dt: float,
+        held: tuple[float, float] = (0.0, 0.0),
+    ) -> None:
         """`held`: how long before the step's end the gyro samples end, and the rate held since."""
         p = self.params
         k = self.x[K]
@@ -361,8 +297,9 @@ class PoseEkf:
         turn_jac[B] = -gyro_dt
         e_jac[K], e_jac[B] = turn, -k * gyro_dt  # the wheels over-read the true turn by k
         q_e, q_ds = self._wheel_noise(ds, wheel_turn, rate, gyro_dt)
-        c, s = self._move(ds, turn, turn_jac, q_turn=p.gyro_arw**2 * gyro_dt, q_ds=q_ds, dt=dt,
-                          e_step=k * turn, e_jac=e_jac, q_e=q_e)  # fmt: skip
+        c, s = self._move(
+            ds, turn, turn_jac, q_turn=p.gyro_arw**2 * gyro_dt, q_ds=q_ds, dt=dt, e_step=k * turn, e_jac=e_jac, q_e=q_e
+        )
         self._wheel_heading += wheel_turn
         h = np.zeros(N)
         h[TH] = h[E] = 1.0
@@ -399,12 +336,34 @@ class PoseEkf:
         turn_jac[K], e_jac[K] = -wheel_turn / scale**2, wheel_turn / scale**2
         self.slipping = False
         q_turn, q_ds = self._wheel_noise(ds, wheel_turn, wheel_turn / dt if dt > 0 else self._rate, dt)
-        self._move(ds, turn, turn_jac, q_turn=q_turn, q_ds=q_ds, dt=dt, e_step=wheel_turn - turn,
-                   e_jac=e_jac, q_e=0.0, e_turn_noise=-1.0)  # fmt: skip
+        self._move(
+            ds,
+            turn,
+            turn_jac,
+            q_turn=q_turn,
+            q_ds=q_ds,
+            dt=dt,
+            e_step=wheel_turn - turn,
+            e_jac=e_jac,
+            q_e=0.0,
+            e_turn_noise=-1.0,
+        )
         self._wheel_heading += wheel_turn
 
-    def _move(self, ds: float, turn: float, turn_jac: F64, *, q_turn: float, q_ds: float, dt: float,
-              e_step: float, e_jac: F64, q_e: float, e_turn_noise: float = 0.0) -> tuple[float, float]:  # fmt: skip
+    def _move(
+        self,
+        ds: float,
+        turn: float,
+        turn_jac: F64,
+        *,
+        q_turn: float,
+        q_ds: float,
+        dt: float,
+        e_step: float,
+        e_jac: F64,
+        q_e: float,
+        e_turn_noise: float = 0.0,
+    ) -> tuple[float, float]:
         """Move along the arc; `turn_jac` and `e_jac`: the turn's and e's change by the state."""
         p = self.params
         th = self.x[TH]
@@ -453,8 +412,16 @@ class PoseEkf:
     # -- output -------------------------------------------------------------------------------------
     @property
     def pose(self) -> FusedPose:
-        return FusedPose(self.time_s, float(self.x[X]), float(self.x[Y]), float(self.x[TH]), float(self.x[B]),
-                         float(self.x[K]), self.P[:3, :3].copy(), self.slipping)  # fmt: skip
+        return FusedPose(
+            self.time_s,
+            float(self.x[X]),
+            float(self.x[Y]),
+            float(self.x[TH]),
+            float(self.x[B]),
+            float(self.x[K]),
+            self.P[:3, :3].copy(),
+            self.slipping,
+        )
 
 
 class OdometryIncrements:

@@ -12,7 +12,8 @@ import bisect
 import math
 from collections import deque
 
-from host_sdk.fusion.ekf import OdometryIncrements, PoseEkf, params_for
+from host_sdk.fusion.ekf import OdometryIncrements, PoseEkf
+from host_sdk.fusion.ekf_params import params_for
 from host_sdk.pose import Pose, interpolate
 from host_sdk.robot import Robot
 from host_sdk.sensors.imu import Jy901

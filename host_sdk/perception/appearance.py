@@ -56,8 +56,15 @@ class AppearanceParams:
 
 
 class Appearance:
-    def __init__(self, cv2: Any, template: Image, core: float, params: AppearanceParams | None = None, *,
-                 mask: NDArray[np.bool_] | None = None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        cv2: Any,
+        template: Image,
+        core: float,
+        params: AppearanceParams | None = None,
+        *,
+        mask: NDArray[np.bool_] | None = None,
+    ) -> None:
         if mask is not None:
             mask = np.asarray(mask, dtype=bool)
             if mask.shape != template.shape[:2]:
@@ -191,8 +198,9 @@ class Appearance:
             return 0.0
         patch, (rows, cols), _ = part
         size = (patch.shape[1], patch.shape[0])
-        surround = self.cv2.resize(np.ascontiguousarray(self._surround[rows, cols]), size,
-                                   interpolation=self.cv2.INTER_NEAREST)  # fmt: skip
+        surround = self.cv2.resize(
+            np.ascontiguousarray(self._surround[rows, cols]), size, interpolation=self.cv2.INTER_NEAREST
+        )
         if int(np.count_nonzero(surround)) < 16:
             return 0.0  # too few pixels to say
         return self._like_signature(self.histogram(np.ascontiguousarray(patch), surround))

@@ -60,8 +60,9 @@ class AvoidanceParams:
     """Candidate curvatures evaluated between -max_curvature and +max_curvature."""
 
 
-def arc_free_distance(px: F64, py: F64, curvatures: F64, footprint: Footprint, *, horizon_m: float = 5.0,
-                      reverse: bool = False) -> F64:  # fmt: skip
+def arc_free_distance(
+    px: F64, py: F64, curvatures: F64, footprint: Footprint, *, horizon_m: float = 5.0, reverse: bool = False
+) -> F64:
     """Travel of the pose point along each arc (curvature 1/m, positive turns left) before the footprint
     touches one of the points (base frame); `horizon_m` where nothing is in the way. `reverse`: moving
     backwards along the same arcs."""
@@ -100,8 +101,16 @@ def arc_free_distance(px: F64, py: F64, curvatures: F64, footprint: Footprint, *
     return free
 
 
-def arc_room(px: F64, py: F64, curvatures: F64, footprint: Footprint, *, pad_m: float, horizon_m: float = 5.0,
-             reverse: bool = False) -> F64:  # fmt: skip
+def arc_room(
+    px: F64,
+    py: F64,
+    curvatures: F64,
+    footprint: Footprint,
+    *,
+    pad_m: float,
+    horizon_m: float = 5.0,
+    reverse: bool = False,
+) -> F64:
     """`arc_free_distance` for the footprint grown by `pad_m`, the margin a real robot needs (its path
     is never quite the commanded arc). Points already inside that margin do not block every arc:
     they block only motion that brings the footprint any closer to them than it is now, so a robot
@@ -114,8 +123,9 @@ def arc_room(px: F64, py: F64, curvatures: F64, footprint: Footprint, *, pad_m: 
     if near.any():
         closest = max(0.0, float(gap[near].min()) - 0.005)
         tight = Footprint(footprint.radius_m + closest, footprint.x_m)
-        room = np.minimum(room, arc_free_distance(x[near], y[near], curvatures, tight, horizon_m=horizon_m,
-                                                  reverse=reverse))  # fmt: skip
+        room = np.minimum(
+            room, arc_free_distance(x[near], y[near], curvatures, tight, horizon_m=horizon_m, reverse=reverse)
+        )
     return room
 
 
@@ -262,8 +272,17 @@ class Avoider:
             k = 2 * math.sin(direction_rad) / p.lookahead_m
         return max(-p.max_curvature, min(p.max_curvature, k))
 
-    def plan(self, px: F64, py: F64, goal_rad: float, speed_m_s: float, *, target_xy: tuple[F64, F64] | None = None,
-             curvature: float | None = None, goal_m: float | None = None) -> Plan:  # fmt: skip
+    def plan(
+        self,
+        px: F64,
+        py: F64,
+        goal_rad: float,
+        speed_m_s: float,
+        *,
+        target_xy: tuple[F64, F64] | None = None,
+        curvature: float | None = None,
+        goal_m: float | None = None,
+    ) -> Plan:
         """Steer for `goal_rad` at up to `speed_m_s` among obstacle points (px, py), base frame.
 
         `target_xy`: points of the followed target. They do not repel the choice of direction (the

@@ -64,9 +64,16 @@ class ClassTrackerParams:
 
 
 class ClassTracker:
-    def __init__(self, kind: str, camera: CameraModel, *, height_m: float | None = None,
-                 params: ClassTrackerParams | None = None, tracker_params: TrackerParams | None = None,
-                 detector: Detector | None = None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        kind: str,
+        camera: CameraModel,
+        *,
+        height_m: float | None = None,
+        params: ClassTrackerParams | None = None,
+        tracker_params: TrackerParams | None = None,
+        detector: Detector | None = None,
+    ) -> None:
         if kind not in KINDS:
             raise CommandRangeError("kind", kind, " or ".join(KINDS))
         if height_m is not None and not 0.0 < height_m < 10.0:
@@ -115,8 +122,9 @@ class ClassTracker:
             if self._lost_since is None:
                 self._lost_since = time_s
             return self._lost(time_s)
-        self.tracker = Tracker.from_region(image, box, self.camera, height_m=self.height_m,
-                                           params=self.tracker_params, time_s=time_s)  # fmt: skip
+        self.tracker = Tracker.from_region(
+            image, box, self.camera, height_m=self.height_m, params=self.tracker_params, time_s=time_s
+        )
         self.acquisitions += 1
         self.last_box, self._lost_since = box, None
         # The template is the frame's own pixels: matching it there places the box and gives the

@@ -140,8 +140,9 @@ def _reduced(cv2: Any, image: Image, work_width: int) -> tuple[Image, float]:
     return cv2.resize(image, None, fx=f, fy=f, interpolation=cv2.INTER_AREA), 1 / f
 
 
-def _finish(kind: Kind, boxes: NDArray[np.float64], scores: NDArray[np.float64], back: float,
-            params: DetectorParams) -> list[Detection]:  # fmt: skip
+def _finish(
+    kind: Kind, boxes: NDArray[np.float64], scores: NDArray[np.float64], back: float, params: DetectorParams
+) -> list[Detection]:
     least = DEFAULT_MIN_SCORE[kind] if params.min_score is None else params.min_score
     keep = [i for i in nms(boxes, scores, params.nms_iou) if scores[i] >= least]
     return [Detection(kind, tuple(float(v) * back for v in boxes[i]), float(scores[i])) for i in keep]  # type: ignore[arg-type]
@@ -161,8 +162,9 @@ class PersonDetector:
     def detect(self, image: Image) -> list[Detection]:
         small, back = _reduced(self.cv2, image, self.params.work_width)
         # groupThreshold=0: every window, grouped by our own NMS (which keeps the scores).
-        found, weights = self.hog.detectMultiScale(small, winStride=(8, 8), padding=(8, 8),
-                                                   scale=self.params.scale_step, groupThreshold=0)  # fmt: skip
+        found, weights = self.hog.detectMultiScale(
+            small, winStride=(8, 8), padding=(8, 8), scale=self.params.scale_step, groupThreshold=0
+        )
         boxes = np.asarray(found, dtype=np.float64).reshape(-1, 4)
         return _finish("person", boxes, np.asarray(weights, dtype=np.float64).ravel(), back, self.params)
 
@@ -187,8 +189,9 @@ class FaceDetector:
 
     def _run(self, cascade: Any, gray: Image) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         m = self.params.min_face_px
-        found, _, weights = cascade.detectMultiScale3(gray, scaleFactor=self.params.scale_step, minNeighbors=4,
-                                                      minSize=(m, m), outputRejectLevels=True)  # fmt: skip
+        found, _, weights = cascade.detectMultiScale3(
+            gray, scaleFactor=self.params.scale_step, minNeighbors=4, minSize=(m, m), outputRejectLevels=True
+        )
         return np.asarray(found, dtype=np.float64).reshape(-1, 4), np.asarray(weights, dtype=np.float64).ravel()
 
     def detect(self, image: Image) -> list[Detection]:

@@ -27,8 +27,9 @@ SLACK_PX = 2
 """How far (pixels, at the matching's reduced size) each size's centre may move from the box's."""
 
 
-def best_size(cv2: Any, look: Appearance, image: Image, box: Box, scales: Sequence[float], *, work_px: int,
-              margin: float) -> Box:  # fmt: skip
+def best_size(
+    cv2: Any, look: Appearance, image: Image, box: Box, scales: Sequence[float], *, work_px: int, margin: float
+) -> Box:
     """`box` resized by the one of `scales` (1.0 among them: its own size) whose first template's
     core correlates best round its centre, if that beats its own size's by `margin`; else `box`.
     The box's neighbourhood is reduced so the core is about `work_px` across, as tracking does."""

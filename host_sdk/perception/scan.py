@@ -109,8 +109,16 @@ class RawScan:
     """When each return was measured, if known (a revolution takes 0.1..0.2 s)."""
 
     @classmethod
-    def from_arrays(cls, angles_rad: object, ranges_m: object, *, range_min_m: float = 0.0,
-                    range_max_m: float = math.inf, time_s: float = 0.0, times_s: object = None) -> RawScan:  # fmt: skip
+    def from_arrays(
+        cls,
+        angles_rad: object,
+        ranges_m: object,
+        *,
+        range_min_m: float = 0.0,
+        range_max_m: float = math.inf,
+        time_s: float = 0.0,
+        times_s: object = None,
+    ) -> RawScan:
         """Arrays of equal length; ranges outside range_min..range_max, 0, inf or NaN are no return."""
         a = np.asarray(angles_rad, dtype=np.float64).ravel()
         r = np.asarray(ranges_m, dtype=np.float64).ravel()
@@ -132,8 +140,14 @@ class RawScan:
     @classmethod
     def from_driver(cls, scan: DriverScanLike) -> RawScan:
         """A `host_sdk.sensors.LidarScan` (RPLIDAR A1, YDLIDAR F4)."""
-        return cls.from_arrays(scan.angles_rad, scan.ranges_m, range_min_m=scan.range_min_m,
-                               range_max_m=scan.range_max_m, time_s=scan.time_s, times_s=scan.times_s)  # fmt: skip
+        return cls.from_arrays(
+            scan.angles_rad,
+            scan.ranges_m,
+            range_min_m=scan.range_min_m,
+            range_max_m=scan.range_max_m,
+            time_s=scan.time_s,
+            times_s=scan.times_s,
+        )
 
 
 def as_raw(scan: RawScan | DriverScanLike | LaserScanLike) -> RawScan:
@@ -210,9 +224,18 @@ def spatial_filter(ranges: F64, *, isolated_m: float = 0.1, keep_near_m: float =
 class ScanFilter:
     """Temporal (motion-compensated median) and spatial filtering of successive revolutions."""
 
-    def __init__(self, mount: LidarMount | None = None, *, bins: int = 360, temporal: int = 3,
-                 isolated_m: float = 0.1, keep_near_m: float = 1.0, blind_hold_s: float = 4.0,
-                 carried_m: float = 0.001, carried_window_s: float = 1.0) -> None:  # fmt: skip
+    def __init__(
+        self,
+        mount: LidarMount | None = None,
+        *,
+        bins: int = 360,
+        temporal: int = 3,
+        isolated_m: float = 0.1,
+        keep_near_m: float = 1.0,
+        blind_hold_s: float = 4.0,
+        carried_m: float = 0.001,
+        carried_window_s: float = 1.0,
+    ) -> None:
         if not (isinstance(bins, int) and 36 <= bins <= 4096):
             raise CommandRangeError("bins", bins, "an integer in 36..4096")
         if not (isinstance(temporal, int) and 1 <= temporal <= 25):
@@ -251,8 +274,13 @@ class ScanFilter:
         r = raw.ranges_m[ok]
         return m.x_m + r * np.cos(a), m.y_m + r * np.sin(a), raw
 
-    def update(self, scan: RawScan | DriverScanLike | LaserScanLike, pose: Pose2D | None = None, *,
-               pose_at: Callable[[float], Pose2D] | None = None) -> ObstacleScan:  # fmt: skip
+    def update(
+        self,
+        scan: RawScan | DriverScanLike | LaserScanLike,
+        pose: Pose2D | None = None,
+        *,
+        pose_at: Callable[[float], Pose2D] | None = None,
+    ) -> ObstacleScan:
         """Add a revolution (with the robot's pose when it was taken) and return the filtered picture.
         With `pose_at` (the pose at any recent time) and per-return times, each return is first moved
         from where the robot was when it was measured to `pose` (de-skewing: turning at 1.6 rad/s, the

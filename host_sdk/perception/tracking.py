@@ -105,12 +105,24 @@ def _cv2() -> Any:
 
 
 class Tracker:
-    def __init__(self, template: Image, camera: CameraModel, *, width_m: float | None = None,
-                 height_m: float | None = None, params: TrackerParams | None = None,
-                 box: Box | None = None, time_s: float = 0.0, core: float | None = None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        template: Image,
+        camera: CameraModel,
+        *,
+        width_m: float | None = None,
+        height_m: float | None = None,
+        params: TrackerParams | None = None,
+        box: Box | None = None,
+        time_s: float = 0.0,
+        core: float | None = None,
+    ) -> None:
         if not (isinstance(template, np.ndarray) and template.ndim == 3 and template.shape[2] in (3, 4)):
-            raise CommandRangeError("template", getattr(template, "shape", template),
-                                    "a BGR image (H x W x 3) or a BGRA cut-out (H x W x 4)")  # fmt: skip
+            raise CommandRangeError(
+                "template",
+                getattr(template, "shape", template),
+                "a BGR image (H x W x 3) or a BGRA cut-out (H x W x 4)",
+            )
         p = params or TrackerParams()
         if min(template.shape[:2]) < p.min_size_px:
             raise CommandRangeError("template", template.shape[:2], f"at least {p.min_size_px} pixels on each side")
@@ -123,8 +135,11 @@ class Tracker:
         if opaque is not None and opaque.all():
             opaque = None  # an alpha that hides nothing: a plain image
         if opaque is not None and cutout_core(opaque) < 0.3:
-            raise CommandRangeError("template", f"a cut-out {float(opaque.mean()) * 100:.0f} % opaque",
-                                    "a cut-out whose middle is the object (its alpha >= 128 there)")  # fmt: skip
+            raise CommandRangeError(
+                "template",
+                f"a cut-out {float(opaque.mean()) * 100:.0f} % opaque",
+                "a cut-out whose middle is the object (its alpha >= 128 there)",
+            )
         if core is None:
             core = 1.0 if opaque is None else cutout_core(opaque)
         self.template = np.ascontiguousarray(template[..., :3])
@@ -141,8 +156,11 @@ class Tracker:
             f = 1.0
         kp, des = self._orb.detectAndCompute(self.cv2.cvtColor(big, self.cv2.COLOR_BGR2GRAY), None)
         if des is not None and (core < 1.0 or opaque is not None):  # keep the object's features
-            keep = [i for i, k in enumerate(kp)
-                    if (in_ellipse(k.pt, big.shape) if opaque is None else on_cutout(opaque, k.pt, f))]  # fmt: skip
+            keep = [
+                i
+                for i, k in enumerate(kp)
+                if (in_ellipse(k.pt, big.shape) if opaque is None else on_cutout(opaque, k.pt, f))
+            ]
             kp, des = [kp[i] for i in keep], (des[keep] if keep else None)
         self._tpl_kp = np.array([k.pt for k in kp], dtype=np.float32).reshape(-1, 2) / f
         self._tpl_des = des
@@ -315,8 +333,9 @@ class Tracker:
                 best = first
         return best
 
-    def _scan(self, window: NDArray[np.float32], f: float, origin: tuple[int, int], size: tuple[float, float], *,
-              anchor: bool) -> tuple[Box, float] | None:  # fmt: skip
+    def _scan(
+        self, window: NDArray[np.float32], f: float, origin: tuple[int, int], size: tuple[float, float], *, anchor: bool
+    ) -> tuple[Box, float] | None:
         """The template's core at three scales round `size` over `window` (reduced by f): best box.
         The middle scale searches the whole window; the other two only round its peak (a 6 % change
         of size moves the peak by a pixel or two), which makes a frame about twice as cheap."""
@@ -457,8 +476,9 @@ class Tracker:
             f = round(f, 2)
             frame = reduced.get(f)
             if frame is None:
-                frame = self.look.space(image if f == 1.0 else cv2.resize(image, None, fx=f, fy=f,
-                                                                         interpolation=cv2.INTER_AREA))  # fmt: skip
+                frame = self.look.space(
+                    image if f == 1.0 else cv2.resize(image, None, fx=f, fy=f, interpolation=cv2.INTER_AREA)
+                )
                 reduced[f] = frame
             core = self.look.core
             tw_f, th_f = max(4, round(w * core * f)), max(4, round(h * core * f))

@@ -41,8 +41,17 @@ FOLLOW_SCHEMA: dict[str, Any] = {
 class Publisher(Protocol):
     def json(self, topic: str, schema: dict[str, Any], message: dict[str, Any], time_s: float) -> None: ...
 
-    def laser_scan(self, topic: str, time_s: float, *, frame_id: str, start_angle: float, end_angle: float,
-                   ranges: list[float], intensities: list[float]) -> None: ...  # fmt: skip
+    def laser_scan(
+        self,
+        topic: str,
+        time_s: float,
+        *,
+        frame_id: str,
+        start_angle: float,
+        end_angle: float,
+        ranges: list[float],
+        intensities: list[float],
+    ) -> None: ...
 
     def compressed_image(self, topic: str, time_s: float, *, frame_id: str, fmt: str, data: bytes) -> None: ...
 
@@ -68,8 +77,15 @@ class FollowSource:
         if scan is not None and scan.time_s != self._scan_time:
             self._scan_time = scan.time_s
             ranges = np.nan_to_num(scan.ranges_m, nan=math.inf).tolist()
-            out.laser_scan(TOPIC_SCAN, scan.time_s, frame_id="base_link", start_angle=float(scan.angles_rad[0]),
-                           end_angle=float(scan.angles_rad[-1]), ranges=ranges, intensities=[])  # fmt: skip
+            out.laser_scan(
+                TOPIC_SCAN,
+                scan.time_s,
+                frame_id="base_link",
+                start_angle=float(scan.angles_rad[0]),
+                end_angle=float(scan.angles_rad[-1]),
+                ranges=ranges,
+                intensities=[],
+            )
         d = pilot.decision
         track = pilot.last_track
         if d is not None:

@@ -109,8 +109,16 @@ class SensorSource:
             self._last_tf = now_s
             for kind in self.sensors.kinds():
                 m = self.mounts.get(kind) or Mount(kind, kind)
-                self._out.transform(TOPIC_TF, now_s, parent=FRAME_BASE, child=SENSOR_FRAMES[kind], x=m.x_m,
-                                    y=m.y_m, z=m.z_m, theta=math.radians(m.yaw_deg))  # fmt: skip
+                self._out.transform(
+                    TOPIC_TF,
+                    now_s,
+                    parent=FRAME_BASE,
+                    child=SENSOR_FRAMES[kind],
+                    x=m.x_m,
+                    y=m.y_m,
+                    z=m.z_m,
+                    theta=math.radians(m.yaw_deg),
+                )
 
     def _on_scan(self, scan: LidarScan) -> None:
         out = self._out

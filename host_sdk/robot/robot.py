@@ -147,8 +147,9 @@ class Robot:
             made._shutdown(disarm=False)
             raise
         if options.auto_rearm:  # an opt-in that drives again by itself: said once, at the start
-            log.warning("%s: auto_rearm is on: the robot re-arms by itself after a board reset or a watchdog "
-                        "failsafe", made.url)  # fmt: skip
+            log.warning(
+                "%s: auto_rearm is on: the robot re-arms by itself after a board reset or a watchdog failsafe", made.url
+            )
         return made
 
     def reopen(self) -> Robot:
@@ -157,8 +158,10 @@ class Robot:
         (close it). Raises UnsupportedError for a robot connected over a `transport=` it was given
         (there is nothing to open again), else what `connect` raises."""
         if self._again is None:
-            raise UnsupportedError(f"{self.url} was connected over a transport given to connect(): it cannot be "
-                                   "opened again; connect it again yourself")  # fmt: skip
+            raise UnsupportedError(
+                f"{self.url} was connected over a transport given to connect(): it cannot be "
+                "opened again; connect it again yourself"
+            )
         return self._again()
 
     @property

@@ -149,8 +149,15 @@ class Sensors:
         self._rates = {"scan": _Rate(), "imu": _Rate(), "frame": _Rate()}
 
     @classmethod
-    def open(cls, *, lidar: str | None = None, lidar_model: str = "rplidar-a1", imu: str | None = None,
-             imu_baud: int = DEFAULT_BAUD, camera: str | int | None = None) -> Sensors:  # fmt: skip
+    def open(
+        cls,
+        *,
+        lidar: str | None = None,
+        lidar_model: str = "rplidar-a1",
+        imu: str | None = None,
+        imu_baud: int = DEFAULT_BAUD,
+        camera: str | int | None = None,
+    ) -> Sensors:
         """Open the devices given by URL (None: not there). SensorOpenError names the one that failed
         (those already open are closed again); the camera needs OpenCV (the `vision` extra:
         MissingDependencyError says so)."""

@@ -28,8 +28,9 @@ READ_SLICE_S = 0.05
 class DeviceReader(Generic[T]):
     """`pump(timeout_s)` returns what arrived; each item goes to `deliver` (on the reading thread)."""
 
-    def __init__(self, name: str, pump: Callable[[float], Sequence[T]], deliver: Callable[[T], None], *,
-                 threaded: bool) -> None:  # fmt: skip
+    def __init__(
+        self, name: str, pump: Callable[[float], Sequence[T]], deliver: Callable[[T], None], *, threaded: bool
+    ) -> None:
         self.name = name
         self.threaded = threaded
         self.error: str | None = None

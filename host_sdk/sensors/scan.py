@@ -185,8 +185,16 @@ class ScanAssembler:
     scans: int = 0
     partial: int = 0
 
-    def add(self, angle_deg: F64, range_mm: F64, quality: NDArray[np.int64], times: F64,
-            start: NDArray[np.bool_], *, measured: F64 | None = None) -> list[LidarScan]:  # fmt: skip
+    def add(
+        self,
+        angle_deg: F64,
+        range_mm: F64,
+        quality: NDArray[np.int64],
+        times: F64,
+        start: NDArray[np.bool_],
+        *,
+        measured: F64 | None = None,
+    ) -> list[LidarScan]:
         """Points in arrival order; returns the revolutions they complete."""
         out: list[LidarScan] = []
         cuts = set(np.flatnonzero(start).tolist())
@@ -293,8 +301,16 @@ class LidarParserBase:
         """A single answer (device info, health...) of the device's protocol: its events."""
         raise NotImplementedError
 
-    def _points(self, angle: F64, dist_mm: F64, quality: NDArray[np.int64], times: F64,
-                start: NDArray[np.bool_], *, measured: F64) -> None:  # fmt: skip
+    def _points(
+        self,
+        angle: F64,
+        dist_mm: F64,
+        quality: NDArray[np.int64],
+        times: F64,
+        start: NDArray[np.bool_],
+        *,
+        measured: F64,
+    ) -> None:
         self.counters.points += angle.shape[0]
         scans = self._scans.add(angle, dist_mm, quality, times, start, measured=measured)
         self.counters.scans += len(scans)

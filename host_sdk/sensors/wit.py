@@ -23,11 +23,33 @@ import struct
 from dataclasses import dataclass
 
 G = 9.80665
-RATES_HZ = {0.2: 0x01, 0.5: 0x02, 1: 0x03, 2: 0x04, 5: 0x05, 10: 0x06, 20: 0x07, 50: 0x08, 100: 0x09, 125: 0x0A,
-            200: 0x0B}  # fmt: skip
+RATES_HZ = {
+    0.2: 0x01,
+    0.5: 0x02,
+    1: 0x03,
+    2: 0x04,
+    5: 0x05,
+    10: 0x06,
+    20: 0x07,
+    50: 0x08,
+    100: 0x09,
+    125: 0x0A,
+    200: 0x0B,
+}
 BAUDS = {4800: 1, 9600: 2, 19200: 3, 38400: 4, 57600: 5, 115200: 6, 230400: 7, 460800: 8, 921600: 9}
-OUTPUTS = {"time": 0x001, "acc": 0x002, "gyro": 0x004, "angle": 0x008, "mag": 0x010, "port": 0x020,
-           "pressure": 0x040, "gps": 0x080, "velocity": 0x100, "quat": 0x200, "gsa": 0x400}  # fmt: skip
+OUTPUTS = {
+    "time": 0x001,
+    "acc": 0x002,
+    "gyro": 0x004,
+    "angle": 0x008,
+    "mag": 0x010,
+    "port": 0x020,
+    "pressure": 0x040,
+    "gps": 0x080,
+    "velocity": 0x100,
+    "quat": 0x200,
+    "gsa": 0x400,
+}
 CALIBRATIONS = {"normal": 0, "accel": 1, "mag_exit": 0, "height": 3, "heading_zero": 4, "mag": 7, "reference": 8}
 SAVE, CALSW, RSW, RRATE, BAUD, AXIS6, READADDR, KEY = 0x00, 0x01, 0x02, 0x03, 0x04, 0x24, 0x27, 0x69
 TYPES = range(0x50, 0x5B)

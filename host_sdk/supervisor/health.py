@@ -104,11 +104,17 @@ class Health:
         since = "" if self.since_wall is None else f" since {clock_time(self.since_wall)} ({self.down_for_s():.0f} s)"
         if self.link == LINK_RECONNECTING:
             tries = f" (attempt {self.attempts})" if self.attempts else ""
-            return Banner("error", f"port lost{since}: {self.port_error or self.url}",
-                          f"opening {self.url} again{tries}; then arm to drive")  # fmt: skip
+            return Banner(
+                "error",
+                f"port lost{since}: {self.port_error or self.url}",
+                f"opening {self.url} again{tries}; then arm to drive",
+            )
         if self.link == LINK_LOST and self.port_error:
-            return Banner("error", f"port lost{since}: {self.port_error}",
-                          "start the program again (Supervisor.connect opens a lost port again by itself)")  # fmt: skip
+            return Banner(
+                "error",
+                f"port lost{since}: {self.port_error}",
+                "start the program again (Supervisor.connect opens a lost port again by itself)",
+            )
         if self.link == LINK_LOST:
             hint = "driving stopped; it reconnects by itself when the board answers, then arm to drive"
             return Banner("error", f"link lost{since}: no answer from the board on {self.url}", hint)

@@ -81,8 +81,15 @@ class Supervisor:
     robot connected by URL only); `lost_after_s`: how long a FEEDBACK silence may last before the
     link counts as lost (default LOST_AFTER_S, at least three feedback periods)."""
 
-    def __init__(self, robot: Robot, *, reconnect: bool = False, lost_after_s: float | None = None,
-                 delay_s: float = 0.5, delay_max_s: float = 5.0) -> None:  # fmt: skip
+    def __init__(
+        self,
+        robot: Robot,
+        *,
+        reconnect: bool = False,
+        lost_after_s: float | None = None,
+        delay_s: float = 0.5,
+        delay_max_s: float = 5.0,
+    ) -> None:
         reconnect = checks.flag("reconnect", reconnect)
         self._lost_after = checks.optional(checks.seconds, "lost_after_s", lost_after_s)
         delay_s = checks.seconds("delay_s", delay_s)
@@ -108,15 +115,31 @@ class Supervisor:
         self._connection: Connection | None = None
         if reconnect:
             if not robot.can_reopen:
-                raise UnsupportedError(f"reconnect=True needs a robot connected by URL; {robot.url} was "
-                                       "connected over a transport it was given")  # fmt: skip
-            self._connection = Connection(robot.reopen, initial=robot, on_connected=self._connected,
-                                          on_lost=self._lost, delay_s=delay_s, delay_max_s=delay_max_s)  # fmt: skip
+                raise UnsupportedError(
+                    f"reconnect=True needs a robot connected by URL; {robot.url} was "
+                    "connected over a transport it was given"
+                )
+            self._connection = Connection(
+                robot.reopen,
+                initial=robot,
+                on_connected=self._connected,
+                on_lost=self._lost,
+                delay_s=delay_s,
+                delay_max_s=delay_max_s,
+            )
             self._connection.start()
 
     @classmethod
-    def connect(cls, url: str, *, reconnect: bool = True, lost_after_s: float | None = None, delay_s: float = 0.5,
-                delay_max_s: float = 5.0, **options: Any) -> Supervisor:  # fmt: skip
+    def connect(
+        cls,
+        url: str,
+        *,
+        reconnect: bool = True,
+        lost_after_s: float | None = None,
+        delay_s: float = 0.5,
+        delay_max_s: float = 5.0,
+        **options: Any,
+    ) -> Supervisor:
         """`Robot.connect(url, **options)` (its errors: the first connection must succeed), supervised;
         with `reconnect` (the default) the port is opened again the same way whenever it is lost,
         after `delay_s`, doubling up to `delay_max_s` between tries."""
@@ -166,12 +189,22 @@ class Supervisor:
             conn = self._connection
             since = self._since
             return Health(
-                link=link, since_s=None if since is None else since[0], since_wall=None if since is None else since[1],
-                now_s=now, armed=armed, state=robot.state, failsafe=None if failsafe is None else failsafe.name,
-                reset=self._reset, refusals=tuple(self._refusals), busy=self._busy, halts=self._halts,
-                halt_why=self._halt_why, port_error=(conn.error if conn is not None and conn.error else "")
-                or self._port_error, attempts=0 if conn is None else conn.attempts, url=robot.url,
-            )  # fmt: skip
+                link=link,
+                since_s=None if since is None else since[0],
+                since_wall=None if since is None else since[1],
+                now_s=now,
+                armed=armed,
+                state=robot.state,
+                failsafe=None if failsafe is None else failsafe.name,
+                reset=self._reset,
+                refusals=tuple(self._refusals),
+                busy=self._busy,
+                halts=self._halts,
+                halt_why=self._halt_why,
+                port_error=(conn.error if conn is not None and conn.error else "") or self._port_error,
+                attempts=0 if conn is None else conn.attempts,
+                url=robot.url,
+            )
 
     def _link(self, robot: Robot) -> str:
         state = robot.state
@@ -338,8 +371,9 @@ class Supervisor:
         with self._lock:
             self._robot = robot
             self._port_error = ""
-        log.warning("%s: connected again (%s, boot_id 0x%08X)", robot.url, robot.identity.robot_name,
-                    robot.identity.boot_id)  # fmt: skip
+        log.warning(
+            "%s: connected again (%s, boot_id 0x%08X)", robot.url, robot.identity.robot_name, robot.identity.boot_id
+        )
 
     # == closing =====================================================================================
     def close(self) -> None:

@@ -70,8 +70,12 @@ def _as_json(listing: CameraListing, probes: dict[str, ProbeResult]) -> dict[str
             entry["probe"] = dataclasses.asdict(probes[cam.value])
         cameras.append(entry)
     opencv = dataclasses.asdict(listing.opencv) if listing.opencv is not None else None
-    return {"cameras": cameras, "picamera2": listing.picamera2, "opencv": opencv,
-            "opencv_missing": listing.opencv_missing}  # fmt: skip
+    return {
+        "cameras": cameras,
+        "picamera2": listing.picamera2,
+        "opencv": opencv,
+        "opencv_missing": listing.opencv_missing,
+    }
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:

@@ -45,19 +45,24 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_profile_args(p, default="picar", help_text="reference robot (default picar)")
-    p.add_argument("--host", default="127.0.0.1",
-                   help="address to listen on (default 127.0.0.1: this machine only; 0.0.0.0: every network, "
-                        "with a token)")  # fmt: skip
+    p.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="address to listen on (default 127.0.0.1: this machine only; 0.0.0.0: every network, with a token)",
+    )
     p.add_argument("--port", type=_port, default=8080, help="TCP port (default 8080; 0: any free one)")
     p.add_argument("--token", help="the token clients must give (default: a random one off loopback)")
     p.add_argument("--duration", type=positive, help="stop after this many seconds (default: at Ctrl-C)")
     p.add_argument("--max-speed", type=positive, default=0.45, help="top speed, m/s (default 0.45)")
     p.add_argument("--follow-gap", type=positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
     p.add_argument("--target-height", type=positive, metavar="M", help="the target's height (gives its range)")
-    p.add_argument("--autonomous", action="store_true",
-                   help="keep following with no browser open (by default following ends when the driving "
-                        "browser's keep-alive lapses: tab closed, frozen or hidden, Wi-Fi gone); said at the "
-                        "start and on the page")  # fmt: skip
+    p.add_argument(
+        "--autonomous",
+        action="store_true",
+        help="keep following with no browser open (by default following ends when the driving "
+        "browser's keep-alive lapses: tab closed, frozen or hidden, Wi-Fi gone); said at the "
+        "start and on the page",
+    )
     e = p.add_argument_group("on the emulator")
     e.add_argument("--world", metavar="FILE|random:SEED", help="a scenario file or random:SEED (default random:SEED)")
     e.add_argument("--seed", type=int, default=0, help="the emulator's random seed (default 0)")
@@ -67,9 +72,13 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     r = p.add_argument_group("on a robot")
     r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, or an emu:// URL with its sensors")
     r.add_argument("--baud", type=int, default=115200, help="the board's line speed (default 115200)")
-    r.add_argument("--watchdog", type=number(WATCHDOG_MIN_MS / 1000, WATCHDOG_MAX_MS / 1000, "s"), metavar="S",
-                   help="the board's watchdog, which is also how long a command from the page lives (default the "
-                        "firmware's, 0.25 s; longer for a host too busy to renew commands in time)")  # fmt: skip
+    r.add_argument(
+        "--watchdog",
+        type=number(WATCHDOG_MIN_MS / 1000, WATCHDOG_MAX_MS / 1000, "s"),
+        metavar="S",
+        help="the board's watchdog, which is also how long a command from the page lives (default the "
+        "firmware's, 0.25 s; longer for a host too busy to renew commands in time)",
+    )
     add_sensor_args(p, off=None)
     p.set_defaults(func=cmd_console)
 
@@ -81,17 +90,32 @@ def cmd_console(args: argparse.Namespace) -> int:
     except CommandRangeError as exc:
         say.error(f"--{exc}")
         return 2
-    settings = ConsoleSettings(args.host, args.port, args.token, args.max_speed, args.target_height, args.follow_gap,
-                               args.autonomous, args.watchdog)  # fmt: skip
+    settings = ConsoleSettings(
+        args.host,
+        args.port,
+        args.token,
+        args.max_speed,
+        args.target_height,
+        args.follow_gap,
+        args.autonomous,
+        args.watchdog,
+    )
     which = args.robot or args.profile
     try:
         if args.url is None:
             world = args.world or f"random:{args.seed}"
             # The emulator shares this process on the wall clock: a 1 s watchdog keeps a busy machine
             # from failing it safe every few seconds (docs/console.md, "On the emulator").
-            run = start_emulated(which, world, settings, seed=args.seed, camera_fps=args.camera_fps,
-                                 imu=not args.no_imu, camera_look=args.camera_look,
-                                 watchdog_s=watchdog_for(None, args.watchdog))  # fmt: skip
+            run = start_emulated(
+                which,
+                world,
+                settings,
+                seed=args.seed,
+                camera_fps=args.camera_fps,
+                imu=not args.no_imu,
+                camera_look=args.camera_look,
+                watchdog_s=watchdog_for(None, args.watchdog),
+            )
         else:
             ports = robot_ports(args)
             try:

@@ -71,9 +71,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--pilot", choices=PILOTS, default="roverlink", help="whose behaviour drives (default roverlink)")
     p.add_argument("--follow-gap", type=positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
     p.add_argument("--max-speed", type=positive, default=0.45, help="top speed, m/s (default 0.45)")
-    p.add_argument("--rearm", action="store_true",
-                   help="arm again by itself after a failsafe or a board reset and go on following (off by "
-                        "default: the robot then stays disarmed; said at the start when on)")  # fmt: skip
+    p.add_argument(
+        "--rearm",
+        action="store_true",
+        help="arm again by itself after a failsafe or a board reset and go on following (off by "
+        "default: the robot then stays disarmed; said at the start when on)",
+    )
     p.add_argument("--json", action="store_true", help="print the metrics as JSON on stdout at the end")
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     p.add_argument(
@@ -85,8 +88,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     e.add_argument("--world", metavar="FILE|random:SEED", help="a scenario file or random:SEED (selects the emulator)")
     e.add_argument("--seed", type=int, default=0, help="the emulator's random seed (default 0)")
     e.add_argument("--camera-fps", type=positive, default=15.0, help="emulated camera frame rate (default 15)")
-    e.add_argument("--camera-look", choices=LOOKS, default="plain",
-                   help="emulated camera: plain (flat colours, default) or photo (docs/emulator.md)")  # fmt: skip
+    e.add_argument(
+        "--camera-look",
+        choices=LOOKS,
+        default="plain",
+        help="emulated camera: plain (flat colours, default) or photo (docs/emulator.md)",
+    )
     e.add_argument("--no-imu", action="store_true", help="no IMU: wheel odometry alone")
     r = p.add_argument_group("on a robot")
     r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, or an emu:// URL with its sensors")
@@ -98,11 +105,19 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         metavar="IMAGE",
         help="an image of the target (a PNG with its background transparent: the object's pixels only)",
     )
-    r.add_argument("--select", type=_box, metavar="X,Y,W,H",
-                   help="the target's box in the first frame (or draw it live: roverlink console)")  # fmt: skip
+    r.add_argument(
+        "--select",
+        type=_box,
+        metavar="X,Y,W,H",
+        help="the target's box in the first frame (or draw it live: roverlink console)",
+    )
     r.add_argument("--target", choices=KINDS, help="follow a detected person or face (in place of --template/--select)")
-    r.add_argument("--target-height", type=positive, metavar="M",
-                   help="the target's height (gives its range; --target: default 1.7 person, 0.16 face)")  # fmt: skip
+    r.add_argument(
+        "--target-height",
+        type=positive,
+        metavar="M",
+        help="the target's height (gives its range; --target: default 1.7 person, 0.16 face)",
+    )
     p.set_defaults(func=cmd_follow)
 
 
@@ -131,15 +146,18 @@ def _summary(m: FollowMetrics) -> str:
     reacq = ", ".join(f"{v:.1f} s" for v in m.reacquisitions_s) or "none"
     first = "never" if m.first_sight_s is None else f"{m.first_sight_s:.1f} s"
     hits = "collisions unknown" if m.collisions is None else f"collisions {m.collisions}"
-    return (f"{m.pilot} on {m.profile} ({m.world or m.url}), {m.duration_s:.1f} s: {hits}, "
-            f"first sight {first}, target in view {view} (tracked {tracked}), following error {err}, "
-            f"reacquisitions {reacq}, {m.distance_m:.1f} m driven")  # fmt: skip
+    return (
+        f"{m.pilot} on {m.profile} ({m.world or m.url}), {m.duration_s:.1f} s: {hits}, "
+        f"first sight {first}, target in view {view} (tracked {tracked}), following error {err}, "
+        f"reacquisitions {reacq}, {m.distance_m:.1f} m driven"
+    )
 
 
 def cmd_follow(args: argparse.Namespace) -> int:
     """Follow a target with the camera while avoiding obstacles with the lidar."""
-    settings = FollowSettings(args.follow_gap, args.max_speed, args.target_height, args.duration, args.target,
-                              args.rearm)  # fmt: skip
+    settings = FollowSettings(
+        args.follow_gap, args.max_speed, args.target_height, args.duration, args.target, args.rearm
+    )
     if args.rearm:
         say.notice(
             "--rearm: the robot is armed again by itself after a failsafe or a board reset, and goes on following"
@@ -148,56 +166,91 @@ def cmd_follow(args: argparse.Namespace) -> int:
     if args.foxglove or args.foxglove_live:
         record = RecordTo(args.foxglove, args.foxglove_live, args.foxglove_host, args.foxglove_port)
     progress = None if args.quiet else _progress(sys.stderr)
-    robot = args.robot or args.profile
+    run = _follow_emulated if args.url is None else _follow_robot
     try:
-        if args.url is None:
-            if args.target is not None:
-                say.error(
-                    "--target needs a robot's camera (--url): the emulated target is a rendered cylinder, not a person"
-                )
-                return 2
-            given = [name for name in ("select", "template") if getattr(args, name) is not None]
-            if given:
-                say.error(f"--{given[0]} is for a robot's camera (--url): on the emulator the target "
-                          "is the world's (roverlink console lets you draw it)")  # fmt: skip
-                return 2
-            metrics = run_emulated(robot, args.world or f"random:{args.seed}", pilot=args.pilot, seed=args.seed,
-                                   camera_fps=args.camera_fps, imu=not args.no_imu, settings=settings,
-                                   camera_look=args.camera_look, progress=progress, record=record)  # fmt: skip
-        else:
-            targets = sum(v is not None for v in (args.template, args.select, args.target))
-            emulated = args.url.startswith("emu://")
-            if emulated and args.target is not None:
-                say.error("--target needs a robot's camera: the emulated target is a rendered cylinder, not a person")
-                return 2
-            if targets > 1 or (targets == 0 and not emulated):
-                say.error(
-                    "on a robot give one of --template, --select, --target (an emu:// robot follows its own target)"
-                )
-                return 2
-            template = None
-            if args.template is not None:
-                require("cv2", "vision", "--template")
-                try:
-                    template = read_template(args.template)
-                except CommandRangeError:
-                    say.error(f"cannot read the image {args.template}")
-                    return 2
-            ports = robot_ports(args)
-            try:
-                ports.check(robot)
-            except RoverLinkError as exc:
-                say.error(exc)
-                return 2
-            metrics = run_robot(ports, robot, template=template, select=args.select, pilot=args.pilot,
-                                settings=settings, progress=progress, record=record)  # fmt: skip
+        metrics = run(args, settings, progress, record)
     except MissingDependencyError:
         raise  # cli.main names the extra
     except (RoverLinkError, ValueError, OSError, RuntimeError) as exc:
         say.error(f"{exc}")
         return 1
+    if metrics is None:
+        return 2  # refused, and said why
     if args.json:
         print(json.dumps(metrics.to_json(), indent=1))
     else:
         print(_summary(metrics))
     return 0
+
+
+def _follow_emulated(
+    args: argparse.Namespace,
+    settings: FollowSettings,
+    progress: Callable[[Progress], None] | None,
+    record: RecordTo | None,
+) -> FollowMetrics | None:
+    """The emulated run (its own world and target); None after saying why it is refused."""
+    if args.target is not None:
+        say.error("--target needs a robot's camera (--url): the emulated target is a rendered cylinder, not a person")
+        return None
+    given = [name for name in ("select", "template") if getattr(args, name) is not None]
+    if given:
+        say.error(
+            f"--{given[0]} is for a robot's camera (--url): on the emulator the target "
+            "is the world's (roverlink console lets you draw it)"
+        )
+        return None
+    return run_emulated(
+        args.robot or args.profile,
+        args.world or f"random:{args.seed}",
+        pilot=args.pilot,
+        seed=args.seed,
+        camera_fps=args.camera_fps,
+        imu=not args.no_imu,
+        settings=settings,
+        camera_look=args.camera_look,
+        progress=progress,
+        record=record,
+    )
+
+
+def _follow_robot(
+    args: argparse.Namespace,
+    settings: FollowSettings,
+    progress: Callable[[Progress], None] | None,
+    record: RecordTo | None,
+) -> FollowMetrics | None:
+    """A robot at --url with its sensors; None after saying why it is refused."""
+    robot = args.robot or args.profile
+    targets = sum(v is not None for v in (args.template, args.select, args.target))
+    emulated = args.url.startswith("emu://")
+    if emulated and args.target is not None:
+        say.error("--target needs a robot's camera: the emulated target is a rendered cylinder, not a person")
+        return None
+    if targets > 1 or (targets == 0 and not emulated):
+        say.error("on a robot give one of --template, --select, --target (an emu:// robot follows its own target)")
+        return None
+    template = None
+    if args.template is not None:
+        require("cv2", "vision", "--template")
+        try:
+            template = read_template(args.template)
+        except CommandRangeError:
+            say.error(f"cannot read the image {args.template}")
+            return None
+    ports = robot_ports(args)
+    try:
+        ports.check(robot)
+    except RoverLinkError as exc:
+        say.error(exc)
+        return None
+    return run_robot(
+        ports,
+        robot,
+        template=template,
+        select=args.select,
+        pilot=args.pilot,
+        settings=settings,
+        progress=progress,
+        record=record,
+    )

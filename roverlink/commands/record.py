@@ -34,9 +34,13 @@ def add_foxglove_args(p: argparse.ArgumentParser, *, serve_flag: str | None = "-
 
 
 def add_foxglove_address_args(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--foxglove-host", default="127.0.0.1", metavar="HOST",
-                   help="address the live view listens on (default 127.0.0.1: this machine only; 0.0.0.0: every "
-                        "network, with no access control: docs/tools.md)")  # fmt: skip
+    p.add_argument(
+        "--foxglove-host",
+        default="127.0.0.1",
+        metavar="HOST",
+        help="address the live view listens on (default 127.0.0.1: this machine only; 0.0.0.0: every "
+        "network, with no access control: docs/tools.md)",
+    )
     p.add_argument(
         "--foxglove-port", type=int, default=8765, metavar="PORT", help="port of the live view (default 8765; 0: any)"
     )

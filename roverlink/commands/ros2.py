@@ -41,8 +41,13 @@ def overrides(args: argparse.Namespace) -> dict[str, Any]:
         out["robot_file"] = args.robot.path
     if args.allow_mismatch:
         out["allow_mismatch"] = True
-    for option, parameter in (("baud", "baud"), ("lidar", "lidar_url"), ("lidar_model", "lidar_model"),
-                              ("imu", "imu_url"), ("imu_baud", "imu_baud")):  # fmt: skip
+    for option, parameter in (
+        ("baud", "baud"),
+        ("lidar", "lidar_url"),
+        ("lidar_model", "lidar_model"),
+        ("imu", "imu_url"),
+        ("imu_baud", "imu_baud"),
+    ):
         if getattr(args, option) is not None:
             out[parameter] = getattr(args, option)
     return out

@@ -153,9 +153,13 @@ def sketch_text(robot: RobotFile, example: str, source: str) -> str:
         f"(`roverlink firmware sketch --robot {robot.path}`): edit the file, not the header. Wiring, timers "
         "and flashing: docs/firmware.md."
     )
-    head = "//\n".join(textwrap.fill(text, 100, initial_indent="// ", subsequent_indent="// ", break_on_hyphens=False,
-                                     break_long_words=False) + "\n"
-                       for text in paragraphs)  # fmt: skip
+    head = "//\n".join(
+        textwrap.fill(
+            text, 100, initial_indent="// ", subsequent_indent="// ", break_on_hyphens=False, break_long_words=False
+        )
+        + "\n"
+        for text in paragraphs
+    )
     # The code's own comments name where the header comes from: the user's file, not robots.toml.
     rest = "".join(lines[body:]).replace("generated from robots.toml", f"generated from {Path(robot.path).name}")
     return head + ("" if rest.startswith("\n") else "\n") + rest

@@ -55,8 +55,15 @@ def recording(robot: Robot, pilot: Pilot, record: RecordTo | None) -> Iterator[C
     except ImportError as exc:
         raise RuntimeError(f"recording needs host_sdk.recording and the foxglove extra ({exc})") from None
     sources = [FollowSource(pilot)] if isinstance(pilot, FollowPilot) else []
-    recorder = library.Recorder.attach(robot, mcap_path=record.mcap_path, overwrite=True, serve=record.serve,
-                                       host=record.host, port=record.port, sources=sources)  # fmt: skip
+    recorder = library.Recorder.attach(
+        robot,
+        mcap_path=record.mcap_path,
+        overwrite=True,
+        serve=record.serve,
+        host=record.host,
+        port=record.port,
+        sources=sources,
+    )
     if record.serve:
         announce_live_view(recorder)
     try:
@@ -102,8 +109,9 @@ def make_pilot(kind: str, geo: RobotGeometry, template: NDArray[np.uint8] | None
         raise ValueError("no target: give a template image or a target kind (person or face)")
     if kind == "picar-2018":
         return PiCarBaseline(tracker, geo.camera, geo.lidar_mount, settings.max_speed_m_s)
-    return FollowPilot.with_tracker(geo, tracker, follow_gap_m=settings.follow_gap_m,
-                                    max_speed_m_s=settings.max_speed_m_s)  # fmt: skip
+    return FollowPilot.with_tracker(
+        geo, tracker, follow_gap_m=settings.follow_gap_m, max_speed_m_s=settings.max_speed_m_s
+    )
 
 
 def geometry_for(robot: Robot, which: str | RobotDescription) -> RobotGeometry:
@@ -121,16 +129,27 @@ def _metrics(
     return FollowMetrics(pilot, which, world=world, url=url)
 
 
-def run_emulated(profile: str | RobotDescription, world: str | Path, *, pilot: str = "roverlink", seed: int = 0,
-                 camera_fps: float = 15.0, imu: bool = True, settings: FollowSettings | None = None,
-                 camera_look: str = "plain", progress: Callable[[Progress], None] | None = None,
-                 record: RecordTo | None = None) -> FollowMetrics:  # fmt: skip
+def run_emulated(
+    profile: str | RobotDescription,
+    world: str | Path,
+    *,
+    pilot: str = "roverlink",
+    seed: int = 0,
+    camera_fps: float = 15.0,
+    imu: bool = True,
+    settings: FollowSettings | None = None,
+    camera_look: str = "plain",
+    progress: Callable[[Progress], None] | None = None,
+    record: RecordTo | None = None,
+) -> FollowMetrics:
     """One follow run on the emulator (virtual clock); the metrics, with the truth's figures.
     `profile`: a reference robot, or a robot file's description (the emulated robot is the file's)."""
     settings = settings or FollowSettings()
     if settings.target is not None:
-        raise ValueError(f"target {settings.target!r} needs a camera that sees people (a robot's): the emulated "
-                         "world's target is a rendered shape, which neither detector is made for")  # fmt: skip
+        raise ValueError(
+            f"target {settings.target!r} needs a camera that sees people (a robot's): the emulated "
+            "world's target is a rendered shape, which neither detector is made for"
+        )
     em = emulated.start(profile, world, seed=seed, camera_fps=camera_fps, imu=imu, camera_look=camera_look)
     robot = em.robot
     try:
@@ -143,9 +162,20 @@ def run_emulated(profile: str | RobotDescription, world: str | Path, *, pilot: s
         imu_port = Jy901.open(em.endpoints["imu"]) if imu else None
         metrics = _metrics(chosen.name, profile, world=str(world))
         with recording(robot, chosen, record) as on_step:
-            return run_follow(robot, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
-                              follow_gap_m=gap_for(settings, geo), imu=imu_port, truth=em.truth.sample,
-                              progress=progress, on_step=on_step, rearm=settings.rearm)  # fmt: skip
+            return run_follow(
+                robot,
+                lidar,
+                camera,
+                chosen,
+                duration_s=settings.duration_s,
+                metrics=metrics,
+                follow_gap_m=gap_for(settings, geo),
+                imu=imu_port,
+                truth=em.truth.sample,
+                progress=progress,
+                on_step=on_step,
+                rearm=settings.rearm,
+            )
     finally:
         robot.close()
 
@@ -183,8 +213,15 @@ class RobotPorts:
         URL's devices, else the robot file's (roverlink.sensors.sensors_for); the lidar and the
         camera are needed (RoverLinkError naming how to give them)."""
         desc = which if isinstance(which, RobotDescription) else None
-        choice = sensors_for(robot, desc, lidar=self.lidar, lidar_model=self.lidar_model, imu=self.imu,
-                             imu_baud=self.imu_baud, camera=self.camera)  # fmt: skip
+        choice = sensors_for(
+            robot,
+            desc,
+            lidar=self.lidar,
+            lidar_model=self.lidar_model,
+            imu=self.imu,
+            imu_baud=self.imu_baud,
+            camera=self.camera,
+        )
         require_sensors(choice, ("lidar", "camera"))
         if self.lidar_model is None and choice.lidar != robot.transport.endpoints.get("lidar"):
             choice = replace(choice, lidar_model=emulated.lidar_for(which))
@@ -194,14 +231,22 @@ class RobotPorts:
 def robot_ports(args: argparse.Namespace) -> RobotPorts:
     """The board and the sensors `roverlink console` and `roverlink follow` were given (--url, --baud,
     --allow-mismatch and roverlink.sensors' options); what is not given is chosen on connecting."""
-    return RobotPorts(args.url, args.lidar, args.camera, args.imu, args.lidar_model, args.baud, args.allow_mismatch,
-                      args.imu_baud)  # fmt: skip
+    return RobotPorts(
+        args.url, args.lidar, args.camera, args.imu, args.lidar_model, args.baud, args.allow_mismatch, args.imu_baud
+    )
 
 
-def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: NDArray[np.uint8] | None = None,
-              select: tuple[float, float, float, float] | None = None, pilot: str = "roverlink",
-              settings: FollowSettings | None = None, progress: Callable[[Progress], None] | None = None,
-              record: RecordTo | None = None) -> FollowMetrics:  # fmt: skip
+def run_robot(
+    ports: RobotPorts,
+    profile: str | RobotDescription,
+    *,
+    template: NDArray[np.uint8] | None = None,
+    select: tuple[float, float, float, float] | None = None,
+    pilot: str = "roverlink",
+    settings: FollowSettings | None = None,
+    progress: Callable[[Progress], None] | None = None,
+    record: RecordTo | None = None,
+) -> FollowMetrics:
     """Follow on a real robot: the target is a template image, a region `select`ed in the first frame,
     or a person or a face (`settings.target`) the detector picks.
     `profile`: a reference robot, or a robot file's description (compared with the board, its limits
@@ -209,12 +254,19 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
     settings = settings or FollowSettings()
     given = sum(v is not None for v in (template, select, settings.target))
     if given > 1 or (given == 0 and not ports.url.startswith("emu://")):  # an emu:// robot serves its target
-        raise ValueError("give the target as a template image, a region of the first frame or a kind "
-                         "(person or face): one of them")  # fmt: skip
+        raise ValueError(
+            "give the target as a template image, a region of the first frame or a kind (person or face): one of them"
+        )
     desc, name = (profile, None) if isinstance(profile, RobotDescription) else (None, profile)
-    sup = Supervisor.connect(ports.url, profile=name, robot=desc, baud=ports.baud,
-                             allow_mismatch=ports.allow_mismatch, clamp=True,
-                             watchdog_s=emulated.watchdog_for(ports.url, None))  # fmt: skip
+    sup = Supervisor.connect(
+        ports.url,
+        profile=name,
+        robot=desc,
+        baud=ports.baud,
+        allow_mismatch=ports.allow_mismatch,
+        clamp=True,
+        watchdog_s=emulated.watchdog_for(ports.url, None),
+    )
     robot = sup.robot
     warn_mismatches(robot)
     camera = lidar = imu = None
@@ -239,9 +291,19 @@ def run_robot(ports: RobotPorts, profile: str | RobotDescription, *, template: N
         imu = open_imu(devices)
         metrics = _metrics(chosen.name, profile, url=ports.url)
         with recording(robot, chosen, record) as on_step:
-            return run_follow(sup, lidar, camera, chosen, duration_s=settings.duration_s, metrics=metrics,
-                              follow_gap_m=gap_for(settings, geo), imu=imu, progress=progress,
-                              on_step=on_step, rearm=settings.rearm)  # fmt: skip
+            return run_follow(
+                sup,
+                lidar,
+                camera,
+                chosen,
+                duration_s=settings.duration_s,
+                metrics=metrics,
+                follow_gap_m=gap_for(settings, geo),
+                imu=imu,
+                progress=progress,
+                on_step=on_step,
+                rearm=settings.rearm,
+            )
     finally:
         for device in (lidar, imu, camera):
             if device is not None:

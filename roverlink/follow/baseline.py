@@ -47,8 +47,16 @@ class PiCarBaseline:
     WHEELBASE_M = 0.26
     """The PiCar's, to turn a steering angle into a curvature on a differential drive too."""
 
-    def __init__(self, tracker: FrameTracker, camera: CameraModel, mount: LidarMount, speed_m_s: float,
-                 *, bins: int = 500, period_s: float = 1.0) -> None:  # fmt: skip
+    def __init__(
+        self,
+        tracker: FrameTracker,
+        camera: CameraModel,
+        mount: LidarMount,
+        speed_m_s: float,
+        *,
+        bins: int = 500,
+        period_s: float = 1.0,
+    ) -> None:
         self.tracker = tracker
         self.camera = camera
         self.mount = mount

@@ -70,9 +70,19 @@ def lidar_for(robot: str | RobotDescription) -> str:
     return LIDAR_FOR.get(robot, "rplidar-a1")
 
 
-def start(profile: str | RobotDescription, world: str | Path, *, seed: int = 0, camera_fps: float = 15.0,
-          imu: bool = True, faults: str | None = None, camera_look: str = "plain", clock: str = "virtual",
-          auto_rearm: bool = False, watchdog_s: float | None = None) -> EmulatedRobot:  # fmt: skip
+def start(
+    profile: str | RobotDescription,
+    world: str | Path,
+    *,
+    seed: int = 0,
+    camera_fps: float = 15.0,
+    imu: bool = True,
+    faults: str | None = None,
+    camera_look: str = "plain",
+    clock: str = "virtual",
+    auto_rearm: bool = False,
+    watchdog_s: float | None = None,
+) -> EmulatedRobot:
     """Connect to an emulated `profile` (a reference robot, or the robot a robot file describes:
     connected with the file, as on a real robot) in `world` with its sensors attached; on the virtual
     clock (as fast as the CPU allows) or the "real" one (wall time, for a person watching).
@@ -88,16 +98,23 @@ def start(profile: str | RobotDescription, world: str | Path, *, seed: int = 0, 
     rig = attach(emu, world, lidar=lidar_for(profile), imu="jy901" if imu else None, camera=options)
     transport = EmulatorTransport(emu, clock=clock)
     transport.endpoints = register(transport)
-    robot = Robot.connect(transport.url, profile=None if desc else emu.profile.name, robot=desc,
-                          transport=PluginTransport(transport), clamp=True, auto_rearm=auto_rearm,
-                          watchdog_s=WATCHDOG_DEFAULT_MS / 1000 if watchdog_s is None else watchdog_s)  # fmt: skip
+    robot = Robot.connect(
+        transport.url,
+        profile=None if desc else emu.profile.name,
+        robot=desc,
+        transport=PluginTransport(transport),
+        clamp=True,
+        auto_rearm=auto_rearm,
+        watchdog_s=WATCHDOG_DEFAULT_MS / 1000 if watchdog_s is None else watchdog_s,
+    )
     cm = rig.mount_for("camera", "pi-camera-v2")
     spec = DEVICES["pi-camera-v2"]
     assert isinstance(spec, CameraSpec)
     scene = rig.world.scene
     template = render_target(scene, cm, look=camera_look)
-    return EmulatedRobot(robot, emu, scene, dict(transport.endpoints), lidar_for(profile), template,
-                         TruthProbe(emu, cm, spec.hfov_deg))  # fmt: skip
+    return EmulatedRobot(
+        robot, emu, scene, dict(transport.endpoints), lidar_for(profile), template, TruthProbe(emu, cm, spec.hfov_deg)
+    )
 
 
 class TruthProbe:

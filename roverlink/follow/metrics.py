@@ -101,8 +101,16 @@ class MetricsRecorder:
         """The run starts (its duration counts from here)."""
         self._t0 = t
 
-    def observe(self, t: float, dt: float, *, state: TrackState | None, gap_estimate_m: float | None, mode: str,
-                truth: TruthSample | None) -> None:  # fmt: skip
+    def observe(
+        self,
+        t: float,
+        dt: float,
+        *,
+        state: TrackState | None,
+        gap_estimate_m: float | None,
+        mode: str,
+        truth: TruthSample | None,
+    ) -> None:
         m = self.m
         if self._t0 is None:
             self._t0 = t

@@ -29,11 +29,23 @@ class Progress:
     """What is wrong with the robot now and what to do (the supervisor's banner), None: nothing."""
 
 
-def run_follow(robot: Robot | Supervisor, lidar: Lidar, camera: CameraSource, pilot: Pilot, *, duration_s: float,
-               metrics: FollowMetrics, follow_gap_m: float = 0.5, imu: Jy901 | None = None,
-               truth: Callable[[], TruthSample] | None = None, period_s: float = 0.05,
-               progress: Callable[[Progress], None] | None = None, progress_every_s: float = 1.0,
-               on_step: Callable[[float], None] | None = None, rearm: bool = False) -> FollowMetrics:  # fmt: skip
+def run_follow(
+    robot: Robot | Supervisor,
+    lidar: Lidar,
+    camera: CameraSource,
+    pilot: Pilot,
+    *,
+    duration_s: float,
+    metrics: FollowMetrics,
+    follow_gap_m: float = 0.5,
+    imu: Jy901 | None = None,
+    truth: Callable[[], TruthSample] | None = None,
+    period_s: float = 0.05,
+    progress: Callable[[Progress], None] | None = None,
+    progress_every_s: float = 1.0,
+    on_step: Callable[[float], None] | None = None,
+    rearm: bool = False,
+) -> FollowMetrics:
     """Run `pilot` for `duration_s` of the robot's clock (armed at the start; again after a failsafe or
     a reset only with `rearm`); returns the filled `metrics`."""
     recorder = MetricsRecorder(metrics, follow_gap_m)

@@ -145,8 +145,10 @@ class BridgeNode(Node):
         self.connection.start()
         self.get_logger().info(f"connecting to {p.url} ({self.mode} feedback at {p.odom_rate} Hz)")
         if p.auto_arm:  # an opt-in that drives again by itself: said once, at the start
-            self.get_logger().warning("auto_arm is on: the robot is armed at start and again on the next cmd_vel "
-                                      "after a board reset or a watchdog failsafe")  # fmt: skip
+            self.get_logger().warning(
+                "auto_arm is on: the robot is armed at start and again on the next cmd_vel "
+                "after a board reset or a watchdog failsafe"
+            )
 
     def _route_logs(self) -> RosLogHandler:
         """The SDK's and the bridge's Python logs into the ROS log."""

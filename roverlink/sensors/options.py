@@ -188,8 +188,13 @@ def open_sensors(choice: SensorChoice) -> Sensors:
     """Open the chosen devices (host_sdk.sensors.Sensors.open); a device that will not open and
     came from the robot file is named with the file's key, so the user knows what to change."""
     try:
-        return Sensors.open(lidar=choice.lidar, lidar_model=choice.lidar_model, imu=choice.imu,
-                            imu_baud=choice.imu_baud, camera=choice.camera)  # fmt: skip
+        return Sensors.open(
+            lidar=choice.lidar,
+            lidar_model=choice.lidar_model,
+            imu=choice.imu,
+            imu_baud=choice.imu_baud,
+            camera=choice.camera,
+        )
     except SensorOpenError as exc:
         raise _from_file(choice, exc) from exc
 

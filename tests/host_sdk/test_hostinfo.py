@@ -29,24 +29,37 @@ UBUNTU_2204 = 'PRETTY_NAME="Ubuntu 22.04.4 LTS"\nNAME="Ubuntu"\nVERSION_ID="22.0
     ("files", "kind", "board", "jetpack"),
     [
         (
-            {"etc/os-release": UBUNTU_2204, "proc/device-tree/model": "NVIDIA Jetson Orin Nano Developer Kit\0",
-             "etc/nv_tegra_release": "# R36 (release), REVISION: 3.0, GCID: 36191598, BOARD: generic, EABI: aarch64\n"},
-            "jetson", "NVIDIA Jetson Orin Nano Developer Kit", "6",
+            {
+                "etc/os-release": UBUNTU_2204,
+                "proc/device-tree/model": "NVIDIA Jetson Orin Nano Developer Kit\0",
+                "etc/nv_tegra_release": "# R36 (release), REVISION: 3.0, GCID: 36191598, BOARD: generic, EABI: aarch64\n",
+            },
+            "jetson",
+            "NVIDIA Jetson Orin Nano Developer Kit",
+            "6",
         ),
         (
-            {"etc/os-release": 'PRETTY_NAME="Ubuntu 18.04.6 LTS"\nID=ubuntu\nVERSION_ID="18.04"\n',
-             "etc/nv_tegra_release": "# R32 (release), REVISION: 7.4, GCID: 33514132, BOARD: t210ref\n"},
-            "jetson", None, "4",
+            {
+                "etc/os-release": 'PRETTY_NAME="Ubuntu 18.04.6 LTS"\nID=ubuntu\nVERSION_ID="18.04"\n',
+                "etc/nv_tegra_release": "# R32 (release), REVISION: 7.4, GCID: 33514132, BOARD: t210ref\n",
+            },
+            "jetson",
+            None,
+            "4",
         ),
         (
-            {"etc/os-release": 'PRETTY_NAME="Debian GNU/Linux 12 (bookworm)"\nID=debian\nVERSION_ID="12"\n',
-             "proc/device-tree/model": "Raspberry Pi 5 Model B Rev 1.0\0"},
-            "raspberry-pi", "Raspberry Pi 5 Model B Rev 1.0", None,
+            {
+                "etc/os-release": 'PRETTY_NAME="Debian GNU/Linux 12 (bookworm)"\nID=debian\nVERSION_ID="12"\n',
+                "proc/device-tree/model": "Raspberry Pi 5 Model B Rev 1.0\0",
+            },
+            "raspberry-pi",
+            "Raspberry Pi 5 Model B Rev 1.0",
+            None,
         ),
         ({"etc/os-release": UBUNTU_2204}, "ubuntu", None, None),
         ({}, "other", None, None),
     ],
-)  # fmt: skip
+)
 def test_the_machine_is_read_from_os_release_the_device_tree_and_l4t(
     tmp_path: Path, files: dict[str, str], kind: str, board: str | None, jetpack: str | None
 ) -> None:

@@ -138,8 +138,17 @@ def test_numpy_scalars_are_numbers() -> None:
         assert robot.pid(wheel=np.int8(0)) is not None
 
 
-@pytest.mark.parametrize("bad", ["numpy.bool_(True)", "numpy.complex128(0.2)", "numpy.float32('nan')",
-                                 "numpy.float64('inf')", "complex(0.2, 0)", "'0.2'"])  # fmt: skip
+@pytest.mark.parametrize(
+    "bad",
+    [
+        "numpy.bool_(True)",
+        "numpy.complex128(0.2)",
+        "numpy.float32('nan')",
+        "numpy.float64('inf')",
+        "complex(0.2, 0)",
+        "'0.2'",
+    ],
+)
 def test_numpy_scalars_that_are_no_finite_real_are_refused(bad: str) -> None:
     numpy = pytest.importorskip("numpy")
     value = eval(bad, {"numpy": numpy})

@@ -138,8 +138,24 @@ def test_crc_extra_derivation_is_the_documented_one() -> None:
 def test_spec_hash_covers_behaviour_but_not_docs() -> None:
     base = spec().spec_hash
     assert spec(GOOD.replace("Left wheel target speed", "Left wheel speed")).spec_hash == base
-    assert spec(GOOD.replace('max = 1571, unit = "mrad", doc = "Front-wheel angle, positive', 'max = 1500, unit = "mrad", doc = "Front-wheel angle, positive')).spec_hash != base  # fmt: skip
-    assert spec(GOOD.replace('{ from = ["IDLE"], event = "DISARM", to = "IDLE", actions = ["ack"] }', '{ from = ["IDLE"], event = "DISARM", to = "IDLE", actions = ["nack"] }')).spec_hash != base  # fmt: skip
+    assert (
+        spec(
+            GOOD.replace(
+                'max = 1571, unit = "mrad", doc = "Front-wheel angle, positive',
+                'max = 1500, unit = "mrad", doc = "Front-wheel angle, positive',
+            )
+        ).spec_hash
+        != base
+    )
+    assert (
+        spec(
+            GOOD.replace(
+                '{ from = ["IDLE"], event = "DISARM", to = "IDLE", actions = ["ack"] }',
+                '{ from = ["IDLE"], event = "DISARM", to = "IDLE", actions = ["nack"] }',
+            )
+        ).spec_hash
+        != base
+    )
 
 
 def test_generated_python_state_table_is_the_spec_table() -> None:
@@ -147,12 +163,20 @@ def test_generated_python_state_table_is_the_spec_table() -> None:
 
     s = spec()
     rows = [
-        (t.source.name, t.event.name, t.guard.name.lower() if t.guard is not None else None, t.negated, t.target.name,
-         tuple(a.name.lower() for a in type(t.actions) if a in t.actions))
+        (
+            t.source.name,
+            t.event.name,
+            t.guard.name.lower() if t.guard is not None else None,
+            t.negated,
+            t.target.name,
+            tuple(a.name.lower() for a in type(t.actions) if a in t.actions),
+        )
         for t in TRANSITIONS
-    ]  # fmt: skip
-    expected = [(src, ev, g, neg, to, tuple(sorted(acts, key=[a.name for a in s.state_machine.actions].index)))
-                for src, ev, g, neg, to, acts in s.state_machine.rows()]  # fmt: skip
+    ]
+    expected = [
+        (src, ev, g, neg, to, tuple(sorted(acts, key=[a.name for a in s.state_machine.actions].index)))
+        for src, ev, g, neg, to, acts in s.state_machine.rows()
+    ]
     assert rows == expected
     assert INITIAL_STATE.name == s.state_machine.initial
 

@@ -60,7 +60,14 @@ def test_library_properties_follows_the_arduino_specification() -> None:
     assert fields["version"] == __version__
     assert re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9 _.-]*", fields["name"])
     assert fields["category"] in {
-        "Display", "Communication", "Signal Input/Output", "Sensors", "Device Control", "Timing",
-        "Data Storage", "Data Processing", "Other",
-    }  # fmt: skip
+        "Display",
+        "Communication",
+        "Signal Input/Output",
+        "Sensors",
+        "Device Control",
+        "Timing",
+        "Data Storage",
+        "Data Processing",
+        "Other",
+    }
     assert (ROOT / "arduino" / "RoverLink" / "src" / fields["includes"]).is_file()

@@ -69,8 +69,10 @@ def test_servo_off_timer1_on_the_uno_names_the_constraint(tmp_path: Path) -> Non
 
 def test_pin_used_twice(tmp_path: Path) -> None:
     path = _variant(tmp_path, "diffdrive-tb6612", "in2 = 25", "in2 = 22")
-    assert any("drive.motors[1].in2: = 22: pin already serves drive.motors[0].in1 (one function per pin)" in p
-               for p in _problems(path))  # fmt: skip
+    assert any(
+        "drive.motors[1].in2: = 22: pin already serves drive.motors[0].in1 (one function per pin)" in p
+        for p in _problems(path)
+    )
 
 
 def test_encoder_pin_without_interrupt(tmp_path: Path) -> None:

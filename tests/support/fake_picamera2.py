@@ -58,8 +58,9 @@ class FakePicamera2:
         self.waits: list[Any] = []
         FakePicamera2.opened.append(self)
 
-    def create_video_configuration(self, main: dict[str, Any] | None = None, controls: dict[str, Any] | None = None,
-                                   **kwargs: Any) -> dict[str, Any]:  # fmt: skip
+    def create_video_configuration(
+        self, main: dict[str, Any] | None = None, controls: dict[str, Any] | None = None, **kwargs: Any
+    ) -> dict[str, Any]:
         return {"main": {"size": (1280, 720), "format": "XBGR8888", **(main or {})}, "controls": dict(controls or {})}
 
     def configure(self, config: dict[str, Any]) -> None:

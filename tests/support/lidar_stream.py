@@ -28,6 +28,17 @@ def revolutions(hz: float, count: int, *, late_s: float = 0.0, late: int = 0, st
     cuts = np.flatnonzero(np.diff(np.floor(turned / (2 * math.pi))) > 0) + 1
     out = []
     for i, (a, b) in enumerate(zip([0, *cuts], [*cuts, n], strict=True)):
-        out.append(LidarScan("rplidar-a1", i, rad[a:b], np.full(b - a, 2.0), np.full(b - a, 10), measured[a:b],
-                             0.15, 12.0, measured_s=measured[a:b]))  # fmt: skip
+        out.append(
+            LidarScan(
+                "rplidar-a1",
+                i,
+                rad[a:b],
+                np.full(b - a, 2.0),
+                np.full(b - a, 10),
+                measured[a:b],
+                0.15,
+                12.0,
+                measured_s=measured[a:b],
+            )
+        )
     return out

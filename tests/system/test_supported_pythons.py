@@ -84,8 +84,14 @@ def test_venv_sh_refuses_the_opencv_wheel_in_a_venv_that_sees_the_systems_packag
     OpenCV (and its numpy 2) are refused before anything is made or installed."""
     env = {"PATH": "/usr/bin:/bin", "HOME": str(tmp_path), "SYSTEM_SITE_PACKAGES": "1"}
     for extras in ("vision", "tools,console", "dev"):
-        done = subprocess.run(["bash", str(ROOT / "scripts" / "venv.sh"), extras], env=env, capture_output=True,
-                              text=True, timeout=60, check=False)  # fmt: skip
+        done = subprocess.run(
+            ["bash", str(ROOT / "scripts" / "venv.sh"), extras],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=60,
+            check=False,
+        )
         assert done.returncode == 1, done.stdout + done.stderr
         assert "brings PyPI's OpenCV, whose numpy 2 would replace the system's" in done.stderr
         assert "creating" not in done.stdout

@@ -49,8 +49,10 @@ def list_cameras(root: Path = Path("/")) -> CameraListing:
     picamera2_problem: str | None = None
     try:
         module = import_picamera2("picamera2")
-        cameras += [CameraEntry(f"picamera2:{i}", "picamera2", describe(i, c).split(" ", 1)[1], True)
-                    for i, c in enumerate(picamera2_cameras(module))]  # fmt: skip
+        cameras += [
+            CameraEntry(f"picamera2:{i}", "picamera2", describe(i, c).split(" ", 1)[1], True)
+            for i, c in enumerate(picamera2_cameras(module))
+        ]
     except CameraBackendError as exc:
         picamera2_problem = f"not available: {exc.module}; {exc.install}"
     except NumpyAbiError as exc:

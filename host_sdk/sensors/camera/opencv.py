@@ -28,8 +28,9 @@ class OpenCvBackend:
     virtual = False
     skipped = 0
 
-    def __init__(self, source: int | str, *, width: int | None, height: int | None, fps: float | None,
-                 timeout_s: float) -> None:  # fmt: skip
+    def __init__(
+        self, source: int | str, *, width: int | None, height: int | None, fps: float | None, timeout_s: float
+    ) -> None:
         self._cv2 = cv2 = require("cv2", "vision", "the camera")
         self.source = text = str(source)
         if isinstance(source, int) or text.startswith(("/dev/video", "/dev/v4l/")):

@@ -58,8 +58,9 @@ DISTRO_OPENCV = (
 )
 
 
-def gstreamer_pipeline(kind: str, width: int = 640, height: int = 480, fps: int = 30, sensor: int = 0, *,
-                       flip: str | int = "none") -> str:  # fmt: skip
+def gstreamer_pipeline(
+    kind: str, width: int = 640, height: int = 480, fps: int = 30, sensor: int = 0, *, flip: str | int = "none"
+) -> str:
     """A GStreamer pipeline string for cv2.VideoCapture(..., cv2.CAP_GSTREAMER); `flip` turns or
     mirrors the picture (FLIPS, e.g. "rotate-180")."""
     if kind not in PIPELINES:

@@ -31,8 +31,9 @@ SOURCES = (
 )
 
 
-def open_backend(source: int | str, *, width: int | None, height: int | None, fps: float | None,
-                 timeout_s: float) -> CameraBackend:  # fmt: skip
+def open_backend(
+    source: int | str, *, width: int | None, height: int | None, fps: float | None, timeout_s: float
+) -> CameraBackend:
     """The backend for `source` (see SOURCES); errors name what is missing."""
     if isinstance(source, int) or source.isdigit():
         return OpenCvBackend(int(source), width=width, height=height, fps=fps, timeout_s=timeout_s)
@@ -64,8 +65,15 @@ def open_backend(source: int | str, *, width: int | None, height: int | None, fp
 class CameraSource:
     """Frames from any route (module docstring), with capture times and dropped-frame counts."""
 
-    def __init__(self, source: int | str, *, width: int | None = None, height: int | None = None,
-                 fps: float | None = None, timeout_s: float = 5.0) -> None:  # fmt: skip
+    def __init__(
+        self,
+        source: int | str,
+        *,
+        width: int | None = None,
+        height: int | None = None,
+        fps: float | None = None,
+        timeout_s: float = 5.0,
+    ) -> None:
         self.source = source
         self.frames = 0
         self.dropped_gaps = 0

@@ -127,8 +127,9 @@ class HttpMjpegBackend:
                     raise SensorClosedError(f"the server closed the stream after {self._frames} frames")
                 stalls = 0
                 self._parser.receive_data(data, time.monotonic())
-                self._keep([Capture(p.t, jpeg=p.jpeg, counter=p.frame, device_t=p.timestamp)
-                            for p in self._parser.parts()])  # fmt: skip
+                self._keep(
+                    [Capture(p.t, jpeg=p.jpeg, counter=p.frame, device_t=p.timestamp) for p in self._parser.parts()]
+                )
         except (OSError, http.client.HTTPException) as exc:  # SensorClosedError and SensorOpenError too
             if not self._stop.is_set():
                 self._end(str(exc) or type(exc).__name__)

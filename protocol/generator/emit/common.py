@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import json
+from collections.abc import Mapping
+
 from protocol.generator.model import Spec
 
 GENERATOR = "python -m protocol generate"
@@ -13,6 +16,13 @@ def banner(spec: Spec, comment: str) -> str:
         f"{comment} DO NOT EDIT: generated from {spec.path} by `{GENERATOR}`.\n"
         f"{comment} spec hash: 0x{spec.spec_hash:08X}\n"
     )
+
+
+def json_with_banner(spec: Spec, document: Mapping[str, object]) -> str:
+    """`document` as indented JSON whose first line is the DO NOT EDIT banner, as a "_" key (JSON
+    has no comments)."""
+    head = json.dumps(f"DO NOT EDIT: generated from {spec.path} by `{GENERATOR}`. spec hash 0x{spec.spec_hash:08X}")
+    return '{"_": ' + head + ",\n" + json.dumps(document, indent=2)[2:] + "\n"
 
 
 def num(value: float) -> str:

@@ -7,12 +7,11 @@ compares; pyproject.toml reads protocol/generated/version.py itself (a dynamic v
 
 from __future__ import annotations
 
-import json
 import re
 from collections.abc import Callable
 from pathlib import Path
 
-from protocol.generator.emit.common import GENERATOR, banner
+from protocol.generator.emit.common import GENERATOR, banner, json_with_banner
 from protocol.generator.model import Spec
 
 LICENSE = "MIT"
@@ -94,9 +93,7 @@ def _library_properties(spec: Spec) -> str:
 def _library_json(spec: Spec) -> str:
     """PlatformIO's manifest (JSON has no comments: the DO NOT EDIT line is the "_" key, which
     PlatformIO's manifest schema drops, as the test vectors carry theirs)."""
-    head = banner(spec, "").replace("\n ", " ").strip()
     manifest = {
-        "_": head,
         "name": _LIBRARY_NAME,
         "version": spec.release_text,
         "description": _LIBRARY_SENTENCE,  # PlatformIO's documentation: 255 characters at most
@@ -107,7 +104,7 @@ def _library_json(spec: Spec) -> str:
         "platforms": list(_ARCHITECTURES.values()),
         "headers": [_LIBRARY_HEADER],
     }
-    return json.dumps(manifest, indent=2) + "\n"
+    return json_with_banner(spec, manifest)
 
 
 # -- stamped: one element of a hand-written file --------------------------------------------------

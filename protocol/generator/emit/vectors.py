@@ -7,12 +7,11 @@ checked against an implementation they share no code with.
 
 from __future__ import annotations
 
-import json
 import struct
 from typing import Any
 
 from protocol.generator import hashing
-from protocol.generator.emit.common import GENERATOR
+from protocol.generator.emit.common import json_with_banner
 from protocol.generator.model import PRIMITIVES, Field, Message, Spec
 
 DIR = "protocol/vectors"
@@ -24,9 +23,7 @@ def emit(spec: Spec) -> dict[str, str]:
 
 def _file(spec: Spec, m: Message) -> str:
     vectors = [_vector(spec, m, case, values, seq) for case, values, seq in _cases(m)]
-    head = json.dumps(f"DO NOT EDIT: generated from {spec.path} by `{GENERATOR}`. spec hash 0x{spec.spec_hash:08X}")
-    body = json.dumps({"message": m.name, "msg_id": m.id, "crc_extra": m.crc_extra, "vectors": vectors}, indent=2)
-    return '{"_": ' + head + ",\n" + body[2:] + "\n"
+    return json_with_banner(spec, {"message": m.name, "msg_id": m.id, "crc_extra": m.crc_extra, "vectors": vectors})
 
 
 # -- field values per case -------------------------------------------------------------------------

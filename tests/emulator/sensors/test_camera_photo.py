@@ -87,8 +87,9 @@ def target_scene(name: str = "one target", decoy: bool = False) -> Scene:
     shapes = [WALL, Shape("cylinder", "decoy", 0.4, CYLINDER.colour), TARGET]
     circles = [(2.0, -0.6 if decoy else -50.0, 0.1), (1.32, 0.0, 0.12)]
     target = Target(0.12, TARGET, TargetPath(((1.32, 0.0),), 0.0))
-    return make_scene(name, shapes, [(3.0, -3.0, 3.0, 3.0)], [0], circles, cir_shape=[1, 2], start=(0, 0, 0),
-                      target=target)  # fmt: skip
+    return make_scene(
+        name, shapes, [(3.0, -3.0, 3.0, 3.0)], [0], circles, cir_shape=[1, 2], start=(0, 0, 0), target=target
+    )
 
 
 def test_the_photo_target_is_a_cut_out_whose_box_holds_background() -> None:

@@ -63,9 +63,12 @@ def test_reversing_and_an_offset_footprint() -> None:
 
 
 @given(
-    px=st.floats(-2, 2), py=st.floats(-2, 2), k=st.floats(-3, 3), fx=st.floats(-0.1, 0.2),
+    px=st.floats(-2, 2),
+    py=st.floats(-2, 2),
+    k=st.floats(-3, 3),
+    fx=st.floats(-0.1, 0.2),
     reverse=st.booleans(),
-)  # fmt: skip
+)
 def test_swept_corridor_matches_brute_force(px: float, py: float, k: float, fx: float, reverse: bool) -> None:
     fp = Footprint(radius_m=0.15, x_m=fx)
     got = arc_free_distance(np.array([px]), np.array([py]), np.array([k]), fp, horizon_m=3.0, reverse=reverse)[0]

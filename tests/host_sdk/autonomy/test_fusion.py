@@ -16,9 +16,18 @@ RATE_HZ = 200
 ODO_HZ = 50
 
 
-def run(ekf: PoseEkf, seconds: float, *, speed: float, turn_rate: float, bias: float = 0.0,
-        wheel_turn_scale: float = 1.0, start_s: float = 0.0, rng: np.random.Generator | None = None,
-        heading: list[float] | None = None) -> float:  # fmt: skip
+def run(
+    ekf: PoseEkf,
+    seconds: float,
+    *,
+    speed: float,
+    turn_rate: float,
+    bias: float = 0.0,
+    wheel_turn_scale: float = 1.0,
+    start_s: float = 0.0,
+    rng: np.random.Generator | None = None,
+    heading: list[float] | None = None,
+) -> float:
     """Feed `seconds` of motion at a constant speed and turn rate; returns the end time. The gyro
     reads the true rate plus `bias` (and noise); the wheels see the turn scaled by `wheel_turn_scale`
     (a wrong track width, or slip). `heading`, if given, collects the true heading at each step."""
@@ -188,8 +197,14 @@ TRACK_M, METRES_PER_COUNT = 0.2, 1.29e-4
 """The diff-drive car's wheels: 0.13 mm per encoder count, 0.2 m apart."""
 
 
-def drive_counted(ekf: PoseEkf, rates: list[float], rng: np.random.Generator, *, speed: float = 0.2,
-                  compass: Callable[[float], float] | None = None) -> float:  # fmt: skip
+def drive_counted(
+    ekf: PoseEkf,
+    rates: list[float],
+    rng: np.random.Generator,
+    *,
+    speed: float = 0.2,
+    compass: Callable[[float], float] | None = None,
+) -> float:
     """Feed a drive at the given turn rate per 20 ms step: wheels that are right to an encoder count
     (each wheel's travel read in whole counts), a gyro whose bias random-walks as the filter assumes
     (the JY901's 0.01 deg/s per sqrt(s)), and optionally a compass reading `compass(true heading)`

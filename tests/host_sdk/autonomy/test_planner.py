@@ -40,9 +40,15 @@ def off_axis(pose: tuple[float, float, float], cx: float, cy: float) -> float:
     return abs(math.atan2(by, bx - CAM.mount_x_m)) / CAM.half_fov_rad
 
 
-def drive(pl: ViewPlanner, pose: tuple[float, float, float], obstacles: tuple[np.ndarray, np.ndarray],
-          target: tuple[float, float], *, velocity: tuple[float, float] = (0.0, 0.0), seconds: float = 4.0,
-          ) -> list[tuple[float, float, float, float, float]]:  # fmt: skip
+def drive(
+    pl: ViewPlanner,
+    pose: tuple[float, float, float],
+    obstacles: tuple[np.ndarray, np.ndarray],
+    target: tuple[float, float],
+    *,
+    velocity: tuple[float, float] = (0.0, 0.0),
+    seconds: float = 4.0,
+) -> list[tuple[float, float, float, float, float]]:
     """Closed loop at 20 Hz: the planner's command moves the car exactly (no latency); the target
     moves at `velocity` (world frame). Returns (x, y, heading, target x, target y) per step."""
     wx, wy = obstacles
@@ -85,8 +91,13 @@ def join(*parts: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]
 
 def clearance(run: list[tuple[float, float, float, float, float]], obstacles: tuple[np.ndarray, np.ndarray]) -> float:
     wx, wy = obstacles
-    return min(float(np.hypot(wx - (x + PICAR.x_m * math.cos(th)), wy - (y + PICAR.x_m * math.sin(th))).min())
-               for x, y, th, _, _ in run) - PICAR.radius_m  # fmt: skip
+    return (
+        min(
+            float(np.hypot(wx - (x + PICAR.x_m * math.cos(th)), wy - (y + PICAR.x_m * math.sin(th))).min())
+            for x, y, th, _, _ in run
+        )
+        - PICAR.radius_m
+    )
 
 
 def test_a_target_standing_ahead_at_the_gap_is_stood_at() -> None:
@@ -192,11 +203,19 @@ def test_having_just_started_it_keeps_going_unless_that_runs_into_the_target() -
     at_gap = (PICAR.x_m + PICAR.radius_m + GAP, 0.0)
     still = pl.plan(*room(8, 8), target=at_gap, target_velocity=(0.0, 0.0), gap_m=GAP, last=(0.2, 0.0))
     assert still.linear_m_s == 0.0
-    going = pl.plan(*room(8, 8), target=at_gap, target_velocity=(0.0, 0.0), gap_m=GAP, last=(0.2, 0.0),
-                    direction=1.0, moving=True)  # fmt: skip
+    going = pl.plan(
+        *room(8, 8), target=at_gap, target_velocity=(0.0, 0.0), gap_m=GAP, last=(0.2, 0.0), direction=1.0, moving=True
+    )
     assert going.linear_m_s > 0.0 and going.min_separation_m > 0.0
-    coming = pl.plan(*room(8, 8), target=(0.8, 0.0), target_velocity=(-0.3, 0.0), gap_m=GAP, last=(0.2, 0.0),
-                     direction=1.0, moving=True)  # fmt: skip
+    coming = pl.plan(
+        *room(8, 8),
+        target=(0.8, 0.0),
+        target_velocity=(-0.3, 0.0),
+        gap_m=GAP,
+        last=(0.2, 0.0),
+        direction=1.0,
+        moving=True,
+    )
     assert coming.linear_m_s < 0.0
 
 

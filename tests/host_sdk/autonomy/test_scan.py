@@ -101,10 +101,23 @@ def test_spatial_filter_drops_isolated_far_returns_and_fills_holes() -> None:
 
 def test_inputs_from_the_driver_a_laserscan_and_arrays_agree() -> None:
     ranges = np.where(np.cos(ANGLES) > 0.2, 1.5 / np.cos(ANGLES), np.nan)
-    driver = LidarScan("ydlidar-f4", 0, ANGLES, ranges, np.zeros(ANGLES.shape, dtype=np.int64),
-                       np.linspace(0, 0.125, ANGLES.shape[0]), 0.12, 12.0)  # fmt: skip
-    msg = SimpleNamespace(angle_min=-math.pi + math.radians(0.72) * 0.3, angle_increment=math.radians(0.72),
-                          ranges=np.nan_to_num(ranges, nan=0.0).tolist(), range_min=0.12, range_max=12.0)  # fmt: skip
+    driver = LidarScan(
+        "ydlidar-f4",
+        0,
+        ANGLES,
+        ranges,
+        np.zeros(ANGLES.shape, dtype=np.int64),
+        np.linspace(0, 0.125, ANGLES.shape[0]),
+        0.12,
+        12.0,
+    )
+    msg = SimpleNamespace(
+        angle_min=-math.pi + math.radians(0.72) * 0.3,
+        angle_increment=math.radians(0.72),
+        ranges=np.nan_to_num(ranges, nan=0.0).tolist(),
+        range_min=0.12,
+        range_max=12.0,
+    )
     outs = [ScanFilter(temporal=1).update(s) for s in (driver, msg, RawScan.from_arrays(ANGLES, ranges))]
     for out in outs[1:]:
         np.testing.assert_allclose(out.ranges_m, outs[0].ranges_m, atol=1e-6, equal_nan=True)

@@ -28,8 +28,9 @@ def world() -> Scene:
     return load_world("random:3")
 
 
-def frames(scene: Scene, poses: Iterator[tuple[float, float, float]], fps: float = 30.0,
-           start_s: float = 0.0) -> Iterator[tuple[np.ndarray, float, float, float]]:  # fmt: skip
+def frames(
+    scene: Scene, poses: Iterator[tuple[float, float, float]], fps: float = 30.0, start_s: float = 0.0
+) -> Iterator[tuple[np.ndarray, float, float, float]]:
     """(image, time, true bearing of the target from the robot, true range to its front) per pose."""
     renderer = Renderer(DEVICES["pi-camera-v2"], MOUNT, CameraOptions())  # type: ignore[arg-type]
     rng = np.random.default_rng(1)

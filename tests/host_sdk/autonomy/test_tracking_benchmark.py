@@ -24,8 +24,13 @@ def test_false_found_counts_only_the_frames_out_of_the_picture() -> None:
     always = [Step(BOX, False, 0.001)] * 5
     s = score("t", "always", truth, always, 30.0)
     assert (s.false_found, s.out_of_view) == (2, 2)
-    honest = [Step(BOX, False, 0.001), Step(BOX, False, 0.001), Step(None, True, 0.01), Step(None, True, 0.01),
-              Step(BOX, True, 0.01)]  # fmt: skip
+    honest = [
+        Step(BOX, False, 0.001),
+        Step(BOX, False, 0.001),
+        Step(None, True, 0.01),
+        Step(None, True, 0.01),
+        Step(BOX, True, 0.01),
+    ]
     assert score("t", "honest", truth, honest, 30.0).false_found == 0
     assert score("t", "honest", truth[:2], honest[:2], 30.0).meets("false_found") is None  # never out
 

@@ -21,11 +21,20 @@ from tests.support.photo_sequences import Sequence, build, iou
 
 CAMERA = CameraModel.pi_camera_v2(320, 240)
 FLOORS = {
-    "slide": 0.97, "easy": 0.8, "medium": 0.75, "hard": 0.78, "small-plain": 0.85, "small-textured": 0.85,
+    "slide": 0.97,
+    "easy": 0.8,
+    "medium": 0.75,
+    "hard": 0.78,
+    "small-plain": 0.85,
+    "small-textured": 0.85,
     # The held-out set (OpenCV's photographs): no parameter was chosen on these.
-    "held-slide": 0.97, "held-easy": 0.85, "held-medium": 0.8, "held-hard": 0.78, "held-small-plain": 0.85,
+    "held-slide": 0.97,
+    "held-easy": 0.85,
+    "held-medium": 0.8,
+    "held-hard": 0.78,
+    "held-small-plain": 0.85,
     "held-small-textured": 0.85,
-}  # fmt: skip
+}
 
 
 @pytest.fixture(scope="module")

@@ -30,8 +30,12 @@ def test_the_example_imports_only_the_sdk() -> None:
 def test_the_example_serves_the_page_and_the_camera() -> None:
     url = re.search(r"--url '(emu://[^']+)'", EXAMPLE.read_text(encoding="utf-8"))
     assert url is not None
-    proc = subprocess.Popen([sys.executable, str(EXAMPLE), "--url", url.group(1), "--port", "0", "--duration", "30"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+    proc = subprocess.Popen(
+        [sys.executable, str(EXAMPLE), "--url", url.group(1), "--port", "0", "--duration", "30"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
         assert proc.stdout is not None
         line = proc.stdout.readline()

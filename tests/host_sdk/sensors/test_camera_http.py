@@ -71,8 +71,9 @@ def multipart(parts: list[bytes], hold: threading.Event | None = None) -> Handle
 
 def test_stream_keeps_the_parts_timestamps_counters_and_bytes(serve: Callable[[Handler], str]) -> None:
     done = threading.Event()
-    frames = [part(jpeg(40 * i), {"X-Timestamp": f"{10 + i / 30:.6f}", "X-Frame": str(n)}) for i, n in
-              enumerate((1, 2, 5))]  # fmt: skip
+    frames = [
+        part(jpeg(40 * i), {"X-Timestamp": f"{10 + i / 30:.6f}", "X-Frame": str(n)}) for i, n in enumerate((1, 2, 5))
+    ]
     url = serve(multipart(frames, done))
     try:
         with CameraSource(url) as cam:

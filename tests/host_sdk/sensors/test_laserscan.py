@@ -25,16 +25,28 @@ def _stream(seconds: float, *, clockwise: bool, ranges: object = 2.0, t0: float 
     cuts = np.flatnonzero(np.diff(np.floor(turned / (2 * math.pi))) > 0) + 1
     out = []
     for i, (lo, hi) in enumerate(zip([0, *cuts], [*cuts, n], strict=True)):
-        out.append(LidarScan("rplidar-a1", i, rad[lo:hi], r[lo:hi].copy(), np.full(hi - lo, 10), t[lo:hi],
-                             0.15, 12.0, measured_s=t[lo:hi]))  # fmt: skip
+        out.append(
+            LidarScan(
+                "rplidar-a1",
+                i,
+                rad[lo:hi],
+                r[lo:hi].copy(),
+                np.full(hi - lo, 10),
+                t[lo:hi],
+                0.15,
+                12.0,
+                measured_s=t[lo:hi],
+            )
+        )
     return out
 
 
 def _only(s: LidarScan, k: np.ndarray) -> LidarScan:
     """The scan's points where k is True."""
     t = s.times_s[k]
-    return LidarScan(s.device, s.index, s.angles_rad[k], s.ranges_m[k], s.qualities[k], t, s.range_min_m,
-                     s.range_max_m, measured_s=t)  # fmt: skip
+    return LidarScan(
+        s.device, s.index, s.angles_rad[k], s.ranges_m[k], s.qualities[k], t, s.range_min_m, s.range_max_m, measured_s=t
+    )
 
 
 @pytest.mark.parametrize("clockwise", [True, False])
@@ -104,8 +116,9 @@ def test_late_reads_never_turn_the_time_line_round_or_send_a_message_back_in_tim
             t[t.shape[0] // 2 :] += 0.3
         else:
             t += 0.4
-        scans[index] = LidarScan(s.device, s.index, s.angles_rad, s.ranges_m, s.qualities, t, s.range_min_m,
-                                 s.range_max_m, measured_s=t)  # fmt: skip
+        scans[index] = LidarScan(
+            s.device, s.index, s.angles_rad, s.ranges_m, s.qualities, t, s.range_min_m, s.range_max_m, measured_s=t
+        )
     scanner = LaserScanner(360, clockwise=True)
     msgs = [m for scan in scans for m in scanner.push(scan)]
     nominal = 1 / HZ / 360

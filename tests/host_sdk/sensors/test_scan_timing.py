@@ -54,9 +54,15 @@ def _truth(batches: list[LidarSamples], times: np.ndarray) -> tuple[np.ndarray, 
     return true_s[j], j
 
 
-@pytest.mark.parametrize(("world", "model"), [
-    (str(ROOM), "rplidar-a1"), ("empty", "rplidar-a1"), (str(ROOM), "ydlidar-f4"), ("empty", "ydlidar-f4"),
-])  # fmt: skip
+@pytest.mark.parametrize(
+    ("world", "model"),
+    [
+        (str(ROOM), "rplidar-a1"),
+        ("empty", "rplidar-a1"),
+        (str(ROOM), "ydlidar-f4"),
+        ("empty", "ydlidar-f4"),
+    ],
+)
 def test_every_ray_is_stamped_when_it_was_measured(world: str, model: str) -> None:
     messages, batches = _messages(world, model)
     true_range = np.concatenate([b.true_range_m for b in batches])

@@ -29,8 +29,20 @@ ROOM = Path(__file__).resolve().parents[3] / "examples" / "worlds" / "room.toml"
 
 @pytest.fixture(scope="module")
 def served() -> Iterator[dict[str, list[str]]]:
-    args = ["--profile", "diffdrive-bts7960", "--world", str(ROOM),
-            "--lidar", "rplidar-a1", "--imu", "jy901", "--camera", "--quiet", "--seed", "3"]  # fmt: skip
+    args = [
+        "--profile",
+        "diffdrive-bts7960",
+        "--world",
+        str(ROOM),
+        "--lidar",
+        "rplidar-a1",
+        "--imu",
+        "jy901",
+        "--camera",
+        "--quiet",
+        "--seed",
+        "3",
+    ]
     with emulate(*args, devices=3, clean_exit=True) as served:
         yield {"board": [served.url], **served.devices}
 

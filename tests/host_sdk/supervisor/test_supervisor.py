@@ -114,9 +114,23 @@ def test_a_failsafe_banner_words_the_reason_as_the_sdk_does_everywhere() -> None
     from protocol.generated.enums import FailsafeReason
 
     def health(reason: str) -> Health:
-        return Health(link="up", since_s=None, since_wall=None, now_s=1.0, armed=False, state="failsafe",
-                      failsafe=reason, reset=None, refusals=(), busy=None, halts=1, halt_why="", port_error="",
-                      attempts=0, url="emu://x")  # fmt: skip
+        return Health(
+            link="up",
+            since_s=None,
+            since_wall=None,
+            now_s=1.0,
+            armed=False,
+            state="failsafe",
+            failsafe=reason,
+            reset=None,
+            refusals=(),
+            busy=None,
+            halts=1,
+            halt_why="",
+            port_error="",
+            attempts=0,
+            url="emu://x",
+        )
 
     banner = health("ENCODER_FAULT").banner()
     words = failsafe_meaning(FailsafeReason.ENCODER_FAULT)

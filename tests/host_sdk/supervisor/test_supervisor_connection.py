@@ -55,8 +55,9 @@ class Board(EmulatorProcess):
     """`roverlink emulate --socket PORT`: a board behind a network serial adapter."""
 
     def __init__(self, port: int = 0) -> None:
-        super().__init__("--profile", "diffdrive-tb6612", "--quiet", "--socket", str(port), "--no-dtr-reset",
-                         "--eeprom", "saved")  # fmt: skip
+        super().__init__(
+            "--profile", "diffdrive-tb6612", "--quiet", "--socket", str(port), "--no-dtr-reset", "--eeprom", "saved"
+        )
         self.port = int(self.url.rsplit(":", 1)[1])
 
 

@@ -47,8 +47,15 @@ def test_v4l2_nodes_from_sysfs_with_names_and_what_cannot_be_opened(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     fake_picamera2.hide(monkeypatch)
-    root = fake_tree(tmp_path, {"video0": ("HD Pro Webcam C920", "0"), "video1": ("HD Pro Webcam C920", "1"),
-                                "video10": ("bcm2835-codec-decode", "0"), "video2": ("USB2.0 Camera", "0")})  # fmt: skip
+    root = fake_tree(
+        tmp_path,
+        {
+            "video0": ("HD Pro Webcam C920", "0"),
+            "video1": ("HD Pro Webcam C920", "1"),
+            "video10": ("bcm2835-codec-decode", "0"),
+            "video2": ("USB2.0 Camera", "0"),
+        },
+    )
     locked = root / "dev" / "video2"
     real_access = os.access
     monkeypatch.setattr(os, "access", lambda p, mode: False if str(p) == str(locked) else real_access(p, mode))
@@ -56,8 +63,13 @@ def test_v4l2_nodes_from_sysfs_with_names_and_what_cannot_be_opened(
     listing = json.loads(capsys.readouterr().out)
     cams = {c["value"]: c for c in listing["cameras"]}
     assert list(cams) == ["/dev/video0", "/dev/video1", "/dev/video2", "/dev/video10"]  # numeric order
-    assert cams["/dev/video0"] == {"value": "/dev/video0", "route": "v4l2", "name": "HD Pro Webcam C920",
-                                   "usable": True, "note": ""}  # fmt: skip
+    assert cams["/dev/video0"] == {
+        "value": "/dev/video0",
+        "route": "v4l2",
+        "name": "HD Pro Webcam C920",
+        "usable": True,
+        "note": "",
+    }
     assert not cams["/dev/video1"]["usable"] and "metadata node" in cams["/dev/video1"]["note"]
     assert not cams["/dev/video10"]["usable"] and "not a camera" in cams["/dev/video10"]["note"]
     assert "add yourself to the video group" in cams["/dev/video2"]["note"]

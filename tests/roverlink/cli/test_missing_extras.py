@@ -70,14 +70,33 @@ def test_follow_on_the_emulator_without_opencv() -> None:
 
 def test_follow_template_without_opencv(tmp_path: Path) -> None:
     (tmp_path / "target.png").write_bytes(b"")
-    result = run_without("cv2", "follow", "--url", "/dev/null", "--lidar", "/dev/null", "--camera", "0",
-                         "--template", str(tmp_path / "target.png"))  # fmt: skip
+    result = run_without(
+        "cv2",
+        "follow",
+        "--url",
+        "/dev/null",
+        "--lidar",
+        "/dev/null",
+        "--camera",
+        "0",
+        "--template",
+        str(tmp_path / "target.png"),
+    )
     assert_names_extra(result, "follow", "cv2", "vision")
 
 
 def test_follow_recording_without_foxglove(tmp_path: Path) -> None:
-    result = run_without("foxglove", "follow", "--world", "random:3", "--duration", "1", "--quiet",
-                         "--foxglove", str(tmp_path / "run.mcap"))  # fmt: skip
+    result = run_without(
+        "foxglove",
+        "follow",
+        "--world",
+        "random:3",
+        "--duration",
+        "1",
+        "--quiet",
+        "--foxglove",
+        str(tmp_path / "run.mcap"),
+    )
     assert_names_extra(result, "follow", "foxglove", "foxglove")
 
 

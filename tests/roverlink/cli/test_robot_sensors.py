@@ -161,11 +161,30 @@ def test_roverlink_ros2_takes_the_sensor_options_as_the_parameters_they_set() ->
     from roverlink.ros2.params import BY_NAME
 
     args = build_parser().parse_args(
-        ["ros2", "--url", "/dev/ttyACM0", "--baud", "230400", "--lidar", "/dev/ttyUSB0", "--lidar-model",
-         "ydlidar-f4", "--imu", "/dev/ttyUSB1", "--imu-baud", "9600"]
-    )  # fmt: skip
+        [
+            "ros2",
+            "--url",
+            "/dev/ttyACM0",
+            "--baud",
+            "230400",
+            "--lidar",
+            "/dev/ttyUSB0",
+            "--lidar-model",
+            "ydlidar-f4",
+            "--imu",
+            "/dev/ttyUSB1",
+            "--imu-baud",
+            "9600",
+        ]
+    )
     got = overrides(args)
-    assert got == {"url": "/dev/ttyACM0", "baud": 230400, "lidar_url": "/dev/ttyUSB0", "lidar_model": "ydlidar-f4",
-                   "imu_url": "/dev/ttyUSB1", "imu_baud": 9600}  # fmt: skip
+    assert got == {
+        "url": "/dev/ttyACM0",
+        "baud": 230400,
+        "lidar_url": "/dev/ttyUSB0",
+        "lidar_model": "ydlidar-f4",
+        "imu_url": "/dev/ttyUSB1",
+        "imu_baud": 9600,
+    }
     assert set(got) <= set(BY_NAME)  # each one a parameter the node declares
     assert overrides(build_parser().parse_args(["ros2"])) == {}  # nothing given: the parameters decide

@@ -72,8 +72,9 @@ def emulated_console(world_dir: Path, **settings: Any) -> Iterator[tuple[Console
     # The emulator shares this process with the robot program, the server and the tests, on a
     # machine that also runs the browser: a 1 s watchdog keeps a loaded machine's scheduling from
     # failing safe. The page's commands live as long (the bounds below follow it).
-    run = start_emulated("diffdrive-tb6612", world, ConsoleSettings(port=0, **settings), camera_fps=10.0,
-                         watchdog_s=1.0)  # fmt: skip
+    run = start_emulated(
+        "diffdrive-tb6612", world, ConsoleSettings(port=0, **settings), camera_fps=10.0, watchdog_s=1.0
+    )
     steps = Steps(run)
     loop = threading.Thread(target=run.run, kwargs={"on_step": steps}, daemon=True)
     loop.start()
@@ -114,8 +115,13 @@ def chromium(width: int = 1280, height: int = 1000) -> Iterator[Any]:
     from selenium.webdriver.chrome.service import Service
 
     options = webdriver.ChromeOptions()
-    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                f"--window-size={width},{height}"):  # fmt: skip
+    for arg in (
+        "--headless=new",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-dev-shm-usage",
+        f"--window-size={width},{height}",
+    ):
         options.add_argument(arg)
     options.binary_location = CHROMIUM
     options.set_capability("goog:loggingPrefs", {"browser": "ALL"})

@@ -75,13 +75,20 @@ class ConsoleProcess:
     """`python -m roverlink console ARGS --port 0`, listening once constructed (`port`, `log`)."""
 
     def __init__(self, *args: str) -> None:
-        self.proc = subprocess.Popen([sys.executable, "-m", "roverlink", "console", *args, "--port", "0"],
-                                     cwd=ROOT, stderr=subprocess.PIPE, text=True)  # fmt: skip
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "roverlink", "console", *args, "--port", "0"],
+            cwd=ROOT,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
         assert self.proc.stderr is not None
         self.log = Lines(self.proc.stderr)
         try:
-            _, line = until(lambda: self.log.find(r"open http://") or (self.proc.poll() is not None and ("", "")),
-                            START_TIMEOUT_S, "the console's URL")  # fmt: skip
+            _, line = until(
+                lambda: self.log.find(r"open http://") or (self.proc.poll() is not None and ("", "")),
+                START_TIMEOUT_S,
+                "the console's URL",
+            )
             found = re.search(r"http://127\.0\.0\.1:(\d+)/", line)
             assert found, f"the console did not start:\n{self.log.text()}"
             self.port = int(found.group(1))

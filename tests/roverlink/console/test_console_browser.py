@@ -72,13 +72,17 @@ def test_a_box_drawn_on_the_picture_starts_tracking_the_target(robot: tuple[Cons
     margin = 3
     drag_on_camera(browser, (x0 - margin, y0 - margin, x1 - x0 + 2 * margin, y1 - y0 + 2 * margin))
     until(lambda: pilot.has_target, what="a tracker started from the box")
-    track = until(lambda: (t := pilot.follow.last_track) is not None and t.found and t.time_s > shown.time_s and t,
-                  what="the target tracked on a later frame")  # fmt: skip
+    track = until(
+        lambda: (t := pilot.follow.last_track) is not None and t.found and t.time_s > shown.time_s and t,
+        what="the target tracked on a later frame",
+    )
     tx, ty, tw, th = track.box
     cx, cy = tx + tw / 2, ty + th / 2
     assert x0 <= cx <= x1 and y0 <= cy <= y1, (track.box, truth)
-    until(lambda: "tracking" in browser.execute_script("return JSON.stringify(view.overlay)"),
-          what="the tracked box drawn on the page")  # fmt: skip
+    until(
+        lambda: "tracking" in browser.execute_script("return JSON.stringify(view.overlay)"),
+        what="the tracked box drawn on the page",
+    )
     # Follow it from the page: the robot drives to it (the target stands 1.6 m ahead).
     start = pose_x(run)
     browser.find_element("id", "arm").click()
@@ -218,8 +222,9 @@ def test_a_closed_or_frozen_tab_stops_the_robot_within_the_command_lifetime(
     open_page(browser, run)
     watcher = browser.current_window_handle
     browser.switch_to.window(driving_tab)
-    until(lambda: browser.execute_script("return document.visibilityState") == "visible",
-          what="the driving tab in front")  # fmt: skip
+    until(
+        lambda: browser.execute_script("return document.visibilityState") == "visible", what="the driving tab in front"
+    )
     assert teleop_ends_after(browser.close) <= 3 * period + 0.2  # at once: not left to lapse
     browser.switch_to.window(watcher)
     assert "watching" in browser.find_element("id", "role").text

@@ -58,8 +58,10 @@ def follow(browser: Any, run: ConsoleRun) -> None:
     click(browser, "arm")
     click(browser, "follow")
     try:
-        until(lambda: pilot.following and run.robot.armed and pilot.mode not in ("idle", "disarmed"),
-              what="following, armed, from the page")  # fmt: skip
+        until(
+            lambda: pilot.following and run.robot.armed and pilot.mode not in ("idle", "disarmed"),
+            what="following, armed, from the page",
+        )
     except AssertionError as exc:
         raise AssertionError(f"{exc}: {pilot.mode}, {run.supervisor.health()}") from None
 
@@ -70,8 +72,11 @@ def ended_after(run: ConsoleRun, steps: Steps, action: Any) -> float:
     it, so a busy machine's late steps count as late, and nothing else does."""
     acted = time.monotonic()
     action()
-    ended = until(lambda: next((t for t, on in steps.following if t > acted and not on), None), timeout_s=10,
-                  what="following ended")  # fmt: skip
+    ended = until(
+        lambda: next((t for t, on in steps.following if t > acted and not on), None),
+        timeout_s=10,
+        what="following ended",
+    )
     last_alive = run.console.hub.alive_s  # -inf once the page closed: then the action is the last sign
     heard = last_alive if last_alive > acted - 1.0 else acted
     late = [t for t, on in steps.following if heard < t < ended]  # the steps that still followed
@@ -143,10 +148,13 @@ def test_a_watcher_takes_the_wheel_and_the_driver_is_told(robot: Robot, browser:
 
 
 def in_view(browser: Any, element_id: str) -> bool:
-    return bool(browser.execute_script(
-        "const r = document.getElementById(arguments[0]).getBoundingClientRect();"
-        "return r.height > 0 && r.top >= 0 && r.bottom <= window.innerHeight && r.right <= window.innerWidth;",
-        element_id))  # fmt: skip
+    return bool(
+        browser.execute_script(
+            "const r = document.getElementById(arguments[0]).getBoundingClientRect();"
+            "return r.height > 0 && r.top >= 0 && r.bottom <= window.innerHeight && r.right <= window.innerWidth;",
+            element_id,
+        )
+    )
 
 
 def test_on_a_laptop_screen_a_lost_link_and_a_refusal_are_in_view_until_dismissed(robot: Robot, browser: Any) -> None:

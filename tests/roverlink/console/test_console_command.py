@@ -29,8 +29,9 @@ def status_of(url: str) -> int:
 
 def test_off_loopback_the_console_prints_a_url_with_its_token_and_wants_it() -> None:
     args = ["--world", "random:3", "--host", "0.0.0.0", "--port", "0", "--duration", "20", "--camera-fps", "5"]
-    proc = subprocess.Popen([sys.executable, "-m", "roverlink", "console", *args], cwd=ROOT,
-                            stderr=subprocess.PIPE, text=True)  # fmt: skip
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "roverlink", "console", *args], cwd=ROOT, stderr=subprocess.PIPE, text=True
+    )
     try:
         assert proc.stderr is not None
         deadline = Deadline(60)
@@ -71,14 +72,39 @@ def test_record_serves_its_live_view_on_the_address_asked_and_says_it_is_open(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     out = tmp_path / "r.mcap"
-    code = main(["record", "emu://picar?clock=virtual", "-o", str(out), "--duration", "0.5", "--foxglove",
-                 "--foxglove-host", "0.0.0.0", "--foxglove-port", "0"])  # fmt: skip
+    code = main(
+        [
+            "record",
+            "emu://picar?clock=virtual",
+            "-o",
+            str(out),
+            "--duration",
+            "0.5",
+            "--foxglove",
+            "--foxglove-host",
+            "0.0.0.0",
+            "--foxglove-port",
+            "0",
+        ]
+    )
     assert code == 0
     err = capsys.readouterr().err
     assert re.search(r"live view: ws://127\.0\.0\.1:\d+", err), err  # from this machine
     assert re.search(r"from another machine: ws://\S+\.local:\d+", err) and "no access control" in err
-    code = main(["record", "emu://picar?clock=virtual", "-o", str(out), "--force", "--duration", "0.5",
-                 "--foxglove", "--foxglove-port", "0"])  # fmt: skip
+    code = main(
+        [
+            "record",
+            "emu://picar?clock=virtual",
+            "-o",
+            str(out),
+            "--force",
+            "--duration",
+            "0.5",
+            "--foxglove",
+            "--foxglove-port",
+            "0",
+        ]
+    )
     assert code == 0
     err = capsys.readouterr().err
     assert re.search(r"live view: ws://127\.0\.0\.1:\d+", err) and "no access control" not in err

@@ -31,8 +31,9 @@ def console_for(board: str, sensors: EmulatorProcess) -> ConsoleProcess:
     devices = sensors.devices
     # A 1 s watchdog: the emulators, the console and the test share a busy machine (a 250 ms one failed
     # safe now and then while armed, which is not what these tests are about).
-    return ConsoleProcess("--url", board, *PROFILE, "--lidar", devices["lidar"][-1], "--camera",
-                          devices["camera"][-1], "--watchdog", "1")  # fmt: skip
+    return ConsoleProcess(
+        "--url", board, *PROFILE, "--lidar", devices["lidar"][-1], "--camera", devices["camera"][-1], "--watchdog", "1"
+    )
 
 
 def arm(page: Page, what: str) -> State:
@@ -83,8 +84,12 @@ def test_the_console_rides_through_a_cut_link_an_unanswered_arm_and_a_board_rese
 
             reset, _ = log.wait(r"board reset: .*\(reset pin\)", 40)  # not the one opening the port made
             boot, _ = log.wait("boot, boot_id", 10, after=reset)
-            shown = told_within(page, boot, lambda s: "board reset at" in (s["link"]["banner"] or {}).get("text", ""),
-                                "the board reset shown")  # fmt: skip
+            shown = told_within(
+                page,
+                boot,
+                lambda s: "board reset at" in (s["link"]["banner"] or {}).get("text", ""),
+                "the board reset shown",
+            )
             assert not shown["armed"] and link(shown) == "up"
             arm(page, "after the board reset")  # pressing Arm after the reset arms the new boot
             assert console.alive, console.log.text()
@@ -98,22 +103,35 @@ def lost_at(page: Page, cut: float) -> float:
 
 
 def test_a_camera_and_a_lidar_that_stop_are_shown_and_the_console_stays_up() -> None:
-    with emulate(*PROFILE, "--eeprom", "saved", "--quiet") as board, \
-            emulate(*PROFILE, *SENSORS, "--quiet", devices=2) as sensors, \
-            console_for(board.url, sensors) as console, console.page() as page:  # fmt: skip
-        page.wait(lambda s: "Hz" in s["health"]["camera rate"] and "Hz" in s["health"]["scans rate"], 30,
-                  "the camera and the lidar read")  # fmt: skip
+    with (
+        emulate(*PROFILE, "--eeprom", "saved", "--quiet") as board,
+        emulate(*PROFILE, *SENSORS, "--quiet", devices=2) as sensors,
+        console_for(board.url, sensors) as console,
+        console.page() as page,
+    ):
+        page.wait(
+            lambda s: "Hz" in s["health"]["camera rate"] and "Hz" in s["health"]["scans rate"],
+            30,
+            "the camera and the lidar read",
+        )
         os.kill(sensors.proc.pid, signal.SIGSTOP)  # both stall: connected, and silent
         try:
-            stalled = page.wait(lambda s: s["health"]["camera rate"].startswith("no picture for")
-                                and s["health"]["scans rate"].startswith("no scan for"), 10, "the stall shown")  # fmt: skip
+            stalled = page.wait(
+                lambda s: (
+                    s["health"]["camera rate"].startswith("no picture for")
+                    and s["health"]["scans rate"].startswith("no scan for")
+                ),
+                10,
+                "the stall shown",
+            )
         finally:
             os.kill(sensors.proc.pid, signal.SIGCONT)
         assert link(stalled) == "up"  # the board is fine
         page.wait(lambda s: "Hz" in s["health"]["camera rate"], 15, "the camera back")
         sensors.stop()  # both gone for good
-        gone = page.wait(lambda s: "camera stopped" in s["health"] and "lidar stopped" in s["health"], 20,
-                         "the sensors' end shown")  # fmt: skip
+        gone = page.wait(
+            lambda s: "camera stopped" in s["health"] and "lidar stopped" in s["health"], 20, "the sensors' end shown"
+        )
         assert link(gone) == "up"
         arm(page, "without its sensors")
         assert console.alive, console.log.text()
@@ -131,8 +149,11 @@ def test_a_lost_port_is_opened_again_and_waits_for_arm() -> None:
     board = SocketBoard()
     again: SocketBoard | None = None
     try:
-        with emulate(*PROFILE, *SENSORS, "--quiet", devices=2) as sensors, \
-                console_for(board.url, sensors) as console, console.page() as page:  # fmt: skip
+        with (
+            emulate(*PROFILE, *SENSORS, "--quiet", devices=2) as sensors,
+            console_for(board.url, sensors) as console,
+            console.page() as page,
+        ):
             page.wait(lambda s: link(s) == "up", 30, "the board's link up")
             arm(page, "at first")
             pulled = time.monotonic()

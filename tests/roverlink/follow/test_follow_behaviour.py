@@ -26,8 +26,9 @@ PICAR_ARCS = (-1.794, -1.031, 0.0, 1.031, 2.221)
 
 
 def picar() -> Follower:
-    return Follower(PICAR, PICAR_CAM, min_turn_radius_m=0.37, params=FollowParams(follow_gap_m=0.9),
-                    curvatures=PICAR_ARCS)  # fmt: skip
+    return Follower(
+        PICAR, PICAR_CAM, min_turn_radius_m=0.37, params=FollowParams(follow_gap_m=0.9), curvatures=PICAR_ARCS
+    )
 
 
 def disc(cx: float, cy: float, r: float = 0.12, n: int = 24) -> tuple[np.ndarray, np.ndarray]:
@@ -48,8 +49,12 @@ def scene(*parts: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray
 def room_walls(w: float, h: float) -> tuple[np.ndarray, np.ndarray]:
     """A room w x h centred on the robot's start, a return every 3 cm."""
     nx, ny = int(w / 0.03), int(h / 0.03)
-    return scene(wall(-w / 2, -h / 2, w / 2, -h / 2, nx), wall(w / 2, -h / 2, w / 2, h / 2, ny),
-                 wall(w / 2, h / 2, -w / 2, h / 2, nx), wall(-w / 2, h / 2, -w / 2, -h / 2, ny))  # fmt: skip
+    return scene(
+        wall(-w / 2, -h / 2, w / 2, -h / 2, nx),
+        wall(w / 2, -h / 2, w / 2, h / 2, ny),
+        wall(w / 2, h / 2, -w / 2, h / 2, nx),
+        wall(-w / 2, h / 2, -w / 2, -h / 2, ny),
+    )
 
 
 def track_of(x: float, y: float, t: float, camera: CameraModel = CAMERA) -> Track:
@@ -87,9 +92,16 @@ def test_target_straight_ahead_inside_a_picar_threshold_is_followed_not_avoided(
 Step = tuple[tuple[float, float, float], tuple[float, float], Decision]
 
 
-def run_loop(follower: Follower, camera: CameraModel, walls: tuple[np.ndarray, np.ndarray], start: tuple[float, float],
-             *, velocity: Callable[[float], tuple[float, float]] = lambda t: (0.0, 0.0), seconds: float = 5.0,
-             pose: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> list[Step]:  # fmt: skip
+def run_loop(
+    follower: Follower,
+    camera: CameraModel,
+    walls: tuple[np.ndarray, np.ndarray],
+    start: tuple[float, float],
+    *,
+    velocity: Callable[[float], tuple[float, float]] = lambda t: (0.0, 0.0),
+    seconds: float = 5.0,
+    pose: tuple[float, float, float] = (0.0, 0.0, 0.0),
+) -> list[Step]:
     """20 Hz: the scan (walls, and the half of the target's disc facing the robot) in the base frame,
     and the tracker's report: the target when it is in the camera's field of view with a clear line of
     sight, else lost. Returns (pose, target centre, decision) per step."""
@@ -178,8 +190,13 @@ def test_the_way_a_car_began_to_move_is_held_for_a_while() -> None:
     reverse (choosing again 20 times a second, a car chattered between the two and never moved);
     after that, it does."""
     walls = room_walls(8.0, 8.0)
-    car = Follower(PICAR, PICAR_CAM, min_turn_radius_m=0.37, params=FollowParams(follow_gap_m=0.9, hold_s=1.5),
-                   curvatures=PICAR_ARCS)  # fmt: skip
+    car = Follower(
+        PICAR,
+        PICAR_CAM,
+        min_turn_radius_m=0.37,
+        params=FollowParams(follow_gap_m=0.9, hold_s=1.5),
+        curvatures=PICAR_ARCS,
+    )
     d = car.step(0.0, *scene(walls, disc(2.6, 0.0)), track_of(2.48, 0.0, 0.0, PICAR_CAM), (0.0, 0.0, 0.0))
     assert d.linear_m_s > 0
     speeds = {}
@@ -348,8 +365,9 @@ def test_a_mover_on_a_wall_is_not_taken_for_the_lost_target() -> None:
     px, py = scene(wall(-1.0, 1.0, 1.0, 1.0), disc(-1.0, -1.0))
     d = follower.step(0.0, px, py, lost(0.0), (0.0, 0.0, 0.0), movers=(Mover(0.2, 1.0, 0.0, 3),))
     assert d.mode is Mode.SEARCH and d.target is None
-    d = follower.step(0.1, px, py, lost(0.1), (0.0, 0.0, 0.0), movers=(Mover(0.2, 1.0, 0.1, 3),
-                                                                       Mover(-0.92, -0.92, 0.1, 3)))  # fmt: skip
+    d = follower.step(
+        0.1, px, py, lost(0.1), (0.0, 0.0, 0.0), movers=(Mover(0.2, 1.0, 0.1, 3), Mover(-0.92, -0.92, 0.1, 3))
+    )
     assert d.target is not None and d.target.y_m < -0.8  # the free-standing one
 
 
@@ -383,8 +401,9 @@ def scan_with(front_m: float | None, t: float = 0.0) -> LidarScan:
     ranges = np.full(angles.shape, 4.0)
     if front_m is not None:
         ranges[np.abs(angles) < math.radians(3)] = front_m
-    return LidarScan("ydlidar-f4", 0, angles, ranges, np.zeros(angles.shape, dtype=np.int64),
-                     np.full(angles.shape, t), 0.12, 12.0)  # fmt: skip
+    return LidarScan(
+        "ydlidar-f4", 0, angles, ranges, np.zeros(angles.shape, dtype=np.int64), np.full(angles.shape, t), 0.12, 12.0
+    )
 
 
 class FixedTracker:

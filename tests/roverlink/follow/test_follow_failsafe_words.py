@@ -38,8 +38,15 @@ def test_a_bump_in_a_follow_run_is_printed_with_what_the_lidar_saw(tmp_path: Pat
         pilot = Straight(follow.scan_filter, follow.tracker, follow.follower)
         lidar = Lidar.open(robot.transport.endpoints["lidar"], "rplidar-a1")
         camera = CameraSource(robot.transport.endpoints["camera"])
-        metrics = run_follow(robot, lidar, camera, pilot, duration_s=5.0, metrics=FollowMetrics("straight", "diff"),
-                             progress=_progress(out))  # fmt: skip
+        metrics = run_follow(
+            robot,
+            lidar,
+            camera,
+            pilot,
+            duration_s=5.0,
+            metrics=FollowMetrics("straight", "diff"),
+            progress=_progress(out),
+        )
         lidar.close()
         camera.close()
     assert metrics.failsafes >= 1

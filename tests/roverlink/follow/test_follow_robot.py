@@ -20,8 +20,22 @@ WORLD = Path(__file__).resolve().parents[3] / "examples" / "worlds" / "follow_ah
 
 @pytest.fixture
 def served() -> Iterator[dict[str, str]]:
-    args = ["--profile", "picar", "--world", str(WORLD), "--eeprom",
-            "saved", "--lidar", "ydlidar-f4", "--imu", "jy901", "--camera", "--quiet", "--seed", "1"]  # fmt: skip
+    args = [
+        "--profile",
+        "picar",
+        "--world",
+        str(WORLD),
+        "--eeprom",
+        "saved",
+        "--lidar",
+        "ydlidar-f4",
+        "--imu",
+        "jy901",
+        "--camera",
+        "--quiet",
+        "--seed",
+        "1",
+    ]
     with emulate(*args, devices=3, clean_exit=True) as served:
         yield {"board": served.url, **{name: words[-1] for name, words in served.devices.items()}}
 
@@ -32,9 +46,30 @@ def test_follow_on_ptys_and_an_http_camera(served: dict[str, str], tmp_path: Pat
     template = render_target(load_world(WORLD), camera_mount("picar"))  # the user's photo of the target
     image = tmp_path / "target.png"
     cv2.imwrite(str(image), template.image)
-    cmd = [sys.executable, "-m", "roverlink", "follow", "--url", served["board"], "--profile", "picar",
-           "--lidar", served["lidar"], "--imu", served["imu"], "--camera", served["camera"], "--template", str(image),
-           "--target-height", f"{template.height_m:.3f}", "--duration", "6", "--json", "--quiet"]  # fmt: skip
+    cmd = [
+        sys.executable,
+        "-m",
+        "roverlink",
+        "follow",
+        "--url",
+        served["board"],
+        "--profile",
+        "picar",
+        "--lidar",
+        served["lidar"],
+        "--imu",
+        served["imu"],
+        "--camera",
+        served["camera"],
+        "--template",
+        str(image),
+        "--target-height",
+        f"{template.height_m:.3f}",
+        "--duration",
+        "6",
+        "--json",
+        "--quiet",
+    ]
     done = subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     m = json.loads(done.stdout)

@@ -21,7 +21,7 @@ def test_poses_between_control_steps_are_interpolated_not_rounded() -> None:
         t = 0.05 * i
         odometry.pose = SimpleNamespace(
             x_m=0.2 * t, y_m=0.0, theta_rad=math.pi - 0.1 + t, linear_m_s=0.2, angular_rad_s=1.0
-        )  # fmt: skip  (crosses pi)
+        )  # crosses pi
         poses.update(t)
     then = poses.at(0.12)
     assert then.x_m == pytest.approx(0.024) and then.y_m == 0.0

@@ -92,9 +92,11 @@ class Analyzer:
                 cls.assigned = {
                     t.attr
                     for t in ast.walk(node)
-                    if isinstance(t, ast.Attribute) and isinstance(t.ctx, ast.Store)
-                    and isinstance(t.value, ast.Name) and t.value.id == "self"
-                }  # fmt: skip
+                    if isinstance(t, ast.Attribute)
+                    and isinstance(t.ctx, ast.Store)
+                    and isinstance(t.value, ast.Name)
+                    and t.value.id == "self"
+                }
                 for item in node.body:
                     if isinstance(item, ast.FunctionDef | ast.AsyncFunctionDef):
                         mkey = f"{key}.{item.name}"
@@ -245,8 +247,10 @@ class Analyzer:
             msgs = [o for o in options(kind) if isinstance(o, Msg)]
             srvs = [o for o in options(kind) if isinstance(o, Srv)]
             if srvs:
-                passed = [union(*(Msg(f"{s.name}_Request") for s in srvs)),
-                          union(*(Msg(f"{s.name}_Response") for s in srvs))]  # fmt: skip
+                passed = [
+                    union(*(Msg(f"{s.name}_Request") for s in srvs)),
+                    union(*(Msg(f"{s.name}_Response") for s in srvs)),
+                ]
             elif msgs:
                 passed = [union(*(Msg(m.name) for m in msgs))]
         for cb in options(args[callback_index]):
@@ -321,8 +325,13 @@ class Analyzer:
             returns.append(self._eval(stmt.value, env) if stmt.value is not None else None)
         elif isinstance(stmt, ast.For | ast.AsyncFor):
             iterated = self._eval(stmt.iter, env)
-            item = union(*(i for o in options(iterated) for i in (o.items if isinstance(o, Tup) else
-                                                                   (o.item,) if isinstance(o, Seq) else ())))  # fmt: skip
+            item = union(
+                *(
+                    i
+                    for o in options(iterated)
+                    for i in (o.items if isinstance(o, Tup) else (o.item,) if isinstance(o, Seq) else ())
+                )
+            )
             self._assign(stmt.target, item, env, cls)
             self._block(stmt.body + stmt.orelse, env, returns, cls)
         elif isinstance(stmt, ast.With | ast.AsyncWith):
@@ -421,8 +430,16 @@ class Analyzer:
             base = self._eval(node.value, env)
             self._eval(node.slice, env)
             index = node.slice.value if isinstance(node.slice, ast.Constant) else None
-            return union(*(o.items[index] if isinstance(o, Tup) and isinstance(index, int) and -len(o.items) <= index < len(o.items)
-                           else o.item if isinstance(o, Seq) else None for o in options(base)))  # fmt: skip
+            return union(
+                *(
+                    o.items[index]
+                    if isinstance(o, Tup) and isinstance(index, int) and -len(o.items) <= index < len(o.items)
+                    else o.item
+                    if isinstance(o, Seq)
+                    else None
+                    for o in options(base)
+                )
+            )
         if isinstance(node, ast.NamedExpr):
             value = self._eval(node.value, env)
             env[node.target.id] = value

@@ -112,8 +112,12 @@ def test_old_and_unknown_parameters_are_warned_with_the_name_to_use(node: _Node)
         "[geometry] wheel_diameter_m",
         "unknown parameter odom_rat is ignored: did you mean odom_rate",
     )
-    log = wait_until(lambda: (text := node.proc.log()) and all(line in text for line in lines) and text, 20,
-                     "the warnings in the log", fail=False)  # fmt: skip
+    log = wait_until(
+        lambda: (text := node.proc.log()) and all(line in text for line in lines) and text,
+        20,
+        "the warnings in the log",
+        fail=False,
+    )
     assert log, node.proc.log()
     assert "use_sim_time" not in log  # rclpy's own parameter is no unknown one
 

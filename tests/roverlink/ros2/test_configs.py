@@ -115,8 +115,11 @@ def test_every_key_is_a_parameter_jazzy_declares(robot: str) -> None:
 def test_the_check_finds_a_misspelt_parameter() -> None:
     tree = {"FollowPath": {"plugin": "nav2_mppi_controller::MPPIController", "vx_maxx": 0.5}, "controller_frequency": 1}
     leaves = {key: packages for _, key, packages in _leaves(tree, ("nav2_controller",), "controller_server")}
-    assert leaves == {"plugin": ("nav2_mppi_controller",), "vx_maxx": ("nav2_mppi_controller",),
-                      "controller_frequency": ("nav2_controller",)}  # fmt: skip
+    assert leaves == {
+        "plugin": ("nav2_mppi_controller",),
+        "vx_maxx": ("nav2_mppi_controller",),
+        "controller_frequency": ("nav2_controller",),
+    }
     assert "vx_maxx" not in KNOWN["nav2_mppi_controller"]["names"]
     assert "vx_max" in KNOWN["nav2_mppi_controller"]["names"]
 
@@ -124,8 +127,18 @@ def test_the_check_finds_a_misspelt_parameter() -> None:
 @pytest.mark.parametrize("robot", REFERENCES)
 def test_every_plugin_list_names_configured_sections(robot: str) -> None:
     for node, params in _parameters(_files(robot)["nav2.yaml"]):
-        for key in ("controller_plugins", "planner_plugins", "smoother_plugins", "behavior_plugins", "plugins",
-                    "progress_checker_plugins", "goal_checker_plugins", "navigators", "polygons", "dock_plugins"):  # fmt: skip
+        for key in (
+            "controller_plugins",
+            "planner_plugins",
+            "smoother_plugins",
+            "behavior_plugins",
+            "plugins",
+            "progress_checker_plugins",
+            "goal_checker_plugins",
+            "navigators",
+            "polygons",
+            "dock_plugins",
+        ):
             for name in params.get(key, []):
                 assert "plugin" in params[name] or "type" in params[name], f"{node}.{key}: {name}"
         critics = params.get("FollowPath", {}).get("critics", [])
@@ -189,8 +202,11 @@ def test_a_box_or_polygon_footprint_is_taken_as_it_is(tmp_path: Path) -> None:
     box = text[:start] + "[footprint]\nlength_m = 0.3\nwidth_m = 0.2\nx_m = 0.05\n\n" + text[end:]
     (tmp_path / "box.toml").write_text(box, encoding="utf-8")
     assert footprint_polygon(RobotDescription.load(tmp_path / "box.toml")) == (
-        (0.2, 0.1), (-0.1, 0.1), (-0.1, -0.1), (0.2, -0.1)
-    )  # fmt: skip
+        (0.2, 0.1),
+        (-0.1, 0.1),
+        (-0.1, -0.1),
+        (0.2, -0.1),
+    )
     polygon = text[:start] + "[footprint]\npolygon_m = [[0.2, 0.1], [-0.1, 0.1], [-0.1, -0.12], [0.2, -0.1]]\n\n"
     (tmp_path / "poly.toml").write_text(polygon + text[end:], encoding="utf-8")
     facts = RobotFacts.of(RobotDescription.load(tmp_path / "poly.toml"))

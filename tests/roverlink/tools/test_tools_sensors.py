@@ -205,8 +205,20 @@ def test_a_device_that_cannot_open_is_named(capsys: pytest.CaptureFixture[str], 
 def served() -> Iterator[tuple[str, dict[str, str]]]:
     """A robot on a serial port with its sensors on theirs, as real ones appear: `roverlink emulate`
     serves the board and each device on a pty of its own, the camera over HTTP."""
-    args = ["--profile", "diffdrive-bts7960", "--world", str(ROOM),
-            "--lidar", "rplidar-a1", "--imu", "jy901", "--camera", "--quiet", "--seed", "3"]  # fmt: skip
+    args = [
+        "--profile",
+        "diffdrive-bts7960",
+        "--world",
+        str(ROOM),
+        "--lidar",
+        "rplidar-a1",
+        "--imu",
+        "jy901",
+        "--camera",
+        "--quiet",
+        "--seed",
+        "3",
+    ]
     with emulate(*args, devices=3) as served:
         yield served.url, {name: words[-1] for name, words in served.devices.items()}
 

@@ -59,8 +59,9 @@ def square(path: Path, side_m: float, kinematics: DiffDrive | Ackermann | None =
         return result, emu.truth.plant.distance_m
 
 
-@pytest.mark.parametrize(("fixture", "reference", "side_m"), [("wide_diffdrive", "diffdrive-tb6612", 1.0),
-                                                              ("long_car", "picar", 0.8)])  # fmt: skip
+@pytest.mark.parametrize(
+    ("fixture", "reference", "side_m"), [("wide_diffdrive", "diffdrive-tb6612", 1.0), ("long_car", "picar", 0.8)]
+)
 def test_a_square_ends_where_the_truth_is_only_with_the_files_geometry(
     fixture: str, reference: str, side_m: float, request: pytest.FixtureRequest
 ) -> None:
