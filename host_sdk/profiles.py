@@ -4,8 +4,8 @@
     >>> kinematics_for("diffdrive-tb6612")
     DiffDrive(wheel_radius_m=0.032, track_m=0.2, counts_per_rev=1560)
 
-`PROFILES` is generated from protocol/spec/robots.toml (the same file the firmware examples'
-defaults come from). Geometry the firmware does not know (track width, wheelbase) comes from the
+`PROFILES` is generated from the reference robots' files, protocol/robots/*.toml (where the
+firmware examples' defaults come from). Geometry the firmware does not know (track width, wheelbase) comes from the
 profile; wheel diameter and encoder counts per revolution come from the board's live configuration
 when one is given, because those are the numbers the firmware itself uses.
 """

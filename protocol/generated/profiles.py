@@ -1,4 +1,4 @@
-# DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
+# DO NOT EDIT: generated from protocol/robots/*.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
 # spec hash: 0x1AECD35A
 """Reference robot profiles: firmware defaults, kinematics and feedback mode, by name."""
 
@@ -25,7 +25,7 @@ class WiredPart:
 
 @dataclass(frozen=True, slots=True)
 class Wiring:
-    """Which Arduino pin serves which part (robots.toml, [robots.wiring])."""
+    """Which Arduino pin serves which part (a robot file's pins: docs/robot-file.md)."""
 
     motors: tuple[WiredPart, ...]
     """DC motor driver channels, in wheel-channel order (none behind an ESC)."""
@@ -78,30 +78,6 @@ class RobotProfile:
 
 
 PROFILES: dict[str, RobotProfile] = {
-    "diffdrive-tb6612": RobotProfile(
-        name="diffdrive-tb6612",
-        example="DiffDriveTB6612",
-        doc='ros_arduino_bridge-style differential-drive car: Mega 2560, TB6612 (or L298N), two quadrature encoders, four turn-signal LEDs, stream feedback.',
-        board=Board.MEGA2560,
-        capabilities=Capability.DIFF_DRIVE | Capability.ENCODERS | Capability.EEPROM | Capability.TURN_SIGNALS | Capability.LOCKSTEP,
-        kinematics="diff",
-        feedback_mode=FeedbackMode.STREAM,
-        lights_mode=LightsMode.AUTO,
-        track_m=0.2,
-        wheelbase_m=0.0,
-        wheel_diameter_m=0.064,
-        encoder_cpr=1560,
-        config=SetConfig(watchdog_ms=250, safe_state=SafeState.BRAKE, accel_limit_mm_s2=1000, decel_limit_mm_s2=2000, max_wheel_speed_mm_s=600, max_effort_permille=1000, encoder_cpr=1560, encoder_invert=2, motor_invert=2, wheel_diameter_um=64000, steering_center_cdeg=9000, steering_min_cdeg=9000, steering_max_cdeg=9000, steering_step_cdeg=0, servo_min_us=500, servo_max_us=2500, esc_min_us=1000, esc_neutral_us=1500, esc_max_us=2000, esc_arm_ms=0, feedback_hz=50),
-        pid=SetPid(wheel=255, kp=1.0, ki=6.0, kd=0.0, kf=1.25, ks=70.0),
-        wiring=Wiring(
-            motors=(WiredPart("TB6612", (("pwm", 6), ("in1", 22), ("in2", 23), ("standby", 26),)), WiredPart("TB6612", (("pwm", 7), ("in1", 24), ("in2", 25), ("standby", 26),)),),
-            encoders=(WiredPart("encoder", (("a", 2), ("b", 3),)), WiredPart("encoder", (("a", 18), ("b", 19),)),),
-            esc_pin=None,
-            servo_pin=None,
-            led_pins=(30, 31, 32, 33,),
-            entropy_pin=54,
-        ),
-    ),
     "diffdrive-bts7960": RobotProfile(
         name="diffdrive-bts7960",
         example="DiffDriveBTS7960",
@@ -123,6 +99,30 @@ PROFILES: dict[str, RobotProfile] = {
             esc_pin=None,
             servo_pin=None,
             led_pins=(),
+            entropy_pin=54,
+        ),
+    ),
+    "diffdrive-tb6612": RobotProfile(
+        name="diffdrive-tb6612",
+        example="DiffDriveTB6612",
+        doc='ros_arduino_bridge-style differential-drive car: Mega 2560, TB6612 (or L298N), two quadrature encoders, four turn-signal LEDs, stream feedback.',
+        board=Board.MEGA2560,
+        capabilities=Capability.DIFF_DRIVE | Capability.ENCODERS | Capability.EEPROM | Capability.TURN_SIGNALS | Capability.LOCKSTEP,
+        kinematics="diff",
+        feedback_mode=FeedbackMode.STREAM,
+        lights_mode=LightsMode.AUTO,
+        track_m=0.2,
+        wheelbase_m=0.0,
+        wheel_diameter_m=0.064,
+        encoder_cpr=1560,
+        config=SetConfig(watchdog_ms=250, safe_state=SafeState.BRAKE, accel_limit_mm_s2=1000, decel_limit_mm_s2=2000, max_wheel_speed_mm_s=600, max_effort_permille=1000, encoder_cpr=1560, encoder_invert=2, motor_invert=2, wheel_diameter_um=64000, steering_center_cdeg=9000, steering_min_cdeg=9000, steering_max_cdeg=9000, steering_step_cdeg=0, servo_min_us=500, servo_max_us=2500, esc_min_us=1000, esc_neutral_us=1500, esc_max_us=2000, esc_arm_ms=0, feedback_hz=50),
+        pid=SetPid(wheel=255, kp=1.0, ki=6.0, kd=0.0, kf=1.25, ks=70.0),
+        wiring=Wiring(
+            motors=(WiredPart("TB6612", (("pwm", 6), ("in1", 22), ("in2", 23), ("standby", 26),)), WiredPart("TB6612", (("pwm", 7), ("in1", 24), ("in2", 25), ("standby", 26),)),),
+            encoders=(WiredPart("encoder", (("a", 2), ("b", 3),)), WiredPart("encoder", (("a", 18), ("b", 19),)),),
+            esc_pin=None,
+            servo_pin=None,
+            led_pins=(30, 31, 32, 33,),
             entropy_pin=54,
         ),
     ),

@@ -6,35 +6,34 @@ import difflib
 import tempfile
 from pathlib import Path
 
-from protocol.generator import hardware, loader, robots
-from protocol.generator.emit import cpp, docs, python, release, robot_files, vectors
+from protocol.generator import hardware, loader, references
+from protocol.generator.emit import cpp, docs, python, release, vectors
 from protocol.generator.emit import hardware as hardware_outputs
 from protocol.generator.emit import robots as robot_outputs
 from protocol.generator.hardware import Hardware
 from protocol.generator.model import Spec
-from protocol.generator.robots import Robot
+from protocol.robotfile import RobotFile
 
 ROOT = Path(__file__).resolve().parents[2]
 SPEC = ROOT / "protocol" / "spec" / "roverlink.toml"
-ROBOTS_FILE = "robots.toml"  # beside the spec
 HARDWARE_FILE = "hardware.toml"  # beside the spec
+ROBOTS_DIR = "robots"  # beside the spec's folder: protocol/robots/<name>.toml
 
 
-def load(spec_path: Path, root: Path) -> tuple[Spec, tuple[Robot, ...], Hardware]:
-    """The spec, and the reference robots and the hardware contract in the same folder; SpecError
-    if any is invalid."""
+def load(spec_path: Path, root: Path) -> tuple[Spec, tuple[RobotFile, ...], Hardware]:
+    """The spec, the hardware contract beside it and the reference robots' files in the folder
+    beside its folder (protocol/robots/); SpecError if any is invalid."""
     spec = loader.load(spec_path, root)
     contract = hardware.load(spec_path.parent / HARDWARE_FILE, root, spec)
-    return spec, robots.load(spec_path.parent / ROBOTS_FILE, root, spec, contract), contract
+    return spec, references.load(spec_path.parent.parent / ROBOTS_DIR, root), contract
 
 
-def render(spec: Spec, robot_list: tuple[Robot, ...], contract: Hardware) -> dict[str, str]:
+def render(spec: Spec, robot_list: tuple[RobotFile, ...], contract: Hardware) -> dict[str, str]:
     """Every output: repository-relative path -> exact text."""
     out: dict[str, str] = {}
     for emitter in (python, cpp, docs, vectors, release):
         out.update(emitter.emit(spec))
     out.update(robot_outputs.emit(spec, robot_list))
-    out.update(robot_files.emit(robot_list))
     out.update(hardware_outputs.emit(contract))
     return dict(sorted(out.items()))
 

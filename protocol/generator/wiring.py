@@ -1,10 +1,7 @@
-"""A reference robot's wiring (`[robots.wiring]` in robots.toml): which Arduino pin serves which part.
-
-Checked here against the board (pin exists, not the serial pins, each pin used once) and against
-the robot's capabilities (a DC motor per wheel channel or an ESC, a servo for steering, LEDs for
-turn signals); the emitters turn it into the example's pin constants, the emulator profile's
-wiring and the docs' wiring tables.
-"""
+"""The boards' pin rules a robot file's wiring is checked with (protocol/robotfile/pins.py): which
+pins each board has, which are the serial port's, which give PWM at a driver's frequency, which
+interrupt, and which timer pulses the ESC and the servo. Facts of the hardware, the same for every
+robot (the timers' frequencies: protocol/spec/hardware.toml)."""
 
 from __future__ import annotations
 
@@ -12,7 +9,6 @@ from dataclasses import dataclass
 from typing import Any
 
 from protocol.generator.hardware import pwm_facts
-from protocol.generator.loader import SpecError
 
 
 @dataclass(frozen=True)
@@ -62,35 +58,6 @@ PWM_ROLES = ("pwm", "rpwm", "lpwm")
 ENCODER = ("a", "b")
 SHARED_ROLES = {"TB6612": ("standby",)}
 """Roles whose pin the channels of one robot may share (TB6612: one STBY for both channels)."""
-
-
-@dataclass(frozen=True)
-class Pin:
-    number: int
-    label: str
-    """As written in robots.toml ("6", "A8")."""
-
-
-@dataclass(frozen=True)
-class Part:
-    """A DC motor driver channel (kind: its driver) or an encoder (kind "encoder"), and its pins."""
-
-    kind: str
-    pins: tuple[tuple[str, Pin], ...]  # (role, pin) in the order of DRIVERS[kind] / ENCODER
-
-
-@dataclass(frozen=True)
-class Wiring:
-    motors: tuple[Part, ...]  # wheel-channel order
-    encoders: tuple[Part, ...]  # wheel-channel order
-    esc: Pin | None
-    servo: Pin | None
-    leds: tuple[tuple[str, Pin], ...]  # (Lights bit name, lower case, pin) in bit order
-    entropy: Pin
-
-    def channel_names(self) -> tuple[str, ...]:
-        """Names of the wheel channels in generated code: left and right, or motor for one."""
-        return ("left", "right") if max(len(self.motors), len(self.encoders)) == 2 else ("motor",)
 
 
 def resolve_pin(value: Any, board: str) -> tuple[int | None, str]:
@@ -158,112 +125,3 @@ def rc_problem(pins: dict[str, tuple[int, str]], board: str) -> str:
     allowed = "; ".join(f"{name}: pins {_names(channels)}" for name, channels in timers)
     wired = ", ".join(f"{role} {label}" for role, (_, label) in pins.items())
     return f"{wired}: the ESC and servo pulses need the pins of one 16-bit timer ({allowed})"
-
-
-class _Parser:
-    def __init__(self, path: str, entry: str, board: str) -> None:
-        self.path = path
-        self.entry = entry
-        self.board = BOARD_PINS[board]
-        self.board_name = board
-        self.used: dict[int, tuple[str, str | None]] = {}  # pin -> (where, shared role)
-
-    def fail(self, where: str, problem: str) -> SpecError:
-        return SpecError(self.path, f"{self.entry}.{where}", problem)
-
-    def pin(self, value: Any, where: str) -> Pin:
-        number, problem = resolve_pin(value, self.board_name)
-        if number is None:
-            raise self.fail(where, problem)
-        return Pin(number, str(value))
-
-    def check(self, where: str, problem: str) -> None:
-        if problem:
-            raise self.fail(where, problem)
-
-    def claim(self, pin: Pin, where: str, share: str | None = None) -> None:
-        """Each pin serves one part; `share` names a role several channels may share (TB6612 STBY)."""
-        first = self.used.get(pin.number)
-        if first is not None and (share is None or first[1] != share):
-            raise self.fail(where, f"pin {pin.label} already serves {first[0]}")
-        self.used.setdefault(pin.number, (where, share))
-
-    def part(self, raw: Any, where: str, kind: str | None) -> Part:
-        if not isinstance(raw, dict):
-            raise self.fail(where, "expected a table")
-        if kind is None:
-            kind = raw.get("driver")
-            if kind not in DRIVERS:
-                raise self.fail(where, f"driver {kind!r} is not one of {', '.join(DRIVERS)}")
-        roles = DRIVERS.get(kind, ENCODER)
-        keys = set(roles) | ({"driver"} if kind in DRIVERS else set())
-        if set(raw) != keys:
-            raise self.fail(where, f"keys must be exactly: {', '.join(sorted(keys))}")
-        pins = tuple((role, self.pin(raw[role], f"{where}.{role}")) for role in roles)
-        for role, pin in pins:
-            if role in PWM_ROLES:
-                self.check(f"{where}.{role}", pwm_problem(pin.number, pin.label, self.board_name, kind))
-            if kind == "encoder":
-                self.check(f"{where}.{role}", encoder_problem(pin.number, pin.label, self.board_name))
-        for role, pin in pins:
-            if role == "l_en" and pin == dict(pins)["r_en"]:
-                continue  # R_EN and L_EN of one BTS7960 may share a pin
-            share = f"{kind}.{role}" if role in SHARED_ROLES.get(kind, ()) else None
-            self.claim(pin, f"{where}.{role}", share)
-        return Part(kind, pins)
-
-    def parts(self, raw: Any, where: str, kind: str | None) -> tuple[Part, ...]:
-        if not isinstance(raw, list):
-            raise self.fail(where, "expected a list")
-        return tuple(self.part(p, f"{where}[{i}]", kind) for i, p in enumerate(raw))
-
-
-def parse(
-    path: str, entry: str, table: Any, *, board: str, capabilities: tuple[str, ...], lights: tuple[str, ...]
-) -> Wiring:
-    """`lights`: the Lights bit names of the hardware contract, in bit order."""
-    p = _Parser(path, entry, board)
-    if not isinstance(table, dict):
-        raise SpecError(path, entry, "expected a table")
-    allowed = {"entropy", "motors", "encoders", "esc", "servo", "leds"}
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise SpecError(path, entry, f"unknown key(s): {', '.join(unknown)} (allowed: {', '.join(sorted(allowed))})")
-    caps = set(capabilities)
-    channels = 2 if "DIFF_DRIVE" in caps else 1
-    wanted = {
-        "motors": 0 if "ESC" in caps else channels,
-        "encoders": channels if "ENCODERS" in caps else 0,
-    }
-    for key, count in wanted.items():
-        have = len(table.get(key, []))
-        if have != count:
-            raise p.fail(key, f"{have} listed, the capabilities ask for {count} (one per wheel channel)")
-    for key, cap in (("esc", "ESC"), ("servo", "STEERING_SERVO"), ("leds", "TURN_SIGNALS")):
-        if (key in table) != (cap in caps):
-            raise p.fail(key, f"needed exactly when the robot has the {cap} capability")
-    entropy = p.pin(table.get("entropy"), "entropy")
-    if entropy.number < p.board.first_analog:
-        raise p.fail("entropy", f"{entropy.label} is not an analog pin (its ADC noise seeds the boot_id)")
-    p.claim(entropy, "entropy")
-    motors = p.parts(table.get("motors", []), "motors", None)
-    encoders = p.parts(table.get("encoders", []), "encoders", "encoder")
-    singles: dict[str, Pin | None] = dict.fromkeys(("esc", "servo"))
-    for key in singles:
-        if key in table:
-            singles[key] = pin = p.pin(table[key], key)
-            p.claim(pin, key)
-    rc = {key: (pin.number, pin.label) for key, pin in singles.items() if pin is not None}
-    if rc:
-        p.check("esc" if "esc" in rc else "servo", rc_problem(rc, board))
-    leds: list[tuple[str, Pin]] = []
-    if "leds" in table:
-        raw = table["leds"]
-        names = [n.lower() for n in lights]
-        if not isinstance(raw, dict) or set(raw) != set(names):
-            raise p.fail("leds", f"one pin per Lights bit: {', '.join(names)}")
-        for name in names:
-            pin = p.pin(raw[name], f"leds.{name}")
-            p.claim(pin, f"leds.{name}")
-            leds.append((name, pin))
-    return Wiring(motors, encoders, singles["esc"], singles["servo"], tuple(leds), entropy)

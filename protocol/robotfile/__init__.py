@@ -58,8 +58,11 @@ __all__ = [
     "reference_path",
 ]
 
-REFERENCES = ("diffdrive-tb6612", "diffdrive-bts7960", "picar")
-"""The reference robots shipped as files (protocol/robots/<name>.toml)."""
+_SHIPPED = resources.files("protocol").joinpath("robots").iterdir()
+REFERENCES: tuple[str, ...] = tuple(sorted(f.name.removesuffix(".toml") for f in _SHIPPED if f.name.endswith(".toml")))
+"""The reference robots: every file in protocol/robots/ (<name>.toml), by name. Each is the one
+source of its robot: `python -m protocol generate` writes its firmware example's robot_profile.h,
+its profile in protocol/generated/profiles.py and its column of docs/robots.md from it."""
 
 
 def reference_path(name: str) -> Path:

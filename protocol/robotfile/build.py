@@ -92,6 +92,14 @@ def _serial(table: dict[str, Any] | None) -> model.SerialSensor | None:
     return None if table is None else model.SerialSensor(**table)
 
 
+def _example(r: Reader, table: dict[str, Any] | None) -> str:
+    example = str((table or {}).get("example") or "")
+    if example and not example.isidentifier():
+        why = "an example sketch's name (a C++ identifier: DiffDriveTB6612)"
+        r.report("firmware", ("example",), f"= {example!r}: {why}")
+    return example
+
+
 def robot(r: Reader, data: dict[str, Any]) -> model.RobotFile:
     """The RobotFile (meaningful only when `r` gathered no problems)."""
     v = r.top(data)
@@ -133,4 +141,5 @@ def robot(r: Reader, data: dict[str, Any]) -> model.RobotFile:
         camera=None if v["sensors.camera"] is None else model.Camera(**v["sensors.camera"]),
         footprint=_footprint(r, v),
         calibration=model.Calibration(**(v["calibration"] or {})),
+        example=_example(r, v["firmware"]),
     )

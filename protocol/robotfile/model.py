@@ -205,6 +205,8 @@ class RobotFile:
     camera: Camera | None
     footprint: Footprint
     calibration: Calibration
+    example: str = ""
+    """[firmware] example: the library's example sketch to build from ("": the drive and driver's)."""
 
     # -- what the firmware and the host use: calibrated values where measured ------------------
     @property

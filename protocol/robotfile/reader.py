@@ -12,7 +12,7 @@ from protocol.robotfile.lines import line_of
 from protocol.robotfile.schema import REQUIRED, SECTIONS, Key
 
 TOP_TABLES: tuple[str, ...] = ("drive", "esc", "steering", "encoders", "geometry", "limits", "pid", "feedback")
-TOP_TABLES += ("lights", "sensors", "footprint", "calibration")
+TOP_TABLES += ("lights", "sensors", "footprint", "firmware", "calibration")
 SENSOR_KINDS = ("lidar", "imu", "camera")
 
 

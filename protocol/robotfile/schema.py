@@ -259,6 +259,16 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
         Key("polygon_m", "points", "m", "The body as a polygon: [x, y] corners around the pose point.", ABSENT),
         Key("x_m", "float", "m", "Disc or box centre ahead of the pose point.", 0.0, -10.0, 10.0),
     ),
+    "firmware": (
+        Key(
+            "example",
+            "str",
+            "",
+            "The library's example sketch the firmware is built from (empty: the one a reference robot of the "
+            "same drive and driver names).",
+            "",
+        ),
+    ),
     "calibration": (
         Key(
             "wheel_diameter_m",

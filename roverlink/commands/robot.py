@@ -36,14 +36,15 @@ def cmd_new(args: argparse.Namespace) -> int:
         say.error(f"{target} exists (--force to overwrite)")
         return 1
     text = reference_path(args.source).read_text(encoding="utf-8")
-    # The copy is the user's own file: the generator's header (DO NOT EDIT, "the reference robot")
-    # does not apply to it.
-    lines = [line for line in text.splitlines(keepends=True) if not line.startswith("# DO NOT EDIT")]
+    # The copy is the user's own file: the reference's opening comment (what the reference robot
+    # is the source of) does not apply to it.
+    lines = text.splitlines(keepends=True)
+    opening = next((i for i, line in enumerate(lines) if not line.startswith("#")), len(lines))
     header = [
         f"# Your robot, started from the reference robot {args.source} (the format: docs/robot-file.md).\n",
         f"# Change it, then `roverlink robot check {target}`; `name` is what firmware built from it reports.\n",
     ]
-    body = [line for line in lines if not line.startswith(("# Robot file of the reference", "# Start your own robot"))]
+    body = lines[opening:]
     target.write_text("".join(header + body), encoding="utf-8")
     print(f"{target}: a copy of {args.source}; change it, then `roverlink robot check {target}`")
     return 0

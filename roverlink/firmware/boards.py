@@ -101,11 +101,11 @@ def examples() -> dict[str, Path]:
 
 
 def example_board(example: str) -> BoardSpec:
-    """The board an example targets, from the robot profiles (robots.toml)."""
+    """The board an example targets, from the reference robots' profiles (protocol/robots/*.toml)."""
     for profile in PROFILES.values():
         if profile.example == example:
             return BOARD_BY_PROTO[profile.board]
-    raise FirmwareError(f"example {example!r} has no robot profile in robots.toml: pass --board")
+    raise FirmwareError(f"example {example!r} is no reference robot's (protocol/robots/*.toml): pass --board")
 
 
 def example_dir(name: str) -> Path:

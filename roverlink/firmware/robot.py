@@ -17,9 +17,10 @@ from pathlib import Path
 
 from protocol.generator import wiring as rules
 from protocol.robotfile import Problem, RobotFile, RobotFileError, check, load
-from protocol.robotfile.firmware import EXAMPLES, example_for, name_problem, profile_header
+from protocol.robotfile.firmware import example_for, example_reference, examples, name_problem, profile_header
 from protocol.robotfile.lines import line_of
 from roverlink.firmware.boards import BUILD_ROOT, BoardSpec, FirmwareError, board_spec, example_dir
+from roverlink.firmware.boards import examples as library_examples
 
 SKETCH_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*$")
 """What the Arduino IDE accepts as a sketch (folder) name."""
@@ -78,8 +79,13 @@ def firmware_problems(robot: RobotFile) -> list[Problem]:
         return p.found
     example = example_for(robot)
     if example is None:
-        drives = ", ".join(f"{kind} with {driver}" for kind, driver in EXAMPLES)
+        drives = ", ".join(f"{kind} with {driver}" for kind, driver in examples())
         p.add("drive", ("driver",), f"= {robot.drive.driver!r}: no example sketch drives it yet ({drives})")
+        return p.found
+    known = library_examples()
+    if example not in known:
+        why = f"not an example sketch of the library (one of {', '.join(known)})"
+        p.add("firmware", ("example",), f"= {example!r}: {why}")
         return p.found
     _pins_problems(p, example)
     return p.found
@@ -160,8 +166,9 @@ def sketch_text(robot: RobotFile, example: str, source: str) -> str:
         + "\n"
         for text in paragraphs
     )
-    # The code's own comments name where the header comes from: the user's file, not robots.toml.
-    rest = "".join(lines[body:]).replace("generated from robots.toml", f"generated from {Path(robot.path).name}")
+    # The code's own comments name where the header comes from: the user's file, not the reference's.
+    reference = f"generated from {example_reference(example)}.toml"
+    rest = "".join(lines[body:]).replace(reference, f"generated from {Path(robot.path).name}")
     return head + ("" if rest.startswith("\n") else "\n") + rest
 
 

@@ -1,9 +1,9 @@
-"""The simavr harness's wiring: robots.toml's pins, through the per-MCU table, to registers.
+"""The simavr harness's wiring: the robot files' pins, through the per-MCU table, to registers.
 
 The table (emulator/backends/simavr/mcu.py) is checked against the files it transcribes: the
 Arduino core's pin maps (variants/*/pins_arduino.h) and avr-libc's register addresses
 (avr/iom*.h). The wiring of each reference robot is checked against the registers the harness
-watched before the pins moved to robots.toml.
+watched before the pins moved to the robot files.
 """
 
 from __future__ import annotations

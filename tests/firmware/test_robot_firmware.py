@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from protocol.robotfile import reference_path
+from protocol.robotfile import load, reference_path
 from roverlink.cli import main as cli_main
-from roverlink.firmware.robot import build_folder
+from roverlink.firmware.robot import build_folder, firmware_problems
 from tests.support.avr_build import LIBRARY, ROOT, firmware_cli, require_toolchain
 
 UNO_FREE_FRACTION = 0.50  # the reference firmware's budget (test_avr_build.py), met by a file's too
@@ -142,3 +142,10 @@ def test_board_must_agree_with_the_file(capsys: pytest.CaptureFixture[str], tmp_
         capsys, "firmware", "build", "--robot", str(reference_path("picar")), "--board", "mega2560"
     )
     assert code == 2 and "is for the uno, not the mega2560" in err
+
+
+def test_a_firmware_build_refuses_an_example_the_library_lacks(tmp_path: Path) -> None:
+    path = tmp_path / "mine.toml"
+    path.write_text(reference_path("picar").read_text().replace('example = "AckermannPiCar"', 'example = "NoSuch"'))
+    problems = [str(p) for p in firmware_problems(load(path))]
+    assert any("firmware.example: = 'NoSuch': not an example sketch of the library (one of" in p for p in problems)

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from protocol.__main__ import main
-from protocol.generator import generate, hardware, hashing, loader, robots
+from protocol.generator import generate, hardware, hashing, loader, references
 from protocol.generator.model import Spec
 
 ROOT = generate.ROOT
@@ -24,13 +24,15 @@ def spec(text: str = GOOD) -> Spec:
 def render(s: Spec) -> dict[str, str]:
     folder = generate.SPEC.parent
     contract = hardware.load(folder / "hardware.toml", ROOT, s)
-    return generate.render(s, robots.load(folder / "robots.toml", ROOT, s, contract), contract)
+    return generate.render(s, references.load(folder.parent / "robots", ROOT), contract)
 
 
 def copy_spec(root: Path) -> None:
+    """The spec, the hardware contract and the reference robots' files under `root`."""
     (root / "protocol" / "spec").mkdir(parents=True)
-    for name in ("roverlink.toml", "robots.toml", "hardware.toml"):
+    for name in ("roverlink.toml", "hardware.toml"):
         shutil.copy(generate.SPEC.parent / name, root / "protocol" / "spec" / name)
+    shutil.copytree(generate.SPEC.parent.parent / "robots", root / "protocol" / "robots")
 
 
 def test_rendering_is_deterministic_and_free_of_paths_and_dates(tmp_path: Path) -> None:
@@ -50,9 +52,9 @@ def test_every_output_starts_with_do_not_edit_naming_the_spec_and_hash() -> None
     s = spec()
     for rel, text in render(s).items():
         first, second = [*text.splitlines(), ""][:2]
-        assert "DO NOT EDIT" in first and "protocol/spec/" in first, rel
-        # the hardware contract and the robot files are not wire: no spec hash
-        if "generated from protocol/spec/hardware.toml by" not in first and not rel.startswith("protocol/robots/"):
+        assert "DO NOT EDIT" in first and ("protocol/spec/" in first or "protocol/robots/" in first), rel
+        # the hardware contract is not wire: no spec hash
+        if "generated from protocol/spec/hardware.toml by" not in first:
             assert f"0x{s.spec_hash:08X}" in first + second, rel
 
 

@@ -28,10 +28,12 @@ PLACES = (
 
 
 def checkout(tmp: Path) -> Path:
-    """The spec, the ROS package's hand-written package.xml, and everything generated from them."""
-    for name in ("roverlink.toml", "robots.toml", "hardware.toml"):
+    """The spec, the reference robots' files, the ROS package's hand-written package.xml, and
+    everything generated from them."""
+    for name in ("roverlink.toml", "hardware.toml"):
         (tmp / SPEC_DIR).mkdir(parents=True, exist_ok=True)
         shutil.copy(ROOT / SPEC_DIR / name, tmp / SPEC_DIR / name)
+    shutil.copytree(ROOT / "protocol" / "robots", tmp / "protocol" / "robots")
     (tmp / release.ROS_PACKAGE_XML).parent.mkdir(parents=True)
     shutil.copy(ROOT / release.ROS_PACKAGE_XML, tmp / release.ROS_PACKAGE_XML)
     assert run("generate", tmp) == 0

@@ -37,7 +37,8 @@ def test_reference_file_gives_the_reference_profile(name: str) -> None:
     assert robot.lights_mode() == profile.lights_mode
     assert (robot.track_m, robot.geometry.wheelbase_m) == (profile.track_m, profile.wheelbase_m)
     assert robot.sensors() == ROBOT_SENSORS[name]
-    assert reference_path(name).read_text(encoding="utf-8").startswith("# DO NOT EDIT")
+    assert robot.example == profile.example
+    assert robot.path == str(reference_path(name))
 
 
 def test_unknown_key_names_the_nearest_and_its_line(tmp_path: Path) -> None:

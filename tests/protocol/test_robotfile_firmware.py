@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from protocol.generated.profiles import PROFILES
-from protocol.robotfile import REFERENCES, load, reference_path
+from protocol.robotfile import REFERENCES, check, load, reference_path
 from protocol.robotfile.firmware import example_for, name_problem, profile_header
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -63,3 +63,17 @@ def test_the_lights_power_up_mode_reaches_the_header(tmp_path: Path) -> None:
     assert "LightsMode LIGHTS_MODE = roverlink::proto::LightsMode::OFF;" in header
     reference = profile_header(load(reference_path("diffdrive-tb6612")), "DiffDriveTB6612", "x.toml")
     assert "LightsMode LIGHTS_MODE = roverlink::proto::LightsMode::AUTO;" in reference
+
+
+def test_a_files_firmware_example_is_its_own_else_the_drives(tmp_path: Path) -> None:
+    """`[firmware] example` names the sketch; left out, a reference robot of the same drive and
+    driver names it; a name no sketch could have is refused with the key and the value."""
+    text = reference_path("diffdrive-tb6612").read_text()
+    path = tmp_path / "mine.toml"
+    path.write_text(text.replace('example = "DiffDriveTB6612"', 'example = "MyCar"'))
+    assert example_for(load(path)) == "MyCar"
+    path.write_text(text.replace('example = "DiffDriveTB6612"', 'example = ""'))
+    assert example_for(load(path)) == "DiffDriveTB6612"
+    path.write_text(text.replace('example = "DiffDriveTB6612"', 'example = "my car"'))
+    problems = [str(p) for p in check(path)]
+    assert any("firmware.example: = 'my car': an example sketch's name" in p for p in problems), problems

@@ -1,24 +1,20 @@
-"""Reference robots: validated against the spec, and one source for firmware, emulator and SDK."""
+"""Reference robots: their robot files, checked as a user's are and as reference robots, the one
+source of the firmware examples' headers, the emulator's and the SDK's profiles and docs/robots.md."""
 
 from __future__ import annotations
 
 import re
+import shutil
 import subprocess
 from pathlib import Path
 
 import pytest
 
 from protocol.generated.profiles import PROFILES
-from protocol.generator import generate, hardware, loader, robots
+from protocol.generator import generate, loader
+from protocol.robotfile import load, parse
 
 ROOT = generate.ROOT
-TEXT = (generate.SPEC.parent / "robots.toml").read_text(encoding="utf-8")
-SPEC = loader.load(generate.SPEC, ROOT)
-CONTRACT = hardware.load(generate.SPEC.parent / "hardware.toml", ROOT, SPEC)
-
-
-def parse(text: str) -> tuple[robots.Robot, ...]:
-    return robots.parse(text, "protocol/spec/robots.toml", SPEC, CONTRACT)
 
 
 def test_three_reference_robots_with_the_design_parameters() -> None:
@@ -37,53 +33,80 @@ def test_three_reference_robots_with_the_design_parameters() -> None:
         p.pid.pack()
 
 
+REFERENCE = ROOT / "protocol" / "robots" / "diffdrive-tb6612.toml"
+
+
+def _tree(tmp_path: Path, files: dict[str, str]) -> Path:
+    """A checkout under `tmp_path`: the spec, and the reference robot folder holding `files`."""
+    spec = tmp_path / "protocol" / "spec"
+    spec.mkdir(parents=True)
+    for name in ("roverlink.toml", "hardware.toml"):
+        shutil.copy(generate.SPEC.parent / name, spec / name)
+    (tmp_path / "protocol" / "robots").mkdir()
+    for name, text in files.items():
+        (tmp_path / "protocol" / "robots" / name).write_text(text, encoding="utf-8")
+    return spec / "roverlink.toml"
+
+
+def _new_robot() -> str:
+    """The TB6612 car as another reference robot: its own name, example and wheels."""
+    text = REFERENCE.read_text(encoding="utf-8").replace('name = "diffdrive-tb6612"', 'name = "tiny"')
+    text = text.replace('example = "DiffDriveTB6612"', 'example = "TinyCar"')
+    return text.replace("wheel_diameter_m = 0.064", "wheel_diameter_m = 0.042")
+
+
+def test_a_new_reference_robot_file_is_picked_up_by_the_generator(tmp_path: Path) -> None:
+    """One file in protocol/robots/ is a new reference robot: its example's header, its profile
+    and its docs column are generated with the others'."""
+    spec = _tree(tmp_path, {"diffdrive-tb6612.toml": REFERENCE.read_text(), "tiny.toml": _new_robot()})
+    out = generate.render(*generate.load(spec, tmp_path))
+    header = out["arduino/RoverLink/examples/TinyCar/robot_profile.h"]
+    assert header.startswith(
+        "// DO NOT EDIT: generated from protocol/robots/tiny.toml by `python -m protocol generate`."
+    )
+    assert 'static const char NAME[] = "TinyCar";' in header
+    assert "0x10, 0xA4, 0x00, 0x00,  // wheel_diameter_um = 42000" in header
+    assert '"tiny": RobotProfile(' in out["protocol/generated/profiles.py"]
+    assert "| `DiffDriveTB6612` | `TinyCar` |" in out["docs/robots.md"]
+    # and the same reference header as the one file's own render (one writer)
+    assert out["arduino/RoverLink/examples/DiffDriveTB6612/robot_profile.h"] == (
+        ROOT / "arduino/RoverLink/examples/DiffDriveTB6612/robot_profile.h"
+    ).read_text(encoding="utf-8")
+
+
 @pytest.mark.parametrize(
-    ("old", "new", "problem"),
+    ("old", "new", "key", "problem"),
     [
         (
-            "encoder_cpr = 1560",
-            "encoder_cpr = 0",
-            "robots[0] diffdrive-tb6612.config.encoder_cpr: 0 is outside 1..65535",
+            "counts_per_rev = 1560",
+            "counts_per_rev = 0",
+            "encoders.counts_per_rev",
+            "= 0: out of range (allowed: 1..65535",
         ),
-        ('safe_state = "BRAKE"', 'safe_state = "SKID"', "is not a SafeState"),
-        ("kp = 1.0", "kp = -1.0", "pid.kp: -1.0 is outside 0..1000"),
-        ("feedback_hz = 50\n", "", "missing: feedback_hz"),
-        ('board = "MEGA2560"', 'board = "TEENSY"', "board 'TEENSY' is not one of"),
-        ('kinematics = "diff"', 'kinematics = "tank"', "kinematics must be one of"),
-        (
-            "{ a = 18, b = 19 }",
-            "{ a = 18, b = 99 }",
-            "encoders[1].b: 99 is not a pin of the MEGA2560 (0..69 or A0..A15)",
-        ),
-        ('{ a = "A10", b = "A11" }', '{ a = "A10", b = "A16" }', "'A16' is not a pin of the MEGA2560"),
-        ("pwm = 6, in1 = 22", "pwm = 1, in1 = 22", "motors[0].pwm: pin 1 is the serial port's"),
-        (
-            "in1 = 22, in2 = 23",
-            "in1 = 22, in2 = 22",
-            "motors[0].in2: pin 22 already serves motors[0].in1",
-        ),
-        ("leds = { front_left = 30,", "leds = { front_centre = 30,", "one pin per Lights bit: front_left"),
-        ("servo = 10\n", "", "wiring.servo: needed exactly when the robot has the STEERING_SERVO capability"),
-        ('driver = "TB6612", pwm = 7', 'driver = "DRV8833", pwm = 7', "driver 'DRV8833' is not one of"),
-        (
-            "encoders = [{ a = 2, b = 3 }, { a = 18, b = 19 }]",
-            "encoders = [{ a = 2, b = 3 }]",
-            "1 listed, the capabilities ask for 2",
-        ),
-        (
-            "servo = 10\n",
-            "servo = 6\n",
-            "the ESC and servo pulses need the pins of one 16-bit timer (Timer1: pins 9, 10)",
-        ),
-        ("pwm = 7, in1 = 24", "pwm = 40, in1 = 24", "motors[1].pwm: pin 40 has no PWM output on the MEGA2560"),
-        ("{ a = 18, b = 19 }", "{ a = 40, b = 19 }", "encoders[1].a: pin 40 cannot interrupt on the MEGA2560"),
+        ('safe_state = "brake"', 'safe_state = "skid"', "limits.safe_state", "not one of coast, brake, ramp_down"),
+        ('name = "diffdrive-tb6612"', 'name = "car"', "name", "a reference robot is named as its file"),
+        ('example = "DiffDriveTB6612"', 'example = ""', "firmware.example", "names its firmware example"),
+        ("{ a = 18, b = 19 }", "{ a = 40, b = 19 }", "encoders.pins[1].a", "pin 40 cannot interrupt on the MEGA2560"),
     ],
 )
-def test_bad_robot_entries_are_refused(old: str, new: str, problem: str) -> None:
+def test_a_bad_reference_robot_file_is_refused_naming_file_and_key(
+    tmp_path: Path, old: str, new: str, key: str, problem: str
+) -> None:
+    text = REFERENCE.read_text(encoding="utf-8")
+    assert old in text
+    spec = _tree(tmp_path, {"diffdrive-tb6612.toml": text.replace(old, new, 1)})
     with pytest.raises(loader.SpecError) as info:
-        parse(TEXT.replace(old, new, 1))
-    assert problem in str(info.value)
-    assert str(info.value).startswith("protocol/spec/robots.toml: ")
+        generate.load(spec, tmp_path)
+    message = str(info.value)
+    assert message.startswith("protocol/robots/diffdrive-tb6612.toml"), message
+    assert key in message and problem in message, message
+
+
+def test_two_reference_robots_may_not_share_an_example(tmp_path: Path) -> None:
+    twin = _new_robot().replace('example = "TinyCar"', 'example = "DiffDriveTB6612"')
+    spec = _tree(tmp_path, {"diffdrive-tb6612.toml": REFERENCE.read_text(), "tiny.toml": twin})
+    with pytest.raises(loader.SpecError, match="example: DiffDriveTB6612 is used by more than one reference robot"):
+        generate.load(spec, tmp_path)
 
 
 @pytest.mark.slow  # a C++ compiler: the fast lane needs none
@@ -104,13 +127,17 @@ def test_firmware_profile_header_compiles(example: str, tmp_path: Path) -> None:
 def test_robots_may_share_only_what_the_hardware_shares() -> None:
     """One STBY for both TB6612 channels is fine (the reference car does it), and so is one
     enable pin for R_EN and L_EN of a BTS7960; one pin for two enables of two boards is not."""
-    parse(TEXT.replace("r_en = 22, l_en = 23", "r_en = 22, l_en = 22"))
-    with pytest.raises(loader.SpecError, match=r"motors\[1\]\.r_en: pin 22 already serves motors\[0\]\.r_en"):
-        parse(TEXT.replace("r_en = 24, l_en = 25", "r_en = 22, l_en = 25"))
+    text = (ROOT / "protocol" / "robots" / "diffdrive-bts7960.toml").read_text(encoding="utf-8")
+    robot, problems = parse(text.replace("r_en = 22, l_en = 23", "r_en = 22, l_en = 22"), "bts.toml")
+    assert robot is not None and not problems
+    robot, problems = parse(text.replace("r_en = 24, l_en = 25", "r_en = 22, l_en = 25"), "bts.toml")
+    assert robot is None
+    assert any("drive.motors[1].r_en" in str(p) and "already serves drive.motors[0].r_en" in str(p) for p in problems)
+    assert load(ROOT / "protocol" / "robots" / "diffdrive-tb6612.toml").wiring.motors[0].pin("standby") == 26
 
 
 def test_the_examples_take_every_pin_from_the_generated_profile() -> None:
-    """No sketch writes a pin number of its own: they all come from robots.toml."""
+    """No sketch writes a pin number of its own: they all come from the robot files."""
     own_pin = re.compile(r"const\s+uint8_t\s+\w+\s*=\s*(?:\d+|A\d+)\s*;|PulseChannel::[ABC]\b")
     for profile in PROFILES.values():
         sketch = ROOT / "arduino/RoverLink/examples" / profile.example / f"{profile.example}.ino"

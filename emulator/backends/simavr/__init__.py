@@ -23,7 +23,7 @@ simavr` paces the same loop to the wall clock (emulator.transport.realtime).
 One module per job:
 
     mcu.py         the AVR parts' datasheet facts: Arduino pin -> port/bit, PWM timers, register addresses
-    wiring.py      a robot's pins (robots.toml, through its profile) -> registers; decode_pins()
+    wiring.py      a robot's pins (its robot file, through its profile) -> registers; decode_pins()
     harness.py     the fil_harness process (build, start, step, profile, stop)
     plant_loop.py  PlantLoop: plant, serial line, resets and faults around any MCU
     robot.py       SimavrRobot: a reference robot's ELF in the harness inside a PlantLoop; EEPROM images

@@ -1,7 +1,7 @@
 """The two AVR parts' datasheet facts the harness needs: Arduino pin -> port and bit, the PWM
 pins' timer compare outputs, and the data-space addresses of the registers behind them.
 
-MCU facts, not robot facts: which pin a robot uses is in robots.toml (the profile's `wiring`);
+MCU facts, not robot facts: which pin a robot uses is in its robot file (the profile's `wiring`);
 where that pin's level and PWM duty live is here. The pin order is the Arduino core's
 (variants/standard and variants/mega, pins_arduino.h); the addresses are avr-libc's
 (avr/iom328p.h, avr/iom2560.h). tests/emulator/test_simavr_wiring.py checks both against those

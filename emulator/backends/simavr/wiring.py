@@ -1,4 +1,4 @@
-"""Which registers carry which wire: a robot's pins (its profile's `wiring`, from robots.toml)
+"""Which registers carry which wire: a robot's pins (its profile's `wiring`, from its robot file)
 mapped to the MCU's registers (mcu.py), and one register snapshot decoded into what the board's
 wires carry (duty, direction, brake/coast, pulse widths, LEDs)."""
 

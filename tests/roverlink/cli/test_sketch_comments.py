@@ -1,5 +1,5 @@
 """The sketch `roverlink firmware sketch|build --robot FILE` writes speaks of the user's file: its
-first comment is made from the file, and the code's comments name the file, not robots.toml."""
+first comment is made from the file, and the code's comments name the file, not the reference robot's."""
 
 from __future__ import annotations
 
@@ -18,4 +18,4 @@ def test_the_sketch_names_the_users_file_and_none_of_the_reference_robots_facts(
     sketch = write_sketch(robot, tmp_path / "MyCar")
     ino = (sketch / "MyCar.ino").read_text(encoding="utf-8") if sketch.is_dir() else sketch.read_text("utf-8")
     assert ino.startswith("// mycar: ackermann drive")
-    assert "robots.toml" not in ino and "generated from mycar.toml" in ino
+    assert "picar.toml" not in ino and "generated from mycar.toml" in ino

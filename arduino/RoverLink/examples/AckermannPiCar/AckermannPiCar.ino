@@ -3,7 +3,7 @@
 // A brushless motor behind an RC ESC, a steering servo (65..125 degrees, centre 90, 15 degree
 // steps), one quadrature encoder on the motor (x4, on the Uno's two external interrupt pins)
 // for the speed PID, stream feedback. Defaults are in robot_profile.h, generated from
-// protocol/spec/robots.toml. Wiring, timers and flashing: docs/firmware.md, "Boards, wiring and
+// protocol/robots/picar.toml. Wiring, timers and flashing: docs/firmware.md, "Boards, wiring and
 // flashing".
 //
 // The ESC gets neutral pulses from boot and nothing else for esc_arm_ms (3 s): the arming /
@@ -14,7 +14,7 @@
 
 namespace rl = roverlink::avr;
 
-// Pins: robot_profile.h, generated from robots.toml (docs/robots.md, "Wiring").
+// Pins: robot_profile.h, generated from picar.toml (docs/robots.md, "Wiring").
 // ESC and servo pulses are made by Timer1 in hardware (50 Hz, 0.5 us steps): on the Uno, pins 9
 // (OC1A) and 10 (OC1B) only.
 static_assert(rl::Timer1::has_pin(robot_profile::ESC_PIN) && rl::Timer1::has_pin(robot_profile::STEERING_PIN),

@@ -1,7 +1,7 @@
-// DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
+// DO NOT EDIT: generated from protocol/robots/picar.toml by `python -m protocol generate`.
 // spec hash: 0x1AECD35A
-// Defaults of the AckermannPiCar example (picar): Ackermann PiCar: Uno, brushless drive motor behind an ESC (calibrated at boot), one motor encoder, steering servo 65..125 degrees in 15 degree steps, stream feedback.
-// Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.
+// Defaults of picar (AckermannPiCar example): Ackermann PiCar: Uno, brushless drive motor behind an ESC (calibrated at boot), one motor encoder, steering servo 65..125 degrees in 15 degree steps, stream feedback.
+// Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit protocol/robots/picar.toml.
 #ifndef ROVERLINK_EXAMPLE_ACKERMANNPICAR_PROFILE_H
 #define ROVERLINK_EXAMPLE_ACKERMANNPICAR_PROFILE_H
 
@@ -15,7 +15,7 @@ static const uint16_t CAPABILITIES = roverlink::proto::Capability::ACKERMANN | r
 static const roverlink::proto::FeedbackMode FEEDBACK_MODE = roverlink::proto::FeedbackMode::STREAM;
 static const roverlink::proto::LightsMode LIGHTS_MODE = roverlink::proto::LightsMode::AUTO;  // turn signals at power-up
 
-// Wiring (robots.toml, [robots.wiring]): Arduino pin numbers (A<n> as its number on this board).
+// Wiring (protocol/robots/picar.toml): Arduino pin numbers (A<n> as its number on this board).
 static const uint8_t MOTOR_ENC_A = 2;  // motor encoder, channel a
 static const uint8_t MOTOR_ENC_B = 3;  // motor encoder, channel b
 static const uint8_t ESC_PIN = 9;  // ESC signal
@@ -56,7 +56,7 @@ static inline roverlink::proto::SetConfig default_config() {
         payload[i] = ROVERLINK_READ_BYTE(DEFAULT_CONFIG + i);
     }
     roverlink::proto::SetConfig c = roverlink::proto::SetConfig();
-    roverlink::proto::unpack(payload, sizeof payload, c);  // valid: robots.toml is checked
+    roverlink::proto::unpack(payload, sizeof payload, c);  // valid: protocol/robots/picar.toml is checked
     return c;
 }
 

@@ -3,7 +3,7 @@
 // Two 19.2:1 gearmotors, each on a BTS7960 (IBT-2) board, two quadrature encoders (x4, on
 // pin-change interrupts), lockstep feedback: the host sends a setpoint and waits for the
 // FEEDBACK that answers it. Defaults are in robot_profile.h, generated from
-// protocol/spec/robots.toml. Wiring, timers and flashing: docs/firmware.md, "Boards, wiring and
+// protocol/robots/diffdrive-bts7960.toml. Wiring, timers and flashing: docs/firmware.md, "Boards, wiring and
 // flashing".
 #include <RoverLink.h>
 
@@ -11,7 +11,7 @@
 
 namespace rl = roverlink::avr;
 
-// Pins: robot_profile.h, generated from robots.toml (docs/robots.md, "Wiring"). PWM stays at the
+// Pins: robot_profile.h, generated from diffdrive-bts7960.toml (docs/robots.md, "Wiring"). PWM stays at the
 // Arduino default (490 Hz on Timer3 and Timer4): the BTS7960 is specified up to 25 kHz only, so
 // the 31.4 kHz of pwm_ultrasonic() would be out of spec. The encoders are on port K's pin-change
 // interrupt (PCINT16..19, one vector: PCINT2_vect).

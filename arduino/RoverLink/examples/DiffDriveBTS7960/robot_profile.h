@@ -1,7 +1,7 @@
-// DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
+// DO NOT EDIT: generated from protocol/robots/diffdrive-bts7960.toml by `python -m protocol generate`.
 // spec hash: 0x1AECD35A
-// Defaults of the DiffDriveBTS7960 example (diffdrive-bts7960): 3D-printed SLAM robot: Mega 2560, two BTS7960 drivers (RPWM/LPWM), 19.2:1 gearmotors with 64 CPR encoders, lockstep command/feedback.
-// Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.
+// Defaults of diffdrive-bts7960 (DiffDriveBTS7960 example): 3D-printed SLAM robot: Mega 2560, two BTS7960 drivers (RPWM/LPWM), 19.2:1 gearmotors with 64 CPR encoders, lockstep command/feedback.
+// Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit protocol/robots/diffdrive-bts7960.toml.
 #ifndef ROVERLINK_EXAMPLE_DIFFDRIVEBTS7960_PROFILE_H
 #define ROVERLINK_EXAMPLE_DIFFDRIVEBTS7960_PROFILE_H
 
@@ -15,7 +15,7 @@ static const uint16_t CAPABILITIES = roverlink::proto::Capability::DIFF_DRIVE | 
 static const roverlink::proto::FeedbackMode FEEDBACK_MODE = roverlink::proto::FeedbackMode::LOCKSTEP;
 static const roverlink::proto::LightsMode LIGHTS_MODE = roverlink::proto::LightsMode::AUTO;  // turn signals at power-up
 
-// Wiring (robots.toml, [robots.wiring]): Arduino pin numbers (A<n> as its number on this board).
+// Wiring (protocol/robots/diffdrive-bts7960.toml): Arduino pin numbers (A<n> as its number on this board).
 static const uint8_t LEFT_RPWM = 2;  // left motor, BTS7960 rpwm
 static const uint8_t LEFT_LPWM = 3;  // left motor, BTS7960 lpwm
 static const uint8_t LEFT_R_EN = 22;  // left motor, BTS7960 r_en
@@ -64,7 +64,7 @@ static inline roverlink::proto::SetConfig default_config() {
         payload[i] = ROVERLINK_READ_BYTE(DEFAULT_CONFIG + i);
     }
     roverlink::proto::SetConfig c = roverlink::proto::SetConfig();
-    roverlink::proto::unpack(payload, sizeof payload, c);  // valid: robots.toml is checked
+    roverlink::proto::unpack(payload, sizeof payload, c);  // valid: protocol/robots/diffdrive-bts7960.toml is checked
     return c;
 }
 

@@ -2,10 +2,10 @@
 //
 // Two DC gearmotors on a TB6612FNG, two quadrature encoders (x4, on the external interrupt pins),
 // four turn-signal LEDs, stream feedback. Defaults (64 mm wheels, 1560 counts/rev, PID gains...)
-// are in robot_profile.h, generated from protocol/spec/robots.toml; change them over the link.
+// are in robot_profile.h, generated from protocol/robots/diffdrive-tb6612.toml; change them over the link.
 // Wiring, timers and flashing: docs/firmware.md, "Boards, wiring and flashing".
 //
-// Using an L298N instead: replace Tb6612Motor by L298nMotor, wire ENA/ENB to the PWM pins (robots.toml)
+// Using an L298N instead: replace Tb6612Motor by L298nMotor, wire ENA/ENB to the PWM pins ([drive] motors)
 // (jumpers off) and IN1..IN4 to the direction pins, and drop the STBY argument.
 #include <RoverLink.h>
 
@@ -13,7 +13,7 @@
 
 namespace rl = roverlink::avr;
 
-// Pins: robot_profile.h, generated from robots.toml (docs/robots.md, "Wiring"). Each TB6612 PWM
+// Pins: robot_profile.h, generated from diffdrive-tb6612.toml (docs/robots.md, "Wiring"). Each TB6612 PWM
 // pin's timer is sped up to 31.4 kHz below (no motor whine; on the reference robot both are on
 // Timer4); STBY is shared by both channels. The LEDs go through 330 ohm resistors to GND.
 namespace pins = robot_profile;

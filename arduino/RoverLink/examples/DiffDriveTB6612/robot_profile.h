@@ -1,7 +1,7 @@
-// DO NOT EDIT: generated from protocol/spec/robots.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
+// DO NOT EDIT: generated from protocol/robots/diffdrive-tb6612.toml by `python -m protocol generate`.
 // spec hash: 0x1AECD35A
-// Defaults of the DiffDriveTB6612 example (diffdrive-tb6612): ros_arduino_bridge-style differential-drive car: Mega 2560, TB6612 (or L298N), two quadrature encoders, four turn-signal LEDs, stream feedback.
-// Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit robots.toml.
+// Defaults of diffdrive-tb6612 (DiffDriveTB6612 example): ros_arduino_bridge-style differential-drive car: Mega 2560, TB6612 (or L298N), two quadrature encoders, four turn-signal LEDs, stream feedback.
+// Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit protocol/robots/diffdrive-tb6612.toml.
 #ifndef ROVERLINK_EXAMPLE_DIFFDRIVETB6612_PROFILE_H
 #define ROVERLINK_EXAMPLE_DIFFDRIVETB6612_PROFILE_H
 
@@ -15,7 +15,7 @@ static const uint16_t CAPABILITIES = roverlink::proto::Capability::DIFF_DRIVE | 
 static const roverlink::proto::FeedbackMode FEEDBACK_MODE = roverlink::proto::FeedbackMode::STREAM;
 static const roverlink::proto::LightsMode LIGHTS_MODE = roverlink::proto::LightsMode::AUTO;  // turn signals at power-up
 
-// Wiring (robots.toml, [robots.wiring]): Arduino pin numbers (A<n> as its number on this board).
+// Wiring (protocol/robots/diffdrive-tb6612.toml): Arduino pin numbers (A<n> as its number on this board).
 static const uint8_t LEFT_PWM = 6;  // left motor, TB6612 pwm
 static const uint8_t LEFT_IN1 = 22;  // left motor, TB6612 in1
 static const uint8_t LEFT_IN2 = 23;  // left motor, TB6612 in2
@@ -73,7 +73,7 @@ static inline roverlink::proto::SetConfig default_config() {
         payload[i] = ROVERLINK_READ_BYTE(DEFAULT_CONFIG + i);
     }
     roverlink::proto::SetConfig c = roverlink::proto::SetConfig();
-    roverlink::proto::unpack(payload, sizeof payload, c);  // valid: robots.toml is checked
+    roverlink::proto::unpack(payload, sizeof payload, c);  // valid: protocol/robots/diffdrive-tb6612.toml is checked
     return c;
 }
 
