@@ -25,8 +25,8 @@ from emulator.plant.motor import MotorParams
 from emulator.plant.servo import ServoParams
 from emulator.plant.vehicle import BodyParams
 from protocol.generated.enums import Capability
-from protocol.generated.profiles import PROFILES, RobotProfile
-from protocol.sensors import ROBOT_SENSORS, RobotSensors
+from protocol.generated.profiles import PROFILES, ROBOT_SENSORS, RobotProfile
+from protocol.sensors import RobotSensors
 
 
 @dataclass(frozen=True, slots=True)

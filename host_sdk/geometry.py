@@ -19,7 +19,8 @@ from host_sdk.profiles import profile_for_example, steering_angles
 from host_sdk.robot import Robot
 from host_sdk.robot_description import RobotDescription
 from protocol.generated.messages import SetConfig
-from protocol.sensors import ROBOT_SENSORS, Mount
+from protocol.generated.profiles import ROBOT_SENSORS
+from protocol.sensors import Mount
 
 
 @dataclass(frozen=True, slots=True)

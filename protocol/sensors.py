@@ -1,14 +1,13 @@
-"""The reference robots' host-side sensors: datasheet facts and default mounts (spec/sensors.toml).
+"""The host-side sensors' datasheet facts (spec/sensors.toml), and the types of a robot's mounts.
 
 One file feeds both sides: the SDK's drivers (default sample rates, range limits) and the emulator's
 models (the same numbers, plus noise), so a driver and the device it is tested against cannot
-disagree about a fact.
+disagree about a fact. Where a robot carries its sensors is its robot file's ([sensors.*],
+[footprint]; the reference robots': protocol.generated.profiles.ROBOT_SENSORS).
 
-    >>> from protocol.sensors import DEVICES, ROBOT_SENSORS
+    >>> from protocol.sensors import DEVICES
     >>> DEVICES["rplidar-a1"].range_max_m
     12.0
-    >>> [m.device for m in ROBOT_SENSORS["picar"].mounts]
-    ['ydlidar-f4', 'pi-camera-v2']
 """
 
 from __future__ import annotations
@@ -23,7 +22,6 @@ from protocol.toml import tomllib
 
 __all__ = [
     "DEVICES",
-    "ROBOT_SENSORS",
     "CameraSpec",
     "ImuSpec",
     "LidarSpec",
@@ -172,38 +170,15 @@ def _device(name: str, table: dict[str, Any]) -> DeviceSpec:
     return spec
 
 
-def _robot(profile: str, table: dict[str, Any], devices: dict[str, DeviceSpec]) -> RobotSensors:
-    mounts = []
-    for i, m in enumerate(table.get("mounts", [])):
-        mount = Mount(**m)
-        if mount.device not in devices:
-            raise SensorSpecError(
-                f"sensors.toml robots.{profile}.mounts[{i}]: device {mount.device!r} is not one of {', '.join(devices)}"
-            )
-        if mount.name != devices[mount.device].kind:
-            raise SensorSpecError(
-                f"sensors.toml robots.{profile}.mounts[{i}]: name {mount.name!r} must be the device's kind "
-                f"({devices[mount.device].kind})"
-            )
-        mounts.append(mount)
-    return RobotSensors(
-        profile=profile,
-        footprint_radius_m=float(table["footprint_radius_m"]),
-        footprint_x_m=float(table["footprint_x_m"]),
-        mounts=tuple(mounts),
-    )
-
-
-def _load() -> tuple[dict[str, DeviceSpec], dict[str, RobotSensors]]:
+def _load() -> dict[str, DeviceSpec]:
     text = resources.files("protocol").joinpath("spec/sensors.toml").read_text(encoding="utf-8")
     data = tomllib.loads(text)
-    devices = {name: _device(name, table) for name, table in data["devices"].items()}
-    robots = {name: _robot(name, table, devices) for name, table in data["robots"].items()}
-    return devices, robots
+    return {name: _device(name, table) for name, table in data["devices"].items()}
 
 
-DEVICES, ROBOT_SENSORS = _load()
-"""Every device by name (rplidar-a1, ydlidar-f4, jy901, pi-camera-v2); each profile's sensors."""
+DEVICES = _load()
+"""Every device by name (rplidar-a1, ydlidar-f4, jy901, pi-camera-v2). Where a robot carries
+which: its robot file's [sensors.*] (the reference robots': protocol.generated.profiles.ROBOT_SENSORS)."""
 
 
 def device(name: str, kind: str | None = None) -> DeviceSpec:

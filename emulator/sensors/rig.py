@@ -31,7 +31,8 @@ from emulator.sensors.ydlidar import YDLidarF4
 from emulator.world.scenario import load_world
 from emulator.world.scene import Scene
 from emulator.world.world import World
-from protocol.sensors import DEVICES, ROBOT_SENSORS, CameraSpec, ImuSpec, LidarSpec, Mount, device
+from protocol.generated.profiles import ROBOT_SENSORS
+from protocol.sensors import DEVICES, CameraSpec, ImuSpec, LidarSpec, Mount, device
 
 BATCH_US = 5000
 LIDARS = tuple(n for n, d in DEVICES.items() if d.kind == "lidar")

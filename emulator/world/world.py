@@ -20,7 +20,8 @@ from numpy.typing import NDArray
 from emulator.plant.plant import Plant
 from emulator.world.raycast import clearance
 from emulator.world.scene import Scene
-from protocol.sensors import ROBOT_SENSORS, RobotSensors
+from protocol.generated.profiles import ROBOT_SENSORS
+from protocol.sensors import RobotSensors
 
 F64 = NDArray[np.float64]
 HISTORY = 128

@@ -1,6 +1,7 @@
 # DO NOT EDIT: generated from protocol/robots/*.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
 # spec hash: 0x1AECD35A
-"""Reference robot profiles: firmware defaults, kinematics and feedback mode, by name."""
+"""Reference robot profiles by name: firmware defaults, kinematics, feedback mode, footprint and
+sensor mounts (from protocol/robots/*.toml)."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ from dataclasses import dataclass
 
 from protocol.generated.enums import Board, Capability, FeedbackMode, LightsMode, SafeState
 from protocol.generated.messages import SetConfig, SetPid
+from protocol.sensors import Mount, RobotSensors
 
 
 @dataclass(frozen=True, slots=True)
@@ -152,3 +154,33 @@ PROFILES: dict[str, RobotProfile] = {
     ),
 }
 """Reference robots by profile name."""
+
+ROBOT_SENSORS: dict[str, RobotSensors] = {
+    "diffdrive-bts7960": RobotSensors(
+        profile="diffdrive-bts7960",
+        footprint_radius_m=0.17,
+        footprint_x_m=0.0,
+        mounts=(
+            Mount(device="rplidar-a1", name="lidar", x_m=0.0, y_m=0.0, z_m=0.22, yaw_deg=0.0),
+        ),
+    ),
+    "diffdrive-tb6612": RobotSensors(
+        profile="diffdrive-tb6612",
+        footprint_radius_m=0.12,
+        footprint_x_m=0.03,
+        mounts=(
+            Mount(device="jy901", name="imu", x_m=0.0, y_m=0.0, z_m=0.05, yaw_deg=0.0),
+            Mount(device="pi-camera-v2", name="camera", x_m=0.1, y_m=0.0, z_m=0.14, yaw_deg=0.0),
+        ),
+    ),
+    "picar": RobotSensors(
+        profile="picar",
+        footprint_radius_m=0.19,
+        footprint_x_m=0.13,
+        mounts=(
+            Mount(device="ydlidar-f4", name="lidar", x_m=0.18, y_m=0.0, z_m=0.16, yaw_deg=0.0),
+            Mount(device="pi-camera-v2", name="camera", x_m=0.3, y_m=0.0, z_m=0.12, yaw_deg=0.0),
+        ),
+    ),
+}
+"""Each reference robot's footprint (as a disc) and sensor mounts, by profile name."""

@@ -15,8 +15,9 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+from protocol.generated.profiles import ROBOT_SENSORS
 from protocol.robotfile import RobotFile
-from protocol.sensors import ROBOT_SENSORS, Mount
+from protocol.sensors import Mount
 from roverlink.ros2.params import BY_NAME
 
 SENSOR_KINDS = ("lidar", "imu", "camera")

@@ -24,8 +24,9 @@ from protocol.generated.constants import (
     WATCHDOG_MAX_MS,
     WATCHDOG_MIN_MS,
 )
+from protocol.generated.profiles import ROBOT_SENSORS
 from protocol.robotfile import SerialSensor
-from protocol.sensors import DEVICES, ROBOT_SENSORS
+from protocol.sensors import DEVICES
 
 ParamValue = bool | int | float | str | list[float] | list[str]
 

@@ -19,8 +19,8 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 
 from host_sdk import Robot
 from host_sdk.geometry import description_of, profile_of
+from protocol.generated.profiles import ROBOT_SENSORS
 from protocol.robotfile import RobotFile
-from protocol.sensors import ROBOT_SENSORS
 from roverlink.ros2 import convert
 from roverlink.ros2.frames import FrameNames, StaticFrame, static_frames
 from roverlink.ros2.params import BridgeParams

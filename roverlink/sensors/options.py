@@ -27,7 +27,7 @@ from host_sdk.sensors.errors import SensorOpenError
 from host_sdk.sensors.hub import Sensors, short_source
 from host_sdk.sensors.imu import DEFAULT_BAUD, Jy901
 from host_sdk.sensors.lidar import MODELS, Lidar
-from protocol.sensors import ROBOT_SENSORS
+from protocol.generated.profiles import ROBOT_SENSORS
 from roverlink.argtypes import BAUD
 from roverlink.emulated import emulator_of
 

@@ -14,8 +14,8 @@ from emulator.sensors.rig import attach
 from emulator.transport.inprocess import EmulatorTransport, parse_emu_url
 from host_sdk import Robot
 from host_sdk.enums import Capability
+from protocol.generated.profiles import ROBOT_SENSORS
 from protocol.robotfile import REFERENCES, RobotFileError, load, reference_path
-from protocol.sensors import ROBOT_SENSORS
 
 
 def edited(tmp_path: Path, reference: str, *changes: tuple[str, str], name: str = "mine.toml") -> Path:

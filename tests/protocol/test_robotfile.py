@@ -8,9 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from protocol.generated.profiles import PROFILES
+from protocol.generated.profiles import PROFILES, ROBOT_SENSORS
 from protocol.robotfile import REFERENCES, RobotFileError, check, load, parse, reference_path
-from protocol.sensors import ROBOT_SENSORS
 
 
 def _variant(tmp_path: Path, name: str, old: str, new: str) -> Path:

@@ -49,10 +49,12 @@ def _defaults(spec: Spec, r: RobotFile, python: bool) -> tuple[list[tuple[Field,
 
 def _python(spec: Spec, robots: tuple[RobotFile, ...]) -> str:
     o = [_banner(spec, "#")]
-    o.append('"""Reference robot profiles: firmware defaults, kinematics and feedback mode, by name."""\n\n')
+    o.append('"""Reference robot profiles by name: firmware defaults, kinematics, feedback mode, footprint and\n')
+    o.append('sensor mounts (from protocol/robots/*.toml)."""\n\n')
     o.append("from __future__ import annotations\n\nfrom dataclasses import dataclass\n\n")
     o.append("from protocol.generated.enums import Board, Capability, FeedbackMode, LightsMode, SafeState\n")
-    o.append("from protocol.generated.messages import SetConfig, SetPid\n\n\n")
+    o.append("from protocol.generated.messages import SetConfig, SetPid\n")
+    o.append("from protocol.sensors import Mount, RobotSensors\n\n\n")
     o.extend(_py_class(*c) for c in _PY_CLASSES)
     o[-1] = o[-1].rstrip("\n") + "\n"
     o.append("\n\nPROFILES: dict[str, RobotProfile] = {\n")
@@ -76,6 +78,18 @@ def _python(spec: Spec, robots: tuple[RobotFile, ...]) -> str:
         o.append(f"        wiring={_py_wiring(r.wiring)},\n    ),\n")
     o.append("}\n")
     o.append('"""Reference robots by profile name."""\n')
+    o.append("\nROBOT_SENSORS: dict[str, RobotSensors] = {\n")
+    for r in robots:
+        body = r.sensors()
+        o.append(f'    "{r.name}": RobotSensors(\n        profile="{r.name}",\n')
+        o.append(f"        footprint_radius_m={num(body.footprint_radius_m)},\n")
+        o.append(f"        footprint_x_m={num(body.footprint_x_m)},\n        mounts=(\n")
+        for m in body.mounts:
+            place = ", ".join(f"{k}={num(getattr(m, k))}" for k in ("x_m", "y_m", "z_m", "yaw_deg"))
+            o.append(f'            Mount(device="{m.device}", name="{m.name}", {place}),\n')
+        o.append("        ),\n    ),\n")
+    o.append("}\n")
+    o.append('"""Each reference robot\'s footprint (as a disc) and sensor mounts, by profile name."""\n')
     return "".join(o)
 
 

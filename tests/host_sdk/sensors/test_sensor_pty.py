@@ -19,7 +19,7 @@ from emulator.world import load_world
 from host_sdk import TransportError
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 from host_sdk.transport import SerialTransport, open_transport
-from protocol.sensors import ROBOT_SENSORS
+from protocol.generated.profiles import ROBOT_SENSORS
 from tests.support.emulate import emulate
 from tests.support.wait import wait_until
 

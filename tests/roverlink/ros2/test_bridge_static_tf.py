@@ -18,8 +18,9 @@ require_ros()
 from bridge_harness import BridgeProcess, Probe, logged, values, yaw  # noqa: E402
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
 
+from protocol.generated.profiles import ROBOT_SENSORS  # noqa: E402
 from protocol.robotfile import reference_path  # noqa: E402
-from protocol.sensors import ROBOT_SENSORS, Mount  # noqa: E402
+from protocol.sensors import Mount  # noqa: E402
 
 LATE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 LIDAR = '[sensors.lidar]\nmodel = "rplidar-a1"\nx_m = -0.05\ny_m = 0.02\nz_m = 0.3\nyaw_deg = 90.0\n\n'

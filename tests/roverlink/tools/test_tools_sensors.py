@@ -21,7 +21,7 @@ from host_sdk.recording import Recorder
 from host_sdk.recording.schemas import TOPIC_IMAGE, TOPIC_IMU, TOPIC_SCAN, TOPIC_TF, imu_message
 from host_sdk.recording.sensors import laser_scan_fields
 from host_sdk.sensors import CameraFrame, ImuSample, LidarScan, Sensors
-from protocol.sensors import ROBOT_SENSORS
+from protocol.generated.profiles import ROBOT_SENSORS
 from roverlink.cli import main
 from roverlink.dashboard import Dashboard
 from roverlink.sensors import SensorChoice, choose_sensors, open_sensors
