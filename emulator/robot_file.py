@@ -10,24 +10,19 @@ What the file says goes to both halves, as it would on a real robot built and fl
 
 The plant is built as the file's nominal geometry says ([geometry], encoders.counts_per_rev):
 [calibration] holds measurements the firmware is configured with, not a different robot; the URL's
-`physical=` / scale parameters make the real robot differ. Physics the file does not describe
-(motor constants, friction, inertia, the servo's speed, the ESC's arming) come from the nearest
-reference robot: `nearest_reference`.
+`physical=` / scale parameters make the real robot differ. The physics (motor constants and
+gearbox, friction, inertia, the servo's speed, the ESC's arming) are the file's [emulator.*]
+sections; a section the file leaves out is the nearest reference robot's (`nearest_reference`).
 """
 
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
 
-from emulator.plant.esc import EscParams
-from emulator.plant.servo import ServoParams
-from emulator.profiles import PLANTS, TIMINGS, EmulatorProfile, PlantParams
+from emulator.plant.params import PlantParams, plant_from_file
+from emulator.profiles import PLANTS, EmulatorProfile
 from protocol.generated.profiles import PROFILES, RobotProfile
-from protocol.robotfile import RobotFile, load
-
-SERVO_TRAVEL_MARGIN_DEG = 5.0
-"""Mechanical servo travel beyond the file's steering range (the PiCar's: 60..130 for 65..125)."""
+from protocol.robotfile import RobotFile, load, reference_path
 
 
 def _driver(profile: RobotProfile) -> str:
@@ -69,25 +64,9 @@ def firmware_defaults(robot: RobotFile) -> RobotProfile:
 
 
 def plant_for(robot: RobotFile, reference: str) -> PlantParams:
-    """The reference's physics with the file's board timing, ESC pulses and steering servo."""
-    plant = PLANTS[reference]
-    esc, servo = plant.esc, plant.servo
-    if robot.esc is not None:
-        e = robot.esc
-        pulses = {"min_us": e.min_pulse_s, "max_us": e.max_pulse_s, "nominal_neutral_us": e.neutral_pulse_s}
-        esc = dataclasses.replace(esc or EscParams(), **{k: round(v * 1e6) for k, v in pulses.items()})
-    if robot.steering is not None:
-        s = robot.steering
-        margin = SERVO_TRAVEL_MARGIN_DEG
-        travel = {"travel_min_deg": max(0.0, s.min_deg - margin), "travel_max_deg": min(180.0, s.max_deg + margin)}
-        servo = dataclasses.replace(
-            servo or ServoParams(),
-            min_us=round(s.min_pulse_s * 1e6),
-            max_us=round(s.max_pulse_s * 1e6),
-            straight_deg=s.center_deg,
-            **travel,
-        )
-    return dataclasses.replace(plant, timing=TIMINGS[robot.board], esc=esc, servo=servo)
+    """The file's plant: its [emulator.*] sections, gearbox, pulses and board; each section it
+    leaves out, the `reference` robot's."""
+    return plant_from_file(robot, load(reference_path(reference)))
 
 
 def profile_from_file(path: str | Path) -> EmulatorProfile:

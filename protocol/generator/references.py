@@ -1,6 +1,7 @@
 """The reference robots: every robot file in protocol/robots/, read by the robot-file reader
 (protocol.robotfile) as a user's file is, plus what makes a file a reference robot (its name is
-its file's, it names its firmware example, it runs on a board with pins)."""
+its file's, it names its firmware example, it runs on a board with pins, it gives the emulator its
+motor and body: the physics users' files without them borrow)."""
 
 from __future__ import annotations
 
@@ -24,6 +25,9 @@ def _problem(robot: RobotFile, stem: str) -> tuple[str, str]:
         return "firmware.example", name_problem(robot.example)
     if robot.board not in BOARDS:
         return "board", f"= {robot.board!r}: a reference robot runs on one of {', '.join(BOARDS)}"
+    for part in ("motor", "body"):
+        if getattr(robot.emulator, part) is None:
+            return f"emulator.{part}", f"missing: a reference robot gives its physics ([emulator.{part}])"
     return "", ""
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 from typing import Any
 
 from protocol.robotfile import model, pins
-from protocol.robotfile.reader import Reader
+from protocol.robotfile.reader import EMULATOR_PARTS, Reader
 from protocol.sensors import DEVICES
 
 
@@ -92,6 +92,10 @@ def _serial(table: dict[str, Any] | None) -> model.SerialSensor | None:
     return None if table is None else model.SerialSensor(**table)
 
 
+def _values(table: dict[str, Any] | None) -> model.Values | None:
+    return None if table is None else tuple((k, x) for k, x in table.items() if x is not None)
+
+
 def _example(r: Reader, table: dict[str, Any] | None) -> str:
     example = str((table or {}).get("example") or "")
     if example and not example.isidentifier():
@@ -142,4 +146,5 @@ def robot(r: Reader, data: dict[str, Any]) -> model.RobotFile:
         footprint=_footprint(r, v),
         calibration=model.Calibration(**(v["calibration"] or {})),
         example=_example(r, v["firmware"]),
+        emulator=model.Emulator(*(_values(v[f"emulator.{part}"]) for part in EMULATOR_PARTS)),
     )

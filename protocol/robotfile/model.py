@@ -175,6 +175,22 @@ class Calibration:
     steering_trim_deg: float = 0.0
 
 
+Values = tuple[tuple[str, float], ...]
+"""A section's keys and values, in the schema's order (an absent optional key left out)."""
+
+
+@dataclass(frozen=True)
+class Emulator:
+    """[emulator.*]: the emulator's physics of the robot, as data (the emulator builds its models
+    from them: emulator/plant/params.py). None: the section is left out (the nearest reference
+    robot's applies)."""
+
+    motor: Values | None = None
+    body: Values | None = None
+    esc: Values | None = None
+    servo: Values | None = None
+
+
 def _bits(flags: tuple[bool, ...]) -> int:
     return sum(1 << i for i, on in enumerate(flags) if on)
 
@@ -207,6 +223,7 @@ class RobotFile:
     calibration: Calibration
     example: str = ""
     """[firmware] example: the library's example sketch to build from ("": the drive and driver's)."""
+    emulator: Emulator = Emulator()
 
     # -- what the firmware and the host use: calibrated values where measured ------------------
     @property

@@ -12,8 +12,14 @@ from protocol.robotfile.lines import line_of
 from protocol.robotfile.schema import REQUIRED, SECTIONS, Key
 
 TOP_TABLES: tuple[str, ...] = ("drive", "esc", "steering", "encoders", "geometry", "limits", "pid", "feedback")
-TOP_TABLES += ("lights", "sensors", "footprint", "firmware", "calibration")
+TOP_TABLES += ("lights", "sensors", "footprint", "emulator", "firmware", "calibration")
 SENSOR_KINDS = ("lidar", "imu", "camera")
+EMULATOR_PARTS = ("motor", "body", "esc", "servo")
+NESTED: dict[str, tuple[tuple[str, ...], str]] = {
+    "sensors": (SENSOR_KINDS, "sensor"),
+    "emulator": (EMULATOR_PARTS, "part"),
+}
+"""Tables of tables ([sensors.lidar], [emulator.motor]...): their inner tables, and what one is."""
 
 
 def _dotted(section: str, path: tuple[str | int, ...]) -> str:
@@ -50,19 +56,18 @@ class Reader:
             if key not in top_keys and key not in TOP_TABLES:
                 self.unknown("", key, top_keys + list(TOP_TABLES), "key")
         out = self.section("", {k: v for k, v in data.items() if k in top_keys})
-        sensors = self.table("", "sensors", data.get("sensors", {}))
-        for key in sensors:
-            if key not in SENSOR_KINDS:
-                self.unknown("sensors", key, list(SENSOR_KINDS), "sensor")
         for name in TOP_TABLES:
-            if name == "sensors":
-                continue
-            raw = data.get(name)
-            out[name] = None if raw is None else self.section(name, self.table("", name, raw))
-        for kind in SENSOR_KINDS:
-            raw = sensors.get(kind)
-            name = f"sensors.{kind}"
-            out[name] = None if raw is None else self.section(name, self.table("sensors", kind, raw))
+            if name not in NESTED:
+                raw = data.get(name)
+                out[name] = None if raw is None else self.section(name, self.table("", name, raw))
+        for outer, (parts, what) in NESTED.items():
+            tables = self.table("", outer, data.get(outer, {}))
+            for key in tables:
+                if key not in parts:
+                    self.unknown(outer, key, list(parts), what)
+            for part in parts:
+                raw, name = tables.get(part), f"{outer}.{part}"
+                out[name] = None if raw is None else self.section(name, self.table(outer, part, raw))
         return out
 
     def table(self, section: str, key: str, raw: Any) -> dict[str, Any]:

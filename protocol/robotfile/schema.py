@@ -259,6 +259,93 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
         Key("polygon_m", "points", "m", "The body as a polygon: [x, y] corners around the pose point.", ABSENT),
         Key("x_m", "float", "m", "Disc or box centre ahead of the pose point.", 0.0, -10.0, 10.0),
     ),
+    # The emulator's physics of the robot: what the firmware cannot know. Read by the emulator
+    # (emulator/plant/params.py builds its motor, body, ESC and servo models from these); a section
+    # left out is the nearest reference robot's. The gearbox is [geometry] gear_ratio; the ESC's
+    # and servo's pulses are [esc]'s and [steering]'s.
+    "emulator.motor": (
+        Key("supply_v", "float", "V", "Battery voltage at the bridge at full duty.", REQUIRED, 0.1, 100.0),
+        Key("resistance_ohm", "float", "ohm", "Winding (plus bridge) resistance.", REQUIRED, 0.001, 1000.0),
+        Key("inductance_h", "float", "H", "Winding inductance (electrical time constant L/R).", REQUIRED, 0.0, 1.0),
+        Key(
+            "ke_v_s_rad",
+            "float",
+            "V s/rad",
+            "Back-EMF constant at the motor shaft (the torque constant in N m/A; 60 / (2 pi kV) for a kV rating).",
+            REQUIRED,
+            1e-5,
+            10.0,
+        ),
+        Key("efficiency", "float", "", "Gearbox efficiency.", REQUIRED, 0.01, 1.0),
+        Key(
+            "rotor_inertia_kg_m2",
+            "float",
+            "kg m^2",
+            "Rotor inertia at the motor shaft (reflected to the wheel as J * gear_ratio^2).",
+            REQUIRED,
+            0.0,
+            1.0,
+        ),
+        Key("coulomb_nm", "float", "N m", "Dry friction of motor and gearbox, at the wheel.", REQUIRED, 0.0, 100.0),
+        Key("viscous_nm_s_rad", "float", "N m s/rad", "Viscous friction at the wheel.", REQUIRED, 0.0, 10.0),
+        Key("deadband", "float", "", "Duty fraction below which the bridge gives no voltage.", REQUIRED, 0.0, 0.5),
+        Key("current_limit_a", "float", "A", "Driver current limit (absent: none).", ABSENT, 0.01, 1000.0),
+    ),
+    "emulator.body": (
+        Key("mass_kg", "float", "kg", "Mass of the robot.", REQUIRED, 0.01, 1000.0),
+        Key("yaw_inertia_kg_m2", "float", "kg m^2", "Inertia about the vertical axis.", REQUIRED, 1e-6, 1000.0),
+        Key(
+            "wheel_inertia_kg_m2",
+            "float",
+            "kg m^2",
+            "Inertia of one driven wheel (or the driven axle), without the motor.",
+            REQUIRED,
+            0.0,
+            10.0,
+        ),
+        Key(
+            "drive_load_fraction",
+            "float",
+            "",
+            "Share of the weight on the driven wheels (the rest on casters or the steered axle).",
+            REQUIRED,
+            0.01,
+            1.0,
+        ),
+        Key(
+            "rolling_resistance", "float", "", "Rolling resistance coefficient of the driven tyres.", REQUIRED, 0.0, 1.0
+        ),
+        Key("mu", "float", "", "Tyre-ground friction coefficient.", 0.8, 0.01, 10.0),
+    ),
+    "emulator.esc": (
+        Key(
+            "calibration_tolerance_us",
+            "int",
+            "us",
+            "How far from its nominal neutral a pulse may be and still be learned as neutral.",
+            100,
+            0,
+            500,
+        ),
+        Key("neutral_band_us", "int", "us", "Half-width of the stop band around the learned neutral.", 30, 0, 500),
+        Key("calibration_ms", "int", "ms", "Steady neutral needed before the ESC arms.", 2000, 0, 60000),
+        Key("signal_timeout_ms", "int", "ms", "No pulse for this long: output off, calibration again.", 100, 1, 60000),
+        Key("drag_brake", "float", "", "Braking at neutral: 0 coasts, 1 brakes fully.", 0.0, 0.0, 1.0),
+    ),
+    "emulator.servo": (
+        Key("resolution_deg", "float", "deg", "Smallest step the servo resolves.", 0.5, 0.0, 10.0),
+        Key("slew_deg_s", "float", "deg/s", "Top speed of the horn.", 400.0, 1.0, 10000.0),
+        Key("linkage_ratio", "float", "", "Front-wheel angle per horn angle.", 1.0, 0.01, 10.0),
+        Key(
+            "travel_margin_deg",
+            "float",
+            "deg",
+            "Mechanical travel beyond [steering] min_deg..max_deg.",
+            5.0,
+            0.0,
+            90.0,
+        ),
+    ),
     "firmware": (
         Key(
             "example",

@@ -145,3 +145,52 @@ def test_a_robot_without_encoders_runs_open_loop_as_the_firmware_does(tmp_path: 
         robot.stop()
     want = round(gains.kf * 200 + gains.ks) / 1000
     assert fb.efforts == pytest.approx((want, -want)) and fb.wheel_speeds_m_s == (0.0, 0.0)
+
+
+def _without_emulator(text: str) -> str:
+    """The file's text with every [emulator.*] section taken out (the sections before [firmware])."""
+    return text[: text.index("\n[emulator.")] + "\n" + text[text.index("[firmware]") :]
+
+
+def test_the_files_emulator_sections_are_the_plants_physics(tmp_path: Path) -> None:
+    path = edited(
+        tmp_path,
+        "diffdrive-tb6612",
+        ("supply_v = 6.0", "supply_v = 7.2"),
+        ("mass_kg = 1.2", "mass_kg = 1.9"),
+        ("gear_ratio = 30.0", "gear_ratio = 48.0"),
+        ("current_limit_a = 3.2  #", "# current_limit_a = 3.2  #"),
+    )
+    plant = profile_from_file(path).plant
+    assert (plant.motor.supply_v, plant.motor.gear_ratio, plant.body.mass_kg) == (7.2, 48.0, 1.9)
+    assert plant.motor.current_limit_a == float("inf")  # absent: no limit
+    assert plant.motor.resistance_ohm == PLANTS["diffdrive-tb6612"].motor.resistance_ohm
+
+
+def test_a_file_without_emulator_sections_runs_on_the_nearest_references_physics(tmp_path: Path) -> None:
+    """The motor comes with its gearbox: the reference's ratio, not the file's informative one."""
+    text = _without_emulator(reference_path("picar").read_text(encoding="utf-8"))
+    path = tmp_path / "bare.toml"
+    path.write_text(text.replace("gear_ratio = 28.0", "gear_ratio = 3.0"), encoding="utf-8")
+    robot = load(path)
+    assert robot.emulator.motor is None and robot.emulator.body is None
+    assert profile_from_file(path).plant == PLANTS["picar"]
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "problem"),
+    [
+        ("supply_v = 6.0", "supply_v = 0.0", "emulator.motor.supply_v: = 0.0: out of range (allowed: 0.1..100 V)"),
+        ("deadband = 0.02", "deadband = 0.9", "emulator.motor.deadband: = 0.9: out of range (allowed: 0..0.5)"),
+        ("mass_kg = 1.2", 'mass_kg = "heavy"', "emulator.body.mass_kg: = 'heavy': expected a number (0.01..1000 kg)"),
+        ("[emulator.body]", "[emulator.chassis]", "emulator.chassis: unknown part (valid: motor, body, esc, servo)"),
+        ("mass_kg = 1.2", "mas_kg = 1.2", "emulator.body.mas_kg: unknown key (did you mean 'mass_kg'?)"),
+    ],
+)
+def test_a_bad_emulator_value_is_refused_naming_the_file_and_key(
+    tmp_path: Path, old: str, new: str, problem: str
+) -> None:
+    path = edited(tmp_path, "diffdrive-tb6612", (old, new))
+    with pytest.raises(RobotFileError) as info:
+        profile_from_file(path)
+    assert f"{path}:" in str(info.value) and problem in str(info.value), str(info.value)

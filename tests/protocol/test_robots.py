@@ -87,6 +87,8 @@ def test_a_new_reference_robot_file_is_picked_up_by_the_generator(tmp_path: Path
         ('name = "diffdrive-tb6612"', 'name = "car"', "name", "a reference robot is named as its file"),
         ('example = "DiffDriveTB6612"', 'example = ""', "firmware.example", "names its firmware example"),
         ("{ a = 18, b = 19 }", "{ a = 40, b = 19 }", "encoders.pins[1].a", "pin 40 cannot interrupt on the MEGA2560"),
+        ("[emulator.body]", "[emulator.bodyy]", "emulator.bodyy", "unknown part (did you mean 'body'?)"),
+        ("mass_kg = 1.2", "mass_kg = -1.2", "emulator.body.mass_kg", "= -1.2: out of range (allowed: 0.01..1000 kg)"),
     ],
 )
 def test_a_bad_reference_robot_file_is_refused_naming_file_and_key(
@@ -100,6 +102,15 @@ def test_a_bad_reference_robot_file_is_refused_naming_file_and_key(
     message = str(info.value)
     assert message.startswith("protocol/robots/diffdrive-tb6612.toml"), message
     assert key in message and problem in message, message
+
+
+def test_a_reference_robot_gives_the_emulator_its_motor(tmp_path: Path) -> None:
+    text = REFERENCE.read_text(encoding="utf-8")
+    start = text.index("[emulator.motor]")
+    text = text[:start] + text[text.index("[emulator.body]") :]
+    spec = _tree(tmp_path, {"diffdrive-tb6612.toml": text})
+    with pytest.raises(loader.SpecError, match=r"emulator\.motor: missing: a reference robot gives its physics"):
+        generate.load(spec, tmp_path)
 
 
 def test_two_reference_robots_may_not_share_an_example(tmp_path: Path) -> None:
