@@ -26,7 +26,6 @@ from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
 HERE = Path(__file__).resolve().parent
-REFERENCES = ("picar", "diffdrive-tb6612", "diffdrive-bts7960")
 FILES = ("roverlink.yaml", "slam_toolbox.yaml", "nav2.yaml")
 
 
@@ -34,9 +33,14 @@ def _roverlink(*args: str) -> None:
     subprocess.run(["roverlink", *args], check=True)
 
 
+def _is_reference(robot: str) -> bool:
+    """A reference robot's name (`roverlink robot new --from` knows them), not a robot file's path."""
+    return not robot.endswith(".toml") and "/" not in robot
+
+
 def _robot_file(robot: str, work: Path) -> str:
     """The robot file: a reference robot's as `roverlink robot new` copies it, or the one given."""
-    if robot not in REFERENCES:
+    if not _is_reference(robot):
         return str(Path(robot).expanduser().resolve())
     path = work / f"{robot}.toml"
     _roverlink("robot", "new", str(path), "--from", robot, "--force")
@@ -48,7 +52,7 @@ def _config(robot: str, config: str, robot_file: str, work: Path) -> Path:
     if config:
         return Path(config).expanduser().resolve()
     for folder in (HERE / robot, HERE.parent / "config" / robot):
-        if robot in REFERENCES and all((folder / name).is_file() for name in FILES):
+        if _is_reference(robot) and all((folder / name).is_file() for name in FILES):
             return folder
     _roverlink("robot", "ros2-config", robot_file, "--out", str(work))
     return work

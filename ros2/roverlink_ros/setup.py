@@ -15,8 +15,9 @@ PACKAGE = "roverlink_ros"
 HERE = Path(__file__).resolve().parent
 # Relative to this folder: setuptools refuses absolute data_files sources.
 EXAMPLES = Path(os.path.relpath(HERE.parents[1] / "examples" / "ros2", HERE))
-ROBOTS = ("picar", "diffdrive-tb6612", "diffdrive-bts7960")
 CONFIG_FILES = ("roverlink.yaml", "slam_toolbox.yaml", "nav2.yaml")
+# Every reference robot's parameters folder (examples/ros2/<robot>/, one per protocol/robots/<robot>.toml).
+ROBOTS = sorted(p.parent.name for p in (HERE / EXAMPLES).glob(f"*/{CONFIG_FILES[0]}"))
 # package.xml carries the release's version and licence (set from the spec by `python -m protocol generate`).
 MANIFEST = ET.parse(HERE / "package.xml").getroot()
 

@@ -284,3 +284,12 @@ def test_odometry_filtered_without_an_imu_is_warned_about(tmp_path: Path, capsys
         assert ("has no [sensors.imu], so nothing publishes odometry/filtered" in err) is warned, err
     assert cli_main(["robot", "ros2-config", "picar", "--out", str(tmp_path / "odom")]) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_every_reference_robot_has_its_parameters_folder_and_no_other() -> None:
+    """The ROS 2 package installs the folders it finds; a reference robot added without its files
+    (or a folder left behind by a removed one) is named here."""
+    folders = sorted(p.parent.name for p in EXAMPLES.glob("*/roverlink.yaml"))
+    assert folders == sorted(REFERENCES), (
+        "run `roverlink robot ros2-config protocol/robots/<name>.toml --out examples/ros2/<name>`"
+    )
