@@ -116,7 +116,7 @@ def _ros_install(m: Machine) -> str:
     if m.kind == "jetson" and m.jetpack in ("4", "5"):
         return (
             f"JetPack {m.jetpack}'s Ubuntu has no ROS 2 on Python 3.10 or later: run the node in the "
-            "ros:humble-ros-base container (docs/ros2.md#jetson)"
+            "ros:humble-ros-base container (docs/ros2.md#jetpack-5-and-46)"
         )
     distro = "humble" if m.kind == "jetson" else ROS_FOR.get((m.os_id, m.os_version))
     if distro is not None:
