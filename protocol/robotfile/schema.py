@@ -146,7 +146,7 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
             "gear_ratio",
             "float",
             "",
-            "Motor turns per wheel turn (informative: counts_per_rev includes it).",
+            "Motor turns per wheel turn (the emulator's gearbox; counts_per_rev includes it).",
             1.0,
             0.01,
             1000.0,

@@ -157,3 +157,27 @@ def test_the_examples_take_every_pin_from_the_generated_profile() -> None:
         header = (sketch.parent / "robot_profile.h").read_text(encoding="utf-8")
         for part in profile.wiring.encoders:
             assert f"= {part.pin('a')};" in header and f"= {part.pin('b')};" in header
+
+
+def test_every_key_comment_of_a_reference_file_says_what_the_schema_says() -> None:
+    """The reference files are hand-written and are what `roverlink robot new --from` copies: each
+    key's comment starts with the schema's unit and meaning (which docs/robot-file.md's tables
+    show), and may go on to say why this robot has this value."""
+    from protocol.robotfile.schema import SECTIONS
+
+    wrong = []
+    for path in sorted((ROOT / "protocol" / "robots").glob("*.toml")):
+        section = ""
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            header = re.match(r"^\[\[?([\w.]+)\]\]?", line)
+            if header:
+                section = header.group(1)
+                continue
+            commented = re.match(r"^(\w+) = .*?  # (.*)$", line)
+            if commented is None:
+                continue
+            key = {k.name: k for k in SECTIONS.get(section, ())}.get(commented.group(1))
+            said = (f"[{key.unit}] " if key.unit else "") + key.doc if key is not None else "a key of the schema"
+            if not commented.group(2).startswith(said):
+                wrong.append(f"{path.name}:{number} [{section}] {commented.group(1)}: should say {said!r}")
+    assert wrong == []
