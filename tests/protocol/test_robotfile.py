@@ -132,7 +132,9 @@ def test_docs_describe_every_key() -> None:
         assert heading in doc
         body = doc.split(heading, 1)[1].split("\n### ", 1)[0]
         for k in keys:
-            assert f"| `{k.name}` | {k.type} |" in body, (section, k.name)
+            row = [line for line in body.splitlines() if line.startswith(f"| `{k.name}` | {k.type} |")]
+            assert row, (section, k.name)
+            assert k.doc in row[0], (section, k.name, "the schema's meaning")
 
 
 def test_docs_pwm_tables_are_the_hardware_facts() -> None:
