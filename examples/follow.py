@@ -2,7 +2,7 @@
 
 On the emulator (a PiCar in a random room, on the emulator's virtual clock: as fast as the CPU allows):
 
-    .venv/bin/python examples/follow.py --url 'emu://picar?world=random:3&lidar=ydlidar-f4&imu=jy901&camera=320x240&clock=virtual'
+    .venv/bin/python examples/follow.py --url 'emu://picar?world=random:1&lidar=ydlidar-f4&imu=jy901&camera=320x240&clock=virtual'
 
 On a robot (the board, the lidar and the camera; `--imu` adds the JY901's gyro to the odometry):
 

@@ -121,18 +121,23 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.set_defaults(func=cmd_follow)
 
 
-def _progress(out: TextIO) -> Callable[[Progress], None]:
+def _progress(out: TextIO, rearm: bool) -> Callable[[Progress], None]:
     def show(p: Progress) -> None:
         gap = f"gap {p.gap_m:4.2f} m" if p.gap_m is not None else "gap   -   "
         seen = "target seen" if p.tracked else "target lost"
         hits = f"  collisions {p.metrics.collisions}" if p.metrics.ground_truth else ""
+        trouble = p.trouble
+        if trouble is not None and trouble.startswith("failsafe ") and not rearm:
+            trouble = "disarmed after the failsafe"  # said in full once, on the failsafe's line
+        line = f"{p.t_s:6.1f} s  {p.mode:8s} {gap}  {seen}{hits}"
         if p.failsafe is None:
-            trouble = f"  ({p.trouble})" if p.trouble else ""
-            print(f"{p.t_s:6.1f} s  {p.mode:8s} {gap}  {seen}{hits}{trouble}", file=out, flush=True)
-        else:  # the failsafe met, in words, on a line of its own (and what is wrong now after it)
-            print(f"{p.t_s:6.1f} s  {p.mode:8s} {gap}  {seen}{hits}", file=out, flush=True)
-            trouble = f"  ({p.trouble})" if p.trouble else ""
-            print(f"         failsafe {p.failsafe}{trouble}", file=out, flush=True)
+            print(line + (f"  ({trouble})" if trouble else ""), file=out, flush=True)
+        else:  # the failsafe met, in words, on a line of its own, and what happens now
+            print(line, file=out, flush=True)
+            then = (
+                "armed again (--rearm)" if rearm else "disarmed for the rest of the run: run it again, or with --rearm"
+            )
+            print(f"         failsafe {p.failsafe}; {then}", file=out, flush=True)
 
     return show
 
@@ -165,7 +170,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
     record = None
     if args.foxglove or args.foxglove_live:
         record = RecordTo(args.foxglove, args.foxglove_live, args.foxglove_host, args.foxglove_port)
-    progress = None if args.quiet else _progress(sys.stderr)
+    progress = None if args.quiet else _progress(sys.stderr, args.rearm)
     run = _follow_emulated if args.url is None else _follow_robot
     try:
         metrics = run(args, settings, progress, record)

@@ -22,10 +22,10 @@ from roverlink import say
 # tests/firmware/test_avr_build.py fails when a build drifts 2 % from them): the one a robot file's
 # firmware is built from stands in for it until it is built.
 REFERENCE_FLASH = {
-    ("uno", "ESC+servo"): ("AckermannPiCar", 14_998),
-    ("mega2560", "TB6612"): ("DiffDriveTB6612", 17_538),
-    ("mega2560", "L298N"): ("DiffDriveTB6612", 17_538),
-    ("mega2560", "BTS7960"): ("DiffDriveBTS7960", 16_642),
+    ("uno", "ESC+servo"): ("AckermannPiCar", 15_296),
+    ("mega2560", "TB6612"): ("DiffDriveTB6612", 17_894),
+    ("mega2560", "L298N"): ("DiffDriveTB6612", 17_894),
+    ("mega2560", "BTS7960"): ("DiffDriveBTS7960", 16_958),
 }
 FLASH_SIZE = {"uno": 32_256, "mega2560": 253_952}  # bytes left by the bootloader
 

@@ -43,9 +43,9 @@ def test_a_bump_in_a_follow_run_is_printed_with_what_the_lidar_saw(tmp_path: Pat
             lidar,
             camera,
             pilot,
-            duration_s=5.0,
+            duration_s=8.0,
             metrics=FollowMetrics("straight", "diff"),
-            progress=_progress(out),
+            progress=_progress(out, rearm=False),
         )
         lidar.close()
         camera.close()
@@ -53,3 +53,7 @@ def test_a_bump_in_a_follow_run_is_printed_with_what_the_lidar_saw(tmp_path: Pat
     said = [line.strip() for line in out.getvalue().splitlines() if "failsafe" in line]
     assert said and said[0].startswith(f"failsafe ENCODER_FAULT: {WORDS}; the lidar sees an obstacle "), said
     assert "ahead of the body, inside the footprint's 0.08 m margin" in said[0], said
+    # Said once in full, with what happens now; the lines after it say the robot is disarmed.
+    assert said[0].endswith("; disarmed for the rest of the run: run it again, or with --rearm"), said
+    later = out.getvalue().split(said[0], 1)[1]
+    assert "failsafe ENCODER_FAULT" not in later and "(disarmed after the failsafe)" in later
