@@ -8,7 +8,8 @@
 # The full run installs the Debian packages the tests need when they are missing (the AVR
 # toolchain, simavr, the Arduino core, python3-venv; clang 14 and libFuzzer for the fuzzing;
 # opencv-doc for the street-camera clip the person detector's tests read; chromium and
-# chromium-driver for the web console's browser tests; apt-get, with sudo when not root), makes the
+# chromium-driver for the web console's browser tests; Debian's ARM toolchain, Node.js and npm for
+# the RP2040 backend (rp2040js from tools/rp2040's lockfile); apt-get, with sudo when not root), makes the
 # checkout's virtual environment .venv with the `dev` extra and the ROS 2 wheels (scripts/venv.sh:
 # the system's Python is never installed into), builds tf2_msgs for the ROS 2 tests, then checks
 # the generated code for drift, runs ruff and mypy --strict, pytest (the C++ native tests, the
@@ -59,9 +60,15 @@ if ((quick)); then
     exit 0
 fi
 
+# Node.js and npm from Debian unless the machine has them (a nodesource nodejs carries its npm and
+# conflicts with Debian's).
+node_packages=()
+command -v node >/dev/null || node_packages+=(nodejs)
+command -v npm >/dev/null || node_packages+=(npm)
 stage "Debian packages" install_debian_packages g++ make gcc-avr avr-libc binutils-avr arduino-core-avr simavr \
     libsimavr-dev libelf-dev clang-14 libfuzzer-14-dev libclang-rt-14-dev llvm-14 opencv-doc chromium chromium-driver \
-    python3-venv python3-opencv gstreamer1.0-plugins-base
+    python3-venv python3-opencv gstreamer1.0-plugins-base gcc-arm-none-eabi libnewlib-arm-none-eabi \
+    "${node_packages[@]}"
 # shellcheck source=scripts/venv.sh
 stage "virtual environment (.venv, dev + ROS 2)" source scripts/venv.sh dev,ros2,ros2-build
 export PATH="$VENV/bin:$PATH"
@@ -71,6 +78,9 @@ stage "ROS 2 test setup (tf2_msgs)" bash scripts/test_ros2_setup.sh
 export ROVERLINK_REQUIRE_ROS2=1
 # The web console's tests drive a real browser (Debian's chromium): they must not be skipped either.
 export ROVERLINK_REQUIRE_BROWSER=1
+# The RP2040 backend: rp2040js at the lockfile's version, in tools/rp2040/node_modules.
+stage "rp2040js (npm ci)" npm ci --prefix tools/rp2040 --no-audit --no-fund --loglevel=error
+export ROVERLINK_REQUIRE_RP2040=1
 
 checks
 # Each pytest stage ends with its slowest tests: where the time goes, run after run.

@@ -8,11 +8,11 @@ registers and the bytes UART0 sent. Time is simavr's cycle counter (16 per us).
 
 from __future__ import annotations
 
-import contextlib
 import os
 import subprocess
 from pathlib import Path
 
+from emulator.backends.pipe import PipeProcess
 from emulator.backends.simavr.wiring import BoardWiring
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -78,15 +78,7 @@ class Harness:
             cmd += ["--adc0", str(adc0_mv)]
         if line_ppb:
             cmd += ["--line-ppb", str(line_ppb)]  # the host's bytes, in the drifting MCU's cycles
-        # A session of its own: Ctrl-C in a terminal signals the whole foreground process group,
-        # and the harness must outlive that signal so its owner can stop it in order (close()).
-        self._proc = subprocess.Popen(
-            cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1, cwd=ROOT, start_new_session=True
-        )
-        while True:
-            line = self._readline()
-            if line.startswith("READY"):
-                break
+        self._proc = PipeProcess(cmd, ROOT, SimavrError, "simavr harness")
         self.cycle = 0
 
     @property
@@ -94,21 +86,8 @@ class Harness:
         """The harness process's id."""
         return self._proc.pid
 
-    def _readline(self) -> str:
-        assert self._proc.stdout is not None
-        line = self._proc.stdout.readline()
-        if not line:
-            raise SimavrError(f"the simavr harness exited (code {self._proc.poll()})")
-        return line
-
     def _ask(self, command: str) -> list[str]:
-        assert self._proc.stdin is not None
-        self._proc.stdin.write(command + "\n")
-        self._proc.stdin.flush()
-        reply = self._readline().split()
-        if not reply or reply[0] == "ERR":
-            raise SimavrError(f"harness refused {command!r}")
-        return reply
+        return self._proc.ask(command)
 
     def step(self, us: int, counts: list[int], rx: bytes) -> tuple[dict[int, int], bytes]:
         """Runs `us` of MCU time; returns the watched registers and the bytes UART0 sent."""
@@ -159,14 +138,4 @@ class Harness:
         return int(self._ask("W")[1])
 
     def close(self) -> None:
-        if self._proc.poll() is None:
-            with contextlib.suppress(SimavrError, BrokenPipeError, OSError):
-                self._ask("Q")
-            try:
-                self._proc.wait(timeout=5)
-            except subprocess.TimeoutExpired:
-                self._proc.kill()
-                self._proc.wait()
-        for stream in (self._proc.stdin, self._proc.stdout):
-            if stream is not None:
-                stream.close()
+        self._proc.close()

@@ -37,7 +37,7 @@ def test_the_issue_scenario(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     assert code == 0
     assert "metres per count      0.4800 mm (720 counts/rev)" in out
     assert (
-        "flash (estimate)      about 14,998 B (46% of 32,256 B): the AckermannPiCar example's build, not this " in out
+        "flash (estimate)      about 15,296 B (47% of 32,256 B): the AckermannPiCar example's build, not this " in out
     )
     assert f"`roverlink firmware build --robot {path}` prints its own" in out
 

@@ -1,0 +1,192 @@
+// The firmware-in-the-loop harness for the RP2040: an SRAM image in rp2040js, stepped by
+// emulator/backends/rp2040/harness.py with the step protocol of the simavr harness.
+//
+//   node tools/rp2040/harness.mjs IMAGE.bin [--enc A B]... [--watch PIN]... [--baud N]
+//
+// One request per line on stdin, one reply per line on stdout:
+//
+//   S US C1 C2 .. RXHEX   run US microseconds of the chip's time. Ck is encoder k's position in
+//                         counts: each change becomes quadrature edges on its two pins, spread
+//                         evenly over the step; RXHEX (or -) are the host's bytes for UART0, sent
+//                         at the baud rate from the start of the step (those that do not fit wait
+//                         for the next). Reply: OK NANOS PINS TXHEX, where PINS is, per watched
+//                         pin, HIGH_PPM:LEVEL (the part of the step it was high, its level at the
+//                         end) joined by commas, and TXHEX the bytes UART0 sent (or -).
+//   R                     reset the chip (the image loaded again): what the board's reset does.
+//   N                     resets so far (a watchdog's among them): OK COUNT
+//   Q                     quit.
+//
+// Time is the simulation clock's (ns); the core runs 125 MHz cycles and sleeps through WFI up to
+// the next event (a timer alarm, a PWM edge, an encoder edge or a received byte).
+import { readFileSync } from 'node:fs';
+import { createInterface } from 'node:readline';
+import { RP2040 } from 'rp2040js';
+
+const CYCLE_NS = 8; // 125 MHz
+const SRAM = 0x20000000;
+const QUADRATURE = [
+  [false, false],
+  [true, false],
+  [true, true],
+  [false, true],
+];
+
+function parseArgs(argv) {
+  const args = { image: argv[0], encoders: [], watch: [], baud: 115200 };
+  for (let i = 1; i < argv.length; i++) {
+    if (argv[i] === '--enc') args.encoders.push([Number(argv[++i]), Number(argv[++i])]);
+    else if (argv[i] === '--watch') args.watch.push(Number(argv[++i]));
+    else if (argv[i] === '--baud') args.baud = Number(argv[++i]);
+    else throw new Error(`unknown argument ${argv[i]}`);
+  }
+  if (!args.image) throw new Error('usage: harness.mjs IMAGE.bin [--enc A B]... [--watch PIN]... [--baud N]');
+  return args;
+}
+
+class Harness {
+  constructor(args) {
+    this.args = args;
+    this.image = readFileSync(args.image);
+    this.resets = 0;
+    this.rxQueue = [];
+    this.tx = [];
+    this.positions = args.encoders.map(() => 0);
+    this.mcu = new RP2040();
+    this.mcu.uart[0].onByte = (b) => this.tx.push(b);
+    this.mcu.peripherals[0x40058].onWatchdogTrigger = () => this.reset(); // WATCHDOG_BASE
+    this.high = args.watch.map(() => 0);
+    this.since = args.watch.map(() => 0);
+    for (const [k, pin] of args.watch.entries()) {
+      this.mcu.gpio[pin].addListener(() => this.pinChanged(k));
+    }
+    this.boot();
+  }
+
+  boot() {
+    const { mcu, image } = this;
+    mcu.reset();
+    mcu.sram.fill(0);
+    mcu.sram.set(image, 0);
+    const view = new DataView(image.buffer, image.byteOffset, image.byteLength);
+    mcu.core.SP = view.getUint32(0, true);
+    mcu.core.PC = view.getUint32(4, true) & ~1;
+    mcu.core.VTOR = SRAM;
+    for (const [k, [a, b]] of this.args.encoders.entries()) this.drive(k, a, b, true);
+  }
+
+  reset() {
+    this.resets += 1;
+    this.boot();
+  }
+
+  /** Sets encoder k's pins to its position's quadrature state: only a pin that changes, since
+   * rp2040js latches an edge on every setInputValue, changed or not (a real pin sees none). */
+  drive(k, a, b, boot = false) {
+    const [va, vb] = QUADRATURE[((this.positions[k] % 4) + 4) % 4];
+    for (const [pin, value] of [
+      [a, va],
+      [b, vb],
+    ]) {
+      if (boot || this.mcu.gpio[pin].inputValue !== value) this.mcu.gpio[pin].setInputValue(value);
+    }
+  }
+
+  get nanos() {
+    return this.mcu.clock.nanos;
+  }
+
+  pinChanged(k) {
+    const pin = this.mcu.gpio[this.args.watch[k]];
+    // The level before this change held since `since`: a rising edge ends a low stretch.
+    if (!pin.outputValue) this.high[k] += this.nanos - this.since[k];
+    this.since[k] = this.nanos;
+  }
+
+  /** Runs the core until `until` (ns), sleeping through WFI up to the next alarm or `until`. */
+  runUntil(until) {
+    const { mcu } = this;
+    const clock = mcu.clock;
+    while (clock.nanos < until) {
+      if (mcu.core.waiting) {
+        // Asleep (WFI): on to the next alarm (none scheduled: to `until`).
+        const next = clock.nextAlarm ? clock.nanosToNextAlarm : until - clock.nanos;
+        clock.tick(Math.max(0, Math.min(next, until - clock.nanos)));
+      } else {
+        clock.tick(mcu.core.executeInstruction() * CYCLE_NS);
+      }
+    }
+  }
+
+  step(us, counts, rx) {
+    const start = this.nanos;
+    const end = start + us * 1000;
+    for (let k = 0; k < this.args.watch.length; k++) {
+      this.high[k] = 0;
+      this.since[k] = start;
+    }
+    this.rxQueue.push(...rx);
+    const events = [];
+    const byteNs = Math.round(10e9 / this.args.baud);
+    for (let i = 0; i < this.rxQueue.length && start + (i + 1) * byteNs <= end; i++) {
+      const byte = this.rxQueue[i];
+      events.push([start + (i + 1) * byteNs, () => this.mcu.uart[0].feedByte(byte)]);
+    }
+    const fed = events.length;
+    for (const [k, [a, b]] of this.args.encoders.entries()) {
+      const delta = (counts[k] ?? this.positions[k]) - this.positions[k];
+      const n = Math.abs(delta);
+      for (let i = 1; i <= n; i++) {
+        events.push([
+          start + Math.round((i * (end - start)) / (n + 1)),
+          () => {
+            this.positions[k] += Math.sign(delta);
+            this.drive(k, a, b);
+          },
+        ]);
+      }
+    }
+    events.sort((x, y) => x[0] - y[0]);
+    for (const [at, act] of events) {
+      this.runUntil(at);
+      act();
+    }
+    this.runUntil(end);
+    this.rxQueue.splice(0, fed);
+    const pins = this.args.watch.map((pin, k) => {
+      const level = this.mcu.gpio[pin].outputValue;
+      const high = this.high[k] + (level ? end - this.since[k] : 0);
+      return `${Math.round((high * 1e6) / (end - start))}:${level ? 1 : 0}`;
+    });
+    const tx = Buffer.from(this.tx.splice(0)).toString('hex') || '-';
+    return `OK ${this.nanos} ${pins.join(',') || '-'} ${tx}`;
+  }
+}
+
+const harness = new Harness(parseArgs(process.argv.slice(2)));
+const lines = createInterface({ input: process.stdin });
+process.stdout.write('READY\n');
+for await (const line of lines) {
+  const [command, ...rest] = line.trim().split(/\s+/);
+  let reply;
+  try {
+    if (command === 'S') {
+      const us = Number(rest[0]);
+      const rxHex = rest[rest.length - 1];
+      const counts = rest.slice(1, -1).map(Number);
+      reply = harness.step(us, counts, rxHex === '-' ? [] : [...Buffer.from(rxHex, 'hex')]);
+    } else if (command === 'R') {
+      harness.reset();
+      reply = 'OK';
+    } else if (command === 'N') {
+      reply = `OK ${harness.resets}`;
+    } else if (command === 'Q') {
+      process.stdout.write('OK\n');
+      process.exit(0);
+    } else {
+      reply = 'ERR unknown command';
+    }
+  } catch (error) {
+    reply = `ERR ${String(error).replace(/\s+/g, ' ')}`;
+  }
+  process.stdout.write(`${reply}\n`);
+}
