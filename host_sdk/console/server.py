@@ -8,8 +8,10 @@ MJPEG (for players such as VLC, and to compare costs); `/api/frame.jpg` one fram
 Every request passes `Access` (host, token) first; a WebSocket's Origin must be the page's own.
 One browser drives at a time (the first to send a command), the others watch; anyone may stop, and
 a watcher may take the wheel (`take`: the driver is told, and the robot stops for the new driver to
-decide). The driving page's keep-alive (`alive`, every third of the command lifetime; watchers' are
-ignored) is what following lasts on (Hub).
+decide). A driver not heard for DRIVER_GONE_S (hidden, frozen, cut off, or reconnected over a
+new socket) holds the wheel no more: the next browser to send a command drives. The driving
+page's keep-alive (`alive`, every third of the command lifetime; watchers' are ignored) is what
+following lasts on (Hub).
 """
 
 from __future__ import annotations
@@ -38,6 +40,11 @@ FRAME_HEADER = struct.Struct("<I")
 
 def _web() -> Any:
     return require("aiohttp.web", "console", "the web console")
+
+
+DRIVER_GONE_S = 2.0
+"""A driving page sends its keep-alive every third of the command lifetime: one not heard for this
+long is gone (hidden, frozen, cut off), and the next browser to send a command drives."""
 
 
 class ConsoleServer:
@@ -327,6 +334,8 @@ class ConsoleServer:
             return
         if self.driver is None or self.driver.closed:
             self.driver = ws
+        elif self.driver is not ws and self._driver_lapsed():
+            await self._hand_over(ws, "another browser drives now: yours had gone quiet (hidden, frozen or cut off)")
         if self.driver is not ws:
             await ws.send_json(
                 {"type": "error", "error": "another browser is driving: you can watch, stop, or take the wheel"}
@@ -338,16 +347,26 @@ class ConsoleServer:
         except (CommandRangeError, KeyError, TypeError, ValueError) as exc:
             await ws.send_json({"type": "error", "error": str(exc)})
 
+    def _driver_lapsed(self) -> bool:
+        """The driving browser has not been heard for DRIVER_GONE_S (a hidden or frozen tab, a
+        laptop whose Wi-Fi went, or the same page reconnected over a new socket while the old one
+        is not closed yet): following ended for it long since, and it no longer holds the wheel."""
+        return self.hub.clock() - self.hub.alive_s > max(DRIVER_GONE_S, 4 * self.hub.command_lifetime_s)
+
     async def _take_wheel(self, ws: Any) -> None:
         """A watcher drives from now on; the robot stops (drive and following end) until it decides."""
+        if self.driver is not ws:
+            await self._hand_over(
+                ws, "another browser took the wheel: you are watching now (Take the wheel to drive again)"
+            )
+
+    async def _hand_over(self, ws: Any, told: str) -> None:
+        """`ws` drives from now on; the robot stops until it decides; the previous driver is told."""
         before = self.driver
-        if before is ws:
-            return
         self.driver = ws
         self.hub.stop()
         self.hub.alive()
         if before is not None and not before.closed:
-            told = "another browser took the wheel: you are watching now (Take the wheel to drive again)"
             with contextlib.suppress(ConnectionError, RuntimeError):
                 await before.send_json({"type": "notice", "text": told})
 

@@ -35,13 +35,22 @@ function connect() {
     badge("role", "watching", "");
     showHeader();
     showStatus();
-    setTimeout(connect, 1000);
+    setTimeout(reconnect, 1000);
   };
   ws.onmessage = (event) => {
     if (typeof event.data === "string") onMessage(JSON.parse(event.data));
     else onFrame(event.data);
   };
 }
+
+// Again, unless a socket is open or opening. A page restored from the back-forward cache or woken
+// from freezing has had its socket closed under it and may have lost the timer set to reconnect:
+// it reconnects when it is shown or resumed, and the keep-alive's tick checks too.
+function reconnect() {
+  if (!view.ws || view.ws.readyState === WebSocket.CLOSED || view.ws.readyState === WebSocket.CLOSING) connect();
+}
+window.addEventListener("pageshow", reconnect);
+document.addEventListener("resume", reconnect);
 
 function send(message) {
   if (view.ws && view.ws.readyState === WebSocket.OPEN) view.ws.send(JSON.stringify(message));
@@ -488,6 +497,7 @@ setInterval(() => {
 // The keep-alive following lasts on: at least every third of the command lifetime, pressed or not; a
 // hidden tab sends none (it is not watching), a frozen or closed one cannot.
 function keepAlive() {
+  reconnect();
   if (!document.hidden) send({ type: "alive" });
   setTimeout(keepAlive, view.keepalive * 800);
 }

@@ -129,3 +129,30 @@ def test_only_the_drivers_keep_alive_counts_and_a_watcher_takes_the_wheel(
         second.close()  # the driver leaves: its command and keep-alive go at once
         until(lambda: hub.alive_s == -float("inf") and hub.take().drive is None)
         assert not stops.is_set()
+
+
+def test_a_driver_gone_quiet_holds_the_wheel_no_more() -> None:
+    """A driving tab that went quiet (frozen, hidden, or the same page back over a new socket while
+    the old one is not closed yet) does not lock the others out: after DRIVER_GONE_S without a word
+    from it, the next browser to send a command drives, and the quiet one is told."""
+    from host_sdk.console.server import DRIVER_GONE_S
+
+    now = [100.0]
+    hub = Hub(command_lifetime_s=LIFETIME_S, clock=lambda: now[0])
+    server = ConsoleServer(hub, Access.for_host("127.0.0.1"), 0, on_stop=lambda: None)
+    server.start()
+    try:
+        with page(server) as first, page(server) as second:
+            first.send(json.dumps({"type": "follow", "on": True}))
+            until(lambda: hub.alive_s == 100.0)
+            now[0] += DRIVER_GONE_S - 0.1  # quiet, but not for long enough
+            second.send(json.dumps({"type": "drive", "linear": 0.1, "angular": 0.0}))
+            assert "another browser is driving" in receive(second, "error")["error"]
+            now[0] += 0.2
+            second.send(json.dumps({"type": "drive", "linear": 0.1, "angular": 0.0}))
+            until(lambda: (d := hub.take().drive) is not None and d.linear_m_s == 0.1)
+            assert "gone quiet" in receive(first, "notice")["text"]
+            first.send(json.dumps({"type": "drive", "linear": 0.2, "angular": 0.0}))
+            assert "another browser is driving" in receive(first, "error")["error"]
+    finally:
+        server.close()
