@@ -83,9 +83,12 @@ run_version() {
     fi
     echo "== pytest on $("$venv/bin/python" --version), numpy $("$venv/bin/python" -c 'import numpy; print(numpy.__version__)'):" \
         "$CORE_NAMES, not slow"
+    # Its own status: called as `run_version || status=1`, the function runs without `set -e`.
+    local rc=0
     HYPOTHESIS_PROFILE=interpreters "$venv/bin/python" -m pytest -q -n "$(nproc)" -p no:cacheprovider \
-        -m "not slow" "${CORE_TESTS[@]}" "$@"
+        -m "not slow" "${CORE_TESTS[@]}" "$@" || rc=$?
     echo "== Python $version: $((SECONDS - start)) s"
+    return "$rc"
 }
 
 total=$SECONDS
