@@ -96,3 +96,27 @@ def test_a_reset_starts_the_image_again(chip: Harness) -> None:
     assert counted(chip, 2) == (0, 0)  # the counts start again; the pins stayed where they were
     _, tx = chip.step(1000, [2], b"ok")
     assert tx == b"ok"
+
+
+def noise(chip: Harness) -> int:
+    _, tx = chip.step(1000, [0], b"\xfd")
+    return int(struct.unpack("<I", tx)[0])
+
+
+def test_the_ring_oscillators_noise_differs_by_seed_and_read_by_read() -> None:
+    """The boot_id's entropy on the RP2040: rp2040js has no ring oscillator, the harness serves its
+    RANDOMBIT from a seeded generator; the same seed gives the same bits, another seed others, and
+    the bits go on across a reset (a board's second boot draws a new boot_id)."""
+    _require()
+    require_make(HARNESS_DIR, build=BUILD_DIR)
+    drawn = {}
+    for seed in (1, 2, 1):
+        with Harness(Path(IMAGE), seed=seed) as chip:
+            chip.step(2000, [], b"")
+            first, second = noise(chip), noise(chip)
+            chip.reset()
+            chip.step(2000, [], b"")
+            after_reset = noise(chip)
+        assert len({first, second, after_reset}) == 3, (seed, first, second, after_reset)
+        assert drawn.setdefault(seed, (first, second, after_reset)) == (first, second, after_reset)
+    assert drawn[1] != drawn[2]

@@ -1,7 +1,7 @@
 // The firmware-in-the-loop harness for the RP2040: an SRAM image in rp2040js, stepped by
 // emulator/backends/rp2040/harness.py with the step protocol of the simavr harness.
 //
-//   node tools/rp2040/harness.mjs IMAGE.bin [--enc A B]... [--watch PIN]... [--baud N]
+//   node tools/rp2040/harness.mjs IMAGE.bin [--enc A B]... [--watch PIN]... [--baud N] [--seed N]
 //
 // One request per line on stdin, one reply per line on stdout:
 //
@@ -12,17 +12,50 @@
 //                         for the next). Reply: OK NANOS PINS TXHEX, where PINS is, per watched
 //                         pin, HIGH_PPM:LEVEL (the part of the step it was high, its level at the
 //                         end) joined by commas, and TXHEX the bytes UART0 sent (or -).
-//   R                     reset the chip (the image loaded again): what the board's reset does.
+//   R                     reset: a new chip, every peripheral in its reset state, running the image
+//                         again (what the board's reset does); the clock goes on.
 //   N                     resets so far (a watchdog's among them): OK COUNT
 //   Q                     quit.
 //
 // Time is the simulation clock's (ns); the core runs 125 MHz cycles and sleeps through WFI up to
-// the next event (a timer alarm, a PWM edge, an encoder edge or a received byte).
+// the next event (a timer alarm, a PWM edge, an encoder edge or a received byte). The ring
+// oscillator's random bit, which rp2040js lacks, comes from a generator seeded with --seed.
 import { readFileSync } from 'node:fs';
 import { createInterface } from 'node:readline';
-import { RP2040 } from 'rp2040js';
+import { BasePeripheral, RP2040 } from 'rp2040js';
 
 const CYCLE_NS = 8; // 125 MHz
+const ROSC_BASE = 0x40060;
+const ROSC_RANDOMBIT = 0x1c;
+
+/** The ring oscillator as firmware reads its noise (RANDOMBIT, datasheet 2.17.5), which rp2040js
+ * leaves unimplemented: a bit from a generator seeded with --seed, fresh on every read and going
+ * on across resets (a second boot draws other bits). */
+class RingOscillator extends BasePeripheral {
+  constructor(mcu, noise) {
+    super(mcu, 'ROSC_BASE');
+    this.noise = noise;
+  }
+  readUint32(offset) {
+    return offset === ROSC_RANDOMBIT ? this.noise.bit() : 0;
+  }
+  writeUint32() {}
+}
+
+/** xorshift32: the jitter of a real ring oscillator, repeatable for a given seed. */
+class Noise {
+  constructor(seed) {
+    this.state = seed >>> 0 || 1;
+  }
+  bit() {
+    this.state ^= this.state << 13;
+    this.state ^= this.state >>> 17;
+    this.state ^= this.state << 5;
+    this.state >>>= 0;
+    return this.state >>> 31;
+  }
+}
+
 const SRAM = 0x20000000;
 const QUADRATURE = [
   [false, false],
@@ -32,14 +65,15 @@ const QUADRATURE = [
 ];
 
 function parseArgs(argv) {
-  const args = { image: argv[0], encoders: [], watch: [], baud: 115200 };
+  const args = { image: argv[0], encoders: [], watch: [], baud: 115200, seed: 1 };
   for (let i = 1; i < argv.length; i++) {
     if (argv[i] === '--enc') args.encoders.push([Number(argv[++i]), Number(argv[++i])]);
     else if (argv[i] === '--watch') args.watch.push(Number(argv[++i]));
     else if (argv[i] === '--baud') args.baud = Number(argv[++i]);
+    else if (argv[i] === '--seed') args.seed = Number(argv[++i]);
     else throw new Error(`unknown argument ${argv[i]}`);
   }
-  if (!args.image) throw new Error('usage: harness.mjs IMAGE.bin [--enc A B]... [--watch PIN]... [--baud N]');
+  if (!args.image) throw new Error('usage: harness.mjs IMAGE.bin [--enc A B]... [--watch PIN]... [--baud N] [--seed N]');
   return args;
 }
 
@@ -51,21 +85,25 @@ class Harness {
     this.rxQueue = [];
     this.tx = [];
     this.positions = args.encoders.map(() => 0);
-    this.mcu = new RP2040();
-    this.mcu.uart[0].onByte = (b) => this.tx.push(b);
-    this.mcu.peripherals[0x40058].onWatchdogTrigger = () => this.reset(); // WATCHDOG_BASE
+    this.noise = new Noise(args.seed);
+    this.base = 0; // ns before the current chip's clock started (each reset makes a new chip)
     this.high = args.watch.map(() => 0);
     this.since = args.watch.map(() => 0);
-    for (const [k, pin] of args.watch.entries()) {
-      this.mcu.gpio[pin].addListener(() => this.pinChanged(k));
-    }
     this.boot();
   }
 
+  /** A new chip, as a reset leaves one (every peripheral in its reset state), running the image. */
   boot() {
-    const { mcu, image } = this;
-    mcu.reset();
-    mcu.sram.fill(0);
+    if (this.mcu) this.base += this.mcu.clock.nanos;
+    const mcu = new RP2040();
+    this.mcu = mcu;
+    mcu.uart[0].onByte = (b) => this.tx.push(b);
+    mcu.peripherals[0x40058].onWatchdogTrigger = () => this.reset(); // WATCHDOG_BASE
+    mcu.peripherals[ROSC_BASE] = new RingOscillator(mcu, this.noise);
+    for (const [k, pin] of this.args.watch.entries()) {
+      mcu.gpio[pin].addListener(() => this.pinChanged(k));
+    }
+    const { image } = this;
     mcu.sram.set(image, 0);
     const view = new DataView(image.buffer, image.byteOffset, image.byteLength);
     mcu.core.SP = view.getUint32(0, true);
@@ -92,7 +130,7 @@ class Harness {
   }
 
   get nanos() {
-    return this.mcu.clock.nanos;
+    return this.base + this.mcu.clock.nanos;
   }
 
   pinChanged(k) {
@@ -106,11 +144,12 @@ class Harness {
   runUntil(until) {
     const { mcu } = this;
     const clock = mcu.clock;
-    while (clock.nanos < until) {
+    while (this.nanos < until) {
       if (mcu.core.waiting) {
         // Asleep (WFI): on to the next alarm (none scheduled: to `until`).
-        const next = clock.nextAlarm ? clock.nanosToNextAlarm : until - clock.nanos;
-        clock.tick(Math.max(0, Math.min(next, until - clock.nanos)));
+        const left = until - this.nanos;
+        const next = clock.nextAlarm ? clock.nanosToNextAlarm : left;
+        clock.tick(Math.max(0, Math.min(next, left)));
       } else {
         clock.tick(mcu.core.executeInstruction() * CYCLE_NS);
       }

@@ -4,7 +4,8 @@ Each step is a synchronous request/reply over pipes, as with the simavr harness:
 the chip for a number of microseconds with the encoder positions it is given (each count change a
 quadrature edge on the encoder's two pins) and the host's bytes for UART0, and reports each
 watched pin's share of the step spent high and its level at the end, and the bytes UART0 sent.
-Time is the simulation clock's, in nanoseconds (the core at 125 MHz, asleep through WFI).
+Time is the simulation clock's, in nanoseconds (the core at 125 MHz, asleep through WFI); the ring
+oscillator's noise, which rp2040js does not model, comes from a generator seeded with `seed`.
 """
 
 from __future__ import annotations
@@ -52,6 +53,7 @@ class Harness:
         encoders: tuple[tuple[int, int], ...] = (),
         watch: tuple[int, ...] = (),
         baud: int = 115200,
+        seed: int = 1,
     ) -> None:
         node = shutil.which("node")
         if node is None:
@@ -59,7 +61,7 @@ class Harness:
         node_modules()
         self.encoders = encoders
         self.watch = watch
-        cmd = [node, str(SCRIPT), str(image), "--baud", str(baud)]
+        cmd = [node, str(SCRIPT), str(image), "--baud", str(baud), "--seed", str(seed)]
         for a, b in encoders:
             cmd += ["--enc", str(a), str(b)]
         for pin in watch:

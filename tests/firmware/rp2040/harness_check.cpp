@@ -2,7 +2,8 @@
 // small enough to be obviously right, so a harness fault is not read as a firmware fault.
 //
 // - UART0 at 115200 echoes every byte, except 0xFF, answered with the edges counted so far on GP4
-//   and GP5 (two little-endian u32) and 0xFE, answered with the microsecond timer's low word;
+//   and GP5 (two little-endian u32), 0xFE, answered with the microsecond timer's low word, and
+//   0xFD, answered with 32 bits of the ring oscillator's noise;
 // - GP2 (PWM slice 1, channel A) runs at 1 kHz, 25 % high; GP3 (channel B) 60 %;
 // - GP4 and GP5 are inputs with edge interrupts (the encoder pins of the real firmware);
 // - between bytes the core sleeps (WFI), woken by UART0's receive interrupt.
@@ -67,6 +68,8 @@ int main() {
                 write_u32(edges[1]);
             } else if (byte == 0xfe) {
                 write_u32(rp::micros());
+            } else if (byte == 0xfd) {
+                write_u32(rp::noise_bits(32));
             } else {
                 rp::Uart0::write(byte);
             }

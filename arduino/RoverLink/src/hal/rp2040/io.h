@@ -105,6 +105,16 @@ struct Pwm {
     }
 };
 
+/// `bits` (1..32) of the ring oscillator's noise, one read each (datasheet 2.17.5: not a random
+/// number generator, but enough physical noise to seed the per-boot boot_id).
+inline uint32_t noise_bits(unsigned bits) {
+    uint32_t value = 0;
+    for (unsigned i = 0; i < bits; ++i) {
+        value = (value << 1) | (reg(ROSC_RANDOMBIT) & 1u);
+    }
+    return value;
+}
+
 /// The microsecond timer's low word (datasheet 4.6: 1 MHz from the watchdog's tick).
 inline uint32_t micros() { return reg(TIMER_TIMERAWL); }
 

@@ -59,6 +59,8 @@ const uint32_t TIMER = 0x40054000u;
 const uint32_t TIMER_TIMERAWH = TIMER + 0x24u;
 const uint32_t TIMER_TIMERAWL = TIMER + 0x28u;
 
+const uint32_t ROSC_RANDOMBIT = 0x4006001cu;  // bit 0: the ring oscillator's output, sampled
+
 const uint32_t SIO = 0xd0000000u;
 const uint32_t SIO_GPIO_IN = SIO + 0x004u;
 const uint32_t SIO_GPIO_OUT_SET = SIO + 0x014u;
