@@ -21,6 +21,13 @@ from typing import IO
 
 from tests.support.wait import Deadline
 
+ROOM = Path(__file__).resolve().parents[2] / "examples" / "worlds" / "room.toml"
+SENSOR_ROBOT_ARGS = (
+    *("--profile", "diffdrive-bts7960", "--world", str(ROOM)),
+    *("--lidar", "rplidar-a1", "--imu", "jy901", "--camera", "--quiet", "--seed", "3"),
+)
+"""`roverlink emulate`'s arguments for a robot in a room with a lidar, an IMU and a camera, each
+served on a port of its own (the sensor suites' robot)."""
 READY_TIMEOUT_S = 60.0  # a cold start imports cv2 and numpy on a busy machine
 STOP_TIMEOUT_S = 10.0
 

@@ -9,7 +9,6 @@ import subprocess
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import AbstractContextManager
-from pathlib import Path
 from typing import Any, TypeVar
 
 import pytest
@@ -20,29 +19,15 @@ from host_sdk import TransportError
 from host_sdk.sensors import CameraSource, Jy901, Lidar
 from host_sdk.transport import SerialTransport, open_transport
 from protocol.generated.profiles import ROBOT_SENSORS
-from tests.support.emulate import emulate
+from tests.support.emulate import ROOM, SENSOR_ROBOT_ARGS, emulate
 from tests.support.wait import wait_until
 
 P = TypeVar("P")
-ROOM = Path(__file__).resolve().parents[3] / "examples" / "worlds" / "room.toml"
 
 
 @pytest.fixture(scope="module")
 def served() -> Iterator[dict[str, list[str]]]:
-    args = [
-        "--profile",
-        "diffdrive-bts7960",
-        "--world",
-        str(ROOM),
-        "--lidar",
-        "rplidar-a1",
-        "--imu",
-        "jy901",
-        "--camera",
-        "--quiet",
-        "--seed",
-        "3",
-    ]
+    args = SENSOR_ROBOT_ARGS
     with emulate(*args, devices=3, clean_exit=True) as served:
         yield {"board": [served.url], **served.devices}
 

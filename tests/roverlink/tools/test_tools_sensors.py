@@ -26,9 +26,8 @@ from roverlink.cli import main
 from roverlink.dashboard import Dashboard
 from roverlink.sensors import SensorChoice, choose_sensors, open_sensors
 from roverlink.tui import DashboardApp
-from tests.support.emulate import emulate
+from tests.support.emulate import ROOM, SENSOR_ROBOT_ARGS, emulate
 
-ROOM = Path(__file__).resolve().parents[3] / "examples" / "worlds" / "room.toml"
 SENSORS = "lidar=rplidar-a1&imu=jy901&camera=1"
 URL = f"emu://diffdrive-bts7960?clock=virtual&seed=5&world={ROOM}&{SENSORS}"
 
@@ -205,20 +204,7 @@ def test_a_device_that_cannot_open_is_named(capsys: pytest.CaptureFixture[str], 
 def served() -> Iterator[tuple[str, dict[str, str]]]:
     """A robot on a serial port with its sensors on theirs, as real ones appear: `roverlink emulate`
     serves the board and each device on a pty of its own, the camera over HTTP."""
-    args = [
-        "--profile",
-        "diffdrive-bts7960",
-        "--world",
-        str(ROOM),
-        "--lidar",
-        "rplidar-a1",
-        "--imu",
-        "jy901",
-        "--camera",
-        "--quiet",
-        "--seed",
-        "3",
-    ]
+    args = SENSOR_ROBOT_ARGS
     with emulate(*args, devices=3) as served:
         yield served.url, {name: words[-1] for name, words in served.devices.items()}
 
