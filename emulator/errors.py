@@ -38,3 +38,8 @@ class EmulatorValueError(EmulatorError, ValueError):
         self.value = value
         self.allowed = allowed
         super().__init__(f"{name} = {value!r} is not allowed: {allowed}")
+
+
+class BackendError(EmulatorError, RuntimeError):
+    """A firmware backend (simavr, rp2040js) could not be built, started, or stopped unexpectedly,
+    or cannot do what was asked."""

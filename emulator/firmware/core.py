@@ -122,20 +122,28 @@ class Firmware(ControlTick):
     def setup(self) -> None:
         board = self.board
         self.boot_micros = board.micros()
-        loaded, config, gains = decode_image(board.eeprom_read(IMAGE_ADDR, IMAGE_SIZE))
+        # A board without storage (the Pico) boots on the robot's defaults, with no LOG about them
+        # and no boot counter, as the C++ core does without Capability.EEPROM.
+        storage = bool(self.caps & Capability.EEPROM)
+        loaded, config, gains = (
+            decode_image(board.eeprom_read(IMAGE_ADDR, IMAGE_SIZE)) if storage else (LoadResult.OK, None, None)
+        )
         if config is None or gains is None:
             self.config = self.robot.config
             self.gains = [Gains.of(self.robot.pid)] * WHEEL_COUNT
-            self.config_defaults = True
+            self.config_defaults = storage
         else:
             self.config, self.gains = config, gains
         self.watchdog_ms = self.config.watchdog_ms
         self.feedback_hz = self.config.feedback_hz
         self.servo_cdeg = self.config.steering_center_cdeg
         self._fb_countdown = 1  # the first tick after boot streams a FEEDBACK (IDLE)
-        stored = int.from_bytes(board.eeprom_read(BOOT_COUNTER_ADDR, BOOT_COUNTER_BYTES), "little")
-        self.boot_count = (0 if stored == 0xFFFFFFFF else stored) + 1
-        board.eeprom_write(BOOT_COUNTER_ADDR, (self.boot_count & 0xFFFFFFFF).to_bytes(BOOT_COUNTER_BYTES, "little"))
+        self.boot_count = 0
+        if storage:
+            stored = int.from_bytes(board.eeprom_read(BOOT_COUNTER_ADDR, BOOT_COUNTER_BYTES), "little")
+            self.boot_count = (0 if stored == 0xFFFFFFFF else stored) + 1
+            data = (self.boot_count & 0xFFFFFFFF).to_bytes(BOOT_COUNTER_BYTES, "little")
+            board.eeprom_write(BOOT_COUNTER_ADDR, data)
         self.boot_id = _mix_boot_id(self.boot_count, board.entropy())
         # The ESC sees neutral from boot and the servo its centre (its arming window starts now).
         self._write_outputs(driving=False)

@@ -1,11 +1,11 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x1AECD35A
+# spec hash: 0xDFE6EC7A
 """Protocol constants."""
 
 from typing import Final
 
 PROTOCOL_VERSION: Final = 2
-SPEC_HASH: Final = 0x1AECD35A
+SPEC_HASH: Final = 0xDFE6EC7A
 MAX_PAYLOAD: Final = 64
 MAX_BODY: Final = 68
 """Longest decoded frame: msg_id, seq, payload, CRC."""

@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x1AECD35A
+# spec hash: 0xDFE6EC7A
 """Enumerations and bit flags."""
 
 import enum
@@ -18,6 +18,8 @@ class Board(enum.IntEnum):
     """Arduino Uno (ATmega328P)."""
     MEGA2560 = 4
     """Arduino Mega 2560 (ATmega2560)."""
+    PICO = 5
+    """Raspberry Pi Pico (RP2040)."""
 
 
 class Capability(enum.IntFlag):

@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x1AECD35A
+# spec hash: 0xDFE6EC7A
 """Message classes: frozen, slotted dataclasses with pack() and unpack()."""
 
 from __future__ import annotations
@@ -770,7 +770,7 @@ class Identity(Message):
         FieldInfo('protocol_version', 'u8', 'int', 0, 255),
         FieldInfo('spec_hash', 'u32', 'int', 0, 4294967295),
         FieldInfo('firmware_version', 'u8[3]', 'int', 0, 255, count=3),
-        FieldInfo('board', 'Board', 'enum', 0, 4, enum=Board),
+        FieldInfo('board', 'Board', 'enum', 0, 5, enum=Board),
         FieldInfo('capabilities', 'Capability', 'flags', 0, 255, enum=Capability),
         FieldInfo('boot_id', 'u32', 'int', 0, 4294967295),
         FieldInfo('uptime_ms', 'u32', 'int', 0, 4294967295, unit='ms'),

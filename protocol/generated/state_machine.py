@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0x1AECD35A
+# spec hash: 0xDFE6EC7A
 """Session state machine table. Firmware session: one per boot; the host drives it with HELLO, ARM and DISARM and the watchdog ends it."""
 
 from __future__ import annotations

@@ -71,7 +71,7 @@ def parse(text: str, path: str, spec: Spec) -> Hardware:
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(path, "", f"not valid TOML: {exc}") from None
     loader = _Loader(path, data)
-    top = loader.keys(data, "top level", {"enums"}, {"pwm_drivers", "pwm_timers"})
+    top = loader.keys(data, "top level", {"enums"}, {"pwm_drivers", "pwm_timers", "pico_pinout"})
     enums = loader.enums(top["enums"])
     # The emulator and the tests import these next to the spec's enums: one name, one meaning.
     taken = {e.name for e in spec.enums} | {m.class_name for m in spec.messages}
@@ -117,7 +117,46 @@ def pwm_facts() -> Pwm:
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(str(_OWN), "", f"not valid TOML: {exc}") from None
     loader = _Loader(str(_OWN), data)
-    return _pwm(loader, loader.keys(data, "top level", {"enums"}, {"pwm_drivers", "pwm_timers"}))
+    return _pwm(loader, loader.keys(data, "top level", {"enums"}, {"pwm_drivers", "pwm_timers", "pico_pinout"}))
+
+
+_Pins = tuple[tuple[str, int], ...]
+
+
+@dataclass(frozen=True)
+class PinOut:
+    """The pins a drive is wired to on a board (hardware.toml, [[pico_pinout]]), in the robot
+    file's terms; the robot-file reader checks them as it checks any file's."""
+
+    driver: str
+    motors: tuple[_Pins, ...] = ()
+    encoders: tuple[_Pins, ...] = ()
+    esc: int | None = None
+    steering: int | None = None
+    lights: tuple[int, ...] = ()
+
+
+@cache
+def pico_pinout() -> dict[str, PinOut]:
+    """The Pico pinout of each driver, by driver name."""
+    data = tomllib.loads(_OWN.read_text(encoding="utf-8"))
+    loader = _Loader(str(_OWN), data)
+    out: dict[str, PinOut] = {}
+    for i, raw in enumerate(data.get("pico_pinout", [])):
+        entry = f"pico_pinout[{i}]"
+        t = loader.keys(raw, entry, {"driver", "encoders", "lights"}, {"motors", "esc", "steering"})
+
+        def parts(key: str, t: dict[str, Any] = t, entry: str = entry) -> tuple[_Pins, ...]:
+            return tuple(
+                tuple((role, loader.typed(pin, int, entry, key)) for role, pin in part.items())
+                for part in t.get(key, [])
+            )
+
+        single = {k: loader.typed(t[k], int, entry, k) if k in t else None for k in ("esc", "steering")}
+        lights = tuple(loader.typed(p, int, entry, "lights") for p in t["lights"])
+        driver = loader.typed(t["driver"], str, entry, "driver")
+        out[driver] = PinOut(driver, parts("motors"), parts("encoders"), single["esc"], single["steering"], lights)
+    return out
 
 
 def load(path: Path, root: Path, spec: Spec) -> Hardware:

@@ -27,16 +27,30 @@ class BoardPins:
     """External interrupt (INTn) pins."""
     pin_change: frozenset[int]
     """Pin-change interrupt pins (the variant's digitalPinToPCICR)."""
+    absent: frozenset[int] = frozenset()
+    """Numbers inside 0..digital-1 the board's header does not bring out."""
+    any_rc_pin: bool = False
+    """The ESC and servo may be on any PWM pins whose timer drives no motor (the Pico's slices),
+    not only on the channels of one 16-bit timer (the AVR's rc_pulses.h)."""
 
 
-def _board(board: str, numbering: tuple[int, int, int], interrupts: set[int], pin_change: set[int]) -> BoardPins:
+def _board(
+    board: str,
+    numbering: tuple[int, int, int],
+    interrupts: set[int],
+    pin_change: set[int],
+    absent: set[int] | None = None,
+) -> BoardPins:
     """A board's pins (numbering: digital, first analog, analog count); its PWM pins and 16-bit
     timers from the hardware facts (hardware.toml)."""
     digital, first_analog, analog = numbering
     timers = [t for t in pwm_facts().timers if t.board == board]
     pwm = frozenset(p for t in timers for p in t.pins)
     rc = tuple((t.timer, t.pins) for t in timers if t.bits == 16)
-    return BoardPins(digital, first_analog, analog, pwm, rc, frozenset(interrupts), frozenset(pin_change))
+    out = frozenset(absent or ())
+    return BoardPins(
+        digital, first_analog, analog, pwm, rc, frozenset(interrupts), frozenset(pin_change), out, board == "PICO"
+    )
 
 
 # The boards' Arduino pin numbering and interrupts (the Arduino core's variants): board facts.
@@ -46,6 +60,9 @@ BOARD_PINS = {
     "MEGA2560": _board(
         "MEGA2560", (70, 54, 16), {2, 3, 18, 19, 20, 21}, {10, 11, 12, 13, 50, 51, 52, 53, *range(62, 70)}
     ),
+    # The Pico: GP0..GP28 (A0..A2 = GP26..GP28, the ADC's), every pin's edges interrupt (IO_BANK0);
+    # GP23 and GP24 are the board's own (regulator mode, VBUS sense), GP25 is its LED.
+    "PICO": _board("PICO", (29, 26, 3), set(range(29)) - {23, 24}, set(), {23, 24}),
 }
 SERIAL_PINS = (0, 1)  # USART0: the host link
 DRIVERS: dict[str, tuple[str, ...]] = {
@@ -69,6 +86,8 @@ def resolve_pin(value: Any, board: str) -> tuple[int | None, str]:
         number = value
     else:
         return None, f"{value!r} is not a pin of the {board} (0..{b.digital - 1} or A0..A{b.analog - 1})"
+    if number in b.absent:
+        return None, f"pin {number} is not on the {board}'s header (its pins: {_ranges(b)})"
     if number in SERIAL_PINS:
         return None, f"pin {number} is the serial port's (the host link)"
     return number, ""
@@ -76,6 +95,17 @@ def resolve_pin(value: Any, board: str) -> tuple[int | None, str]:
 
 def _names(pins: frozenset[int] | tuple[int, ...]) -> str:
     return ", ".join(str(p) for p in sorted(pins))
+
+
+def _ranges(b: BoardPins) -> str:
+    """The board's pin numbers as runs: 0..22, 25..28."""
+    runs: list[list[int]] = []
+    for n in (n for n in range(b.digital) if n not in b.absent):
+        if runs and runs[-1][-1] == n - 1:
+            runs[-1].append(n)
+        else:
+            runs.append([n])
+    return ", ".join(f"{r[0]}..{r[-1]}" if len(r) > 1 else str(r[0]) for r in runs)
 
 
 def pwm_problem(number: int, label: str, board: str, driver: str | None = None) -> str:
@@ -120,8 +150,28 @@ def rc_problem(pins: dict[str, tuple[int, str]], board: str) -> str:
     ("" if they can): the firmware's RC pulses come from a timer's compare channels, not software."""
     timers = BOARD_PINS[board].rc_timers
     numbers = {n for n, _ in pins.values()}
+    if BOARD_PINS[board].any_rc_pin:
+        return ""  # any slice pulses them: slice_problem() keeps them off the motors' slices
     if any(numbers <= set(channels) for _, channels in timers):
         return ""
     allowed = "; ".join(f"{name}: pins {_names(channels)}" for name, channels in timers)
     wired = ", ".join(f"{role} {label}" for role, (_, label) in pins.items())
     return f"{wired}: the ESC and servo pulses need the pins of one 16-bit timer ({allowed})"
+
+
+def slice_problem(number: int, label: str, board: str, motor_pwm: set[int]) -> str:
+    """Why RC pin `number` cannot be pulsed at 50 Hz on `board` ("" if it can): on a board whose
+    every timer can pulse (the Pico), its timer must drive no motor PWM pin (`motor_pwm`), which
+    runs at the driver's frequency."""
+    facts = pwm_facts()
+    timer = facts.timer_of(board, number)
+    if timer is None or not BOARD_PINS[board].any_rc_pin:
+        return ""
+    shared = sorted(p for p in motor_pwm if p in timer.pins)
+    if not shared:
+        return ""
+    return (
+        f"pin {label} is on {timer.timer} of the {board}, which runs motor PWM pin "
+        f"{', '.join(map(str, shared))} at the driver's frequency; the ESC and servo pulses need a slice "
+        f"of their own at 50 Hz"
+    )

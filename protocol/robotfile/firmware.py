@@ -29,6 +29,7 @@ from protocol.generator.hardware import pwm_facts
 from protocol.generator.model import PRIMITIVES, Spec
 from protocol.robotfile import REFERENCES, load, reference_path
 from protocol.robotfile.model import RobotFile
+from protocol.robotfile.pico import cpp_wiring
 from protocol.robotfile.schema import LIGHTS
 
 _SPEC = Path(__file__).resolve().parents[1] / "spec" / "roverlink.toml"
@@ -53,7 +54,10 @@ def name_problem(name: str) -> str:
 
 
 def pin_label(number: int, board: str) -> str:
-    """A pin as the board names it: 9, or A0 for the first analog pin (`board`: uno, mega2560)."""
+    """A pin as the board names it: 9, or A0 for the first analog pin (`board`: uno, mega2560), or
+    GP9 on the Pico."""
+    if board == "pico":
+        return f"GP{number}"
     first_analog = rules.BOARD_PINS[board.upper()].first_analog
     return f"A{number - first_analog}" if number >= first_analog else str(number)
 
@@ -80,12 +84,14 @@ def pin_constants(robot: RobotFile) -> list[tuple[str, int, str, str]]:
         out.append(("ESC_PIN", w.esc_pin, "ESC signal"))
     if w.servo_pin is not None:
         out.append(("STEERING_PIN", w.servo_pin, "steering servo signal"))
-    out.append(("ENTROPY_PIN", w.entropy_pin, "entropy, leave unconnected: its ADC noise seeds the boot_id"))
+    if robot.board != "pico":  # the Pico's noise is its ring oscillator's
+        out.append(("ENTROPY_PIN", w.entropy_pin, "entropy, leave unconnected: its ADC noise seeds the boot_id"))
     return [(name, pin, pin_label(pin, robot.board), what) for name, pin, what in out]
 
 
 def _cpp_pins(robot: RobotFile, source: str) -> str:
-    o = [f"// Wiring ({source}): Arduino pin numbers (A<n> as its number on this board).\n"]
+    numbering = "GPIO numbers" if robot.board == "pico" else "Arduino pin numbers (A<n> as its number on this board)"
+    o = [f"// Wiring ({source}): {numbering}.\n"]
     for name, number, label, what in pin_constants(robot):
         analog = f" ({label})" if label.startswith("A") else ""
         o.append(f"static const uint8_t {name} = {number};  // {what}{analog}\n")
@@ -112,6 +118,8 @@ def fast_pwm_pins(robot: RobotFile) -> list[int]:
 
 
 def _cpp_pwm(robot: RobotFile) -> str:
+    if robot.board == "pico":
+        return cpp_wiring(robot, _motor_hz(robot))
     fast = fast_pwm_pins(robot)
     if not fast:
         return ""
@@ -120,6 +128,17 @@ def _cpp_pwm(robot: RobotFile) -> str:
     o.append(f"static const uint8_t FAST_PWM_PINS[] = {{{', '.join(map(str, fast))}}};\n")
     o.append(f"static const uint8_t FAST_PWM_PIN_COUNT = {len(fast)};\n\n")
     return "".join(o)
+
+
+def _motor_hz(robot: RobotFile) -> int:
+    """The frequency the file's motor PWM pins run at (hardware.toml; 0 without DC motors)."""
+    facts, board = pwm_facts(), robot.board.upper()
+    found = {
+        facts.hz(board, pin, m.kind) for m in robot.wiring.motors for role, pin in m.pins if role in rules.PWM_ROLES
+    }
+    if len(found) > 1 or None in found:
+        raise ValueError(f"{robot.path}: the motor PWM pins need one frequency, not {sorted(map(str, found))}")
+    return int(found.pop() or 0) if found else 0
 
 
 def _cpp_defaults(spec: Spec, robot: RobotFile, source: str) -> str:

@@ -203,7 +203,7 @@ class RobotFile:
     name: str
     description: str
     board: str
-    """uno, mega2560 or native."""
+    """uno, mega2560, pico or native."""
     drive: Drive
     esc: Esc | None
     steering: Steering | None
@@ -253,7 +253,8 @@ class RobotFile:
         return LightsMode[self.lights.upper()]
 
     def capabilities(self) -> Capability:
-        caps = Capability.EEPROM
+        # The Pico's firmware keeps no configuration (docs/firmware.md, "Raspberry Pi Pico").
+        caps = Capability(0) if self.board == "pico" else Capability.EEPROM
         if self.drive.kind == "differential":
             caps |= Capability.DIFF_DRIVE
         else:

@@ -25,7 +25,7 @@ def _name(where: _Where) -> str:
 class _Pins:
     def __init__(self, reader: Reader, board: str) -> None:
         self.r = reader
-        self.board = {"uno": "UNO", "mega2560": "MEGA2560"}.get(board)
+        self.board = {"uno": "UNO", "mega2560": "MEGA2560", "pico": "PICO"}.get(board)
         self.used: dict[int, tuple[str, str | None]] = {}
 
     def pin(self, value: Any, where: _Where, share: str | None = None, claim: bool = True) -> int | None:
@@ -78,7 +78,8 @@ def read(reader: Reader, v: dict[str, Any], channels: int) -> Wiring:
     """The Wiring of the file's pins (`v`: the reader's sections), every problem reported."""
     p = _Pins(reader, v["board"] or "native")
     drive, enc = v["drive"] or {}, v["encoders"] or {}
-    entropy = p.pin(v["entropy_pin"], ("", ("entropy_pin",)))
+    # The Pico draws its boot_id noise from the ring oscillator: no pin is read or claimed for it.
+    entropy = None if p.board == "PICO" else p.pin(v["entropy_pin"], ("", ("entropy_pin",)))
     if entropy is not None and p.board is not None and entropy < rules.BOARD_PINS[p.board].first_analog:
         reader.report(
             "", ("entropy_pin",), f"= {v['entropy_pin']!r} is not an analog pin (its noise seeds the boot_id)"
@@ -109,6 +110,9 @@ def read(reader: Reader, v: dict[str, Any], channels: int) -> Wiring:
         p.rule(
             rules.rc_problem({"esc" if k == "esc" else "servo": x for k, x in rc.items()}, p.board), (first, ("pin",))
         )
+        motor_pwm = {n for m in motors if m is not None for role, n in m.pins if role in rules.PWM_ROLES}
+        for section, (number, label) in rc.items():
+            p.rule(rules.slice_problem(number, label, p.board, motor_pwm), (section, ("pin",)))
     lights = v["lights"]
     leds = [] if lights is None else [p.pin(lights[n], ("lights", (n,))) for n in LIGHTS]
     return Wiring(

@@ -65,7 +65,7 @@ def _ranged(key: Key, field: str, scale: float) -> Key:
     return replace(key, lo=lo, hi=hi)
 
 
-BOARDS = ("uno", "mega2560", "native")
+BOARDS = ("uno", "mega2560", "pico", "native")
 DRIVE_KINDS = ("differential", "ackermann")
 DRIVERS = ("TB6612", "L298N", "BTS7960", "ESC+servo")
 DECODING = ("x1", "x2", "x4")
@@ -89,7 +89,13 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
         Key("name", "str", "", "The robot's name (reported by the firmware, shown by the tools)."),
         Key("description", "str", "", "What the robot is, in one sentence.", ""),
         Key("board", "choice", "", "Which board runs the firmware.", REQUIRED, choices=BOARDS),
-        Key("entropy_pin", "pin", "", "Analog pin left open: its noise seeds the boot_id.", "A0"),
+        Key(
+            "entropy_pin",
+            "pin",
+            "",
+            "Analog pin left open: its noise seeds the boot_id (not read on the Pico: its ring oscillator's).",
+            "A0",
+        ),
     ),
     "drive": (
         Key("kind", "choice", "", "Differential (two driven wheels) or Ackermann (steered car).", choices=DRIVE_KINDS),

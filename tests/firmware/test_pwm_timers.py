@@ -124,7 +124,19 @@ def _core_timers(board: str) -> dict[str, list[tuple[str, int]]]:
     return timers
 
 
-@pytest.mark.parametrize("board", sorted(wiring.BOARD_PINS))
+def test_the_picos_slices_are_the_datasheets() -> None:
+    """hardware.toml's Pico slices: GPIO n is on slice (n >> 1) & 7, channel A when n is even."""
+    from protocol.generator.hardware import pwm_facts
+
+    slices = [t for t in pwm_facts().timers if t.board == "PICO"]
+    assert [t.timer for t in slices] == [f"slice {k}" for k in range(8)]
+    for t in slices:
+        k = int(t.timer.split()[1])
+        assert all((pin >> 1) & 7 == k for pin in t.pins) and t.pins[0] == 2 * k, t
+    assert sorted(p for t in slices for p in t.pins) == [p for p in range(29) if p not in (23, 24, 25)]
+
+
+@pytest.mark.parametrize("board", sorted(b for b in wiring.BOARD_PINS if b != "PICO"))
 def test_the_timer_table_is_the_arduino_cores(board: str) -> None:
     """hardware.toml's pins per timer, channel A first, are the core's digitalPinToTimer: the
     timer analogWrite() uses on each pin is the one the firmware speeds up."""

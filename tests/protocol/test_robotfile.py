@@ -88,7 +88,7 @@ def test_motor_pwm_pin_without_pwm(tmp_path: Path) -> None:
 
 def test_unknown_board_suggests(tmp_path: Path) -> None:
     path = _variant(tmp_path, "picar", 'board = "uno"', 'board = "unoo"')
-    assert f"{path}:7: board: = 'unoo': not one of uno, mega2560, native (did you mean 'uno'?)" in _problems(path)
+    assert f"{path}:7: board: = 'unoo': not one of uno, mega2560, pico, native (did you mean 'uno'?)" in _problems(path)
 
 
 def test_board_lacking_a_pin_the_file_asks_for(tmp_path: Path) -> None:
@@ -150,9 +150,10 @@ def test_docs_pwm_tables_are_the_hardware_facts() -> None:
     def khz(hz: int) -> str:
         return f"{hz} Hz" if hz < 1000 else f"{hz / 1000:.1f} kHz"
 
-    timers = [(r[0].strip("`"), r[1], r[2]) for r in rows if r[1].startswith("Timer")]
+    timed = ("Timer", "slice")
+    timers = [(r[0].strip("`"), r[1], r[2]) for r in rows if r[1].startswith(timed)]
     assert timers == [(t.board.lower(), t.timer, ", ".join(map(str, t.pins))) for t in facts.timers]
-    gives = {(r[0].strip("`"), r[1]): r[3] for r in rows if r[1].startswith("Timer")}
+    gives = {(r[0].strip("`"), r[1]): r[3] for r in rows if r[1].startswith(timed)}
     for t in facts.timers:
         assert gives[(t.board.lower(), t.timer)].startswith(", ".join(map(khz, t.hz))), t
 
@@ -199,3 +200,26 @@ def test_lights_mode_names_what_is_allowed(tmp_path: Path) -> None:
     [problem] = _problems(path)
     assert "lights.mode" in problem and "'blink'" in problem and "one of auto, off" in problem
     assert load(_variant(tmp_path, "diffdrive-tb6612", '\nmode = "auto"', '\nmode = "off"')).lights_mode().name == "OFF"
+
+
+def test_a_reference_robot_moves_to_the_pico_pinout_and_passes_its_rules() -> None:
+    from protocol.robotfile import parse, reference_path
+    from protocol.robotfile.pico import on_pico
+
+    for name in ("diffdrive-tb6612", "diffdrive-bts7960", "picar"):
+        text = on_pico(reference_path(name).read_text(encoding="utf-8"))
+        robot, problems = parse(text, f"{name}-pico.toml")
+        assert problems == [] and robot is not None, name
+        assert robot.board == "pico" and robot.geometry == parse(reference_path(name).read_text(), name)[0].geometry  # type: ignore[union-attr]
+
+
+def test_pico_pin_rules_name_the_slice_and_the_header() -> None:
+    from protocol.robotfile import parse, reference_path
+    from protocol.robotfile.pico import on_pico
+
+    car = on_pico(reference_path("picar").read_text(encoding="utf-8"))
+    _, problems = parse(car.replace("pin = 3", "pin = 23"), "car.toml")
+    assert any("pin 23 is not on the PICO's header" in p.message for p in problems), problems
+    tb = on_pico(reference_path("diffdrive-tb6612").read_text(encoding="utf-8"))
+    _, problems = parse(tb.replace("pwm = 2,", "pwm = 1,"), "tb.toml")
+    assert any("serial port" in p.message for p in problems), problems

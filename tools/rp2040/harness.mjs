@@ -1,7 +1,11 @@
 // The firmware-in-the-loop harness for the RP2040: an SRAM image in rp2040js, stepped by
 // emulator/backends/rp2040/harness.py with the step protocol of the simavr harness.
 //
-//   node tools/rp2040/harness.mjs IMAGE.bin [--enc A B]... [--watch PIN]... [--baud N] [--seed N]
+//   node tools/rp2040/harness.mjs IMAGE.bin [--flash] [--enc A B]... [--watch PIN]... [--baud N] [--seed N]
+//
+// IMAGE.bin is an SRAM image started at its vector table, or with --flash the image a Pico runs
+// from flash: its 256-byte boot block is checked (CRC-32) and run from SRAM as the boot ROM does
+// (rp2040js has no boot ROM), and the block starts the image through its vector table.
 //
 // One request per line on stdin, one reply per line on stdout:
 //
@@ -10,8 +14,9 @@
 //                         evenly over the step; RXHEX (or -) are the host's bytes for UART0, sent
 //                         at the baud rate from the start of the step (those that do not fit wait
 //                         for the next). Reply: OK NANOS PINS TXHEX, where PINS is, per watched
-//                         pin, HIGH_PPM:LEVEL (the part of the step it was high, its level at the
-//                         end) joined by commas, and TXHEX the bytes UART0 sent (or -).
+//                         pin, HIGH_PPM:LEVEL:PULSE_NS (the part of the step it was high, its
+//                         level at the end, the length of its last whole high pulse so far)
+//                         joined by commas, and TXHEX the bytes UART0 sent (or -).
 //   R                     reset: a new chip, every peripheral in its reset state, running the image
 //                         again (what the board's reset does); the clock goes on.
 //   N                     resets so far (a watchdog's among them): OK COUNT
@@ -57,6 +62,20 @@ class Noise {
 }
 
 const SRAM = 0x20000000;
+const PULSES_STOPPED_NS = 25e6;
+const BOOT2_SRAM = 0x20041f00; // where the boot ROM copies the boot block
+const BOOT2_BYTES = 256;
+
+/** The boot ROM's CRC-32 of the boot block (CRC-32/MPEG-2: not reflected, no final XOR). */
+function crc32Mpeg2(bytes) {
+  let crc = 0xffffffff;
+  for (const byte of bytes) {
+    crc ^= byte << 24;
+    for (let i = 0; i < 8; i++) crc = crc & 0x80000000 ? (crc << 1) ^ 0x04c11db7 : crc << 1;
+    crc >>>= 0;
+  }
+  return crc >>> 0;
+}
 const QUADRATURE = [
   [false, false],
   [true, false],
@@ -65,9 +84,10 @@ const QUADRATURE = [
 ];
 
 function parseArgs(argv) {
-  const args = { image: argv[0], encoders: [], watch: [], baud: 115200, seed: 1 };
+  const args = { image: argv[0], flash: false, encoders: [], watch: [], baud: 115200, seed: 1 };
   for (let i = 1; i < argv.length; i++) {
-    if (argv[i] === '--enc') args.encoders.push([Number(argv[++i]), Number(argv[++i])]);
+    if (argv[i] === '--flash') args.flash = true;
+    else if (argv[i] === '--enc') args.encoders.push([Number(argv[++i]), Number(argv[++i])]);
     else if (argv[i] === '--watch') args.watch.push(Number(argv[++i]));
     else if (argv[i] === '--baud') args.baud = Number(argv[++i]);
     else if (argv[i] === '--seed') args.seed = Number(argv[++i]);
@@ -89,6 +109,16 @@ class Harness {
     this.base = 0; // ns before the current chip's clock started (each reset makes a new chip)
     this.high = args.watch.map(() => 0);
     this.since = args.watch.map(() => 0);
+    this.pulse = args.watch.map(() => 0);
+    this.rose = args.watch.map(() => undefined);
+    this.edge = args.watch.map(() => 0); // time of each pin's last change
+    if (args.flash) {
+      const block = this.image.subarray(0, BOOT2_BYTES);
+      const stored = new DataView(block.buffer, block.byteOffset + 252, 4).getUint32(0, true);
+      if (block.length < BOOT2_BYTES || crc32Mpeg2(block.subarray(0, 252)) !== stored) {
+        throw new Error('the boot block (first 256 bytes) fails its CRC-32: the boot ROM would not run it');
+      }
+    }
     this.boot();
   }
 
@@ -97,6 +127,10 @@ class Harness {
     if (this.mcu) this.base += this.mcu.clock.nanos;
     const mcu = new RP2040();
     this.mcu = mcu;
+    // The outputs of the old chip are gone: no pulse measured yet.
+    this.pulse = this.args.watch.map(() => 0);
+    this.rose = this.args.watch.map(() => undefined);
+    this.edge = this.args.watch.map(() => this.nanos);
     mcu.uart[0].onByte = (b) => this.tx.push(b);
     mcu.peripherals[0x40058].onWatchdogTrigger = () => this.reset(); // WATCHDOG_BASE
     mcu.peripherals[ROSC_BASE] = new RingOscillator(mcu, this.noise);
@@ -104,11 +138,20 @@ class Harness {
       mcu.gpio[pin].addListener(() => this.pinChanged(k));
     }
     const { image } = this;
-    mcu.sram.set(image, 0);
-    const view = new DataView(image.buffer, image.byteOffset, image.byteLength);
-    mcu.core.SP = view.getUint32(0, true);
-    mcu.core.PC = view.getUint32(4, true) & ~1;
-    mcu.core.VTOR = SRAM;
+    if (this.args.flash) {
+      // The boot ROM's last steps: the boot block copied to SRAM and called with lr = 0.
+      mcu.flash.set(image, 0);
+      mcu.sram.set(image.subarray(0, BOOT2_BYTES), BOOT2_SRAM - SRAM);
+      mcu.core.SP = BOOT2_SRAM + BOOT2_BYTES;
+      mcu.core.LR = 0;
+      mcu.core.PC = BOOT2_SRAM;
+    } else {
+      mcu.sram.set(image, 0);
+      const view = new DataView(image.buffer, image.byteOffset, image.byteLength);
+      mcu.core.SP = view.getUint32(0, true);
+      mcu.core.PC = view.getUint32(4, true) & ~1;
+      mcu.core.VTOR = SRAM;
+    }
     for (const [k, [a, b]] of this.args.encoders.entries()) this.drive(k, a, b, true);
   }
 
@@ -135,9 +178,15 @@ class Harness {
 
   pinChanged(k) {
     const pin = this.mcu.gpio[this.args.watch[k]];
-    // The level before this change held since `since`: a rising edge ends a low stretch.
-    if (!pin.outputValue) this.high[k] += this.nanos - this.since[k];
+    // The level before this change held since `since`: a falling edge ends a high pulse.
+    if (!pin.outputValue) {
+      this.high[k] += this.nanos - this.since[k];
+      if (this.rose[k] !== undefined) this.pulse[k] = this.nanos - this.rose[k];
+    } else {
+      this.rose[k] = this.nanos;
+    }
     this.since[k] = this.nanos;
+    this.edge[k] = this.nanos;
   }
 
   /** Runs the core until `until` (ns), sleeping through WFI up to the next alarm or `until`. */
@@ -194,7 +243,9 @@ class Harness {
     const pins = this.args.watch.map((pin, k) => {
       const level = this.mcu.gpio[pin].outputValue;
       const high = this.high[k] + (level ? end - this.since[k] : 0);
-      return `${Math.round((high * 1e6) / (end - start))}:${level ? 1 : 0}`;
+      // A pin low for longer than an RC period (20 ms) carries no pulses any more.
+      const pulse = !level && end - this.edge[k] > PULSES_STOPPED_NS ? 0 : this.pulse[k];
+      return `${Math.round((high * 1e6) / (end - start))}:${level ? 1 : 0}:${pulse}`;
     });
     const tx = Buffer.from(this.tx.splice(0)).toString('hex') || '-';
     return `OK ${this.nanos} ${pins.join(',') || '-'} ${tx}`;

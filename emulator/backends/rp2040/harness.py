@@ -1,9 +1,11 @@
-"""One rp2040js process (tools/rp2040/harness.mjs) running an RP2040 SRAM image.
+"""One rp2040js process (tools/rp2040/harness.mjs) running an RP2040 image: an SRAM image, or
+(`flash=True`) the flash image a Pico runs, boot block first.
 
 Each step is a synchronous request/reply over pipes, as with the simavr harness: the harness runs
 the chip for a number of microseconds with the encoder positions it is given (each count change a
 quadrature edge on the encoder's two pins) and the host's bytes for UART0, and reports each
-watched pin's share of the step spent high and its level at the end, and the bytes UART0 sent.
+watched pin's share of the step spent high, its level at the end and its last high pulse, and the
+bytes UART0 sent.
 Time is the simulation clock's, in nanoseconds (the core at 125 MHz, asleep through WFI); the ring
 oscillator's noise, which rp2040js does not model, comes from a generator seeded with `seed`.
 """
@@ -16,6 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from emulator.backends.pipe import PipeProcess
+from emulator.errors import BackendError
 
 ROOT = Path(__file__).resolve().parents[3]
 HARNESS_DIR = ROOT / "tools" / "rp2040"
@@ -23,7 +26,7 @@ SCRIPT = HARNESS_DIR / "harness.mjs"
 BUILD_DIR = Path(os.environ.get("ROVERLINK_RP2040_BUILD", ROOT / "build" / "rp2040"))
 
 
-class Rp2040Error(RuntimeError):
+class Rp2040Error(BackendError):
     """The harness could not start (no Node.js, rp2040js not installed), or stopped unexpectedly."""
 
 
@@ -33,6 +36,8 @@ class PinReading:
     """Part of the step the pin was high, 0..1 (a PWM output's duty over whole periods)."""
     level: bool
     """Its level at the end of the step."""
+    pulse_us: float = 0.0
+    """Its last whole high pulse so far (0: none, or low for longer than an RC period)."""
 
 
 def node_modules() -> Path:
@@ -54,6 +59,7 @@ class Harness:
         watch: tuple[int, ...] = (),
         baud: int = 115200,
         seed: int = 1,
+        flash: bool = False,
     ) -> None:
         node = shutil.which("node")
         if node is None:
@@ -62,6 +68,8 @@ class Harness:
         self.encoders = encoders
         self.watch = watch
         cmd = [node, str(SCRIPT), str(image), "--baud", str(baud), "--seed", str(seed)]
+        if flash:  # a flash image: its boot block runs first, as on a Pico
+            cmd.append("--flash")
         for a, b in encoders:
             cmd += ["--enc", str(a), str(b)]
         for pin in watch:
@@ -80,8 +88,8 @@ class Harness:
         pins: dict[int, PinReading] = {}
         if reply[2] != "-":
             for pin, reading in zip(self.watch, reply[2].split(","), strict=True):
-                high, level = reading.split(":")
-                pins[pin] = PinReading(int(high) / 1e6, level == "1")
+                high, level, pulse_ns = reading.split(":")
+                pins[pin] = PinReading(int(high) / 1e6, level == "1", int(pulse_ns) / 1000)
         return pins, bytes.fromhex(reply[3]) if reply[3] != "-" else b""
 
     def reset(self) -> None:

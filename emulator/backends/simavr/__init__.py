@@ -20,17 +20,16 @@ bootloader's garbage), and fault specs use its grammar and injection code (`emul
 "The simavr backend", lists what is supported and what is refused. `roverlink emulate --backend
 simavr` paces the same loop to the wall clock (emulator.transport.realtime).
 
-One module per job:
+One module per job (the plant loop around any MCU is emulator/backends/plant_loop.py):
 
     mcu.py         the AVR parts' datasheet facts: Arduino pin -> port/bit, PWM timers, register addresses
     wiring.py      a robot's pins (its robot file, through its profile) -> registers; decode_pins()
     harness.py     the fil_harness process (build, start, step, profile, stop)
-    plant_loop.py  PlantLoop: plant, serial line, resets and faults around any MCU
     robot.py       SimavrRobot: a reference robot's ELF in the harness inside a PlantLoop; EEPROM images
 """
 
+from emulator.backends.plant_loop import BAUD, MCU, PHYSICS_US, PlantLoop, SimTruth
 from emulator.backends.simavr.harness import HANDLER_FLAG, Harness, SimavrError, build_harness, prebuilt_elf
-from emulator.backends.simavr.plant_loop import BAUD, MCU, PHYSICS_US, PlantLoop, SimTruth
 from emulator.backends.simavr.robot import SimavrRobot, board_randomness, elf_with_eeprom
 from emulator.backends.simavr.wiring import RELEASED, BoardWiring, PinState, board_wiring, decode_pins
 

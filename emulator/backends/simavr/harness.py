@@ -14,6 +14,7 @@ from pathlib import Path
 
 from emulator.backends.pipe import PipeProcess
 from emulator.backends.simavr.wiring import BoardWiring
+from emulator.errors import BackendError
 
 ROOT = Path(__file__).resolve().parents[3]
 HARNESS_DIR = ROOT / "tools" / "simavr"
@@ -22,7 +23,7 @@ HARNESS = BUILD_DIR / "fil_harness"
 HANDLER_FLAG = 0x1000000  # profile keys of PCs run inside a handler boundary (Harness.profile_handler)
 
 
-class SimavrError(RuntimeError):
+class SimavrError(BackendError):
     """The harness or the firmware could not be built, started, or stopped unexpectedly."""
 
 

@@ -9,8 +9,8 @@ import shutil
 import subprocess
 from pathlib import Path
 
+from emulator.backends.plant_loop import BAUD, PlantLoop
 from emulator.backends.simavr.harness import BUILD_DIR, Harness, SimavrError, prebuilt_elf
-from emulator.backends.simavr.plant_loop import BAUD, PlantLoop
 from emulator.backends.simavr.wiring import PinState, board_wiring, decode_pins
 from emulator.device import saved_eeprom_image
 from emulator.errors import EmulatorValueError

@@ -4,12 +4,11 @@ wires carry (duty, direction, brake/coast, pulse widths, LEDs)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
+from emulator.backends.pins import RELEASED, PinState, bts7960, hbridge
 from emulator.backends.simavr.mcu import COM_BIT, MCUS, Mcu
 from emulator.errors import EmulatorValueError
-from protocol.generated.hardware import MotorMode
 from protocol.generated.profiles import RobotProfile, WiredPart
 
 
@@ -29,10 +28,6 @@ class PwmPin:
 class PortPin:
     port: int
     bit: int
-
-
-_Bit = Callable[["PortPin"], bool]
-_Pwm = Callable[["PwmPin"], float]
 
 
 @dataclass(frozen=True)
@@ -154,27 +149,6 @@ def board_wiring(profile: RobotProfile) -> BoardWiring:
     )
 
 
-@dataclass(frozen=True)
-class PinState:
-    """What the MCU's pins tell the hardware around it, decoded from one register snapshot."""
-
-    duty: tuple[float, ...]
-    """Signed duty per DC motor channel, -1..1 (PWM duty in the driven direction)."""
-    mode: tuple[MotorMode, ...]
-    esc_us: int
-    """0: no pulses."""
-    servo_us: int
-    leds: int
-    """Lights bits."""
-
-    def effort_permille(self, wheel: int) -> int:
-        return round(self.duty[wheel] * 1000) if wheel < len(self.duty) else 0
-
-
-RELEASED = PinState((0.0, 0.0), (MotorMode.COAST, MotorMode.COAST), 0, 0, 0)
-"""Every output released (in reset, in the bootloader)."""
-
-
 def decode_pins(wiring: BoardWiring, regs: dict[int, int]) -> PinState:
     def bit(p: PortPin) -> bool:
         return bool(regs[p.port] >> p.bit & 1)
@@ -190,7 +164,10 @@ def decode_pins(wiring: BoardWiring, regs: dict[int, int]) -> PinState:
         return (regs[p.ocr] | regs[p.ocr + 1] << 8) + 1 >> 1
 
     channels = [
-        _hbridge(ch, bit, pwm) if isinstance(ch, HBridgeChannel) else _bts7960(ch, bit, pwm) for ch in wiring.motors
+        hbridge(bit(ch.in1), bit(ch.in2), None if ch.standby is None else bit(ch.standby), pwm(ch.pwm))
+        if isinstance(ch, HBridgeChannel)
+        else bts7960(bit(ch.r_en), bit(ch.l_en), pwm(ch.rpwm), pwm(ch.lpwm))
+        for ch in wiring.motors
     ]
     leds = sum(1 << i for i, led in enumerate(wiring.leds) if bit(led))
     return PinState(
@@ -198,22 +175,4 @@ def decode_pins(wiring: BoardWiring, regs: dict[int, int]) -> PinState:
     )
 
 
-def _hbridge(ch: HBridgeChannel, bit: _Bit, pwm: _Pwm) -> tuple[float, MotorMode]:
-    """docs/control.md section 5: IN1/IN2 both low (or STBY low) coast, both high brake."""
-    in1, in2 = bit(ch.in1), bit(ch.in2)
-    if (ch.standby is not None and not bit(ch.standby)) or (not in1 and not in2):
-        return 0.0, MotorMode.COAST
-    if in1 and in2:
-        return 0.0, MotorMode.BRAKE
-    d = pwm(ch.pwm)
-    return (d if in1 else -d), MotorMode.DRIVE
-
-
-def _bts7960(ch: Bts7960Channel, bit: _Bit, pwm: _Pwm) -> tuple[float, MotorMode]:
-    """Enables low coast; enables high with both PWM 0 brake (both low sides on)."""
-    forward, reverse = pwm(ch.rpwm), pwm(ch.lpwm)
-    if not (bit(ch.r_en) and bit(ch.l_en)):
-        return 0.0, MotorMode.COAST
-    if forward == 0.0 and reverse == 0.0:
-        return 0.0, MotorMode.BRAKE
-    return forward - reverse, MotorMode.DRIVE
+__all__ = ["RELEASED", "BoardWiring", "PinState", "board_wiring", "decode_pins"]

@@ -64,7 +64,7 @@ def test_check_lists_every_problem_and_show_refuses_a_bad_file(
     code, out = _run(capsys, "check", str(path))
     assert code == 2
     assert "pid.kpp: unknown key (did you mean 'kp'?)" in out
-    assert "board: = 'due': not one of uno, mega2560, native" in out
+    assert "board: = 'due': not one of uno, mega2560, pico, native" in out
     assert _run(capsys, "show", str(path))[0] == 2
     none = tmp_path / "none.toml"
     assert _run(capsys, "check", str(none)) == (2, f"{none}: no such file\nroverlink robot check: {none}: 1 problem\n")

@@ -6,7 +6,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 
-from conformance_backends import Host, Pins, wire
+from conformance_backends import Host, Pins, base_profile, wire
 from conformance_scenarios import BOOT_TIMEOUT_MS, TICK_MS, boot, tick_origin
 
 from host_sdk import messages
@@ -186,7 +186,7 @@ def sc_esc_arming(h: Host) -> dict[str, object]:
     ARM accepted and setpoints stored (steering follows at once) but the drive held at neutral
     until esc_arm_ms after boot; then a normal ramp. Pulse widths are read from the pins; FEEDBACK
     at 100 Hz (one per tick) shows in which tick the drive is released."""
-    p = PROFILES[h.b.profile].config
+    p = PROFILES[base_profile(h.b.profile)].config
     h.pin_log = []
     t_boot, b = h.wait_for(messages.Identity, BOOT_TIMEOUT_MS, lambda m: m.reason == IdentityReason.BOOT)
     assert isinstance(b, messages.Identity)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 
-from conformance_backends import Backend, Host, make_backend
+from conformance_backends import Backend, Host, make_backend, on_board
 from conformance_board_scenarios import (
     sc_config_fallback,
     sc_duplicate_arm,
@@ -103,8 +103,11 @@ def run_fresh(backend_name: str, name: str, profile: str | None = None) -> dict[
         b.close()
 
 
-def reference(name: str, profile: str | None = None) -> dict[str, object]:
-    key = (name, profile or SCENARIO_PROFILE.get(name, PROFILE))
+def reference(name: str, profile: str | None = None, backend: str = "python") -> dict[str, object]:
+    """The Python model's run of scenario `name`, on the robot `backend` runs it on (a reference
+    robot, or for rp2040 that robot moved to a Pico)."""
+    robot = on_board(backend, profile or SCENARIO_PROFILE.get(name, PROFILE))
+    key = (name, robot)
     if key not in _reference:
-        _reference[key] = run_fresh("python", name, profile)
+        _reference[key] = run_fresh("python", name, robot)
     return _reference[key]

@@ -7,7 +7,7 @@ import dataclasses
 import itertools
 import math
 
-from conformance_backends import Host, wire
+from conformance_backends import Host, base_profile, wire
 
 from host_sdk import messages
 from host_sdk.framing import Frame, FrameDecoder
@@ -250,7 +250,7 @@ def sc_lockstep_disarmed(h: Host) -> dict[str, object]:
 def sc_drive(h: Host, profile: str) -> dict[str, object]:
     """PID step response and odometry: 1.5 s at a constant setpoint from rest."""
     ident = open_session(h)
-    p = PROFILES[profile]
+    p = PROFILES[base_profile(profile)]
     ackermann = str(p.kinematics) == "ackermann"
     setpoint = 300
     if ackermann:

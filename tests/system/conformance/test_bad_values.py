@@ -15,7 +15,7 @@ import dataclasses
 from collections.abc import Iterator
 
 import pytest
-from conformance_backends import BACKENDS, Backend, Host, make_backend, wire
+from conformance_backends import BACKENDS, Backend, Host, base_profile, make_backend, wire
 
 from host_sdk import messages
 from host_sdk.framing import Frame, FrameDecoder
@@ -101,16 +101,10 @@ def scenario(h: Host) -> dict[str, object]:
 
 
 def _defaults(h: Host) -> messages.SetConfig:
-    return PROFILES[h.b.profile].config
+    return PROFILES[base_profile(h.b.profile)].config
 
 
-@pytest.fixture(scope="module")
-def reference() -> dict[str, object]:
-    b = make_backend("python", PROFILE)
-    try:
-        return scenario(Host(b))
-    finally:
-        b.close()
+_references: dict[str, dict[str, object]] = {}
 
 
 @pytest.fixture(params=BACKENDS)
@@ -118,6 +112,18 @@ def backend(request: pytest.FixtureRequest) -> Iterator[Backend]:
     b = make_backend(request.param, PROFILE)
     yield b
     b.close()
+
+
+@pytest.fixture
+def reference(backend: Backend) -> dict[str, object]:
+    """The Python model's run on the robot `backend` runs (NAME@pico for rp2040)."""
+    if backend.profile not in _references:
+        b = make_backend("python", backend.profile)
+        try:
+            _references[backend.profile] = scenario(Host(b))
+        finally:
+            b.close()
+    return _references[backend.profile]
 
 
 def _nack(hex_frame: object) -> tuple[int, int, int, int]:

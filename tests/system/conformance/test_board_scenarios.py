@@ -18,7 +18,7 @@ from protocol.generated.profiles import PROFILES
 # -- reliable ARM, EEPROM persistence and fallback: identical bytes ------------------------------------------
 def test_duplicate_arm(tb6612: Backend) -> None:
     got = run(tb6612, "duplicate_arm")
-    ref = reference("duplicate_arm")
+    ref = reference("duplicate_arm", backend=tb6612.name)
     assert got == ref
     # What the reference itself must show (control.md 1-2): both retries counted, the late one not
     # applied (the setpoint after it is refused with the latched reason), the drive uninterrupted.
@@ -32,7 +32,7 @@ def test_duplicate_arm(tb6612: Backend) -> None:
 
 def test_save_config_survives_a_reset(tb6612: Backend) -> None:
     got = run(tb6612, "save_config")
-    ref = reference("save_config")
+    ref = reference("save_config", backend=tb6612.name)
     assert got == ref
     assert answer(got["save_armed"]) == ("NACK", NackReason.ARMED, 0)
     assert answer(got["save"])[0] == "ACK" and got["defaults_bit_cleared"]
@@ -50,7 +50,7 @@ def test_save_config_survives_a_reset(tb6612: Backend) -> None:
 @pytest.mark.parametrize("backend_name", BACKENDS)
 def test_bad_eeprom_image_falls_back_to_defaults(backend_name: str, scenario: str) -> None:
     got = run_fresh(backend_name, scenario)
-    ref = reference(scenario)
+    ref = reference(scenario, backend=backend_name)
     assert got == ref
     expected = {
         "config_fallback:crc": "config: EEPROM CRC error, using defaults",
@@ -74,7 +74,7 @@ ENCODER_FAULT_TOL_MS = TICK_MS + 5
 @pytest.mark.parametrize("backend_name", BACKENDS)
 def test_encoder_fault(backend_name: str) -> None:
     got = run_fresh(backend_name, "encoder_fault")
-    ref = reference("encoder_fault")
+    ref = reference("encoder_fault", backend=backend_name)
     print(
         f"\n  {backend_name}: encoder fault {got['delay_ms']:.0f} ms after the disconnect (ref {ref['delay_ms']:.0f})"
     )
@@ -99,7 +99,7 @@ ESC_RELEASE_TOL_MS = 5
 @pytest.mark.parametrize("backend_name", BACKENDS)
 def test_esc_arming_window(backend_name: str) -> None:
     got = run_fresh(backend_name, "esc_arming")
-    ref = reference("esc_arming")
+    ref = reference("esc_arming", backend=backend_name)
     c = PROFILES["picar"].config
     print(f"\n  {backend_name}: ESC released {got['release_ms']:.1f} ms after boot (ref {ref['release_ms']:.1f})")
     assert got["release_tick"] == c.esc_arm_ms // TICK_MS
@@ -138,7 +138,7 @@ LED_EXPECTED = {
 @pytest.mark.parametrize("backend_name", BACKENDS)
 def test_turn_signal_leds(backend_name: str) -> None:
     got = run_fresh(backend_name, "leds")
-    ref = reference("leds")
+    ref = reference("leds", backend=backend_name)
     assert ref["masks"] == LED_EXPECTED
     assert got["masks"] == ref["masks"]
     changes: list[tuple[float, int]] = got["changes"]  # type: ignore[assignment]
@@ -163,7 +163,7 @@ HOST_LIGHTS_EXPECTED = {
 @pytest.mark.parametrize("backend_name", BACKENDS)
 def test_host_lights(backend_name: str) -> None:
     got = run_fresh(backend_name, "host_lights")
-    ref = reference("host_lights")
+    ref = reference("host_lights", backend=backend_name)
     assert ref["masks"] == HOST_LIGHTS_EXPECTED
     assert got == ref
     # What the reference itself must show: each mode applied and reported, lit as the pins showed it.
@@ -185,5 +185,5 @@ def test_host_lights(backend_name: str) -> None:
 @pytest.mark.parametrize("backend_name", BACKENDS)
 def test_host_lights_refused_without_turn_signals(backend_name: str) -> None:
     got = run_fresh(backend_name, "host_lights_unsupported")
-    assert got == reference("host_lights_unsupported")
+    assert got == reference("host_lights_unsupported", backend=backend_name)
     assert answer(got["set"]) == answer(got["get"]) == ("NACK", NackReason.UNSUPPORTED, 0)

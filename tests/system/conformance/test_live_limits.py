@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import pytest
-from conformance_backends import BACKENDS, Host, make_backend, wire
+from conformance_backends import BACKENDS, Host, make_backend, on_board, wire
 from conformance_scenarios import TICK_MS, open_session
 
 from host_sdk import messages
@@ -84,28 +84,30 @@ SCENARIOS: dict[str, tuple[str, Callable[[Host], dict[str, object]]]] = {
     "speed_limit": ("diffdrive-tb6612", sc_speed_limit),
     "steering_range": ("picar", sc_steering_range),
 }
-_reference: dict[str, dict[str, object]] = {}
+_reference: dict[str, dict[str, dict[str, object]]] = {}
 
 
-def run(backend_name: str, scenario: str) -> dict[str, object]:
-    profile, sc = SCENARIOS[scenario]
-    b = make_backend(backend_name, profile)
+def run(backend_name: str, scenario: str, profile: str | None = None) -> dict[str, object]:
+    robot, sc = SCENARIOS[scenario]
+    b = make_backend(backend_name, profile or robot)
     try:
         return sc(Host(b))
     finally:
         b.close()
 
 
-def reference(scenario: str) -> dict[str, object]:
-    if scenario not in _reference:
-        _reference[scenario] = run("python", scenario)
-    return _reference[scenario]
+def reference(scenario: str, backend: str = "python") -> dict[str, object]:
+    """The Python model's run on the robot `backend` runs (NAME@pico for rp2040)."""
+    robot = on_board(backend, SCENARIOS[scenario][0])
+    if robot not in _reference.setdefault(scenario, {}):
+        _reference[scenario][robot] = run("python", scenario, robot)
+    return _reference[scenario][robot]
 
 
 @pytest.mark.parametrize("backend_name", BACKENDS)
 def test_lowered_speed_limit_clamps_the_running_setpoint(backend_name: str) -> None:
     got = run(backend_name, "speed_limit")
-    ref = reference("speed_limit")
+    ref = reference("speed_limit", backend_name)
     mean: list[float] = got.pop("mean_mm_s")  # type: ignore[assignment]
     ref_mean: list[float] = ref["mean_mm_s"]  # type: ignore[assignment]
     print(
@@ -123,7 +125,7 @@ def test_lowered_speed_limit_clamps_the_running_setpoint(backend_name: str) -> N
 @pytest.mark.parametrize("backend_name", BACKENDS)
 def test_lowered_steering_range_limits_the_running_setpoint(backend_name: str) -> None:
     got = run(backend_name, "steering_range")
-    assert got == reference("steering_range")
+    assert got == reference("steering_range", backend_name)
     # 500 mrad: 120 degrees in 15 degree steps (524 mrad reported); then held at the new stop, 105.
     assert (got["before_mrad"], got["after_mrad"]) == (524, 262)
     assert got["servo_us"] == 1667 and got["armed_throughout"]  # 500 + 10500 * 2000 / 18000 us

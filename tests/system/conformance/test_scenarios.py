@@ -55,7 +55,7 @@ OVERSHOOT_TOL_FRAC = 0.03
 @pytest.mark.parametrize("scenario", ["boot", "handshake", "arm_and_refusals", "reset_mid_session", "reliable_config"])
 def test_wire_bytes_match_the_reference(tb6612: Backend, scenario: str) -> None:
     got = run(tb6612, scenario)
-    ref = reference(scenario)
+    ref = reference(scenario, backend=tb6612.name)
     got.pop("name", None)
     ref = {k: v for k, v in ref.items() if k != "name"}
     assert got == ref
@@ -70,7 +70,7 @@ def test_boot_robot_name(tb6612: Backend) -> None:
 
 def test_failsafe_timing_and_latch(tb6612: Backend) -> None:
     got = run(tb6612, "failsafe")
-    ref = reference("failsafe")
+    ref = reference("failsafe", backend=tb6612.name)
     watchdog_ms = PROFILES[PROFILE].config.watchdog_ms
     print(
         f"\n  {tb6612.name}: failsafe {got['delay_ms']:.0f} ms after the last setpoint (reference {ref['delay_ms']:.0f})"
@@ -86,13 +86,13 @@ def test_failsafe_timing_and_latch(tb6612: Backend) -> None:
 
 def test_lockstep(tb6612: Backend) -> None:
     got = run(tb6612, "lockstep")
-    assert got == reference("lockstep")
+    assert got == reference("lockstep", backend=tb6612.name)
     assert got["mode"] == FeedbackMode.LOCKSTEP and got["all_answered"] and got["one_per_setpoint"]
 
 
 def test_lockstep_streams_out_of_armed(tb6612: Backend) -> None:
     got = run(tb6612, "lockstep_disarmed")
-    assert got == reference("lockstep_disarmed")
+    assert got == reference("lockstep_disarmed", backend=tb6612.name)
     session = Status.SESSION | Status.LOCKSTEP
 
     def streamed(key: str, want: Status) -> None:
@@ -120,7 +120,7 @@ def _rise_and_overshoot(speeds: list[tuple[float, int]], setpoint: int) -> tuple
 @pytest.mark.parametrize("profile", ["diffdrive-tb6612", "diffdrive-bts7960", "picar"])
 @pytest.mark.parametrize("backend_name", [b for b in BACKENDS if b != "python"])
 def test_step_response_and_odometry(backend_name: str, profile: str) -> None:
-    ref = reference("drive:", profile)
+    ref = reference("drive:", profile, backend=backend_name)
     b = make_backend(backend_name, profile)
     try:
         got = run(b, "drive:")
@@ -184,7 +184,7 @@ def _ramps_veer_deg(profile: str, turn: tuple[int, int]) -> float:
 @pytest.mark.parametrize("backend_name", BACKENDS)
 def test_a_turn_then_straight_veers_only_as_the_ramps_command(backend_name: str, scenario: str) -> None:
     got = run_fresh(backend_name, scenario)
-    ref = reference(scenario)
+    ref = reference(scenario, backend=backend_name)
     ramps = _ramps_veer_deg(PROFILE, TURNS_MM_S[scenario])
     veer = float(got["veer_deg"])  # type: ignore[arg-type]
     print(f"\n  {backend_name} {scenario}: veer {veer:+.2f} deg (ref {ref['veer_deg']:+.2f}, ramps {ramps:+.2f})")
@@ -194,4 +194,4 @@ def test_a_turn_then_straight_veers_only_as_the_ramps_command(backend_name: str,
 
 def test_log_frames_identical(tb6612: Backend) -> None:
     got = run(tb6612, "boot")
-    assert got["log"] == reference("boot")["log"]
+    assert got["log"] == reference("boot", backend=tb6612.name)["log"]

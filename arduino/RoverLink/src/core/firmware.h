@@ -50,6 +50,7 @@ public:
     uint8_t status() const { return session_.status(); }  // FEEDBACK.status bits, as of now
     uint16_t tick() const { return v_.tick; }              // control ticks run since boot (first is 1)
     uint32_t ticks_skipped() const { return v_.ticks_skipped; }
+    uint32_t next_tick_us() const { return v_.next_tick_us; }  // micros() of the next control tick
     const proto::SetConfig& config() const { return v_.cfg; }
     const control::Gains& gains(uint8_t w) const { return v_.gains[w < proto::WHEEL_COUNT ? w : 0]; }
     uint16_t watchdog_ms() const { return session_.watchdog_ms(); }  // granted by the last accepted HELLO

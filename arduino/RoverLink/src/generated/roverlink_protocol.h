@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0x1AECD35A
+// spec hash: 0xDFE6EC7A
 // RoverLink protocol: constants, enums, message structs (packed wire images) and their checks,
 // pack/unpack, dispatch, state table.
 #ifndef ROVERLINK_GENERATED_PROTOCOL_H
@@ -19,7 +19,7 @@ namespace roverlink {
 namespace proto {
 
 static const uint8_t PROTOCOL_VERSION = 2;
-static const uint32_t SPEC_HASH = 0x1AECD35AUL;
+static const uint32_t SPEC_HASH = 0xDFE6EC7AUL;
 static const uint8_t MAX_PAYLOAD = 64;
 static const uint8_t MAX_BODY = 68;  // msg_id + seq + payload + crc
 static const uint8_t MAX_FRAME = 70;  // COBS-encoded body + delimiter
@@ -50,9 +50,10 @@ enum class Board : uint8_t {
     EMULATOR = 2,  // The Python reference emulator.
     UNO = 3,  // Arduino Uno (ATmega328P).
     MEGA2560 = 4,  // Arduino Mega 2560 (ATmega2560).
+    PICO = 5,  // Raspberry Pi Pico (RP2040).
 };
 inline bool is_valid_Board(uint8_t value) {
-    return value <= 4;
+    return value <= 5;
 }
 
 // What this firmware build can do.

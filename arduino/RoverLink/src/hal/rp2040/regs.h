@@ -56,8 +56,41 @@ inline uint32_t pwm_cc(unsigned slice) { return PWM + 0x14u * slice + 0xcu; }
 inline uint32_t pwm_top(unsigned slice) { return PWM + 0x14u * slice + 0x10u; }
 
 const uint32_t TIMER = 0x40054000u;
+const uint32_t TIMER_ALARM0 = TIMER + 0x10u;
 const uint32_t TIMER_TIMERAWH = TIMER + 0x24u;
 const uint32_t TIMER_TIMERAWL = TIMER + 0x28u;
+const uint32_t TIMER_INTR = TIMER + 0x34u;
+const uint32_t TIMER_INTE = TIMER + 0x38u;
+
+const uint32_t WATCHDOG = 0x40058000u;
+const uint32_t WATCHDOG_CTRL = WATCHDOG + 0x00u;
+const uint32_t WATCHDOG_LOAD = WATCHDOG + 0x04u;
+const uint32_t WATCHDOG_REASON = WATCHDOG + 0x08u;
+const uint32_t WATCHDOG_TICK = WATCHDOG + 0x2cu;
+const uint32_t WATCHDOG_CTRL_ENABLE = 1u << 30;
+const uint32_t WATCHDOG_TICK_ENABLE = 1u << 9;
+
+const uint32_t PSM = 0x40010000u;
+const uint32_t PSM_WDSEL = PSM + 0x08u;  // what a watchdog reset resets
+
+const uint32_t CLOCKS = 0x40008000u;
+const uint32_t CLK_REF_CTRL = CLOCKS + 0x30u;
+const uint32_t CLK_REF_SELECTED = CLOCKS + 0x38u;
+const uint32_t CLK_SYS_CTRL = CLOCKS + 0x3cu;
+const uint32_t CLK_SYS_SELECTED = CLOCKS + 0x44u;
+const uint32_t CLK_PERI_CTRL = CLOCKS + 0x48u;
+
+const uint32_t XOSC = 0x40024000u;
+const uint32_t XOSC_CTRL = XOSC + 0x00u;
+const uint32_t XOSC_STATUS = XOSC + 0x04u;
+const uint32_t XOSC_STARTUP = XOSC + 0x0cu;
+
+const uint32_t PLL_SYS = 0x40028000u;
+const uint32_t PLL_CS = PLL_SYS + 0x0u;
+const uint32_t PLL_PWR = PLL_SYS + 0x4u;
+const uint32_t PLL_FBDIV_INT = PLL_SYS + 0x8u;
+const uint32_t PLL_PRIM = PLL_SYS + 0xcu;
+const uint32_t RESET_PLL_SYS = 1u << 12;
 
 const uint32_t ROSC_RANDOMBIT = 0x4006001cu;  // bit 0: the ring oscillator's output, sampled
 
@@ -72,10 +105,13 @@ const uint32_t NVIC_ISER = PPB + 0xe100u;
 const uint32_t NVIC_ICPR = PPB + 0xe280u;
 const uint32_t SCB_VTOR = PPB + 0xed08u;
 
+const unsigned IRQ_TIMER0 = 0;
 const unsigned IRQ_IO_BANK0 = 13;
 const unsigned IRQ_UART0 = 20;
 
-const uint32_t CLK_PERI_HZ = 125000000u;  // clk_peri as the clock setup leaves it (and rp2040js' default)
+const uint32_t XOSC_HZ = 12000000u;        // the Pico's crystal
+const uint32_t CLK_SYS_HZ = 125000000u;    // clocks.h: PLL_SYS from the crystal (rp2040js' fixed rate)
+const uint32_t CLK_PERI_HZ = CLK_SYS_HZ;   // clk_peri runs from clk_sys
 
 }  // namespace rp2040
 }  // namespace roverlink

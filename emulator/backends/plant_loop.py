@@ -1,6 +1,7 @@
 """The plant loop: the emulator's plant around an MCU, on a virtual clock, behind the emulator's
-serial line. The MCU is the simavr harness (robot.py) or, in the conformance tests, a native build
-of the firmware core: anything with `step()` and `reset()`."""
+serial line. The MCU is the simavr harness (simavr/robot.py), the rp2040js harness
+(rp2040/robot.py) or, in the conformance tests, a native build of the firmware core: anything
+with `step()` and `reset()`."""
 
 from __future__ import annotations
 
@@ -8,10 +9,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import ClassVar, Protocol
 
-from emulator.backends.simavr.harness import SimavrError
-from emulator.backends.simavr.wiring import RELEASED, PinState
+from emulator.backends.pins import RELEASED, PinState
 from emulator.clock import VirtualClock
 from emulator.device import ResetKind
+from emulator.errors import BackendError
 from emulator.faults import FaultSpec
 from emulator.injection import FaultInjection, checked_board_options
 from emulator.line import SerialLink
@@ -77,8 +78,9 @@ class PlantLoop(FaultInjection):
     lost. Fault items are scheduled on `clock` (emulator/injection.py); see UNSUPPORTED_FAULTS."""
 
     UNSUPPORTED_FAULTS: ClassVar[dict[str, str]] = {
-        "eeprom": "not available with --backend simavr: simavr programs every EEPROM cell the firmware "
-        "writes (it has no failing-cell model), so a write cannot be made to fail",
+        "eeprom": "not available with the firmware backends: simavr programs every EEPROM cell the "
+        "firmware writes (it has no failing-cell model), so a write cannot be made to fail, and the "
+        "Pico keeps no configuration",
     }
 
     def __init__(
@@ -216,7 +218,7 @@ class PlantLoop(FaultInjection):
             self._restart_at = now + hold_us + self.profile.plant.timing.power_on_ms * 1000
 
     def fail_eeprom(self, failing: bool = True) -> None:
-        raise SimavrError(f"fail_eeprom: {self.UNSUPPORTED_FAULTS['eeprom']}")
+        raise BackendError(f"fail_eeprom: {self.UNSUPPORTED_FAULTS['eeprom']}")
 
     # -- truth ---------------------------------------------------------------------------------------------
     @property
