@@ -44,20 +44,20 @@ def frame_bytes(cls: type[Message]) -> int:
     return cls.PAYLOAD_SIZE + FRAME_OVERHEAD
 
 
-def share(frame: int, rate_hz: int = RATE_HZ) -> float:
+def share(frame: int, rate_hz: int = RATE_HZ, baud: int = BAUD) -> float:
     """Share of one direction of the line that `rate_hz` frames of `frame` bytes take."""
-    return frame * BITS_PER_BYTE * rate_hz / BAUD
+    return frame * BITS_PER_BYTE * rate_hz / baud
 
 
-def line_use(setpoint: type[Message]) -> LineUse:
+def line_use(setpoint: type[Message], baud: int = BAUD) -> LineUse:
     sp = frame_bytes(setpoint)
     fb = frame_bytes(messages.Feedback)
-    return LineUse(setpoint.NAME, sp, fb, share(sp), share(fb))
+    return LineUse(setpoint.NAME, sp, fb, share(sp, baud=baud), share(fb, baud=baud))
 
 
-def report(u: LineUse) -> str:
+def report(u: LineUse, baud: int = BAUD) -> str:
     return (
-        f"line at {RATE_HZ} Hz both ways, {BAUD} baud: {u.setpoint} {u.setpoint_frame_bytes} B -> "
+        f"line at {RATE_HZ} Hz both ways, {baud} baud: {u.setpoint} {u.setpoint_frame_bytes} B -> "
         f"{u.host_to_mcu:.1%} of host-to-MCU, FEEDBACK {u.feedback_frame_bytes} B -> {u.mcu_to_host:.1%} of "
         f"MCU-to-host ({u.full_duplex:.1%} of the full-duplex line; budget {LINE_SHARE_BUDGET:.0%} of either)"
     )

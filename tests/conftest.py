@@ -74,6 +74,8 @@ SLOW_MODULES = (
     "tests/emulator/test_simavr_options.py",
     "tests/emulator/test_simavr_robotfile.py",
     "tests/emulator/test_simavr_wiring.py",
+    # the Pico firmware in rp2040js, served on a pty
+    "tests/emulator/test_rp2040_emulate.py",
     # the distribution's Python only (scripts/test_system_opencv.sh runs it)
     "tests/host_sdk/sensors/test_camera_system_opencv.py",
     # long closed-loop runs: the tracker on real-photo sequences (the EKF's minutes of driving are
@@ -95,6 +97,7 @@ SERIAL_MODULES = (
     "tests/roverlink/follow/test_follow_metrics.py",
     "tests/roverlink/follow/test_follow_robot.py",
     "tests/roverlink/cli/test_emulate_log.py",
+    "tests/emulator/test_rp2040_emulate.py",
     "tests/system/integration/test_integration_pty.py",
     "tests/system/integration/test_integration_robot_file.py",
     "tests/emulator/test_transport.py",

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from emulator.device import Emulator
-from emulator.errors import EmulatorError
+from emulator.errors import BackendError, EmulatorError
 from emulator.profiles import PROFILE_NAMES, EmulatorProfile, get_profile
 from emulator.robot_file import profile_from_file
 from emulator.sensors.camera import LOOKS, MAX_DISTRACTORS
@@ -41,11 +41,14 @@ from roverlink import argtypes, firmware, say
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--backend",
-        choices=("python", "simavr"),
+        choices=("python", "simavr", "rp2040"),
         default="python",
         help="python: the firmware model (default); simavr: the example's compiled AVR firmware in simavr "
         "with the same plant and serial line (needs avr-gcc and simavr; it supports every option but --baud "
-        "other than 115200, which the firmware's Serial.begin() fixes, and the eeprom@T fault)",
+        "other than 115200, which the firmware's Serial.begin() fixes, and the eeprom@T fault); rp2040: the "
+        "Pico firmware in rp2040js (needs arm-none-eabi-gcc, Node.js and `npm ci --prefix tools/rp2040`; "
+        '--profile moves the reference robot to the Pico pinout, --robot takes a board = "pico" file; '
+        "no --eeprom, --bootloader-ms or eeprom@T: the Pico keeps no configuration)",
     )
     p.add_argument("--profile", default="diffdrive-tb6612", choices=PROFILE_NAMES, help="reference robot to emulate")
     p.add_argument(
@@ -158,11 +161,11 @@ def cmd_emulate(args: argparse.Namespace) -> int:
     values = {k: getattr(args, k, None) for k in SENSOR_PARAMS}
     for key in ("lidar_hz", "distractors"):
         values[key] = None if values[key] is None else str(values[key])
-    if getattr(args, "backend", "python") == "simavr":
+    if getattr(args, "backend", "python") != "python":
         if any(values.values()):
             say.error("--world, --lidar, --imu and --camera need --backend python")
             return 2
-        return _cmd_emulate_simavr(args)
+        return _cmd_emulate_firmware(args)
     try:
         profile = profile_from_file(args.robot) if args.robot else args.profile
         emu = Emulator(profile, args.seed, **_board_options(args))
@@ -271,13 +274,49 @@ def _simavr_firmware(args: argparse.Namespace) -> tuple[EmulatorProfile, Path]:
     return file_profile(robot, sketch.name), built.elf
 
 
-def _cmd_emulate_simavr(args: argparse.Namespace) -> int:
-    from emulator.backends.simavr import SimavrError, SimavrRobot  # noqa: PLC0415 (optional backend)
+def _rp2040_firmware(args: argparse.Namespace) -> tuple[EmulatorProfile, Path]:
+    """The Pico robot (a board = "pico" file, or --profile moved to the Pico pinout) and the flash
+    image of its firmware, built for --baud."""
+    from emulator.backends.rp2040 import pico_profile, pico_robot  # noqa: PLC0415 (optional backend)
+    from roverlink.firmware.pico import build_pico  # noqa: PLC0415
 
+    if args.eeprom != "blank" or args.bootloader_ms is not None:
+        raise firmware.FirmwareError(
+            "--eeprom and --bootloader-ms: not with --backend rp2040 (the Pico keeps no "
+            "configuration and has no serial bootloader)"
+        )
+    if getattr(args, "robot", None):
+        robot = firmware.load_robot(args.robot)
+        if robot.board != "pico":
+            raise firmware.FirmwareError(
+                f'{args.robot} is for the {robot.board}: --backend rp2040 runs a board = "pico" robot file '
+                "(docs/firmware.md, Raspberry Pi Pico)"
+            )
+        name, profile = Path(args.robot).stem, pico_profile(robot)
+    else:
+        robot, name, profile = pico_robot(args.profile), args.profile, pico_profile(args.profile)
+    built = build_pico(robot, firmware.BUILD_ROOT / "pico" / f"{name}-{args.baud}", name=name, baud=args.baud)
+    return profile, built.bin
+
+
+def _cmd_emulate_firmware(args: argparse.Namespace) -> int:
+    """A compiled firmware served on a pty: the AVR one in simavr, or the Pico one in rp2040js."""
+    from emulator.backends.rp2040 import Rp2040Robot  # noqa: PLC0415 (optional backends)
+    from emulator.backends.simavr import SimavrRobot  # noqa: PLC0415
+
+    rp2040 = args.backend == "rp2040"
+    robot: SimavrRobot | Rp2040Robot
     try:
-        profile, elf = _simavr_firmware(args)
-        robot = SimavrRobot(profile, elf=elf, seed=args.seed, **_board_options(args))
-    except (SimavrError, EmulatorError, firmware.FirmwareError) as exc:
+        if rp2040:
+            profile, image = _rp2040_firmware(args)
+            options = {k: v for k, v in _board_options(args).items() if k not in ("eeprom", "bootloader_ms")}
+            robot = Rp2040Robot(profile, image, seed=args.seed, **options)
+            about = f"{image.name} on the RP2040 (rp2040js) at 125 MHz"
+        else:
+            profile, elf = _simavr_firmware(args)
+            robot = SimavrRobot(profile, elf=elf, seed=args.seed, **_board_options(args))
+            about = f"{robot.elf.name} on {robot.harness.wiring.mcu} at 16 MHz"
+    except (BackendError, EmulatorError, firmware.FirmwareError) as exc:
         say.error(f"{exc}")
         return 2
     except RobotFileError as exc:
@@ -289,20 +328,21 @@ def _cmd_emulate_simavr(args: argparse.Namespace) -> int:
         robot.close()
         say.error(f"{exc}")
         return 1
+    tag = args.backend
     if log is not None:
         print(
-            f"[simavr] {robot.profile.name}: {robot.elf.name} on {robot.harness.wiring.mcu} at 16 MHz, "
-            f"seed {args.seed}, {args.baud} baud on {endpoint.name}; Ctrl-C to stop",
+            f"[{tag}] {robot.profile.name}: {about}, seed {args.seed}, {args.baud} baud on {endpoint.name}; "
+            "Ctrl-C to stop",
             file=log,
             flush=True,
         )
+    # A USB-UART adapter's DTR resets an Arduino through its bootloader's circuit, not a Pico.
+    dtr_reset = not args.no_dtr_reset and not rp2040
     try:
-        ratio = serve(
-            robot, endpoint, stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log, tag="simavr"
-        )
+        ratio = serve(robot, endpoint, stopping, dtr_reset_on_open=dtr_reset, speed=args.speed, log=log, tag=tag)
     finally:
         endpoint.close()
         robot.close()
     if log is not None:
-        print(f"[simavr] ran {ratio:.1f}x faster than real time while busy", file=log, flush=True)
+        print(f"[{tag}] ran {ratio:.1f}x faster than real time while busy", file=log, flush=True)
     return 0

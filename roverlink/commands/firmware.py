@@ -32,6 +32,7 @@ from roverlink.firmware import (
     robot_board,
     write_sketch,
 )
+from roverlink.firmware.pico import PicoBuild, bootsel_drives, build_pico, flash_uf2
 
 
 def _known_ports() -> list[str]:
@@ -67,8 +68,27 @@ def _out(args: argparse.Namespace, sketch: Path, board: BoardSpec) -> Path:
     return Path.cwd() / "firmware" / name / board.name
 
 
+def _pico(args: argparse.Namespace) -> PicoBuild | None:
+    """A robot file for the Pico built (ELF, flash image, UF2) into --out or ./firmware/<name>/pico;
+    None for any other target."""
+    if not getattr(args, "robot", None):
+        return None
+    robot = load_robot(args.robot)
+    if robot.board != "pico":
+        return None
+    if args.board is not None:
+        raise FirmwareError(f"{robot.path} is for the pico, not the {args.board}: leave --board out")
+    name = Path(args.robot).stem
+    return build_pico(robot, Path(args.out) if args.out else Path.cwd() / "firmware" / name / "pico", name=name)
+
+
 def cmd_build(args: argparse.Namespace) -> int:
     """Compile examples (or a sketch) into ELF and HEX and print their flash and SRAM use."""
+    pico = _pico(args)
+    if pico is not None:
+        print(pico.summary())
+        print(f"  {pico.uf2}")
+        return 0
     targets = _targets(args)
     if args.out and len(targets) > 1:
         raise FirmwareError("--out needs a single --example or --sketch")
@@ -80,7 +100,19 @@ def cmd_build(args: argparse.Namespace) -> int:
 
 
 def cmd_flash(args: argparse.Namespace) -> int:
-    """Build an example (or sketch) and write it to a board through its bootloader with avrdude."""
+    """Build an example (or sketch) and write it to a board through its bootloader with avrdude;
+    a Pico's firmware is copied to its BOOTSEL drive."""
+    pico = _pico(args)
+    if pico is not None:
+        print(pico.summary())
+        if args.dry_run:
+            drives = bootsel_drives()
+            print(f"# copy {pico.uf2} to {drives[0] if drives else 'the RPI-RP2 drive (none is mounted)'}")
+            return 0
+        print(f"copied to {flash_uf2(pico.uf2, Path(args.drive) if args.drive else None)}")
+        return 0
+    if args.port is None:
+        raise FirmwareError("--port is needed: the serial port of the board, e.g. /dev/ttyACM0")
     ((sketch, board),) = _targets(args)
     hex_file = _out(args, sketch, board).resolve() / f"{sketch.name}.hex"
     if args.dry_run:
@@ -158,7 +190,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     build.set_defaults(func=_guarded(cmd_build))
     flash = fw_sub.add_parser("flash", help=cmd_flash.__doc__, description=cmd_flash.__doc__)
     _add_target_options(flash, example_required=True)
-    flash.add_argument("--port", required=True, help="serial port of the board, e.g. /dev/ttyACM0")
+    flash.add_argument("--port", help="serial port of the board, e.g. /dev/ttyACM0 (not for a Pico)")
+    flash.add_argument("--drive", metavar="DIR", help="a Pico's BOOTSEL drive (default: the one mounted)")
     flash.add_argument("--dry-run", action="store_true", help="print the avrdude command instead of running it")
     flash.set_defaults(func=_guarded(cmd_flash))
     sketch = fw_sub.add_parser("sketch", help=cmd_sketch.__doc__, description=cmd_sketch.__doc__)

@@ -23,7 +23,7 @@ from pathlib import Path
 
 from protocol.robotfile.firmware import profile_header
 from protocol.robotfile.model import RobotFile
-from roverlink.firmware.boards import BUILD_ROOT, LIBRARY_DIR, ToolchainMissingError
+from roverlink.firmware.boards import BUILD_ROOT, LIBRARY_DIR, FirmwareError, ToolchainMissingError
 from roverlink.firmware.build import _digest, _replace_atomically, _run, _tree_digest
 
 PROGRAM = LIBRARY_DIR / "extras" / "pico" / "roverlink_pico.cpp"
@@ -178,3 +178,45 @@ def build_pico(robot: RobotFile, out_dir: Path, *, name: str | None = None, baud
     sections = dict(re.findall(r"^(\.\S+)\s+(\d+)\s+\d+", _run([size, "-A", str(elf)], "size"), re.M))
     data = int(sections.get(".data", 0))
     return PicoBuild(name, elf, binary, uf2, binary.stat().st_size, data + int(sections.get(".bss", 0)))
+
+
+def bootsel_drives(mounts: Path = Path("/proc/mounts")) -> list[Path]:
+    """Mounted drives of Picos in BOOTSEL mode: a mount point holding INFO_UF2.TXT whose board is
+    RPI-RP2 (the boot ROM's USB drive; desktops mount it under /media/<user>/RPI-RP2)."""
+    found = []
+    try:
+        lines = mounts.read_text(encoding="utf-8").splitlines()
+    except OSError:
+        lines = []
+    for line in lines:
+        fields = line.split()
+        if len(fields) < 2:
+            continue
+        point = Path(fields[1].replace("\\040", " "))
+        info = point / "INFO_UF2.TXT"
+        try:
+            if "RPI-RP2" in info.read_text(encoding="utf-8", errors="replace"):
+                found.append(point)
+        except OSError:
+            continue
+    return found
+
+
+def flash_uf2(uf2: Path, drive: Path | None = None) -> Path:
+    """Copies `uf2` to a Pico's BOOTSEL drive (`drive`, else the one mounted); the Pico writes it to
+    its flash and starts it. FirmwareError says how to get the drive when none is mounted."""
+    if drive is None:
+        drives = bootsel_drives()
+        if not drives:
+            raise FirmwareError(
+                "no Pico in BOOTSEL mode is mounted: hold the BOOTSEL button while plugging the Pico in "
+                "(its RPI-RP2 drive appears; mount it if your system does not), or pass --drive DIR"
+            )
+        if len(drives) > 1:
+            raise FirmwareError(f"several Picos in BOOTSEL mode ({', '.join(map(str, drives))}): pass --drive DIR")
+        drive = drives[0]
+    if not (drive / "INFO_UF2.TXT").is_file():
+        raise FirmwareError(f"{drive} is not a Pico's BOOTSEL drive (it has no INFO_UF2.TXT)")
+    target = drive / uf2.name
+    shutil.copyfile(uf2, target)
+    return target

@@ -16,6 +16,7 @@ import textwrap
 from pathlib import Path
 
 from protocol.generator import wiring as rules
+from protocol.generator.hardware import pico_pinout
 from protocol.robotfile import Problem, RobotFile, RobotFileError, check, load
 from protocol.robotfile.firmware import example_for, example_reference, examples, name_problem, profile_header
 from protocol.robotfile.lines import line_of
@@ -74,8 +75,16 @@ def firmware_problems(robot: RobotFile) -> list[Problem]:
     problem = name_problem(robot.name)
     if problem:
         p.add("", ("name",), problem)
+    if robot.board == "pico":
+        if robot.drive.driver not in pico_pinout():
+            p.add(
+                "drive", ("driver",), f"= {robot.drive.driver!r}: the Pico firmware drives {', '.join(pico_pinout())}"
+            )
+        if len(robot.wiring.encoders) != robot.drive.channels:
+            p.add("encoders", ("pins",), "the Pico firmware needs encoder pins for each wheel channel")
+        return p.found
     if robot.board not in ("uno", "mega2560"):
-        p.add("", ("board",), f"= {robot.board!r}: the firmware builds for uno or mega2560")
+        p.add("", ("board",), f"= {robot.board!r}: the firmware builds for uno, mega2560 or pico")
         return p.found
     example = example_for(robot)
     if example is None:

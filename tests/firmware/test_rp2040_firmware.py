@@ -76,3 +76,86 @@ def test_a_corrupted_boot_block_is_refused(tmp_path: Path) -> None:
     bad.write_bytes(bytes(image))
     with pytest.raises(Rp2040Error):
         Harness(bad, flash=True)
+
+
+def test_a_hung_firmware_is_reset_by_the_watchdog_and_boots_with_a_new_boot_id(tmp_path: Path) -> None:
+    """The loop stops while the motors are driven (a firmware stuck with its interrupts off): the
+    motors stay driven until the watchdog resets the chip 100 ms later; the board then boots again,
+    puts the motors in the robot's safe state (BRAKE) and announces a new boot_id."""
+    from host_sdk.framing import encode_frame
+    from protocol.generated.constants import PROTOCOL_VERSION, SPEC_HASH
+    from protocol.generated.hardware import MotorMode
+    from protocol.generated.messages import Arm, Feedback, Hello, SetWheelSpeeds
+
+    built = _build("diffdrive-tb6612", tmp_path)
+    decoder = FrameDecoder()
+
+    def received(robot: Rp2040Robot) -> list[object]:
+        return [f.message for f in decoder.feed(robot.host_read()) if isinstance(f, Frame)]
+
+    with Rp2040Robot(pico_profile("diffdrive-tb6612"), built.bin) as robot:
+        robot.advance_us(20_000)
+        [boot, *_] = received(robot)
+        assert isinstance(boot, Identity)
+        robot.host_write(encode_frame(Hello(PROTOCOL_VERSION, SPEC_HASH, 0, 0, 0), seq=1))
+        robot.advance_us(20_000)
+        robot.host_write(encode_frame(Arm(boot.boot_id), seq=2))
+        robot.advance_us(20_000)
+        for seq in range(3, 13):
+            robot.host_write(encode_frame(SetWheelSpeeds(200, 200), seq=seq))
+            robot.advance_us(10_000)
+        received(robot)
+        assert robot.pins.mode == (MotorMode.DRIVE, MotorMode.DRIVE)
+        robot.harness.hang()
+        robot.advance_us(90_000)
+        assert robot.harness.resets == 0 and robot.pins.mode == (MotorMode.DRIVE, MotorMode.DRIVE)
+        assert received(robot) == []  # nothing from a hung firmware
+        robot.advance_us(30_000)  # the watchdog's 100 ms are over
+        assert robot.harness.resets == 1
+        assert robot.pins.mode == (MotorMode.BRAKE, MotorMode.BRAKE) and robot.pins.duty == (0.0, 0.0)
+        robot.advance_us(20_000)
+        again = [m for m in received(robot) if isinstance(m, Identity)]
+    assert [m.reason for m in again] == [IdentityReason.BOOT]
+    assert again[0].boot_id != boot.boot_id
+    assert not any(isinstance(m, Feedback) for m in again)
+
+
+def test_the_picos_frame_decoder_is_within_the_avr_budget(tmp_path: Path) -> None:
+    """docs/budgets.md, RP2040: the decoder's cycles per byte of frame in rp2040js (deterministic)
+    within the AVR decoder's bound, every SET_PID of a one-second flood answered, and the whole
+    frame's cost (interrupt, decode, dispatch, the gains applied, the ACK) within its bound."""
+    from benchmarks.rp2040 import DECODER_BUDGET, WHOLE_FRAME_BUDGET, measure
+
+    built = _build("diffdrive-tb6612", tmp_path)
+    run = measure(115_200, built.bin, built.elf)
+    print(f"\n  decoder {run.decoder_cycles_per_byte} cycles/byte, whole frame {run.whole_frame_cycles_per_byte}")
+    assert 0 < run.decoder_cycles_per_byte <= DECODER_BUDGET
+    assert run.decoder_cycles_per_byte < run.whole_frame_cycles_per_byte <= WHOLE_FRAME_BUDGET
+    assert run.frames > 400  # the line was kept full: 27-byte frames at 115200 baud
+
+
+def test_roverlink_firmware_builds_and_flashes_a_pico_robot_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`roverlink firmware build --robot FILE` for a board = "pico" file writes the ELF, the flash
+    image and the UF2; `flash` copies the UF2 to the Pico's BOOTSEL drive (here a folder with the
+    boot ROM's INFO_UF2.TXT), refuses a folder that is not one, and says how to get the drive."""
+    from protocol.robotfile import reference_path
+    from protocol.robotfile.pico import on_pico
+    from tests.support.avr_build import firmware_cli
+
+    _require()
+    monkeypatch.chdir(tmp_path)  # flash builds where the user is: ./firmware/<name>/pico
+    path = tmp_path / "my_pico.toml"
+    path.write_text(on_pico(reference_path("diffdrive-bts7960").read_text(encoding="utf-8")), encoding="utf-8")
+    out = tmp_path / "out"
+    code, stdout, _ = firmware_cli(capsys, "firmware", "build", "--robot", str(path), "--out", str(out))
+    assert code == 0 and "my_pico (pico): flash" in stdout
+    assert {p.name for p in out.iterdir()} >= {"my_pico.elf", "my_pico.bin", "my_pico.uf2", "robot_profile.h"}
+    drive = tmp_path / "RPI-RP2"
+    drive.mkdir()
+    code, _, err = firmware_cli(capsys, "firmware", "flash", "--robot", str(path), "--drive", str(drive))
+    assert code == 2 and "not a Pico's BOOTSEL drive" in err
+    (drive / "INFO_UF2.TXT").write_text("UF2 Bootloader v3.0\nModel: Raspberry Pi RP2\nBoard-ID: RPI-RP2\n")
+    code, stdout, _ = firmware_cli(capsys, "firmware", "flash", "--robot", str(path), "--drive", str(drive))
+    assert code == 0 and (drive / "my_pico.uf2").read_bytes()[:4] == b"UF2\n"

@@ -2,6 +2,10 @@
 // emulator/backends/rp2040/harness.py with the step protocol of the simavr harness.
 //
 //   node tools/rp2040/harness.mjs IMAGE.bin [--flash] [--enc A B]... [--watch PIN]... [--baud N] [--seed N]
+//                                 [--histogram]
+//
+// --histogram: the cycles executed at every PC, which P reports (a profile: benchmarks/rp2040.py
+// maps the PCs to source files).
 //
 // IMAGE.bin is an SRAM image started at its vector table, or with --flash the image a Pico runs
 // from flash: its 256-byte boot block is checked (CRC-32) and run from SRAM as the boot ROM does
@@ -15,11 +19,17 @@
 //                         at the baud rate from the start of the step (those that do not fit wait
 //                         for the next). Reply: OK NANOS PINS TXHEX, where PINS is, per watched
 //                         pin, HIGH_PPM:LEVEL:PULSE_NS (the part of the step it was high, its
-//                         level at the end, the length of its last whole high pulse so far)
-//                         joined by commas, and TXHEX the bytes UART0 sent (or -).
+//                         level at the end, the high time its PWM slice is set to, or 0)
+//                         joined by commas, and TXHEX the bytes UART0 put on the line by the
+//                         end of the step, paced at the baud rate (or -).
 //   R                     reset: a new chip, every peripheral in its reset state, running the image
 //                         again (what the board's reset does); the clock goes on.
+//   H                     hang: the core stops executing (a firmware stuck in a loop, with its
+//                         interrupts off) while the peripherals and the watchdog go on; the next
+//                         reset (R, or the watchdog's) ends it.
+//   P                     the histogram: OK PC:CYCLES,PC:CYCLES.. (hex PCs), or OK - without one
 //   N                     resets so far (a watchdog's among them): OK COUNT
+//   C                     cycles the core has executed (not asleep) since the harness started: OK BUSY
 //   Q                     quit.
 //
 // Time is the simulation clock's (ns); the core runs 125 MHz cycles and sleeps through WFI up to
@@ -62,7 +72,7 @@ class Noise {
 }
 
 const SRAM = 0x20000000;
-const PULSES_STOPPED_NS = 25e6;
+const GPIO_FUNC_PWM = 4;
 const BOOT2_SRAM = 0x20041f00; // where the boot ROM copies the boot block
 const BOOT2_BYTES = 256;
 
@@ -84,13 +94,14 @@ const QUADRATURE = [
 ];
 
 function parseArgs(argv) {
-  const args = { image: argv[0], flash: false, encoders: [], watch: [], baud: 115200, seed: 1 };
+  const args = { image: argv[0], flash: false, encoders: [], watch: [], baud: 115200, seed: 1, histogram: false };
   for (let i = 1; i < argv.length; i++) {
     if (argv[i] === '--flash') args.flash = true;
     else if (argv[i] === '--enc') args.encoders.push([Number(argv[++i]), Number(argv[++i])]);
     else if (argv[i] === '--watch') args.watch.push(Number(argv[++i]));
     else if (argv[i] === '--baud') args.baud = Number(argv[++i]);
     else if (argv[i] === '--seed') args.seed = Number(argv[++i]);
+    else if (argv[i] === '--histogram') args.histogram = true;
     else throw new Error(`unknown argument ${argv[i]}`);
   }
   if (!args.image) throw new Error('usage: harness.mjs IMAGE.bin [--enc A B]... [--watch PIN]... [--baud N] [--seed N]');
@@ -103,15 +114,14 @@ class Harness {
     this.image = readFileSync(args.image);
     this.resets = 0;
     this.rxQueue = [];
-    this.tx = [];
+    this.byteNs = Math.round(10e9 / args.baud); // start bit, 8 data bits, stop bit
+    this.busy = 0;
+    this.histogram = args.histogram ? new Map() : null;
     this.positions = args.encoders.map(() => 0);
     this.noise = new Noise(args.seed);
     this.base = 0; // ns before the current chip's clock started (each reset makes a new chip)
     this.high = args.watch.map(() => 0);
     this.since = args.watch.map(() => 0);
-    this.pulse = args.watch.map(() => 0);
-    this.rose = args.watch.map(() => undefined);
-    this.edge = args.watch.map(() => 0); // time of each pin's last change
     if (args.flash) {
       const block = this.image.subarray(0, BOOT2_BYTES);
       const stored = new DataView(block.buffer, block.byteOffset + 252, 4).getUint32(0, true);
@@ -125,14 +135,25 @@ class Harness {
   /** A new chip, as a reset leaves one (every peripheral in its reset state), running the image. */
   boot() {
     if (this.mcu) this.base += this.mcu.clock.nanos;
+    this.hung = false;
     const mcu = new RP2040();
     this.mcu = mcu;
-    // The outputs of the old chip are gone: no pulse measured yet.
-    this.pulse = this.args.watch.map(() => 0);
-    this.rose = this.args.watch.map(() => undefined);
-    this.edge = this.args.watch.map(() => this.nanos);
-    mcu.uart[0].onByte = (b) => this.tx.push(b);
-    mcu.peripherals[0x40058].onWatchdogTrigger = () => this.reset(); // WATCHDOG_BASE
+    // rp2040js hands over each byte as it is written: the line takes it at the baud rate, after
+    // the bytes before it (the chip's FIFO never fills here, so the firmware never waits on it).
+    this.tx = [];
+    this.txFree = this.nanos;
+    mcu.uart[0].onByte = (b) => {
+      this.txFree = Math.max(this.nanos, this.txFree) + this.byteNs;
+      this.tx.push([this.txFree, b]);
+    };
+    // WATCHDOG_BASE. A trigger stops this chip's watchdog (rp2040js would fire it again and again
+    // at the same instant while the old chip's clock finishes its tick) and starts a new chip.
+    const watchdog = mcu.peripherals[0x40058];
+    watchdog.onWatchdogTrigger = () => {
+      watchdog.alarm.enable = false;
+      watchdog.timer.enable = false;
+      if (this.mcu === mcu) this.reset();
+    };
     mcu.peripherals[ROSC_BASE] = new RingOscillator(mcu, this.noise);
     for (const [k, pin] of this.args.watch.entries()) {
       mcu.gpio[pin].addListener(() => this.pinChanged(k));
@@ -178,31 +199,41 @@ class Harness {
 
   pinChanged(k) {
     const pin = this.mcu.gpio[this.args.watch[k]];
-    // The level before this change held since `since`: a falling edge ends a high pulse.
-    if (!pin.outputValue) {
-      this.high[k] += this.nanos - this.since[k];
-      if (this.rose[k] !== undefined) this.pulse[k] = this.nanos - this.rose[k];
-    } else {
-      this.rose[k] = this.nanos;
-    }
+    // The level before this change held since `since`: a rising edge ends a low stretch.
+    if (!pin.outputValue) this.high[k] += this.nanos - this.since[k];
     this.since[k] = this.nanos;
-    this.edge[k] = this.nanos;
   }
 
   /** Runs the core until `until` (ns), sleeping through WFI up to the next alarm or `until`. */
   runUntil(until) {
-    const { mcu } = this;
-    const clock = mcu.clock;
     while (this.nanos < until) {
-      if (mcu.core.waiting) {
-        // Asleep (WFI): on to the next alarm (none scheduled: to `until`).
+      const { mcu } = this; // a new chip after a watchdog reset inside the loop
+      const clock = mcu.clock;
+      if (mcu.core.waiting || this.hung) {
+        // Asleep (WFI) or hung: on to the next alarm (none scheduled: to `until`).
         const left = until - this.nanos;
         const next = clock.nextAlarm ? clock.nanosToNextAlarm : left;
         clock.tick(Math.max(0, Math.min(next, left)));
       } else {
-        clock.tick(mcu.core.executeInstruction() * CYCLE_NS);
+        const pc = mcu.core.PC;
+        const cycles = mcu.core.executeInstruction();
+        this.busy += cycles;
+        if (this.histogram) this.histogram.set(pc, (this.histogram.get(pc) ?? 0) + cycles);
+        clock.tick(cycles * CYCLE_NS);
       }
     }
+  }
+
+  /** The high time per period `pin`'s PWM slice is set to (its channel's compare value in
+   * counter ticks of clk_sys / divider), 0 when the pin is not on a running slice: the width the
+   * firmware set, as the simavr harness reads a timer's compare register (a new value reaches
+   * the pin at the slice's next wrap). */
+  pulseNs(pin) {
+    const gpio = this.mcu.gpio[pin];
+    const slice = this.mcu.pwm.channels[(pin >> 1) & 7];
+    if (gpio.functionSelect !== GPIO_FUNC_PWM || !(slice.csr & 1)) return 0;
+    const level = pin & 1 ? slice.cc >>> 16 : slice.cc & 0xffff;
+    return Math.round((level * CYCLE_NS * slice.div) / 16); // DIV: 8.4 fixed point
   }
 
   step(us, counts, rx) {
@@ -214,7 +245,7 @@ class Harness {
     }
     this.rxQueue.push(...rx);
     const events = [];
-    const byteNs = Math.round(10e9 / this.args.baud);
+    const { byteNs } = this;
     for (let i = 0; i < this.rxQueue.length && start + (i + 1) * byteNs <= end; i++) {
       const byte = this.rxQueue[i];
       events.push([start + (i + 1) * byteNs, () => this.mcu.uart[0].feedByte(byte)]);
@@ -243,11 +274,12 @@ class Harness {
     const pins = this.args.watch.map((pin, k) => {
       const level = this.mcu.gpio[pin].outputValue;
       const high = this.high[k] + (level ? end - this.since[k] : 0);
-      // A pin low for longer than an RC period (20 ms) carries no pulses any more.
-      const pulse = !level && end - this.edge[k] > PULSES_STOPPED_NS ? 0 : this.pulse[k];
-      return `${Math.round((high * 1e6) / (end - start))}:${level ? 1 : 0}:${pulse}`;
+      return `${Math.round((high * 1e6) / (end - start))}:${level ? 1 : 0}:${this.pulseNs(pin)}`;
     });
-    const tx = Buffer.from(this.tx.splice(0)).toString('hex') || '-';
+    // The bytes whose stop bit has left by the end of the step; the rest go with later steps.
+    const sent = this.tx.findIndex(([at]) => at > end);
+    const out = this.tx.splice(0, sent < 0 ? this.tx.length : sent).map(([, b]) => b);
+    const tx = Buffer.from(out).toString('hex') || '-';
     return `OK ${this.nanos} ${pins.join(',') || '-'} ${tx}`;
   }
 }
@@ -267,6 +299,14 @@ for await (const line of lines) {
     } else if (command === 'R') {
       harness.reset();
       reply = 'OK';
+    } else if (command === 'H') {
+      harness.hung = true;
+      reply = 'OK';
+    } else if (command === 'P') {
+      const h = harness.histogram;
+      reply = h && h.size ? `OK ${[...h].map(([pc, c]) => `${pc.toString(16)}:${c}`).join(',')}` : 'OK -';
+    } else if (command === 'C') {
+      reply = `OK ${harness.busy}`;
     } else if (command === 'N') {
       reply = `OK ${harness.resets}`;
     } else if (command === 'Q') {

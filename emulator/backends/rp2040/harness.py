@@ -4,8 +4,8 @@
 Each step is a synchronous request/reply over pipes, as with the simavr harness: the harness runs
 the chip for a number of microseconds with the encoder positions it is given (each count change a
 quadrature edge on the encoder's two pins) and the host's bytes for UART0, and reports each
-watched pin's share of the step spent high, its level at the end and its last high pulse, and the
-bytes UART0 sent.
+watched pin's share of the step spent high, its level at the end and the pulse its PWM slice is
+set to, and the bytes UART0 put on the line, paced at the baud rate.
 Time is the simulation clock's, in nanoseconds (the core at 125 MHz, asleep through WFI); the ring
 oscillator's noise, which rp2040js does not model, comes from a generator seeded with `seed`.
 """
@@ -37,7 +37,8 @@ class PinReading:
     level: bool
     """Its level at the end of the step."""
     pulse_us: float = 0.0
-    """Its last whole high pulse so far (0: none, or low for longer than an RC period)."""
+    """The high time per period its PWM slice is set to (0: not on a running slice): the width
+    the firmware set, read from the slice's compare register as simavr reads a timer's."""
 
 
 def node_modules() -> Path:
@@ -60,6 +61,7 @@ class Harness:
         baud: int = 115200,
         seed: int = 1,
         flash: bool = False,
+        histogram: bool = False,
     ) -> None:
         node = shutil.which("node")
         if node is None:
@@ -74,6 +76,8 @@ class Harness:
             cmd += ["--enc", str(a), str(b)]
         for pin in watch:
             cmd += ["--watch", str(pin)]
+        if histogram:
+            cmd.append("--histogram")
         self._proc = PipeProcess(cmd, HARNESS_DIR, Rp2040Error, "rp2040 harness")
         self.nanos = 0
 
@@ -95,6 +99,22 @@ class Harness:
     def reset(self) -> None:
         """The board's reset: the chip starts the image again."""
         self._ask("R")
+
+    def cycles(self) -> int:
+        """Cycles the core executed (not asleep) since the start."""
+        return int(self._ask("C")[1])
+
+    def histogram(self) -> dict[int, int]:
+        """Cycles executed at each PC since the start (`histogram=True`; empty without)."""
+        reply = self._ask("P")
+        if reply[1] == "-":
+            return {}
+        return {int(pc, 16): int(c) for pc, c in (item.split(":") for item in reply[1].split(","))}
+
+    def hang(self) -> None:
+        """The core stops executing (a firmware stuck with its interrupts off); the peripherals and
+        the watchdog go on, and the next reset ends it."""
+        self._ask("H")
 
     @property
     def resets(self) -> int:

@@ -99,7 +99,8 @@ class _Rp2040MCU:
 
 class Rp2040Robot(PlantLoop):
     """A Pico robot's firmware image (`image`: the build's .bin, a flash image) in rp2040js inside
-    the plant loop. `seed` draws the line's faults and the ring oscillator's noise (the boot_id)."""
+    the plant loop. `seed` draws the line's faults and the ring oscillator's noise (the boot_id);
+    `histogram`: the harness keeps the cycles executed at each PC (Harness.histogram)."""
 
     def __init__(
         self,
@@ -111,10 +112,13 @@ class Rp2040Robot(PlantLoop):
         faults: str | FaultSpec | None = None,
         latency_us: int = 0,
         drift_ppm: float = 0.0,
+        histogram: bool = False,
     ) -> None:
         w = profile.robot.wiring
         encoders = tuple((dict(e.pins)["a"], dict(e.pins)["b"]) for e in w.encoders)
-        self.harness = Harness(image, encoders=encoders, watch=watched_pins(w), baud=baud, seed=seed, flash=True)
+        self.harness = Harness(
+            image, encoders=encoders, watch=watched_pins(w), baud=baud, seed=seed, flash=True, histogram=histogram
+        )
         try:
             super().__init__(
                 profile,

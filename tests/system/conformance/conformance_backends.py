@@ -42,7 +42,7 @@ from tests.support.hostlink import Link, answers
 from tests.support.native_sim import NativeSim
 from tests.support.simavr import example_elf
 
-BACKENDS = ("python", "native", "simavr")
+BACKENDS = ("python", "native", "simavr", "rp2040")
 """The suite's backends. make_backend() also opens "rp2040" (the robot moved to a Pico in rp2040js),
 which is not in the suite yet: docs/emulator.md, "The rp2040 backend", lists what it passes."""
 ON_PICO = "@pico"

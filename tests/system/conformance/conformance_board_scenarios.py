@@ -121,6 +121,26 @@ def sc_encoder_fault(h: Host) -> dict[str, object]:
     }
 
 
+def sc_no_storage(h: Host) -> dict[str, object]:
+    """A board without storage (the Pico: no EEPROM capability): SAVE_CONFIG is refused with
+    NACK(UNSUPPORTED), and after a reset the configuration is the robot's defaults again."""
+    boot(h)
+    h.request(hello())
+    config = h.request(messages.GetConfig())
+    assert isinstance(config, messages.Config)
+    fields = {f.name: getattr(config, f.name) for f in messages.SetConfig.FIELDS}
+    out: dict[str, object] = {"defaults": wire(config)}
+    out["set_config"] = wire(h.request(messages.SetConfig(**{**fields, "accel_limit_mm_s2": 1500})))
+    out["save"] = wire(h.request(messages.SaveConfig()))
+    h.b.reset()
+    boot(h)
+    h.request(hello())
+    after = h.request(messages.GetConfig())
+    assert isinstance(after, messages.Config)
+    out["after_reset_is_defaults"] = dataclasses.replace(after, req_seq=0) == dataclasses.replace(config, req_seq=0)
+    return out
+
+
 def sc_save_config(h: Host) -> dict[str, object]:
     """SAVE_CONFIG keeps SET_CONFIG and SET_PID across an MCU reset (control.md 2 and 6); refused
     with NACK(ARMED) while armed. Starts from a blank EEPROM (defaults, LOG, CONFIG_DEFAULTS)."""

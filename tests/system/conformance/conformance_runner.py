@@ -14,6 +14,7 @@ from conformance_board_scenarios import (
     sc_host_lights,
     sc_host_lights_unsupported,
     sc_leds,
+    sc_no_storage,
     sc_save_config,
 )
 from conformance_scenarios import (
@@ -45,6 +46,7 @@ SCENARIOS = {
     "duplicate_arm": sc_duplicate_arm,
     "encoder_fault": sc_encoder_fault,
     "save_config": sc_save_config,
+    "no_storage": sc_no_storage,
     "config_fallback:crc": sc_config_fallback,
     "config_fallback:invalid": sc_config_fallback,
     "esc_arming": sc_esc_arming,

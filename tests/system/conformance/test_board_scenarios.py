@@ -30,7 +30,12 @@ def test_duplicate_arm(tb6612: Backend) -> None:
     assert answer(got["arm_while_armed"])[0] == "ACK" and answer(got["rearm"])[0] == "ACK"
 
 
+NO_STORAGE = "the Pico keeps no configuration (docs/firmware.md, Raspberry Pi Pico): no_storage instead"
+
+
 def test_save_config_survives_a_reset(tb6612: Backend) -> None:
+    if tb6612.name == "rp2040":
+        pytest.skip(NO_STORAGE)
     got = run(tb6612, "save_config")
     ref = reference("save_config", backend=tb6612.name)
     assert got == ref
@@ -46,9 +51,19 @@ def test_save_config_survives_a_reset(tb6612: Backend) -> None:
     assert (pid1.kp, pid1.ki, pid1.kf) == (1.25, 5.5, 1.625) and pid0.kp == PROFILES[PROFILE].pid.kp
 
 
+def test_a_board_without_storage_refuses_save_config_and_boots_on_defaults() -> None:
+    got = run_fresh("rp2040", "no_storage")
+    assert got == reference("no_storage", backend="rp2040")
+    assert answer(got["save"]) == ("NACK", NackReason.UNSUPPORTED, 0)
+    assert answer(got["set_config"])[0] == "ACK"
+    assert got["after_reset_is_defaults"]  # the SET_CONFIG did not outlive the reset
+
+
 @pytest.mark.parametrize("scenario", ["config_fallback:crc", "config_fallback:invalid"])
 @pytest.mark.parametrize("backend_name", BACKENDS)
 def test_bad_eeprom_image_falls_back_to_defaults(backend_name: str, scenario: str) -> None:
+    if backend_name == "rp2040":
+        pytest.skip(NO_STORAGE)
     got = run_fresh(backend_name, scenario)
     ref = reference(scenario, backend=backend_name)
     assert got == ref
