@@ -19,6 +19,8 @@ from protocol.toml import tomllib
 
 _SECTION = re.compile(r"\s*\[([A-Za-z0-9_.]+)\]\s*(#.*)?$")
 _KEY = re.compile(r"(\s*)([A-Za-z0-9_]+)(\s*=\s*)(.*?)(\s*#.*)?$")
+# How the AVR boards are named in a description, so a moved robot's sentence names the Pico.
+_AVR_NAMES = re.compile(r"\b(?:Arduino )?(?:Mega 2560|Mega2560|Uno)\b")
 
 
 def _table(part: tuple[tuple[str, int], ...]) -> str:
@@ -56,7 +58,7 @@ def on_pico(text: str, path: str = "<robot file>") -> str:
             continue
         indent, name, eq, value, comment = key.groups()
         comment = comment or ""
-        replaced = _replacement(section, name, pinout, channels)
+        replaced = _replacement(section, name, value, pinout, channels)
         if replaced is None:
             out.append(line)
         elif isinstance(replaced, list):
@@ -69,9 +71,11 @@ def on_pico(text: str, path: str = "<robot file>") -> str:
     return "\n".join(out) + "\n"
 
 
-def _replacement(section: str, name: str, pinout: PinOut, channels: int) -> str | list[str] | None:
+def _replacement(section: str, name: str, value: str, pinout: PinOut, channels: int) -> str | list[str] | None:
     if section == "" and name == "board":
         return '"pico"'
+    if section == "" and name == "description":
+        return _AVR_NAMES.sub("Raspberry Pi Pico", value)
     if section == "drive" and name == "motors":
         return _array(pinout.motors, channels)
     if section == "encoders" and name == "pins":

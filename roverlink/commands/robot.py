@@ -1,6 +1,7 @@
 """`roverlink robot`: make (`new`), check and explain a robot file (docs/robot-file.md).
 
 roverlink robot new my.toml --from picar   # a commented copy of a reference robot
+roverlink robot new my.toml --from picar --board pico  # the same robot wired to a Raspberry Pi Pico
 roverlink robot check my.toml              # exit 0 "my.toml: ok", or 2 and every problem
 roverlink robot show my.toml               # the figures the firmware and the host derive
 roverlink robot ros2-config my.toml --out config/  # the node's, SLAM Toolbox's and Nav2's parameters
@@ -16,6 +17,7 @@ from pathlib import Path
 
 from host_sdk import RobotDescription
 from protocol.robotfile import REFERENCES, RobotFileError, check, reference_path
+from protocol.robotfile.pico import on_pico
 from roverlink import say
 
 # `roverlink firmware build --example NAME` flash sizes of the reference firmwares (avr-gcc 5.4.0;
@@ -27,7 +29,15 @@ REFERENCE_FLASH = {
     ("mega2560", "L298N"): ("DiffDriveTB6612", 17_894),
     ("mega2560", "BTS7960"): ("DiffDriveBTS7960", 16_958),
 }
-FLASH_SIZE = {"uno": 32_256, "mega2560": 253_952}  # bytes left by the bootloader
+# The same for the Pico: each reference robot's build on its driver's Pico pinout (the Pico program;
+# tests/firmware/test_rp2040_firmware.py holds them to 2 % of the builds).
+PICO_FLASH = {
+    "ESC+servo": ("picar", 16_816),
+    "TB6612": ("diffdrive-tb6612", 16_820),
+    "L298N": ("diffdrive-tb6612", 16_820),
+    "BTS7960": ("diffdrive-bts7960", 16_828),
+}
+FLASH_SIZE = {"uno": 32_256, "mega2560": 253_952, "pico": 2 * 1024 * 1024}  # bytes left by a bootloader
 
 
 def cmd_new(args: argparse.Namespace) -> int:
@@ -44,9 +54,12 @@ def cmd_new(args: argparse.Namespace) -> int:
         f"# Your robot, started from the reference robot {args.source} (the format: docs/robot-file.md).\n",
         f"# Change it, then `roverlink robot check {target}`; `name` is what firmware built from it reports.\n",
     ]
-    body = lines[opening:]
-    target.write_text("".join(header + body), encoding="utf-8")
-    print(f"{target}: a copy of {args.source}; change it, then `roverlink robot check {target}`")
+    body = "".join(lines[opening:])
+    if args.board == "pico":  # the same robot on the Pico pinout (docs/firmware.md, Raspberry Pi Pico)
+        body = on_pico(body, str(target))
+    target.write_text("".join(header) + body, encoding="utf-8")
+    on = " on the Pico pinout" if args.board == "pico" else ""
+    print(f"{target}: a copy of {args.source}{on}; change it, then `roverlink robot check {target}`")
     return 0
 
 
@@ -62,13 +75,18 @@ def cmd_check(args: argparse.Namespace) -> int:
 
 
 def _flash(robot: RobotDescription) -> str:
-    ref = REFERENCE_FLASH.get((robot.board, robot.drive.driver))
+    if robot.board == "pico":
+        pico = PICO_FLASH.get(robot.drive.driver)
+        ref = None if pico is None else (pico[1], f"{pico[0]} on the Pico's build")
+    else:
+        avr = REFERENCE_FLASH.get((robot.board, robot.drive.driver))
+        ref = None if avr is None else (avr[1], f"the {avr[0]} example's build")
     if ref is None:
         return "no reference build to estimate from"
-    example, size = ref
+    size, what = ref
     share = 100 * size / FLASH_SIZE[robot.board]
     return (
-        f"about {size:,} B ({share:.0f}% of {FLASH_SIZE[robot.board]:,} B): the {example} example's build, not "
+        f"about {size:,} B ({share:.{1 if share < 10 else 0}f}% of {FLASH_SIZE[robot.board]:,} B): {what}, not "
         f"this file's; `roverlink firmware build --robot {robot.path}` prints its own"
     )
 
@@ -107,7 +125,8 @@ def cmd_show(args: argparse.Namespace) -> int:
     pins += [f"encoder {i}: " + ", ".join(f"{r} {p}" for r, p in e.pins) for i, e in enumerate(w.encoders)]
     pins += [f"{name} {pin}" for name, pin in (("esc", w.esc_pin), ("servo", w.servo_pin)) if pin is not None]
     pins += [f"leds {', '.join(map(str, w.led_pins))}"] if w.led_pins else []
-    pins.append(f"entropy {w.entropy_pin}")
+    pico = robot.board == "pico"
+    pins.append("entropy the ring oscillator (entropy_pin is not read)" if pico else f"entropy {w.entropy_pin}")
     print("  pins                  " + "\n                        ".join(pins))
     print(f"  SET_CONFIG            {config}")
     print(f"  flash (estimate)      {_flash(robot)}")
@@ -161,6 +180,11 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     )
     new.add_argument("file", help="the robot file to write")
     new.add_argument("--from", dest="source", choices=REFERENCES, required=True, help="the reference robot")
+    new.add_argument(
+        "--board",
+        choices=("pico",),
+        help="move the robot to this board: pico puts its drive on the Pico pinout (docs/firmware.md)",
+    )
     new.add_argument("--force", action="store_true", help="overwrite an existing file")
     new.set_defaults(func=cmd_new)
     chk = actions.add_parser(

@@ -15,6 +15,7 @@ from protocol.framing import Frame, FrameDecoder
 from protocol.generated.enums import Board, Capability, IdentityReason
 from protocol.generated.messages import Identity
 from protocol.robotfile import REFERENCES
+from roverlink.commands.robot import PICO_FLASH
 from roverlink.firmware.pico import BOOT2_BYTES, FLASH_BASE, PicoBuild, build_pico, crc32_boot2
 from tests.firmware.test_rp2040_harness import _require
 
@@ -33,6 +34,8 @@ def test_each_reference_robot_builds_a_flash_image_and_a_uf2(name: str, tmp_path
     built = _build(name, tmp_path)
     image = built.bin.read_bytes()
     assert built.flash_used == len(image) and 10_000 < len(image) < 64_000
+    estimates = {robot: size for robot, size in PICO_FLASH.values()}  # what `roverlink robot show` says
+    assert abs(estimates[name] - built.flash_used) <= 0.02 * built.flash_used, (name, built.flash_used)
     body, (crc,) = image[: BOOT2_BYTES - 4], struct.unpack("<I", image[BOOT2_BYTES - 4 : BOOT2_BYTES])
     assert crc == crc32_boot2(body)
     sp, reset = struct.unpack("<II", image[BOOT2_BYTES : BOOT2_BYTES + 8])  # the vector table after it

@@ -211,6 +211,8 @@ def test_a_reference_robot_moves_to_the_pico_pinout_and_passes_its_rules() -> No
         robot, problems = parse(text, f"{name}-pico.toml")
         assert problems == [] and robot is not None, name
         assert robot.board == "pico" and robot.geometry == parse(reference_path(name).read_text(), name)[0].geometry  # type: ignore[union-attr]
+        assert "Raspberry Pi Pico" in robot.description and "Mega" not in robot.description, robot.description
+        assert "Uno" not in robot.description, robot.description
 
 
 def test_pico_pin_rules_name_the_slice_and_the_header() -> None:

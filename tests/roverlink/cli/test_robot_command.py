@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+from protocol.robotfile import load
 from roverlink.cli import main
 
 
@@ -68,3 +69,17 @@ def test_check_lists_every_problem_and_show_refuses_a_bad_file(
     assert _run(capsys, "show", str(path))[0] == 2
     none = tmp_path / "none.toml"
     assert _run(capsys, "check", str(none)) == (2, f"{none}: no such file\nroverlink robot check: {none}: 1 problem\n")
+
+
+def test_new_on_a_pico_writes_the_robot_on_the_pico_pinout(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "pico_car.toml"
+    code, out = _run(capsys, "new", str(path), "--from", "picar", "--board", "pico")
+    assert code == 0 and "on the Pico pinout" in out
+    text = path.read_text(encoding="utf-8")
+    assert 'board = "pico"' in text and "# [m] Mount position" in text  # the comments kept
+    assert _run(capsys, "check", str(path)) == (0, f"{path}: ok\n")
+    robot = load(path)
+    assert (robot.wiring.esc_pin, robot.wiring.servo_pin) == (2, 3)
+    code, out = _run(capsys, "show", str(path))
+    assert code == 0 and "on the pico" in out and "ring oscillator" in out
+    assert "about 16,816 B (0.8% of 2,097,152 B): picar on the Pico's build" in out
