@@ -23,14 +23,37 @@ if TYPE_CHECKING:
     from host_sdk.recording import Recorder
 
 
-def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
-    """The URL and the connection options every robot command takes: the URL as the first argument
-    or as `--url URL`, as console, follow, demo and ros2 take it (`take_url` checks one is given)."""
+URL_HELP = "the board: a serial port (/dev/ttyACM0), socket://host:port, or an emu:// URL with its sensors"
+
+
+def add_url_args(
+    p: argparse._ActionsContainer,
+    *,
+    without: str | None = None,
+    positional: bool = True,
+    baud: int | None = 115200,
+    baud_help: str = "115200",
+    port_alias: bool = False,
+) -> None:
+    """The board's URL and line speed, as every robot command takes them: the URL as the first
+    argument (`positional`) or as `--url URL` (`--port URL` too with `port_alias`), and `--baud`. `without`: what the
+    command does when no URL is given (None: one is required; `take_url` checks)."""
+    default = f" (default: {without})" if without is not None else ""
+    names = ("--url", "--port") if port_alias else ("--url",)
+    if positional:
+        p.add_argument("url", nargs="?", default=None, help=URL_HELP + default)
+        p.add_argument(*names, dest="url_option", metavar="URL", default=None, help="the same, as an option")
+    else:
+        p.add_argument(*names, dest="url", metavar="URL", default=None, help=URL_HELP + default)
     p.add_argument(
-        "url", nargs="?", default=None, help="serial port or URL, e.g. /dev/ttyACM0, socket://host:port, emu://picar"
+        "--baud", type=argtypes.BAUD, default=baud, help=f"the board's line speed in bit/s (default {baud_help})"
     )
-    p.add_argument("--url", dest="url_option", metavar="URL", default=None, help="the same, as an option")
-    p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
+    p.set_defaults(url_optional=without is not None)
+
+
+def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
+    """The URL and the connection options every command that needs a board takes (`add_url_args`)."""
+    add_url_args(p)
     add_profile_args(p, help_text="reference robot, for its kinematics (default: the one the firmware names)")
     p.add_argument(
         "--timeout",
@@ -42,14 +65,16 @@ def add_robot_args(p: argparse.ArgumentParser, *, timeout: float = 5.0) -> None:
 
 
 def take_url(args: argparse.Namespace) -> str | None:
-    """Put `--url URL` where the commands read the URL (args.url); None, or what is wrong (neither or
-    both given)."""
+    """Put `--url URL` where the commands read the URL (args.url); None, or what is wrong (given
+    twice, or not given to a command that needs one)."""
     if not hasattr(args, "url_option"):
         return None
     if args.url is not None and args.url_option is not None:
         return f"the URL given twice ({args.url} and --url {args.url_option}): give it once"
     args.url = args.url if args.url is not None else args.url_option
-    return None if args.url is not None else "give the board's URL (first argument or --url), e.g. /dev/ttyACM0"
+    if args.url is None and not getattr(args, "url_optional", False):
+        return "give the board's URL (first argument or --url), e.g. /dev/ttyACM0"
+    return None
 
 
 def add_profile_args(p: argparse.ArgumentParser, *, help_text: str, default: str | None = None) -> None:

@@ -27,7 +27,7 @@ from roverlink.argtypes import number, positive
 from roverlink.console_app import ConsoleSettings, start_emulated, start_robot
 from roverlink.follow.app import robot_ports
 from roverlink.follow.emulated import watchdog_for
-from roverlink.interactive import add_profile_args
+from roverlink.interactive import add_profile_args, add_url_args
 from roverlink.sensors.options import add_sensor_args
 
 
@@ -70,8 +70,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     e.add_argument("--camera-look", choices=LOOKS, default="plain", help="emulated camera: plain or photo")
     e.add_argument("--no-imu", action="store_true", help="no IMU: wheel odometry alone")
     r = p.add_argument_group("on a robot")
-    r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, or an emu:// URL with its sensors")
-    r.add_argument("--baud", type=int, default=115200, help="the board's line speed (default 115200)")
+    add_url_args(r, without="an emulated robot")
     r.add_argument(
         "--watchdog",
         type=number(WATCHDOG_MIN_MS / 1000, WATCHDOG_MAX_MS / 1000, "s"),

@@ -32,7 +32,7 @@ from host_sdk import (
 )
 from host_sdk.profiles import steering_limits
 from roverlink import argtypes, say
-from roverlink.interactive import add_profile_args, warn_mismatches
+from roverlink.interactive import add_profile_args, add_url_args, warn_mismatches
 
 _TURN_TOLERANCE_RAD = math.radians(1.0)
 
@@ -385,8 +385,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         "compare odometry with ground truth and show the link statistics.",
     )
     add_profile_args(p, help_text="robot (default: diffdrive-tb6612)")
-    p.add_argument("--url", "--port", dest="url", default=None, help="serial port or URL (default: the emulator)")
-    p.add_argument("--baud", type=argtypes.BAUD, default=115200, help="line speed in bit/s (default 115200)")
+    add_url_args(p, without="the emulator", port_alias=True)
     p.add_argument(
         "--mode", choices=("stream", "lockstep"), default=None, help="feedback mode (default: the profile's)"
     )

@@ -44,7 +44,7 @@ from roverlink.commands.record import add_foxglove_address_args
 from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, robot_ports, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress
-from roverlink.interactive import add_profile_args
+from roverlink.interactive import add_profile_args, add_url_args
 from roverlink.sensors.options import add_sensor_args
 
 
@@ -96,8 +96,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     )
     e.add_argument("--no-imu", action="store_true", help="no IMU: wheel odometry alone")
     r = p.add_argument_group("on a robot")
-    r.add_argument("--url", help="the board: /dev/ttyACM0, socket://host:port, or an emu:// URL with its sensors")
-    r.add_argument("--baud", type=int, default=115200, help="the board's line speed (default 115200)")
+    add_url_args(r, without="an emulated robot")
     add_sensor_args(p, off=None)
     r.add_argument(
         "--template",

@@ -11,8 +11,7 @@ import sys
 from typing import Any
 
 from roverlink import say
-from roverlink.argtypes import BAUD
-from roverlink.interactive import add_profile_args
+from roverlink.interactive import add_profile_args, add_url_args
 from roverlink.ros2 import INSTALL_HINT, missing_modules
 from roverlink.sensors.options import add_sensor_args
 
@@ -74,9 +73,11 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 
 def _add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--url", default=None, help="serial port or URL (default: the url parameter, /dev/ttyACM0)")
+    # No URL as a first argument: what follows the options is ROS's (--ros-args ...).
+    add_url_args(
+        p, without="the url parameter, /dev/ttyACM0", positional=False, baud=None, baud_help="the baud parameter"
+    )
     add_profile_args(p, help_text="reference robot (default: from the firmware)")  # + robot_file, allow_mismatch
-    p.add_argument("--baud", type=BAUD, default=None, help="the board's line speed (default: the baud parameter)")
     # The sensor options every command takes, as the parameters they set (lidar_url, imu_url...).
     add_sensor_args(p, ("lidar", "imu"), off=None)
     p.add_argument(

@@ -15,7 +15,7 @@ from host_sdk import Robot, RobotDescription, RoverLinkError
 from protocol.robotfile import reference_path
 from roverlink.cli import build_parser, main
 from roverlink.follow.app import RobotPorts
-from roverlink.interactive import take_url
+from roverlink.interactive import URL_HELP, take_url
 from roverlink.sensors import choose_sensors
 
 SENSORS = "emu://picar?world=random:3&camera=320x240&lidar=ydlidar-f4"
@@ -104,6 +104,19 @@ def test_every_robot_command_takes_url_as_an_option(command: str) -> None:
     extra = ["-o", "run.mcap"] if command == "record" else []
     args = build_parser().parse_args([command, "--url", "/dev/ttyACM0", *extra])
     assert take_url(args) is None and args.url == "/dev/ttyACM0"
+    # The URL and the line speed come from one place (interactive.add_url_args): the same help and
+    # the same check of the baud rate in every command.
+    sub = next(a for a in build_parser()._actions if a.dest == "command").choices[command]  # type: ignore[index]
+    url = next(a for a in sub._actions if "--url" in a.option_strings or a.dest == "url")
+    assert url.help is not None and url.help.startswith(URL_HELP.split(",")[0])
+    with pytest.raises(SystemExit):
+        build_parser().parse_args([command, "--url", "/dev/ttyACM0", "--baud", "0", *extra])
+
+
+@pytest.mark.parametrize("command", ["console", "follow", "info"])
+def test_the_url_is_the_first_argument_or_an_option_in_every_command_that_takes_one_first(command: str) -> None:
+    args = build_parser().parse_args([command, "emu://picar"])
+    assert take_url(args) is None and args.url == "emu://picar"
 
 
 def test_the_url_as_an_option_connects_and_given_twice_or_not_at_all_is_refused(
