@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import os
 import sys
 from collections.abc import Sequence
 
@@ -58,6 +59,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         # An extra the command needs is not installed: one line naming it, not a traceback.
         say.error(exc)
         return 1
+    except BrokenPipeError:
+        # The reader went away (`roverlink info PTY | head`): stop quietly, as other tools do; the
+        # interpreter's own flush at exit would otherwise fail again on the closed pipe.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141  # 128 + SIGPIPE, what a shell reports for a command a pipe stopped
     return result
 
 

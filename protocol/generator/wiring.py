@@ -61,8 +61,8 @@ BOARD_PINS = {
         "MEGA2560", (70, 54, 16), {2, 3, 18, 19, 20, 21}, {10, 11, 12, 13, 50, 51, 52, 53, *range(62, 70)}
     ),
     # The Pico: GP0..GP28 (A0..A2 = GP26..GP28, the ADC's), every pin's edges interrupt (IO_BANK0);
-    # GP23 and GP24 are the board's own (regulator mode, VBUS sense), GP25 is its LED.
-    "PICO": _board("PICO", (29, 26, 3), set(range(29)) - {23, 24}, set(), {23, 24}),
+    # GP23, GP24 and GP25 are the board's own (regulator mode, VBUS sense, its LED): not on the header.
+    "PICO": _board("PICO", (29, 26, 3), set(range(29)) - {23, 24, 25}, set(), {23, 24, 25}),
 }
 SERIAL_PINS = (0, 1)  # USART0: the host link
 DRIVERS: dict[str, tuple[str, ...]] = {
@@ -98,7 +98,7 @@ def _names(pins: frozenset[int] | tuple[int, ...]) -> str:
 
 
 def _ranges(b: BoardPins) -> str:
-    """The board's pin numbers as runs: 0..22, 25..28."""
+    """The board's pin numbers as runs: 0..22, 26..28."""
     runs: list[list[int]] = []
     for n in (n for n in range(b.digital) if n not in b.absent):
         if runs and runs[-1][-1] == n - 1:
@@ -115,8 +115,9 @@ def pwm_problem(number: int, label: str, board: str, driver: str | None = None) 
     pwm, facts = BOARD_PINS[board].pwm, pwm_facts()
     need = facts.driver(driver) if driver else None
 
-    def able() -> str:  # the pins that would do, named only when one will not
-        return _names(tuple(p for p in pwm if need is None or facts.hz(board, p, need.driver)))
+    def able() -> str:  # the pins that would do (on the header, not the host link's), named only when one will not
+        usable = (p for p in pwm if p not in SERIAL_PINS and p not in BOARD_PINS[board].absent)
+        return _names(tuple(p for p in usable if need is None or facts.hz(board, p, need.driver)))
 
     if number not in pwm:
         which = f"PWM pins whose timer can drive the {need.driver}" if need is not None else "PWM pins"

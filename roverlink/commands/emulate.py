@@ -269,6 +269,10 @@ def _simavr_firmware(args: argparse.Namespace) -> tuple[EmulatorProfile, Path]:
             example, out_dir=firmware.BUILD_ROOT / "simavr" / example
         ).elf
     robot = firmware.load_robot(args.robot)
+    if robot.board == "pico":
+        raise firmware.FirmwareError(
+            f"{args.robot} is for the pico: its firmware runs with --backend rp2040, not simavr"
+        )
     sketch = firmware.build_sketch_dir(robot)
     built = firmware.build_sketch(sketch, firmware.robot_board(robot, None), sketch.parent / "simavr")
     return file_profile(robot, sketch.name), built.elf

@@ -105,8 +105,12 @@ def cmd_flash(args: argparse.Namespace) -> int:
     pico = _pico(args)
     if pico is not None:
         print(pico.summary())
+        if args.port:
+            raise FirmwareError(
+                f"--port {args.port}: a Pico is flashed through its BOOTSEL drive (--drive DIR), not a port"
+            )
         if args.dry_run:
-            drives = bootsel_drives()
+            drives = [Path(args.drive)] if args.drive else bootsel_drives()
             print(f"# copy {pico.uf2} to {drives[0] if drives else 'the RPI-RP2 drive (none is mounted)'}")
             return 0
         print(f"copied to {flash_uf2(pico.uf2, Path(args.drive) if args.drive else None)}")
@@ -166,23 +170,26 @@ def _add_target_options(p: argparse.ArgumentParser, *, example_required: bool) -
         help="a robot file (docs/robot-file.md): the example that fits it with its robot_profile.h, for its board",
     )
     p.add_argument(
-        "--board", choices=sorted(BOARDS), help="target board (default: the one the example's robot profile names)"
+        "--board",
+        choices=sorted(BOARDS),
+        help="target AVR board (default: the one the example's robot profile names; a Pico robot file needs none)",
     )
     p.add_argument(
         "--out",
         metavar="DIR",
-        help="where the ELF and HEX go (default: ./firmware/<sketch>/<board> in the current directory; "
-        "--robot: ./firmware/<file name>/<board>)",
+        help="where the ELF and HEX (a Pico: ELF, BIN and UF2) go (default: ./firmware/<sketch>/<board> in the "
+        "current directory; --robot: ./firmware/<file name>/<board>)",
     )
-    p.add_argument("--no-lto", action="store_true", help="link without link-time optimisation")
+    p.add_argument("--no-lto", action="store_true", help="link without link-time optimisation (the AVR builds)")
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Registers `roverlink firmware build|flash` on the main CLI's subcommands."""
     fw = sub.add_parser(
         "firmware",
-        help="build and flash the Arduino firmware (needs avr-gcc)",
-        description="Build the library's example sketches (or your own) with avr-gcc, and flash them with avrdude.",
+        help="build and flash the firmware (avr-gcc and avrdude; a Pico: arm-none-eabi-gcc, its BOOTSEL drive)",
+        description="Build the library's example sketches (or your own) with avr-gcc and flash them with avrdude; "
+        "a robot file for a Pico builds with arm-none-eabi-gcc and flashes by copying its UF2 to the BOOTSEL drive.",
     )
     fw_sub = fw.add_subparsers(dest="firmware_command", required=True, metavar="{build,flash,sketch}")
     build = fw_sub.add_parser("build", help=cmd_build.__doc__, description=cmd_build.__doc__)
@@ -192,7 +199,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     _add_target_options(flash, example_required=True)
     flash.add_argument("--port", help="serial port of the board, e.g. /dev/ttyACM0 (not for a Pico)")
     flash.add_argument("--drive", metavar="DIR", help="a Pico's BOOTSEL drive (default: the one mounted)")
-    flash.add_argument("--dry-run", action="store_true", help="print the avrdude command instead of running it")
+    flash.add_argument(
+        "--dry-run", action="store_true", help="print the avrdude command (a Pico: the copy) instead of running it"
+    )
     flash.set_defaults(func=_guarded(cmd_flash))
     sketch = fw_sub.add_parser("sketch", help=cmd_sketch.__doc__, description=cmd_sketch.__doc__)
     sketch.add_argument("--robot", metavar="FILE", required=True, help="the robot file (docs/robot-file.md)")

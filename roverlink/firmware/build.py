@@ -101,6 +101,7 @@ def _replace_atomically(write: Callable[[Path], object], target: Path) -> None:
     tmp = Path(name)
     try:
         write(tmp)
+        tmp.chmod(0o644)  # mkstemp's 0600 would make the file the user's alone, unlike the compiler's output
         os.replace(tmp, target)
     finally:
         tmp.unlink(missing_ok=True)

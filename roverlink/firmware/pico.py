@@ -215,6 +215,8 @@ def flash_uf2(uf2: Path, drive: Path | None = None) -> Path:
         if len(drives) > 1:
             raise FirmwareError(f"several Picos in BOOTSEL mode ({', '.join(map(str, drives))}): pass --drive DIR")
         drive = drives[0]
+    if not drive.is_dir():
+        raise FirmwareError(f"--drive {drive}: no such folder (the Pico's RPI-RP2 drive, where it is mounted)")
     if not (drive / "INFO_UF2.TXT").is_file():
         raise FirmwareError(f"{drive} is not a Pico's BOOTSEL drive (it has no INFO_UF2.TXT)")
     target = drive / uf2.name

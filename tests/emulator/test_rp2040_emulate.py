@@ -1,7 +1,7 @@
 """`roverlink emulate --backend rp2040`: the Pico firmware in rp2040js served on a pty as real
 hardware would be, for a reference robot moved to the Pico pinout (--profile) and for a user's
 board = "pico" robot file (--robot), at 115200 and at 1 Mbaud; the SDK connects, arms and drives it.
-A robot file for another board serves nothing (exit 2)."""
+A robot file for another board serves nothing (exit 2), nor a Pico's on simavr."""
 
 from __future__ import annotations
 
@@ -48,13 +48,16 @@ def test_a_pico_robot_file_serves_its_name(tmp_path: Path) -> None:
         assert robot.identity.robot_name == "my-pico-car" and robot.identity.board is Board.PICO
 
 
-def test_a_file_for_another_board_serves_nothing() -> None:
-    result = subprocess.run(
-        [sys.executable, "-m", "roverlink", "emulate", "--backend", "rp2040", "--robot", str(reference_path("picar"))],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        check=False,
-    )
+def _emulate_exit(*args: str) -> subprocess.CompletedProcess[str]:
+    command = [sys.executable, "-m", "roverlink", "emulate", *args]
+    return subprocess.run(command, capture_output=True, text=True, timeout=120, check=False)
+
+
+def test_a_file_for_another_board_serves_nothing(tmp_path: Path) -> None:
+    result = _emulate_exit("--backend", "rp2040", "--robot", str(reference_path("picar")))
     assert result.returncode == 2 and result.stdout == ""
     assert 'board = "pico"' in result.stderr
+    path = tmp_path / "pico.toml"  # and a Pico file on the AVR's backend is pointed to its own
+    path.write_text(on_pico(reference_path("picar").read_text()))
+    result = _emulate_exit("--backend", "simavr", "--robot", str(path))
+    assert result.returncode == 2 and "its firmware runs with --backend rp2040" in result.stderr, result.stderr

@@ -162,3 +162,12 @@ def test_roverlink_firmware_builds_and_flashes_a_pico_robot_file(
     (drive / "INFO_UF2.TXT").write_text("UF2 Bootloader v3.0\nModel: Raspberry Pi RP2\nBoard-ID: RPI-RP2\n")
     code, stdout, _ = firmware_cli(capsys, "firmware", "flash", "--robot", str(path), "--drive", str(drive))
     assert code == 0 and (drive / "my_pico.uf2").read_bytes()[:4] == b"UF2\n"
+    assert (out / "my_pico.uf2").stat().st_mode & 0o777 == 0o644  # as the compiler writes its files
+    code, stdout, _ = firmware_cli(
+        capsys, "firmware", "flash", "--robot", str(path), "--drive", str(drive), "--dry-run"
+    )
+    assert code == 0 and f"# copy {tmp_path}/firmware/my_pico/pico/my_pico.uf2 to {drive}" in stdout
+    code, _, err = firmware_cli(capsys, "firmware", "flash", "--robot", str(path), "--drive", str(tmp_path / "no"))
+    assert code == 2 and "no such folder" in err
+    code, _, err = firmware_cli(capsys, "firmware", "flash", "--robot", str(path), "--port", "/dev/ttyACM0")
+    assert code == 2 and "--port /dev/ttyACM0: a Pico is flashed through its BOOTSEL drive" in err

@@ -120,3 +120,16 @@ def test_the_ring_oscillators_noise_differs_by_seed_and_read_by_read() -> None:
         assert len({first, second, after_reset}) == 3, (seed, first, second, after_reset)
         assert drawn.setdefault(seed, (first, second, after_reset)) == (first, second, after_reset)
     assert drawn[1] != drawn[2]
+
+
+def test_an_image_path_is_the_callers_and_a_missing_one_is_named(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The harness runs in tools/rp2040; the image's path is taken from where the caller stands."""
+    _require()
+    require_make(HARNESS_DIR, build=BUILD_DIR)
+    monkeypatch.chdir(IMAGE.parent)
+    with Harness(Path(IMAGE.name)) as harness:
+        harness.step(2000, [], b"")
+    with pytest.raises(Rp2040Error, match=r"no RP2040 image .*nothing\.bin \(roverlink firmware build"):
+        Harness(tmp_path / "nothing.bin")

@@ -221,7 +221,11 @@ def test_pico_pin_rules_name_the_slice_and_the_header() -> None:
 
     car = on_pico(reference_path("picar").read_text(encoding="utf-8"))
     _, problems = parse(car.replace("pin = 3", "pin = 23"), "car.toml")
-    assert any("pin 23 is not on the PICO's header" in p.message for p in problems), problems
+    assert any("pin 23 is not on the PICO's header (its pins: 0..22, 26..28)" in p.message for p in problems), problems
     tb = on_pico(reference_path("diffdrive-tb6612").read_text(encoding="utf-8"))
+    _, problems = parse(tb.replace("a = 10,", "a = 25,"), "tb.toml")  # the LED's, not the header's
+    assert any("pin 25 is not on the PICO's header" in p.message for p in problems), problems
     _, problems = parse(tb.replace("pwm = 2,", "pwm = 1,"), "tb.toml")
     assert any("serial port" in p.message for p in problems), problems
+    _, problems = parse(tb.replace("pwm = 2,", "pwm = 29,"), "tb.toml")
+    assert any("29 is not a pin of the PICO (0..28 or A0..A2)" in p.message for p in problems), problems

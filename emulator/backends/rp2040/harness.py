@@ -67,6 +67,9 @@ class Harness:
         if node is None:
             raise Rp2040Error("Node.js (`node`) is not on PATH: the rp2040 backend runs rp2040js in it")
         node_modules()
+        image = Path(image).resolve()  # the harness runs in tools/rp2040: a relative path would miss
+        if not image.is_file():
+            raise Rp2040Error(f"no RP2040 image {image} (roverlink firmware build --robot FILE writes one)")
         self.encoders = encoders
         self.watch = watch
         cmd = [node, str(SCRIPT), str(image), "--baud", str(baud), "--seed", str(seed)]

@@ -98,3 +98,21 @@ def test_decode_names_the_word_that_is_not_hex(capsys: pytest.CaptureFixture[str
     assert main(["decode", "01", "zz"]) == 2
     err = capsys.readouterr().err
     assert "roverlink decode: not hex: 'zz' (give bytes as hex digit pairs" in err and "fromhex" not in err
+
+
+def test_a_reader_that_goes_away_stops_a_command_quietly() -> None:
+    """`roverlink info PTY | head -1`: the pipe closes under the command, which stops without a
+    traceback (with 141, as a shell reports a command a pipe stopped)."""
+    import os
+    import subprocess
+    import sys
+
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # the reader is gone before the first line
+    command = [sys.executable, "-m", "roverlink", "info", "emu://picar?clock=virtual"]
+    try:
+        result = subprocess.run(command, stdout=write_end, stderr=subprocess.PIPE, text=True, timeout=60, check=False)
+    finally:
+        os.close(write_end)
+    assert "Traceback" not in result.stderr and "Exception ignored" not in result.stderr, result.stderr
+    assert result.returncode == 141, result.stderr
