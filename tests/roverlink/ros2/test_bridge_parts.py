@@ -103,8 +103,12 @@ def test_docs_list_every_parameter_with_its_default() -> None:
 
 def test_example_parameters_file_sets_only_real_parameters() -> None:
     yaml = pytest.importorskip("yaml")
-    values = yaml.safe_load((ROOT / "examples" / "ros2" / "roverlink.yaml").read_text())["/**/roverlink"]
+    text = (ROOT / "examples" / "ros2" / "roverlink.yaml").read_text()
+    values = yaml.safe_load(text)["/**/roverlink"]
     BridgeParams.from_values(values["ros__parameters"])
+    # ... and names every parameter the node takes, set or as a commented line a user can uncomment
+    named = set(re.findall(r"^\s*#?\s*([a-z_]+):", text, re.MULTILINE))
+    assert [spec.name for spec in SPECS if spec.name not in named] == []
 
 
 # -- conversions -----------------------------------------------------------------------------------
