@@ -23,7 +23,7 @@ What is measured
    joint_states, /tf, diagnostics.
 
 Run: python benchmarks/ros2.py [--seconds 15] [--commands 150] [--json out.json]
-     python benchmarks/ros2.py --loaded [--seconds 600] [--hogs 2] [--warn-only]: the node on a
+     python benchmarks/ros2.py --loaded [--seconds 600] [--hogs 2] [--warn-only] [--realtime-priority N]: the node on a
      loaded host (ros2_loaded.py); exit status 1 when it misses a goal (with --warn-only: only
      when the run is invalid).
 Needs the `ros2` extra (rclpy, message packages); /tf is published if tf2_msgs is importable or
@@ -350,10 +350,10 @@ def measure_processes(seconds: float) -> dict[str, Any]:
     return out
 
 
-def loaded_main(seconds: float, hogs: int, out: Path | None, warn_only: bool) -> int:
+def loaded_main(seconds: float, hogs: int, out: Path | None, warn_only: bool, realtime: int = 0) -> int:
     rclpy.init()
     try:
-        results = ros2_loaded.run(seconds, hogs)
+        results = ros2_loaded.run(seconds, hogs, realtime=realtime)
     finally:
         try_shutdown()
     missed = ros2_loaded.report(results)
@@ -373,13 +373,20 @@ def main() -> int:
     parser.add_argument("--loaded", action="store_true", help="the SLAM robot with its sensors under busy loops")
     parser.add_argument("--hogs", type=int, default=os.cpu_count() or 2, help="--loaded: busy loops (one per core)")
     parser.add_argument("--warn-only", action="store_true", help="--loaded: a missed goal exits 0 (invalid runs 1)")
+    parser.add_argument(
+        "--realtime-priority",
+        type=int,
+        default=0,
+        metavar="N",
+        help="--loaded: the node's realtime_priority parameter (0: normal scheduling, the default)",
+    )
     parser.add_argument("--relay", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.relay:
         return relay_main()
     load_tf2_msgs()
     if args.loaded:
-        return loaded_main(args.seconds or 600.0, args.hogs, args.json, args.warn_only)
+        return loaded_main(args.seconds or 600.0, args.hogs, args.json, args.warn_only, args.realtime_priority)
     args.seconds = args.seconds or 15.0
     rclpy.init()
     try:

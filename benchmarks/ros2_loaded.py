@@ -117,9 +117,9 @@ def start_hogs(n: int) -> list[subprocess.Popen[bytes]]:
     return [subprocess.Popen([sys.executable, "-c", code]) for _ in range(n)]
 
 
-def start_stack(log_dir: Path) -> tuple[subprocess.Popen[str], subprocess.Popen[str], str]:
-    """The emulator (its ports from its stdout) and the node on them, logging to `log_dir`; and how
-    the emulator is scheduled."""
+def start_stack(log_dir: Path, realtime: int = 0) -> tuple[subprocess.Popen[str], subprocess.Popen[str], str]:
+    """The emulator (its ports from its stdout) and the node on them (its `realtime_priority`),
+    logging to `log_dir`; and how the emulator is scheduled."""
     cmd = [*ROVERLINK, "emulate", *EMULATE]
     emu_log = (log_dir / "emulate.log").open("w")
     emulator = subprocess.Popen(cmd, cwd=ROOT, text=True, stdout=subprocess.PIPE, stderr=emu_log)
@@ -129,6 +129,8 @@ def start_stack(log_dir: Path) -> tuple[subprocess.Popen[str], subprocess.Popen[
     ports = dict(emulator.stdout.readline().split()[::2] for _ in range(2))  # "lidar rplidar-a1 /dev/pts/N"
     params = {"odom_rate": ODOM_HZ, "auto_arm": "true", "lidar_url": ports["lidar"], "lidar_model": "rplidar-a1"}
     params["imu_url"] = ports["imu"]
+    if realtime:
+        params["realtime_priority"] = realtime
     args = [*ROVERLINK, "ros2", "--url", port, "--profile", PROFILE, "--ros-args"]
     args += ["-r", "__ns:=/loaded"]
     for key, value in params.items():
@@ -226,9 +228,9 @@ def scan_figures(stamps: list[float]) -> dict[str, Any]:
     }
 
 
-def run(seconds: float, hogs: int, warmup_s: float = 3.0) -> dict[str, Any]:
+def run(seconds: float, hogs: int, warmup_s: float = 3.0, realtime: int = 0) -> dict[str, Any]:
     log_dir = Path(tempfile.mkdtemp(prefix="roverlink-loaded-"))
-    emulator, bridge, priority = start_stack(log_dir)
+    emulator, bridge, priority = start_stack(log_dir, realtime)
     node = Recorder()
     executor = SingleThreadedExecutor()
     executor.add_node(node)
@@ -293,6 +295,7 @@ def run(seconds: float, hogs: int, warmup_s: float = 3.0) -> dict[str, Any]:
         "failsafes": dict(Counter(_FAILSAFE.findall(log))),
         "emulator_lag_ms": lag,
         "emulator_priority": priority,
+        "node_realtime_priority": realtime,
         "odom": odom_figures(odom),
         "scan": scan_figures(scans),
         "floor": floor,
@@ -329,6 +332,8 @@ def report(r: dict[str, Any]) -> list[str]:
         f"max {f['max_ms']:.2f} ms; {f['over_slack']} of {f['wakeups']} later than the {SLACK_MS:.1f} ms slack"
     )
     print(f"emulator ({r['emulator_priority']}): longest lag behind real time {r['emulator_lag_ms']} ms")
+    rt = r["node_realtime_priority"]
+    print(f"node: {f'every thread under SCHED_FIFO {rt}' if rt else 'normal scheduling (nice 0)'}")
     missed = []
     lag = r["emulator_lag_ms"]
     if lag is None or lag > MAX_EMULATOR_LAG_MS:

@@ -24,6 +24,7 @@ __all__ = [
     "LinkBrokenError",
     "NackError",
     "NotArmedError",
+    "RealtimeError",
     "RequestTimeoutError",
     "RobotClosedError",
     "RoverLinkError",
@@ -208,6 +209,10 @@ class RobotClosedError(RoverLinkError, RuntimeError):
     def __init__(self, url: str = "") -> None:
         self.url = url
         super().__init__(f"the robot on {url or 'this link'} is closed: connect again with Robot.connect()")
+
+
+class RealtimeError(RoverLinkError, PermissionError):
+    """Real-time scheduling was asked for and the system does not allow it (host_sdk.hostinfo.realtime)."""
 
 
 class CommandRangeError(ArgumentError):

@@ -189,6 +189,14 @@ SPECS: tuple[ParamSpec, ...] = (
         "imu acceleration variances (x, y, z) in (m/s^2)^2: the JY901 datasheet's accelerometer stability",
     ),
     ParamSpec(
+        "realtime_priority",
+        0,
+        "every thread of the node under SCHED_FIFO at this priority (0: normal scheduling); for a host whose "
+        "cores are busy with other work; needs CAP_SYS_NICE or an rtprio limit",
+        low=0,
+        high=99,
+    ),
+    ParamSpec(
         "tf_from",
         "odom",
         "what /tf's odom_frame -> base_frame is: odom (wheel odometry) or fused (the EKF's odometry/filtered; "
@@ -266,6 +274,7 @@ class BridgeParams:
     imu_orientation_covariance_diagonal: tuple[float, ...]
     imu_angular_velocity_covariance_diagonal: tuple[float, ...]
     imu_linear_acceleration_covariance_diagonal: tuple[float, ...]
+    realtime_priority: int
     tf_from: str
 
     @classmethod

@@ -16,6 +16,7 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import try_shutdown
 
 from host_sdk import RoverLinkError
+from host_sdk.hostinfo import realtime
 from roverlink import say
 from roverlink.ros2.node import BridgeNode
 
@@ -43,6 +44,11 @@ def run(ros_args: Sequence[str], overrides: dict[str, Any]) -> int:
     status = 0
     try:
         node = BridgeNode(overrides)
+        if node.params.realtime_priority:  # after the node's threads exist; later ones inherit it
+            threads = realtime.make_realtime(node.params.realtime_priority)
+            node.get_logger().info(
+                f"realtime_priority: {threads} threads under SCHED_FIFO {node.params.realtime_priority}"
+            )
         executor = SingleThreadedExecutor()
         executor.add_node(node)
         while not stop.is_set():
