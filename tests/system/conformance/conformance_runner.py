@@ -30,6 +30,7 @@ from conformance_scenarios import (
     sc_reset_mid_session,
     sc_turn_then_straight,
 )
+from conformance_square import sc_square
 
 from emulator.firmware.config import IMAGE_ADDR, Gains, encode_image
 from protocol.generated.profiles import PROFILES
@@ -94,6 +95,8 @@ def run(backend: Backend, name: str) -> dict[str, object]:
     h = Host(backend)
     if name.startswith("drive:"):
         return sc_drive(h, backend.profile)
+    if name.startswith("square:"):
+        return sc_square(h, backend.profile)
     return SCENARIOS[name](h)
 
 
