@@ -13,7 +13,7 @@ import sys
 import time
 from typing import TYPE_CHECKING, Protocol, TextIO
 
-from host_sdk import PROFILES, Robot
+from host_sdk import PROFILES, Robot, RobotDescription
 from host_sdk.calibration import CalibrationFile
 from host_sdk.console.access import is_loopback
 from roverlink import argtypes
@@ -75,6 +75,19 @@ def take_url(args: argparse.Namespace) -> str | None:
     if args.url is None and not getattr(args, "url_optional", False):
         return "give the board's URL (first argument or --url), e.g. /dev/ttyACM0"
     return None
+
+
+def robot_named(args: argparse.Namespace, default: str) -> str | RobotDescription:
+    """The robot a command drives: --robot FILE, else --profile, else the reference robot an
+    emu://NAME URL names, else `default`."""
+    if getattr(args, "robot", None) is not None:
+        robot: str | RobotDescription = args.robot
+        return robot
+    if getattr(args, "profile", None) is not None:
+        return str(args.profile)
+    url = getattr(args, "url", None) or ""
+    name = url.removeprefix("emu://").split("?")[0] if url.startswith("emu://") else ""
+    return name if name in PROFILES else default
 
 
 def add_profile_args(p: argparse.ArgumentParser, *, help_text: str, default: str | None = None) -> None:

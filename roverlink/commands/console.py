@@ -27,7 +27,7 @@ from roverlink.argtypes import number, positive
 from roverlink.console_app import ConsoleSettings, start_emulated, start_robot
 from roverlink.follow.app import robot_ports
 from roverlink.follow.emulated import watchdog_for
-from roverlink.interactive import add_profile_args, add_url_args
+from roverlink.interactive import add_profile_args, add_url_args, robot_named
 from roverlink.sensors.options import add_sensor_args
 
 
@@ -44,7 +44,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    add_profile_args(p, default="picar", help_text="reference robot (default picar)")
+    add_profile_args(p, help_text="reference robot (default: the one an emu://NAME URL names, else picar)")
     p.add_argument(
         "--host",
         default="127.0.0.1",
@@ -99,7 +99,7 @@ def cmd_console(args: argparse.Namespace) -> int:
         args.autonomous,
         args.watchdog,
     )
-    which = args.robot or args.profile
+    which = robot_named(args, "picar")
     try:
         if args.url is None:
             world = args.world or f"random:{args.seed}"

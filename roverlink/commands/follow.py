@@ -44,7 +44,7 @@ from roverlink.commands.record import add_foxglove_address_args
 from roverlink.follow.app import PILOTS, FollowSettings, RecordTo, robot_ports, run_emulated, run_robot
 from roverlink.follow.metrics import FollowMetrics
 from roverlink.follow.run import Progress
-from roverlink.interactive import add_profile_args, add_url_args
+from roverlink.interactive import add_profile_args, add_url_args, robot_named
 from roverlink.sensors.options import add_sensor_args
 
 
@@ -66,7 +66,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    add_profile_args(p, default="picar", help_text="reference robot (default picar)")
+    add_profile_args(p, help_text="reference robot (default: the one an emu://NAME URL names, else picar)")
     p.add_argument("--duration", type=positive, default=60.0, help="seconds to run (default 60)")
     p.add_argument("--pilot", choices=PILOTS, default="roverlink", help="whose behaviour drives (default roverlink)")
     p.add_argument("--follow-gap", type=positive, help="gap to keep to the target, m (default 0.5; Ackermann 0.9)")
@@ -205,7 +205,7 @@ def _follow_emulated(
         )
         return None
     return run_emulated(
-        args.robot or args.profile,
+        robot_named(args, "picar"),
         args.world or f"random:{args.seed}",
         pilot=args.pilot,
         seed=args.seed,
@@ -225,7 +225,7 @@ def _follow_robot(
     record: RecordTo | None,
 ) -> FollowMetrics | None:
     """A robot at --url with its sensors; None after saying why it is refused."""
-    robot = args.robot or args.profile
+    robot = robot_named(args, "picar")
     targets = sum(v is not None for v in (args.template, args.select, args.target))
     emulated = args.url.startswith("emu://")
     if emulated and args.target is not None:

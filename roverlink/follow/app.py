@@ -222,7 +222,7 @@ class RobotPorts:
             imu_baud=self.imu_baud,
             camera=self.camera,
         )
-        require_sensors(choice, ("lidar", "camera"))
+        require_sensors(choice, ("lidar", "camera"), self.url)
         if self.lidar_model is None and choice.lidar != robot.transport.endpoints.get("lidar"):
             choice = replace(choice, lidar_model=emulated.lidar_for(which))
         return choice

@@ -171,8 +171,13 @@ def sensors_for(
     )
 
 
-def require_sensors(choice: SensorChoice, kinds: Sequence[str]) -> None:
-    """RoverLinkError naming each of `kinds` the choice lacks and the three ways to give it."""
+EMULATED_SENSORS = {"lidar": "lidar=rplidar-a1", "camera": "camera=320x240", "imu": "imu=jy901"}
+"""What an emu:// URL adds to attach each device (docs/emulator.md)."""
+
+
+def require_sensors(choice: SensorChoice, kinds: Sequence[str], url: str | None = None) -> None:
+    """RoverLinkError naming each of `kinds` the choice lacks and the three ways to give it; for an
+    emu:// `url`, the URL with them added."""
     missing = [kind for kind in kinds if getattr(choice, kind) is None]
     if missing:
         ways = "; ".join(
@@ -181,7 +186,14 @@ def require_sensors(choice: SensorChoice, kinds: Sequence[str]) -> None:
             f"or {kind}= in an emu:// URL"
             for kind in missing
         )
-        raise RoverLinkError(f"no {' and no '.join(missing)} for this robot: give {ways}")
+        hint = ""
+        if url is not None and url.startswith("emu://"):
+            body = ROBOT_SENSORS.get(url.removeprefix("emu://").split("?")[0])
+            mount = body.mount("lidar") if body is not None else None
+            own = {"lidar": f"lidar={mount.device}"} if mount is not None and mount.device in MODELS else {}
+            added = "&".join({**EMULATED_SENSORS, **own}[kind] for kind in missing)
+            hint = f" (here: '{url}{'&' if '?' in url else '?'}{added}', or no URL for the emulated robot with both)"
+        raise RoverLinkError(f"no {' and no '.join(missing)} for this robot: give {ways}{hint}")
 
 
 def open_sensors(choice: SensorChoice) -> Sensors:

@@ -201,3 +201,27 @@ def test_roverlink_ros2_takes_the_sensor_options_as_the_parameters_they_set() ->
     }
     assert set(got) <= set(BY_NAME)  # each one a parameter the node declares
     assert overrides(build_parser().parse_args(["ros2"])) == {}  # nothing given: the parameters decide
+
+
+def test_an_emu_url_without_the_sensors_a_command_needs_is_told_the_url_with_them() -> None:
+    from roverlink.sensors.options import SensorChoice, require_sensors
+
+    with pytest.raises(RoverLinkError) as caught:
+        require_sensors(SensorChoice(), ("lidar", "camera"), "emu://picar?clock=virtual")
+    assert "(here: 'emu://picar?clock=virtual&lidar=ydlidar-f4&camera=320x240', or no URL" in str(caught.value)
+
+
+@pytest.mark.parametrize(
+    ("argv", "robot"),
+    [
+        (["follow", "emu://diffdrive-bts7960?clock=virtual"], "diffdrive-bts7960"),  # the URL's robot
+        (["console", "--url", "emu://diffdrive-tb6612"], "diffdrive-tb6612"),
+        (["follow", "emu://diffdrive-bts7960", "--profile", "picar"], "picar"),  # said outright
+        (["console", "/dev/ttyACM0"], "picar"),  # a real port: the default
+    ],
+)
+def test_console_and_follow_drive_the_robot_an_emu_url_names(argv: list[str], robot: str) -> None:
+    from roverlink.interactive import robot_named
+
+    args = build_parser().parse_args(argv)
+    assert take_url(args) is None and robot_named(args, "picar") == robot
