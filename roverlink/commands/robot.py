@@ -119,7 +119,7 @@ def cmd_show(args: argparse.Namespace) -> int:
     print(f"  metres per count      {robot.metres_per_count * 1000:.4f} mm ({robot.counts_per_rev} counts/rev)")
     print(f"  max wheel speed       {robot.limits.max_wheel_speed_m_s:g} m/s ({wheel_rps * 60:.0f} rpm)")
     print(f"  kinematics            {robot.kinematics()}")
-    print(f"  capabilities          {robot.capabilities()!r}")
+    print(f"  capabilities          {robot.capabilities()!r}".replace("<Capability.", "").replace(">", ""))  # as info
     w = robot.wiring
     pins = [f"{m.kind} {i}: " + ", ".join(f"{r} {p}" for r, p in m.pins) for i, m in enumerate(w.motors)]
     pins += [f"encoder {i}: " + ", ".join(f"{r} {p}" for r, p in e.pins) for i, e in enumerate(w.encoders)]
