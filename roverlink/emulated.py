@@ -11,7 +11,7 @@ import contextlib
 from collections.abc import Iterator
 from typing import Any
 
-from host_sdk import Robot
+from host_sdk import PROFILES, Robot
 
 
 @contextlib.contextmanager
@@ -27,6 +27,20 @@ def emulator_of(robot: Robot) -> Iterator[Any]:
         return
     with locked() as held:
         yield held
+
+
+def emu_robot(url: str | None) -> str | None:
+    """The reference robot an `emu://` URL runs (`emu://` alone: the emulator's default); None for
+    another URL, one naming a robot file, or one the emulator refuses (connecting says why)."""
+    from emulator.transport.inprocess import parse_emu_url  # noqa: PLC0415 (only emu:// URLs need it)
+
+    if not url or not url.startswith("emu://"):
+        return None
+    try:
+        options = parse_emu_url(url)
+    except ValueError:
+        return None
+    return options.profile if not options.robot and options.profile in PROFILES else None
 
 
 def place_on_stand(robot: Robot, on: bool) -> bool:

@@ -18,6 +18,7 @@ from host_sdk.calibration import CalibrationFile
 from host_sdk.console.access import is_loopback
 from roverlink import argtypes
 from roverlink.argtypes import kinematics_arg
+from roverlink.emulated import emu_robot
 
 if TYPE_CHECKING:
     from host_sdk.recording import Recorder
@@ -85,9 +86,7 @@ def robot_named(args: argparse.Namespace, default: str) -> str | RobotDescriptio
         return robot
     if getattr(args, "profile", None) is not None:
         return str(args.profile)
-    url = getattr(args, "url", None) or ""
-    name = url.removeprefix("emu://").split("?")[0] if url.startswith("emu://") else ""
-    return name if name in PROFILES else default
+    return emu_robot(getattr(args, "url", None)) or default
 
 
 def add_profile_args(p: argparse.ArgumentParser, *, help_text: str, default: str | None = None) -> None:

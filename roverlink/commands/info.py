@@ -7,8 +7,14 @@ import dataclasses
 
 from host_sdk import RoverLinkError
 from host_sdk.extras import MissingDependencyError
+from protocol.generated.enums import Capability
 from roverlink import say
 from roverlink.interactive import add_robot_args, connect
+
+
+def capabilities_text(capabilities: Capability) -> str:
+    """The capability bits by name and their value: `DIFF_DRIVE|ENCODERS: 5`."""
+    return f"{capabilities!r}".removeprefix("<Capability.").removesuffix(">")
 
 
 def cmd_info(args: argparse.Namespace) -> int:
@@ -19,7 +25,7 @@ def cmd_info(args: argparse.Namespace) -> int:
             s = robot.stats
             print(f"{robot.url}: {ident.robot_name or '(unnamed)'} firmware {ident.version} on {ident.board.name}")
             print(f"  protocol v{ident.protocol_version}, spec hash 0x{ident.spec_hash:08X}")
-            print(f"  capabilities  {ident.capabilities!r}".replace("<Capability.", "").replace(">", ""))
+            print(f"  capabilities  {capabilities_text(ident.capabilities)}")
             print(f"  boot_id 0x{ident.boot_id:08X}, up {ident.uptime_ms / 1000:.1f} s")
             print(
                 f"  session: watchdog {ident.watchdog_ms} ms, {ident.feedback_mode.name.lower()} feedback "

@@ -19,6 +19,7 @@ from host_sdk import RobotDescription
 from protocol.robotfile import REFERENCES, RobotFileError, check, reference_path
 from protocol.robotfile.pico import on_pico
 from roverlink import say
+from roverlink.commands.info import capabilities_text
 
 # `roverlink firmware build --example NAME` flash sizes of the reference firmwares (avr-gcc 5.4.0;
 # tests/firmware/test_avr_build.py fails when a build drifts 2 % from them): the one a robot file's
@@ -119,7 +120,7 @@ def cmd_show(args: argparse.Namespace) -> int:
     print(f"  metres per count      {robot.metres_per_count * 1000:.4f} mm ({robot.counts_per_rev} counts/rev)")
     print(f"  max wheel speed       {robot.limits.max_wheel_speed_m_s:g} m/s ({wheel_rps * 60:.0f} rpm)")
     print(f"  kinematics            {robot.kinematics()}")
-    print(f"  capabilities          {robot.capabilities()!r}".replace("<Capability.", "").replace(">", ""))  # as info
+    print(f"  capabilities          {capabilities_text(robot.capabilities())}")
     w = robot.wiring
     pins = [f"{m.kind} {i}: " + ", ".join(f"{r} {p}" for r, p in m.pins) for i, m in enumerate(w.motors)]
     pins += [f"encoder {i}: " + ", ".join(f"{r} {p}" for r, p in e.pins) for i, e in enumerate(w.encoders)]

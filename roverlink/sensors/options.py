@@ -29,7 +29,7 @@ from host_sdk.sensors.imu import DEFAULT_BAUD, Jy901
 from host_sdk.sensors.lidar import MODELS, Lidar
 from protocol.generated.profiles import ROBOT_SENSORS
 from roverlink.argtypes import BAUD
-from roverlink.emulated import emulator_of
+from roverlink.emulated import emu_robot, emulator_of
 
 KINDS = ("lidar", "imu", "camera")
 CAMERA_HELP = (
@@ -188,9 +188,8 @@ def require_sensors(choice: SensorChoice, kinds: Sequence[str], url: str | None 
         )
         hint = ""
         if url is not None and url.startswith("emu://"):
-            body = ROBOT_SENSORS.get(url.removeprefix("emu://").split("?")[0])
-            mount = body.mount("lidar") if body is not None else None
-            own = {"lidar": f"lidar={mount.device}"} if mount is not None and mount.device in MODELS else {}
+            lidar = _lidar_of(emu_robot(url) or "")
+            own = {"lidar": f"lidar={lidar}"} if lidar is not None else {}
             added = "&".join({**EMULATED_SENSORS, **own}[kind] for kind in missing)
             hint = f" (here: '{url}{'&' if '?' in url else '?'}{added}', or no URL for the emulated robot with both)"
         raise RoverLinkError(f"no {' and no '.join(missing)} for this robot: give {ways}{hint}")
@@ -253,7 +252,12 @@ def _profile_name(robot: Robot) -> str | None:
 
 
 def _profile_lidar(robot: Robot) -> str | None:
-    """The lidar the robot's reference profile carries (sensors.toml), if any."""
-    body = ROBOT_SENSORS.get(_profile_name(robot) or "")
+    """The lidar the robot's reference profile carries, if any."""
+    return _lidar_of(_profile_name(robot) or "")
+
+
+def _lidar_of(profile: str) -> str | None:
+    """The lidar a reference robot carries (its robot file's [sensors.lidar]), if any."""
+    body = ROBOT_SENSORS.get(profile)
     mount = body.mount("lidar") if body is not None else None
     return mount.device if mount is not None and mount.device in MODELS else None

@@ -47,6 +47,14 @@ def sc_square(h: Host, profile: str) -> dict[str, object]:
         for _ in range(p.config.esc_arm_ms // TICK_MS):
             h.send(messages.SetAckermann(0, 0))
             h.run_ms(TICK_MS)
+    # The three commands of the course: at rest, along a side, round a corner.
+    if car:
+        rest, side, corner = (messages.SetAckermann(v, a) for v, a in ((0, 0), (SPEED_MM_S, 0), (SPEED_MM_S, steer)))
+    else:
+        rest, side, corner = (
+            messages.SetWheelSpeeds(left, right)
+            for left, right in ((0, 0), (SPEED_MM_S, SPEED_MM_S), (-TURN_MM_S, TURN_MM_S))
+        )
     odometry = Odometry(kinematics)
     seen_us = h.b.now_us
     start = h.b.truth()
@@ -63,20 +71,17 @@ def sc_square(h: Host, profile: str) -> dict[str, object]:
         pose = odometry.pose
         return pose.x_m, pose.y_m, pose.theta_rad
 
-    x, y, theta = tick(messages.SetAckermann(0, 0) if car else messages.SetWheelSpeeds(0, 0))
+    x, y, theta = tick(rest)
     heading = theta
     for _ in range(4):
         x0, y0 = x, y
         while math.hypot(x - x0, y - y0) < SIDE_M:
-            x, y, theta = tick(
-                messages.SetAckermann(SPEED_MM_S, 0) if car else messages.SetWheelSpeeds(SPEED_MM_S, SPEED_MM_S)
-            )
+            x, y, theta = tick(side)
         heading += math.pi / 2
         while theta < heading:
-            turn = messages.SetAckermann(SPEED_MM_S, steer) if car else messages.SetWheelSpeeds(-TURN_MM_S, TURN_MM_S)
-            x, y, theta = tick(turn)
+            x, y, theta = tick(corner)
     for _ in range(SETTLE_MS // TICK_MS):
-        x, y, theta = tick(messages.SetAckermann(0, 0) if car else messages.SetWheelSpeeds(0, 0))
+        x, y, theta = tick(rest)
     tx, ty, tth = _relative(h.b.truth(), start)
     return {
         "odometry": (x, y, theta),
