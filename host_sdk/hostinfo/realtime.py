@@ -19,6 +19,7 @@ real-time throttling share (95 % by default); RoverLink's threads block between 
 from __future__ import annotations
 
 import os
+import threading
 from pathlib import Path
 
 from host_sdk.errors import CommandRangeError, RealtimeError
@@ -52,6 +53,29 @@ def make_realtime(priority: int) -> int:
             ) from exc
         changed += 1
     return changed
+
+
+def allowed(priority: int) -> bool:
+    """Whether this process may put its threads under SCHED_FIFO at `priority`: tried on a thread of
+    its own, which then ends (a container may refuse it even to root: no CAP_SYS_NICE, or no
+    real-time share in its cgroup)."""
+    if not hasattr(os, "sched_setscheduler"):
+        return False
+    result: list[bool] = []
+
+    def attempt() -> None:
+        try:
+            os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(priority))
+        except OSError:
+            result.append(False)
+            return
+        result.append(True)
+        os.sched_setscheduler(0, os.SCHED_OTHER, os.sched_param(0))
+
+    probe = threading.Thread(target=attempt, name="realtime-probe")
+    probe.start()
+    probe.join()
+    return result == [True]
 
 
 def policy_of(tid: int) -> tuple[int, int]:

@@ -6,15 +6,14 @@ from __future__ import annotations
 
 import json
 import os
-import resource
-import shutil
 import subprocess
 import sys
 
 import pytest
 
 from host_sdk import CommandRangeError
-from host_sdk.hostinfo.realtime import make_realtime
+from host_sdk.hostinfo.realtime import allowed, make_realtime
+from tests.support.realtime import without_realtime
 
 CHILD = """
 import json, os, threading
@@ -51,8 +50,8 @@ def _child(*prefix: str) -> dict[str, object]:
 
 
 def test_every_thread_and_those_started_later_run_under_sched_fifo() -> None:
-    if os.geteuid() != 0 and resource.getrlimit(resource.RLIMIT_RTPRIO)[0] < 3:
-        pytest.skip("this user may not use SCHED_FIFO (no CAP_SYS_NICE, rtprio limit under 3)")
+    if not allowed(3):
+        pytest.skip("this process may not use SCHED_FIFO (no CAP_SYS_NICE or rtprio limit, or a container's cgroup)")
     seen = _child()
     fifo = [os.SCHED_FIFO, 3]
     assert seen["before"] == fifo and seen["main"] == fifo and seen["later"] == fifo, seen
@@ -60,10 +59,8 @@ def test_every_thread_and_those_started_later_run_under_sched_fifo() -> None:
 
 
 def test_a_system_that_does_not_allow_it_is_told_which_limit_to_raise() -> None:
-    if shutil.which("setpriv") is None or shutil.which("prlimit") is None:
-        pytest.skip("needs util-linux's setpriv and prlimit")
     # Without CAP_SYS_NICE (even as root) and with an rtprio limit of 0, as a default user's.
-    seen = _child("setpriv", "--bounding-set", "-sys_nice", "--inh-caps", "-sys_nice", "prlimit", "--rtprio=0")
+    seen = _child(*without_realtime())
     assert seen["permission"] is True
     assert "SCHED_FIFO 3: not permitted (this user's rtprio limit is 0): raise it (`ulimit -r 3`" in str(seen["error"])
 

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import os
-import resource
-import shutil
 import signal
 import subprocess
 import sys
@@ -13,6 +11,8 @@ from pathlib import Path
 import pytest
 from ros_env import ROOT, require_ros
 
+from host_sdk.hostinfo.realtime import allowed
+from tests.support.realtime import without_realtime
 from tests.support.wait import Deadline
 
 require_ros()
@@ -45,16 +45,10 @@ def test_what_cannot_work_ends_with_status_1_and_the_reason(args: list[str], say
     assert "Traceback" not in result.stderr
 
 
-NO_RT = ["setpriv", "--bounding-set", "-sys_nice", "--inh-caps", "-sys_nice", "prlimit", "--rtprio=0"]
-"""A process without CAP_SYS_NICE (even as root) and with a default user's rtprio limit of 0."""
-
-
 def test_a_realtime_priority_out_of_range_or_not_permitted_ends_with_status_1() -> None:
     result = run_bridge("--url", "emu://", "--ros-args", "-p", "realtime_priority:=100")
     assert result.returncode == 1 and "realtime_priority" in result.stderr, result.stderr
-    if shutil.which("setpriv") is None or shutil.which("prlimit") is None:
-        pytest.skip("needs util-linux's setpriv and prlimit")
-    command = [*NO_RT, sys.executable, "-m", "roverlink", "ros2", "--url", "emu://"]
+    command = [*without_realtime(), sys.executable, "-m", "roverlink", "ros2", "--url", "emu://"]
     command += ["--ros-args", "-p", "realtime_priority:=5"]
     result = subprocess.run(command, capture_output=True, text=True, timeout=60, cwd=ROOT, check=False)
     assert result.returncode == 1 and "Traceback" not in result.stderr, result.stderr
@@ -62,8 +56,8 @@ def test_a_realtime_priority_out_of_range_or_not_permitted_ends_with_status_1() 
 
 
 def test_a_realtime_priority_puts_every_thread_of_the_node_under_sched_fifo() -> None:
-    if os.geteuid() != 0 and resource.getrlimit(resource.RLIMIT_RTPRIO)[0] < 5:
-        pytest.skip("this user may not use SCHED_FIFO (no CAP_SYS_NICE, rtprio limit under 5)")
+    if not allowed(5):
+        pytest.skip("this process may not use SCHED_FIFO (no CAP_SYS_NICE or rtprio limit, or a container's cgroup)")
     command = [sys.executable, "-m", "roverlink", "ros2", "--url", "emu://", "--ros-args", "-p", "realtime_priority:=5"]
     node = subprocess.Popen(command, cwd=ROOT, text=True, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL)
     assert node.stderr is not None
