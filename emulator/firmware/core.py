@@ -31,6 +31,7 @@ from protocol.codec.message import Direction, Message
 from protocol.framing import Frame
 from protocol.generated.constants import (
     FEEDBACK_HZ_MAX,
+    LOCKSTEP_QUEUE,
     PROTOCOL_VERSION,
     SPEC_HASH,
     WATCHDOG_MAX_MS,
@@ -301,7 +302,12 @@ class Firmware(ControlTick):
             self._nack(msg, seq, NackReason.OUT_OF_RANGE, min(bad))
             return
         steer = msg.steering_mrad if isinstance(msg, SetAckermann) else None
-        self.pending = Pending(seq, (speeds[0], speeds[1]), steer)
+        # Stream mode: latest wins. Lockstep: queued, so a host may stay a tick ahead; full, the
+        # newest is superseded.
+        room = LOCKSTEP_QUEUE if self.feedback_mode is FeedbackMode.LOCKSTEP else 1
+        if len(self.pending) >= room:
+            self.pending.pop()
+        self.pending.append(Pending(seq, (speeds[0], speeds[1]), steer))
 
     def _failsafe(self, event: SessionEvent, reason: FailsafeReason) -> None:
         self._fire(event, None, _Ctx(reason=reason))

@@ -42,7 +42,7 @@ def clamp(x: int, lo: int, hi: int) -> int:
 
 @dataclass(slots=True)
 class Pending:
-    """A setpoint accepted in ARMED and waiting for the next tick (latest wins)."""
+    """A setpoint accepted in ARMED and waiting for the tick that applies it."""
 
     seq: int
     targets: tuple[int, int]
@@ -89,7 +89,8 @@ class ControlTick:
         self.efforts = [0] * WHEEL_COUNT
         self.pids = [WheelPid() for _ in range(WHEEL_COUNT)]
         self.saturated = False
-        self.pending: Pending | None = None
+        self.pending: list[Pending] = []
+        """Waiting setpoints, the oldest first: stream mode at most one (latest wins), lockstep LOCKSTEP_QUEUE."""
         self.ack_seq = 0
         self.ack_tick = 0
         self.servo_cdeg = robot.config.steering_center_cdeg
@@ -114,7 +115,7 @@ class ControlTick:
         if self.session.state is SessionState.ARMED and (now - self.last_valid_us) % _U32 >= self.watchdog_ms * 1000:
             self._failsafe(SessionEvent.WATCHDOG_EXPIRED, FailsafeReason.COMM_TIMEOUT)  # 3. watchdog
         armed = self.session.state is SessionState.ARMED
-        applied = self._take_setpoint(armed)  # 4. the latest setpoint
+        applied = self._take_setpoint(armed)  # 4. the oldest waiting setpoint
         esc_hold = self._esc_hold(now)
         self._esc_armed = not esc_hold
         moving = self._ramp_and_pid(armed, esc_hold)  # 5. ramp, 6. PID
@@ -148,14 +149,15 @@ class ControlTick:
         self.counts = counts
 
     def _take_setpoint(self, armed: bool) -> bool:
-        """The pending setpoint becomes the targets (ARMED only); True when one was applied. Every
+        """The oldest waiting setpoint becomes the targets (ARMED only); True when one was applied. Every
         tick re-limits the targets and the steering to the config in effect (4.4): a lowered limit
         applies at once, to the setpoint already running."""
-        pending = self.pending
-        self.pending = None
-        applied = pending is not None and armed
+        pending = self.pending.pop(0) if self.pending and armed else None
+        if not armed:
+            self.pending.clear()
+        applied = pending is not None
         targets = list(self.targets)
-        if pending is not None and applied:
+        if pending is not None:
             targets = list(pending.targets)
             if pending.steering_mrad is not None:
                 self.steer_mrad = pending.steering_mrad
@@ -317,7 +319,7 @@ class ControlTick:
     def _motors_safe(self) -> None:
         """Safe state (5): zero targets, setpoints and integrators; outputs to the configured state
         now (RAMP_DOWN keeps the ramps and lets the ticks bring them to zero first)."""
-        self.pending = None
+        self.pending.clear()
         self.targets = [0] * WHEEL_COUNT
         for pid in self.pids:
             pid.reset()

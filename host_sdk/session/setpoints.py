@@ -4,12 +4,14 @@ armed board's watchdog fails safe when the user's program stops commanding.
 
 Paced lockstep (`SessionOptions.paced`): the live setpoint goes out once per feedback period, on
 the board's control-tick grid, `PACE_PHASE_S` after a tick (the grid's ticks from the latest
-FEEDBACK's sample time). The board applies the newest setpoint at its next tick and answers it
-with one FEEDBACK, so a frame landing between each pair of ticks gives FEEDBACK at every period,
-and one sent just after a tick may be late by most of a tick before a FEEDBACK is missed. A timer
-of the host's own drifts across the ticks instead and, near one, its jitter puts two setpoints
-into one tick and none into the next. The runner sends them from its I/O thread, so a busy caller
-(a ROS executor) cannot make them late.
+FEEDBACK's sample time). A lockstep board queues setpoints (LOCKSTEP_QUEUE) and applies one per
+tick, each answered by one FEEDBACK. At one FEEDBACK per tick the keeper stays a tick ahead: the
+first setpoint goes out twice, and a send that missed slots goes out once per missed slot, up to
+the queue's depth. So a send may be late by most of two ticks (most of a period at lower rates)
+before a FEEDBACK is missed, and a stall longer than that costs the periods it lasts, not the lead.
+A timer of the host's own drifts across the ticks instead and, near one, its jitter puts two
+setpoints into one tick and none into the next. The runner sends them from its I/O thread, so a
+busy caller (a ROS executor) cannot make them late.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from host_sdk.session.counters import HostCounters
 from host_sdk.session.options import EPS, SessionOptions
 from host_sdk.session.wire import Wire
 from protocol.codec.message import Message
-from protocol.generated.constants import CONTROL_RATE_HZ
+from protocol.generated.constants import CONTROL_RATE_HZ, LOCKSTEP_QUEUE
 from protocol.generated.messages import SetAckermann, SetConfig, SetWheelSpeeds
 
 TICK_S = 1.0 / CONTROL_RATE_HZ
@@ -34,6 +36,13 @@ PACE_PHASE_S = 0.001
 setpoint is sent: the tick before the one that applies it, which answers it with FEEDBACK (the
 grid's anchor). Its frame time and the adapter's latency add to it, so it cannot reach the board
 before that tick even with a clock-sync error of a millisecond."""
+
+
+def queued_ahead(pace_s: float) -> int:
+    """Paced lockstep: setpoints kept queued on the board ahead of the one its next tick applies.
+    One at a FEEDBACK per tick; none at lower rates, where a slot's frame has the ticks between
+    slots to arrive in (one more would be applied in the next tick, off the period's grid)."""
+    return LOCKSTEP_QUEUE - 1 if pace_s < 2 * TICK_S - EPS else 0
 
 
 class SetpointKeeper:
@@ -87,6 +96,8 @@ class SetpointKeeper:
         if was_live:
             return self._seq
         self._slot = self._slot_of(now, pace_s)  # the grid goes on after the slot this one stands for
+        for _ in range(queued_ahead(pace_s)):
+            self._send(msg, now, keepalive=False)  # the tick ahead
         return self._send(msg, now, keepalive=False)
 
     def ticked(self, host_time_s: float) -> None:
@@ -125,10 +136,12 @@ class SetpointKeeper:
         elif now >= (due := self._next_slot(pace_s)) - EPS:
             if now - due >= PACED_LATE_FRACTION * pace_s:
                 self._n.paced_late += 1
-            # Late by whole periods (a stalled host): on from the slot now falls in, not a burst
-            # of the missed ones, which would all land in one tick.
+            # Late by whole periods (a stalled host): on from the slot now falls in. One frame per
+            # missed slot refills the board's queue (the tick ahead); more would only supersede.
             self._slot = self._slot_of(now, pace_s)
-            self._send(setpoint, now, keepalive=True)
+            missed = round((self._slot - due) / pace_s)
+            for _ in range(min(missed, queued_ahead(pace_s)) + 1):
+                self._send(setpoint, now, keepalive=True)
 
     def deadline(self, t: float, pace_s: float | None = None) -> float:
         """`t`, or earlier if a repeat or the expiry is due before it."""

@@ -1,3 +1,3 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0xDFE6EC7A
+# spec hash: 0xBDF31659
 """Code generated from the RoverLink spec: constants, enums, messages, the session table, the construct oracle."""

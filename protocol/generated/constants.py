@@ -1,11 +1,11 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0xDFE6EC7A
+# spec hash: 0xBDF31659
 """Protocol constants."""
 
 from typing import Final
 
 PROTOCOL_VERSION: Final = 2
-SPEC_HASH: Final = 0xDFE6EC7A
+SPEC_HASH: Final = 0xBDF31659
 MAX_PAYLOAD: Final = 64
 MAX_BODY: Final = 68
 """Longest decoded frame: msg_id, seq, payload, CRC."""
@@ -19,6 +19,8 @@ WATCHDOG_MAX_MS: Final = 2000
 """Longest watchdog period the firmware grants."""
 CONTROL_RATE_HZ: Final = 100
 """Control loop rate: PID, limits, watchdog check and stream feedback scheduling run once per tick."""
+LOCKSTEP_QUEUE: Final = 2
+"""Setpoints an ARMED lockstep session holds for its next ticks, applied one per tick in arrival order; one arriving to a full queue replaces the newest. A host may so stay a tick ahead, and be late by most of two ticks without a tick going unanswered. Stream mode holds one (latest wins)."""
 FEEDBACK_HZ_DEFAULT: Final = 50
 """Stream feedback rate when HELLO asks for 0."""
 FEEDBACK_HZ_MAX: Final = 100

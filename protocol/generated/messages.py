@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0xDFE6EC7A
+# spec hash: 0xBDF31659
 """Message classes: frozen, slotted dataclasses with pack() and unpack()."""
 
 from __future__ import annotations
@@ -667,7 +667,7 @@ class GetLights(Message):
 
 @dataclass(frozen=True, slots=True)
 class SetWheelSpeeds(Message):
-    """SET_WHEEL_SPEEDS (0x20, host to mcu, setpoint): Differential-drive setpoint: target speed of each wheel's rim. Latest wins; applied at the next control tick."""
+    """SET_WHEEL_SPEEDS (0x20, host to mcu, setpoint): Differential-drive setpoint: target speed of each wheel's rim. Stream mode: latest wins, applied at the next control tick. Lockstep: queued (LOCKSTEP_QUEUE), one applied per tick."""
 
     MSG_ID: ClassVar[int] = 0x20
     NAME: ClassVar[str] = "SET_WHEEL_SPEEDS"
@@ -711,7 +711,7 @@ _SET_WHEEL_SPEEDS_RIGHT_MM_S = slot_setter(SetWheelSpeeds, "right_mm_s")
 
 @dataclass(frozen=True, slots=True)
 class SetAckermann(Message):
-    """SET_ACKERMANN (0x21, host to mcu, setpoint): Ackermann setpoint: drive speed and front-wheel steering angle. Latest wins; applied at the next control tick."""
+    """SET_ACKERMANN (0x21, host to mcu, setpoint): Ackermann setpoint: drive speed and front-wheel steering angle. Stream mode: latest wins, applied at the next control tick. Lockstep: queued (LOCKSTEP_QUEUE), one applied per tick."""
 
     MSG_ID: ClassVar[int] = 0x21
     NAME: ClassVar[str] = "SET_ACKERMANN"

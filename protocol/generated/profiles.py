@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/robots/*.toml and protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0xDFE6EC7A
+# spec hash: 0xBDF31659
 """Reference robot profiles by name: firmware defaults, kinematics, feedback mode, footprint and
 sensor mounts (from protocol/robots/*.toml)."""
 

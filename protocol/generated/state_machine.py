@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0xDFE6EC7A
+# spec hash: 0xBDF31659
 """Session state machine table. Firmware session: one per boot; the host drives it with HELLO, ARM and DISARM and the watchdog ends it."""
 
 from __future__ import annotations
@@ -71,7 +71,7 @@ class Action(enum.IntFlag):
     NACK = 1 << 9
     """Answer NACK with the request's id and seq and the reason for this state."""
     APPLY_SETPOINT = 1 << 10
-    """Store the setpoint; the next control tick applies it (latest wins)."""
+    """Store the setpoint: stream mode, the next control tick applies it (latest wins); lockstep, it joins the queue (LOCKSTEP_QUEUE), each tick applying the oldest."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,5 +1,5 @@
 # DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-# spec hash: 0xDFE6EC7A
+# spec hash: 0xBDF31659
 """The release's version: every package's, and the firmware's IDENTITY.firmware_version."""
 
 from typing import Final

@@ -287,13 +287,15 @@ def test_lockstep_one_feedback_per_applied_setpoint() -> None:
         seq = host.send(messages.SetWheelSpeeds(400, 400))
         fb = host.wait_for(messages.Feedback, 0.05)
         assert fb.ack_seq == seq and fb.status & Status.LOCKSTEP and fb.tick == fb.ack_tick
-    # Two setpoints inside one tick: the first is superseded, only the second is answered.
+    # Three setpoints inside one tick: the queue (LOCKSTEP_QUEUE, 2) takes two, the third
+    # supersedes the second; the first and third are answered, in two consecutive ticks.
     host.run(0.004)
-    first = host.send(messages.SetWheelSpeeds(100, 100))
-    second = host.send(messages.SetWheelSpeeds(200, 200))
+    first, second, third = (host.send(messages.SetWheelSpeeds(v, v)) for v in (100, 200, 300))
+    done = len(host.of(messages.Feedback))
     host.run(0.05)
-    answers = [fb.ack_seq for fb in host.of(messages.Feedback)[-3:]]
-    assert second in answers and first not in answers
+    answers = host.of(messages.Feedback)[done:]
+    assert [fb.ack_seq for fb in answers] == [first, third], (second, answers)
+    assert answers[1].tick - answers[0].tick == 1
 
 
 def test_lockstep_streams_while_not_armed_from_the_first_tick_out_of_armed() -> None:

@@ -139,8 +139,9 @@ def test_core_builds_for_avr() -> None:
     sizes = {m[0]: int(m[1]) for m in re.findall(r"^sizeof_(\w+) on atmega328p: (\d+) bytes$", out, re.M)}
     assert set(sizes) >= {"Link", "Session", "Firmware", "FrameDecoder"}, out
     # The session's state (link buffers included) in the design's SRAM budget for link + session
-    # (docs/budgets.md: <= 400 B), and so is all of the core's (session, control, config).
-    assert sizes["Session"] <= sizes["Firmware"] <= 400, sizes
+    # (docs/budgets.md: <= 400 B); all of the core's (session, control, config, the lockstep
+    # queue) in half the Uno's SRAM, the share a complete firmware may use.
+    assert sizes["Session"] <= 400 and sizes["Session"] <= sizes["Firmware"] <= 1024 // 2, sizes
 
 
 def test_library_knows_every_profile() -> None:

@@ -1,11 +1,13 @@
 """Paced lockstep's setpoint grid (host_sdk/session/setpoints.py), sans I/O: the times are arguments.
 
-The board applies the newest setpoint at its next control tick and answers it with one FEEDBACK,
-so a setpoint must land between each pair of ticks. Paced, they go out PACE_PHASE_S after a
-board tick (from the latest FEEDBACK's sample time), once a period, whatever the polling does.
+The board queues setpoints (LOCKSTEP_QUEUE) and applies one per control tick, each answered by one
+FEEDBACK. Paced, they go out PACE_PHASE_S after a board tick (from the latest FEEDBACK's sample
+time), once a period, whatever the polling does; at one FEEDBACK per tick, a tick ahead.
 """
 
 from __future__ import annotations
+
+import random
 
 import pytest
 
@@ -13,6 +15,7 @@ from host_sdk.session.counters import HostCounters
 from host_sdk.session.options import SessionOptions
 from host_sdk.session.setpoints import PACE_PHASE_S, TICK_S, SetpointKeeper
 from host_sdk.session.wire import Wire
+from protocol.generated.constants import LOCKSTEP_QUEUE
 from protocol.generated.messages import SetWheelSpeeds
 
 STEP_S = 0.0001
@@ -25,6 +28,13 @@ class Grid:
         self.keeper = SetpointKeeper(SessionOptions(), Wire(self.n), self.n)
         self.sent: list[float] = []
         """When `poll` sent one (not the commands sent at once)."""
+        self.frames: list[float] = []
+        """When each setpoint frame went out, the commands' too (`command`)."""
+
+    def command(self, left: int, t: float, pace_s: float) -> None:
+        before = self.n.setpoints_sent
+        self.keeper.command(SetWheelSpeeds(left, left), t, hold_s=1.0, pace_s=pace_s)
+        self.frames += [t] * (self.n.setpoints_sent - before)
 
     def poll(self, t0: float, t1: float, pace_s: float, skip: tuple[float, float] = (0.0, 0.0)) -> None:
         """Poll every STEP_S from t0 to t1 (not within `skip`), noting when a setpoint went out."""
@@ -36,29 +46,80 @@ class Grid:
             self.keeper.keep_alive(t, armed=True, pace_s=pace_s)
             if self.n.setpoints_sent > before:
                 self.sent.append(t)
+                self.frames += [t] * (self.n.setpoints_sent - before)
 
 
-def test_paced_setpoints_go_out_just_after_each_board_tick() -> None:
+FRAME_S = 0.0012
+"""A SET_WHEEL_SPEEDS frame's time on the line at 115200 baud, and a little of the adapter's."""
+
+
+def unanswered_ticks(frames: list[float], first: int, last: int) -> list[int]:
+    """The ticks first..last (at k * TICK_S) that applied no setpoint, on a board that queues
+    LOCKSTEP_QUEUE of them (a frame into a full queue supersedes the newest) and applies the oldest
+    at each tick, as the firmware does."""
+    arrivals = sorted(t + FRAME_S for t in frames)
+    queue = 0
+    missed = []
+    for k in range(first, last + 1):
+        while arrivals and arrivals[0] < k * TICK_S:
+            arrivals.pop(0)
+            queue = min(queue + 1, LOCKSTEP_QUEUE)
+        if queue:
+            queue -= 1
+        else:
+            missed.append(k)
+    return missed
+
+
+def test_paced_setpoints_go_out_just_after_each_board_tick_a_tick_ahead() -> None:
     g = Grid()
     g.keeper.ticked(0.0)  # a FEEDBACK of the tick at t = 0
-    g.keeper.command(SetWheelSpeeds(100, 100), 0.0034, hold_s=1.0, pace_s=TICK_S)  # at once: none live
+    g.command(100, 0.0034, TICK_S)  # at once, twice: none live, and the board's queue takes the second
+    assert g.frames == [0.0034, 0.0034]
     g.poll(0.0034, 0.05, TICK_S)
-    assert g.n.setpoints_sent == 5
+    assert g.n.setpoints_sent == 6
     assert g.sent == pytest.approx([k * TICK_S + PACE_PHASE_S for k in range(1, 5)], abs=STEP_S * 1.01)
+    assert unanswered_ticks(g.frames, 1, 5) == []
 
 
-def test_a_new_command_waits_for_the_next_slot_and_a_stall_sends_once() -> None:
+def test_a_new_command_waits_for_the_next_slot_and_a_stall_costs_only_its_own_ticks() -> None:
     g = Grid()
     g.keeper.ticked(0.0)
-    g.keeper.command(SetWheelSpeeds(100, 100), 0.0005, hold_s=1.0, pace_s=TICK_S)
+    g.command(100, 0.0005, TICK_S)
     g.poll(0.0005, 0.0055, TICK_S)
     sent = g.n.setpoints_sent
-    g.keeper.command(SetWheelSpeeds(200, 200), 0.0055, hold_s=1.0, pace_s=TICK_S)
+    g.command(200, 0.0055, TICK_S)
     assert g.n.setpoints_sent == sent  # replaces the live one: goes out at 0.011, not now
     g.poll(0.0055, 0.1, TICK_S, skip=(0.031, 0.0575))  # the host stalled for 26.5 ms
     expected = [0.011, 0.021, 0.0575, 0.061, 0.071, 0.081, 0.091]  # one late send, then the grid again
     assert g.sent == pytest.approx(expected, abs=STEP_S * 1.01)
+    assert g.frames.count(g.sent[2]) == 2  # the missed slots refill the board's queue, no more
     assert g.n.paced_late == 1  # counted once, not once per period missed
+    # The queued setpoint covered the tick at 0.04; the one at 0.05 had none; from 0.06 on, the
+    # tick ahead is back (without the refill, every later tick would hang on a punctual host).
+    assert unanswered_ticks(g.frames, 1, 9) == [5]
+
+
+def test_a_send_late_by_most_of_two_ticks_misses_no_tick() -> None:
+    """The host as the runner drives it: it wakes when `deadline` says, late by up to 17 ms in one
+    slot out of five (a loaded host; the old scheme lost a tick to anything over 8 ms)."""
+    rng = random.Random(7)
+    g = Grid()
+    g.keeper.ticked(0.0)
+    g.command(100, 0.0005, TICK_S)
+    t = 0.0005
+    late = 0
+    while t < 20.0:
+        due = g.keeper.deadline(t + 1.0, pace_s=TICK_S)
+        delay = rng.uniform(0.0, 0.017) if rng.random() < 0.2 else rng.uniform(0.0, 0.0005)
+        late += delay > TICK_S - PACE_PHASE_S - FRAME_S
+        t = max(t, due) + delay
+        before = g.n.setpoints_sent
+        g.keeper.command(SetWheelSpeeds(100, 100), t, hold_s=1.0, pace_s=TICK_S)  # the user's 100 Hz
+        g.keeper.keep_alive(t, armed=True, pace_s=TICK_S)
+        g.frames += [t] * (g.n.setpoints_sent - before)
+    assert late > 100  # sends past the one-tick slack happened
+    assert unanswered_ticks(g.frames, 1, 1990) == []
 
 
 def test_the_grid_follows_the_boards_ticks_and_spans_its_period() -> None:

@@ -196,6 +196,27 @@ def sc_lockstep(h: Host) -> dict[str, object]:
     }
 
 
+def sc_lockstep_queue(h: Host) -> dict[str, object]:
+    """Lockstep's setpoint queue (LOCKSTEP_QUEUE = 2): setpoints that land between the same two
+    ticks are applied one per tick, the oldest first, each answered by its own FEEDBACK; a third
+    supersedes the newest, which is never answered. Each burst goes out on the FEEDBACK of the
+    setpoint before it, a few milliseconds after its tick, so the burst lands before the next."""
+    open_session(h, FeedbackMode.LOCKSTEP)
+    h.run_ms(50)
+    out: dict[str, object] = {}
+    for key, burst in (("two", 2), ("three", 3)):
+        lead = h.send(messages.SetWheelSpeeds(100, 100))
+        t, _ = h.wait_for(messages.Feedback, 3 * TICK_MS, lambda m, s=lead: m.ack_seq == s)
+        seqs = [h.send(messages.SetWheelSpeeds(100 + 10 * k, 100)) for k in range(1, burst + 1)]
+        h.run_ms(5 * TICK_MS)
+        fbs = [m for _, m in h.since(messages.Feedback, t + 1) if isinstance(m, messages.Feedback)]
+        out[key] = {
+            "answered": [seqs.index(m.ack_seq) for m in fbs if m.ack_seq in seqs],
+            "tick_gaps": [(b.tick - a.tick) % 65536 for a, b in itertools.pairwise(fbs)],
+        }
+    return out
+
+
 LOCKSTEP_STREAM_HZ = 25
 """sc_lockstep_disarmed's feedback_hz: every 4 ticks, unlike the config's 50 Hz."""
 

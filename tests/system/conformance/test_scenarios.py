@@ -92,6 +92,15 @@ def test_lockstep(tb6612: Backend) -> None:
     assert got["mode"] == FeedbackMode.LOCKSTEP and got["all_answered"] and got["one_per_setpoint"]
 
 
+def test_lockstep_queues_setpoints_one_per_tick(tb6612: Backend) -> None:
+    got = run(tb6612, "lockstep_queue")
+    assert got == reference("lockstep_queue", backend=tb6612.name)
+    # Two in one tick interval: both answered, in order, in consecutive ticks. Three: the third
+    # superseded the second.
+    assert got["two"] == {"answered": [0, 1], "tick_gaps": [1]}, got
+    assert got["three"] == {"answered": [0, 2], "tick_gaps": [1]}, got
+
+
 def test_lockstep_streams_out_of_armed(tb6612: Backend) -> None:
     got = run(tb6612, "lockstep_disarmed")
     assert got == reference("lockstep_disarmed", backend=tb6612.name)

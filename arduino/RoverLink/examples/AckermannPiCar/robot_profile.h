@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/robots/picar.toml by `python -m protocol generate`.
-// spec hash: 0xDFE6EC7A
+// spec hash: 0xBDF31659
 // Defaults of picar (AckermannPiCar example): Ackermann PiCar: Uno, brushless drive motor behind an ESC (calibrated at boot), one motor encoder, steering servo 65..125 degrees in 15 degree steps, stream feedback.
 // Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit protocol/robots/picar.toml.
 #ifndef ROVERLINK_EXAMPLE_ACKERMANNPICAR_PROFILE_H

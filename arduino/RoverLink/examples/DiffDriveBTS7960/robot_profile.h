@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/robots/diffdrive-bts7960.toml by `python -m protocol generate`.
-// spec hash: 0xDFE6EC7A
+// spec hash: 0xBDF31659
 // Defaults of diffdrive-bts7960 (DiffDriveBTS7960 example): 3D-printed SLAM robot: Mega 2560, two BTS7960 drivers (RPWM/LPWM), 19.2:1 gearmotors with 64 CPR encoders, lockstep command/feedback.
 // Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit protocol/robots/diffdrive-bts7960.toml.
 #ifndef ROVERLINK_EXAMPLE_DIFFDRIVEBTS7960_PROFILE_H

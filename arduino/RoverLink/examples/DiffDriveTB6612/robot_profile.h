@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/robots/diffdrive-tb6612.toml by `python -m protocol generate`.
-// spec hash: 0xDFE6EC7A
+// spec hash: 0xBDF31659
 // Defaults of diffdrive-tb6612 (DiffDriveTB6612 example): ros_arduino_bridge-style differential-drive car: Mega 2560, TB6612 (or L298N), two quadrature encoders, four turn-signal LEDs, stream feedback.
 // Change them over the link (SET_CONFIG, SET_PID) and SAVE_CONFIG, or edit protocol/robots/diffdrive-tb6612.toml.
 #ifndef ROVERLINK_EXAMPLE_DIFFDRIVETB6612_PROFILE_H

@@ -234,11 +234,15 @@ uint8_t Firmware::lights_mask() const {
 }
 
 void Firmware::setpoint(int16_t left, int16_t right, int16_t steer_mrad, uint8_t seq) {
-    v_.pending[0] = left;
-    v_.pending[1] = right;
-    v_.pending_steer = steer_mrad;
-    v_.pending_seq = seq;
-    v_.has_pending = true;  // latest wins; the next tick applies it
+    // Stream mode: latest wins. Lockstep: a queue, so a host may stay a tick ahead and be late by
+    // most of two ticks before a tick goes unanswered. Full, the newest is superseded.
+    const uint8_t room = session_.feedback_mode() == proto::FeedbackMode::LOCKSTEP ? proto::LOCKSTEP_QUEUE : 1;
+    const uint8_t at = v_.queued < room ? v_.queued++ : static_cast<uint8_t>(room - 1);
+    Queued& q = v_.queue[at];
+    q.wheel[0] = left;
+    q.wheel[1] = right;
+    q.steer_mrad = steer_mrad;
+    q.seq = seq;
 }
 
 uint8_t Firmware::status_bits() const {
@@ -266,7 +270,7 @@ void Firmware::motors_safe() {
         }
         ramping = ramping || wh.ramp != 0;
     }
-    v_.has_pending = false;
+    v_.queued = 0;
     v_.steer_mrad = 0;
     // Now, not at the next tick. RAMP_DOWN keeps driving (and steering straight) until the ramp
     // reaches zero; write_outputs() with drive on re-sends the current efforts.
@@ -307,21 +311,27 @@ ROVERLINK_OUT_OF_LINE void Firmware::control_tick(uint16_t periods, uint32_t now
     // comes with each wheel below: nothing the watchdog's safe state does touches it.)
     session_.check_watchdog(now);
 
-    // 4. The latest setpoint, if one arrived (only ever stored while ARMED), re-limited every tick
-    // to the config in effect: a lowered max_wheel_speed_mm_s applies to the targets at once.
+    // 4. The oldest waiting setpoint, if one arrived (only ever stored while ARMED), re-limited
+    // every tick to the config in effect: a lowered max_wheel_speed_mm_s applies to the targets at once.
     const bool armed = session_.armed();
     bool applied = false;
     static_assert(proto::WHEEL_COUNT == 2, "one target per wheel");
     int16_t next[proto::WHEEL_COUNT] = {v.wheels[0].target, v.wheels[1].target};
-    if (v.has_pending && armed) {
-        next[0] = v.pending[0];
-        next[1] = v.pending[1];
-        v.steer_mrad = v.pending_steer;
-        v.ack_seq = v.pending_seq;
+    if (v.queued != 0 && armed) {
+        const Queued& q = v.queue[0];
+        next[0] = q.wheel[0];
+        next[1] = q.wheel[1];
+        v.steer_mrad = q.steer_mrad;
+        v.ack_seq = q.seq;
         v.ack_tick = v.tick;
         applied = true;
+        --v.queued;
+        for (uint8_t i = 0; i < v.queued; ++i) {
+            v.queue[i] = v.queue[i + 1];
+        }
+    } else {
+        v.queued = 0;
     }
-    v.has_pending = false;
     control::limit_targets(next, v.cfg.max_wheel_speed_mm_s);
     for (uint8_t w = 0; w < proto::WHEEL_COUNT; ++w) {
         v.wheels[w].target = next[w];

@@ -71,6 +71,13 @@ public:
 private:
     friend class Session<Firmware>;  // the App interface below is for the session only
 
+    // A setpoint waiting for the tick that applies it.
+    struct Queued {
+        int16_t wheel[proto::WHEEL_COUNT];  // mm/s
+        int16_t steer_mrad;
+        uint8_t seq;
+    };
+
     struct Wheel {
         int32_t ramp;      // the ramped setpoint the PID follows, in 0.01 mm/s
         float integral;    // permille
@@ -88,8 +95,7 @@ private:
         bool encoder_fault;
         bool saturated;
         bool esc_ready;            // the ESC arming window is over
-        bool has_pending;
-        uint8_t pending_seq;
+        uint8_t queued;            // setpoints waiting (stream mode: at most 1, lockstep LOCKSTEP_QUEUE)
         uint8_t ack_seq;
         uint8_t blink;
         uint8_t lights;
@@ -99,8 +105,7 @@ private:
         uint16_t ack_tick;
         uint16_t servo_cdeg;
         int16_t steer_mrad;
-        int16_t pending_steer;
-        int16_t pending[proto::WHEEL_COUNT];
+        Queued queue[proto::LOCKSTEP_QUEUE];  // the oldest first
         uint32_t next_tick_us;
         uint32_t boot_us;
         uint32_t ticks_skipped;

@@ -355,7 +355,7 @@ void Session<App>::on_frame() {
             if (bad != proto::ALL_FIELDS_VALID) {
                 send_answer(static_cast<uint8_t>(proto::NackReason::OUT_OF_RANGE), bad);
             } else {
-                app_.setpoint(left, right, steer_mrad, v_.req_seq);  // latest wins; the next tick applies it
+                app_.setpoint(left, right, steer_mrad, v_.req_seq);  // the next ticks apply it
             }
         }
         return;

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0xDFE6EC7A
+// spec hash: 0xBDF31659
 // The firmware version reported in IDENTITY.firmware_version.
 #ifndef ROVERLINK_CORE_VERSION_H
 #define ROVERLINK_CORE_VERSION_H

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0xDFE6EC7A
+// spec hash: 0xBDF31659
 // RoverLink protocol: constants, enums, message structs (packed wire images) and their checks,
 // pack/unpack, dispatch, state table.
 #ifndef ROVERLINK_GENERATED_PROTOCOL_H
@@ -19,7 +19,7 @@ namespace roverlink {
 namespace proto {
 
 static const uint8_t PROTOCOL_VERSION = 2;
-static const uint32_t SPEC_HASH = 0xDFE6EC7AUL;
+static const uint32_t SPEC_HASH = 0xBDF31659UL;
 static const uint8_t MAX_PAYLOAD = 64;
 static const uint8_t MAX_BODY = 68;  // msg_id + seq + payload + crc
 static const uint8_t MAX_FRAME = 70;  // COBS-encoded body + delimiter
@@ -32,6 +32,8 @@ static const uint16_t WATCHDOG_MIN_MS = 50;
 static const uint16_t WATCHDOG_MAX_MS = 2000;
 // Control loop rate: PID, limits, watchdog check and stream feedback scheduling run once per tick.
 static const uint16_t CONTROL_RATE_HZ = 100;
+// Setpoints an ARMED lockstep session holds for its next ticks, applied one per tick in arrival order; one arriving to a full queue replaces the newest. A host may so stay a tick ahead, and be late by most of two ticks without a tick going unanswered. Stream mode holds one (latest wins).
+static const uint8_t LOCKSTEP_QUEUE = 2;
 // Stream feedback rate when HELLO asks for 0.
 static const uint8_t FEEDBACK_HZ_DEFAULT = 50;
 // Highest stream feedback rate (one FEEDBACK per control tick).
@@ -483,7 +485,7 @@ inline uint8_t pack(const GetLights&, uint8_t*) { return 0; }
 inline bool unpack(const uint8_t*, uint8_t len, GetLights&) { return len == 0; }
 inline uint8_t check_ranges(const GetLights&) { return ALL_FIELDS_VALID; }
 
-// SET_WHEEL_SPEEDS (0x20, host to mcu, setpoint): Differential-drive setpoint: target speed of each wheel's rim. Latest wins; applied at the next control tick.
+// SET_WHEEL_SPEEDS (0x20, host to mcu, setpoint): Differential-drive setpoint: target speed of each wheel's rim. Stream mode: latest wins, applied at the next control tick. Lockstep: queued (LOCKSTEP_QUEUE), one applied per tick.
 struct ROVERLINK_PACKED SetWheelSpeeds {
     enum : uint8_t { ID = 0x20, CRC_EXTRA = 0xC9, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
     int16_t left_mm_s;  // Left wheel target speed, positive forward. [mm/s]
@@ -504,7 +506,7 @@ inline bool unpack(const uint8_t* payload, uint8_t len, SetWheelSpeeds& m) {
 // or ALL_FIELDS_VALID.
 inline uint8_t check_ranges(const SetWheelSpeeds&) { return ALL_FIELDS_VALID; }  // no ranged field
 
-// SET_ACKERMANN (0x21, host to mcu, setpoint): Ackermann setpoint: drive speed and front-wheel steering angle. Latest wins; applied at the next control tick.
+// SET_ACKERMANN (0x21, host to mcu, setpoint): Ackermann setpoint: drive speed and front-wheel steering angle. Stream mode: latest wins, applied at the next control tick. Lockstep: queued (LOCKSTEP_QUEUE), one applied per tick.
 struct ROVERLINK_PACKED SetAckermann {
     enum : uint8_t { ID = 0x21, CRC_EXTRA = 0x5D, PAYLOAD_SIZE = 4, PAYLOAD_MAX = 4 };
     enum : int16_t { STEERING_MRAD_MIN = -1571, STEERING_MRAD_MAX = 1571 };
@@ -1015,7 +1017,7 @@ struct Action {
         CLEAR_REASON = 1u << 7,  // Clear the latched failsafe reason.
         ACK = 1u << 8,  // Answer ACK with the request's id and seq.
         NACK = 1u << 9,  // Answer NACK with the request's id and seq and the reason for this state.
-        APPLY_SETPOINT = 1u << 10,  // Store the setpoint; the next control tick applies it (latest wins).
+        APPLY_SETPOINT = 1u << 10,  // Store the setpoint: stream mode, the next control tick applies it (latest wins); lockstep, it joins the queue (LOCKSTEP_QUEUE), each tick applying the oldest.
     };
 };
 

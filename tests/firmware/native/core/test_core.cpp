@@ -1313,15 +1313,26 @@ static void test_lockstep() {
             CHECK_EQ(fbs[0].boot_id, s.fw->boot_id());
         }
     }
-    CONTEXT("lockstep: a setpoint superseded before a tick gets no FEEDBACK of its own");
+    CONTEXT("lockstep: setpoints in one tick queue (LOCKSTEP_QUEUE), one applied and answered per tick");
+    static_assert(proto::LOCKSTEP_QUEUE == 2, "three setpoints overfill the queue by one");
     h.clear();
-    h.send(wheels(50, 50));
-    const uint8_t second = h.send(wheels(60, 60));
+    const uint8_t first = h.send(wheels(50, 50));
+    h.send(wheels(60, 60));  // superseded by the third: the queue is full
+    const uint8_t third = h.send(wheels(70, 70));
     h.run(10000);
     std::vector<proto::Feedback> fbs = h.all<proto::Feedback>();
     CHECK_EQ(fbs.size(), 1u);
-    CHECK(!fbs.empty() && fbs[0].ack_seq == second);
-    CHECK_EQ(s.fw->target(0), 60);
+    CHECK(!fbs.empty() && fbs[0].ack_seq == first);
+    CHECK_EQ(s.fw->target(0), 50);
+    h.clear();
+    h.run(10000);
+    fbs = h.all<proto::Feedback>();
+    CHECK_EQ(fbs.size(), 1u);
+    CHECK(!fbs.empty() && fbs[0].ack_seq == third);
+    CHECK_EQ(s.fw->target(0), 70);
+    h.clear();
+    h.run(10000);
+    CHECK_EQ(h.count<proto::Feedback>(), 0u);  // the queue is empty: no FEEDBACK
     CONTEXT("lockstep: a refused setpoint gets a NACK and no FEEDBACK");
     h.clear();
     const uint8_t bad = h.send(wheels(5000, 0));

@@ -1,5 +1,5 @@
 // DO NOT EDIT: generated from protocol/spec/roverlink.toml by `python -m protocol generate`.
-// spec hash: 0xDFE6EC7A
+// spec hash: 0xBDF31659
 // Test-only: text view of every message for tests/firmware/native/rl_codec.cpp. Not part of the library.
 #ifndef ROVERLINK_REFLECT_H
 #define ROVERLINK_REFLECT_H
