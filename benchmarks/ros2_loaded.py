@@ -327,7 +327,7 @@ def report(r: dict[str, Any]) -> list[str]:
         )
     print(f"CPU: node {c['bridge']:.0f} %, emulator {c['emulator']:.0f} % of a core")
     if r["paced_late"] is not None:
-        print(f"the node's paced setpoints sent half a period or more late: {r['paced_late']}")
+        print(f"the node's paced setpoints sent half their slack or more late: {r['paced_late']}")
     f = r["floor"]
     print(
         f"floor: a lone thread waking every period, late p99 {f['p99_ms']:.2f} ms, p99.9 {f['p999_ms']:.2f} ms, "

@@ -146,7 +146,7 @@ class Receiver:
             self._setpoints.drop()
         else:
             request = SetWheelSpeeds if msg.req_id == SetWheelSpeeds.MSG_ID else SetAckermann
-            self._setpoints.refused(nack_error(request, msg))
+            self._setpoints.refused(nack_error(request, msg), msg.req_seq)
 
     def _on_identity(self, msg: Identity, now: float) -> None:
         if not self._handshake.heard(msg):
@@ -195,5 +195,5 @@ class Receiver:
         if self._arming.board_status(status, msg.failsafe_reason):
             self._setpoints.drop()
         sample = self._feedback.sample(msg, now, self._sync.clock)
-        self._setpoints.ticked(sample.host_time_s)  # paced lockstep's grid follows the board's ticks
+        self._setpoints.ticked(sample.host_time_s, msg.ack_seq)  # paced lockstep's grid follows the board's ticks
         self._emit(FeedbackReceived(sample))

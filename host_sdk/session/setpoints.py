@@ -6,9 +6,11 @@ Paced lockstep (`SessionOptions.paced`): the live setpoint goes out once per fee
 the board's control-tick grid, `PACE_PHASE_S` after a tick (the grid's ticks from the latest
 FEEDBACK's sample time). A lockstep board queues setpoints (LOCKSTEP_QUEUE) and applies one per
 tick, each answered by one FEEDBACK. At one FEEDBACK per tick the keeper stays a tick ahead: the
-first setpoint goes out twice, and a send that missed slots goes out once per missed slot, up to
-the queue's depth. So a send may be late by most of two ticks (most of a period at lower rates)
-before a FEEDBACK is missed, and a stall longer than that costs the periods it lasts, not the lead.
+first setpoint goes out twice, and a slot sends one more whenever the board holds fewer than that
+(the latest FEEDBACK's `ack_seq` against the frames sent since: after a stall or a frame lost on
+the line; without a FEEDBACK to go by, one more per missed slot). So a send may be late by most of
+two ticks (most of a period at lower rates) before a FEEDBACK is missed, and a stall longer than
+that costs the periods it lasts, not the lead.
 A timer of the host's own drifts across the ticks instead and, near one, its jitter puts two
 setpoints into one tick and none into the next. The runner sends them from its I/O thread, so a
 busy caller (a ROS executor) cannot make them late.
@@ -17,6 +19,7 @@ busy caller (a ROS executor) cannot make them late.
 from __future__ import annotations
 
 import math
+from collections import deque
 
 from host_sdk.errors import NackError
 from host_sdk.limits import relimited
@@ -29,8 +32,11 @@ from protocol.generated.messages import SetAckermann, SetConfig, SetWheelSpeeds
 
 TICK_S = 1.0 / CONTROL_RATE_HZ
 PACED_LATE_FRACTION = 0.5
-"""Paced lockstep: a setpoint sent this fraction of the period after its slot, or later, counts
-as late (LinkStatistics.paced_late): it has used half of what it may be late by."""
+"""Paced lockstep: a setpoint sent this fraction of what it may be late by (the period, and the
+ticks queued ahead) after its slot, or later, counts as late (LinkStatistics.paced_late)."""
+HISTORY = 8
+"""Paced lockstep: the setpoint frames remembered (seq and message), for the board's queue depth
+and for telling a copy's refusal from a new one's."""
 PACE_PHASE_S = 0.001
 """Paced lockstep: how long after a board tick (on the host's mapping of the board's clock) a
 setpoint is sent: the tick before the one that applies it, which answers it with FEEDBACK (the
@@ -48,7 +54,21 @@ def queued_ahead(pace_s: float) -> int:
 class SetpointKeeper:
     """The live setpoint, when it was last sent and when it expires."""
 
-    __slots__ = ("_expires", "_n", "_options", "_refusal", "_sent", "_seq", "_setpoint", "_slot", "_tick_s", "_wire")
+    __slots__ = (
+        "_ack",
+        "_expires",
+        "_frames",
+        "_n",
+        "_options",
+        "_refusal",
+        "_refused",
+        "_sent",
+        "_seq",
+        "_setpoint",
+        "_slot",
+        "_tick_s",
+        "_wire",
+    )
 
     def __init__(self, options: SessionOptions, wire: Wire, counters: HostCounters) -> None:
         self._options = options
@@ -64,6 +84,12 @@ class SetpointKeeper:
         """Paced lockstep: the host time of the latest FEEDBACK's tick (the grid's anchor)."""
         self._slot = -math.inf
         """Paced lockstep: the grid time of the last setpoint sent on the grid."""
+        self._ack: int | None = None
+        """The latest FEEDBACK's ack_seq since the live setpoint began (None: none yet)."""
+        self._frames: deque[tuple[int, SetWheelSpeeds | SetAckermann]] = deque(maxlen=HISTORY)
+        """The latest setpoint frames sent, oldest first: (seq, message)."""
+        self._refused: SetWheelSpeeds | SetAckermann | None = None
+        """The setpoint refused last: its copies' NACKs are not new refusals."""
 
     @property
     def live(self) -> bool:
@@ -96,21 +122,30 @@ class SetpointKeeper:
         if was_live:
             return self._seq
         self._slot = self._slot_of(now, pace_s)  # the grid goes on after the slot this one stands for
+        self._ack = None  # FEEDBACKs from before the pause say nothing of the queue now
         for _ in range(queued_ahead(pace_s)):
             self._send(msg, now, keepalive=False)  # the tick ahead
         return self._send(msg, now, keepalive=False)
 
-    def ticked(self, host_time_s: float) -> None:
-        """A FEEDBACK sampled at `host_time_s` (the board's tick, on the host's clock)."""
+    def ticked(self, host_time_s: float, ack_seq: int | None = None) -> None:
+        """A FEEDBACK sampled at `host_time_s` (the board's tick, on the host's clock), answering
+        the setpoint frame `ack_seq`."""
         self._tick_s = host_time_s
+        if ack_seq is not None and self._setpoint is not None:
+            self._ack = ack_seq
 
     def drop(self) -> None:
         """Stop repeating the setpoint (the board keeps it until its watchdog)."""
         self._setpoint = None
 
-    def refused(self, error: NackError) -> None:
-        """The board refused a setpoint: stop repeating it (setpoints are not kept: which one is
-        unknown) and tell the user on the next command."""
+    def refused(self, error: NackError, req_seq: int | None = None) -> None:
+        """The board refused a setpoint: stop repeating it and tell the user on the next command.
+        A refusal of a copy of the setpoint refused last (paced lockstep sends some twice) is the
+        same refusal: it neither drops a newer setpoint nor is told twice."""
+        msg = next((m for seq, m in self._frames if seq == req_seq), None)
+        if msg is not None and msg is self._refused:
+            return
+        self._refused = msg
         self._refusal = error
         self._setpoint = None
 
@@ -134,13 +169,12 @@ class SetpointKeeper:
             if now - self._sent >= self._options.keepalive - EPS:
                 self._send(setpoint, now, keepalive=True)
         elif now >= (due := self._next_slot(pace_s)) - EPS:
-            if now - due >= PACED_LATE_FRACTION * pace_s:
+            lead = queued_ahead(pace_s)
+            if now - due >= PACED_LATE_FRACTION * (1 + lead) * pace_s:
                 self._n.paced_late += 1
-            # Late by whole periods (a stalled host): on from the slot now falls in. One frame per
-            # missed slot refills the board's queue (the tick ahead); more would only supersede.
+            # Late by whole periods (a stalled host): on from the slot now falls in, not a burst.
             self._slot = self._slot_of(now, pace_s)
-            missed = round((self._slot - due) / pace_s)
-            for _ in range(min(missed, queued_ahead(pace_s)) + 1):
+            for _ in range(self._copies(now, round((self._slot - due) / pace_s), lead)):
                 self._send(setpoint, now, keepalive=True)
 
     def deadline(self, t: float, pace_s: float | None = None) -> float:
@@ -149,6 +183,19 @@ class SetpointKeeper:
             return t
         due = self._sent + self._options.keepalive if pace_s is None else self._next_slot(pace_s)
         return min(t, due, self._expires)
+
+    def _copies(self, now: float, missed: int, lead: int) -> int:
+        """How many frames this slot sends: one, and what refills the board's queue to `lead`
+        ahead, at most `lead` (more would only supersede). The board holds what was sent after
+        the latest FEEDBACK's ack_seq, less one per tick since that FEEDBACK; without a FEEDBACK
+        to go by, one more per missed slot."""
+        if not lead:
+            return 1
+        sent = [seq for seq, _ in self._frames]
+        if self._ack is None or self._ack not in sent or self._tick_s is None:
+            return 1 + min(missed, lead)
+        held = len(sent) - 1 - sent.index(self._ack) - math.floor((now - self._tick_s) / TICK_S + EPS)
+        return 1 + max(0, min(lead, lead - held))
 
     def _slot_of(self, t: float, pace_s: float) -> float:
         """The slot a setpoint sent at `t` stands for: that of the tick interval it lands in, which
@@ -170,6 +217,7 @@ class SetpointKeeper:
     def _send(self, msg: SetWheelSpeeds | SetAckermann, now: float, keepalive: bool) -> int:
         seq = self._wire.send(msg, now)
         self._seq = seq
+        self._frames.append((seq, msg))
         self._sent = now
         self._n.setpoints_sent += 1
         if keepalive:

@@ -138,9 +138,9 @@ class LinkStatistics(DecoderCountersSnapshot):
     """Setpoint frames, keep-alive repeats included."""
     keepalives_sent: int = 0
     paced_late: int = 0
-    """Paced lockstep: setpoints sent more than half a period after their slot on the board's
-    tick grid (the host was busy or stalled); one this late may miss its tick, and the board then
-    answers no FEEDBACK in that period."""
+    """Paced lockstep: setpoints sent half their slack or more after their slot on the board's
+    tick grid (a period at 100 Hz, where the board holds one ahead; half a period below): the host
+    was busy or stalled, and one a little later misses its tick, which then answers no FEEDBACK."""
     hellos_sent: int = 0
     requests_sent: int = 0
     """Reliable requests (first tries)."""

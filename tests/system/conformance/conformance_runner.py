@@ -29,6 +29,7 @@ from conformance_scenarios import (
     sc_lockstep_queue,
     sc_reliable_config,
     sc_reset_mid_session,
+    sc_stream_latest_wins,
     sc_turn_then_straight,
 )
 from conformance_square import sc_square
@@ -46,6 +47,7 @@ SCENARIOS = {
     "lockstep": sc_lockstep,
     "lockstep_disarmed": sc_lockstep_disarmed,
     "lockstep_queue": sc_lockstep_queue,
+    "stream_latest_wins": sc_stream_latest_wins,
     "duplicate_arm": sc_duplicate_arm,
     "encoder_fault": sc_encoder_fault,
     "save_config": sc_save_config,

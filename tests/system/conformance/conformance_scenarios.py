@@ -217,6 +217,21 @@ def sc_lockstep_queue(h: Host) -> dict[str, object]:
     return out
 
 
+def sc_stream_latest_wins(h: Host) -> dict[str, object]:
+    """Stream mode: of two setpoints that land between the same two ticks the later is applied and
+    the earlier never (a FEEDBACK in every tick shows each tick's ack_seq)."""
+    b = boot(h)
+    assert isinstance(h.request(hello(FeedbackMode.STREAM, 100)), messages.Identity)
+    assert isinstance(h.request(messages.Arm(b.boot_id)), messages.Ack)
+    h.run_ms(50)
+    h.wait_for(messages.Feedback, 3 * TICK_MS)  # a few milliseconds after its tick
+    first = h.send(messages.SetWheelSpeeds(100, 100))
+    second = h.send(messages.SetWheelSpeeds(110, 100))
+    h.run_ms(5 * TICK_MS)
+    acks = [m.ack_seq for _, m in h.since(messages.Feedback, h.sent_at[second]) if isinstance(m, messages.Feedback)]
+    return {"first_applied": first in acks, "second_applied": second in acks, "feedbacks": len(acks) >= 4}
+
+
 LOCKSTEP_STREAM_HZ = 25
 """sc_lockstep_disarmed's feedback_hz: every 4 ticks, unlike the config's 50 Hz."""
 

@@ -101,6 +101,12 @@ def test_lockstep_queues_setpoints_one_per_tick(tb6612: Backend) -> None:
     assert got["three"] == {"answered": [0, 2], "tick_gaps": [1]}, got
 
 
+def test_stream_mode_applies_the_latest_setpoint_only(tb6612: Backend) -> None:
+    got = run(tb6612, "stream_latest_wins")
+    assert got == reference("stream_latest_wins", backend=tb6612.name)
+    assert got == {"first_applied": False, "second_applied": True, "feedbacks": True}, got
+
+
 def test_lockstep_streams_out_of_armed(tb6612: Backend) -> None:
     got = run(tb6612, "lockstep_disarmed")
     assert got == reference("lockstep_disarmed", backend=tb6612.name)

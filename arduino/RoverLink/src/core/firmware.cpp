@@ -415,7 +415,7 @@ uint8_t Firmware::tick_wheel(uint8_t w, int32_t raw, uint16_t periods, bool hold
             wh.integral = 0.0f;
             m = m_prev = 0;
         }
-        // The limit converted here, not kept as a float: Firmware stays within its 400 B of SRAM.
+        // The limit converted here, not kept as a float: 4 B less of Firmware's SRAM.
         const float max_effort = static_cast<float>(v.cfg.max_effort_permille);
         wh.effort = control::pid_step(*g, r, m, m_prev, max_effort, wh.integral, sat);
         if (sat) {
