@@ -9,8 +9,9 @@ every core busy. Over the window:
   0.25 s; the goal is none);
 - odometry intervals on the board's clock (the `odom` header stamps: FEEDBACK's MCU time through
   the SDK's clock sync), in periods of odom_rate: the goal is p99.9 at most 1.5 periods;
-- the scan stamps' error: each stamp against the mean of its neighbours (the emulated rotor's
-  speed wanders by at most 1 % and slowly, so for the truth that difference is below 10 us);
+- the scan stamps' error against the emulator's truth (`roverlink emulate --truth`: when the
+  rotor passed the rear, where each LaserScan's ray 0 lies), and against the mean of their
+  neighbours (the rotor's speed wanders by at most 1 % and slowly: for the truth under 10 us);
 - CPU of the node and of the emulator;
 - the floor any design on this host has: a lone thread in a process of its own (nice 0, like the
   node) waking once a period over the same window, and how often it woke later than a paced
@@ -19,6 +20,7 @@ every core busy. Over the window:
 
 from __future__ import annotations
 
+import bisect
 import itertools
 import json
 import math
@@ -122,7 +124,7 @@ def start_hogs(n: int) -> list[subprocess.Popen[bytes]]:
 def start_stack(log_dir: Path, realtime: int = 0) -> tuple[subprocess.Popen[str], subprocess.Popen[str], str]:
     """The emulator (its ports from its stdout) and the node on them (its `realtime_priority`),
     logging to `log_dir`; and how the emulator is scheduled."""
-    cmd = [*ROVERLINK, "emulate", *EMULATE]
+    cmd = [*ROVERLINK, "emulate", *EMULATE, "--truth", str(log_dir / "truth.jsonl")]
     emu_log = (log_dir / "emulate.log").open("w")
     emulator = subprocess.Popen(cmd, cwd=ROOT, text=True, stdout=subprocess.PIPE, stderr=emu_log)
     assert emulator.stdout is not None
@@ -230,6 +232,33 @@ def scan_figures(stamps: list[float]) -> dict[str, Any]:
     }
 
 
+def truth_figures(stamps: list[float], rears: list[float]) -> dict[str, Any]:
+    """Each stamp (on CLOCK_MONOTONIC) against the nearest of the emulator's true times of ray 0
+    (ms): what a SLAM node would use the scan at, against when it was measured."""
+    err = []
+    for s in stamps:
+        i = bisect.bisect_left(rears, s)
+        near = [rears[j] for j in (i - 1, i) if 0 <= j < len(rears)]
+        if near:
+            err.append((s - min(near, key=lambda r: abs(r - s))) * 1e3)
+    if not err:
+        return {}
+    size = [abs(e) for e in err]
+    return {
+        "truth_mean_ms": statistics.fmean(err),
+        "truth_p99_ms": _percentile(size, 0.99),
+        "truth_max_ms": max(size),
+        "truth_over_10_ms": sum(e > 10.0 for e in size),
+    }
+
+
+def _rears(path: Path) -> list[float]:
+    """The emulator's truth file: when its lidar passed the rear (CLOCK_MONOTONIC)."""
+    if not path.exists():
+        return []
+    return sorted(json.loads(line)["lidar_rear_s"] for line in path.read_text().splitlines() if line.strip())
+
+
 def run(seconds: float, hogs: int, warmup_s: float = 3.0, realtime: int = 0) -> dict[str, Any]:
     log_dir = Path(tempfile.mkdtemp(prefix="roverlink-loaded-"))
     emulator, bridge, priority = start_stack(log_dir, realtime)
@@ -258,6 +287,7 @@ def run(seconds: float, hogs: int, warmup_s: float = 3.0, realtime: int = 0) -> 
                 if node.odom and t_end - time.monotonic() > warmup_s:
                     t_end = time.monotonic() + warmup_s
         loaders = start_hogs(hogs)
+        realtime_offset = time.time() - time.monotonic()  # the stamps' clock (the system's) to monotonic
         probe = start_probe(seconds)
         t0 = time.monotonic()
         cpu0 = (_cpu_s(bridge.pid), _cpu_s(emulator.pid))
@@ -299,7 +329,10 @@ def run(seconds: float, hogs: int, warmup_s: float = 3.0, realtime: int = 0) -> 
         "emulator_priority": priority,
         "node_realtime_priority": realtime,
         "odom": odom_figures(odom),
-        "scan": scan_figures(scans),
+        "scan": {
+            **scan_figures(scans),
+            **truth_figures([s - realtime_offset for s in scans], _rears(log_dir / "truth.jsonl")),
+        },
         "floor": floor,
         "paced_late": late[-1] - late[0] if len(late) > 1 else None,
         "cpu_percent": {
@@ -324,6 +357,11 @@ def report(r: dict[str, Any]) -> list[str]:
         print(
             f"scan: {s['scans']} at {s['rate_hz']:.2f} Hz; stamp error against its neighbours' mean "
             f"mean {s['mean_ms']:.2f} ms, p99 {s['p99_ms']:.2f} ms, max {s['max_ms']:.2f} ms"
+        )
+    if "truth_mean_ms" in s:
+        print(
+            f"scan stamps against the emulator's truth (ray 0 measured): mean {s['truth_mean_ms']:+.2f} ms, "
+            f"p99 {s['truth_p99_ms']:.2f} ms, max {s['truth_max_ms']:.2f} ms; {s['truth_over_10_ms']} over 10 ms"
         )
     print(f"CPU: node {c['bridge']:.0f} %, emulator {c['emulator']:.0f} % of a core")
     if r["paced_late"] is not None:

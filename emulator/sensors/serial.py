@@ -71,11 +71,23 @@ class LidarDevice(SerialSensor):
         self._rx = bytearray()
         self.last_samples: LidarSamples | None = None
         """The last batch of samples, with each one's noise-free range."""
+        self.on_rear: Callable[[int], None] | None = None
+        """Ground truth for a host's scan stamps: called with the time (us) of each sample at which
+        the rotor has passed the device's 180 deg, the rear, where a LaserScan's ray 0 (-pi) lies."""
+        self._angle: float | None = None
 
     def update(self, scene: Scene, until_us: int, pose_at: PoseAt) -> None:
         samples = self.model.sample(scene, until_us, pose_at)
         if samples is not None:
             self.last_samples = samples
+            if self.on_rear is not None:
+                # The rotor angle only grows (mod 360): a pass of 180 deg is where it wraps, seen
+                # from 180 deg.
+                behind = np.mod(samples.angle_deg - 180.0, 360.0)
+                before = np.concatenate([[behind[0] if self._angle is None else self._angle], behind[:-1]])
+                for t_us in samples.time_us[behind < before].tolist():
+                    self.on_rear(int(t_us))
+                self._angle = float(behind[-1])
             self.emit(samples)
 
     def emit(self, samples: LidarSamples) -> None:

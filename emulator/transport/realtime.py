@@ -9,12 +9,14 @@ USB-serial adapter does.
 
 from __future__ import annotations
 
+import json
 import math
 import sys
 import time
 from collections.abc import Callable, Sequence
 from typing import Protocol, TextIO
 
+from emulator.sensors.serial import LidarDevice
 from emulator.transport.serve_log import collision_line, fault_line, stamp
 from emulator.truth import FaultRecord
 from emulator.world.world import Collision
@@ -81,12 +83,24 @@ def serve(
     log: TextIO | None = sys.stderr,
     tag: str = "emulator",
     extras: Sequence[tuple[Endpoint, SerialPeripheral]] = (),
+    truth: TextIO | None = None,
 ) -> float:
     """Serve until `stop()`; returns how much faster than real time the device ran while busy
     (simulated seconds per wall second spent advancing it). Progress lines go to `log` as "[tag] ...".
-    `extras` are the sensors' own ports, pumped in the same pass (their clock is the device's)."""
+    `extras` are the sensors' own ports, pumped in the same pass (their clock is the device's).
+    `truth` gets ground truth as JSON lines on CLOCK_MONOTONIC: `{"lidar_rear_s": t}` when a
+    lidar's rotor passes its rear (LidarDevice.on_rear)."""
     wall0 = time.monotonic()
     virt0 = device.now_us
+    if truth is not None:
+        sink = truth
+
+        def rear(t_us: int) -> None:
+            sink.write(json.dumps({"lidar_rear_s": round(wall0 + (t_us - virt0) / 1e6 / speed, 6)}) + "\n")
+
+        for _, peripheral in extras:
+            if isinstance(peripheral, LidarDevice):
+                peripheral.on_rear = rear
     connected = False
     busy_s = 0.0
     reported_faults = 0  # the standing ones too (a drop rate from the start)

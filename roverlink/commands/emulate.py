@@ -28,6 +28,7 @@ from emulator.robot_file import profile_from_file
 from emulator.sensors.camera import LOOKS, MAX_DISTRACTORS
 from emulator.sensors.mjpeg import CameraDevice
 from emulator.sensors.rig import IMUS, LIDARS
+from emulator.sensors.serial import LidarDevice
 from emulator.transport.devices import SENSOR_PARAMS, sensor_options
 from emulator.transport.http_camera import MjpegServer
 from emulator.transport.pty import PtyEndpoint
@@ -123,6 +124,13 @@ def _add_sensor_arguments(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument("--imu", choices=IMUS, help="serve the IMU on its own pty")
     g.add_argument(
+        "--truth",
+        type=Path,
+        metavar="FILE",
+        help="write ground truth to FILE as JSON lines on CLOCK_MONOTONIC: each time the lidar passes its rear, "
+        "a LaserScan's ray 0 (to check a host's scan stamps)",
+    )
+    g.add_argument(
         "--camera", nargs="?", const="320x240", metavar="WxH", help="serve the camera as MJPEG over HTTP (320x240)"
     )
     g.add_argument(
@@ -162,8 +170,8 @@ def cmd_emulate(args: argparse.Namespace) -> int:
     for key in ("lidar_hz", "distractors"):
         values[key] = None if values[key] is None else str(values[key])
     if getattr(args, "backend", "python") != "python":
-        if any(values.values()):
-            say.error("--world, --lidar, --imu and --camera need --backend python")
+        if any(values.values()) or args.truth:
+            say.error("--world, --lidar, --imu, --camera and --truth need --backend python")
             return 2
         return _cmd_emulate_firmware(args)
     try:
@@ -175,10 +183,22 @@ def cmd_emulate(args: argparse.Namespace) -> int:
     except (EmulatorError, SensorSpecError, RobotFileError) as exc:
         say.error(f"{exc}")
         return 2
+    if args.truth and not any(
+        isinstance(d, LidarDevice) for d in (emu.sensors.devices.values() if emu.sensors else ())
+    ):
+        say.error("--truth records when the lidar passes its rear: it needs --lidar")
+        return 2
+    try:
+        truth = args.truth.open("w", buffering=1) if args.truth else None  # a line each: a killed run keeps them
+    except OSError as exc:
+        say.error(f"--truth {args.truth}: {exc.strerror}")
+        return 1
     try:
         endpoint, stopping, log = _open_endpoint(args)
     except EndpointError as exc:
         say.error(f"{exc}")
+        if truth is not None:
+            truth.close()
         return 1
     extras, closers = _serve_sensors(emu, args.camera_port)
     if log is not None:
@@ -190,12 +210,21 @@ def cmd_emulate(args: argparse.Namespace) -> int:
         )
     try:
         serve(
-            emu, endpoint, stopping, dtr_reset_on_open=not args.no_dtr_reset, speed=args.speed, log=log, extras=extras
+            emu,
+            endpoint,
+            stopping,
+            dtr_reset_on_open=not args.no_dtr_reset,
+            speed=args.speed,
+            log=log,
+            extras=extras,
+            truth=truth,
         )
     finally:
         endpoint.close()
         for close in closers:
             close()
+        if truth is not None:
+            truth.close()
     return 0
 
 

@@ -138,3 +138,32 @@ def test_a_camera_behind_the_wall_clock_skips_stale_frames_and_numbers_them() ->
     assert len(lagging.truth) == lagging.frames_rendered
     virtual = camera(None)
     assert virtual.frames_rendered == virtual.seq == 60 and virtual.frames_skipped == 0
+
+
+def test_the_lidar_reports_each_pass_of_its_rear_as_ground_truth() -> None:
+    """`on_rear` (roverlink emulate --truth) gets the first sample at or past 180 deg of every
+    revolution: the measurement time of a LaserScan's ray 0."""
+    emu = Emulator("diffdrive-bts7960", seed=4)
+    rig = attach(emu, "random:1", lidar="rplidar-a1")
+    dev = rig.devices["lidar"]
+    rears: list[int] = []
+    times: list[np.ndarray[Any, Any]] = []
+    angles: list[np.ndarray[Any, Any]] = []
+    dev.on_rear = rears.append
+    emit = dev.emit
+
+    def recorded(samples: Any) -> None:
+        times.append(samples.time_us)
+        angles.append(samples.angle_deg)
+        emit(samples)
+
+    dev.emit = recorded
+    dev.host_write(b"\xa5\x20", emu.now_us)  # SCAN
+    emu.advance(2.0)
+    t, a = np.concatenate(times), np.concatenate(angles)
+    assert len(rears) == pytest.approx(2.0 * dev.spec.scan_hz, abs=1.5)
+    for r in rears:
+        i = int(np.searchsorted(t, r))
+        assert t[i] == r and a[i] >= 180.0 and (i == 0 or a[i - 1] < 180.0), (r, a[i - 1 : i + 1])
+    gaps = np.diff(rears) / 1e6
+    assert np.all(np.abs(gaps * dev.spec.scan_hz - 1) < 0.02), gaps  # one a revolution, the rotor's 1 % wander

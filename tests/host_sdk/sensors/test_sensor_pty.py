@@ -129,6 +129,11 @@ def test_cv2_videocapture_opens_the_camera_url_unchanged(served: dict[str, list[
         (["--camera", "100x100"], "camera size = '100x100' is not allowed: 320x240 or 640x480"),
         (["--camera-port", "70000"], "argument --camera-port: '70000' is not allowed: an integer in 0..65535"),
         (["--backend", "simavr", "--imu", "jy901"], "need --backend python"),
+        (["--backend", "simavr", "--truth", "/tmp/t.jsonl"], "need --backend python"),
+        (
+            ["--imu", "jy901", "--truth", "/tmp/t.jsonl"],
+            "--truth records when the lidar passes its rear: it needs --lidar",
+        ),
     ],
 )
 def test_bad_sensor_options_exit_2_and_say_why(args: list[str], message: str) -> None:
