@@ -140,7 +140,7 @@ class DiagnosticsBuilder:
             now_e, before_e = _errors(now_c, names), _errors(before_c, names)
             for name in names:
                 if now_e[name] > before_e[name]:  # lower: the counters restarted (reconnect, board reset)
-                    why = " (a busy host: lockstep periods without FEEDBACK)" if name in HOST_LATE else ""
+                    why = " (a busy host: setpoints half their slack late)" if name in HOST_LATE else ""
                     rising.append(f"{side} {name} +{now_e[name] - before_e[name]}{why}")
         return rising
 
