@@ -252,8 +252,9 @@ def truth_figures(stamps: list[float], rears: list[float]) -> dict[str, Any]:
     }
 
 
-def _rears(path: Path) -> list[float]:
+def _rears(log_dir: Path) -> list[float]:
     """The emulator's truth file: when its lidar passed the rear (CLOCK_MONOTONIC)."""
+    path = log_dir / "truth.jsonl"
     if not path.exists():
         return []
     return sorted(json.loads(line)["lidar_rear_s"] for line in path.read_text().splitlines() if line.strip())
@@ -329,10 +330,7 @@ def run(seconds: float, hogs: int, warmup_s: float = 3.0, realtime: int = 0) -> 
         "emulator_priority": priority,
         "node_realtime_priority": realtime,
         "odom": odom_figures(odom),
-        "scan": {
-            **scan_figures(scans),
-            **truth_figures([s - realtime_offset for s in scans], _rears(log_dir / "truth.jsonl")),
-        },
+        "scan": scan_figures(scans) | truth_figures([s - realtime_offset for s in scans], _rears(log_dir)),
         "floor": floor,
         "paced_late": late[-1] - late[0] if len(late) > 1 else None,
         "cpu_percent": {

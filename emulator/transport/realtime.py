@@ -93,14 +93,7 @@ def serve(
     wall0 = time.monotonic()
     virt0 = device.now_us
     if truth is not None:
-        sink = truth
-
-        def rear(t_us: int) -> None:
-            sink.write(json.dumps({"lidar_rear_s": round(wall0 + (t_us - virt0) / 1e6 / speed, 6)}) + "\n")
-
-        for _, peripheral in extras:
-            if isinstance(peripheral, LidarDevice):
-                peripheral.on_rear = rear
+        _record_truth(truth, extras, lambda t_us: wall0 + (t_us - virt0) / 1e6 / speed)
     connected = False
     busy_s = 0.0
     reported_faults = 0  # the standing ones too (a drop rate from the start)
@@ -160,6 +153,19 @@ def serve(
     say(f"longest lag behind real time: {worst_behind_us / 1000:.0f} ms")
     simulated_s = (device.now_us - virt0) / 1e6
     return simulated_s / busy_s if busy_s > 0 else math.inf
+
+
+def _record_truth(
+    truth: TextIO, extras: Sequence[tuple[Endpoint, SerialPeripheral]], wall_s: Callable[[int], float]
+) -> None:
+    """Each lidar's rear passes to `truth`, at `wall_s` of their virtual time (CLOCK_MONOTONIC)."""
+
+    def rear(t_us: int) -> None:
+        truth.write(json.dumps({"lidar_rear_s": round(wall_s(t_us), 6)}) + "\n")
+
+    for _, peripheral in extras:
+        if isinstance(peripheral, LidarDevice):
+            peripheral.on_rear = rear
 
 
 def _pump(port: Endpoint, peripheral: SerialPeripheral, now_us: int, say: Callable[[str], None]) -> None:
