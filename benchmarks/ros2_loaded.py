@@ -44,7 +44,7 @@ from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import LaserScan
 
-from host_sdk.session.setpoints import PACE_PHASE_S, TICK_S, queued_ahead
+from host_sdk.session.setpoints import PACE_PHASE_S, TICK_S, slot_span_s
 from protocol.framing import encode_frame
 from protocol.generated.messages import SetWheelSpeeds
 
@@ -79,7 +79,7 @@ def _stamp_s(stamp: Any) -> float:
 
 BAUD = 115200
 FRAME_S = len(encode_frame(SetWheelSpeeds(0, 0), 0)) * 10 / BAUD
-SLACK_MS = ((1 + queued_ahead(TICK_S)) * TICK_S - PACE_PHASE_S - FRAME_S) * 1e3
+SLACK_MS = (slot_span_s(TICK_S) - PACE_PHASE_S - FRAME_S) * 1e3
 """How late a paced setpoint may go out before a tick goes unanswered: sent PACE_PHASE_S after a
 tick, a tick ahead in the board's queue, its frame on the wire at BAUD, it must land before the
 tick after next."""

@@ -10,10 +10,9 @@ first setpoint goes out twice, and a slot sends one more whenever the board hold
 (the latest FEEDBACK's `ack_seq` against the frames sent since: after a stall or a frame lost on
 the line; without a FEEDBACK to go by, one more per missed slot). So a send may be late by most of
 two ticks (most of a period at lower rates) before a FEEDBACK is missed, and a stall longer than
-that costs the periods it lasts, not the lead.
-A timer of the host's own drifts across the ticks instead and, near one, its jitter puts two
-setpoints into one tick and none into the next. The runner sends them from its I/O thread, so a
-busy caller (a ROS executor) cannot make them late.
+that costs the periods it lasts, not the lead. A timer of the host's own drifts across the ticks
+instead and, near one, its jitter puts two setpoints into one tick and none into the next. The
+runner sends them from its I/O thread, so a busy caller (a ROS executor) cannot make them late.
 """
 
 from __future__ import annotations
@@ -32,8 +31,8 @@ from protocol.generated.messages import SetAckermann, SetConfig, SetWheelSpeeds
 
 TICK_S = 1.0 / CONTROL_RATE_HZ
 PACED_LATE_FRACTION = 0.5
-"""Paced lockstep: a setpoint sent this fraction of what it may be late by (the period, and the
-ticks queued ahead) after its slot, or later, counts as late (LinkStatistics.paced_late)."""
+"""Paced lockstep: a setpoint sent this fraction of `slot_span_s` after its slot, or later, counts
+as late (LinkStatistics.paced_late)."""
 HISTORY = 8
 """Paced lockstep: the setpoint frames remembered (seq and message), for the board's queue depth
 and for telling a copy's refusal from a new one's."""
@@ -49,6 +48,13 @@ def queued_ahead(pace_s: float) -> int:
     One at a FEEDBACK per tick; none at lower rates, where a slot's frame has the ticks between
     slots to arrive in (one more would be applied in the next tick, off the period's grid)."""
     return LOCKSTEP_QUEUE - 1 if pace_s < 2 * TICK_S - EPS else 0
+
+
+def slot_span_s(pace_s: float) -> float:
+    """Paced lockstep: from a slot to the tick that goes unanswered if the slot's frame has not
+    landed by then (the period, and the ticks queued ahead). Less PACE_PHASE_S and the frame's
+    time on the line, it is how late a send may be."""
+    return (1 + queued_ahead(pace_s)) * pace_s
 
 
 class SetpointKeeper:
@@ -169,12 +175,11 @@ class SetpointKeeper:
             if now - self._sent >= self._options.keepalive - EPS:
                 self._send(setpoint, now, keepalive=True)
         elif now >= (due := self._next_slot(pace_s)) - EPS:
-            lead = queued_ahead(pace_s)
-            if now - due >= PACED_LATE_FRACTION * (1 + lead) * pace_s:
+            if now - due >= PACED_LATE_FRACTION * slot_span_s(pace_s):
                 self._n.paced_late += 1
             # Late by whole periods (a stalled host): on from the slot now falls in, not a burst.
             self._slot = self._slot_of(now, pace_s)
-            for _ in range(self._copies(now, round((self._slot - due) / pace_s), lead)):
+            for _ in range(self._copies(now, round((self._slot - due) / pace_s), queued_ahead(pace_s))):
                 self._send(setpoint, now, keepalive=True)
 
     def deadline(self, t: float, pace_s: float | None = None) -> float:
