@@ -66,7 +66,8 @@ class Feedback:
             start = s.latest.index if s.latest is not None else 0
             lockstep = s.feedback_mode is FeedbackMode.LOCKSTEP
             armed = s.armed
-            want = link.last_command_seq if lockstep and armed and s.setpoint_live else None
+            live = s.setpoint_live  # at the start: one that expires while waiting is no "drive first"
+            want = link.last_command_seq if lockstep and armed and live else None
             # Lockstep while armed: only a command is answered. Otherwise the board streams.
             owed = not (lockstep and armed) or want is not None
 
@@ -93,7 +94,7 @@ class Feedback:
             sample = fresh()
             if sample is None:
                 waited = timeout + max(left, 0.0)
-                raise FeedbackTimeoutError(timeout, lockstep, s.setpoint_live, armed=armed, waited_s=waited)
+                raise FeedbackTimeoutError(timeout, lockstep, live, armed=armed, waited_s=waited)
             return sample
 
     def _report_reset(self, report: bool) -> None:

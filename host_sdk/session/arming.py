@@ -89,8 +89,9 @@ class Arming:
             hint = failsafe_meaning(self._failsafe)
             if self._failsafe is FailsafeReason.COMM_TIMEOUT:
                 hint = (
-                    f"no command reached the board for its {watchdog_s:g} s watchdog: drive commands expire "
-                    f"{command_timeout_s:g} s after they are given, so renew them in a loop"
+                    f"no command reached the board for its {watchdog_s:g} s watchdog: the link was cut, or "
+                    f"commands stopped (they expire {command_timeout_s:g} s after they are given, so renew "
+                    "them in a loop); robot.arm() drives again"
                 )
             return FailsafeError(self._failsafe, hint)
         if reopening:

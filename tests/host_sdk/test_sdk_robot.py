@@ -385,6 +385,20 @@ def test_a_silent_disarmed_lockstep_robot_is_a_silence_as_in_stream_mode(
     assert roverlink_robot.now() - last == pytest.approx(2.0, abs=0.05)  # waited out as a reset's silence
 
 
+@pytest.mark.roverlink(profile="diffdrive-bts7960", mode="lockstep")
+def test_an_armed_lockstep_robot_cut_off_mid_command_is_told_the_link_may_be_cut(
+    roverlink_robot: Robot, roverlink_emulator: Any
+) -> None:
+    """The command expires during the long wait (a silence waited out as a reset's); the hint is
+    about the link, not "drive first", which is for a wait begun with no command live."""
+    roverlink_robot.arm()
+    roverlink_robot.drive(0.05, 0.0)
+    roverlink_robot.wait_feedback(timeout_s=0.2)
+    roverlink_emulator.cut_link("m2h")
+    with pytest.raises(FeedbackTimeoutError, match="the link may be cut"):
+        roverlink_robot.wait_feedback(timeout_s=0.2)
+
+
 def _fds() -> int:
     return len(os.listdir("/proc/self/fd"))
 
