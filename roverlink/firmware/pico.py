@@ -19,6 +19,7 @@ import os
 import re
 import shutil
 import struct
+import tempfile
 from pathlib import Path
 
 from protocol.robotfile.firmware import profile_header
@@ -121,21 +122,25 @@ def _boot2(cache: Path, gcc: str, objcopy: str) -> Path:
     obj = cache / f"boot2.{key}.o"
     if obj.is_file():
         return obj
-    raw_obj, raw_bin = cache / f"boot2.{key}.raw.o", cache / f"boot2.{key}.raw.bin"
     cache.mkdir(parents=True, exist_ok=True)
-    _run([gcc, *CFLAGS[:2], "-DROVERLINK_ARCH_RP2040", "-c", str(HAL / "boot2.S"), "-o", str(raw_obj)], "boot2.S")
-    _run([objcopy, "-O", "binary", "-j", ".text.boot2", str(raw_obj), str(raw_bin)], "objcopy boot2")
-    code = raw_bin.read_bytes()
-    if len(code) > BOOT2_BYTES - 4:
-        raise ToolchainMissingError(f"boot2.S assembles to {len(code)} bytes: the boot block holds {BOOT2_BYTES - 4}")
-    body = code.ljust(BOOT2_BYTES - 4, b"\0")
-    block = body + struct.pack("<I", crc32_boot2(body))
-    source = cache / f"boot2.{key}.S"
-    source.write_text(
-        '.section .boot2, "ax"\n'
-        + "".join(f".byte {', '.join(str(b) for b in block[i : i + 16])}\n" for i in range(0, 256, 16))
-    )
-    _replace_atomically(lambda tmp: _run([gcc, *CFLAGS[:2], "-c", str(source), "-o", str(tmp)], "boot2 block"), obj)
+    # The steps in a folder of this build's own (two builds at once must not share them); only the
+    # finished object is published, by rename.
+    with tempfile.TemporaryDirectory(prefix=".boot2.", dir=cache) as work:
+        raw_obj, raw_bin, source = (Path(work) / name for name in ("raw.o", "raw.bin", "boot2.S"))
+        _run([gcc, *CFLAGS[:2], "-DROVERLINK_ARCH_RP2040", "-c", str(HAL / "boot2.S"), "-o", str(raw_obj)], "boot2.S")
+        _run([objcopy, "-O", "binary", "-j", ".text.boot2", str(raw_obj), str(raw_bin)], "objcopy boot2")
+        code = raw_bin.read_bytes()
+        if len(code) > BOOT2_BYTES - 4:
+            raise ToolchainMissingError(
+                f"boot2.S assembles to {len(code)} bytes: the boot block holds {BOOT2_BYTES - 4}"
+            )
+        body = code.ljust(BOOT2_BYTES - 4, b"\0")
+        block = body + struct.pack("<I", crc32_boot2(body))
+        source.write_text(
+            '.section .boot2, "ax"\n'
+            + "".join(f".byte {', '.join(str(b) for b in block[i : i + 16])}\n" for i in range(0, 256, 16))
+        )
+        _replace_atomically(lambda tmp: _run([gcc, *CFLAGS[:2], "-c", str(source), "-o", str(tmp)], "boot2 block"), obj)
     return obj
 
 
@@ -151,7 +156,7 @@ def build_pico(robot: RobotFile, out_dir: Path, *, name: str | None = None, baud
     header = out_dir / "robot_profile.h"
     text = profile_header(robot, "Pico", Path(robot.path).name)
     if not header.is_file() or header.read_text(encoding="utf-8") != text:
-        header.write_text(text, encoding="utf-8")
+        _replace_atomically(lambda tmp: tmp.write_text(text, encoding="utf-8"), header)  # a build beside may read it
     cache = BUILD_ROOT / "cache" / "pico"
     src = LIBRARY_DIR / "src"
     flags = [*CFLAGS, *CXXFLAGS, f"-DROVERLINK_BAUD={baud}", f"-I{src}"]

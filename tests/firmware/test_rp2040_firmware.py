@@ -6,6 +6,7 @@ announces itself as a Pico; a corrupted boot block is refused as the boot ROM wo
 from __future__ import annotations
 
 import struct
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
@@ -16,7 +17,7 @@ from protocol.generated.enums import Board, Capability, IdentityReason
 from protocol.generated.messages import Identity
 from protocol.robotfile import REFERENCES
 from roverlink.commands.robot import PICO_FLASH
-from roverlink.firmware.pico import BOOT2_BYTES, FLASH_BASE, PicoBuild, build_pico, crc32_boot2
+from roverlink.firmware.pico import BOOT2_BYTES, FLASH_BASE, PicoBuild, _boot2, _tool, build_pico, crc32_boot2
 from tests.firmware.test_rp2040_harness import _require
 
 
@@ -171,3 +172,16 @@ def test_roverlink_firmware_builds_and_flashes_a_pico_robot_file(
     assert code == 2 and "no such folder" in err
     code, _, err = firmware_cli(capsys, "firmware", "flash", "--robot", str(path), "--port", "/dev/ttyACM0")
     assert code == 2 and "--port /dev/ttyACM0: a Pico is flashed through its BOOTSEL drive" in err
+
+
+def test_builds_at_once_into_one_fresh_cache_each_get_a_whole_boot_block(tmp_path: Path) -> None:
+    """Test workers build side by side: each build's intermediate files are its own, and only the
+    finished boot block is published (two once met in one half-written object)."""
+    _require()
+    gcc, objcopy = _tool("gcc"), _tool("objcopy")
+    with ThreadPoolExecutor(max_workers=6) as pool:
+        objects = list(pool.map(lambda _: _boot2(tmp_path, gcc, objcopy).read_bytes(), range(6)))
+    assert len(set(objects)) == 1 and len(objects[0]) > BOOT2_BYTES
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        f"boot2.{_boot2(tmp_path, gcc, objcopy).name.split('.')[1]}.o"
+    ]
